@@ -1,0 +1,66 @@
+# robomill — every entry point a user needs. `make all` and `make test` work on a fresh clone.
+SHELL := /bin/bash
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.robomill-installed
+JOBS ?= 2
+SNAKEMAKE := $(BIN)/snakemake
+CHAPTER ?=
+
+.PHONY: all test test-fast test-cluster report bench lock lint fmt why explore kernel clean venv
+
+all: $(STAMP)
+	$(SNAKEMAKE) -j$(JOBS) all
+
+venv: $(STAMP)
+
+# (Re)create the environment when it is missing or environment.lock / pyproject.toml changed.
+$(STAMP): environment.lock pyproject.toml
+	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install -q --disable-pip-version-check "$$(grep -E '^uv==' environment.lock | cut -d' ' -f1)"
+	$(BIN)/uv pip sync -q --python $(BIN)/python environment.lock
+	$(BIN)/uv pip install -q --python $(BIN)/python --no-deps -e .
+	$(BIN)/python -m ipykernel install --sys-prefix --name robomill --display-name "robomill (.venv)" >/dev/null
+	@touch $(STAMP)
+
+kernel: $(STAMP)
+
+test: $(STAMP)
+	$(BIN)/python -m pytest -q
+
+test-fast: $(STAMP)
+	$(BIN)/python -m pytest -q -m "not pipeline and not browser and not cluster"
+
+test-cluster: $(STAMP)
+	$(BIN)/python -m pytest -q -m cluster
+
+report: $(STAMP)
+	$(SNAKEMAKE) -j$(JOBS) all
+	$(SNAKEMAKE) --report results/report.html
+
+bench: $(STAMP)
+	$(BIN)/python benchmarks/run.py --out results/benchmarks
+
+# Regenerate the pinned, hashed lock from pyproject.toml (needs network access to PyPI).
+lock: 
+	uv pip compile pyproject.toml --extra dev --generate-hashes --universal --python-version 3.11 -q -o environment.lock
+
+lint: $(STAMP)
+	$(BIN)/ruff check .
+	$(BIN)/snakefmt --check Snakefile workflow/rules
+	$(SNAKEMAKE) --lint
+
+fmt: $(STAMP)
+	$(BIN)/ruff check --fix .
+	$(BIN)/ruff format src tests workflow/scripts benchmarks
+	$(BIN)/snakefmt Snakefile workflow/rules
+
+why: $(STAMP)
+	$(SNAKEMAKE) -n --summary all 2>/dev/null | $(BIN)/python -m robomill.why
+
+explore: $(STAMP)
+	$(BIN)/python -m robomill.explore $(CHAPTER)
+
+clean:
+	rm -rf results .snakemake

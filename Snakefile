@@ -1,0 +1,41 @@
+# robomill: the study of robotic milling quality, as one workflow.
+# A table of contents: configuration, one include per stage, and the targets.
+from snakemake.utils import min_version, validate
+
+from robomill.config import SECTIONS
+
+min_version("9.0")
+
+
+configfile: "config.yaml"
+
+
+validate(config, "workflow/schemas/config.schema.yaml")
+for keys, name in SECTIONS:  # each section by its own schema (fills its defaults)
+    section = config
+    for key in keys:
+        section = section[key]
+    validate(section, f"workflow/schemas/config/{name}.schema.yaml")
+
+
+report: "workflow/report/workflow.rst"
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/synth.smk"
+include: "workflow/rules/ingest.smk"
+include: "workflow/rules/calibration.smk"
+include: "workflow/rules/surface.smk"
+include: "workflow/rules/forces.smk"
+include: "workflow/rules/straightness.smk"
+include: "workflow/rules/modal.smk"
+include: "workflow/rules/chatter.smk"
+include: "workflow/rules/stiffness.smk"
+include: "workflow/rules/hexapod.smk"
+include: "workflow/rules/chapters.smk"
+
+
+rule all:
+    default_target: True
+    input:
+        all_targets,

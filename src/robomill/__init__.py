@@ -1,0 +1,11 @@
+"""robomill: a reproducible pipeline for a study of robotic milling quality.
+
+The science library: pure functions on numpy/xarray, one module per subject. The Snakemake
+workflow (``Snakefile``, ``workflow/``) and the chapter notebooks call it.
+"""
+
+__version__ = "0.1.0"
+
+from robomill.io.artefacts import open_artefact, write_artefact  # noqa: E402
+
+__all__ = ["__version__", "open_artefact", "write_artefact"]

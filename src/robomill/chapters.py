@@ -1,0 +1,98 @@
+"""Render a chapter: execute its notebook with papermill, convert it to HTML with nbconvert.
+
+Outputs appear only on success: the notebook runs on a staging copy, its figures go to a
+staging folder, and everything is moved into place at the end. A notebook in which any cell
+raised is a failure even if papermill returned normally; the failed executed notebook is kept
+beside the log so the error can be read in context.
+"""
+
+from __future__ import annotations
+
+import shutil
+import tempfile
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import nbformat
+
+
+class ChapterError(RuntimeError):
+    """A chapter notebook failed; the message names the cell and the kept notebook."""
+
+
+def notebook_errors(nb: nbformat.NotebookNode) -> list[str]:
+    """Error outputs of an executed notebook, as ``"cell N: EName: value"`` lines."""
+    found = []
+    for i, cell in enumerate(nb.cells):
+        for out in cell.get("outputs", []):
+            if out.get("output_type") == "error":
+                found.append(f"cell {i}: {out.get('ename')}: {out.get('evalue')}")
+    return found
+
+
+def render_chapter(
+    notebook: str | Path,
+    out_ipynb: str | Path,
+    out_html: str | Path,
+    fig_dir: str | Path,
+    parameters: Mapping[str, Any],
+    *,
+    kernel: str = "python3",
+    start_timeout_s: int = 300,
+    execution_timeout_s: int = 1200,
+    failed_copy: str | Path | None = None,
+    cwd: str | Path | None = None,
+) -> None:
+    """Execute ``notebook`` with ``parameters`` (plus ``fig_dir``) and render it.
+
+    Raises
+    ------
+    ChapterError
+        If execution fails or any cell holds an error output.
+    """
+    import papermill as pm
+    from nbconvert import HTMLExporter
+
+    out_ipynb, out_html, fig_dir = Path(out_ipynb), Path(out_html), Path(fig_dir)
+    out_ipynb.parent.mkdir(parents=True, exist_ok=True)
+    fig_dir.parent.mkdir(parents=True, exist_ok=True)
+    stage = Path(tempfile.mkdtemp(prefix=f".{out_ipynb.stem}.", dir=out_ipynb.parent))
+    try:
+        staged_nb = stage / out_ipynb.name
+        staged_figs = stage / "figures"
+        staged_figs.mkdir()
+        params = {**parameters, "fig_dir": str(staged_figs.resolve())}
+        error: Exception | None = None
+        try:
+            pm.execute_notebook(
+                str(notebook), str(staged_nb), parameters=params, kernel_name=kernel,
+                start_timeout=start_timeout_s, execution_timeout=execution_timeout_s,
+                cwd=str(cwd) if cwd else None, progress_bar=False, log_output=False,
+            )
+        except Exception as exc:  # papermill raises PapermillExecutionError and others
+            error = exc
+        nb = nbformat.read(staged_nb, as_version=4) if staged_nb.exists() else None
+        problems = notebook_errors(nb) if nb is not None else []
+        if error is not None or problems:
+            kept = None
+            if failed_copy is not None and staged_nb.exists():
+                kept = Path(failed_copy)
+                kept.parent.mkdir(parents=True, exist_ok=True)
+                shutil.copyfile(staged_nb, kept)
+            first = problems[0] if problems else f"{type(error).__name__}: {error}"
+            raise ChapterError(
+                f"chapter notebook {notebook} failed: {first.splitlines()[0]}"
+                + (f"; executed notebook kept at {kept}" if kept else "")
+            )
+        body, _ = HTMLExporter(exclude_input_prompt=True, exclude_output_prompt=True
+                               ).from_notebook_node(nb)
+        (stage / out_html.name).write_text(body)
+        # move into place: figures first, the notebook and the page last
+        if fig_dir.exists():
+            shutil.rmtree(fig_dir)
+        shutil.move(str(staged_figs), fig_dir)
+        shutil.move(str(staged_nb), out_ipynb)
+        shutil.move(str(stage / out_html.name), out_html)
+    finally:
+        shutil.rmtree(stage, ignore_errors=True)

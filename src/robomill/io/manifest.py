@@ -1,0 +1,240 @@
+"""The raw-data manifest (``manifest.yaml``): what each file is, and its sha256.
+
+Layout (``docs/data-contract.md`` has the full contract)::
+
+    experiment: {spindle_rpm: 28000, flutes: 2, tool_diameter_mm: 6.0, cut_length_mm: 40.0}
+    cuts:
+      - {id: s1_g1_px, set: 1, segment: 1, direction: px, feed_mm_s: 1.0, depth_mm: 0.25}
+    files:
+      - {path: profiles/s1_g1_px.csv, kind: profile, cut: s1_g1_px, sha256: "<hex>"}
+
+Ingestion checks each file against its sha256 and never writes into the raw directory.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+from robomill.experiment import CUT_ID, Cut
+from robomill.io.errors import RawDataError
+from robomill.io.hashing import sha256_file
+
+EXPERIMENT_KEYS = {
+    "spindle_rpm": (int, float),
+    "flutes": (int,),
+    "tool_diameter_mm": (int, float),
+    "cut_length_mm": (int, float),
+}
+CUT_KEYS = {
+    "id": (str,),
+    "set": (int,),
+    "segment": (int,),
+    "direction": (str,),
+    "feed_mm_s": (int, float),
+    "depth_mm": (int, float),
+}
+
+KIND_KEYS: dict[str, dict[str, tuple[type, ...]]] = {
+    # kind -> metadata keys every file of that kind must carry (besides path, kind, sha256)
+    "profile": {"cut": (str,)},
+    "force": {"cut": (str,), "fs_hz": (int, float)},
+    "tracker": {"direction": (str,), "feed_mm_s": (int, float), "fs_hz": (int, float)},
+    "impact": {"direction": (str,), "hit": (int,)},
+    "ctrack": {"table": (str,)},
+    "robot": {"robot": (str,)},
+    "stiffness": {"robot": (str,)},
+}
+"""Metadata keys required per file kind. Chapter issues extend their kind's entry."""
+
+
+@dataclass
+class Manifest:
+    """A validated manifest."""
+
+    path: Path
+    experiment: dict[str, Any]
+    cuts: list[Cut]
+    files: list[dict[str, Any]]
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def raw_dir(self) -> Path:
+        return self.path.parent
+
+    def cut(self, cut_id: str) -> Cut:
+        for c in self.cuts:
+            if c.id == cut_id:
+                return c
+        raise RawDataError(self.path, f"cut '{cut_id}' is not listed", where="cuts",
+                           expected="one of " + ", ".join(c.id for c in self.cuts))
+
+    def files_of(self, kind: str, **meta: Any) -> list[dict[str, Any]]:
+        """Files of ``kind`` whose metadata match every ``meta`` item."""
+        return [f for f in self.files if f["kind"] == kind
+                and all(f.get(k) == v for k, v in meta.items())]
+
+    def entry(self, relpath: str) -> dict[str, Any]:
+        for f in self.files:
+            if f["path"] == relpath:
+                return f
+        raise RawDataError(self.path, f"file '{relpath}' is not listed", where="files",
+                           expected="every raw file listed with its sha256")
+
+    def verify_file(self, relpath: str) -> Path:
+        """Check that listed file ``relpath`` exists and matches its sha256; return its path."""
+        entry = self.entry(relpath)
+        full = self.raw_dir / relpath
+        if not full.exists():
+            raise RawDataError(full, "file listed in the manifest does not exist",
+                               where=f"{self.path.name}: files[path={relpath}]",
+                               expected="the file to be present")
+        actual = sha256_file(full)
+        if actual != entry["sha256"]:
+            raise RawDataError(full, f"sha256 is {actual}, the manifest says {entry['sha256']}",
+                               where=f"{self.path.name}: files[path={relpath}].sha256",
+                               expected="the file unchanged since the manifest was written "
+                                        "(restore it, or update the manifest on purpose)")
+        return full
+
+    def verify_all(self) -> None:
+        """Verify every listed file, and that no data file in the folder is unlisted."""
+        for f in self.files:
+            self.verify_file(f["path"])
+        listed = {f["path"] for f in self.files}
+        for p in sorted(self.raw_dir.rglob("*")):
+            rel = p.relative_to(self.raw_dir).as_posix()
+            if (p.is_file() and p != self.path and not rel.startswith(".")
+                    and p.name not in ("README.md", ".gitkeep") and rel not in listed):
+                raise RawDataError(p, "file is present but not listed in the manifest",
+                                   where=f"{self.path.name}: files",
+                                   expected="every raw data file listed with kind and sha256 "
+                                            "(or removed from the raw folder)")
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "experiment": dict(self.experiment),
+            "cuts": [c.as_dict() for c in self.cuts],
+            "files": [dict(f) for f in self.files],
+            **self.extra,
+        }
+
+
+def _check_keys(path: Path, where: str, obj: Any, keys: Mapping[str, tuple[type, ...]]) -> None:
+    if not isinstance(obj, Mapping):
+        raise RawDataError(path, f"{type(obj).__name__} found", where=where,
+                           expected="a mapping with keys " + ", ".join(keys))
+    for key, types in keys.items():
+        if key not in obj:
+            raise RawDataError(path, f"key '{key}' is missing", where=where,
+                               expected="keys " + ", ".join(keys))
+        value = obj[key]
+        if isinstance(value, bool) or not isinstance(value, types):
+            raise RawDataError(path, f"key '{key}' is {value!r}", where=where,
+                               expected=" or ".join(t.__name__ for t in types))
+
+
+def parse_manifest(data: Any, path: str | Path) -> Manifest:
+    """Validate a manifest mapping (as loaded from YAML) and return a :class:`Manifest`."""
+    path = Path(path)
+    if not isinstance(data, Mapping):
+        raise RawDataError(path, "not a YAML mapping",
+                           expected="top-level keys experiment, cuts, files")
+    for key in ("experiment", "cuts", "files"):
+        if key not in data:
+            raise RawDataError(path, f"top-level key '{key}' is missing",
+                               expected="top-level keys experiment, cuts, files")
+    _check_keys(path, "experiment", data["experiment"], EXPERIMENT_KEYS)
+    if not isinstance(data["cuts"], list):
+        raise RawDataError(path, "cuts is not a list", where="cuts", expected="a list of cuts")
+    cuts: list[Cut] = []
+    seen: dict[str, int] = {}
+    for i, c in enumerate(data["cuts"]):
+        where = f"cuts[{i}]"
+        _check_keys(path, where, c, CUT_KEYS)
+        m = CUT_ID.match(c["id"])
+        if not m:
+            raise RawDataError(path, f"cut id {c['id']!r} is malformed", where=f"{where}.id",
+                               expected="s{set}_g{segment}_{dir} with dir in px, py, my")
+        if (int(m["set"]), int(m["segment"]), m["direction"]) != (
+                c["set"], c["segment"], c["direction"]):
+            raise RawDataError(path, f"cut id {c['id']!r} disagrees with set={c['set']}, "
+                               f"segment={c['segment']}, direction={c['direction']}",
+                               where=where, expected="id built from set, segment, direction")
+        if c["id"] in seen:
+            raise RawDataError(path, f"duplicate cut id {c['id']!r} (also cuts[{seen[c['id']]}])",
+                               where=f"{where}.id", expected="unique cut ids")
+        if c["feed_mm_s"] <= 0 or c["depth_mm"] <= 0:
+            raise RawDataError(path, "feed_mm_s and depth_mm must be positive", where=where,
+                               expected="positive numbers")
+        seen[c["id"]] = i
+        cuts.append(Cut(c["id"], c["set"], c["segment"], c["direction"],
+                        float(c["feed_mm_s"]), float(c["depth_mm"])))
+    if not isinstance(data["files"], list):
+        raise RawDataError(path, "files is not a list", where="files",
+                           expected="a list of files")
+    files = []
+    paths: dict[str, int] = {}
+    for i, f in enumerate(data["files"]):
+        where = f"files[{i}]"
+        _check_keys(path, where, f, {"path": (str,), "kind": (str,), "sha256": (str,)})
+        if f["kind"] not in KIND_KEYS:
+            raise RawDataError(path, f"unknown kind {f['kind']!r}", where=f"{where}.kind",
+                               expected="one of " + ", ".join(KIND_KEYS))
+        _check_keys(path, f"{where} ({f['path']})", f, KIND_KEYS[f["kind"]])
+        if f["path"] in paths:
+            first = paths[f["path"]]
+            raise RawDataError(path, f"duplicate path {f['path']!r} (also files[{first}])",
+                               where=f"{where}.path", expected="each file listed once")
+        if Path(f["path"]).is_absolute() or ".." in Path(f["path"]).parts:
+            raise RawDataError(path, f"path {f['path']!r} leaves the raw folder",
+                               where=f"{where}.path", expected="a path relative to the manifest")
+        if "cut" in f and f["cut"] not in seen:
+            raise RawDataError(path, f"file refers to unknown cut {f['cut']!r}",
+                               where=f"{where}.cut", expected="a cut listed under cuts")
+        paths[f["path"]] = i
+        files.append(dict(f))
+    extra = {k: v for k, v in data.items() if k not in ("experiment", "cuts", "files")}
+    return Manifest(path, dict(data["experiment"]), cuts, files, extra)
+
+
+def load_manifest(path: str | Path) -> Manifest:
+    """Read and validate ``manifest.yaml`` (safe YAML loader)."""
+    path = Path(path)
+    if not path.exists():
+        raise RawDataError(path, "manifest does not exist",
+                           expected="manifest.yaml in the raw data folder (docs/data-contract.md)")
+    try:
+        data = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as exc:
+        raise RawDataError(path, f"not valid YAML: {exc}") from None
+    return parse_manifest(data, path)
+
+
+def build_manifest(experiment: Mapping[str, Any], cuts: Iterable[Cut],
+                   files: Iterable[Mapping[str, Any]], raw_dir: str | Path) -> dict[str, Any]:
+    """A manifest mapping for ``files`` under ``raw_dir``, with each file's sha256 computed."""
+    raw_dir = Path(raw_dir)
+    entries = []
+    for f in files:
+        entry = dict(f)
+        entry["sha256"] = sha256_file(raw_dir / entry["path"])
+        entries.append(entry)
+    return {
+        "experiment": dict(experiment),
+        "cuts": [c.as_dict() for c in cuts],
+        "files": entries,
+    }
+
+
+def write_manifest(manifest: Mapping[str, Any], path: str | Path) -> Path:
+    """Write a manifest mapping as YAML (atomically)."""
+    from robomill.io.atomic import atomic_path
+
+    with atomic_path(path) as tmp:
+        tmp.write_text(yaml.safe_dump(dict(manifest), sort_keys=False, width=100))
+    return Path(path)

@@ -1,0 +1,179 @@
+"""Validated reading of the contract's CSV files.
+
+Every instrument reader (profiles, forces, tracker, impact, C-Track, load tests) goes through
+:func:`read_numeric_csv` and the checks below, so that every malformed file gets the same kind
+of message: file, row/column, what was found, what was expected.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import re
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+from robomill.io.errors import RawDataError
+
+_UNIT_SUFFIX = re.compile(r"^(?P<stem>.+?)_(?P<unit>[A-Za-z0-9]+)$")
+
+
+def _column_hint(expected: str, found: Sequence[str]) -> str | None:
+    """Explain a missing column: same quantity in another unit, or a likely misspelling."""
+    m = _UNIT_SUFFIX.match(expected)
+    if m:
+        for col in found:
+            mc = _UNIT_SUFFIX.match(col)
+            if mc and mc["stem"] == m["stem"] and mc["unit"] != m["unit"]:
+                return (f"column '{col}' is in unit '{mc['unit']}', the contract requires "
+                        f"'{expected}' (unit '{m['unit']}'): convert the values and rename it")
+    import difflib
+
+    close = difflib.get_close_matches(expected, list(found), n=1, cutoff=0.7)
+    if close:
+        return f"found '{close[0]}': is it a misspelling of '{expected}'?"
+    return None
+
+
+def read_numeric_csv(
+    path: str | Path,
+    columns: Sequence[str],
+    *,
+    min_rows: int = 1,
+    optional: Sequence[str] = (),
+    allow_extra: bool = True,
+    text_columns: Sequence[str] = (),
+) -> pd.DataFrame:
+    """Read a CSV with a header row whose ``columns`` must all be present and numeric.
+
+    Parameters
+    ----------
+    path
+        The file.
+    columns
+        Required numeric columns, named with their unit (``x_mm``, ``z_um``).
+    min_rows
+        Fewest data rows accepted.
+    optional
+        Numeric columns read when present.
+    allow_extra
+        Accept further columns (they are kept as read).
+    text_columns
+        Required non-numeric columns (e.g. ``pose``, ``role``).
+
+    Raises
+    ------
+    RawDataError
+        On a missing, empty or header-only file, a missing column (with a unit or spelling
+        hint), text in a numeric field, NaN/inf, a short (truncated) row, or too few rows.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise RawDataError(path, "file does not exist")
+    raw = path.read_bytes()
+    if not raw.strip():
+        raise RawDataError(path, "file is empty", expected="a header row and data rows")
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise RawDataError(path, f"not UTF-8 text ({exc.reason} at byte {exc.start})",
+                           expected="a UTF-8 CSV file") from None
+    lines = text.splitlines()
+    header = next(csv.reader([lines[0]]))
+    header = [h.strip() for h in header]
+    required = list(columns) + list(text_columns)
+    for col in required:
+        if col not in header:
+            hint = _column_hint(col, header)
+            raise RawDataError(
+                path,
+                f"column '{col}' is missing" + (f"; {hint}" if hint else ""),
+                where="header (row 1)",
+                expected="columns " + ", ".join(required),
+            )
+    if not allow_extra:
+        extra = [h for h in header if h not in required and h not in optional]
+        if extra:
+            raise RawDataError(path, f"unexpected column(s) {', '.join(extra)}",
+                               where="header (row 1)", expected="columns " + ", ".join(required))
+    if len(lines) - 1 < min_rows:
+        raise RawDataError(
+            path,
+            "header only, no data rows" if len(lines) == 1 else f"only {len(lines) - 1} data rows",
+            expected=f"at least {min_rows} data rows",
+        )
+    ncol = len(header)
+    # a truncated last row (interrupted export) has fewer fields than the header
+    for i, line in enumerate(lines[1:], start=2):
+        if not line.strip():
+            continue
+        n = line.count(",") + 1
+        if n != ncol:
+            raise RawDataError(path, f"row has {n} fields, the header has {ncol}"
+                               + (" (truncated last row?)" if i == len(lines) else ""),
+                               where=f"row {i}", expected=f"{ncol} comma-separated fields")
+    df = pd.read_csv(io.StringIO(text), skipinitialspace=True, dtype=str, keep_default_na=False)
+    df.columns = [c.strip() for c in df.columns]
+    numeric = list(columns) + [c for c in optional if c in df.columns]
+    for col in numeric:
+        values = pd.to_numeric(df[col].str.strip(), errors="coerce")
+        bad = values.isna().to_numpy()
+        if bad.any():
+            i = int(np.argmax(bad))
+            raise RawDataError(path, f"value {df[col].iloc[i]!r} is not a number",
+                               where=f"row {i + 2}, column {col}", expected="a finite number")
+        arr = values.to_numpy(dtype=float)
+        nonfinite = ~np.isfinite(arr)
+        if nonfinite.any():
+            i = int(np.argmax(nonfinite))
+            raise RawDataError(path, f"value {df[col].iloc[i]!r} is not finite",
+                               where=f"row {i + 2}, column {col}", expected="a finite number")
+        df[col] = arr
+    for col in text_columns:
+        empty = (df[col].str.strip() == "").to_numpy()
+        if empty.any():
+            i = int(np.argmax(empty))
+            raise RawDataError(path, "empty value", where=f"row {i + 2}, column {col}",
+                               expected="a non-empty text value")
+        df[col] = df[col].str.strip()
+    if len(df) < min_rows:
+        raise RawDataError(path, f"only {len(df)} data rows", expected=f"at least {min_rows}")
+    return df
+
+
+def check_increasing(path: str | Path, values: np.ndarray, column: str) -> None:
+    """Raise unless ``values`` strictly increase (time or position axis)."""
+    d = np.diff(values)
+    bad = np.flatnonzero(d <= 0)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise RawDataError(path, f"{column} is not strictly increasing "
+                           f"({values[i - 1]!r} then {values[i]!r})",
+                           where=f"row {i + 2}, column {column}",
+                           expected=f"strictly increasing {column}")
+
+
+def check_uniform(path: str | Path, values: np.ndarray, column: str, *,
+                  step: float | None = None, rtol: float = 1e-3) -> float:
+    """Raise unless ``values`` are uniformly spaced (to ``rtol`` of the step); return the step.
+
+    If ``step`` is given (e.g. ``1/fs`` from the manifest) the spacing must equal it.
+    """
+    check_increasing(path, values, column)
+    d = np.diff(values)
+    actual = float(np.median(d))
+    if step is not None and abs(actual - step) > rtol * abs(step):
+        raise RawDataError(path, f"{column} spacing is {actual:.6g}",
+                           where=f"column {column}",
+                           expected=f"spacing {step:.6g} (from the manifest), within {rtol:g}")
+    ref = step if step is not None else actual
+    off = np.flatnonzero(np.abs(d - ref) > rtol * abs(ref))
+    if off.size:
+        i = int(off[0]) + 1
+        raise RawDataError(path, f"{column} is not uniformly spaced: step {d[i - 1]:.6g} "
+                           f"instead of {ref:.6g}", where=f"row {i + 2}, column {column}",
+                           expected=f"uniform spacing within {rtol:g} relative")
+    return ref

@@ -1,0 +1,33 @@
+"""Shared figure conventions for the chapters (Agg backend, one style, saved and shown)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import matplotlib
+
+if "ipykernel" not in sys.modules:  # notebooks keep their inline backend
+    matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+STYLE = {
+    "figure.figsize": (7.5, 4.2),
+    "figure.dpi": 110,
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+    "savefig.bbox": "tight",
+}
+plt.rcParams.update(STYLE)
+
+
+def save_figure(fig: plt.Figure, fig_dir: str | Path, name: str) -> Path:
+    """Save ``fig`` as ``<fig_dir>/<name>.png`` (150 dpi) and return the path.
+
+    In a notebook the figure is also displayed inline (so the HTML chapter is
+    self-contained) by returning it as the cell's last expression or via ``display``.
+    """
+    path = Path(fig_dir) / f"{name}.png"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=150)
+    return path

@@ -1,0 +1,243 @@
+"""The virtual robot cell: one ground truth from which every instrument simulator draws.
+
+The cell (``config.yaml: synth``) holds the robot (nominal geometry), its joint gear trains
+with planted eccentricities, the tool-tip modal model, the cutting coefficients and the
+seed. Every simulator takes its physics from here, so that instruments agree the way real
+ones do: the same eccentric gears make the tracker's straightness error and the surface
+waviness; the same modes ring in the impact test and in the cutting forces.
+
+Geometry of the experiment (``config.yaml: experiment.layout``): the block frame R0 has its
+origin at ``block_origin_mm`` in the robot base frame and axes parallel to the base axes; the
+tool axis points down (−Z). Segment g of set s is a U whose corner is at
+``(margin + (g−1)·segment_pitch, margin + (s−1)·set_pitch)`` in R0; its cuts run +Y from the
+corner, then +X, then −Y, each ``cut_length_mm`` long, at the depth of the set.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import xarray as xr
+
+from robomill.experiment import DIRECTION_VECTORS, Cut
+from robomill.kinematics import SerialRobot, robot_from_mapping
+
+ARCSEC = np.pi / (180.0 * 3600.0)
+
+
+@dataclass(frozen=True)
+class GearStage:
+    """One rotating element of a joint transmission.
+
+    ``rev_per_joint_rev`` revolutions of this element per revolution of the joint output;
+    ``teeth`` its tooth count (mesh order = rev × teeth). Its transmission error, seen at the
+    joint output, is ``runout_rad·sin(r q + φ_r) + mesh_rad·sin(r z q + φ_m)`` (once-per-rev
+    eccentricity and tooth-mesh error; Slamani & Bonev 2013).
+    """
+
+    joint: int
+    stage: str
+    rev_per_joint_rev: float
+    teeth: int
+    runout_rad: float
+    mesh_rad: float
+    runout_phase_rad: float
+    mesh_phase_rad: float
+
+    def joint_error_rad(self, q_rad: np.ndarray) -> np.ndarray:
+        r = self.rev_per_joint_rev
+        return (self.runout_rad * np.sin(r * q_rad + self.runout_phase_rad)
+                + self.mesh_rad * np.sin(r * self.teeth * q_rad + self.mesh_phase_rad))
+
+
+@dataclass(frozen=True)
+class Mode:
+    """A tool-tip mode: natural frequency, damping ratio, modal stiffness and 3-D shape.
+
+    The shape is a unit vector in the base frame (X, Y, Z); the receptance contribution is
+    ``φ φᵀ / (k (1 − r² + 2jζr))``, r = ω/ω_n.
+    """
+
+    f_hz: float
+    zeta: float
+    k_N_m: float
+    shape: tuple[float, float, float]
+
+    @property
+    def m_kg(self) -> float:
+        return self.k_N_m / (2 * np.pi * self.f_hz) ** 2
+
+
+@dataclass
+class VirtualCell:
+    """Ground truth of the simulated robot cell (``config.yaml: synth`` + ``experiment``)."""
+
+    robot: SerialRobot
+    gears: list[GearStage]
+    modes: list[Mode]
+    cutting: dict[str, float]
+    experiment: dict[str, Any]
+    seed: int
+    config: dict[str, Any] = field(default_factory=dict)
+    q_home_rad: np.ndarray = field(default_factory=lambda: np.zeros(6))
+
+    # ---- geometry of the cuts -------------------------------------------------------------
+    def cut_endpoints_mm(self, cut: Cut, set_index: int | None = None) -> tuple[np.ndarray,
+                                                                              np.ndarray]:
+        """Start and end of a cut's TCP path in the robot base frame [mm] (slot floor)."""
+        lay = self.experiment["layout"]
+        L = float(self.experiment["cut_length_mm"])
+        s = (cut.set - 1) if set_index is None else set_index
+        corner = np.array([lay["margin_mm"] + (cut.segment - 1) * lay["segment_pitch_mm"],
+                           lay["margin_mm"] + s * lay["set_pitch_mm"], -cut.depth_mm])
+        origin = np.asarray(lay["block_origin_mm"], float)
+        start_local = {"py": corner, "px": corner + [0, L, 0], "my": corner + [L, L, 0]}
+        a = origin + start_local[cut.direction]
+        b = a + L * np.asarray(DIRECTION_VECTORS[cut.direction])
+        return a, b
+
+    def tool_rotation(self) -> np.ndarray:
+        """TCP orientation for milling: tool z axis pointing down (−Z), tool x along +X."""
+        return np.array([[1.0, 0, 0], [0, -1.0, 0], [0, 0, -1.0]])
+
+    def cut_path_mm(self, cut: Cut, s_mm: np.ndarray) -> np.ndarray:
+        """Nominal TCP positions ``(len(s), 3)`` at path abscissae ``s_mm`` along a cut."""
+        a, b = self.cut_endpoints_mm(cut)
+        u = (b - a) / np.linalg.norm(b - a)
+        return a + np.outer(np.asarray(s_mm, float), u)
+
+    def joint_path_rad(self, cut: Cut, s_mm: np.ndarray) -> np.ndarray:
+        """Joint angles ``(len(s), 6)`` along the cut, by inverse kinematics (elbow-up branch
+        nearest ``q_home_rad``)."""
+        P = self.cut_path_mm(cut, s_mm)
+        T = np.broadcast_to(np.eye(4), (len(P), 4, 4)).copy()
+        T[:, :3, :3] = self.tool_rotation()
+        T[:, :3, 3] = P
+        return self.robot.ik_path(T, self.q_home_rad)
+
+    # ---- gear-train errors ------------------------------------------------------------------
+    def joint_error_rad(self, q_rad: np.ndarray) -> np.ndarray:
+        """Planted joint positioning error ``(..., 6)`` from every gear stage at angles q."""
+        q = np.asarray(q_rad, float)
+        dq = np.zeros_like(q)
+        for g in self.gears:
+            dq[..., g.joint - 1] += g.joint_error_rad(q[..., g.joint - 1])
+        return dq
+
+    def tcp_error_mm(self, q_rad: np.ndarray) -> np.ndarray:
+        """TCP position error ``(..., 3)`` [mm] from the gear errors, through the Jacobian."""
+        J = self.robot.jacobian(q_rad)[..., :3, :]
+        return np.einsum("...ij,...j->...i", J, self.joint_error_rad(q_rad))
+
+    def gear_spatial_frequency_per_mm(self, cut: Cut, n_points: int = 41) -> list[dict]:
+        """Spatial frequency of every gear element (runout and mesh) during a cut.
+
+        Revolutions per mm of path: ``r · |Δq_j| / (2π · L)`` averaged over the cut (a
+        straight path at constant speed: independent of feed).
+        """
+        L = float(self.experiment["cut_length_mm"])
+        q = self.joint_path_rad(cut, np.linspace(0.0, L, n_points))
+        rate = np.abs(q[-1] - q[0]) / L  # rad per mm, mean over the cut
+        out = []
+        for g in self.gears:
+            f1 = g.rev_per_joint_rev * rate[g.joint - 1] / (2 * np.pi)
+            out.append({"joint": g.joint, "stage": g.stage, "order": "runout",
+                        "f_spatial_per_mm": f1})
+            out.append({"joint": g.joint, "stage": g.stage, "order": "mesh",
+                        "f_spatial_per_mm": f1 * g.teeth})
+        return out
+
+    # ---- modal model -----------------------------------------------------------------------
+    def receptance_m_per_N(self, f_hz: np.ndarray) -> np.ndarray:
+        """Tool-tip receptance matrix ``(3, 3, len(f))`` [m/N] in base axes X, Y, Z.
+
+        .. math:: H(ω) = \\sum_r \\frac{φ_r φ_r^T}{k_r (1 − (ω/ω_r)^2 + 2jζ_r ω/ω_r)}
+        """
+        f = np.asarray(f_hz, float)
+        H = np.zeros((3, 3, f.size), complex)
+        for m in self.modes:
+            r = f / m.f_hz
+            phi = np.asarray(m.shape, float)
+            H += np.einsum("i,j,f->ijf", phi, phi, 1.0 / (m.k_N_m * (1 - r**2 + 2j * m.zeta * r)))
+        return H
+
+    # ---- truth --------------------------------------------------------------------------
+    def truth(self) -> xr.Dataset:
+        """The planted ground truth as a labelled dataset (``results/synthetic/truth.nc``)."""
+        gear = np.arange(len(self.gears))
+        mode = np.arange(1, len(self.modes) + 1)
+
+        def v(dim, data, units, long_name):
+            return (dim, np.asarray(data), {"units": units, "long_name": long_name})
+
+        ds = xr.Dataset(
+            {
+                "gear_joint": v("gear", [g.joint for g in self.gears], "1", "joint of gear"),
+                "gear_stage": v("gear", [g.stage for g in self.gears], "1", "gear stage name"),
+                "gear_rev_per_joint_rev": v("gear", [g.rev_per_joint_rev for g in self.gears],
+                                            "1", "revolutions per joint revolution"),
+                "gear_teeth": v("gear", [g.teeth for g in self.gears], "1", "tooth count"),
+                "gear_runout_rad": v("gear", [g.runout_rad for g in self.gears], "rad",
+                                     "once-per-revolution transmission error amplitude"),
+                "gear_mesh_rad": v("gear", [g.mesh_rad for g in self.gears], "rad",
+                                   "tooth-mesh transmission error amplitude"),
+                "gear_runout_phase_rad": v("gear", [g.runout_phase_rad for g in self.gears],
+                                           "rad", "runout phase"),
+                "gear_mesh_phase_rad": v("gear", [g.mesh_phase_rad for g in self.gears], "rad",
+                                         "mesh phase"),
+                "mode_f_hz": v("mode", [m.f_hz for m in self.modes], "Hz", "natural frequency"),
+                "mode_zeta": v("mode", [m.zeta for m in self.modes], "1", "damping ratio"),
+                "mode_k_N_m": v("mode", [m.k_N_m for m in self.modes], "N/m",
+                                "modal stiffness at the tool tip"),
+                "mode_m_kg": v("mode", [m.m_kg for m in self.modes], "kg",
+                               "modal mass at the tool tip"),
+                "mode_shape": (("mode", "axis"), np.array([m.shape for m in self.modes]),
+                               {"units": "1", "long_name": "unit mode shape at the tool tip"}),
+            },
+            coords={
+                "gear": ("gear", gear, {"units": "1", "long_name": "gear index"}),
+                "mode": ("mode", mode, {"units": "1", "long_name": "mode number"}),
+                "axis": ("axis", ["X", "Y", "Z"], {"units": "1", "long_name": "base axis"}),
+            },
+            attrs={"seed": self.seed, "robot": self.robot.name},
+        )
+        for name, value in self.cutting.items():
+            unit = "N/mm^2" if name.endswith("N_mm2") else "N/mm"
+            ds[f"cutting_{name}"] = ((), float(value), {"units": unit,
+                                                        "long_name": f"cutting coefficient {name}"})
+        return ds
+
+
+def _gears_from_config(gears: Sequence[Mapping], rng: np.random.Generator) -> list[GearStage]:
+    out = []
+    for g in gears:
+        phases = rng.uniform(0, 2 * np.pi, size=2)
+        out.append(GearStage(
+            joint=int(g["joint"]), stage=str(g["stage"]),
+            rev_per_joint_rev=float(g["rev_per_joint_rev"]), teeth=int(g["teeth"]),
+            runout_rad=float(g["runout_arcsec"]) * ARCSEC,
+            mesh_rad=float(g["mesh_arcsec"]) * ARCSEC,
+            runout_phase_rad=float(g.get("runout_phase_rad", phases[0])),
+            mesh_phase_rad=float(g.get("mesh_phase_rad", phases[1]))))
+    return out
+
+
+def cell_from_config(config: Mapping[str, Any]) -> VirtualCell:
+    """Build the virtual cell from the whole (validated) configuration mapping."""
+    syn = config["synth"]
+    rng = np.random.default_rng(int(syn["seed"]))
+    robot = robot_from_mapping(syn["robot"])
+    modes = []
+    for m in syn["modes"]:
+        shape = np.asarray(m["shape"], float)
+        shape = shape / np.linalg.norm(shape)
+        modes.append(Mode(float(m["f_hz"]), float(m["zeta"]), float(m["k_N_m"]),
+                          tuple(float(x) for x in shape)))
+    q_home = np.deg2rad(np.asarray(syn.get("q_home_deg", [0, 0, 0, 0, 0, 0]), float))
+    return VirtualCell(robot=robot, gears=_gears_from_config(syn["gears"], rng), modes=modes,
+                       cutting={k: float(v) for k, v in syn["cutting"].items()},
+                       experiment=dict(config["experiment"]), seed=int(syn["seed"]),
+                       config=dict(config), q_home_rad=q_home)

@@ -1,0 +1,14 @@
+"""Stiffness load tests: stiffness/load_tests_<robot>.csv and stiffness/<robot>.yaml.
+
+Simulator of this instrument (issue #10). Until it is implemented it plans no files.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+
+def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
+    """Raw files this instrument writes in the synthetic study (none yet)."""
+    return []

@@ -1,0 +1,14 @@
+"""FARO laser tracker: tracker/<dir>_f<feed>.csv (t_s, x_mm, y_mm, z_mm).
+
+Simulator of this instrument (issue #5). Until it is implemented it plans no files.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+
+def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
+    """Raw files this instrument writes in the synthetic study (none yet)."""
+    return []

@@ -1,0 +1,53 @@
+"""Shared fixtures: the repository, the default and tiny configurations, a snakemake runner."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
+
+
+@pytest.fixture(scope="session")
+def repo() -> Path:
+    return REPO
+
+
+@pytest.fixture(scope="session")
+def config():
+    from robomill.config import load_config
+
+    return load_config(REPO / "config.yaml")
+
+
+@pytest.fixture(scope="session")
+def tiny_config():
+    from robomill.config import load_config
+
+    return load_config(REPO / ".test" / "config.yaml", REPO / "workflow/schemas/config.schema.yaml")
+
+
+def run_snakemake(workdir: Path, *args: str, configfile: Path | None = None,
+                  timeout: int = 900) -> subprocess.CompletedProcess:
+    """Run the repository's workflow in ``workdir`` (results land there)."""
+    cmd = [SNAKEMAKE, "-s", str(REPO / "Snakefile"), "--directory", str(workdir),
+           "--configfile", str(configfile or REPO / ".test" / "config.yaml"), *args]
+    env = {**os.environ, "PYTHONHASHSEED": "0"}
+    return subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, timeout=timeout,
+                          env=env)
+
+
+@pytest.fixture(scope="session")
+def tiny_run(tmp_path_factory) -> Path:
+    """The whole workflow (`all`) run once on the tiny config; shared by pipeline tests."""
+    workdir = tmp_path_factory.mktemp("tiny_run")
+    proc = run_snakemake(workdir, "-j2", "all")
+    if proc.returncode != 0:
+        pytest.fail(f"snakemake -j2 all failed on the tiny config:\n{proc.stdout[-4000:]}"
+                    f"\n{proc.stderr[-6000:]}")
+    return workdir

@@ -1,0 +1,28 @@
+"""The experiment plan and its derived quantities (SPEC §0)."""
+
+import pytest
+
+from robomill.experiment import feed_per_tooth_mm, plan_cuts, tooth_passing_hz
+from robomill.synth.plan import synthetic_cuts
+
+
+def test_thesis_plan_has_45_cuts(config):
+    cuts = synthetic_cuts(config)
+    assert len(cuts) == 45
+    assert len({c.id for c in cuts}) == 45
+    assert [c.direction for c in cuts[:3]] == ["py", "px", "my"]
+    s3 = [c for c in cuts if c.set == 3 and c.direction == "px"]
+    assert [c.feed_mm_s for c in s3] == [2, 4, 6, 8, 10]
+
+
+def test_feed_per_tooth_matches_thesis():
+    assert tooth_passing_hz(28000, 2) == pytest.approx(933.33, abs=0.01)
+    assert 1e3 * feed_per_tooth_mm(1.0, 28000, 2) == pytest.approx(1.07, abs=0.005)
+    assert 1e3 * feed_per_tooth_mm(10.0, 28000, 2) == pytest.approx(10.7, abs=0.05)
+
+
+def test_more_sets_cycle_the_thesis_sets(config):
+    cuts = plan_cuts(config["experiment"]["sets"], 9)
+    assert len(cuts) == 9 * 15
+    s7 = [c for c in cuts if c.set == 7]
+    assert {c.depth_mm for c in s7} == {0.25} and s7[0].feed_mm_s == 1.0

@@ -1,0 +1,1 @@
+# Stage 'calibration': rules are added by its chapter issue.

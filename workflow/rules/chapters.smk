@@ -1,0 +1,31 @@
+# Chapter 0 (the experiment) and the pattern every chapter rule follows: the notebook is an
+# input, the executed .ipynb, the .html and the figure folder are outputs. Each chapter's own
+# rule lives with its stage file; `chN` targets are rule names.
+
+
+rule ch0:
+    input:
+        notebook=notebook("ch0_experiment.ipynb"),
+        cuts="results/ingest/cuts.csv",
+    output:
+        ipynb="results/chapters/ch0_experiment.ipynb",
+        html=report(
+            "results/chapters/ch0_experiment.html",
+            caption="../report/ch0.rst",
+            category="Chapter 0",
+        ),
+        figures=directory("results/figures/ch0"),
+    log:
+        "results/logs/chapters/ch0.log",
+    benchmark:
+        "results/benchmarks/rules/chapters/ch0.tsv"
+    conda:
+        ENV
+    params:
+        options=lookup(dpath="chapters", within=config),
+        failed_copy="results/logs/chapters/ch0.failed.ipynb",
+    script:
+        "../scripts/render_chapter.py"
+
+
+ALL_TARGETS.append("results/chapters/ch0_experiment.html")

@@ -1,0 +1,1 @@
+# Stage 'chatter': rules are added by its chapter issue.

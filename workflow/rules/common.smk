@@ -1,0 +1,51 @@
+# Helpers shared by the rules: where raw data comes from, the study plan, target lists.
+# Keep this file small: computation lives in src/robomill/.
+import os
+from pathlib import Path
+
+from robomill.io.manifest import load_manifest
+from robomill.synth.plan import experiment_header, planned_files, synthetic_cuts
+
+REPO = Path(workflow.basedir)
+SYNTHETIC = config["data"]["source"] == "synthetic"
+RAW = "results/synthetic/raw" if SYNTHETIC else config["data"]["raw_dir"]
+MANIFEST = f"{RAW}/manifest.yaml"
+ENV = "../envs/robomill.yaml"
+
+# The study plan: from the configuration for synthetic data, from the manifest for raw data.
+if SYNTHETIC:
+    CUTS = synthetic_cuts(config)
+    RAW_FILES = planned_files(config)
+    EXPERIMENT = experiment_header(config)
+else:
+    _manifest = load_manifest(MANIFEST)
+    CUTS = _manifest.cuts
+    RAW_FILES = _manifest.files
+    EXPERIMENT = _manifest.experiment
+CUT_IDS = [c.id for c in CUTS]
+
+
+wildcard_constraints:
+    cut="s[0-9]+_g[0-9]+_(px|py|my)",
+
+
+# Every stage appends the outputs that `all` must build (chapters, book).
+ALL_TARGETS = []
+
+
+def all_targets(wildcards):
+    return ALL_TARGETS
+
+
+def raw_files(kind, **meta):
+    """Paths of the raw files of `kind` (matching `meta`) in the active raw folder."""
+    return [
+        f"{RAW}/{f['path']}"
+        for f in RAW_FILES
+        if f["kind"] == kind and all(f.get(k) == v for k, v in meta.items())
+    ]
+
+
+def notebook(name):
+    """A chapter notebook in the repository (works with --directory elsewhere)."""
+    return str(REPO / "notebooks" / name)

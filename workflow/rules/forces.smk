@@ -1,0 +1,1 @@
+# Stage 'forces': rules are added by its chapter issue.

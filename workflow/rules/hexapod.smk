@@ -1,0 +1,1 @@
+# Stage 'hexapod': rules are added by its chapter issue.

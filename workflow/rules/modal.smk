@@ -1,0 +1,1 @@
+# Stage 'modal': rules are added by its chapter issue.

@@ -1,0 +1,1 @@
+# Stage 'stiffness': rules are added by its chapter issue.

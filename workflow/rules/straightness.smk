@@ -1,0 +1,1 @@
+# Stage 'straightness': rules are added by its chapter issue.

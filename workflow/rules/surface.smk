@@ -1,0 +1,1 @@
+# Stage 'surface': rules are added by its chapter issue.

@@ -1,0 +1,40 @@
+# The virtual cell: planted truth and the manifest of the synthetic raw files.
+# Each instrument's simulator rule lives with its stage (surface.smk, forces.smk, ...) and
+# writes into results/synthetic/raw/; this file gathers them.
+
+
+rule synth_truth:
+    output:
+        "results/synthetic/truth.nc",
+    log:
+        "results/logs/synth/truth.log",
+    benchmark:
+        "results/benchmarks/rules/synth/truth.tsv"
+    conda:
+        ENV
+    params:
+        synth=lookup(dpath="synth", within=config),
+        experiment=lookup(dpath="experiment", within=config),
+    script:
+        "../scripts/synth_truth.py"
+
+
+rule synth_manifest:
+    input:
+        files=[f"results/synthetic/raw/{f['path']}" for f in RAW_FILES],
+        truth="results/synthetic/truth.nc",
+    output:
+        "results/synthetic/raw/manifest.yaml",
+    log:
+        "results/logs/synth/manifest.log",
+    benchmark:
+        "results/benchmarks/rules/synth/manifest.tsv"
+    conda:
+        ENV
+    params:
+        experiment=EXPERIMENT,
+        cuts=[c.as_dict() for c in CUTS],
+        files=RAW_FILES,
+        raw_dir=lambda w, output: os.path.dirname(output[0]),
+    script:
+        "../scripts/synth_manifest.py"

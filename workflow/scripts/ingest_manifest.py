@@ -1,0 +1,16 @@
+"""Validate the manifest, check every listed file's sha256, tabulate cuts and files."""
+
+import pandas as pd
+
+from robomill.experiment import cuts_table
+from robomill.io import write_table
+from robomill.io.manifest import load_manifest
+from robomill.runlog import setup
+
+log = setup(snakemake.log[0], "ingest_manifest")
+m = load_manifest(snakemake.input.manifest)
+m.verify_all()
+exp = m.experiment
+write_table(cuts_table(m.cuts, exp["spindle_rpm"], exp["flutes"]), snakemake.output.cuts)
+write_table(pd.DataFrame(m.files), snakemake.output.files)
+log.info("verified %d files of %d cuts in %s", len(m.files), len(m.cuts), m.raw_dir)

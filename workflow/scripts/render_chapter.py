@@ -1,0 +1,21 @@
+"""Execute a chapter notebook with papermill and render it to HTML (see robomill.chapters)."""
+
+from robomill.chapters import render_chapter
+from robomill.runlog import setup
+
+log = setup(snakemake.log[0], "chapter")
+inputs = {k: v for k, v in snakemake.input.items() if k != "notebook"}
+params = dict(snakemake.params.parameters) if "parameters" in snakemake.params.keys() else {}
+opts = snakemake.params.options
+render_chapter(
+    snakemake.input.notebook,
+    snakemake.output.ipynb,
+    snakemake.output.html,
+    snakemake.output.figures,
+    {**inputs, **params},
+    kernel=opts["kernel"],
+    start_timeout_s=opts["start_timeout_s"],
+    execution_timeout_s=opts["execution_timeout_s"],
+    failed_copy=snakemake.params.failed_copy,
+)
+log.info("rendered %s", snakemake.output.html)
