@@ -1,0 +1,185 @@
+"""Spectral helpers shared by the surface, force and straightness analyses.
+
+The thesis defines its spectra explicitly (thesis eqs. 2.1–2.6):
+
+.. math::
+
+    Z(k) = \\sum_{n=0}^{N-1} z(n) e^{-j 2\\pi k n / N}, \\quad
+    A(k) = |Z(k)|/N, \\quad P(k) = |Z(k)|^2 / N^2, \\quad f_k = k f_s / N
+
+and the RMS by Parseval, :math:`R_q = \\sqrt{\\sum_k P(k)}` over all N bins (eq. 2.6). The
+one-sided forms fold the negative frequencies onto the positive ones (×2 for 0 < k < N/2),
+so the one-sided power still sums to the mean square. ``fs`` is in samples per unit of the
+abscissa: mm⁻¹ for profiles (spatial frequency), Hz for time series.
+
+Welch PSDs and chunked accumulation use :func:`scipy.signal.welch`/``csd`` conventions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.fft
+import scipy.signal
+
+
+@dataclass(frozen=True)
+class Spectrum:
+    """One-sided thesis spectrum of a real signal."""
+
+    f: np.ndarray
+    """Frequency of each bin, k·fs/N (mm⁻¹ or Hz)."""
+    amplitude: np.ndarray
+    """One-sided normalized amplitude (peak amplitude of a sinusoid at its bin)."""
+    power: np.ndarray
+    """One-sided normalized power (sums to the mean square of the signal)."""
+
+
+def thesis_dft(z: np.ndarray, fs: float, *, axis: int = -1) -> tuple[np.ndarray, np.ndarray]:
+    """Two-sided DFT Z(k) (thesis eq. 2.1) and the bin frequencies k·fs/N (``fftfreq``)."""
+    z = np.asarray(z, dtype=float)
+    n = z.shape[axis]
+    return scipy.fft.fft(z, axis=axis), scipy.fft.fftfreq(n, d=1.0 / fs)
+
+
+def thesis_spectrum(z: np.ndarray, fs: float, *, axis: int = -1) -> Spectrum:
+    """One-sided normalized amplitude A(k) and power P(k) (thesis eqs. 2.2, 2.3).
+
+    For a sinusoid ``a·sin(2π f0 n/fs)`` with f0 on a bin, ``amplitude`` at f0 is ``a`` and
+    ``power`` at f0 is ``a²/2`` (two-sided ``|Z|/N = a/2`` at ±f0, folded). ``power.sum()``
+    equals ``mean(z**2)`` (Parseval, eq. 2.6).
+
+    Examples
+    --------
+    >>> n = np.arange(1000); z = 3.0 * np.sin(2 * np.pi * 50 * n / 1000)
+    >>> s = thesis_spectrum(z, fs=1000.0)
+    >>> float(s.f[np.argmax(s.amplitude)]), round(float(s.amplitude.max()), 12)
+    (50.0, 3.0)
+    """
+    z = np.moveaxis(np.asarray(z, dtype=float), axis, -1)
+    n = z.shape[-1]
+    Z = scipy.fft.rfft(z, axis=-1)
+    amp = np.abs(Z) / n
+    power = amp**2
+    fold = np.ones(Z.shape[-1])
+    fold[1:] = 2.0
+    if n % 2 == 0:
+        fold[-1] = 1.0  # Nyquist bin appears once
+    f = scipy.fft.rfftfreq(n, d=1.0 / fs)
+    amp_1 = amp * np.where(fold == 2.0, 2.0, 1.0)
+    return Spectrum(f, np.moveaxis(amp_1, -1, axis), np.moveaxis(power * fold, -1, axis))
+
+
+def parseval_rms(z: np.ndarray, *, axis: int = -1) -> np.ndarray:
+    """RMS from the normalized power spectrum, sqrt(Σ_k P(k)) (thesis eq. 2.6)."""
+    z = np.asarray(z, dtype=float)
+    Z = scipy.fft.fft(z, axis=axis)
+    n = z.shape[axis]
+    return np.sqrt(np.sum(np.abs(Z) ** 2, axis=axis) / n**2)
+
+
+def segment_signal(z: np.ndarray, n_segment: int) -> np.ndarray:
+    """Split a 1-D signal into ``len(z) // n_segment`` equal segments ``(m, n_segment)``
+    (the remainder at the end is dropped)."""
+    z = np.asarray(z, dtype=float)
+    m = z.size // n_segment
+    if m < 1:
+        raise ValueError(f"signal of {z.size} samples is shorter than one segment "
+                         f"({n_segment} samples)")
+    return z[: m * n_segment].reshape(m, n_segment)
+
+
+def segment_averaged_spectrum(z: np.ndarray, fs: float, segment_length: float, *,
+                              detrend: str | None = "constant") -> Spectrum:
+    """The thesis' segment method: equal segments, a spectrum per segment, averaged.
+
+    ``segment_length`` is in the abscissa unit (mm for profiles). Power is averaged; the
+    amplitude returned is sqrt of the averaged one-sided power × 2 (a sinusoid's amplitude).
+    ``detrend`` removes each segment's mean (``"constant"``) or line (``"linear"``).
+    """
+    n_seg = int(round(segment_length * fs))
+    segs = segment_signal(z, n_seg)
+    if detrend:
+        segs = scipy.signal.detrend(segs, axis=-1, type=detrend)
+    s = thesis_spectrum(segs, fs)
+    power = s.power.mean(axis=0)
+    amp = np.sqrt(2.0 * power)
+    amp[0] = np.sqrt(power[0])
+    return Spectrum(s.f, amp, power)
+
+
+def segment_rms(z: np.ndarray, fs: float, segment_length: float, *,
+                detrend: str | None = "constant") -> float:
+    """RMS by the segment method: sqrt of the segment-averaged power summed (eq. 2.6)."""
+    return float(np.sqrt(segment_averaged_spectrum(z, fs, segment_length,
+                                                   detrend=detrend).power.sum()))
+
+
+def welch_psd(x: np.ndarray, fs: float, *, nperseg: int, axis: int = -1,
+              window: str = "hann", detrend: str | bool = "constant") -> tuple[np.ndarray,
+                                                                             np.ndarray]:
+    """One-sided power spectral density (units²/Hz or units²·mm) by Welch's method."""
+    return scipy.signal.welch(x, fs=fs, nperseg=nperseg, axis=axis, window=window,
+                              detrend=detrend, scaling="density")
+
+
+class WelchAccumulator:
+    """Welch PSD accumulated chunk by chunk, in memory independent of the record length.
+
+    Feed consecutive chunks with :meth:`add`; segments (``nperseg``, 50 % overlap, Hann)
+    straddling chunk boundaries are handled by carrying the tail over, so the result equals
+    :func:`scipy.signal.welch` on the whole record (``detrend='constant'``, mean average).
+    """
+
+    def __init__(self, fs: float, nperseg: int, n_channels: int = 1, window: str = "hann"):
+        self.fs, self.nperseg, self.step = fs, nperseg, nperseg // 2
+        self.win = scipy.signal.get_window(window, nperseg)
+        self.scale = 1.0 / (fs * np.sum(self.win**2))
+        self.sum = np.zeros((n_channels, nperseg // 2 + 1))
+        self.count = 0
+        self.tail = np.zeros((n_channels, 0))
+
+    def add(self, chunk: np.ndarray) -> None:
+        """Add samples ``(n_channels, n)`` (or ``(n,)`` for one channel)."""
+        chunk = np.atleast_2d(np.asarray(chunk, dtype=float))
+        buf = np.concatenate([self.tail, chunk], axis=1)
+        n_seg = 0 if buf.shape[1] < self.nperseg else 1 + (buf.shape[1] - self.nperseg) // self.step
+        if n_seg:
+            idx = np.arange(n_seg)[:, None] * self.step + np.arange(self.nperseg)[None, :]
+            segs = buf[:, idx]  # (channels, n_seg, nperseg)
+            segs = segs - segs.mean(axis=-1, keepdims=True)
+            X = scipy.fft.rfft(segs * self.win, axis=-1)
+            self.sum += np.sum(np.abs(X) ** 2, axis=1)
+            self.count += n_seg
+        self.tail = buf[:, n_seg * self.step:]
+
+    def result(self) -> tuple[np.ndarray, np.ndarray]:
+        """(f, psd ``(n_channels, nfreq)``) — one-sided density."""
+        if self.count == 0:
+            raise ValueError("fewer samples than one Welch segment")
+        psd = self.sum / self.count * self.scale
+        psd[:, 1:] *= 2.0
+        if self.nperseg % 2 == 0:
+            psd[:, -1] /= 2.0
+        return scipy.fft.rfftfreq(self.nperseg, 1.0 / self.fs), psd
+
+
+def find_peaks_spectrum(f: np.ndarray, power: np.ndarray, *, fmin: float = 0.0,
+                        fmax: float | None = None, n: int = 5,
+                        prominence_ratio: float = 3.0) -> list[tuple[float, float]]:
+    """The ``n`` largest local maxima of ``power`` within [fmin, fmax], as (f, power).
+
+    A peak must exceed ``prominence_ratio`` × the median power of the band (so noise floors
+    give no peaks). Uses :func:`scipy.signal.find_peaks`.
+    """
+    f = np.asarray(f)
+    power = np.asarray(power)
+    sel = (f >= fmin) & (f <= (fmax if fmax is not None else f.max()))
+    fb, pb = f[sel], power[sel]
+    if pb.size < 3:
+        return []
+    floor = np.median(pb)
+    idx, _ = scipy.signal.find_peaks(pb, height=prominence_ratio * floor)
+    idx = idx[np.argsort(pb[idx])[::-1][:n]]
+    return [(float(fb[i]), float(pb[i])) for i in sorted(idx, key=lambda i: fb[i])]
