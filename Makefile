@@ -56,9 +56,13 @@ fmt: $(STAMP)
 	$(BIN)/ruff format src tests workflow/scripts benchmarks
 	$(BIN)/snakefmt Snakefile workflow/rules
 
+# Why would a target rerun? `make why` or `make why TARGET=ch2`
+TARGET ?= all
 why: $(STAMP)
-	$(SNAKEMAKE) -n --summary all 2>/dev/null | $(BIN)/python -m robomill.why
+	@$(SNAKEMAKE) -n $(TARGET) 2>&1 | $(BIN)/python -m robomill.why
 
+# Jupyter Lab on notebooks/explore.ipynb, or `make explore CHAPTER=ch2` on a copy of the
+# chapter notebook with this run's artefact paths injected as parameters
 explore: $(STAMP)
 	$(BIN)/python -m robomill.explore $(CHAPTER)
 

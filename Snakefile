@@ -1,5 +1,7 @@
 # robomill: the study of robotic milling quality, as one workflow.
 # A table of contents: configuration, one include per stage, and the targets.
+import sys
+
 from snakemake.utils import min_version, validate
 
 from robomill.config import SECTIONS
@@ -33,6 +35,14 @@ include: "workflow/rules/chatter.smk"
 include: "workflow/rules/stiffness.smk"
 include: "workflow/rules/hexapod.smk"
 include: "workflow/rules/chapters.smk"
+
+
+onerror:
+    import atexit
+    from robomill.failures import summarize_failures
+
+    # printed at exit, so it is the last thing on screen, after Snakemake's own messages
+    atexit.register(print, summarize_failures(log), file=sys.stderr, flush=True)
 
 
 rule all:

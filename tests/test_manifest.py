@@ -94,3 +94,9 @@ def test_pipeline_stops_on_sha_mismatch_and_leaves_raw_untouched(tmp_path, repo)
     assert "s1_g1_px.csv" in log and "sha256" in log
     assert not (work / "results/ingest/cuts.csv").exists()
     assert _tree_digest(raw) == before
+    # the last thing printed is the one-screen failure summary naming job, error and log
+    tail = proc.stderr.strip().splitlines()[-4:]
+    summary = "\n".join(tail)
+    assert "1 failed job(s)" in summary
+    assert "- ingest_manifest: RawDataError:" in summary and "sha256" in summary
+    assert "log: results/logs/ingest/manifest.log" in summary

@@ -8,8 +8,8 @@
 # frequency.
 
 # %% tags=["parameters"]
-cuts = None  # results/ingest/cuts.csv
-fig_dir = None  # folder for this chapter's figures
+cuts: str = None  # results/ingest/cuts.csv
+fig_dir: str = None  # folder for this chapter's figures
 
 # %%
 import matplotlib.pyplot as plt

@@ -21,6 +21,68 @@ class ChapterError(RuntimeError):
     """A chapter notebook failed; the message names the cell and the kept notebook."""
 
 
+_TYPES: dict[str, tuple[type, ...]] = {
+    "str": (str,),
+    "int": (int,),
+    "float": (int, float),
+    "bool": (bool,),
+    "list": (list, tuple),
+    "dict": (dict,),
+}
+
+
+def declared_parameters(notebook: str | Path) -> dict[str, str]:
+    """The chapter's declared parameters ``{name: type name}``.
+
+    The notebook's ``parameters`` cell is the chapter's parameter schema: every parameter is
+    declared with a type annotation, ``cuts: str = None`` (read with
+    :func:`papermill.inspect_notebook`).
+    """
+    import papermill as pm
+
+    info = pm.inspect_notebook(str(notebook))
+    return {name: p["inferred_type_name"] for name, p in info.items()}
+
+
+def check_parameters(notebook: str | Path, parameters: Mapping[str, Any]) -> dict[str, str]:
+    """Refuse unknown, misspelt, untyped or wrongly typed parameters before execution.
+
+    Raises
+    ------
+    ChapterError
+        Naming the parameter and the accepted ones.
+    """
+    import difflib
+
+    declared = declared_parameters(notebook)
+    untyped = [n for n, t in declared.items() if t in ("None", "")]
+    if untyped:
+        raise ChapterError(f"chapter notebook {notebook}: parameter(s) {', '.join(untyped)} "
+                           "have no type annotation in the parameters cell (write "
+                           "`name: str = None`)")
+    for name, value in parameters.items():
+        if name not in declared:
+            close = difflib.get_close_matches(name, list(declared), n=1)
+            raise ChapterError(
+                f"chapter notebook {notebook}: unknown parameter {name!r}"
+                + (f" (did you mean {close[0]!r}?)" if close else "")
+                + "; accepted: " + ", ".join(f"{n}: {t}" for n, t in declared.items()))
+        types = _TYPES.get(declared[name])
+        if types and value is not None and (
+                not isinstance(value, types) or (bool not in types and isinstance(value, bool))):
+            raise ChapterError(f"chapter notebook {notebook}: parameter {name!r} must be "
+                               f"{declared[name]}, got {type(value).__name__} {value!r}")
+    return declared
+
+
+def _parameter_table(parameters: Mapping[str, Any], declared: Mapping[str, str]) -> str:
+    rows = ["| parameter | value | type |", "|---|---|---|"]
+    for name, value in parameters.items():
+        shown = str(value).replace("|", "\\|")
+        rows.append(f"| `{name}` | `{shown}` | {declared.get(name, '')} |")
+    return "**Parameters of this run**\n\n" + "\n".join(rows)
+
+
 def notebook_errors(nb: nbformat.NotebookNode) -> list[str]:
     """Error outputs of an executed notebook, as ``"cell N: EName: value"`` lines."""
     found = []
@@ -63,6 +125,7 @@ def render_chapter(
         staged_figs = stage / "figures"
         staged_figs.mkdir()
         params = {**parameters, "fig_dir": str(staged_figs.resolve())}
+        declared = check_parameters(notebook, params)
         error: Exception | None = None
         try:
             pm.execute_notebook(
@@ -85,6 +148,9 @@ def render_chapter(
                 f"chapter notebook {notebook} failed: {first.splitlines()[0]}"
                 + (f"; executed notebook kept at {kept}" if kept else "")
             )
+        shown = {k: v for k, v in params.items() if k != "fig_dir"}
+        table = nbformat.v4.new_markdown_cell(_parameter_table(shown, declared))
+        nb.cells.insert(1 if nb.cells and nb.cells[0].cell_type == "markdown" else 0, table)
         body, _ = HTMLExporter(exclude_input_prompt=True, exclude_output_prompt=True
                                ).from_notebook_node(nb)
         (stage / out_html.name).write_text(body)

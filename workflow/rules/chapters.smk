@@ -7,6 +7,7 @@ rule ch0:
     input:
         notebook=notebook("ch0_experiment.ipynb"),
         cuts="results/ingest/cuts.csv",
+        code=code("chapters", "plotting"),
     output:
         ipynb="results/chapters/ch0_experiment.ipynb",
         html=report(
@@ -29,3 +30,10 @@ rule ch0:
 
 
 ALL_TARGETS.append("results/chapters/ch0_experiment.html")
+
+
+rule ch3:
+    input:
+        "results/chapters/ch3_1_forces.html",
+        "results/chapters/ch3_2_straightness.html",
+        "results/chapters/ch3_3_modal.html",

@@ -49,3 +49,10 @@ def raw_files(kind, **meta):
 def notebook(name):
     """A chapter notebook in the repository (works with --directory elsewhere)."""
     return str(REPO / "notebooks" / name)
+
+
+def code(*modules):
+    """Library modules a rule uses, declared as inputs so that editing one reruns the rule
+    (Snakemake's own code trigger sees only the rule's script). `io.manifest` →
+    src/robomill/io/manifest.py."""
+    return [str(REPO / "src" / "robomill" / (m.replace(".", "/") + ".py")) for m in modules]

@@ -4,6 +4,8 @@
 
 
 rule synth_truth:
+    input:
+        code=code("synth.cell", "synth.truth", "kinematics"),
     output:
         "results/synthetic/truth.nc",
     log:
@@ -23,6 +25,7 @@ rule synth_manifest:
     input:
         files=[f"results/synthetic/raw/{f['path']}" for f in RAW_FILES],
         truth="results/synthetic/truth.nc",
+        code=code("io.manifest"),
     output:
         "results/synthetic/raw/manifest.yaml",
     log:

@@ -4,7 +4,9 @@ from robomill.chapters import render_chapter
 from robomill.runlog import setup
 
 log = setup(snakemake.log[0], "chapter")
-inputs = {k: v for k, v in snakemake.input.items() if k != "notebook"}
+# every named input is a notebook parameter, except the notebook itself and `code` (library
+# modules declared as inputs only so that editing them reruns the chapter)
+inputs = {k: v for k, v in snakemake.input.items() if k not in ("notebook", "code")}
 params = dict(snakemake.params.parameters) if "parameters" in snakemake.params.keys() else {}
 opts = snakemake.params.options
 render_chapter(
