@@ -35,6 +35,7 @@ include: "workflow/rules/chatter.smk"
 include: "workflow/rules/stiffness.smk"
 include: "workflow/rules/hexapod.smk"
 include: "workflow/rules/chapters.smk"
+include: "workflow/rules/book.smk"
 
 
 onerror:

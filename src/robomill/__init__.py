@@ -6,6 +6,7 @@ workflow (``Snakefile``, ``workflow/``) and the chapter notebooks call it.
 
 __version__ = "0.1.0"
 
+from robomill.catalog import list_artefacts  # noqa: E402
 from robomill.io.artefacts import open_artefact, write_artefact  # noqa: E402
 
-__all__ = ["__version__", "open_artefact", "write_artefact"]
+__all__ = ["__version__", "list_artefacts", "open_artefact", "write_artefact"]

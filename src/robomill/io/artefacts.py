@@ -34,7 +34,13 @@ PROVENANCE_KEYS = ("rule", "robomill_version", "git_commit", "config_digest", "i
 
 @functools.cache
 def git_commit(cwd: str | None = None) -> str:
-    """The current git commit (``unknown`` when not in a git checkout)."""
+    """The commit of the robomill checkout in use (``unknown`` outside a git checkout).
+
+    By default git is asked in the package's own folder (an editable install lives in the
+    repository), not in the working directory of the run.
+    """
+    if cwd is None:
+        cwd = str(Path(__file__).resolve().parent)
     try:
         out = subprocess.run(
             ["git", "rev-parse", "HEAD"], cwd=cwd, capture_output=True, text=True, timeout=10

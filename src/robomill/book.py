@@ -1,0 +1,198 @@
+"""The thesis book: every rendered chapter in one self-contained folder.
+
+``build_book`` copies the chapter pages and figures into ``results/thesis/``, adds a
+navigation bar (index, previous, next) to each chapter, and writes ``index.html``: a title page
+with the experiment, a table of contents, the numbered figures of each chapter ("Figure 2.3",
+from the figure file names ``fig2_3_<slug>.png``), the scorecard when there is one, and the
+run's provenance. Every link is relative, so the folder can be copied anywhere.
+"""
+
+from __future__ import annotations
+
+import html
+import re
+import shutil
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import pandas as pd
+
+_FIG = re.compile(r"^fig(?P<ch>\d+)_(?P<num>\d+)(?:_(?P<slug>.*))?$")
+_TITLE = re.compile(r"<h1[^>]*>(?P<t>.*?)</h1>", re.S)
+_TAG = re.compile(r"<[^>]+>")
+
+
+@dataclass
+class ChapterPage:
+    name: str  # e.g. ch2_surface
+    title: str
+    html_path: Path
+    figures: list[tuple[str, str, Path]]  # (label "Figure 2.3", caption, png path)
+
+
+def chapter_title(html_text: str, fallback: str) -> str:
+    """Text of the first ``<h1>`` of a rendered chapter (anchor links removed)."""
+    m = _TITLE.search(html_text)
+    if not m:
+        return fallback
+    text = html.unescape(_TAG.sub("", m["t"])).replace("¶", "").strip()
+    return text or fallback
+
+
+def figure_label(png: Path) -> tuple[str, str]:
+    """("Figure N.M", caption from the slug) for ``figN_M_slug.png``."""
+    m = _FIG.match(png.stem)
+    if not m:
+        return png.stem, ""
+    caption = (m["slug"] or "").replace("_", " ")
+    return f"Figure {int(m['ch'])}.{int(m['num'])}", caption
+
+
+def collect_chapters(chapter_html: Sequence[str | Path], figures_root: str | Path
+                     ) -> list[ChapterPage]:
+    """Chapter pages in order, each with its figures from ``figures_root/chN[/part]``."""
+    pages = []
+    for p in sorted(map(Path, chapter_html), key=lambda p: _chapter_key(p.stem)):
+        name = p.stem
+        m = re.match(r"ch(\d+)(?:_(\d+))?_(.+)", name)
+        if m and m[2]:
+            fig_dir = Path(figures_root) / f"ch{m[1]}" / m[3]
+        else:
+            fig_dir = Path(figures_root) / name.split("_")[0]
+        figs = []
+        for png in sorted(fig_dir.glob("*.png"), key=lambda q: _figure_key(q.stem)):
+            label, caption = figure_label(png)
+            figs.append((label, caption, png))
+        pages.append(ChapterPage(name, chapter_title(p.read_text(errors="replace"), name), p,
+                                 figs))
+    return pages
+
+
+def _chapter_key(stem: str) -> tuple:
+    m = re.match(r"ch(\d+)(?:_(\d+))?", stem)
+    return (int(m[1]), int(m[2] or 0)) if m else (999, 0)
+
+
+def _figure_key(stem: str) -> tuple:
+    m = _FIG.match(stem)
+    return (int(m["ch"]), int(m["num"]), stem) if m else (999, 999, stem)
+
+
+_CSS = """
+body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;max-width:1100px;
+margin:2em auto;padding:0 1em;color:#222;line-height:1.45}
+h1{border-bottom:2px solid #345;padding-bottom:.3em}
+table{border-collapse:collapse;margin:1em 0;font-size:.9em}
+td,th{border:1px solid #ccc;padding:.25em .6em;text-align:left}
+th{background:#eef}
+.figs{display:flex;flex-wrap:wrap;gap:12px}
+.figs figure{width:250px;margin:0}
+.figs img{width:250px;border:1px solid #ddd}
+figcaption{font-size:.8em}
+.pass{color:#161}.miss{color:#a11}
+"""
+_NAV_CSS = """
+nav.robomill{position:sticky;top:0;background:#f4f6fa;border-bottom:1px solid #ccd;
+padding:.4em 1em;font-family:system-ui,sans-serif;z-index:1000}
+nav.robomill a{margin-right:1.2em}
+"""
+
+
+def _nav(prev: ChapterPage | None, nxt: ChapterPage | None) -> str:
+    parts = ['<nav class="robomill"><a href="../index.html">Contents</a>']
+    if prev:
+        parts.append(f'<a href="{prev.name}.html">← {html.escape(prev.title)}</a>')
+    if nxt:
+        parts.append(f'<a href="{nxt.name}.html">{html.escape(nxt.title)} →</a>')
+    parts.append("</nav>")
+    return "".join(parts)
+
+
+def build_book(
+    chapter_html: Sequence[str | Path],
+    figures_root: str | Path,
+    out_dir: str | Path,
+    *,
+    provenance: Mapping[str, str],
+    cuts_csv: str | Path | None = None,
+    scorecard_csv: str | Path | None = None,
+    benchmarks_csv: str | Path | None = None,
+) -> Path:
+    """Write the book into ``out_dir`` and return the path of ``index.html``."""
+    out = Path(out_dir)
+    if out.exists():
+        for sub in ("chapters", "figures"):
+            shutil.rmtree(out / sub, ignore_errors=True)
+    (out / "chapters").mkdir(parents=True, exist_ok=True)
+    pages = collect_chapters(chapter_html, figures_root)
+    for i, page in enumerate(pages):
+        text = page.html_path.read_text(errors="replace")
+        nav = _nav(pages[i - 1] if i > 0 else None, pages[i + 1] if i + 1 < len(pages) else None)
+        header = f"<style>{_NAV_CSS}</style>{nav}"
+        text = re.sub(r"(<body[^>]*>)", lambda m, h=header: m[1] + h, text, count=1)
+        (out / "chapters" / f"{page.name}.html").write_text(text)
+        for _, _, png in page.figures:
+            dst = out / "figures" / page.name / png.name
+            dst.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(png, dst)
+
+    body = ["<h1>Robotic milling quality — the study, reproduced</h1>",
+            "<p>Why slots milled by an ABB IRB 1600 robot have poor surfaces: calibration, "
+            "surface spectra, cutting forces, path straightness against gear-mesh "
+            "frequencies, modal identification, chatter, stiffness and pose, and hexapod "
+            "dynamics, computed by the robomill pipeline from this run's data.</p>"]
+    if cuts_csv and Path(cuts_csv).exists():
+        cuts = pd.read_csv(cuts_csv)
+        body.append(f"<p><b>The experiment:</b> {len(cuts)} cuts in {cuts['set'].nunique()} "
+                    f"set(s); spindle {60 * cuts['spindle_hz'].iloc[0]:.0f} rpm; feeds "
+                    f"{cuts['feed_mm_s'].min():g}–{cuts['feed_mm_s'].max():g} mm/s; depths "
+                    f"{', '.join(f'{d:g}' for d in sorted(cuts['depth_mm'].unique()))} mm.</p>")
+    body.append("<h2>Contents</h2><ol>")
+    for page in pages:
+        body.append(f'<li><a href="chapters/{page.name}.html">{html.escape(page.title)}</a> '
+                    f"({len(page.figures)} figures)</li>")
+    extra = []
+    if scorecard_csv and Path(scorecard_csv).exists():
+        shutil.copyfile(scorecard_csv, out / "scorecard.csv")
+        extra.append('<li><a href="scorecard.html">Reproduction scorecard</a></li>')
+        _write_table_page(out / "scorecard.html", "Reproduction scorecard",
+                          pd.read_csv(scorecard_csv), verdict_col="verdict")
+    if benchmarks_csv and Path(benchmarks_csv).exists():
+        extra.append('<li><a href="benchmarks.html">Benchmarks</a></li>')
+        _write_table_page(out / "benchmarks.html", "Benchmarks", pd.read_csv(benchmarks_csv))
+    body.extend(extra)
+    body.append("</ol>")
+    for page in pages:
+        if not page.figures:
+            continue
+        body.append(f'<h3><a href="chapters/{page.name}.html">{html.escape(page.title)}</a>'
+                    '</h3><div class="figs">')
+        for label, caption, png in page.figures:
+            rel = f"figures/{page.name}/{png.name}"
+            body.append(f'<figure><a href="{rel}"><img src="{rel}" alt="{label}"></a>'
+                        f"<figcaption><b>{label}</b> {html.escape(caption)}</figcaption>"
+                        "</figure>")
+        body.append("</div>")
+    body.append("<h2>Provenance of this run</h2><table>")
+    for k, v in provenance.items():
+        body.append(f"<tr><th>{html.escape(k)}</th><td>{html.escape(str(v))}</td></tr>")
+    body.append("</table>")
+    index = out / "index.html"
+    index.write_text(_page("robomill — the study", "\n".join(body)))
+    return index
+
+
+def _page(title: str, body: str) -> str:
+    return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}"
+            f"</title><style>{_CSS}{_NAV_CSS}</style></head><body>{body}</body></html>")
+
+
+def _write_table_page(path: Path, title: str, df: pd.DataFrame,
+                      verdict_col: str | None = None) -> None:
+    table = df.to_html(index=False, escape=True, na_rep="")
+    if verdict_col:
+        table = table.replace("<td>pass</td>", '<td class="pass">pass</td>').replace(
+            "<td>miss</td>", '<td class="miss">miss</td>')
+    path.write_text(_page(title, f'<nav class="robomill"><a href="index.html">Contents</a>'
+                                 f"</nav><h1>{html.escape(title)}</h1>{table}"))

@@ -1,0 +1,105 @@
+"""The book: every chapter listed, every relative link and image resolves, folder portable;
+and a real headless browser renders it (figures have a size, no notebook errors)."""
+
+import re
+import shutil
+from html.parser import HTMLParser
+from pathlib import Path
+
+import pytest
+
+pytestmark = pytest.mark.pipeline
+
+
+class _Links(HTMLParser):
+    def __init__(self):
+        super().__init__()
+        self.refs = []
+
+    def handle_starttag(self, tag, attrs):
+        a = dict(attrs)
+        if tag == "a" and a.get("href"):
+            self.refs.append(a["href"])
+        if tag == "img" and a.get("src"):
+            self.refs.append(a["src"])
+
+
+def _local_refs(page: Path):
+    p = _Links()
+    p.feed(page.read_text(errors="replace"))
+    for ref in p.refs:
+        if re.match(r"^(https?:|data:|mailto:|#|javascript:)", ref):
+            continue
+        yield ref.split("#")[0]
+
+
+def _check_folder(thesis: Path):
+    pages = [thesis / "index.html", *sorted((thesis / "chapters").glob("*.html"))]
+    for page in pages:
+        for ref in _local_refs(page):
+            if ref:
+                assert (page.parent / ref).resolve().exists(), f"{page.name}: broken {ref}"
+    return pages
+
+
+def test_book_lists_every_chapter_and_links_resolve(tiny_run):
+    thesis = tiny_run / "results/thesis"
+    chapters = sorted((tiny_run / "results/chapters").glob("*.html"))
+    index = (thesis / "index.html").read_text()
+    for ch in chapters:
+        assert f"chapters/{ch.name}" in index
+    assert "git commit" in index and "data source" in index
+    _check_folder(thesis)
+
+
+def test_book_folder_is_self_contained(tiny_run, tmp_path):
+    copy = tmp_path / "elsewhere" / "thesis"
+    shutil.copytree(tiny_run / "results/thesis", copy)
+    pages = _check_folder(copy)
+    assert len(pages) >= 2
+
+
+@pytest.mark.browser
+def test_book_in_headless_chromium(tiny_run):
+    chromium, driver_bin = shutil.which("chromium"), shutil.which("chromedriver")
+    if not (chromium and driver_bin):
+        pytest.skip("chromium / chromedriver not installed (Debian packages chromium, "
+                    "chromium-driver; .ci/run installs them)")
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    opts = webdriver.ChromeOptions()
+    opts.binary_location = chromium
+    for flag in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-quic",
+                 "--no-first-run", "--disable-background-networking",
+                 "--disable-component-update", "--disable-sync", "--window-size=1280,1600",
+                 "--disable-dev-shm-usage"):
+        opts.add_argument(flag)
+    opts.add_argument(f"--user-data-dir={tiny_run / '.chromium-profile'}")
+    browser = webdriver.Chrome(service=Service(driver_bin), options=opts)
+    thesis = tiny_run / "results/thesis"
+    try:
+        browser.get((thesis / "index.html").as_uri())
+        assert "the study" in browser.title
+        broken = browser.execute_script(
+            "return [...document.images].filter(i => !(i.complete && i.naturalWidth > 0))"
+            ".map(i => i.src)")
+        assert broken == [], broken
+        browser.save_screenshot(str(thesis / "screenshot.png"))
+        for page in sorted((thesis / "chapters").glob("*.html")):
+            browser.get(page.as_uri())
+            text = browser.execute_script("return document.body.innerText")
+            assert "Traceback" not in text, page.name
+            errors = browser.execute_script(
+                "return document.querySelectorAll('.jp-RenderedText[data-mime-type="
+                "\"application/vnd.jupyter.stderr\"] .ansi-red-fg, .output_error').length")
+            assert errors == 0, page.name
+            size = browser.execute_script(
+                "const i = document.querySelector('img');"
+                "if (!i) return null; const r = i.getBoundingClientRect();"
+                "return [i.naturalWidth, r.width, r.height];")
+            assert size is not None, f"{page.name} has no figure"
+            assert size[0] > 0 and size[1] > 0 and size[2] > 0, (page.name, size)
+    finally:
+        browser.quit()
+    assert (thesis / "screenshot.png").stat().st_size > 10_000

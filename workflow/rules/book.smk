@@ -1,0 +1,29 @@
+# The book: every chapter in one self-contained folder, results/thesis/ (target `book`).
+
+
+rule book:
+    input:
+        chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
+        cuts="results/ingest/cuts.csv",
+        manifest=MANIFEST,
+        code=code("book", "provenance"),
+    output:
+        index=report(
+            "results/thesis/index.html", caption="../report/book.rst", category="Book"
+        ),
+    log:
+        "results/logs/book/book.log",
+    benchmark:
+        "results/benchmarks/rules/book/book.tsv"
+    conda:
+        ENV
+    params:
+        figures_root=lambda w, input: os.path.join(
+            os.path.dirname(os.path.dirname(input.cuts)), "figures"
+        ),
+        out_dir=lambda w, output: os.path.dirname(output.index),
+    script:
+        "../scripts/book.py"
+
+
+ALL_TARGETS.append("results/thesis/index.html")

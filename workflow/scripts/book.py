@@ -1,0 +1,17 @@
+"""Build the thesis book (results/thesis/) from the rendered chapters."""
+
+from robomill.book import build_book
+from robomill.provenance import run_provenance
+from robomill.runlog import setup
+
+log = setup(snakemake.log[0], "book")
+inp = snakemake.input
+index = build_book(
+    inp.chapters,
+    snakemake.params.figures_root,
+    snakemake.params.out_dir,
+    provenance=run_provenance(snakemake.config, inp.manifest),
+    cuts_csv=inp.cuts,
+    scorecard_csv=inp.get("scorecard"),
+)
+log.info("book written to %s (%d chapters)", index, len(inp.chapters))
