@@ -11,7 +11,7 @@ CHAPTER ?=
 .PHONY: all test test-fast test-cluster report bench lock lint fmt why explore kernel clean venv
 
 all: $(STAMP)
-	$(SNAKEMAKE) -j$(JOBS) all
+	$(SNAKEMAKE) -j$(JOBS) --rerun-incomplete all
 
 venv: $(STAMP)
 
@@ -36,7 +36,7 @@ test-cluster: $(STAMP)
 	$(BIN)/python -m pytest -q -m cluster
 
 report: $(STAMP)
-	$(SNAKEMAKE) -j$(JOBS) all
+	$(SNAKEMAKE) -j$(JOBS) --rerun-incomplete all
 	$(SNAKEMAKE) --report results/report.html
 
 bench: $(STAMP)

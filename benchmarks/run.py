@@ -18,7 +18,8 @@ import pandas as pd
 BENCH_DIR = Path(__file__).resolve().parent
 sys.path.insert(0, str(BENCH_DIR))
 
-MODULES = ["bench_pipeline"]
+MODULES = ["bench_pipeline", "bench_chatter", "bench_surface", "bench_forces",
+           "bench_straightness"]
 """Benchmark modules in benchmarks/; each exposes ``run(out_dir) -> list[dict]``."""
 
 

@@ -32,6 +32,18 @@ def tiny_config():
     return load_config(REPO / ".test" / "config.yaml", REPO / "workflow/schemas/config.schema.yaml")
 
 
+def tree_digest(folder: Path) -> str:
+    """sha256 over every path and file byte below ``folder`` (raw folders must not change)."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for p in sorted(folder.rglob("*")):
+        h.update(str(p.relative_to(folder)).encode())
+        if p.is_file():
+            h.update(p.read_bytes())
+    return h.hexdigest()
+
+
 def run_snakemake(workdir: Path, *args: str, configfile: Path | None = None,
                   timeout: int = 900) -> subprocess.CompletedProcess:
     """Run the repository's workflow in ``workdir`` (results land there)."""

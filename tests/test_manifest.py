@@ -1,11 +1,10 @@
 """Manifest validation and sha256 checks; the raw folder is never modified."""
 
-import hashlib
 from pathlib import Path
 
 import pytest
 import yaml
-from conftest import run_snakemake
+from conftest import run_snakemake, tree_digest
 
 from robomill.experiment import Cut
 from robomill.io import RawDataError
@@ -23,14 +22,6 @@ def _raw_dir(tmp_path: Path) -> Path:
     write_manifest(m, raw / "manifest.yaml")
     return raw
 
-
-def _tree_digest(folder: Path) -> str:
-    h = hashlib.sha256()
-    for p in sorted(folder.rglob("*")):
-        h.update(str(p.relative_to(folder)).encode())
-        if p.is_file():
-            h.update(p.read_bytes())
-    return h.hexdigest()
 
 
 def test_good_manifest_verifies(tmp_path):
@@ -81,7 +72,7 @@ def test_bad_manifest_is_explained(tmp_path, edit, message):
 def test_pipeline_stops_on_sha_mismatch_and_leaves_raw_untouched(tmp_path, repo):
     raw = _raw_dir(tmp_path)
     (raw / "profiles" / "s1_g1_px.csv").write_text("x_mm,z_um\n0,0.1\n0.00125,0.9\n")
-    before = _tree_digest(raw)
+    before = tree_digest(raw)
     cfg = yaml.safe_load((repo / ".test/config.yaml").read_text())
     cfg["data"] = {"source": "raw", "raw_dir": str(raw)}
     cfgfile = tmp_path / "config.yaml"
@@ -93,7 +84,7 @@ def test_pipeline_stops_on_sha_mismatch_and_leaves_raw_untouched(tmp_path, repo)
     log = (work / "results/logs/ingest/manifest.log").read_text()
     assert "s1_g1_px.csv" in log and "sha256" in log
     assert not (work / "results/ingest/cuts.csv").exists()
-    assert _tree_digest(raw) == before
+    assert tree_digest(raw) == before
     # the last thing printed is the one-screen failure summary naming job, error and log
     tail = proc.stderr.strip().splitlines()[-4:]
     summary = "\n".join(tail)

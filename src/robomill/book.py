@@ -154,7 +154,8 @@ def build_book(
                     f"({len(page.figures)} figures)</li>")
     extra = []
     if scorecard_csv and Path(scorecard_csv).exists():
-        shutil.copyfile(scorecard_csv, out / "scorecard.csv")
+        if Path(scorecard_csv).resolve() != (out / "scorecard.csv").resolve():
+            shutil.copyfile(scorecard_csv, out / "scorecard.csv")
         extra.append('<li><a href="scorecard.html">Reproduction scorecard</a></li>')
         _write_table_page(out / "scorecard.html", "Reproduction scorecard",
                           pd.read_csv(scorecard_csv), verdict_col="verdict")

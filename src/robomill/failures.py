@@ -39,10 +39,32 @@ def first_error_line(text: str) -> str:
     return lines[-1] if lines else "(empty log)"
 
 
+_JOB_BLOCK = re.compile(r"^(?:local)?rule (?P<rule>\w+):\s*$")
+
+
+def _wildcards_by_jobid(lines: list[str]) -> dict[str, str]:
+    """``{jobid: wildcards}`` from the job announcements (the error blocks omit wildcards)."""
+    out: dict[str, str] = {}
+    i = 0
+    while i < len(lines):
+        if _JOB_BLOCK.match(lines[i]):
+            fields = {}
+            i += 1
+            while i < len(lines) and (fm := _FIELD.match(lines[i])):
+                fields[fm["key"]] = fm["value"]
+                i += 1
+            if "jobid" in fields and "wildcards" in fields:
+                out[fields["jobid"].strip()] = fields["wildcards"].strip()
+        else:
+            i += 1
+    return out
+
+
 def parse_failed_jobs(snakemake_log: str) -> list[FailedJob]:
     """Failed jobs listed in a Snakemake log (``Error in rule …`` blocks)."""
     jobs: list[FailedJob] = []
     lines = snakemake_log.splitlines()
+    wildcards = _wildcards_by_jobid(lines)
     i = 0
     while i < len(lines):
         m = _ERROR_BLOCK.match(lines[i])
@@ -66,7 +88,8 @@ def parse_failed_jobs(snakemake_log: str) -> list[FailedJob]:
                 break
         if error == "(no log)" and "message" in fields and fields["message"] != "None":
             error = fields["message"]
-        jobs.append(FailedJob(m["rule"], fields.get("wildcards", ""), logs, error, notebook))
+        wc = fields.get("wildcards") or wildcards.get(fields.get("jobid", "").strip(), "")
+        jobs.append(FailedJob(m["rule"], wc, logs, error, notebook))
     return jobs
 
 

@@ -247,3 +247,50 @@ def vector_model_from_robot(robot: SerialRobot) -> tuple[np.ndarray, list, list]
     a0 = o[0]
     a_vecs = [o[i + 1] - o[i] for i in range(robot.n_joints - 1)] + [p - o[-1]]
     return a0, a_vecs, [z[i] for i in range(robot.n_joints)]
+
+
+def ik_batch(robot: SerialRobot, targets: np.ndarray, q0: np.ndarray, *, tol_mm: float = 1e-6,
+             tol_rad: float = 1e-9, max_iter: int = 100, damping: float = 1e-6,
+             max_step_rad: float = 0.5) -> tuple[np.ndarray, np.ndarray]:
+    """Damped least-squares IK for many TCP poses at once (vectorized :meth:`SerialRobot.ik`).
+
+    Parameters
+    ----------
+    robot
+        The robot.
+    targets
+        TCP poses ``(m, 4, 4)`` [mm].
+    q0
+        Start postures ``(m, n)`` or one ``(n,)`` for all [rad].
+    max_step_rad
+        Largest joint step per iteration (keeps far targets from diverging).
+
+    Returns
+    -------
+    q, converged
+        Joint angles ``(m, n)`` [rad] and a boolean mask ``(m,)`` of the poses reached
+        within ``tol_mm`` / ``tol_rad`` (the others are left at their last iterate).
+    """
+    targets = np.asarray(targets, dtype=float)
+    m = targets.shape[0]
+    q = np.broadcast_to(np.asarray(q0, float), (m, robot.n_joints)).copy()
+    done = np.zeros(m, bool)
+    eye = np.eye(6)
+    for _ in range(max_iter):
+        T = robot.fk(q)
+        dp = targets[:, :3, 3] - T[:, :3, 3]
+        Rerr = targets[:, :3, :3] @ np.swapaxes(T[:, :3, :3], -1, -2)
+        dw = 0.5 * np.stack([Rerr[:, 2, 1] - Rerr[:, 1, 2], Rerr[:, 0, 2] - Rerr[:, 2, 0],
+                             Rerr[:, 1, 0] - Rerr[:, 0, 1]], -1)
+        done = (np.linalg.norm(dp, axis=-1) < tol_mm) & (np.linalg.norm(dw, axis=-1) < tol_rad)
+        if done.all():
+            break
+        act = ~done
+        J = robot.jacobian(q[act])
+        err = np.concatenate([dp[act], dw[act]], -1)
+        JJt = J @ np.swapaxes(J, -1, -2) + damping * eye
+        step = np.einsum("mji,mj->mi", J, np.linalg.solve(JJt, err[..., None])[..., 0])
+        norm = np.linalg.norm(step, axis=-1, keepdims=True)
+        step *= np.minimum(1.0, max_step_rad / np.maximum(norm, 1e-300))
+        q[act] += step
+    return q, done

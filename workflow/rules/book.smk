@@ -1,11 +1,34 @@
 # The book: every chapter in one self-contained folder, results/thesis/ (target `book`).
 
 
+rule scorecard:
+    input:
+        chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
+        code=code("scorecard"),
+        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+    output:
+        csv="results/thesis/scorecard.csv",
+    log:
+        "results/logs/book/scorecard.log",
+    benchmark:
+        "results/benchmarks/rules/book/scorecard.tsv"
+    conda:
+        ENV
+    params:
+        root=lambda w, output: os.path.dirname(
+            os.path.dirname(os.path.dirname(output.csv))
+        )
+        or ".",
+    script:
+        "../scripts/scorecard.py"
+
+
 rule book:
     input:
         chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
         cuts="results/ingest/cuts.csv",
         manifest=MANIFEST,
+        scorecard="results/thesis/scorecard.csv",
         code=code("book", "provenance"),
     output:
         index=report(

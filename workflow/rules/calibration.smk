@@ -1,1 +1,115 @@
-# Stage 'calibration': rules are added by its chapter issue.
+# Stage 'calibration' (thesis ch. 1, issue 7): the C-Track simulator, identification of the
+# geometric model, joint errors and compliance, and accuracy before/after.
+CTRACK_TABLES = {f["table"]: f["path"] for f in RAW_FILES if f["kind"] == "ctrack"}
+
+
+rule synth_ctrack:
+    input:
+        code=code("synth.ctrack", "synth.cell", "kinematics"),
+    output:
+        "results/synthetic/raw/ctrack/{table}.csv",
+    log:
+        "results/logs/synth/ctrack_{table}.log",
+    benchmark:
+        "results/benchmarks/rules/synth/ctrack_{table}.tsv"
+    wildcard_constraints:
+        table="circles|home|steps|base|loads|accuracy",
+    conda:
+        ENV
+    params:
+        synth=lookup(dpath="synth", within=config),
+        experiment=lookup(dpath="experiment", within=config),
+        table=lambda w: w.table,
+    script:
+        "../scripts/calibration_synth.py"
+
+
+rule calibration_identify:
+    input:
+        manifest=MANIFEST,
+        circles=f"{RAW}/{CTRACK_TABLES.get('circles', 'ctrack/circles.csv')}",
+        home=f"{RAW}/{CTRACK_TABLES.get('home', 'ctrack/home.csv')}",
+        steps=f"{RAW}/{CTRACK_TABLES.get('steps', 'ctrack/steps.csv')}",
+        base=f"{RAW}/{CTRACK_TABLES.get('base', 'ctrack/base.csv')}",
+        loads=f"{RAW}/{CTRACK_TABLES.get('loads', 'ctrack/loads.csv')}",
+        code=code("calibration", "io.ctrack", "kinematics"),
+    output:
+        model="results/calibration/model.nc",
+        joint_errors="results/calibration/joint_errors.csv",
+        base="results/calibration/base.csv",
+        circles="results/calibration/circles.csv",
+    log:
+        "results/logs/calibration/identify.log",
+    benchmark:
+        "results/benchmarks/rules/calibration/identify.tsv"
+    conda:
+        ENV
+    params:
+        calibration=lookup(dpath="calibration", within=config),
+        relpaths={k: v for k, v in CTRACK_TABLES.items() if k != "accuracy"},
+    script:
+        "../scripts/calibration_identify.py"
+
+
+rule calibration_accuracy:
+    input:
+        manifest=MANIFEST,
+        model="results/calibration/model.nc",
+        accuracy=f"{RAW}/{CTRACK_TABLES.get('accuracy', 'ctrack/accuracy.csv')}",
+        code=code("calibration", "io.ctrack"),
+    output:
+        accuracy="results/calibration/accuracy.csv",
+        regions="results/calibration/accuracy_by_region.csv",
+        points="results/calibration/accuracy_points.csv",
+    log:
+        "results/logs/calibration/accuracy.log",
+    benchmark:
+        "results/benchmarks/rules/calibration/accuracy.tsv"
+    conda:
+        ENV
+    params:
+        regions=lookup(dpath="calibration/regions", within=config),
+        relpath=CTRACK_TABLES.get("accuracy", "ctrack/accuracy.csv"),
+    script:
+        "../scripts/calibration_accuracy.py"
+
+
+rule calibration:
+    input:
+        "results/calibration/model.nc",
+        "results/calibration/accuracy.csv",
+
+
+rule ch1:
+    input:
+        notebook=notebook("ch1_calibration.ipynb"),
+        model="results/calibration/model.nc",
+        accuracy="results/calibration/accuracy.csv",
+        regions="results/calibration/accuracy_by_region.csv",
+        points="results/calibration/accuracy_points.csv",
+        joint_errors="results/calibration/joint_errors.csv",
+        base="results/calibration/base.csv",
+        circles="results/calibration/circles.csv",
+        code=code("chapters", "plotting"),
+    output:
+        ipynb="results/chapters/ch1_calibration.ipynb",
+        html=report(
+            "results/chapters/ch1_calibration.html",
+            caption="../report/ch1.rst",
+            category="Chapter 1",
+        ),
+        figures=directory("results/figures/ch1"),
+    log:
+        "results/logs/chapters/ch1.log",
+    benchmark:
+        "results/benchmarks/rules/chapters/ch1.tsv"
+    conda:
+        ENV
+    params:
+        options=lookup(dpath="chapters", within=config),
+        failed_copy="results/logs/chapters/ch1.failed.ipynb",
+    script:
+        "../scripts/render_chapter.py"
+
+
+ALL_TARGETS.append("results/chapters/ch1_calibration.html")

@@ -1,1 +1,125 @@
-# Stage 'chatter': rules are added by its chapter issue.
+# Stage 'chatter' (SPEC §4, seed 002): stability lobes for configured machines (one job per
+# case), the seed's time-domain robot-tool-surface model with detection and adaptive depth, and
+# the thesis robot's lobes, mode-coupling check and chatter-free recommendations.
+
+CHATTER_CASES = {c["name"]: c for c in config["chatter"]["cases"]}
+
+
+wildcard_constraints:
+    chatter_case="|".join(CHATTER_CASES) if CHATTER_CASES else "NONE",
+
+
+rule chatter_case:
+    input:
+        code=code(
+            "chatter.model", "chatter.lobes_zoa", "chatter.lobes_sdm", "chatter.study"
+        ),
+    output:
+        nc="results/chatter/cases/{chatter_case}.nc",
+    log:
+        "results/logs/chatter/cases/{chatter_case}.log",
+    benchmark:
+        "results/benchmarks/rules/chatter/cases/{chatter_case}.tsv"
+    conda:
+        ENV
+    params:
+        case=lambda w: CHATTER_CASES[w.chatter_case],
+        sdm_steps_per_period=lookup(dpath="chatter/sdm_steps_per_period", within=config),
+        rtol=lookup(dpath="chatter/rtol", within=config),
+        depth_max_mm=lookup(dpath="chatter/depth_max_mm", within=config),
+    script:
+        "../scripts/chatter_case.py"
+
+
+rule chatter_seed:
+    input:
+        code=code(
+            "chatter.timedomain",
+            "chatter.detection",
+            "chatter.lobes_zoa",
+            "chatter.lobes_sdm",
+            "chatter.model",
+            "chatter.study",
+        ),
+    output:
+        nc="results/chatter/simulation.nc",
+    log:
+        "results/logs/chatter/simulation.log",
+    benchmark:
+        "results/benchmarks/rules/chatter/simulation.tsv"
+    conda:
+        ENV
+    params:
+        seed=lookup(dpath="chatter/seed", within=config),
+    script:
+        "../scripts/chatter_seed.py"
+
+
+rule chatter_thesis:
+    input:
+        modes="results/modal/modes.csv",
+        coefficients="results/forces/cutting_coefficients.csv",
+        peaks="results/forces/peaks.csv",
+        code=code(
+            "chatter.thesis",
+            "chatter.lobes_zoa",
+            "chatter.lobes_sdm",
+            "chatter.model",
+            "chatter.study",
+        ),
+    output:
+        lobes="results/chatter/lobes.nc",
+        recommendations="results/chatter/recommendations.csv",
+    log:
+        "results/logs/chatter/thesis.log",
+    benchmark:
+        "results/benchmarks/rules/chatter/thesis.tsv"
+    conda:
+        ENV
+    params:
+        thesis=lookup(dpath="chatter/thesis", within=config),
+        spindle_rpm=lookup(dpath="experiment/spindle_rpm", within=config),
+        flutes=lookup(dpath="experiment/flutes", within=config),
+        depths_mm=sorted({s["depth_mm"] for s in config["experiment"]["sets"]}),
+    script:
+        "../scripts/chatter_thesis.py"
+
+
+rule chatter:
+    input:
+        expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
+        "results/chatter/simulation.nc",
+        "results/chatter/lobes.nc",
+        "results/chatter/recommendations.csv",
+
+
+rule ch4:
+    input:
+        notebook=notebook("ch4_chatter.ipynb"),
+        cases=expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
+        simulation="results/chatter/simulation.nc",
+        lobes="results/chatter/lobes.nc",
+        recommendations="results/chatter/recommendations.csv",
+        code=code("chapters", "plotting"),
+    output:
+        ipynb="results/chapters/ch4_chatter.ipynb",
+        html=report(
+            "results/chapters/ch4_chatter.html",
+            caption="../report/ch4.rst",
+            category="Chapter 4",
+        ),
+        figures=directory("results/figures/ch4"),
+    log:
+        "results/logs/chapters/ch4.log",
+    benchmark:
+        "results/benchmarks/rules/chapters/ch4.tsv"
+    conda:
+        ENV
+    params:
+        options=lookup(dpath="chapters", within=config),
+        failed_copy="results/logs/chapters/ch4.failed.ipynb",
+    script:
+        "../scripts/render_chapter.py"
+
+
+ALL_TARGETS.append("results/chapters/ch4_chatter.html")

@@ -55,4 +55,7 @@ def code(*modules):
     """Library modules a rule uses, declared as inputs so that editing one reruns the rule
     (Snakemake's own code trigger sees only the rule's script). `io.manifest` →
     src/robomill/io/manifest.py."""
-    return [str(REPO / "src" / "robomill" / (m.replace(".", "/") + ".py")) for m in modules]
+    return [
+        str(REPO.joinpath("src", "robomill", *m.split(".")).with_suffix(".py"))
+        for m in modules
+    ]

@@ -1,1 +1,126 @@
-# Stage 'forces': rules are added by its chapter issue.
+# Stage 'forces' (chapter 3.1, issue 4): dynamometer records -> per-cut chunked spectra and
+# mean forces -> peaks table, spectra and the identified cutting coefficients.
+# One simulator job and one analysis job per cut, then one gather job.
+FORCE_FILES = {f["cut"]: f for f in RAW_FILES if f["kind"] == "force"}
+FORCE_FORMAT = config["synth"]["dynamometer"]["format"]
+CUT_BY_ID = {c.id: c for c in CUTS}
+
+
+# the manifest entry of a cut's record; the planted truth input (synthetic runs only)
+force_entry = lambda w: FORCE_FILES[w.cut]
+forces_truth_input = lambda w: (
+    {"truth": "results/synthetic/truth.nc"} if SYNTHETIC else {}
+)
+
+
+rule forces_synth_dynamometer:
+    input:
+        code=code(
+            "synth.dynamometer", "synth.cell", "forces", "io.forces", "kinematics"
+        ),
+    output:
+        f"results/synthetic/raw/forces/{{cut}}.{FORCE_FORMAT}",
+    log:
+        "results/logs/forces/synth_{cut}.log",
+    benchmark:
+        "results/benchmarks/rules/forces/synth_{cut}.tsv"
+    conda:
+        ENV
+    params:
+        synth=lookup(dpath="synth", within=config),
+        experiment=lookup(dpath="experiment", within=config),
+        cut=lambda w: CUT_BY_ID[w.cut].as_dict(),
+    script:
+        "../scripts/forces_synth_dynamometer.py"
+
+
+rule forces_cut:
+    input:
+        raw=lambda w: f"{RAW}/{force_entry(w)['path']}",
+        manifest=MANIFEST,
+        code=code("forces", "io.forces", "spectra"),
+    output:
+        "results/forces/cuts/{cut}.nc",
+    log:
+        "results/logs/forces/cut_{cut}.log",
+    benchmark:
+        "results/benchmarks/rules/forces/cut_{cut}.tsv"
+    conda:
+        ENV
+    params:
+        settings=lookup(dpath="forces", within=config),
+        relpath=lambda w: force_entry(w)["path"],
+        cut=lambda w: w.cut,
+    script:
+        "../scripts/forces_cut.py"
+
+
+rule forces_gather:
+    input:
+        cuts=expand("results/forces/cuts/{cut}.nc", cut=FORCE_FILES),
+        manifest=MANIFEST,
+        code=code("forces"),
+    output:
+        spectra="results/forces/spectra.nc",
+        peaks="results/forces/peaks.csv",
+        coefficients="results/forces/cutting_coefficients.csv",
+        means="results/forces/mean_forces.csv",
+        harmonics="results/forces/harmonics.csv",
+    log:
+        "results/logs/forces/gather.log",
+    benchmark:
+        "results/benchmarks/rules/forces/gather.tsv"
+    conda:
+        ENV
+    params:
+        settings=lookup(dpath="forces", within=config),
+    script:
+        "../scripts/forces_gather.py"
+
+
+rule forces:
+    input:
+        "results/forces/spectra.nc",
+        "results/forces/peaks.csv",
+        "results/forces/cutting_coefficients.csv",
+        "results/forces/mean_forces.csv",
+        "results/forces/harmonics.csv",
+
+
+rule ch3_forces:
+    input:
+        unpack(forces_truth_input),
+        notebook=notebook("ch3_1_forces.ipynb"),
+        spectra="results/forces/spectra.nc",
+        peaks="results/forces/peaks.csv",
+        coefficients="results/forces/cutting_coefficients.csv",
+        means="results/forces/mean_forces.csv",
+        harmonics="results/forces/harmonics.csv",
+        modes="results/modal/modes.csv",
+        code=code("forces", "chapters", "plotting"),
+    output:
+        ipynb="results/chapters/ch3_1_forces.ipynb",
+        html=report(
+            "results/chapters/ch3_1_forces.html",
+            caption="../report/ch3_1_forces.rst",
+            category="Chapter 3",
+        ),
+        figures=directory("results/figures/ch3/forces"),
+    log:
+        "results/logs/chapters/ch3_forces.log",
+    benchmark:
+        "results/benchmarks/rules/chapters/ch3_forces.tsv"
+    conda:
+        ENV
+    params:
+        options=lookup(dpath="chapters", within=config),
+        failed_copy="results/logs/chapters/ch3_forces.failed.ipynb",
+        parameters={
+            "settings": lookup(dpath="forces", within=config),
+            "synthetic": SYNTHETIC,
+        },
+    script:
+        "../scripts/render_chapter.py"
+
+
+ALL_TARGETS.append("results/chapters/ch3_1_forces.html")

@@ -1,1 +1,103 @@
-# Stage 'hexapod': rules are added by its chapter issue.
+# Stage 'hexapod' (chapter 6, seed 003): Stewart–Gough platform inverse and forward dynamics,
+# the vertical move with a force error, and the sensitivity map (one job per actuator).
+
+HEXAPOD_ACTUATORS = config["hexapod"]["sensitivity"]["actuators"]
+
+
+wildcard_constraints:
+    actuator="[1-6]",
+
+
+rule hexapod_dynamics:
+    input:
+        code=code("hexapod"),
+    output:
+        trajectory="results/hexapod/trajectory.nc",
+        forces="results/hexapod/forces.nc",
+    log:
+        "results/logs/hexapod/dynamics.log",
+    benchmark:
+        "results/benchmarks/rules/hexapod/dynamics.tsv"
+    conda:
+        ENV
+    params:
+        hexapod=lookup(dpath="hexapod", within=config),
+    script:
+        "../scripts/hexapod_dynamics.py"
+
+
+rule hexapod_sensitivity_shard:
+    input:
+        code=code("hexapod"),
+    output:
+        "results/hexapod/sensitivity/actuator_{actuator}.nc",
+    log:
+        "results/logs/hexapod/sensitivity_{actuator}.log",
+    benchmark:
+        "results/benchmarks/rules/hexapod/sensitivity_{actuator}.tsv"
+    conda:
+        ENV
+    params:
+        hexapod=lookup(dpath="hexapod", within=config),
+        actuator=lambda wildcards: int(wildcards.actuator),
+    script:
+        "../scripts/hexapod_sensitivity_shard.py"
+
+
+rule hexapod_sensitivity:
+    input:
+        shards=expand(
+            "results/hexapod/sensitivity/actuator_{actuator}.nc",
+            actuator=HEXAPOD_ACTUATORS,
+        ),
+        code=code("hexapod"),
+    output:
+        "results/hexapod/sensitivity.nc",
+    log:
+        "results/logs/hexapod/sensitivity.log",
+    benchmark:
+        "results/benchmarks/rules/hexapod/sensitivity.tsv"
+    conda:
+        ENV
+    params:
+        hexapod=lookup(dpath="hexapod", within=config),
+    script:
+        "../scripts/hexapod_sensitivity.py"
+
+
+rule hexapod:
+    input:
+        "results/hexapod/trajectory.nc",
+        "results/hexapod/forces.nc",
+        "results/hexapod/sensitivity.nc",
+
+
+rule ch6:
+    input:
+        notebook=notebook("ch6_hexapod.ipynb"),
+        trajectory="results/hexapod/trajectory.nc",
+        forces="results/hexapod/forces.nc",
+        sensitivity="results/hexapod/sensitivity.nc",
+        code=code("chapters", "plotting"),
+    output:
+        ipynb="results/chapters/ch6_hexapod.ipynb",
+        html=report(
+            "results/chapters/ch6_hexapod.html",
+            caption="../report/ch6.rst",
+            category="Chapter 6",
+        ),
+        figures=directory("results/figures/ch6"),
+    log:
+        "results/logs/chapters/ch6.log",
+    benchmark:
+        "results/benchmarks/rules/chapters/ch6.tsv"
+    conda:
+        ENV
+    params:
+        options=lookup(dpath="chapters", within=config),
+        failed_copy="results/logs/chapters/ch6.failed.ipynb",
+    script:
+        "../scripts/render_chapter.py"
+
+
+ALL_TARGETS.append("results/chapters/ch6_hexapod.html")

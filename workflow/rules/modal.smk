@@ -1,1 +1,121 @@
-# Stage 'modal': rules are added by its chapter issue.
+# Stage 'modal' (thesis §3.3): impact test -> 3x3 FRF matrix -> peak picking, LSCF
+# stabilization chart, modes (f_n, zeta, shapes, modal mass/stiffness at the tool tip).
+
+
+wildcard_constraints:
+    hit_dir="[XYZ]",
+    hit="[0-9]+",
+
+
+rule synth_impact:
+    input:
+        code=code("synth.impact", "synth.cell"),
+    output:
+        "results/synthetic/raw/impact/hit{hit_dir}_{hit}.csv",
+    log:
+        "results/logs/synth/impact/hit{hit_dir}_{hit}.log",
+    benchmark:
+        "results/benchmarks/rules/synth/impact/hit{hit_dir}_{hit}.tsv"
+    conda:
+        ENV
+    params:
+        synth=lookup(dpath="synth", within=config),
+        experiment=lookup(dpath="experiment", within=config),
+        direction=lambda w: w.hit_dir,
+        hit=lambda w: int(w.hit),
+    script:
+        "../scripts/modal_synth_impact.py"
+
+
+MODAL_HITS = [f for f in RAW_FILES if f["kind"] == "impact"]
+
+
+rule modal_frf:
+    input:
+        hits=[f"{RAW}/{f['path']}" for f in MODAL_HITS],
+        manifest=MANIFEST,
+        code=code("modal", "io.impact"),
+    output:
+        frf="results/modal/frf.nc",
+        hits="results/modal/hits.csv",
+        traces="results/modal/hits.nc",
+        uff="results/modal/frf.uff",
+    log:
+        "results/logs/modal/frf.log",
+    benchmark:
+        "results/benchmarks/rules/modal/frf.tsv"
+    conda:
+        ENV
+    params:
+        modal=lookup(dpath="modal", within=config),
+        files=[
+            {"path": f["path"], "direction": f["direction"], "hit": f["hit"]}
+            for f in MODAL_HITS
+        ],
+    script:
+        "../scripts/modal_frf.py"
+
+
+rule modal_identify:
+    input:
+        frf="results/modal/frf.nc",
+        code=code("modal", "io.impact"),
+    output:
+        modes="results/modal/modes.csv",
+        peaks="results/modal/peak_picking.csv",
+        stabilization="results/modal/stabilization.csv",
+        synth="results/modal/frf_synth.nc",
+    log:
+        "results/logs/modal/identify.log",
+    benchmark:
+        "results/benchmarks/rules/modal/identify.tsv"
+    conda:
+        ENV
+    params:
+        modal=lookup(dpath="modal", within=config),
+    script:
+        "../scripts/modal_identify.py"
+
+
+rule modal:
+    input:
+        "results/modal/frf.nc",
+        "results/modal/modes.csv",
+        "results/modal/peak_picking.csv",
+
+
+rule ch3_modal:
+    input:
+        **({"truth": "results/synthetic/truth.nc"} if SYNTHETIC else {}),
+        notebook=notebook("ch3_3_modal.ipynb"),
+        frf="results/modal/frf.nc",
+        synth="results/modal/frf_synth.nc",
+        traces="results/modal/hits.nc",
+        hits="results/modal/hits.csv",
+        modes="results/modal/modes.csv",
+        peaks="results/modal/peak_picking.csv",
+        stabilization="results/modal/stabilization.csv",
+        forces_peaks="results/forces/peaks.csv",
+        code=code("chapters", "plotting"),
+    output:
+        ipynb="results/chapters/ch3_3_modal.ipynb",
+        html=report(
+            "results/chapters/ch3_3_modal.html",
+            caption="../report/ch3_3_modal.rst",
+            category="Chapter 3",
+        ),
+        figures=directory("results/figures/ch3/modal"),
+    log:
+        "results/logs/chapters/ch3_modal.log",
+    benchmark:
+        "results/benchmarks/rules/chapters/ch3_modal.tsv"
+    conda:
+        ENV
+    params:
+        options=lookup(dpath="chapters", within=config),
+        failed_copy="results/logs/chapters/ch3_modal.failed.ipynb",
+    script:
+        "../scripts/render_chapter.py"
+
+
+ALL_TARGETS.append("results/chapters/ch3_3_modal.html")

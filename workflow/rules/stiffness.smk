@@ -1,1 +1,262 @@
-# Stage 'stiffness': rules are added by its chapter issue.
+# Stage 'stiffness' (chapter 5; seeds 001 and 004): joint-stiffness identification for every
+# robot in the manifest, working-plane maps (one job per height and redundancy angle), the
+# stiffness-optimal pose, the beam-frame model and the thesis-robot slot comparison.
+
+
+wildcard_constraints:
+    robot="[A-Za-z0-9_-]+",
+    height="[0-9]+",
+    angle="-?[0-9]+",
+
+
+STIFF_ROBOTS = sorted({f["robot"] for f in RAW_FILES if f["kind"] == "robot"})
+STIFF_REL = {
+    (f["kind"], f["robot"]): f["path"]
+    for f in RAW_FILES
+    if f["kind"] in ("robot", "stiffness")
+}
+STIFF_CFG = config.get("stiffness", {})
+MAP_ROBOT = STIFF_CFG.get("map_robot", "kr360")
+THESIS_ROBOT = STIFF_CFG.get("thesis_robot", "irb1600")
+MAP_JOBS = [
+    (int(round(h)), int(round(a)))
+    for h in STIFF_CFG.get("map", {}).get("heights_mm", [])
+    for a in STIFF_CFG.get("map", {}).get("redundancy_deg", [])
+]
+STIFF_SEED = int(config["synth"]["seed"])
+
+
+rule synth_loadtests_robot:
+    output:
+        robot="results/synthetic/raw/stiffness/{robot}.yaml",
+    log:
+        "results/logs/synth/stiffness/{robot}_robot.log",
+    benchmark:
+        "results/benchmarks/rules/synth/stiffness/{robot}_robot.tsv"
+    conda:
+        ENV
+    params:
+        synth=lookup(dpath="synth", within=config),
+        robot=lambda w: w.robot,
+    script:
+        "../scripts/stiffness_synth_robot.py"
+
+
+rule synth_loadtests:
+    input:
+        code=code("synth.loadtests", "stiffness", "kinematics"),
+    output:
+        tests="results/synthetic/raw/stiffness/load_tests_{robot}.csv",
+    log:
+        "results/logs/synth/stiffness/{robot}_tests.log",
+    benchmark:
+        "results/benchmarks/rules/synth/stiffness/{robot}_tests.tsv"
+    conda:
+        ENV
+    params:
+        synth=lookup(dpath="synth", within=config),
+        robot=lambda w: w.robot,
+    script:
+        "../scripts/stiffness_synth_loadtests.py"
+
+
+rule stiffness_identify:
+    input:
+        robot=lambda w: f"{RAW}/{STIFF_REL[('robot', w.robot)]}",
+        tests=lambda w: f"{RAW}/{STIFF_REL[('stiffness', w.robot)]}",
+        manifest=MANIFEST,
+        code=code("stiffness", "io.robots", "kinematics"),
+    output:
+        joints="results/stiffness/{robot}/joint_stiffness.csv",
+        models="results/stiffness/{robot}/identification.csv",
+        validation="results/stiffness/{robot}/validation.csv",
+    log:
+        "results/logs/stiffness/{robot}/identify.log",
+    benchmark:
+        "results/benchmarks/rules/stiffness/{robot}/identify.tsv"
+    conda:
+        ENV
+    params:
+        robot=lambda w: w.robot,
+        robot_rel=lambda w: STIFF_REL[("robot", w.robot)],
+        tests_rel=lambda w: STIFF_REL[("stiffness", w.robot)],
+        options=lookup(dpath="stiffness/identification", within=config),
+    script:
+        "../scripts/stiffness_identify.py"
+
+
+rule stiffness_map:
+    input:
+        robot=(
+            f"{RAW}/{STIFF_REL[('robot', MAP_ROBOT)]}"
+            if MAP_ROBOT in STIFF_ROBOTS
+            else []
+        ),
+        joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
+        manifest=MANIFEST,
+        code=code("stiffness", "kinematics"),
+    output:
+        map="results/stiffness/maps/h{height}_r{angle}.nc",
+    log:
+        "results/logs/stiffness/maps/h{height}_r{angle}.log",
+    benchmark:
+        "results/benchmarks/rules/stiffness/maps/h{height}_r{angle}.tsv"
+    conda:
+        ENV
+    params:
+        robot_rel=STIFF_REL.get(("robot", MAP_ROBOT), ""),
+        height_mm=lambda w: float(w.height),
+        redundancy_deg=lambda w: float(w.angle),
+        map=lookup(dpath="stiffness/map", within=config),
+    script:
+        "../scripts/stiffness_map.py"
+
+
+rule stiffness_maps:
+    input:
+        maps=[f"results/stiffness/maps/h{h}_r{a}.nc" for h, a in MAP_JOBS],
+        robot=(
+            f"{RAW}/{STIFF_REL[('robot', MAP_ROBOT)]}"
+            if MAP_ROBOT in STIFF_ROBOTS
+            else []
+        ),
+    output:
+        maps="results/stiffness/maps.nc",
+    log:
+        "results/logs/stiffness/maps.log",
+    benchmark:
+        "results/benchmarks/rules/stiffness/maps.tsv"
+    conda:
+        ENV
+    params:
+        map=lookup(dpath="stiffness/map", within=config),
+        seed=STIFF_SEED,
+    script:
+        "../scripts/stiffness_maps.py"
+
+
+rule stiffness_optimal:
+    input:
+        maps="results/stiffness/maps.nc",
+        robot=(
+            f"{RAW}/{STIFF_REL[('robot', MAP_ROBOT)]}"
+            if MAP_ROBOT in STIFF_ROBOTS
+            else []
+        ),
+        joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
+    output:
+        poses="results/stiffness/optimal_poses.csv",
+    log:
+        "results/logs/stiffness/optimal.log",
+    benchmark:
+        "results/benchmarks/rules/stiffness/optimal.tsv"
+    conda:
+        ENV
+    params:
+        map=lookup(dpath="stiffness/map", within=config),
+        seed=STIFF_SEED,
+    script:
+        "../scripts/stiffness_optimal.py"
+
+
+rule stiffness_beamframe:
+    input:
+        code=code("beamframe", "kinematics"),
+    output:
+        beamframe="results/stiffness/beamframe.nc",
+    log:
+        "results/logs/stiffness/beamframe.log",
+    benchmark:
+        "results/benchmarks/rules/stiffness/beamframe.tsv"
+    conda:
+        ENV
+    params:
+        beamframe=lookup(dpath="stiffness/beamframe", within=config),
+    script:
+        "../scripts/stiffness_beamframe.py"
+
+
+rule stiffness_thesis:
+    input:
+        robot=(
+            f"{RAW}/{STIFF_REL[('robot', THESIS_ROBOT)]}"
+            if THESIS_ROBOT in STIFF_ROBOTS
+            else []
+        ),
+        joints=f"results/stiffness/{THESIS_ROBOT}/joint_stiffness.csv",
+        manifest=MANIFEST,
+        code=code("beamframe", "stiffness", "kinematics"),
+    output:
+        slots="results/stiffness/thesis_slots.csv",
+    log:
+        "results/logs/stiffness/thesis.log",
+    benchmark:
+        "results/benchmarks/rules/stiffness/thesis.tsv"
+    conda:
+        ENV
+    params:
+        robot_rel=STIFF_REL.get(("robot", THESIS_ROBOT), ""),
+        synth=lookup(dpath="synth", within=config),
+        experiment=lookup(dpath="experiment", within=config),
+        cuts=[c.as_dict() for c in CUTS],
+        beamframe=lookup(dpath="stiffness/beamframe", within=config),
+    script:
+        "../scripts/stiffness_thesis.py"
+
+
+STIFF_OUTPUTS = [
+    f"results/stiffness/{r}/{name}.csv"
+    for r in STIFF_ROBOTS
+    for name in ("joint_stiffness", "validation")
+] + ["results/stiffness/beamframe.nc"]
+if MAP_ROBOT in STIFF_ROBOTS and MAP_JOBS:
+    STIFF_OUTPUTS += [
+        "results/stiffness/maps.nc",
+        "results/stiffness/optimal_poses.csv",
+    ]
+if THESIS_ROBOT in STIFF_ROBOTS:
+    STIFF_OUTPUTS.append("results/stiffness/thesis_slots.csv")
+
+
+rule stiffness:
+    input:
+        STIFF_OUTPUTS,
+
+
+rule ch5:
+    input:
+        **({"truth": "results/synthetic/truth.nc"} if SYNTHETIC else {}),
+        notebook=notebook("ch5_stiffness.ipynb"),
+        maps="results/stiffness/maps.nc",
+        optimal="results/stiffness/optimal_poses.csv",
+        beamframe="results/stiffness/beamframe.nc",
+        map_joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
+        map_models=f"results/stiffness/{MAP_ROBOT}/identification.csv",
+        map_validation=f"results/stiffness/{MAP_ROBOT}/validation.csv",
+        thesis_joints=f"results/stiffness/{THESIS_ROBOT}/joint_stiffness.csv",
+        thesis_validation=f"results/stiffness/{THESIS_ROBOT}/validation.csv",
+        slots="results/stiffness/thesis_slots.csv",
+        waviness="results/surface/table_2_1_waviness_rms.csv",
+        code=code("chapters", "plotting"),
+    output:
+        ipynb="results/chapters/ch5_stiffness.ipynb",
+        html=report(
+            "results/chapters/ch5_stiffness.html",
+            caption="../report/ch5.rst",
+            category="Chapter 5",
+        ),
+        figures=directory("results/figures/ch5"),
+    log:
+        "results/logs/chapters/ch5.log",
+    benchmark:
+        "results/benchmarks/rules/chapters/ch5.tsv"
+    conda:
+        ENV
+    params:
+        options=lookup(dpath="chapters", within=config),
+        failed_copy="results/logs/chapters/ch5.failed.ipynb",
+    script:
+        "../scripts/render_chapter.py"
+
+
+ALL_TARGETS.append("results/chapters/ch5_stiffness.html")

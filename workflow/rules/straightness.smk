@@ -1,1 +1,153 @@
-# Stage 'straightness': rules are added by its chapter issue.
+# Stage 'straightness' (chapter 3.2, issue 5): laser-tracker runs re-ordered in space, their
+# spectra in 1/mm, gear spatial frequencies and peak -> gear attribution.
+# One simulator job and one analysis job per tracker run, then one gather job.
+from robomill.synth.tracker import run_id as tracker_run_id
+
+TRACKER_RUNS = {
+    tracker_run_id(f["direction"], f["feed_mm_s"]): f
+    for f in RAW_FILES
+    if f["kind"] == "tracker"
+}
+
+
+rule straightness_synth_tracker:
+    input:
+        code=code("synth.tracker", "synth.cell", "kinematics"),
+    output:
+        "results/synthetic/raw/tracker/{run}.csv",
+    log:
+        "results/logs/straightness/synth_{run}.log",
+    benchmark:
+        "results/benchmarks/rules/straightness/synth_{run}.tsv"
+    wildcard_constraints:
+        run="(px|py|my)_f[0-9.]+",
+    conda:
+        ENV
+    params:
+        synth=lookup(dpath="synth", within=config),
+        experiment=lookup(dpath="experiment", within=config),
+        direction=lambda w: TRACKER_RUNS[w.run]["direction"],
+        feed_mm_s=lambda w: TRACKER_RUNS[w.run]["feed_mm_s"],
+        cut=lambda w: TRACKER_RUNS[w.run]["cut"],
+    script:
+        "../scripts/straightness_synth_tracker.py"
+
+
+rule straightness_run:
+    input:
+        raw=lambda w: f"{RAW}/{TRACKER_RUNS[w.run]['path']}",
+        manifest=MANIFEST,
+        code=code("straightness", "io.tracker", "spectra", "kinematics"),
+    output:
+        nc="results/straightness/runs/{run}.nc",
+        peaks="results/straightness/runs/{run}_peaks.csv",
+        gears="results/straightness/runs/{run}_gears.csv",
+    log:
+        "results/logs/straightness/run_{run}.log",
+    benchmark:
+        "results/benchmarks/rules/straightness/run_{run}.tsv"
+    wildcard_constraints:
+        run="(px|py|my)_f[0-9.]+",
+    conda:
+        ENV
+    params:
+        settings=lookup(dpath="straightness", within=config),
+        robot=lookup(dpath="synth/robot", within=config),
+        gears=lookup(dpath="synth/gears", within=config),
+        q_home_deg=lookup(dpath="synth/q_home_deg", within=config),
+        relpath=lambda w: TRACKER_RUNS[w.run]["path"],
+        direction=lambda w: TRACKER_RUNS[w.run]["direction"],
+        feed_mm_s=lambda w: TRACKER_RUNS[w.run]["feed_mm_s"],
+        fs_hz=lambda w: TRACKER_RUNS[w.run]["fs_hz"],
+        cut=lambda w: TRACKER_RUNS[w.run].get("cut", ""),
+    script:
+        "../scripts/straightness_run.py"
+
+
+rule straightness_gather:
+    input:
+        runs=expand("results/straightness/runs/{run}.nc", run=TRACKER_RUNS),
+        peaks=expand("results/straightness/runs/{run}_peaks.csv", run=TRACKER_RUNS),
+        gears=expand("results/straightness/runs/{run}_gears.csv", run=TRACKER_RUNS),
+        code=code("straightness"),
+    output:
+        profiles="results/straightness/profiles.nc",
+        peaks="results/straightness/peaks.csv",
+        gears="results/straightness/gears.csv",
+    log:
+        "results/logs/straightness/gather.log",
+    benchmark:
+        "results/benchmarks/rules/straightness/gather.tsv"
+    conda:
+        ENV
+    params:
+        settings=lookup(dpath="straightness", within=config),
+        runs=[{"run": r} for r in TRACKER_RUNS],
+    script:
+        "../scripts/straightness_gather.py"
+
+
+rule straightness_truth_check:
+    input:
+        peaks="results/straightness/peaks.csv",
+        profiles="results/straightness/profiles.nc",
+        truth=["results/synthetic/truth.nc"] if SYNTHETIC else [],
+        code=code("straightness"),
+    output:
+        "results/straightness/truth_check.csv",
+    log:
+        "results/logs/straightness/truth_check.log",
+    benchmark:
+        "results/benchmarks/rules/straightness/truth_check.tsv"
+    conda:
+        ENV
+    params:
+        settings=lookup(dpath="straightness", within=config),
+    script:
+        "../scripts/straightness_truth_check.py"
+
+
+rule straightness:
+    input:
+        "results/straightness/peaks.csv",
+        "results/straightness/gears.csv",
+        "results/straightness/profiles.nc",
+        "results/straightness/truth_check.csv",
+
+
+rule ch3_straightness:
+    input:
+        notebook=notebook("ch3_2_straightness.ipynb"),
+        peaks="results/straightness/peaks.csv",
+        gears="results/straightness/gears.csv",
+        profiles="results/straightness/profiles.nc",
+        truth_check="results/straightness/truth_check.csv",
+        surface_peaks="results/surface/peaks.csv",
+        cuts="results/ingest/cuts.csv",
+        code=code("straightness", "chapters", "plotting"),
+    output:
+        ipynb="results/chapters/ch3_2_straightness.ipynb",
+        html=report(
+            "results/chapters/ch3_2_straightness.html",
+            caption="../report/ch3_2_straightness.rst",
+            category="Chapter 3",
+        ),
+        figures=directory("results/figures/ch3/straightness"),
+    log:
+        "results/logs/chapters/ch3_straightness.log",
+    benchmark:
+        "results/benchmarks/rules/chapters/ch3_straightness.tsv"
+    conda:
+        ENV
+    params:
+        options=lookup(dpath="chapters", within=config),
+        failed_copy="results/logs/chapters/ch3_straightness.failed.ipynb",
+        parameters={
+            "settings": lookup(dpath="straightness", within=config),
+            "synthetic": SYNTHETIC,
+        },
+    script:
+        "../scripts/render_chapter.py"
+
+
+ALL_TARGETS.append("results/chapters/ch3_2_straightness.html")

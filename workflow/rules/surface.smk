@@ -1,1 +1,142 @@
-# Stage 'surface': rules are added by its chapter issue.
+# Stage 'surface' (chapter 2, issue 3): stylus profiles -> detrend, Gaussian waviness/roughness
+# split, thesis spectra, segment RMS tables 2.1/2.2, peaks and their mechanism.
+# One simulator job and one analysis job per cut, then one gather job.
+SURFACE_FILES = {f["cut"]: f for f in RAW_FILES if f["kind"] == "profile"}
+SURFACE_CUTS = {c.id: c.as_dict() for c in CUTS if c.id in SURFACE_FILES}
+
+
+rule surface_synth_profile:
+    input:
+        code=code("synth.profilometer", "synth.cell", "kinematics", "spectra"),
+    output:
+        "results/synthetic/raw/profiles/{cut}.csv",
+    log:
+        "results/logs/surface/synth_{cut}.log",
+    benchmark:
+        "results/benchmarks/rules/surface/synth_{cut}.tsv"
+    conda:
+        ENV
+    params:
+        synth=lookup(dpath="synth", within=config),
+        experiment=lookup(dpath="experiment", within=config),
+        cut=lambda w: SURFACE_CUTS[w.cut],
+    script:
+        "../scripts/surface_synth_profile.py"
+
+
+rule surface_profile:
+    input:
+        raw=lambda w: f"{RAW}/{SURFACE_FILES[w.cut]['path']}",
+        manifest=MANIFEST,
+        code=code("surface", "io.profiles", "io.tables", "spectra"),
+    output:
+        nc="results/surface/cuts/{cut}.nc",
+        peaks="results/surface/cuts/{cut}_peaks.csv",
+    log:
+        "results/logs/surface/profile_{cut}.log",
+    benchmark:
+        "results/benchmarks/rules/surface/profile_{cut}.tsv"
+    conda:
+        ENV
+    params:
+        settings=lookup(dpath="surface", within=config),
+        relpath=lambda w: SURFACE_FILES[w.cut]["path"],
+        cut=lambda w: SURFACE_CUTS[w.cut],
+    script:
+        "../scripts/surface_profile.py"
+
+
+rule surface_gather:
+    input:
+        cuts=expand("results/surface/cuts/{cut}.nc", cut=SURFACE_FILES),
+        peaks=expand("results/surface/cuts/{cut}_peaks.csv", cut=SURFACE_FILES),
+        code=code("surface"),
+    output:
+        waviness="results/surface/table_2_1_waviness_rms.csv",
+        roughness="results/surface/table_2_2_roughness_rms.csv",
+        comparison="results/surface/thesis_comparison.csv",
+        peaks="results/surface/peaks.csv",
+        metrics="results/surface/metrics.csv",
+        spectra="results/surface/spectra.nc",
+        profiles="results/surface/profiles.nc",
+    log:
+        "results/logs/surface/gather.log",
+    benchmark:
+        "results/benchmarks/rules/surface/gather.tsv"
+    conda:
+        ENV
+    params:
+        settings=lookup(dpath="surface", within=config),
+        cuts=list(SURFACE_CUTS.values()),
+    script:
+        "../scripts/surface_gather.py"
+
+
+rule surface_recovery:
+    input:
+        metrics="results/surface/metrics.csv",
+        truth="results/synthetic/truth.nc",
+        code=code("surface"),
+    output:
+        "results/surface/recovery.csv",
+    log:
+        "results/logs/surface/recovery.log",
+    benchmark:
+        "results/benchmarks/rules/surface/recovery.tsv"
+    conda:
+        ENV
+    script:
+        "../scripts/surface_recovery.py"
+
+
+rule surface:
+    input:
+        "results/surface/table_2_1_waviness_rms.csv",
+        "results/surface/table_2_2_roughness_rms.csv",
+        "results/surface/thesis_comparison.csv",
+        "results/surface/peaks.csv",
+        "results/surface/metrics.csv",
+        "results/surface/spectra.nc",
+        ["results/surface/recovery.csv"] if SYNTHETIC else [],
+
+
+rule ch2:
+    input:
+        unpack(
+            lambda w: {"recovery": "results/surface/recovery.csv"} if SYNTHETIC else {}
+        ),
+        notebook=notebook("ch2_surface.ipynb"),
+        waviness="results/surface/table_2_1_waviness_rms.csv",
+        roughness="results/surface/table_2_2_roughness_rms.csv",
+        comparison="results/surface/thesis_comparison.csv",
+        peaks="results/surface/peaks.csv",
+        metrics="results/surface/metrics.csv",
+        spectra="results/surface/spectra.nc",
+        profiles="results/surface/profiles.nc",
+        code=code("surface", "plotting"),
+    output:
+        ipynb="results/chapters/ch2_surface.ipynb",
+        html=report(
+            "results/chapters/ch2_surface.html",
+            caption="../report/ch2.rst",
+            category="Chapter 2",
+        ),
+        figures=directory("results/figures/ch2"),
+    log:
+        "results/logs/chapters/ch2.log",
+    benchmark:
+        "results/benchmarks/rules/chapters/ch2.tsv"
+    conda:
+        ENV
+    params:
+        options=lookup(dpath="chapters", within=config),
+        failed_copy="results/logs/chapters/ch2.failed.ipynb",
+        parameters={
+            "settings": lookup(dpath="surface", within=config),
+            "synthetic": SYNTHETIC,
+        },
+    script:
+        "../scripts/render_chapter.py"
+
+
+ALL_TARGETS.append("results/chapters/ch2_surface.html")

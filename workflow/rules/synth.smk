@@ -5,7 +5,18 @@
 
 rule synth_truth:
     input:
-        code=code("synth.cell", "synth.truth", "kinematics"),
+        code=code(
+            "synth.cell",
+            "synth.truth",
+            "synth.plan",
+            "kinematics",
+            "synth.profilometer",
+            "synth.dynamometer",
+            "synth.tracker",
+            "synth.impact",
+            "synth.ctrack",
+            "synth.loadtests",
+        ),
     output:
         "results/synthetic/truth.nc",
     log:

@@ -1,14 +1,230 @@
 """FARO laser tracker: tracker/<dir>_f<feed>.csv (t_s, x_mm, y_mm, z_mm).
 
-Simulator of this instrument (issue #5). Until it is implemented it plans no files.
+The robot moves (without cutting) along the path of a cut at that cut's feed while the
+tracker samples its target at 815 Hz (thesis §3.2). For every direction and every feed of
+the experiment one run is simulated, along the path of the last cut (in machining order)
+with that direction and feed (so the feeds 2–10 mm/s follow set 3, as in thesis Figs
+3.12–3.15). Coordinates are in the robot base frame (the tracker registered to the robot,
+the target's offset to the TCP removed).
+
+Simulated position = nominal motion (trapezoidal speed profile: constant feed, ramps at
+``accel_mm_s2``) + the TCP error of every eccentric gear stage of the virtual cell (joint
+error through the Jacobian, :meth:`VirtualCell.tcp_error_mm`) + a servo ripple at a constant
+``ripple_hz`` (13 Hz) along a fixed direction + white tracker noise (``noise_std_um`` per
+axis). Configuration: ``config.yaml: synth.tracker`` (schema
+``workflow/schemas/config/synth_tracker.schema.yaml``).
 """
 
 from __future__ import annotations
 
+import zlib
 from collections.abc import Mapping
+from pathlib import Path
 from typing import Any
+
+import numpy as np
+import pandas as pd
+import scipy.interpolate
+import xarray as xr
+
+from robomill.experiment import Cut, plan_cuts
+
+INSTRUMENT_NUMBER = 3
+"""Stream number of this instrument in the per-file random generators."""
+
+DEFAULTS: dict[str, Any] = {
+    "fs_hz": 815.0,
+    "noise_std_um": 5.0,
+    "ripple_hz": 13.0,
+    "ripple_amplitude_um": 2.0,
+    "ripple_direction": [0.5, 0.5, 0.7],
+    "accel_mm_s2": 100.0,
+    "path_step_mm": 0.1,
+    "directions": None,
+    "feeds_mm_s": None,
+}
+"""Defaults of ``synth.tracker`` (the schema fills the same values)."""
+
+
+def settings(config: Mapping[str, Any]) -> dict[str, Any]:
+    """``synth.tracker`` with defaults filled."""
+    return {**DEFAULTS, **dict(config["synth"].get("tracker") or {})}
+
+
+def run_id(direction: str, feed_mm_s: float) -> str:
+    """Run identifier ``<dir>_f<feed>`` (feed printed with ``%g``: ``py_f2``, ``my_f2.5``)."""
+    return f"{direction}_f{float(feed_mm_s):g}"
+
+
+def tracker_runs(config: Mapping[str, Any]) -> list[dict[str, Any]]:
+    """The tracker runs: one per (direction, feed) of the experiment, each following the path
+    of the last cut with that direction and feed. Keys ``run, direction, feed_mm_s, cut``
+    (a :class:`Cut`)."""
+    exp = config["experiment"]
+    tr = settings(config)
+    cuts = plan_cuts(exp["sets"], int(config["synth"]["sets"]), exp["directions"])
+    dirs = tr["directions"] or list(exp["directions"])
+    feeds = tr["feeds_mm_s"]
+    chosen: dict[tuple[str, float], Cut] = {}
+    for c in cuts:
+        if c.direction in dirs and (feeds is None or any(np.isclose(c.feed_mm_s, f)
+                                                         for f in feeds)):
+            chosen[(c.direction, c.feed_mm_s)] = c
+    runs = []
+    for d in dirs:
+        for (dd, feed), c in sorted(chosen.items(), key=lambda kv: kv[0][1]):
+            if dd == d:
+                runs.append({"run": run_id(d, feed), "direction": d, "feed_mm_s": feed,
+                             "cut": c})
+    return runs
 
 
 def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """Raw files this instrument writes in the synthetic study (none yet)."""
-    return []
+    """Raw files of the synthetic study: ``tracker/<dir>_f<feed>.csv`` for every direction
+    and feed (kind ``tracker``; metadata ``direction, feed_mm_s, fs_hz`` and ``cut``, the
+    cut whose path the run follows)."""
+    fs = float(settings(config)["fs_hz"])
+    return [{"path": f"tracker/{r['run']}.csv", "kind": "tracker", "direction": r["direction"],
+             "feed_mm_s": float(r["feed_mm_s"]), "fs_hz": fs, "cut": r["cut"].id}
+            for r in tracker_runs(config)]
+
+
+def motion_law(length_mm: float, feed_mm_s: float, accel_mm_s2: float,
+               fs_hz: float) -> tuple[np.ndarray, np.ndarray]:
+    """Sample times and path abscissa of a trapezoidal speed profile (rest to rest).
+
+    If the path is too short to reach the feed, the profile is triangular.
+    """
+    v, a, L = float(feed_mm_s), float(accel_mm_s2), float(length_mm)
+    t_acc = v / a
+    if a * t_acc**2 > L:  # triangular
+        t_acc = np.sqrt(L / a)
+        v = a * t_acc
+    t_const = (L - a * t_acc**2) / v
+    total = 2 * t_acc + t_const
+    t = np.arange(0.0, total, 1.0 / fs_hz)
+    s = np.where(t < t_acc, 0.5 * a * t**2,
+                 np.where(t < t_acc + t_const, 0.5 * a * t_acc**2 + v * (t - t_acc),
+                          L - 0.5 * a * np.clip(total - t, 0, None) ** 2))
+    return t, s
+
+
+def _rng(cell: Any, run: str) -> np.random.Generator:
+    return np.random.default_rng([cell.seed, INSTRUMENT_NUMBER, zlib.crc32(run.encode())])
+
+
+def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
+                 feed_mm_s: float, cut: Cut) -> pd.DataFrame:
+    """One tracker record ``t_s, x_mm, y_mm, z_mm`` along ``cut``'s path at ``feed_mm_s``.
+
+    Joint angles come from inverse kinematics on a grid of ``path_step_mm`` (cubic spline in
+    between); the gear errors act through the Jacobian at every sample.
+    """
+    tr = settings(config)
+    fs = float(tr["fs_hz"])
+    L = float(cell.experiment["cut_length_mm"])
+    t, s = motion_law(L, feed_mm_s, float(tr["accel_mm_s2"]), fs)
+    n_grid = int(np.ceil(L / float(tr["path_step_mm"]))) + 1
+    s_grid = np.linspace(0.0, L, n_grid)
+    q_grid = cell.joint_path_rad(cut, s_grid)
+    q = scipy.interpolate.CubicSpline(s_grid, q_grid, axis=0)(s)
+    nominal = cell.cut_path_mm(cut, s)
+    gear_err = cell.tcp_error_mm(q)
+    rng = _rng(cell, run_id(direction, feed_mm_s))
+    e = np.asarray(tr["ripple_direction"], float)
+    e = e / np.linalg.norm(e)
+    phase = rng.uniform(0, 2 * np.pi)
+    ripple = 1e-3 * float(tr["ripple_amplitude_um"]) * np.outer(
+        np.sin(2 * np.pi * float(tr["ripple_hz"]) * t + phase), e)
+    noise = 1e-3 * float(tr["noise_std_um"]) * rng.standard_normal((t.size, 3))
+    p = nominal + gear_err + ripple + noise
+    return pd.DataFrame({"t_s": t, "x_mm": p[:, 0], "y_mm": p[:, 1], "z_mm": p[:, 2]})
+
+
+def write_run(df: pd.DataFrame, path: str | Path) -> Path:
+    """Write a tracker record in the contract format (µs time, 10 nm positions)."""
+    from robomill.io.atomic import atomic_path
+
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        df.to_csv(tmp, index=False, float_format="%.6f",
+                  columns=["t_s", "x_mm", "y_mm", "z_mm"])
+    return path
+
+
+def planted_gear_table(config: Mapping[str, Any], cell: Any, cut: Cut,
+                       n_points: int = 41) -> pd.DataFrame:
+    """Planted truth per gear element on ``cut``'s path: spatial frequency and the amplitude
+    of its TCP deviation perpendicular to the path [µm] (Jacobian column projected off the
+    path direction, times the planted angular amplitude, averaged along the path)."""
+    L = float(cell.experiment["cut_length_mm"])
+    s = np.linspace(0.0, L, n_points)
+    q = cell.joint_path_rad(cut, s)
+    a, b = cell.cut_endpoints_mm(cut)
+    u = (b - a) / np.linalg.norm(b - a)
+    Jv = cell.robot.jacobian(q)[:, :3, :]  # (m, 3, n) mm/rad
+    Jperp = Jv - np.einsum("i,mij->mj", u, Jv)[:, None, :] * u[None, :, None]
+    lever = np.linalg.norm(Jperp, axis=1).mean(axis=0)  # (n,) mm/rad
+    rate = np.abs(q[-1] - q[0]) / L / (2 * np.pi)
+    rows = []
+    for i, g in enumerate(cell.gears):
+        f1 = g.rev_per_joint_rev * rate[g.joint - 1]
+        for order, f, amp in (("runout", f1, g.runout_rad), ("mesh", f1 * g.teeth, g.mesh_rad)):
+            rows.append({"gear": i, "joint": g.joint, "stage": g.stage, "order": order,
+                         "f_spatial_per_mm": f, "amplitude_um": 1e3 * amp * lever[g.joint - 1]})
+    return pd.DataFrame(rows)
+
+
+def truth(config: Mapping[str, Any], cell: Any) -> xr.Dataset:
+    """Planted truth of the tracker runs (merged into ``results/synthetic/truth.nc``).
+
+    ``tracker_gear_f_spatial_per_mm`` and ``tracker_gear_amplitude_um`` over
+    (``tracker_run``, ``gear``, ``order``): every gear element's spatial frequency on the
+    run's path and its perpendicular TCP amplitude; the ripple's spatial frequency
+    (``ripple_hz / feed``) and perpendicular amplitude per run; the noise level.
+    """
+    tr = settings(config)
+    runs = tracker_runs(config)
+    if not runs:
+        return xr.Dataset()
+    n_g = len(cell.gears)
+    f = np.zeros((len(runs), n_g, 2))
+    amp = np.zeros_like(f)
+    rip_f, rip_a = [], []
+    e = np.asarray(tr["ripple_direction"], float)
+    e = e / np.linalg.norm(e)
+    for k, r in enumerate(runs):
+        tab = planted_gear_table(config, cell, r["cut"])
+        f[k] = tab["f_spatial_per_mm"].to_numpy().reshape(n_g, 2)
+        amp[k] = tab["amplitude_um"].to_numpy().reshape(n_g, 2)
+        a, b = cell.cut_endpoints_mm(r["cut"])
+        u = (b - a) / np.linalg.norm(b - a)
+        rip_f.append(float(tr["ripple_hz"]) / r["feed_mm_s"])
+        rip_a.append(float(tr["ripple_amplitude_um"]) * np.linalg.norm(e - (e @ u) * u))
+    dims = ("tracker_run", "gear", "order")
+    return xr.Dataset(
+        {
+            "tracker_gear_f_spatial_per_mm": (dims, f, {"units": "1/mm", "long_name":
+                                              "planted gear spatial frequency on the run path"}),
+            "tracker_gear_amplitude_um": (dims, amp, {"units": "um", "long_name":
+                                          "planted gear TCP amplitude perpendicular to path"}),
+            "tracker_ripple_f_spatial_per_mm": ("tracker_run", rip_f, {
+                "units": "1/mm", "long_name": "servo ripple spatial frequency (ripple_hz/feed)"}),
+            "tracker_ripple_amplitude_um": ("tracker_run", rip_a, {
+                "units": "um", "long_name": "servo ripple amplitude perpendicular to path"}),
+            "tracker_noise_std_um": ((), float(tr["noise_std_um"]), {
+                "units": "um", "long_name": "tracker noise standard deviation per axis"}),
+        },
+        coords={
+            "tracker_run": ("tracker_run", [r["run"] for r in runs],
+                            {"units": "1", "long_name": "tracker run <dir>_f<feed>"}),
+            "tracker_direction": ("tracker_run", [r["direction"] for r in runs],
+                                  {"units": "1", "long_name": "cut direction"}),
+            "tracker_feed_mm_s": ("tracker_run", [r["feed_mm_s"] for r in runs],
+                                  {"units": "mm/s", "long_name": "feed"}),
+            "tracker_cut": ("tracker_run", [r["cut"].id for r in runs],
+                            {"units": "1", "long_name": "cut whose path the run follows"}),
+            "order": ("order", ["runout", "mesh"], {"units": "1", "long_name": "gear error "
+                                                    "order (once per rev, tooth mesh)"}),
+        },
+    )

@@ -1,0 +1,266 @@
+# %% [markdown]
+# # Chapter 2 — Surface irregularities
+#
+# A stylus profilometer traced the floor of every slot along the feed direction (thesis §2.2).
+# Each profile is detrended (stylus tilt), split by the ISO 16610-21 Gaussian filter into
+# waviness and roughness, and analysed with the thesis' spectra (eqs. 2.1–2.3: normalized
+# amplitude A(k) and power P(k), one-sided, frequency k·fs/N in mm⁻¹) and its RMS by
+# Parseval (eq. 2.6) on equal segments — 2.5 mm for waviness (Table 2.1), 0.25 mm for
+# roughness (Table 2.2). Dominant peaks are classified across feeds: constant *spatial*
+# frequency → kinematic (joint positions, gears); constant *temporal* frequency → dynamic
+# (vibration modes, tooth passing).
+
+# %% tags=["parameters"]
+waviness: str = None  # results/surface/table_2_1_waviness_rms.csv
+roughness: str = None  # results/surface/table_2_2_roughness_rms.csv
+comparison: str = None  # results/surface/thesis_comparison.csv
+peaks: str = None  # results/surface/peaks.csv
+metrics: str = None  # results/surface/metrics.csv
+spectra: str = None  # results/surface/spectra.nc
+profiles: str = None  # results/surface/profiles.nc
+recovery: str = None  # results/surface/recovery.csv (synthetic data only)
+settings: dict = None  # config surface section
+synthetic: bool = None  # data source is the virtual cell
+fig_dir: str = None  # folder for this chapter's figures
+
+# %%
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+from IPython.display import Markdown, display
+
+from robomill.experiment import DIRECTION_LABELS
+from robomill.io import open_artefact
+from robomill.plotting import save_figure
+from robomill.surface import load_thesis_tables
+
+prof = open_artefact(profiles)
+spec = open_artefact(spectra)
+met = pd.read_csv(metrics)
+pk = pd.read_csv(peaks)
+cmp_ = pd.read_csv(comparison)
+tab_w = pd.read_csv(waviness, index_col="segment")
+tab_r = pd.read_csv(roughness, index_col="segment")
+thesis = load_thesis_tables()
+lam = settings["lambda_c_mm"]
+display(Markdown(
+    f"**{len(met)} profiles**, {prof.sizes['x']} samples each at "
+    f"{1 / float(prof.x[1] - prof.x[0]):.0f} mm⁻¹ ({float(prof.x[-1] - prof.x[0]):.2f} mm); "
+    f"Gaussian cut-off λc = {lam} mm ({settings['filter_end']} ends). "
+    + ("Data: the virtual cell (synthetic)." if synthetic else "Data: measured profiles.")))
+
+# %% [markdown]
+# ## Figure 2.9 — measured and detrended profile
+
+# %%
+c0 = met.sort_values(["set", "segment"]).iloc[0]["cut"]
+p0 = prof.sel(cut=c0)
+fig, ax = plt.subplots()
+ax.plot(p0.x, p0.z_measured, lw=0.6, label="measured")
+ax.plot(p0.x, p0.z, lw=0.6, label="detrended")
+ax.set_xlabel("x [mm]")
+ax.set_ylabel("z [µm]")
+ax.set_title(f"Profile of {c0}")
+ax.legend()
+save_figure(fig, fig_dir, "fig2_9_detrend")
+plt.show()
+display(Markdown(f"Tilt removed from {c0}: "
+                 f"{float(met.set_index('cut').loc[c0, 'tilt_um_per_mm']):.2f} µm/mm."))
+
+# %% [markdown]
+# ## Figure 2.11 — waviness; Figure 2.12 — roughness at low and high feed
+
+# %%
+fig, ax = plt.subplots()
+ax.plot(p0.x, p0.z, lw=0.5, color="0.6", label="detrended")
+ax.plot(p0.x, p0.waviness, lw=1.2, label=f"waviness (λc = {lam} mm)")
+ax.set_xlabel("x [mm]")
+ax.set_ylabel("z [µm]")
+ax.legend()
+save_figure(fig, fig_dir, "fig2_11_waviness")
+plt.show()
+
+d0 = met[met.direction == met.direction.iloc[0]]
+lo, hi = d0.loc[d0.feed_mm_s.idxmin(), "cut"], d0.loc[d0.feed_mm_s.idxmax(), "cut"]
+fig, axs = plt.subplots(2, 1, sharex=True, sharey=True)
+for ax, c in zip(axs, [lo, hi], strict=True):
+    sel = prof.sel(cut=c)
+    m = sel.x <= sel.x[0] + 1.0
+    ax.plot(sel.x[m], sel.roughness[m], lw=0.7)
+    ax.set_title(f"{c}: feed {float(sel.feed_mm_s)} mm/s", fontsize=9)
+    ax.set_ylabel("roughness [µm]")
+axs[-1].set_xlabel("x [mm]")
+save_figure(fig, fig_dir, "fig2_12_roughness_feed")
+plt.show()
+
+# %% [markdown]
+# ## Figures 2.13–2.15 — profiles per direction (first set, every feed)
+
+# %%
+first = met["set"].min()
+for i, d in enumerate(["px", "py", "my"]):
+    cs = met[(met["set"] == first) & (met.direction == d)].sort_values("segment")
+    if cs.empty:
+        continue
+    fig, ax = plt.subplots()
+    for k, (_, r) in enumerate(cs.iterrows()):
+        ax.plot(prof.x, prof.sel(cut=r.cut).z + 15 * k, lw=0.5,
+                label=f"{r.feed_mm_s:g} mm/s")
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("z [µm] (offset 15 µm per feed)")
+    ax.set_title(f"Set {first}, direction {DIRECTION_LABELS[d]}")
+    ax.legend(fontsize=7, ncol=5)
+    save_figure(fig, fig_dir, f"fig2_{13 + i}_profiles_{d}")
+    plt.show()
+
+# %% [markdown]
+# ## Figure 2.16 — one spectrum
+
+# %%
+fig, axs = plt.subplots(1, 2, figsize=(9, 3.6))
+s0 = spec.sel(cut=c0)
+axs[0].plot(s0.f, s0.amplitude, lw=0.8)
+axs[0].set_xlim(0, settings["waviness_plot_max_per_mm"])
+axs[1].plot(s0.f, s0.amplitude, lw=0.6)
+axs[1].set_xlim(0, settings["roughness_plot_max_per_mm"])
+axs[1].set_ylim(0, float(s0.amplitude.where(s0.f > 2).max()) * 1.2)
+for ax in axs:
+    ax.set_xlabel("spatial frequency [mm⁻¹]")
+axs[0].set_ylabel("A(k) [µm]")
+fig.suptitle(f"Normalized amplitude spectrum of {c0}")
+save_figure(fig, fig_dir, "fig2_16_spectrum")
+plt.show()
+
+# %% [markdown]
+# ## Figures 2.17–2.21 — spectra of every cut (waviness 0–1 mm⁻¹, roughness 0–30 mm⁻¹)
+
+# %%
+for s in sorted(met["set"].unique()):
+    fig, axs = plt.subplots(3, 2, figsize=(10, 7.5), sharex="col")
+    for i, d in enumerate(["px", "py", "my"]):
+        for _, r in met[(met["set"] == s) & (met.direction == d)].sort_values(
+                "segment").iterrows():
+            sp = spec.sel(cut=r.cut)
+            axs[i, 0].plot(sp.f, sp.power, lw=0.7, label=f"{r.feed_mm_s:g} mm/s")
+            axs[i, 1].plot(sp.f, sp.power, lw=0.5)
+        axs[i, 0].set_xlim(0, settings["waviness_plot_max_per_mm"])
+        axs[i, 1].set_xlim(2, settings["roughness_plot_max_per_mm"])
+        axs[i, 1].set_yscale("log")
+        axs[i, 0].set_ylabel(f"{DIRECTION_LABELS[d]}: P(k) [µm²]")
+        axs[i, 0].legend(fontsize=6)
+    axs[-1, 0].set_xlabel("spatial frequency [mm⁻¹]")
+    axs[-1, 1].set_xlabel("spatial frequency [mm⁻¹]")
+    fig.suptitle(f"Power spectra, set {s}")
+    save_figure(fig, fig_dir, f"fig2_17_spectra_set{s}")
+    plt.show()
+
+# %% [markdown]
+# ## Tables 2.1 and 2.2 — RMS by the segment method, beside the thesis
+
+# %%
+def side_by_side(ours, key):
+    th = thesis[key].loc[ours.index.intersection(thesis[key].index),
+                         [c for c in ours.columns if c in thesis[key].columns]]
+    return pd.concat({"pipeline": ours.round(2), "thesis": th}, axis=1)
+
+
+display(Markdown("**Table 2.1 — RMS of waviness [µm]** (2.5 mm segments)"))
+display(side_by_side(tab_w, "table_2_1_waviness_rms_um"))
+display(Markdown("**Table 2.2 — RMS of roughness [µm]** (0.25 mm segments)"))
+display(side_by_side(tab_r, "table_2_2_roughness_rms_um"))
+within = cmp_.groupby("table")["within_1.5x"].agg(["sum", "count"])
+display(Markdown("Cells within a factor 1.5 of the thesis: " + "; ".join(
+    f"{t}: {int(r['sum'])} of {int(r['count'])}" for t, r in within.iterrows())
+    + ". Median ratio pipeline/thesis: "
+    + ", ".join(f"{t}: {g.ratio.median():.2f}" for t, g in cmp_.groupby("table")) + "."))
+
+# %%
+by_dir = met.groupby("direction")[["waviness_rms_um", "roughness_rms_um"]].mean()
+corr_w = np.corrcoef(met.feed_mm_s, met.waviness_rms_um)[0, 1]
+corr_r = np.corrcoef(met.feed_mm_s, met.roughness_rms_um)[0, 1]
+fig, axs = plt.subplots(1, 2, figsize=(9, 3.6))
+for d, g in met.groupby("direction"):
+    axs[0].plot(g.feed_mm_s, g.waviness_rms_um, "o", label=DIRECTION_LABELS[d])
+    axs[1].plot(g.feed_mm_s, g.roughness_rms_um, "o", label=DIRECTION_LABELS[d])
+axs[0].set_ylabel("waviness RMS [µm]")
+axs[1].set_ylabel("roughness RMS [µm]")
+for ax in axs:
+    ax.set_xlabel("feed [mm/s]")
+    ax.legend()
+save_figure(fig, fig_dir, "fig2_22_rms_vs_feed")
+plt.show()
+order = by_dir["waviness_rms_um"].sort_values()
+display(Markdown(
+    "Mean waviness RMS by direction: " + ", ".join(
+        f"{DIRECTION_LABELS[d]} {v:.2f} µm" for d, v in order.items())
+    + f" (smallest {DIRECTION_LABELS[order.index[0]]}, largest "
+    f"{DIRECTION_LABELS[order.index[-1]]}; thesis: X smallest, +Y largest). Mean roughness "
+    "RMS: " + ", ".join(f"{DIRECTION_LABELS[d]} {v:.2f} µm"
+                        for d, v in by_dir["roughness_rms_um"].items())
+    + f". Correlation of RMS with feed: waviness {corr_w:.2f}, roughness {corr_r:.2f} "
+    "(thesis: higher feed raises the amplitude)."))
+
+# %% [markdown]
+# ## Peaks and their mechanism
+
+# %%
+counts = pk.groupby(["band", "mechanism"]).size().unstack(fill_value=0)
+display(counts)
+wv = pk[pk.band == "waviness"]
+kin = wv[wv.mechanism == "kinematic"]
+dyn = pk[(pk.band == "roughness") & (pk.mechanism == "dynamic")]
+fig, axs = plt.subplots(1, 2, figsize=(9, 3.6))
+for m, g in pk.groupby("mechanism"):
+    axs[0].plot(g.feed_mm_s, g.f_spatial_per_mm, "o", ms=4, label=m)
+    axs[1].plot(g.feed_mm_s, g.f_temporal_hz, "o", ms=4, label=m)
+axs[0].set_yscale("log")
+axs[1].set_yscale("log")
+axs[0].set_ylabel("spatial frequency [mm⁻¹]")
+axs[1].set_ylabel("temporal frequency [Hz]")
+for ax in axs:
+    ax.set_xlabel("feed [mm/s]")
+    ax.legend(fontsize=7)
+save_figure(fig, fig_dir, "fig2_23_peak_mechanisms")
+plt.show()
+text = (f"{len(pk)} peaks: {len(kin)} of {len(wv)} waviness peaks are kinematic")
+if len(kin):
+    text += (f", median wavelength {1 / kin.f_spatial_per_mm.median():.2f} mm "
+             f"(spatial frequency {kin.f_spatial_per_mm.min():.2f}–"
+             f"{kin.f_spatial_per_mm.max():.2f} mm⁻¹ over feeds "
+             f"{kin.feed_mm_s.min():g}–{kin.feed_mm_s.max():g} mm/s; thesis: ≈ 2.5 mm in "
+             "every cut)")
+text += f"; {len(dyn)} roughness peaks are dynamic"
+if len(dyn):
+    text += (f", temporal frequencies {dyn.f_temporal_hz.quantile(0.1):.0f}–"
+             f"{dyn.f_temporal_hz.quantile(0.9):.0f} Hz (10–90 %), while their wavelength "
+             "grows with feed")
+display(Markdown(text + "."))
+
+# %% [markdown]
+# ## Planted vs recovered (synthetic data only)
+
+# %%
+if recovery:
+    rec = pd.read_csv(recovery)
+    worst_w = (rec.waviness_ratio - 1).abs().max()
+    worst_r = (rec.roughness_ratio - 1).abs().max()
+    display(Markdown(
+        f"The simulator planted a waviness and roughness level in every cut "
+        f"(`truth.nc`). Recovered / planted RMS: waviness {rec.waviness_ratio.min():.3f}–"
+        f"{rec.waviness_ratio.max():.3f}, roughness {rec.roughness_ratio.min():.3f}–"
+        f"{rec.roughness_ratio.max():.3f} (worst errors {100 * worst_w:.1f} % and "
+        f"{100 * worst_r:.1f} %). The deficit is the Gaussian filter's: it passes "
+        f"exp(−π(αλc/λ)²) of a wave to the waviness, so near-λc content is split."))
+    display(rec.round(3))
+else:
+    display(Markdown("Measured data: no planted truth to compare with."))
+
+# %% [markdown]
+# ## Findings
+#
+# The numbers above are computed from this run's artefacts. On the virtual cell the
+# simulator's levels were chosen (`synth.profilometer`, assumed) to land near the thesis
+# tables; what the analysis shows independently is the *mechanism*: the waviness peaks keep
+# their spatial frequency across feeds (they come from the gear errors mapped through the
+# joint positions: kinematic), the roughness peaks keep their temporal frequency (the robot
+# modes: dynamic) — the thesis' conclusion.

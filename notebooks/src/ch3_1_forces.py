@@ -1,0 +1,241 @@
+# %% [markdown]
+# # Chapter 3.1 — Cutting forces
+#
+# The Kistler dynamometer under the block recorded Fx, Fy, Fz during every cut (thesis §3.1).
+# The mechanistic model for a small axial depth (thesis eq. 3.1) gives each tooth's forces
+# F_t = K_tc a h(φ) + K_te a, F_r = K_rc a h(φ) + K_re a, F_a = K_ac a h(φ) + K_ae a with
+# h(φ) = c sin φ; for a 2-flute slot (entry 0, exit π) the force is periodic at the tooth-passing
+# frequency. Measured forces are periodic but not harmonic: the robot vibrates. This chapter
+# shows the model shape (Fig 3.2), a record (Fig 3.3) and its full-band spectrum (Fig 3.4), the
+# spectra in spatial frequency (Figs 3.5–3.7) and in time frequency 0–250 Hz (Figs 3.8–3.10),
+# the per-cut peak table, and the cutting coefficients identified from the mean forces.
+# Forces are on the tool, in the block axes (docs/data-contract.md).
+
+# %% tags=["parameters"]
+spectra: str = None  # results/forces/spectra.nc
+peaks: str = None  # results/forces/peaks.csv
+coefficients: str = None  # results/forces/cutting_coefficients.csv
+means: str = None  # results/forces/mean_forces.csv
+harmonics: str = None  # results/forces/harmonics.csv
+modes: str = None  # results/modal/modes.csv (identified modes, chapter 3.3)
+truth: str = None  # results/synthetic/truth.nc (synthetic runs only)
+settings: dict = None  # config section forces
+synthetic: bool = None
+fig_dir: str = None  # folder for this chapter's figures
+
+# %%
+import os
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+from IPython.display import Markdown, display
+
+from robomill.experiment import DIRECTION_LABELS
+from robomill.io import open_artefact
+from robomill.plotting import save_figure
+
+sp = open_artefact(spectra)
+pk = pd.read_csv(peaks)
+coef = pd.read_csv(coefficients)
+mf = pd.read_csv(means)
+hm = pd.read_csv(harmonics)
+settings = settings or {}
+fig_set = int(settings.get("figure_set", 3))
+if fig_set not in set(sp["set"].values.tolist()):
+    fig_set = int(sp["set"].values.max())
+mode_table = pd.read_csv(modes) if modes and os.path.exists(modes) else None
+cuts_set = [str(c) for c in sp.cut.values if int(sp["set"].sel(cut=c)) == fig_set]
+display(Markdown(
+    f"{sp.sizes['cut']} cuts analysed, {int(sp['n_samples'].sum()):,} samples per axis in "
+    f"total; tooth passing {float(sp['tooth_passing_hz'][0]):.1f} Hz."))
+
+# %% [markdown]
+# ## Figure 3.2 — the model's force shape (eq. 3.1)
+#
+# Two revolutions of a 2-flute slot with the coefficients identified below; the thesis plots
+# the Z shape only, "independent of its amplitude".
+
+# %%
+ang = sp["model_angle"].values
+fig, ax = plt.subplots()
+for i, lab in enumerate(["F_x (feed)", "F_y (cross-feed)", "F_z (axial)"]):
+    ax.plot(ang, sp["model_force"].values[:, i], label=lab, lw=2 if i == 2 else 1)
+ax.set_xlabel("rotation angle of tooth 1 [deg]")
+ax.set_ylabel("force on the tool [N]")
+ax.set_title(f"Eq. 3.1, c = {sp.attrs['model_feed_per_tooth_mm'] * 1e3:.2f} µm, "
+             f"a = {sp.attrs['model_depth_mm']:.2f} mm")
+ax.legend()
+save_figure(fig, fig_dir, "fig3_2_model_force_shape")
+plt.show()
+
+# %% [markdown]
+# ## Figure 3.3 — a measured record and its zoom; Figure 3.4 — its full-band spectrum
+
+# %%
+c0 = cuts_set[0]
+d0 = sp.sel(cut=c0)
+fig, axs = plt.subplots(1, 2, figsize=(11, 4))
+for a in ["Fx", "Fy", "Fz"]:
+    axs[0].fill_between(d0["envelope_t"], d0["envelope_min"].sel(axis=a),
+                        d0["envelope_max"].sel(axis=a), alpha=0.5, label=a)
+    axs[1].plot(d0["excerpt_t"] * 1e3, d0["excerpt"].sel(axis=a), lw=0.8, label=a)
+axs[0].set_xlabel("t [s]")
+axs[0].set_ylabel("force [N] (min–max envelope)")
+axs[0].set_title(f"(a) {c0}: whole record")
+axs[1].set_xlabel("t [ms]")
+axs[1].set_title("(b) zoom, middle of the record")
+axs[0].legend()
+save_figure(fig, fig_dir, "fig3_3_record")
+plt.show()
+
+f = sp["frequency"].values
+psd = d0["psd"].sum("axis").values
+fig, ax = plt.subplots()
+ax.semilogy(f / 1e3, psd, lw=0.7)
+ax.set_xlabel("frequency [kHz]")
+ax.set_ylabel("PSD, sum of axes [N²/Hz]")
+ax.set_title(f"Figure 3.4 — {c0}, Welch PSD over the full band")
+save_figure(fig, fig_dir, "fig3_4_full_band_psd")
+plt.show()
+top = f[np.argmax(psd[f > 500]) + np.sum(f <= 500)]
+display(Markdown(
+    f"The largest full-band peak of {c0} is at **{top:.0f} Hz** (thesis Fig 3.4: dominant "
+    f"peaks can lie above 10 kHz). It is tooth-passing harmonic "
+    f"{top / float(d0['tooth_passing_hz']):.1f} amplified by the dynamometer/block resonance."))
+
+# %% [markdown]
+# ## Figures 3.5–3.7 — spectra in spatial frequency (kinematic peak)
+#
+# Thesis normalized power P(k) = |Z(k)|²/N² of each whole record, summed over the three axes,
+# against f/v. The thesis finds the kinematic irregularity near 0.5 mm⁻¹, as on the surface.
+
+
+# %%
+def per_direction(xkey, xmax, name, title, xlabel, vlines=()):
+    for direction in ("py", "px", "my"):
+        cs = [c for c in cuts_set if str(sp["direction"].sel(cut=c).item()) == direction]
+        if not cs:
+            continue
+        fig, axs = plt.subplots(len(cs), 1, figsize=(7.5, 1.8 * len(cs) + 0.8), sharex=True,
+                                squeeze=False)
+        for axx, c in zip(axs[:, 0], cs, strict=True):
+            d = sp.sel(cut=c)
+            x = d[xkey].values
+            p = d["power_low"].sum("axis").values
+            sel = np.isfinite(x) & (x > 0) & (x <= xmax)
+            axx.plot(x[sel], p[sel], lw=0.8)
+            for v in vlines:
+                axx.axvline(v, color="0.6", ls=":", lw=0.8)
+            axx.set_ylabel("P [N²]")
+            axx.set_title(f"{c}: {float(d['feed_mm_s']):g} mm/s", fontsize=9)
+        axs[-1, 0].set_xlabel(xlabel)
+        fig.suptitle(f"{title} {DIRECTION_LABELS[direction]}, set {fig_set}")
+        save_figure(fig, fig_dir, f"{name}_{direction}")
+        plt.show()
+
+
+per_direction("f_spatial_low", 1.0, "fig3_5_7_spatial", "Spatial-frequency power,",
+              "spatial frequency f/v [1/mm]", vlines=(0.5,))
+kin = pk.set_index("cut")["kinematic_per_mm"]
+display(Markdown(
+    f"Kinematic peak (largest in {settings.get('kinematic_band_per_mm', [0.3, 1.0])} mm⁻¹): "
+    f"median **{kin.median():.2f} mm⁻¹** over all cuts (range {kin.min():.2f}–{kin.max():.2f}; "
+    f"thesis: about 0.5 mm⁻¹). The resolution of a {float(sp['feed_mm_s'][0]):g} mm/s record is "
+    f"1/L = {float(sp['f_spatial_low'].isel(cut=0, lf_bin=1)):.3f} mm⁻¹."))
+
+# %% [markdown]
+# ## Figures 3.8–3.10 — spectra in time frequency, 0–250 Hz (dominant peak)
+
+# %%
+mode_f = (mode_table["f_n_hz"].to_numpy() if mode_table is not None else np.array([]))
+per_direction("f_low", 250.0, "fig3_8_10_time", "Time-frequency power,", "frequency [Hz]",
+              vlines=tuple(mode_f))
+
+# %% [markdown]
+# ## Table 3.1 — per-cut peaks
+
+# %%
+tab = pk.merge(mf[["cut", "feed_mm_s", "depth_mm", "direction"]], on="cut")
+if mode_table is not None and len(mode_table):
+    idx = np.abs(tab["dominant_hz"].to_numpy()[:, None] - mode_f[None, :]).argmin(axis=1)
+    tab["nearest_mode"] = mode_table["mode"].to_numpy()[idx]
+    tab["nearest_mode_hz"] = mode_f[idx]
+    tab["offset_hz"] = tab["dominant_hz"] - tab["nearest_mode_hz"]
+tab.round(4)
+
+# %%
+dom = pk["dominant_hz"]
+inside = ((dom >= 60) & (dom <= 120)).sum()
+text = (f"The dominant low-frequency peak (largest bin of the summed power in "
+        f"{settings.get('dominant_band_hz', [15, 250])} Hz) lies between **{dom.min():.1f} and "
+        f"{dom.max():.1f} Hz**; {inside} of {len(dom)} cuts have it in 60–120 Hz (thesis: "
+        "every cut, 60–120 Hz; the robot vibrates at 60–100 Hz). ")
+if mode_table is not None and len(mode_table):
+    off = tab["offset_hz"].abs()
+    near = tab.groupby("nearest_mode_hz").size().sort_values(ascending=False)
+    text += (f"Against the modes identified by the impact test (chapter 3.3: "
+             f"{', '.join(f'{x:.1f}' for x in mode_f)} Hz), every dominant peak is within "
+             f"{off.max():.1f} Hz of an identified mode (median {off.median():.2f} Hz); the "
+             f"modes hit most often are " + ", ".join(f"{hz:.1f} Hz ({n} cuts)"
+                                                      for hz, n in near.items()) +
+             ". ")
+    if off.max() <= 3.0:
+        text += ("So the dominant force peak sits at the cell's modes: the tool-tip vibration "
+                 "modulates the chip load through the regenerative chip thickness.")
+    else:
+        text += (f"Some peaks lie more than 3 Hz from any identified mode (up to "
+                 f"{off.max():.1f} Hz): they are not explained by a mode alone.")
+else:
+    text += ("The identified modes (results/modal/modes.csv) are not available in this run, "
+             "so the peaks are not matched to modes here.")
+display(Markdown(text))
+
+# %% [markdown]
+# ## Tooth-passing harmonics
+
+# %%
+hsum = hm.assign(power_N2=hm[["Fx_power_N2", "Fy_power_N2", "Fz_power_N2"]].sum(axis=1))
+hsum.pivot_table(index="harmonic", values=["f_hz", "power_N2"], aggfunc="median").round(4)
+
+# %% [markdown]
+# ## Cutting-coefficient identification
+#
+# Mean forces per cut in the cut frame, divided by N·a, are linear in the feed per tooth c:
+# F̄_y/(Na) = K_tc c/4 + K_te/π, F̄_x/(Na) = −(K_rc c/4 + K_re/π), F̄_z/(Na) = K_ac c/π + K_ae/2.
+
+# %%
+fig, axs = plt.subplots(1, 3, figsize=(12, 3.6))
+na = 2 * mf["depth_mm"]
+for axx, comp, lab in zip(axs, ["F_cross_feed_N", "F_feed_N", "F_axial_N"],
+                          ["F̄_y/(Na) (tangential)", "F̄_x/(Na) (radial)", "F̄_z/(Na) (axial)"],
+                          strict=True):
+    for depth, g in mf.groupby("depth_mm"):
+        axx.plot(g["feed_per_tooth_mm"] * 1e3, g[comp] / (2 * depth), "o", ms=4,
+                 label=f"a = {depth:g} mm")
+    axx.set_xlabel("feed per tooth c [µm]")
+    axx.set_title(lab, fontsize=10)
+axs[0].set_ylabel("N/mm")
+axs[0].legend()
+save_figure(fig, fig_dir, "fig3_11_mean_forces_vs_feed")
+plt.show()
+
+table = coef.copy()
+if truth and os.path.exists(truth):
+    tr = open_artefact(truth)
+    planted = {k.split("_")[1]: float(tr[k]) for k in tr.data_vars if k.startswith("cutting_")}
+    table["planted"] = table["name"].map(planted)
+    table["error_pct"] = 100 * (table["value"] / table["planted"] - 1)
+table.round(3)
+
+# %%
+worst = table.loc[table["error_pct"].abs().idxmax()] if "error_pct" in table else None
+msg = ("Identified coefficients with 95 % intervals: " + ", ".join(
+    f"{r.name} = {r.value:.1f} [{r.ci_low:.1f}, {r.ci_high:.1f}] {r.unit}"
+    for r in coef.itertuples()) + ". ")
+if worst is not None:
+    msg += (f"Against the planted values of the virtual cell the largest error is "
+            f"{worst['error_pct']:+.2f} % ({worst['name']}). ")
+msg += ("The thesis assumes typical aluminium values (Altintas 2012) and does not identify "
+        "them; these are the values the chatter chapter uses.")
+display(Markdown(msg))

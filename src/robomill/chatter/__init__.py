@@ -1,0 +1,48 @@
+"""Chatter: stability lobes for any machine, the seed-002 time-domain robot–tool–surface model,
+FFT chatter detection with adaptive depth, and the thesis robot's chatter-free parameters.
+
+Conventions (used by every module of this package and by chapter 4)
+--------------------------------------------------------------------
+* ``x`` is the feed direction, ``y`` the normal direction in the plane of the cut (the seed's
+  ``z``); the tool axis is the third direction.
+* The cutter angle φ of a tooth is measured **clockwise from +y**; a tooth cuts while
+  φ_st < φ < φ_ex (the engagement g(φ) = 1, seed 002 eq. for g).
+* **Up-milling** enters at φ_st = 0 and exits at φ_ex = arccos(1 − 2 a_e/D);
+  **down-milling** enters at φ_st = arccos(2 a_e/D − 1) and exits at φ_ex = π;
+  slotting is radial immersion a_e/D = 1 (0 … π).
+* Chip thickness h_j = (Δx sin φ_j + Δy cos φ_j) g(φ_j) with Δ = current minus
+  one-tooth-period-delayed tool displacement (seed 002; Altintas 2012 eq. 3.50); tangential
+  and radial forces R_t = K_t a h, R_r = K_r R_t; on the tool
+  R_x = −R_t cos φ − R_r sin φ, R_y = R_t sin φ − R_r cos φ, summed over the teeth.
+
+Modules
+-------
+:mod:`~robomill.chatter.model`      linear tool models (modes → state space), directional
+                                    matrix W(φ), immersion angles
+:mod:`~robomill.chatter.lobes_zoa`  zero-order analytical lobes (Altintas & Budak 1995)
+:mod:`~robomill.chatter.lobes_sdm`  first-order semi-discretization (Insperger & Stépán 2004)
+:mod:`~robomill.chatter.timedomain` seed-002 robot–tool–surface simulation (numba)
+:mod:`~robomill.chatter.detection`  sliding-window FFT detection, adaptive depth logic
+:mod:`~robomill.chatter.thesis`     thesis robot: slot frames, mode coupling, recommendations
+"""
+
+from robomill.chatter.lobes_sdm import sdm_lobes, sdm_spectral_radius
+from robomill.chatter.lobes_zoa import zoa_lobes
+from robomill.chatter.model import (
+    CuttingModel,
+    LinearTool,
+    ModeXY,
+    immersion_angles,
+    tool_from_modes,
+)
+
+__all__ = [
+    "CuttingModel",
+    "LinearTool",
+    "ModeXY",
+    "immersion_angles",
+    "sdm_lobes",
+    "sdm_spectral_radius",
+    "tool_from_modes",
+    "zoa_lobes",
+]

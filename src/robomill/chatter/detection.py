@@ -1,0 +1,113 @@
+"""Chatter detection from the amplitude spectrum of the horizontal cutting force over a sliding
+window, and the seed-002 adaptation loop that lowers the axial depth through the vertical force
+setpoint (seed 002, Fig. 4 "logic block"; §"Results of computer simulation").
+
+Indicator: the largest amplitude-spectrum line of the resultant horizontal force
+R = √(R_x² + R_z²) in a frequency band, away from the tooth-passing harmonics (forced
+vibration); chatter is detected when it has grown by ``growth_ratio`` over its smallest value
+since the detector was (re-)armed, is still rising, and exceeds a floor (a fraction of the mean
+force) that keeps the residual non-harmonic content of a stable cut from triggering.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+def chatter_indicator(force_N: np.ndarray, fs_hz: float, tooth_hz: float,
+                      band_hz: tuple[float, float], harmonic_halfwidth_hz: float
+                      ) -> tuple[float, float]:
+    """Largest non-harmonic amplitude-spectrum line in ``band_hz`` (Hann window, single-sided
+    amplitude scaling) and its frequency: (amplitude [N], frequency [Hz])."""
+    x = np.asarray(force_N, float)
+    x = x - x.mean()
+    w = np.hanning(x.size)
+    spec = 2.0 * np.abs(np.fft.rfft(x * w)) / w.sum()
+    f = np.fft.rfftfreq(x.size, 1.0 / fs_hz)
+    harm = np.abs(f / tooth_hz - np.round(f / tooth_hz)) * tooth_hz <= harmonic_halfwidth_hz
+    ok = (f >= band_hz[0]) & (f <= band_hz[1]) & ~harm
+    if not ok.any():
+        return 0.0, float("nan")
+    i = np.argmax(np.where(ok, spec, -1.0))
+    return float(spec[i]), float(f[i])
+
+
+@dataclass
+class SlidingDetector:
+    """Growth detector on the chatter indicator of successive windows."""
+
+    fs_hz: float
+    tooth_hz: float
+    window_s: float = 0.5
+    band_hz: tuple[float, float] = (20.0, 1000.0)
+    harmonic_halfwidth_hz: float = 4.0
+    growth_ratio: float = 3.0
+    rising_windows: int = 3
+    min_fraction_of_mean: float = 0.05
+    persist_ratio: float = 0.7
+    history: list = field(default_factory=list)
+    armed_at: int = 0
+    level_at_rearm: float = float("nan")
+
+    def update(self, t_s: float, force_N: np.ndarray) -> tuple[bool, float, float]:
+        """Evaluate the window ending now (the last ``window_s`` of ``force_N``); returns
+        (detected, amplitude, frequency)."""
+        n = int(round(self.window_s * self.fs_hz))
+        if len(force_N) < n:
+            return False, float("nan"), float("nan")
+        amp, f = chatter_indicator(force_N[-n:], self.fs_hz, self.tooth_hz, self.band_hz,
+                                   self.harmonic_halfwidth_hz)
+        self.history.append((t_s, amp, f))
+        amps = np.array([h[1] for h in self.history[self.armed_at:]])
+        k = self.rising_windows
+        rising = amps.size > k and bool(np.all(np.diff(amps[-k - 1:]) > 0))
+        floor = self.min_fraction_of_mean * float(np.mean(np.abs(force_N[-n:])))
+        detected = rising and amps[-1] >= max(self.growth_ratio * amps.min(), floor)
+        if amps.size == 1 and np.isfinite(self.level_at_rearm):
+            # first window after an adaptation: chatter that has not decayed persists
+            detected = amp >= floor and amp >= self.persist_ratio * self.level_at_rearm
+        return detected, amp, f
+
+    def rearm(self) -> None:
+        """Start a new growth reference (after an adaptation), remembering the level."""
+        self.level_at_rearm = self.history[-1][1] if self.history else float("nan")
+        self.armed_at = len(self.history)
+
+
+def run_adaptive(sim, detector: SlidingDetector, *, duration_s: float, hop_s: float,
+                 step_fraction: float, max_total_fraction: float, hold_s: float,
+                 adapt: bool = True) -> dict:
+    """Run a :class:`~robomill.chatter.timedomain.SeedSimulation` in hops; after each hop the
+    detector looks at the last window of the resultant horizontal force. On detection the logic
+    block lowers the force setpoint (hence the depth) by ``step_fraction`` of its initial value,
+    waits ``hold_s`` and re-arms; it never lowers by more than ``max_total_fraction`` in total.
+
+    Returns
+    -------
+    dict with the indicator history (t, amplitude, frequency), the adaptation events
+    (t, new setpoint fraction) and the detection times.
+    """
+    f0 = sim.force_setpoint_N
+    events, detections = [], []
+    hold_until = -1.0
+    lowered = 0.0
+    while sim.t_s < duration_s - 1e-12:
+        sim.run(hop_s)
+        rec = sim.rec[: sim.nrec]
+        R = np.hypot(rec[:, 3], rec[:, 4])
+        if sim.t_s < hold_until:
+            continue
+        det, _, _ = detector.update(sim.t_s, R)
+        if det:
+            detections.append(sim.t_s)
+            if adapt and lowered + step_fraction <= max_total_fraction + 1e-12:
+                lowered += step_fraction
+                sim.force_setpoint_N = f0 * (1.0 - lowered)
+                events.append((sim.t_s, 1.0 - lowered))
+            hold_until = sim.t_s + hold_s
+            detector.rearm()
+    hist = np.array(detector.history) if detector.history else np.zeros((0, 3))
+    return {"indicator": hist, "events": events, "detections": detections,
+            "lowered_fraction": lowered}

@@ -1,0 +1,180 @@
+"""Linear tool models and the milling directional matrix (conventions: package docstring).
+
+The regenerative milling model of every method in this package is
+
+.. math:: \\dot{\\mathbf s} = A\\mathbf s + B\\,\\mathbf R,\\qquad \\mathbf d = C\\mathbf s,
+          \\qquad \\mathbf R(t) = a\\,W(t)\\,[\\mathbf d(t) - \\mathbf d(t-\\tau)]
+
+with ``d = (x, y)`` the tool-tip displacement in the cutting frame, ``R`` the cutting force on
+the tool, ``a`` the axial depth, τ = 60/(N n) the tooth period and W(t) the directional matrix
+(seed 002 chip and force equations; Altintas 2012 eq. 3.51, there written ½ K_t A(t)).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class ModeXY:
+    """A tool-tip mode in the cutting plane: natural frequency, damping ratio, modal stiffness
+    and shape (x, y) (the receptance contribution is φφᵀ / (k (1 − r² + 2jζr)), r = ω/ω_n)."""
+
+    f_hz: float
+    zeta: float
+    k_N_m: float
+    shape: tuple[float, float] = (1.0, 0.0)
+
+    @property
+    def m_kg(self) -> float:
+        """Modal mass k / ω_n²."""
+        return self.k_N_m / (2 * np.pi * self.f_hz) ** 2
+
+
+@dataclass(frozen=True)
+class LinearTool:
+    """State-space model of the tool tip: ṡ = A s + B R, d = C s (R, d: 2-vectors x, y)."""
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+
+    @property
+    def n_states(self) -> int:
+        return self.A.shape[0]
+
+    def frf(self, f_hz: np.ndarray) -> np.ndarray:
+        """Receptance G(jω) = C (jωI − A)⁻¹ B, shape ``(2, 2, len(f))`` [m/N]."""
+        f = np.atleast_1d(np.asarray(f_hz, float))
+        lam, V = np.linalg.eig(self.A)
+        CV = self.C @ V
+        VB = np.linalg.solve(V, self.B)
+        resp = 1.0 / (2j * np.pi * f[:, None] - lam[None, :])  # (nf, ns)
+        return np.einsum("ik,fk,kj->ijf", CV, resp, VB)
+
+    def natural_frequencies_hz(self) -> np.ndarray:
+        """Damped natural frequencies of the oscillatory poles (Hz, ascending, unique)."""
+        lam = np.linalg.eigvals(self.A)
+        f = np.abs(lam.imag[lam.imag > 1e-9]) / (2 * np.pi)
+        return np.unique(np.round(f, 9))
+
+    def is_stable(self) -> bool:
+        return bool(np.all(np.linalg.eigvals(self.A).real < 0))
+
+
+def tool_from_modes(modes: Iterable[ModeXY]) -> LinearTool:
+    """Modal superposition as state space: q̈_r + 2ζ_rω_r q̇_r + ω_r² q_r = φ_rᵀR / m_r,
+    d = Σ φ_r q_r (Altintas 2012 eq. 3.34 per mode). States (q_1, q̇_1, q_2, q̇_2, …)."""
+    modes = list(modes)
+    if not modes:
+        raise ValueError("a tool model needs at least one mode")
+    n = 2 * len(modes)
+    A = np.zeros((n, n))
+    B = np.zeros((n, 2))
+    C = np.zeros((2, n))
+    for r, m in enumerate(modes):
+        w = 2 * np.pi * m.f_hz
+        phi = np.asarray(m.shape, float)
+        i = 2 * r
+        A[i, i + 1] = 1.0
+        A[i + 1, i] = -(w**2)
+        A[i + 1, i + 1] = -2 * m.zeta * w
+        B[i + 1] = phi / m.m_kg
+        C[:, i] = phi
+    return LinearTool(A, B, C)
+
+
+def modes_from_xy_lists(x: Iterable[dict], y: Iterable[dict]) -> list[ModeXY]:
+    """Case-schema modes (``{f_hz, zeta, k_N_m}`` per direction, summed) as :class:`ModeXY`."""
+    out = [ModeXY(float(m["f_hz"]), float(m["zeta"]), float(m["k_N_m"]), (1.0, 0.0)) for m in x]
+    out += [ModeXY(float(m["f_hz"]), float(m["zeta"]), float(m["k_N_m"]), (0.0, 1.0)) for m in y]
+    return out
+
+
+def immersion_angles(radial_immersion: float, milling: str) -> tuple[float, float]:
+    """Entry and exit angles (φ_st, φ_ex) [rad] for radial immersion a_e/D and up/down milling
+    (Altintas 2012 §3.2: up φ_st = 0, φ_ex = acos(1 − 2a_e/D); down φ_st = acos(2a_e/D − 1),
+    φ_ex = π)."""
+    r = float(radial_immersion)
+    if not 0 < r <= 1:
+        raise ValueError(f"radial_immersion must be in (0, 1], got {r}")
+    if milling == "up":
+        return 0.0, float(np.arccos(1 - 2 * r))
+    if milling == "down":
+        return float(np.arccos(2 * r - 1)), float(np.pi)
+    raise ValueError(f"milling must be 'up' or 'down', got {milling!r}")
+
+
+@dataclass(frozen=True)
+class CuttingModel:
+    """Linear cutting-force model: N teeth, K_t [N/m²], K_r = K_rc/K_tc, engagement φ_st…φ_ex."""
+
+    teeth: int
+    Kt_N_m2: float
+    Kr: float
+    phi_st: float
+    phi_ex: float
+
+    @classmethod
+    def from_immersion(cls, teeth: int, Kt_N_m2: float, Kr: float, radial_immersion: float,
+                       milling: str) -> CuttingModel:
+        return cls(int(teeth), float(Kt_N_m2), float(Kr),
+                   *immersion_angles(radial_immersion, milling))
+
+    def w(self, phi: np.ndarray) -> np.ndarray:
+        """Directional matrix of one engaged tooth at angle φ, ``(..., 2, 2)`` [N/m²]:
+        R = a w(φ) Δ with h = Δx sin φ + Δy cos φ (seed 002)."""
+        s, c = np.sin(phi), np.cos(phi)
+        kt, kr = self.Kt_N_m2, self.Kr
+        return kt * np.stack([np.stack([-s * (c + kr * s), -c * (c + kr * s)], -1),
+                              np.stack([s * (s - kr * c), c * (s - kr * c)], -1)], -2)
+
+    def _antiderivative(self, phi: np.ndarray) -> np.ndarray:
+        """∫ w(φ) dφ in closed form, ``(..., 2, 2)``."""
+        s2, c2 = np.sin(2 * phi), np.cos(2 * phi)
+        kr = self.Kr
+        xx = c2 / 4 - kr * (phi / 2 - s2 / 4)
+        xy = -(phi / 2 + s2 / 4) + kr * c2 / 4
+        yx = (phi / 2 - s2 / 4) + kr * c2 / 4
+        yy = -c2 / 4 - kr * (phi / 2 + s2 / 4)
+        return self.Kt_N_m2 * np.stack([np.stack([xx, xy], -1), np.stack([yx, yy], -1)], -2)
+
+    def _engaged_integral(self, pa: np.ndarray, pb: np.ndarray) -> np.ndarray:
+        """∫_{pa}^{pb} g(φ) w(φ) dφ for one tooth, with pa in [0, 2π) and pb − pa < 2π."""
+        total = np.zeros(np.shape(pa) + (2, 2))
+        for shift in (0.0, 2 * np.pi):
+            lo = np.clip(pa, self.phi_st + shift, self.phi_ex + shift)
+            hi = np.clip(pb, self.phi_st + shift, self.phi_ex + shift)
+            total += self._antiderivative(hi) - self._antiderivative(lo)
+        return total
+
+    def mean_matrix(self) -> np.ndarray:
+        """Average over a tooth period of Σ_j g w(φ_j): W̄ = N/(2π) ∫_{φst}^{φex} w dφ
+        (Altintas & Budak 1995 zero-order term; = N K_t α / (4π) in Altintas' notation)."""
+        return self.teeth / (2 * np.pi) * (self._antiderivative(np.array(self.phi_ex))
+                                           - self._antiderivative(np.array(self.phi_st)))
+
+    def interval_means(self, m: int) -> np.ndarray:
+        """Exact averages of W(t) = Σ_j g(φ_j) w(φ_j) over the m equal sub-intervals of one
+        tooth period (φ_j = Ωt + 2πj/N), ``(m, 2, 2)``: the piecewise-constant coefficient of
+        the semi-discretization (Insperger & Stépán 2004 eq. 8)."""
+        dphi = 2 * np.pi / self.teeth / m
+        start = np.arange(m) * dphi
+        out = np.zeros((m, 2, 2))
+        for j in range(self.teeth):
+            pa = np.mod(start + 2 * np.pi * j / self.teeth, 2 * np.pi)
+            out += self._engaged_integral(pa, pa + dphi)
+        return out / dphi
+
+    def instantaneous(self, phi0: np.ndarray) -> np.ndarray:
+        """W at cutter angle φ₀ of tooth 0 (sum over teeth with engagement g), ``(..., 2, 2)``."""
+        phi0 = np.asarray(phi0, float)
+        out = np.zeros(phi0.shape + (2, 2))
+        for j in range(self.teeth):
+            p = np.mod(phi0 + 2 * np.pi * j / self.teeth, 2 * np.pi)
+            g = (p > self.phi_st) & (p < self.phi_ex)
+            out += np.where(g[..., None, None], self.w(p), 0.0)
+        return out

@@ -1,0 +1,118 @@
+"""The thesis robot (SPEC §3.3, §4 "beyond the seed"): its identified tool-tip modes in the
+frame of each slot, the mode-coupling check, and chatter-free parameter recommendations.
+
+Slot frames: the feed direction f is the cut direction in the base XY plane (+X, +Y, −Y) and
+the normal direction is f turned +90° about the tool axis, n = (−f_Y, f_X). A mode with shape
+(φ_X, φ_Y, φ_Z) has the in-plane shape (φ·f, φ·n) in that frame; φ_Z does not enter the 2-D
+model. Reversing the feed reverses both axes, so the linear model gives +Y and −Y the same
+lobes (only a pose change, not modelled here, could tell them apart).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from robomill.chatter.model import CuttingModel, LinearTool, ModeXY, tool_from_modes
+
+DIRECTIONS = {"px": (1.0, 0.0), "py": (0.0, 1.0), "my": (0.0, -1.0)}
+"""Feed unit vectors (base X, Y) of the thesis slots."""
+
+
+def modes_in_slot_frame(modes: pd.DataFrame, direction: str) -> list[ModeXY]:
+    """Modes of ``results/modal/modes.csv`` (``f_n_hz, zeta, k_modal_N_m, shape_x, shape_y``)
+    in the (feed, normal) frame of a slot direction."""
+    f = np.asarray(DIRECTIONS[direction])
+    n = np.array([-f[1], f[0]])
+    out = []
+    for _, r in modes.iterrows():
+        phi = np.array([float(r["shape_x"]), float(r["shape_y"])])
+        out.append(ModeXY(float(r["f_n_hz"]), float(r["zeta"]), float(r["k_modal_N_m"]),
+                          (float(phi @ f), float(phi @ n))))
+    return out
+
+
+def cutting_from_coefficients(coeffs: pd.DataFrame, teeth: int) -> CuttingModel:
+    """Slotting model from ``results/forces/cutting_coefficients.csv`` (Ktc, Krc in N/mm²):
+    K_t = Ktc·10⁶ N/m², K_r = Krc/Ktc, full immersion (thesis: slotting, entry 0, exit π)."""
+    v = coeffs.set_index("name")["value"].astype(float)
+    return CuttingModel(int(teeth), v["Ktc"] * 1e6, v["Krc"] / v["Ktc"], 0.0, float(np.pi))
+
+
+def _max_real(tool: LinearTool, cut: CuttingModel, a: np.ndarray) -> tuple[np.ndarray, list]:
+    W = cut.mean_matrix()
+    A = tool.A[None] + np.asarray(a)[:, None, None] * (tool.B @ W @ tool.C)[None]
+    lam, V = np.linalg.eig(A)
+    i = np.argmax(lam.real, axis=-1)
+    return np.take_along_axis(lam.real, i[:, None], -1)[:, 0], [
+        (lam[k, i[k]], V[k, :, i[k]]) for k in range(len(a))]
+
+
+def mode_coupling(modes: list[ModeXY], cut: CuttingModel, *, depth_max_m: float,
+                  rtol: float = 0.005) -> dict:
+    """Mode-coupling check: the 2-D model without delay, ṡ = (A + a B W̄ C) s (the oriented
+    cutting stiffness a W̄ acting on the current displacement; Tlusty's mode coupling, Pan et
+    al. 2006 for robots). The non-symmetric stiffness can merge two modes into a flutter pair
+    with a growing oscillation; the smallest such depth a_mc is found by scan + bisection, and
+    the coupled pair is the two modes carrying most of the unstable eigenvector's energy
+    (k_r |q_r|²).
+
+    Returns
+    -------
+    dict: a_mc_m (nan if stable up to ``depth_max_m``), frequency_hz, pair (indices), pair
+    frequencies, participation (per mode).
+    """
+    tool = tool_from_modes(modes)
+    scan = np.geomspace(depth_max_m / 1e4, depth_max_m, 60)
+    re, _ = _max_real(tool, cut, scan)
+    bad = np.nonzero(re > 0)[0]
+    k = np.array([m.k_N_m for m in modes])
+    if bad.size == 0:
+        a_mc = float("nan")
+        probe = depth_max_m
+    else:
+        j = int(bad[0])
+        lo, hi = (scan[j - 1] if j else 0.0), scan[j]
+        while hi - lo > rtol * hi:
+            mid = 0.5 * (lo + hi)
+            if _max_real(tool, cut, np.array([mid]))[0][0] > 0:
+                hi = mid
+            else:
+                lo = mid
+        a_mc = 0.5 * (lo + hi)
+        probe = hi
+    _, eig = _max_real(tool, cut, np.array([probe]))
+    lam, v = eig[0]
+    q = v[0::2]
+    energy = k * np.abs(q) ** 2
+    part = energy / energy.sum()
+    pair = np.argsort(part)[::-1][:2]
+    return {"a_mc_m": a_mc, "frequency_hz": abs(lam.imag) / (2 * np.pi),
+            "pair": [int(p) for p in pair],
+            "pair_hz": [modes[p].f_hz for p in pair], "participation": part}
+
+
+def recommend(a_crit_m: np.ndarray, spindle_rpm: np.ndarray, chatter_hz: np.ndarray,
+              direction: str, *, thesis_rpm: float, thesis_depths_m: list[float],
+              safety_fraction: float, solver: str) -> list[dict]:
+    """Rows of ``recommendations.csv`` for one slot direction: the thesis' own (speed, depth)
+    pairs with their margin, and the recommended chatter-free point: the speed of the grid with
+    the largest critical depth and a depth ``safety_fraction`` below it. The stability margin is
+    a_crit/a − 1 (> 0 stable; 0.25 = 25 % deeper would still be stable)."""
+    rows = []
+    a = np.where(np.isfinite(a_crit_m), a_crit_m, np.inf)
+    i_th = int(np.argmin(np.abs(spindle_rpm - thesis_rpm)))
+    for d in thesis_depths_m:
+        rows.append({"direction": direction, "kind": "thesis", "solver": solver,
+                     "spindle_rpm": float(spindle_rpm[i_th]), "axial_depth_mm": d * 1e3,
+                     "a_crit_mm": a[i_th] * 1e3, "stability_margin": a[i_th] / d - 1,
+                     "chatter_hz": float(chatter_hz[i_th]),
+                     "chatter_free": bool(a[i_th] > d)})
+    fin = np.isfinite(a_crit_m)
+    i = int(np.argmax(np.where(fin, a_crit_m, -1))) if fin.any() else i_th
+    a_rec = a[i] * (1 - safety_fraction) if np.isfinite(a[i]) else max(thesis_depths_m)
+    rows.append({"direction": direction, "kind": "recommended", "solver": solver,
+                 "spindle_rpm": float(spindle_rpm[i]), "axial_depth_mm": a_rec * 1e3,
+                 "a_crit_mm": a[i] * 1e3, "stability_margin": a[i] / a_rec - 1,
+                 "chatter_hz": float(chatter_hz[i]), "chatter_free": bool(a[i] > a_rec)})
+    return rows

@@ -1,0 +1,665 @@
+"""Cutting forces of robotic slot milling (thesis §3.1): the mechanistic model, chunked force
+spectra in time and spatial frequency, and cutting-coefficient identification.
+
+Model (thesis eq. 3.1, Altintas 2012 §2.4), per tooth in cut, for a small axial depth ``a``:
+
+.. math::
+
+    F_t = K_{tc} a h(φ) + K_{te} a, \\quad F_r = K_{rc} a h(φ) + K_{re} a, \\quad
+    F_a = K_{ac} a h(φ) + K_{ae} a, \\qquad h(φ) = c \\sin φ
+
+with φ the immersion angle of the tooth (measured clockwise from the cross-feed axis, the tool
+turning clockwise seen from the spindle) and c the feed per tooth. Slotting: a tooth cuts for
+0 ≤ φ < π (entry 0, exit π). The forces on the tool in the cut's frame (x along the feed,
+y = ẑ × x̂ across it, z up the tool axis) are
+
+.. math:: F_x = −F_t \\cos φ − F_r \\sin φ, \\quad F_y = F_t \\sin φ − F_r \\cos φ, \\quad
+          F_z = F_a
+
+summed over the teeth in cut. Sign convention: forces **on the tool** (the dynamometer reading
+with its sign inverted), the convention of Altintas (2012).
+
+Everything here is pure numpy/xarray: no file paths (readers are in
+:mod:`robomill.io.forces`, the simulator in :mod:`robomill.synth.dynamometer`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+AXES = ("Fx", "Fy", "Fz")
+"""Force channels of the dynamometer (base / block axes X, Y, Z)."""
+
+COEFFICIENT_UNITS = {"Ktc": "N/mm^2", "Krc": "N/mm^2", "Kac": "N/mm^2",
+                     "Kte": "N/mm", "Kre": "N/mm", "Kae": "N/mm"}
+"""Cutting coefficients in the order of ``cutting_coefficients.csv`` and their units."""
+
+
+@dataclass(frozen=True)
+class CuttingCoefficients:
+    """Mechanistic cutting coefficients of eq. 3.1: shearing ``K*c`` [N/mm²], edge ``K*e``
+    [N/mm]."""
+
+    Ktc: float
+    Krc: float
+    Kac: float
+    Kte: float
+    Kre: float
+    Kae: float
+
+    @classmethod
+    def from_mapping(cls, m: Mapping[str, float]) -> CuttingCoefficients:
+        """From ``{Ktc_N_mm2: …, Kte_N_mm: …}`` (config ``synth.cutting``) or ``{Ktc: …}``."""
+        return cls(**{k: float(m[k] if k in m else m[f"{k}_{'N_mm2' if k[-1] == 'c' else 'N_mm'}"])
+                      for k in COEFFICIENT_UNITS})
+
+    def as_dict(self) -> dict[str, float]:
+        return {k: getattr(self, k) for k in COEFFICIENT_UNITS}
+
+
+def feed_per_tooth_mm(feed_mm_s: float, spindle_rpm: float, flutes: int) -> float:
+    """Feed per tooth c = v / (N n) [mm] (thesis §2.1: 1.07 µm at 1 mm/s, 28 000 rpm, N = 2)."""
+    return float(feed_mm_s) / (int(flutes) * float(spindle_rpm) / 60.0)
+
+
+def tooth_passing_hz(spindle_rpm: float, flutes: int) -> float:
+    """Tooth-passing frequency N n [Hz] (933.3 Hz at 28 000 rpm with two flutes)."""
+    return int(flutes) * float(spindle_rpm) / 60.0
+
+
+def cut_frame(direction_vector: Iterable[float]) -> np.ndarray:
+    """Rotation ``R`` (3×3) whose columns are the cut frame's feed x, cross-feed y = ẑ × x and
+    axial z axes expressed in base axes: ``F_base = R @ F_cut``."""
+    x = np.asarray(direction_vector, float)
+    x = x / np.linalg.norm(x)
+    z = np.array([0.0, 0.0, 1.0])
+    y = np.cross(z, x)
+    return np.column_stack([x, y, z])
+
+
+def slot_forces(phi_rad: np.ndarray, feed_per_tooth_mm: float | np.ndarray, depth_mm: float |
+                np.ndarray, coeffs: CuttingCoefficients, *, flutes: int = 2,
+                cross_feed_mm: float | np.ndarray = 0.0) -> np.ndarray:
+    """Slot-milling forces on the tool in the cut frame (thesis eq. 3.1, h = c sin φ).
+
+    Parameters
+    ----------
+    phi_rad
+        Immersion angle of tooth 1, shape ``(n,)``; tooth j lags it by ``2π j / flutes``.
+    feed_per_tooth_mm
+        Feed per tooth c [mm], scalar or ``(n,)`` (a time-varying chip load: the feed plus the
+        tool's displacement along the feed over one tooth period).
+    depth_mm
+        Axial depth a [mm], scalar or ``(n,)``.
+    coeffs
+        Cutting coefficients.
+    flutes
+        Number of teeth N.
+    cross_feed_mm
+        Displacement across the feed over one tooth period [mm]: chip thickness
+        ``h = c sin φ + c_y cos φ`` (zero for the nominal model).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(n, 3)``: F_x (feed), F_y (cross-feed), F_z (axial) [N]. Negative chip thickness
+        (the tooth leaves the material) is clipped to zero; the edge forces act whenever a
+        tooth is in the slot (0 ≤ φ < π).
+
+    Examples
+    --------
+    >>> k = CuttingCoefficients(796, 168, 222, 27.7, 30.8, 6.7)
+    >>> phi = np.linspace(0, 2 * np.pi, 100_000, endpoint=False)
+    >>> F = slot_forces(phi, 0.005, 0.25, k).mean(axis=0)
+    >>> bool(np.allclose(F, mean_slot_forces(0.005, 0.25, k), rtol=1e-4))
+    True
+    """
+    phi = np.asarray(phi_rad, float)
+    c = np.asarray(feed_per_tooth_mm, float)
+    cy = np.asarray(cross_feed_mm, float)
+    a = np.asarray(depth_mm, float)
+    out = np.zeros(phi.shape + (3,))
+    for j in range(int(flutes)):
+        pj = np.mod(phi - 2 * np.pi * j / flutes, 2 * np.pi)
+        engaged = pj < np.pi
+        s, co = np.sin(pj), np.cos(pj)
+        h = np.maximum(c * s + cy * co, 0.0) * engaged
+        ae = a * engaged
+        ft = coeffs.Ktc * a * h + coeffs.Kte * ae
+        fr = coeffs.Krc * a * h + coeffs.Kre * ae
+        out[..., 0] += -ft * co - fr * s
+        out[..., 1] += ft * s - fr * co
+        out[..., 2] += coeffs.Kac * a * h + coeffs.Kae * ae
+    return out
+
+
+def mean_slot_forces(feed_per_tooth_mm: float | np.ndarray, depth_mm: float | np.ndarray,
+                     coeffs: CuttingCoefficients, *, flutes: int = 2) -> np.ndarray:
+    """Closed-form mean forces of a full slot (φ from 0 to π), cut frame, on the tool [N].
+
+    Averaging eq. 3.1 over a revolution (Altintas 2012, eq. 2.25 for φ_st = 0, φ_ex = π):
+
+    .. math::
+        \\bar F_x = −N a (K_{rc} c/4 + K_{re}/π), \\quad
+        \\bar F_y = N a (K_{tc} c/4 + K_{te}/π), \\quad
+        \\bar F_z = N a (K_{ac} c/π + K_{ae}/2)
+
+    Returns ``(..., 3)`` for broadcast ``c`` and ``a``.
+    """
+    c = np.asarray(feed_per_tooth_mm, float)
+    na = int(flutes) * np.asarray(depth_mm, float)
+    return np.stack([-na * (coeffs.Krc * c / 4 + coeffs.Kre / np.pi),
+                     na * (coeffs.Ktc * c / 4 + coeffs.Kte / np.pi),
+                     na * (coeffs.Kac * c / np.pi + coeffs.Kae / 2)], axis=-1)
+
+
+BASIS = ("S2", "SC", "C2", "S1", "C1", "E")
+"""Periodic basis of eq. 3.1 summed over the teeth in cut: Σ_j g_j(φ_j) with g = sin², sin·cos,
+cos², sin, cos, 1 on 0 ≤ φ_j < π."""
+
+
+def _basis_exact(phi: np.ndarray, flutes: int) -> np.ndarray:
+    out = np.zeros((len(BASIS),) + np.shape(phi))
+    for j in range(int(flutes)):
+        pj = np.mod(phi - 2 * np.pi * j / flutes, 2 * np.pi)
+        e = pj < np.pi
+        s, c = np.sin(pj) * e, np.cos(pj) * e
+        out += np.stack([s * s, s * c, c * c, s, c, e.astype(float)])
+    return out
+
+
+@dataclass(frozen=True)
+class SlotForceTables:
+    """Band-limited periodic basis of eq. 3.1 (see :func:`slot_force_tables`)."""
+
+    phi: np.ndarray  # (M + 1,) grid over one revolution, closed
+    table: np.ndarray  # (6, M + 1)
+    flutes: int
+
+    def __call__(self, phi_rad: np.ndarray) -> np.ndarray:
+        """Basis values ``(6, n)`` at angles ``phi_rad`` (linear interpolation)."""
+        p = np.mod(np.asarray(phi_rad, float), 2 * np.pi)
+        x = p * ((self.phi.size - 1) / (2 * np.pi))
+        i = np.minimum(x.astype(np.int64), self.phi.size - 2)
+        w = x - i
+        return self.table[:, i] * (1 - w) + self.table[:, i + 1] * w
+
+
+def slot_force_tables(flutes: int, max_harmonic: int, n_grid: int = 8192) -> SlotForceTables:
+    """The periodic basis of eq. 3.1 band-limited to spindle harmonics ``≤ max_harmonic``.
+
+    A sampled record of the slot force aliases: the edge force jumps at tooth entry/exit, so
+    its harmonics fall off only as 1/k. A data-acquisition system low-pass filters before it
+    samples; this table is that ideal anti-alias filter applied to the force's periodic shape
+    (Fourier series truncated; the mean of every basis function is kept exactly). The force
+    with slowly varying chip load and depth is then ``F = Σ_i w_i(t) B_i(φ(t))``
+    (:func:`slot_forces_band_limited`).
+    """
+    phi_mid = (np.arange(n_grid) + 0.5) * 2 * np.pi / n_grid
+    B = _basis_exact(phi_mid, flutes)
+    spec = np.fft.rfft(B, axis=-1)
+    spec[:, max_harmonic + 1:] = 0.0
+    # the half-sample shift of the grid: evaluate the truncated series on the closed grid
+    k = np.arange(spec.shape[-1])
+    spec *= np.exp(-1j * k * np.pi / n_grid)  # shift by half a sample back to φ = 0
+    mean = {"S2": 0.5, "SC": 0.0, "C2": 0.5, "S1": 2 / np.pi, "C1": 0.0, "E": 1.0}
+    spec[:, 0] = [mean[b] * flutes / 2 * n_grid for b in BASIS]
+    table = np.fft.irfft(spec, n=n_grid, axis=-1)
+    table = np.concatenate([table, table[:, :1]], axis=-1)
+    return SlotForceTables(np.linspace(0, 2 * np.pi, n_grid + 1), table, int(flutes))
+
+
+def slot_forces_band_limited(phi_rad: np.ndarray, feed_per_tooth_mm, depth_mm,
+                             coeffs: CuttingCoefficients, tables: SlotForceTables, *,
+                             cross_feed_mm=0.0) -> np.ndarray:
+    """Eq. 3.1 with the linear chip thickness ``h = c sin φ + c_y cos φ`` (no clipping),
+    from band-limited basis tables: ``(n, 3)`` on the tool, cut frame [N].
+
+    Equals :func:`slot_forces` (up to the truncated harmonics) whenever the chip thickness
+    stays positive, which holds when the vibration per tooth is smaller than the feed.
+    """
+    S2, SC, C2, S1, C1, E = tables(phi_rad)
+    a = np.asarray(depth_mm, float)
+    ac = a * np.asarray(feed_per_tooth_mm, float)
+    ay = a * np.asarray(cross_feed_mm, float)
+    k = coeffs
+    fx = ac * (-k.Ktc * SC - k.Krc * S2) + ay * (-k.Ktc * C2 - k.Krc * SC) + a * (
+        -k.Kte * C1 - k.Kre * S1)
+    fy = ac * (k.Ktc * S2 - k.Krc * SC) + ay * (k.Ktc * SC - k.Krc * C2) + a * (
+        k.Kte * S1 - k.Kre * C1)
+    fz = ac * k.Kac * S1 + ay * k.Kac * C1 + a * k.Kae * E
+    return np.stack([fx, fy, fz], axis=-1)
+
+
+# ---- cutting-coefficient identification -------------------------------------------------------
+_SLOPE_FACTOR = {"x": -4.0, "y": 4.0, "z": np.pi}
+_INTERCEPT_FACTOR = {"x": -np.pi, "y": np.pi, "z": 2.0}
+_NAMES = {"y": ("Ktc", "Kte"), "x": ("Krc", "Kre"), "z": ("Kac", "Kae")}
+
+
+def identify_cutting_coefficients(feed_per_tooth_mm: np.ndarray, depth_mm: np.ndarray,
+                                  mean_forces_N: np.ndarray, *, flutes: int = 2,
+                                  confidence: float = 0.95) -> pd.DataFrame:
+    """Shearing and edge coefficients from the mean forces of slots at several feeds.
+
+    The standard mechanistic calibration (Altintas 2012, §2.4): the mean force per unit
+    ``N a`` is linear in the feed per tooth, ``F̄/(N a) = s c + e`` (see
+    :func:`mean_slot_forces`); ordinary least squares over all cuts gives slope s and intercept
+    e per axis, then ``K_tc = 4 s_y``, ``K_te = π e_y``, ``K_rc = −4 s_x``, ``K_re = −π e_x``,
+    ``K_ac = π s_z``, ``K_ae = 2 e_z``. Confidence intervals are Student-t intervals of the
+    regression coefficients (``n − 2`` degrees of freedom) scaled the same way.
+
+    Parameters
+    ----------
+    feed_per_tooth_mm, depth_mm
+        Per cut, ``(m,)`` [mm].
+    mean_forces_N
+        Mean force on the tool per cut in the cut frame, ``(m, 3)`` (feed, cross-feed, axial).
+    flutes
+        Number of teeth N.
+    confidence
+        Two-sided confidence level of the intervals.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``name, value, ci_low, ci_high, unit``; rows Ktc, Krc, Kac (N/mm²), Kte, Kre,
+        Kae (N/mm).
+    """
+    from scipy import stats
+
+    c = np.asarray(feed_per_tooth_mm, float)
+    na = int(flutes) * np.asarray(depth_mm, float)
+    F = np.asarray(mean_forces_N, float)
+    if c.size < 3 or np.ptp(c) <= 0:
+        raise ValueError("need at least 3 cuts at two or more feeds per tooth to identify "
+                         f"cutting coefficients (got {c.size} cuts)")
+    t = stats.t.ppf(0.5 + confidence / 2, c.size - 2)
+    rows = {}
+    for i, ax in enumerate("xyz"):
+        fit = stats.linregress(c, F[:, i] / na)
+        for kind, val, se, factor in (("c", fit.slope, fit.stderr, _SLOPE_FACTOR[ax]),
+                                      ("e", fit.intercept, fit.intercept_stderr,
+                                       _INTERCEPT_FACTOR[ax])):
+            name = _NAMES[ax][0 if kind == "c" else 1]
+            lo, hi = sorted((factor * (val - t * se), factor * (val + t * se)))
+            rows[name] = (factor * val, lo, hi)
+    return pd.DataFrame([{"name": n, "value": rows[n][0], "ci_low": rows[n][1],
+                          "ci_high": rows[n][2], "unit": u} for n, u in COEFFICIENT_UNITS.items()])
+
+
+# ---- chunked spectral analysis ------------------------------------------------------------
+def lowpass_fir(fs_hz: float, pass_hz: float, stop_hz: float, atten_db: float = 120.0
+                ) -> np.ndarray:
+    """Linear-phase anti-alias FIR (Kaiser window method, unit DC gain) passing ``pass_hz``
+    and attenuating ``atten_db`` from ``stop_hz`` on (:func:`scipy.signal.kaiserord`)."""
+    import scipy.signal
+
+    if not 0 < pass_hz < stop_hz <= fs_hz / 2:
+        raise ValueError(f"need 0 < pass ({pass_hz}) < stop ({stop_hz}) <= fs/2 ({fs_hz / 2})")
+    numtaps, beta = scipy.signal.kaiserord(atten_db, (stop_hz - pass_hz) / (fs_hz / 2))
+    h = scipy.signal.firwin(numtaps | 1, (pass_hz + stop_hz) / 2, window=("kaiser", beta),
+                            fs=fs_hz)
+    return h / h.sum()
+
+
+class StreamDecimator:
+    """Anti-alias filter and downsample by ``factor``, chunk by chunk, exactly as on the whole.
+
+    Output sample m is ``y[m] = Σ_j h[j] x[factor·m − j]`` (``x`` zero before the start), i.e.
+    ``scipy.signal.upfirdn(h, x, 1, factor)[:ceil(n / factor)]``; the last ``len(h) − 1``
+    input samples are carried over between chunks.
+    """
+
+    def __init__(self, h: np.ndarray, factor: int, n_channels: int):
+        self.h, self.D = np.asarray(h, float), int(factor)
+        self.L = self.h.size
+        self.n_in = 0  # samples consumed so far
+        self.buf = np.zeros((n_channels, 0))
+        self.buf_start = 0  # global index of buf[:, 0]; a multiple of D
+        self.out: list[np.ndarray] = []
+
+    def add(self, chunk: np.ndarray) -> None:
+        """Add samples ``(n_channels, n)``."""
+        import scipy.signal
+
+        chunk = np.atleast_2d(np.asarray(chunk, float))
+        if self.n_in == 0:  # zeros before the start: begin the buffer at a multiple of D
+            pad = (-(-(self.L - 1) // self.D)) * self.D
+            self.buf = np.zeros((chunk.shape[0], pad))
+            self.buf_start = -pad
+        buf = np.concatenate([self.buf, chunk], axis=1)
+        end = self.n_in + chunk.shape[1]  # global end (exclusive)
+        m0 = -(-self.n_in // self.D)  # first output index with D m >= n_in
+        m1 = -(-end // self.D)  # outputs with D m < end
+        if m1 > m0:
+            y = scipy.signal.upfirdn(self.h, buf, 1, self.D, axis=-1)
+            i0 = m0 - self.buf_start // self.D
+            self.out.append(y[:, i0:i0 + (m1 - m0)])
+        self.n_in = end
+        # keep from the largest multiple of D <= D*m1 - (L-1)
+        keep_from = ((self.D * m1 - (self.L - 1)) // self.D) * self.D
+        keep_from = min(max(keep_from, self.buf_start), (end // self.D) * self.D)
+        self.buf = buf[:, keep_from - self.buf_start:]
+        self.buf_start = keep_from
+
+    def result(self) -> np.ndarray:
+        """The decimated record ``(n_channels, ceil(n / factor))``."""
+        return np.concatenate(self.out, axis=1) if self.out else self.buf[:, :0]
+
+
+def decimate_whole(x: np.ndarray, h: np.ndarray, factor: int) -> np.ndarray:
+    """Reference (unchunked) version of :class:`StreamDecimator` on a whole record ``(c, n)``."""
+    import scipy.signal
+
+    x = np.atleast_2d(np.asarray(x, float))
+    return scipy.signal.upfirdn(h, x, 1, factor, axis=-1)[:, :-(-x.shape[1] // factor)]
+
+
+@dataclass
+class ForceAnalysisSettings:
+    """Parameters of the per-cut force analysis (config section ``forces``)."""
+
+    welch_nperseg: int = 16384
+    decimation: int = 25
+    lowband_hz: float = 250.0
+    fir_atten_db: float = 120.0
+    envelope_blocks: int = 400
+    excerpt_samples: int = 1000
+
+    @classmethod
+    def from_mapping(cls, m: Mapping) -> ForceAnalysisSettings:
+        keys = cls.__dataclass_fields__
+        return cls(**{k: m[k] for k in keys if k in m})
+
+
+class ForceSpectrumAccumulator:
+    """Everything the force chapter needs from one cut, accumulated chunk by chunk.
+
+    Feed consecutive chunks of ``(n, 3)`` forces with :meth:`add`; memory is independent of the
+    record length except for the decimated low-band record (``n / decimation`` samples).
+
+    - mean forces (running sums);
+    - full-band Welch PSD (:class:`robomill.spectra.WelchAccumulator`, equal to
+      :func:`scipy.signal.welch` on the whole record);
+    - the low band (0–``lowband_hz``) of the thesis normalized power P(k) = |Z(k)|²/N² of the
+      **whole** record (thesis eq. 2.3, resolution 1/T), from an exactly chunked anti-alias
+      decimation (:class:`StreamDecimator`) followed by one DFT of the short decimated record:
+      the bins k/T below ``lowband_hz`` are those of the full-rate DFT, scaled the same way
+      (the filter starts in steady state at the level of the first samples, so the record's
+      mean causes no start-up transient);
+    - a min/max envelope (for the record plot) and a short raw excerpt (the middle of the
+      record, for the zoom of thesis Fig 3.3b).
+    """
+
+    def __init__(self, fs_hz: float, n_samples: int, settings: ForceAnalysisSettings):
+        from robomill.spectra import WelchAccumulator
+
+        self.fs, self.n, self.s = float(fs_hz), int(n_samples), settings
+        self.fs_low = self.fs / settings.decimation
+        if self.fs_low - settings.lowband_hz <= settings.lowband_hz:
+            raise ValueError(f"decimation {settings.decimation} leaves fs {self.fs_low:g} Hz: "
+                             f"too low for a {settings.lowband_hz:g} Hz band")
+        nper = min(settings.welch_nperseg, self.n)
+        self.welch = WelchAccumulator(self.fs, nper, n_channels=3)
+        h = lowpass_fir(self.fs, settings.lowband_hz, self.fs_low - settings.lowband_hz,
+                        settings.fir_atten_db)
+        self.dec = StreamDecimator(h, settings.decimation, 3)
+        self.sum = np.zeros(3)
+        self.count = 0
+        nb = max(1, min(settings.envelope_blocks, self.n))
+        self.block_edges = np.linspace(0, self.n, nb + 1).astype(int)
+        self.env_min = np.full((3, nb), np.inf)
+        self.env_max = np.full((3, nb), -np.inf)
+        ne = min(settings.excerpt_samples, self.n)
+        self.ex_start = (self.n - ne) // 2
+        self.excerpt = np.zeros((3, ne))
+        self.t0: float | None = None
+        self.offset: np.ndarray | None = None
+
+    def add(self, t_s: np.ndarray, force_N: np.ndarray) -> None:
+        """Add a chunk: times ``(n,)`` and forces ``(n, 3)``."""
+        F = np.asarray(force_N, float).T
+        i0, i1 = self.count, self.count + F.shape[1]
+        if self.t0 is None and len(t_s):
+            self.t0 = float(t_s[0])
+        self.sum += F.sum(axis=1)
+        self.welch.add(F)
+        if self.offset is None:  # start the decimator in steady state at the first level
+            self.offset = F[:, : self.s.decimation * 8].mean(axis=1, keepdims=True)
+        self.dec.add(F - self.offset)
+        # envelope blocks overlapping this chunk
+        b0 = np.searchsorted(self.block_edges, i0, side="right") - 1
+        b1 = np.searchsorted(self.block_edges, i1, side="left")
+        for b in range(max(b0, 0), min(b1, self.env_min.shape[1])):
+            lo, hi = max(self.block_edges[b], i0) - i0, min(self.block_edges[b + 1], i1) - i0
+            if hi > lo:
+                seg = F[:, lo:hi]
+                self.env_min[:, b] = np.minimum(self.env_min[:, b], seg.min(axis=1))
+                self.env_max[:, b] = np.maximum(self.env_max[:, b], seg.max(axis=1))
+        e0, e1 = self.ex_start, self.ex_start + self.excerpt.shape[1]
+        lo, hi = max(e0, i0), min(e1, i1)
+        if hi > lo:
+            self.excerpt[:, lo - e0:hi - e0] = F[:, lo - i0:hi - i0]
+        self.count = i1
+
+    def result(self) -> dict[str, np.ndarray]:
+        """Arrays of the cut's analysis (see :func:`force_cut_dataset`)."""
+        from robomill.spectra import thesis_spectrum
+
+        if self.count != self.n:
+            raise ValueError(f"accumulated {self.count} samples, expected {self.n}")
+        f, psd = self.welch.result()
+        low = self.dec.result() + self.offset
+        spec = thesis_spectrum(low, self.fs_low)
+        keep = spec.f <= self.s.lowband_hz
+        # the decimated DFT has n/D samples: |Z_low|²/N_low² equals |Z|²/N² of the full record
+        return {
+            "mean": self.sum / self.n,
+            "f_welch": f, "psd": psd,
+            "f_low": spec.f[keep], "power_low": spec.power[:, keep],
+            "env_t": (self.block_edges[:-1] + self.block_edges[1:]) / 2 / self.fs,
+            "env_min": self.env_min, "env_max": self.env_max,
+            "excerpt_t": (self.ex_start + np.arange(self.excerpt.shape[1])) / self.fs,
+            "excerpt": self.excerpt,
+        }
+
+
+def analyse_force_record(chunks: Iterable[tuple[np.ndarray, np.ndarray]], fs_hz: float,
+                         n_samples: int, settings: ForceAnalysisSettings | None = None
+                         ) -> dict[str, np.ndarray]:
+    """Run :class:`ForceSpectrumAccumulator` over ``(t_s, force_N (n, 3))`` chunks."""
+    acc = ForceSpectrumAccumulator(fs_hz, n_samples, settings or ForceAnalysisSettings())
+    for t, F in chunks:
+        acc.add(t, F)
+    return acc.result()
+
+
+def dominant_peak(f_hz: np.ndarray, power: np.ndarray, band_hz: tuple[float, float]
+                  ) -> tuple[float, float]:
+    """Frequency and power of the largest bin of ``power`` within ``band_hz`` (inclusive)."""
+    f_hz, power = np.asarray(f_hz), np.asarray(power)
+    sel = np.flatnonzero((f_hz >= band_hz[0]) & (f_hz <= band_hz[1]))
+    if sel.size == 0:
+        return float("nan"), float("nan")
+    i = sel[np.argmax(power[sel])]
+    return float(f_hz[i]), float(power[i])
+
+
+def harmonic_powers(f_hz: np.ndarray, psd: np.ndarray, f0_hz: float, n_harmonics: int, *,
+                    half_width_bins: int = 2) -> tuple[np.ndarray, np.ndarray]:
+    """Power [PSD unit × Hz] of harmonics k·f0 (k = 1..n, below Nyquist) of a Welch PSD
+    ``(..., nf)``, integrated over ±``half_width_bins`` around the nearest bin (a Hann window
+    spreads a line over about 3 bins). Returns ``(k·f0, power (..., n))``."""
+    f_hz = np.asarray(f_hz)
+    df = f_hz[1] - f_hz[0]
+    ks = np.arange(1, n_harmonics + 1)
+    fk = ks * f0_hz
+    fk = fk[fk <= f_hz[-1] - half_width_bins * df]
+    out = []
+    for fh in fk:
+        i = int(round(fh / df))
+        out.append(psd[..., i - half_width_bins:i + half_width_bins + 1].sum(axis=-1) * df)
+    return fk, np.stack(out, axis=-1) if out else np.zeros(psd.shape[:-1] + (0,))
+
+
+# ---- per-cut artefact and the gathered study ---------------------------------------------------
+def _var(dims, data, units, long_name):
+    return (dims, np.asarray(data), {"units": units, "long_name": long_name})
+
+
+def force_cut_dataset(result: Mapping[str, np.ndarray], *, cut: Mapping, fs_hz: float,
+                      n_samples: int, spindle_rpm: float, flutes: int,
+                      dominant_band_hz: tuple[float, float],
+                      kinematic_band_per_mm: tuple[float, float], n_harmonics: int):
+    """The analysis of one cut (from :meth:`ForceSpectrumAccumulator.result`) as a dataset,
+    with its peaks: the dominant low-frequency peak (largest bin of the thesis power summed
+    over the three axes in ``dominant_band_hz``), the kinematic peak (same, in spatial
+    frequency f/v within ``kinematic_band_per_mm``) and the tooth-passing harmonics (Welch)."""
+    import xarray as xr
+
+    from robomill.experiment import DIRECTION_VECTORS
+
+    v = float(cut["feed_mm_s"])
+    total_low = np.asarray(result["power_low"]).sum(axis=0)
+    f_low = np.asarray(result["f_low"])
+    f_dom, p_dom = dominant_peak(f_low, total_low, tuple(dominant_band_hz))
+    f_kin, p_kin = dominant_peak(f_low / v, total_low, tuple(kinematic_band_per_mm))
+    f_tp = tooth_passing_hz(spindle_rpm, flutes)
+    fk, hp = harmonic_powers(result["f_welch"], result["psd"], f_tp, n_harmonics)
+    R = cut_frame(DIRECTION_VECTORS[cut["direction"]])
+    mean = np.asarray(result["mean"])
+    ds = xr.Dataset(
+        {
+            "mean_force": _var("axis", mean, "N", "mean force on the tool, R0 axes"),
+            "mean_force_cut": _var("component", R.T @ mean, "N",
+                                   "mean force on the tool, cut frame"),
+            "psd": _var(("axis", "frequency"), result["psd"], "N^2/Hz",
+                        "Welch power spectral density (Hann, 50 % overlap)"),
+            "power_low": _var(("axis", "lf_bin"), result["power_low"], "N^2",
+                              "thesis normalized power |Z(k)|^2/N^2 of the whole record "
+                              "(one-sided, eq. 2.3), low band"),
+            "f_low": _var("lf_bin", f_low, "Hz", "frequency of the low-band bin k/T"),
+            "f_spatial_low": _var("lf_bin", f_low / v, "1/mm",
+                                  "spatial frequency of the low-band bin f/v"),
+            "harmonic_power": _var(("axis", "harmonic"), hp, "N^2",
+                                   "power of the tooth-passing harmonic (Welch, +-2 bins)"),
+            "harmonic_hz": _var("harmonic", fk, "Hz", "tooth-passing harmonic frequency"),
+            "envelope_min": _var(("axis", "block"), result["env_min"], "N",
+                                 "minimum force in the block"),
+            "envelope_max": _var(("axis", "block"), result["env_max"], "N",
+                                 "maximum force in the block"),
+            "envelope_t": _var("block", result["env_t"], "s", "block centre time"),
+            "excerpt": _var(("axis", "sample"), result["excerpt"], "N",
+                            "raw force samples from the middle of the record"),
+            "excerpt_t": _var("sample", result["excerpt_t"], "s", "time of the raw sample"),
+            "dominant_hz": _var((), f_dom, "Hz", "dominant low-frequency peak"),
+            "dominant_power": _var((), p_dom, "N^2",
+                                   "thesis power at the dominant peak, summed over axes"),
+            "kinematic_per_mm": _var((), f_kin, "1/mm", "kinematic (spatial) peak"),
+            "kinematic_power": _var((), p_kin, "N^2",
+                                    "thesis power at the kinematic peak, summed over axes"),
+        },
+        coords={
+            "axis": _var("axis", list(AXES), "1", "force channel (R0 axes)"),
+            "component": _var("component", ["feed", "cross_feed", "axial"], "1",
+                              "cut-frame component"),
+            "frequency": _var("frequency", result["f_welch"], "Hz", "Welch frequency"),
+            "harmonic": _var("harmonic", np.arange(1, fk.size + 1), "1",
+                             "tooth-passing harmonic order"),
+        },
+        attrs={"cut": cut["id"], "set": int(cut["set"]), "segment": int(cut["segment"]),
+               "direction": cut["direction"], "feed_mm_s": v, "depth_mm": float(cut["depth_mm"]),
+               "fs_hz": float(fs_hz), "n_samples": int(n_samples),
+               "feed_per_tooth_mm": feed_per_tooth_mm(v, spindle_rpm, flutes),
+               "tooth_passing_hz": f_tp},
+    )
+    return ds
+
+
+def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0.95,
+                       model_feed_per_tooth_mm: float | None = None,
+                       model_depth_mm: float | None = None):
+    """Combine per-cut datasets into the study's artefacts.
+
+    Returns ``(spectra, peaks, means, harmonics, coefficients)``: the ``spectra.nc`` dataset
+    (dims ``cut, axis, frequency, lf_bin, harmonic, block, sample``; the low band is padded
+    with NaN to the longest record), the ``peaks.csv`` table (``cut, dominant_hz,
+    dominant_power, kinematic_per_mm``), per-cut mean forces, harmonic powers, and the
+    identified cutting coefficients (:func:`identify_cutting_coefficients`). The spectra
+    dataset also holds the model force shape of thesis Fig 3.2 over one revolution with the
+    identified coefficients (``model_force``).
+    """
+    import xarray as xr
+
+    cut_datasets = sorted(cut_datasets, key=lambda d: (d.attrs["set"], d.attrs["segment"],
+                                                       "py px my".split().index(
+                                                           d.attrs["direction"])))
+    ids = [d.attrs["cut"] for d in cut_datasets]
+    nlow = max(d.sizes["lf_bin"] for d in cut_datasets)
+    per_cut = ("psd", "power_low", "f_low", "f_spatial_low", "harmonic_power", "envelope_min",
+               "envelope_max", "envelope_t", "excerpt", "excerpt_t", "mean_force",
+               "mean_force_cut")
+    parts = []
+    for d in cut_datasets:
+        d = d[list(per_cut)]
+        parts.append(d.pad(lf_bin=(0, nlow - d.sizes["lf_bin"])))
+    spectra = xr.concat(parts, dim="cut", join="outer", combine_attrs="override",
+                        coords="minimal", compat="override")
+    spectra.attrs = {}
+    attr_vars = {"feed_mm_s": ("mm/s", "feed speed"), "depth_mm": ("mm", "axial depth"),
+                 "feed_per_tooth_mm": ("mm", "feed per tooth"), "set": ("1", "set"),
+                 "segment": ("1", "segment"), "direction": ("1", "cut direction"),
+                 "n_samples": ("1", "samples per axis"),
+                 "tooth_passing_hz": ("Hz", "tooth-passing frequency")}
+    for name, (unit, ln) in attr_vars.items():
+        spectra[name] = _var("cut", [d.attrs[name] for d in cut_datasets], unit, ln)
+    for name in ("dominant_hz", "dominant_power", "kinematic_per_mm", "kinematic_power"):
+        spectra[name] = _var("cut", [float(d[name]) for d in cut_datasets],
+                             cut_datasets[0][name].attrs["units"],
+                             cut_datasets[0][name].attrs["long_name"])
+    spectra = spectra.assign_coords(cut=_var("cut", ids, "1", "cut id"))
+    spectra["harmonic_hz"] = cut_datasets[0]["harmonic_hz"]
+    for name in ("block", "sample"):
+        spectra = spectra.assign_coords({name: _var(name, np.arange(spectra.sizes[name]), "1",
+                                                    f"{name} index")})
+    spectra = spectra.assign_coords(lf_bin=_var("lf_bin", np.arange(nlow), "1",
+                                                "low-band bin index k"))
+    peaks = pd.DataFrame({"cut": ids,
+                          "dominant_hz": spectra["dominant_hz"].values,
+                          "dominant_power": spectra["dominant_power"].values,
+                          "kinematic_per_mm": spectra["kinematic_per_mm"].values})
+    means = pd.DataFrame({"cut": ids, **{k: spectra[k].values for k in
+                                         ("set", "segment", "direction", "feed_mm_s",
+                                          "depth_mm", "feed_per_tooth_mm")}})
+    for i, a in enumerate(AXES):
+        means[f"{a}_N"] = spectra["mean_force"].values[:, i]
+    for i, comp in enumerate(("feed", "cross_feed", "axial")):
+        means[f"F_{comp}_N"] = spectra["mean_force_cut"].values[:, i]
+    hp = spectra["harmonic_power"]
+    harmonics = pd.DataFrame([{"cut": c, "harmonic": int(k), "f_hz": float(f),
+                               **{f"{a}_power_N2": float(hp.sel(cut=c, axis=a, harmonic=k))
+                                  for a in AXES}}
+                              for c in ids for k, f in zip(spectra["harmonic"].values,
+                                                           spectra["harmonic_hz"].values,
+                                                           strict=True)])
+    coeffs = identify_cutting_coefficients(
+        means["feed_per_tooth_mm"].to_numpy(), means["depth_mm"].to_numpy(),
+        means[["F_feed_N", "F_cross_feed_N", "F_axial_N"]].to_numpy(), flutes=flutes,
+        confidence=confidence)
+    k = CuttingCoefficients(**dict(zip(coeffs["name"], coeffs["value"], strict=True)))
+    c_mod = model_feed_per_tooth_mm or float(np.median(means["feed_per_tooth_mm"]))
+    a_mod = model_depth_mm or float(np.median(means["depth_mm"]))
+    phi = np.linspace(0, 4 * np.pi, 721)
+    F = slot_forces(phi, c_mod, a_mod, k, flutes=flutes)
+    spectra["model_force"] = _var(("model_angle", "component"), F, "N",
+                                  f"eq. 3.1 force on the tool, identified coefficients, "
+                                  f"c = {c_mod * 1e3:.2f} um, a = {a_mod:.2f} mm")
+    spectra = spectra.assign_coords(model_angle=_var("model_angle", np.degrees(phi), "deg",
+                                                     "rotation angle of tooth 1"))
+    spectra.attrs.update({"model_feed_per_tooth_mm": c_mod, "model_depth_mm": a_mod})
+    return spectra, peaks, means, harmonics, coeffs

@@ -1,0 +1,403 @@
+"""Surface irregularities of the milled slots (thesis ch. 2): profile analysis.
+
+A stylus profile ``z(x)`` [µm] sampled uniformly in ``x`` [mm] is
+
+1. detrended (least-squares line removed: the stylus tilt, thesis §2.3, MATLAB ``detrend``);
+2. split into waviness and roughness by the ISO 16610-21 Gaussian profile filter of cut-off
+   ``λc`` (:func:`gaussian_filter`; the ends are handled by renormalizing the weights over the
+   part of the kernel inside the profile, the zero-order end correction of ISO 16610-28, so
+   that every sample is kept and a constant stays constant up to the ends);
+3. characterized by the amplitude parameters Wt, Wq (waviness) and Rq, Ra, Rz (roughness)
+   (ISO 4287), by the thesis spectra (eqs. 2.1–2.3, :func:`robomill.spectra.thesis_spectrum`)
+   and by the RMS of the thesis' segment method (eq. 2.6 on segments averaged:
+   :func:`robomill.spectra.segment_rms`): 2.5 mm segments for waviness (Table 2.1), 0.25 mm
+   for roughness (Table 2.2);
+4. searched for dominant spectral peaks, which :func:`attribute_mechanisms` classifies across
+   the feeds of the same set and direction: a peak whose *spatial* frequency stays put when
+   the feed changes is kinematic (it follows the joint positions: gears), one whose
+   *temporal* frequency ``f_spatial · feed`` stays put is dynamic (it follows time: modes,
+   tooth passing).
+
+Everything here is a pure function on numpy / pandas / xarray objects.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from importlib import resources
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import scipy.signal
+import xarray as xr
+import yaml
+
+from robomill.spectra import (
+    find_peaks_spectrum,
+    segment_averaged_spectrum,
+    segment_rms,
+    thesis_spectrum,
+)
+
+ALPHA = float(np.sqrt(np.log(2.0) / np.pi))
+"""ISO 16610-21 constant α = sqrt(ln 2 / π) (50 % transmission at the cut-off)."""
+
+DIRECTION_ORDER = ("px", "py", "my")
+"""Column order of the thesis tables within a set: +X, +Y, −Y."""
+
+MECHANISMS = ("kinematic", "dynamic", "unclassified")
+
+DEFAULTS: dict[str, Any] = {
+    "lambda_c_mm": 0.5,
+    "filter_end": "renormalize",
+    "kernel_half_width_cutoffs": 1.0,
+    "waviness_segment_mm": 2.5,
+    "roughness_segment_mm": 0.25,
+    "waviness_band_per_mm": [0.1, 2.0],
+    "roughness_band_per_mm": [2.0, 200.0],
+    "roughness_peak_segment_mm": 2.5,
+    "n_peaks": 3,
+    "peak_prominence_ratio": 5.0,
+    "match_tolerance": 0.2,
+    "min_feed_ratio": 1.5,
+    "waviness_plot_max_per_mm": 1.0,
+    "roughness_plot_max_per_mm": 30.0,
+}
+"""Defaults of ``config.yaml: surface`` (the schema fills the same values)."""
+
+
+def settings(section: Mapping[str, Any] | None) -> dict[str, Any]:
+    """``surface`` settings with defaults filled."""
+    return {**DEFAULTS, **dict(section or {})}
+
+
+# ---- preprocessing and filtering ---------------------------------------------------------
+def detrend_profile(z_um: np.ndarray, x_mm: np.ndarray | None = None
+                    ) -> tuple[np.ndarray, float, float]:
+    """Remove the least-squares line (stylus tilt) from a profile.
+
+    Returns the detrended profile, the slope [µm/mm] and the offset [µm] removed (thesis
+    §2.3: the measured profile is tilted with respect to the stylus path).
+    """
+    z = np.asarray(z_um, float)
+    x = np.arange(z.size, dtype=float) if x_mm is None else np.asarray(x_mm, float)
+    slope, offset = np.polyfit(x, z, 1)
+    return z - (slope * x + offset), float(slope), float(offset)
+
+
+def gaussian_weights(lambda_c_mm: float, dx_mm: float, half_width_cutoffs: float = 1.0
+                     ) -> np.ndarray:
+    """Sampled ISO 16610-21 weighting function, normalized to unit sum.
+
+    .. math:: s(x) = \\frac{1}{α λ_c} \\exp\\left[-π \\left(\\frac{x}{α λ_c}\\right)^2\\right],
+              \\quad α = \\sqrt{\\ln 2 / π}
+
+    truncated at ``± half_width_cutoffs · λc`` (at ±λc the weight is 7e-7 of its peak).
+    """
+    n_half = int(np.ceil(half_width_cutoffs * lambda_c_mm / dx_mm))
+    x = np.arange(-n_half, n_half + 1) * dx_mm
+    s = np.exp(-np.pi * (x / (ALPHA * lambda_c_mm)) ** 2)
+    return s / s.sum()
+
+
+def gaussian_filter(z_um: np.ndarray, dx_mm: float, lambda_c_mm: float, *,
+                    end: str = "renormalize", half_width_cutoffs: float = 1.0) -> np.ndarray:
+    """ISO 16610-21 Gaussian mean line (the waviness profile) of ``z_um``.
+
+    The amplitude transmission of the mean line is ``exp(−π (α λc / λ)²)``: 50 % at
+    ``λ = λc``, → 1 for long waves. The roughness profile is ``z − mean line``.
+
+    Parameters
+    ----------
+    end
+        ``"renormalize"`` (default): near the ends the weights are renormalized over the part
+        of the kernel that lies inside the profile (zero-order end correction, ISO 16610-28),
+        so no sample is lost and a constant or slowly varying profile is passed unchanged up
+        to the ends. ``"zero"``: the profile is zero-padded (the plain convolution; the mean
+        line falls off within λc of each end).
+
+    Examples
+    --------
+    >>> dx = 0.00125; x = np.arange(12000) * dx
+    >>> w = gaussian_filter(np.sin(2 * np.pi * x / 0.25), dx, 0.25)
+    >>> round(float(np.abs(w[4000:8000]).max()), 3)
+    0.5
+    """
+    z = np.asarray(z_um, float)
+    s = gaussian_weights(lambda_c_mm, dx_mm, half_width_cutoffs)
+    if s.size > 2 * z.size:
+        raise ValueError(f"profile of {z.size} samples is shorter than the filter kernel "
+                         f"({s.size} samples for λc = {lambda_c_mm} mm)")
+    num = scipy.signal.oaconvolve(z, s, mode="same")
+    if end == "zero":
+        return num
+    if end != "renormalize":
+        raise ValueError(f"end={end!r}: expected 'renormalize' or 'zero'")
+    den = scipy.signal.oaconvolve(np.ones_like(z), s, mode="same")
+    return num / den
+
+
+def split_profile(z_um: np.ndarray, dx_mm: float, lambda_c_mm: float, **kw
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """Waviness (Gaussian mean line) and roughness (the rest) of a detrended profile."""
+    w = gaussian_filter(z_um, dx_mm, lambda_c_mm, **kw)
+    return w, np.asarray(z_um, float) - w
+
+
+def rz_um(r_um: np.ndarray, n_sampling: int) -> float:
+    """Rz (ISO 4287): highest peak + deepest valley in each sampling length of
+    ``n_sampling`` samples (λc), averaged over all complete sampling lengths."""
+    r = np.asarray(r_um, float)
+    m = r.size // n_sampling
+    if m < 1:
+        return float(r.max() - r.min())
+    segs = r[: m * n_sampling].reshape(m, n_sampling)
+    segs = segs - segs.mean(axis=1, keepdims=True)
+    return float(np.mean(segs.max(axis=1) - segs.min(axis=1)))
+
+
+def amplitude_parameters(waviness_um: np.ndarray, roughness_um: np.ndarray, dx_mm: float,
+                         lambda_c_mm: float) -> dict[str, float]:
+    """Wt (peak to valley), Wq (RMS) of the waviness; Rq (RMS), Ra (mean absolute), Rz of the
+    roughness (ISO 4287, evaluation length = the whole profile) [µm]."""
+    w = np.asarray(waviness_um, float) - np.mean(waviness_um)
+    r = np.asarray(roughness_um, float) - np.mean(roughness_um)
+    return {
+        "Wt_um": float(w.max() - w.min()),
+        "Wq_um": float(np.sqrt(np.mean(w**2))),
+        "Rq_um": float(np.sqrt(np.mean(r**2))),
+        "Ra_um": float(np.mean(np.abs(r))),
+        "Rz_um": rz_um(r, max(int(round(lambda_c_mm / dx_mm)), 2)),
+    }
+
+
+# ---- one profile -------------------------------------------------------------------------
+def _attrs(units: str, long_name: str) -> dict[str, str]:
+    return {"units": units, "long_name": long_name}
+
+
+def profile_peaks(ds: xr.Dataset, opts: Mapping[str, Any]) -> pd.DataFrame:
+    """Dominant peaks of one analysed profile: waviness band from the whole-profile thesis
+    spectrum (resolution fs/N), roughness band from the segment-averaged spectrum with
+    ``roughness_peak_segment_mm`` segments (variance of a random-vibration spectrum reduced by
+    averaging). ``amplitude_um`` is the sinusoid amplitude sqrt(2 P) at the peak bin."""
+    rows = []
+    n, ratio = int(opts["n_peaks"]), float(opts["peak_prominence_ratio"])
+    lo, hi = opts["waviness_band_per_mm"]
+    for f, p in find_peaks_spectrum(ds["f"].values, ds["power"].values, fmin=lo, fmax=hi,
+                                    n=n, prominence_ratio=ratio):
+        rows.append({"band": "waviness", "f_spatial_per_mm": f, "power_um2": p})
+    lo, hi = opts["roughness_band_per_mm"]
+    for f, p in find_peaks_spectrum(ds["f_peak"].values, ds["power_peak"].values, fmin=lo,
+                                    fmax=hi, n=n, prominence_ratio=ratio):
+        rows.append({"band": "roughness", "f_spatial_per_mm": f, "power_um2": p})
+    df = pd.DataFrame(rows, columns=["band", "f_spatial_per_mm", "power_um2"])
+    df["amplitude_um"] = np.sqrt(2.0 * df["power_um2"].astype(float))
+    return df
+
+
+def analyse_profile(x_mm: np.ndarray, z_um: np.ndarray, options: Mapping[str, Any] | None = None
+                    ) -> xr.Dataset:
+    """The whole chapter-2 analysis of one profile, as a labelled dataset.
+
+    Variables: the measured, detrended, waviness and roughness profiles over ``x``; the
+    whole-profile thesis amplitude/power spectra over ``f`` (eqs. 2.2, 2.3); the
+    segment-averaged power of the waviness profile (``f_w``, 2.5 mm segments) and of the
+    roughness profile (``f_r``, 0.25 mm segments); the segment-averaged power used for the
+    roughness peaks (``f_peak``); scalars Wt, Wq, Rq, Ra, Rz, the segment-method RMS of
+    waviness and roughness (Tables 2.1, 2.2), the whole-profile Parseval RMS (eq. 2.6), the
+    removed tilt.
+    """
+    opts = settings(options)
+    x = np.asarray(x_mm, float)
+    dx = float(np.median(np.diff(x)))
+    fs = 1.0 / dx
+    lam = float(opts["lambda_c_mm"])
+    zd, slope, offset = detrend_profile(z_um, x)
+    w, r = split_profile(zd, dx, lam, end=opts["filter_end"],
+                         half_width_cutoffs=float(opts["kernel_half_width_cutoffs"]))
+    spec = thesis_spectrum(zd, fs)
+    sw = segment_averaged_spectrum(w, fs, float(opts["waviness_segment_mm"]))
+    sr = segment_averaged_spectrum(r, fs, float(opts["roughness_segment_mm"]))
+    sp = segment_averaged_spectrum(zd, fs, float(opts["roughness_peak_segment_mm"]))
+    params = amplitude_parameters(w, r, dx, lam)
+    ds = xr.Dataset(
+        {
+            "z_measured": ("x", np.asarray(z_um, float), _attrs("um", "measured profile")),
+            "z": ("x", zd, _attrs("um", "detrended profile")),
+            "waviness": ("x", w, _attrs("um", f"waviness profile (Gaussian, λc = {lam} mm)")),
+            "roughness": ("x", r, _attrs("um", "roughness profile (detrended − waviness)")),
+            "amplitude": ("f", spec.amplitude, _attrs("um", "normalized amplitude A(k), "
+                                                          "one-sided (thesis eq. 2.2)")),
+            "power": ("f", spec.power, _attrs("um^2", "normalized power P(k), one-sided "
+                                                      "(thesis eq. 2.3)")),
+            "power_waviness": ("f_w", sw.power, _attrs(
+                "um^2", "segment-averaged power of the waviness profile")),
+            "power_roughness": ("f_r", sr.power, _attrs(
+                "um^2", "segment-averaged power of the roughness profile")),
+            "power_peak": ("f_peak", sp.power, _attrs(
+                "um^2", "segment-averaged power of the detrended profile (peak search)")),
+        },
+        coords={
+            "x": ("x", x, _attrs("mm", "position along the profile")),
+            "f": ("f", spec.f, _attrs("1/mm", "spatial frequency k·fs/N")),
+            "f_w": ("f_w", sw.f, _attrs("1/mm", "spatial frequency (waviness segments)")),
+            "f_r": ("f_r", sr.f, _attrs("1/mm", "spatial frequency (roughness segments)")),
+            "f_peak": ("f_peak", sp.f, _attrs("1/mm", "spatial frequency (peak segments)")),
+        },
+    )
+    scalars = {
+        **{k: (v, "um", k.split("_")[0] + " (ISO 4287)") for k, v in params.items()},
+        "waviness_rms_um": (segment_rms(w, fs, float(opts["waviness_segment_mm"])), "um",
+                            "RMS of waviness, segment method (Table 2.1)"),
+        "roughness_rms_um": (segment_rms(r, fs, float(opts["roughness_segment_mm"])), "um",
+                             "RMS of roughness, segment method (Table 2.2)"),
+        "parseval_rms_um": (float(np.sqrt(spec.power.sum())), "um",
+                            "RMS of the detrended profile by Parseval (eq. 2.6)"),
+        "tilt_um_per_mm": (slope, "um/mm", "stylus tilt removed by detrending"),
+        "offset_um": (offset, "um", "offset removed by detrending"),
+        "fs_per_mm": (fs, "1/mm", "sampling frequency"),
+        "lambda_c_mm": (lam, "mm", "Gaussian filter cut-off"),
+    }
+    for name, (value, units, long_name) in scalars.items():
+        ds[name] = ((), float(value), _attrs(units, long_name))
+    return ds
+
+
+# ---- across cuts ---------------------------------------------------------------------------
+def attribute_mechanisms(peaks: pd.DataFrame, cuts: pd.DataFrame, *, tolerance: float = 0.2,
+                         min_feed_ratio: float = 1.5) -> pd.DataFrame:
+    """Classify each peak as kinematic, dynamic or unclassified, with the evidence.
+
+    For a peak at spatial frequency ``f`` in a cut at feed ``v``, every other cut of the same
+    set and direction at a feed ``v'`` differing by at least ``min_feed_ratio`` (so that the
+    two hypotheses predict different frequencies) is a witness. The kinematic hypothesis
+    predicts a peak at ``f`` there, the dynamic one at ``f·v/v'`` (same temporal frequency).
+    A witness supports a hypothesis when a peak of the same band lies within ``tolerance``
+    (relative, in log frequency) of its prediction. The class is the hypothesis supported by
+    more than half of the witnesses and by more witnesses than the other; otherwise
+    ``unclassified`` (also when there is no witness).
+
+    Parameters
+    ----------
+    peaks
+        Columns ``cut, band, f_spatial_per_mm, amplitude_um``.
+    cuts
+        Columns ``cut, set, direction, feed_mm_s``.
+
+    Returns
+    -------
+    DataFrame
+        ``peaks`` plus ``feed_mm_s, f_temporal_hz, mechanism, n_witnesses,
+        n_kinematic_support, n_dynamic_support``.
+    """
+    meta = cuts.set_index("cut")
+    out = peaks.copy()
+    out["feed_mm_s"] = [float(meta.loc[c, "feed_mm_s"]) for c in out["cut"]]
+    out["f_temporal_hz"] = out["f_spatial_per_mm"] * out["feed_mm_s"]
+    tol = np.log1p(tolerance)
+    by_cut = {c: g for c, g in out.groupby("cut")}
+    mech, n_w, n_k, n_d = [], [], [], []
+    for _, p in out.iterrows():
+        s, d = meta.loc[p["cut"], "set"], meta.loc[p["cut"], "direction"]
+        others = meta[(meta["set"] == s) & (meta["direction"] == d) & (meta.index != p["cut"])]
+        w = k = dyn = 0
+        for c2, m2 in others.iterrows():
+            ratio = p["feed_mm_s"] / float(m2["feed_mm_s"])
+            if abs(np.log(ratio)) < np.log(min_feed_ratio):
+                continue
+            w += 1
+            g = by_cut.get(c2)
+            if g is None:
+                continue
+            f2 = g.loc[g["band"] == p["band"], "f_spatial_per_mm"].to_numpy(float)
+            if f2.size == 0:
+                continue
+            f = float(p["f_spatial_per_mm"])
+            k += bool(np.min(np.abs(np.log(f2 / f))) <= tol)
+            dyn += bool(np.min(np.abs(np.log(f2 / (f * ratio)))) <= tol)
+        if w and k > w / 2 and k > dyn:
+            mech.append("kinematic")
+        elif w and dyn > w / 2 and dyn > k:
+            mech.append("dynamic")
+        else:
+            mech.append("unclassified")
+        n_w.append(w)
+        n_k.append(k)
+        n_d.append(dyn)
+    out["mechanism"] = mech
+    out["n_witnesses"] = n_w
+    out["n_kinematic_support"] = n_k
+    out["n_dynamic_support"] = n_d
+    return out
+
+
+def table_column(set_: int, direction: str) -> str:
+    """Column name of the thesis tables: ``s{set}_{dir}``."""
+    return f"s{int(set_)}_{direction}"
+
+
+def rms_table(metrics: pd.DataFrame, value: str) -> pd.DataFrame:
+    """A thesis-layout table (Table 2.1 / 2.2): rows ``segment`` 1–5, columns
+    ``s1_px, s1_py, s1_my, s2_px, …`` (set-major, +X, +Y, −Y), values of column ``value``."""
+    df = metrics.copy()
+    df["column"] = [table_column(s, d) for s, d in zip(df["set"], df["direction"], strict=True)]
+    tab = df.pivot_table(index="segment", columns="column", values=value, aggfunc="first")
+    sets = sorted(df["set"].unique())
+    cols = [table_column(s, d) for s in sets for d in DIRECTION_ORDER
+            if table_column(s, d) in tab.columns]
+    tab = tab[cols]
+    tab.index = tab.index.astype(int)
+    tab.index.name = "segment"
+    tab.columns.name = None
+    return tab
+
+
+def load_thesis_tables() -> dict[str, pd.DataFrame]:
+    """Thesis Tables 2.1 (waviness) and 2.2 (roughness) from the package data file
+    ``robomill/data/thesis_tables_ch2.yaml``, in the layout of :func:`rms_table`."""
+    text = resources.files("robomill.data").joinpath("thesis_tables_ch2.yaml").read_text()
+    data = yaml.safe_load(text)
+    out = {}
+    for key in ("table_2_1_waviness_rms_um", "table_2_2_roughness_rms_um"):
+        t = data[key]
+        df = pd.DataFrame(t["values"], columns=t["columns"],
+                          index=pd.Index(t["segments"], name="segment"))
+        out[key] = df
+    return out
+
+
+def compare_with_thesis(ours: pd.DataFrame, thesis: pd.DataFrame, table: str,
+                        factor: float = 1.5) -> pd.DataFrame:
+    """Long comparison table: every cell present in both, ``pipeline_um, thesis_um, ratio``
+    and whether the ratio lies within ``[1/factor, factor]``."""
+    rows = []
+    for seg in ours.index:
+        for col in ours.columns:
+            if seg in thesis.index and col in thesis.columns:
+                a, b = float(ours.loc[seg, col]), float(thesis.loc[seg, col])
+                rows.append({"table": table, "segment": int(seg), "column": col,
+                             "pipeline_um": a, "thesis_um": b, "ratio": a / b,
+                             f"within_{factor:g}x": bool(1 / factor <= a / b <= factor)})
+    return pd.DataFrame(rows)
+
+
+def spectra_dataset(per_cut: Sequence[xr.Dataset], cut_ids: Sequence[str]) -> xr.Dataset:
+    """Stack the spectra of every cut along ``cut`` (profiles of equal length and sampling)."""
+    keep = ["amplitude", "power", "power_waviness", "power_roughness"]
+    ds = xr.concat([d[keep] for d in per_cut], dim="cut", coords="minimal",
+                   compat="override", join="override")
+    ds = ds.assign_coords(cut=("cut", list(cut_ids), _attrs("1", "cut identifier")))
+    return ds
+
+
+def recovery_table(metrics: pd.DataFrame, truth: xr.Dataset) -> pd.DataFrame:
+    """Planted (``truth.nc``: ``surface_planted_*``) vs recovered segment RMS per cut."""
+    t = truth[["surface_planted_waviness_rms_um", "surface_planted_roughness_rms_um"]]
+    t = t.to_dataframe().reset_index().rename(columns={"surface_cut": "cut"})
+    df = metrics[["cut", "waviness_rms_um", "roughness_rms_um"]].merge(t, on="cut")
+    df["waviness_ratio"] = df["waviness_rms_um"] / df["surface_planted_waviness_rms_um"]
+    df["roughness_ratio"] = df["roughness_rms_um"] / df["surface_planted_roughness_rms_um"]
+    return df.rename(columns={"surface_planted_waviness_rms_um": "planted_waviness_rms_um",
+                              "surface_planted_roughness_rms_um": "planted_roughness_rms_um"})

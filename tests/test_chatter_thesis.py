@@ -1,0 +1,53 @@
+"""Thesis robot: slot frames, mode coupling naming the coupled pair, recommendations."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from robomill.chatter.model import CuttingModel, ModeXY
+from robomill.chatter.thesis import mode_coupling, modes_in_slot_frame, recommend
+
+
+def _modes():
+    return pd.DataFrame({"mode": [1, 2, 3], "f_n_hz": [20.0, 67.0, 70.0],
+                         "zeta": [0.04, 0.02, 0.02], "k_modal_N_m": [8e5, 1.1e6, 1.0e6],
+                         "m_modal_kg": [0, 0, 0], "shape_x": [0.0, 1.0, 0.3],
+                         "shape_y": [1.0, 0.2, 1.0], "shape_z": [0.0, 0.0, 0.0]})
+
+
+def test_slot_frames():
+    px = modes_in_slot_frame(_modes(), "px")
+    py = modes_in_slot_frame(_modes(), "py")
+    my = modes_in_slot_frame(_modes(), "my")
+    assert px[0].shape == pytest.approx((0.0, 1.0))
+    assert py[0].shape == pytest.approx((1.0, 0.0))
+    assert my[0].shape == pytest.approx((-1.0, 0.0))  # both axes reversed: same lobes as +Y
+
+
+def test_mode_coupling_names_the_close_pair():
+    """Two close modes (67, 70 Hz) with non-parallel shapes couple under the oriented cutting
+    stiffness; a far mode (20 Hz) does not take part."""
+    modes = [ModeXY(20.0, 0.04, 8e5, (0.0, 1.0)), ModeXY(67.0, 0.002, 1.1e6, (1.0, 0.2)),
+             ModeXY(70.0, 0.002, 1.0e6, (0.3, 1.0))]
+    cut = CuttingModel(2, 8e8, 0.21, 0.0, np.pi)
+    out = mode_coupling(modes, cut, depth_max_m=0.05)
+    assert np.isfinite(out["a_mc_m"])
+    assert sorted(out["pair"]) == [1, 2]
+    assert 60 < out["frequency_hz"] < 80
+    # a single mode cannot flutter without delay
+    single = mode_coupling(modes[:1], cut, depth_max_m=0.05)
+    assert np.isnan(single["a_mc_m"])
+
+
+def test_recommend_margin_and_best_speed():
+    rpm = np.array([26000.0, 28000.0, 30000.0])
+    a = np.array([1.0e-3, 0.4e-3, 2.0e-3])
+    rows = recommend(a, rpm, np.array([70.0, 71.0, 72.0]), "px", thesis_rpm=28000.0,
+                     thesis_depths_m=[0.25e-3, 0.5e-3], safety_fraction=0.2, solver="sdm")
+    th = [r for r in rows if r["kind"] == "thesis"]
+    assert th[0]["stability_margin"] == pytest.approx(0.6)
+    assert th[1]["chatter_free"] is False
+    best = [r for r in rows if r["kind"] == "recommended"][0]
+    assert best["spindle_rpm"] == 30000.0
+    assert best["axial_depth_mm"] == pytest.approx(1.6)
+    assert best["stability_margin"] == pytest.approx(0.25)

@@ -1,0 +1,165 @@
+"""Force model, chunked spectra, peaks and cutting-coefficient identification (thesis §3.1)."""
+
+import numpy as np
+import pytest
+import scipy.signal
+
+from robomill.forces import (
+    CuttingCoefficients,
+    ForceAnalysisSettings,
+    StreamDecimator,
+    analyse_force_record,
+    decimate_whole,
+    dominant_peak,
+    feed_per_tooth_mm,
+    identify_cutting_coefficients,
+    lowpass_fir,
+    mean_slot_forces,
+    slot_force_tables,
+    slot_forces,
+    slot_forces_band_limited,
+)
+from robomill.spectra import thesis_spectrum
+
+K = CuttingCoefficients(796.0, 168.0, 222.0, 27.7, 30.8, 6.7)
+FS = 25000.0
+SPINDLE_HZ = 28000 / 60
+
+
+def chunks_of(t, F, n):
+    for i in range(0, len(t), n):
+        yield t[i:i + n], F[i:i + n]
+
+
+@pytest.mark.parametrize("c_mm", [0.00107, 0.005, 0.0107])
+@pytest.mark.parametrize("a_mm", [0.25, 0.5])
+def test_mean_slot_forces_match_closed_form(c_mm, a_mm):
+    phi = (np.arange(200_000) + 0.5) * 2 * np.pi / 200_000
+    numeric = slot_forces(phi, c_mm, a_mm, K).mean(axis=0)
+    closed = mean_slot_forces(c_mm, a_mm, K)
+    np.testing.assert_allclose(numeric, closed, rtol=1e-6, atol=1e-9)
+    # hand-written Altintas (2012) averages for phi_st = 0, phi_ex = pi, N = 2
+    na = 2 * a_mm
+    np.testing.assert_allclose(closed, [-na * (K.Krc * c_mm / 4 + K.Kre / np.pi),
+                                        na * (K.Ktc * c_mm / 4 + K.Kte / np.pi),
+                                        na * (K.Kac * c_mm / np.pi + K.Kae / 2)])
+
+
+def test_band_limited_model_keeps_the_mean_and_the_shape():
+    phi = (np.arange(100_000) + 0.5) * 2 * np.pi / 100_000
+    tables = slot_force_tables(2, 24)
+    bl = slot_forces_band_limited(phi, 0.005, 0.25, K, tables)
+    np.testing.assert_allclose(bl.mean(axis=0), mean_slot_forces(0.005, 0.25, K), rtol=1e-9,
+                               atol=1e-9)
+    # Fz is continuous (no edge jump): band-limiting changes it little
+    exact = slot_forces(phi, 0.005, 0.25, K)
+    assert np.abs(bl[:, 2] - exact[:, 2]).max() < 0.01 * np.abs(exact[:, 2]).max()
+    # spectrum: nothing above harmonic 24 of the spindle (table interpolation: < -100 dB)
+    spec = np.abs(np.fft.rfft(bl[:, 0]))
+    assert spec[30:].max() < 1e-5 * spec[1:25].max()
+
+
+def test_fz_shape_has_two_humps_per_revolution():
+    """Thesis Fig 3.2: Fz of a 2-flute slot repeats at tooth passing, peak at phi = 90 deg."""
+    phi = np.linspace(0, 2 * np.pi, 3601)[:-1]
+    fz = slot_forces(phi, 0.005, 0.25, K)[:, 2]
+    np.testing.assert_allclose(fz[:1800], fz[1800:], atol=1e-12)
+    assert np.argmax(fz[:1800]) == 900
+
+
+def _record(duration_s, modulation_hz=None, depth_mod=0.05, noise=0.0, seed=0):
+    t = np.arange(int(duration_s * FS)) / FS
+    a = 0.25 * (1 + (depth_mod * np.sin(2 * np.pi * modulation_hz * t) if modulation_hz else 0))
+    tables = slot_force_tables(2, int(0.45 * FS / SPINDLE_HZ))
+    F = slot_forces_band_limited(2 * np.pi * SPINDLE_HZ * t, 0.004, a, K, tables)
+    if noise:
+        F = F + np.random.default_rng(seed).normal(0, noise, F.shape)
+    return t, F
+
+
+def test_planted_85_hz_modulation_is_found_within_one_bin():
+    t, F = _record(4.0, modulation_hz=85.0, noise=0.2)
+    res = analyse_force_record(chunks_of(t, F, 30_000), FS, len(t))
+    bin_hz = FS / len(t)
+    f_dom, _ = dominant_peak(res["f_low"], res["power_low"].sum(axis=0), (15.0, 250.0))
+    assert abs(f_dom - 85.0) <= bin_hz
+    # and not where there is nothing
+    t0, F0 = _record(4.0, modulation_hz=None, noise=0.2)
+    res0 = analyse_force_record(chunks_of(t0, F0, 30_000), FS, len(t0))
+    p85 = res["power_low"].sum(axis=0)[np.argmin(abs(res["f_low"] - 85))]
+    p85_0 = res0["power_low"].sum(axis=0)[np.argmin(abs(res0["f_low"] - 85))]
+    assert p85 > 100 * p85_0
+
+
+def test_chunked_spectra_equal_unchunked():
+    t, F = _record(1.3, modulation_hz=85.0, noise=0.3)
+    s = ForceAnalysisSettings(welch_nperseg=4096)
+    results = [analyse_force_record(chunks_of(t, F, n), FS, len(t), s)
+               for n in (len(t), 65_536, 12_345, 1_000)]
+    for r in results[1:]:
+        for key in ("mean", "psd", "power_low", "env_min", "env_max", "excerpt"):
+            np.testing.assert_allclose(r[key], results[0][key], rtol=1e-12, atol=1e-15)
+    r = results[2]
+    # Welch: equal to scipy.signal.welch on the whole record
+    f, psd = scipy.signal.welch(F.T, fs=FS, nperseg=4096)
+    np.testing.assert_allclose(r["psd"], psd, rtol=1e-10, atol=1e-18)
+    np.testing.assert_allclose(r["f_welch"], f)
+    # low band: equal to the decimated whole record, and to the full-rate thesis DFT bins
+    h = lowpass_fir(FS, s.lowband_hz, FS / s.decimation - s.lowband_hz, s.fir_atten_db)
+    off = F[: 8 * s.decimation].mean(axis=0)[:, None]  # steady-state start (see the class)
+    ref = thesis_spectrum(decimate_whole(F.T - off, h, s.decimation) + off, FS / s.decimation)
+    keep = ref.f <= s.lowband_hz
+    np.testing.assert_allclose(r["power_low"], ref.power[:, keep], rtol=1e-10, atol=1e-18)
+    # the same bins k/T as the full-rate thesis DFT, with the same power where it matters
+    full = thesis_spectrum(F.T, FS)
+    sel = full.f <= 240.0
+    n = int(sel.sum())
+    np.testing.assert_allclose(r["f_low"][:n], full.f[sel])
+    k85 = int(np.argmin(abs(full.f - 85.0)))
+    np.testing.assert_allclose(r["power_low"][:, [0, k85]], full.power[:, [0, k85]], rtol=3e-2)
+    np.testing.assert_allclose(r["power_low"][:, 1:n].sum(axis=1),
+                               full.power[:, 1:n].sum(axis=1), rtol=0.05)
+    np.testing.assert_allclose(r["mean"], F.mean(axis=0), rtol=1e-12)
+
+
+@pytest.mark.parametrize("chunk", [1, 24, 25, 26, 391, 5000])
+def test_stream_decimator_matches_whole(chunk):
+    x = np.random.default_rng(1).normal(size=(2, 7_777))
+    h = lowpass_fir(FS, 250.0, 750.0)
+    d = StreamDecimator(h, 25, 2)
+    for i in range(0, x.shape[1], chunk):
+        d.add(x[:, i:i + chunk])
+    np.testing.assert_allclose(d.result(), decimate_whole(x, h, 25), rtol=1e-12, atol=1e-14)
+
+
+def test_identified_coefficients_recover_planted_within_2_percent():
+    feeds = [1, 2, 3, 4, 5, 2, 4, 6, 8, 10]
+    depths = [0.25] * 5 + [0.5] * 5
+    phi = (np.arange(20_000) + 0.5) * 2 * np.pi / 20_000
+    c = np.array([feed_per_tooth_mm(v, 28000, 2) for v in feeds])
+    means = np.array([slot_forces(phi, ci, a, K).mean(axis=0)
+                      for ci, a in zip(c, depths, strict=True)])
+    table = identify_cutting_coefficients(c, depths, means)
+    planted = K.as_dict()
+    assert list(table["name"]) == ["Ktc", "Krc", "Kac", "Kte", "Kre", "Kae"]
+    assert list(table["unit"]) == ["N/mm^2"] * 3 + ["N/mm"] * 3
+    for row in table.itertuples():
+        assert abs(row.value / planted[row.name] - 1) < 0.02, row
+        assert row.ci_low <= row.value <= row.ci_high
+
+
+def test_identification_intervals_cover_truth_with_noise():
+    rng = np.random.default_rng(3)
+    c = np.repeat(np.linspace(0.001, 0.0107, 6), 3)
+    a = np.full(c.size, 0.25)
+    means = mean_slot_forces(c, a, K) + rng.normal(0, 0.02, (c.size, 3))
+    table = identify_cutting_coefficients(c, a, means).set_index("name")
+    for name, value in K.as_dict().items():
+        lo, hi = table.loc[name, ["ci_low", "ci_high"]]
+        assert lo < hi
+        assert lo - 3 * (hi - lo) < value < hi + 3 * (hi - lo)
+
+
+def test_identification_needs_several_feeds():
+    with pytest.raises(ValueError, match="at least 3 cuts"):
+        identify_cutting_coefficients([0.001, 0.001], [0.25, 0.25], np.zeros((2, 3)))

@@ -1,0 +1,180 @@
+"""Straightness analysis (thesis §3.2) against exact synthetic truth."""
+
+from __future__ import annotations
+
+import copy
+
+import numpy as np
+import pandas as pd
+import pytest
+import scipy.interpolate
+
+from robomill import straightness as st
+from robomill.synth import tracker
+from robomill.synth.cell import cell_from_config
+
+
+def _wavy_line(wavelength_mm=2.5, amp_um=3.0, length_mm=40.0, fs_hz=815.0, v=4.0):
+    """A straight path along (1, 1, 0)/√2 with a lateral sinusoid, trapezoidal speed."""
+    t, s = tracker.motion_law(length_mm, v, 50.0, fs_hz)
+    u = np.array([1.0, 1.0, 0.0]) / np.sqrt(2)
+    lat = st.perpendicular_axes(u)[0]
+    p = (np.array([600.0, -50.0, 200.0]) + np.outer(s, u)
+         + 1e-3 * amp_um * np.outer(np.sin(2 * np.pi * s / wavelength_mm), lat))
+    return t, p
+
+
+@pytest.mark.parametrize("detrend_order", [1, 3])
+def test_reordering_of_a_known_wavy_path_returns_its_wavelength(detrend_order):
+    t, p = _wavy_line()
+    prof = st.spatial_profile(t, p, ds_mm=0.01, trim_mm=1.0, detrend_order=detrend_order)
+    spec = st.profile_spectrum(prof, nfft=2**15)
+    assert prof.speed_mm_s == pytest.approx(4.0, rel=1e-3)
+    peaks = st.spectrum_peaks(spec, fmin_per_mm=0.05, fmax_per_mm=20, threshold=25, n_peaks=5)
+    top = peaks.loc[peaks["amplitude_um"].idxmax()]
+    assert 1 / top["f_spatial_per_mm"] == pytest.approx(2.5, rel=0.01)
+    assert top["amplitude_um"] == pytest.approx(3.0, rel=0.03)
+    assert top["component"] == "lateral"
+    # the lateral deviation is the sinusoid itself (best line removed)
+    assert np.abs(prof.deviation_um[1]).max() < 1e-6
+
+
+def test_reordering_does_not_depend_on_the_time_order_of_samples():
+    t, p = _wavy_line(v=2.0)
+    rng = np.random.default_rng(0)
+    idx = rng.permutation(t.size)
+    a = st.spatial_profile(t, p, ds_mm=0.01)
+    b = st.spatial_profile(t[idx], p[idx], ds_mm=0.01)
+    np.testing.assert_allclose(a.deviation_um, b.deviation_um, atol=1e-9)
+
+
+def test_resample_uniform_averages_dense_samples_and_interpolates_sparse_ones():
+    s = np.array([0.0, 0.001, 0.002, 0.5, 1.0])
+    y = np.array([1.0, 2.0, 3.0, 5.0, 7.0])
+    grid, out = st.resample_uniform(s, y, 0.25)
+    np.testing.assert_allclose(grid, [0, 0.25, 0.5, 0.75, 1.0])
+    np.testing.assert_allclose(out[0], [2.0, 3.5, 5.0, 6.0, 7.0])
+
+
+@pytest.fixture(scope="module")
+def cell(tiny_config):
+    return cell_from_config(tiny_config)
+
+
+def _timed_motion(cell, cut, feed):
+    t, s = tracker.motion_law(40.0, feed, 100.0, 815.0)
+    grid = np.linspace(0, 40, 201)
+    q = scipy.interpolate.CubicSpline(grid, cell.joint_path_rad(cut, grid), axis=0)(s)
+    return t, q, cell.cut_path_mm(cut, s)
+
+
+def test_gear_spatial_frequencies_do_not_change_with_feed(cell, tiny_config):
+    cut = next(c for c in tracker.tracker_runs(tiny_config) if c["direction"] == "px")["cut"]
+    out = {}
+    for feed in (2.0, 10.0):
+        t, q, p = _timed_motion(cell, cut, feed)
+        out[feed] = st.gear_frequencies_from_motion(t, q, p, cell.gears)
+    np.testing.assert_allclose(out[2.0]["f_spatial_per_mm"], out[10.0]["f_spatial_per_mm"],
+                               rtol=1e-3, atol=1e-9)
+    moving = out[2.0]["f_temporal_hz"] > 1e-6
+    ratio = out[10.0]["f_temporal_hz"][moving] / out[2.0]["f_temporal_hz"][moving]
+    np.testing.assert_allclose(ratio, 5.0, rtol=1e-3)
+    # and the same as from the path alone (joint angles vs distance, no time at all)
+    grid = np.linspace(0, 40, 201)
+    ref = st.gear_spatial_frequencies(cell.joint_path_rad(cut, grid), grid, cell.gears)
+    np.testing.assert_allclose(out[2.0]["f_spatial_per_mm"], ref["f_spatial_per_mm"],
+                               rtol=2e-2, atol=1e-4)
+    # ... and the cell's own helper agrees
+    cell_f = [g["f_spatial_per_mm"] for g in cell.gear_spatial_frequency_per_mm(cut)]
+    np.testing.assert_allclose(ref["f_spatial_per_mm"], cell_f, rtol=1e-6, atol=1e-8)
+
+
+def _single_gear_config(tiny_config, joint=3, stage="motor"):
+    cfg = copy.deepcopy(tiny_config)
+    for g in cfg["synth"]["gears"]:
+        keep = g["joint"] == joint and g["stage"] == stage
+        g["runout_arcsec"] = 0.0
+        g["mesh_arcsec"] = 3.0 if keep else 0.0
+    return cfg
+
+
+ANALYSIS = dict(ds_mm=0.01, trim_mm=1.0, nfft=2**15, fmin_cycles=2.5, fmax_per_mm=20.0,
+                threshold=25.0, n_peaks=20, tol_bins=0.5, detrend_order=3)
+
+
+def _analyse(cfg, cell, run):
+    df = tracker.simulate_run(cfg, cell, run["direction"], run["feed_mm_s"], run["cut"])
+    prof, spec, gears, peaks = st.analyse_run(
+        df["t_s"].to_numpy(), df[["x_mm", "y_mm", "z_mm"]].to_numpy(), robot=cell.robot,
+        gears=cell.gears, tool_rotation=cell.tool_rotation(), q0_rad=cell.q_home_rad, **ANALYSIS)
+    peaks.insert(0, "direction", run["direction"])
+    peaks.insert(1, "feed_mm_s", run["feed_mm_s"])
+    return spec, peaks
+
+
+def test_a_single_planted_eccentric_gear_is_attributed_to_its_joint_and_stage(tiny_config):
+    cfg = _single_gear_config(tiny_config, joint=3, stage="motor")
+    cell = cell_from_config(cfg)
+    runs = [r for r in tracker.tracker_runs(cfg) if r["direction"] == "px"]
+    assert len(runs) == 2
+    parts, res = [], {}
+    for r in runs:
+        spec, peaks = _analyse(cfg, cell, r)
+        parts.append(peaks)
+        res[(r["direction"], r["feed_mm_s"])] = spec.resolution_per_mm
+    peaks = st.classify_peaks(pd.concat(parts, ignore_index=True), res)
+    gear = peaks[peaks["mechanism"] == "gear"]
+    assert len(gear) == 2  # one per feed
+    assert set(gear["joint"]) == {3} and set(gear["stage"]) == {"motor"}
+    assert set(gear["order"]) == {"mesh"}
+    planted = tracker.planted_gear_table(cfg, cell, runs[0]["cut"])
+    truth = planted[(planted["joint"] == 3) & (planted["stage"] == "motor")
+                    & (planted["order"] == "mesh")].iloc[0]
+    row = gear[gear["feed_mm_s"] == runs[0]["feed_mm_s"]].iloc[0]
+    assert row["f_spatial_per_mm"] == pytest.approx(truth["f_spatial_per_mm"], abs=0.01)
+    assert row["amplitude_um"] == pytest.approx(truth["amplitude_um"], rel=0.15)
+    # the 13 Hz servo ripple is temporal at both feeds, never a gear
+    temporal = peaks[peaks["mechanism"] == "temporal"]
+    np.testing.assert_allclose(temporal["f_temporal_hz"], 13.0, atol=0.1)
+    assert len(temporal) == 2
+    assert set(peaks["mechanism"]) == {"gear", "temporal"}
+
+
+def test_classification_uses_several_feeds():
+    peaks = pd.DataFrame({
+        "direction": ["py"] * 6, "feed_mm_s": [2.0, 4.0, 8.0, 2.0, 4.0, 8.0],
+        "f_spatial_per_mm": [6.5, 3.25, 1.625, 0.45, 0.45, 0.45],
+        "joint": pd.array([pd.NA, pd.NA, pd.NA, 1, 1, pd.NA], dtype="Int64"),
+        "stage": ["", "", "", "motor", "motor", ""], "order": ["", "", "", "mesh", "mesh", ""],
+        "gear_f_spatial_per_mm": [np.nan] * 3 + [0.45, 0.45, np.nan]})
+    res = {("py", v): 1 / 38.0 for v in (2.0, 4.0, 8.0)}
+    out = st.classify_peaks(peaks, res)
+    assert list(out["mechanism"]) == ["temporal"] * 3 + ["gear", "gear", "spatial"]
+    np.testing.assert_allclose(out["f_temporal_hz"][:3], 13.0)
+
+
+def test_match_tolerance_is_tied_to_resolution():
+    gears = pd.DataFrame({"joint": [1, 3], "stage": ["motor", "motor"],
+                          "order": ["mesh", "mesh"], "f_spatial_per_mm": [0.50, 0.20]})
+    peaks = pd.DataFrame({"f_spatial_per_mm": [0.505, 0.23, 0.8]})
+    out = st.match_peaks_to_gears(peaks, gears, tolerance_per_mm=0.5 / 40)
+    assert list(out["joint"].astype(object).where(out["joint"].notna(), None)) == [1, None, None]
+
+
+def test_evaluation_counts_found_missed_and_false():
+    peaks = pd.DataFrame({"direction": ["px", "px"], "feed_mm_s": [2.0, 2.0],
+                          "f_spatial_per_mm": [0.5, 0.3], "amplitude_um": [2.0, 1.0],
+                          "mechanism": ["gear", "gear"],
+                          "joint": pd.array([3, 5], dtype="Int64"),
+                          "stage": ["motor", "motor"], "order": ["mesh", "mesh"]})
+    planted = pd.DataFrame({"direction": ["px"] * 3, "feed_mm_s": [2.0] * 3,
+                            "joint": [3, 5, 1], "stage": ["motor"] * 3,
+                            "order": ["mesh"] * 3, "f_spatial_per_mm": [0.5, 0.3, 0.9],
+                            "amplitude_um": [2.0, 0.001, 2.0]})
+    runs = pd.DataFrame({"direction": ["px"], "feed_mm_s": [2.0], "resolution_per_mm": [0.025],
+                         "fmin_per_mm": [0.05], "floor_um2": [1e-4]})
+    ev = st.evaluate_attribution(peaks, planted, runs, threshold=25, tol_bins=0.5,
+                                 fmax_per_mm=20)
+    c = st.attribution_counts(ev)
+    assert c["above_noise"] == 2 and c["found"] == 1 and c["missed"] == 1
+    assert c["false_attributions"] == 1

@@ -1,0 +1,163 @@
+"""Chapter 2 analysis with exact truth: spectra, Parseval, Gaussian filter, segment RMS,
+mechanism attribution, tables, and the profile reader's errors."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from robomill import surface as sf
+from robomill.io import RawDataError
+from robomill.io.profiles import read_profile
+from robomill.spectra import parseval_rms, segment_rms, thesis_spectrum
+
+FS = 800.0  # samples per mm
+N = 12000
+X = np.arange(N) / FS
+
+
+def test_planted_sinusoid_amplitude_and_frequency():
+    f0 = 40 * FS / N  # on a bin: 2.6667 1/mm
+    z = 1.7 * np.sin(2 * np.pi * f0 * X + 0.3)
+    s = thesis_spectrum(z, FS)
+    k = int(np.argmax(s.amplitude))
+    assert s.f[k] == pytest.approx(f0, rel=1e-12)
+    assert s.amplitude[k] == pytest.approx(1.7, rel=1e-10)
+    assert s.power[k] == pytest.approx(1.7**2 / 2, rel=1e-10)
+
+
+def test_parseval_equals_time_rms():
+    rng = np.random.default_rng(0)
+    z = rng.normal(size=N) + 0.4 * np.sin(2 * np.pi * 0.4 * X)
+    time_rms = np.sqrt(np.mean(z**2))
+    assert parseval_rms(z) == pytest.approx(time_rms, rel=1e-10)
+    assert np.sqrt(thesis_spectrum(z, FS).power.sum()) == pytest.approx(time_rms, rel=1e-10)
+    ds = sf.analyse_profile(X, z)
+    zd = ds["z"].values
+    assert float(ds.parseval_rms_um) == pytest.approx(np.sqrt(np.mean(zd**2)), rel=1e-10)
+
+
+@pytest.mark.parametrize("lambda_c", [0.25, 0.5, 0.8])
+def test_gaussian_filter_transmits_half_at_cutoff(lambda_c):
+    z = np.sin(2 * np.pi * X / lambda_c)
+    w = sf.gaussian_filter(z, 1 / FS, lambda_c)
+    mid = slice(N // 4, 3 * N // 4)
+    gain = np.sqrt(2 * np.mean(w[mid] ** 2))
+    assert gain == pytest.approx(0.5, abs=0.01)
+
+
+def test_gaussian_waviness_of_a_long_wave_is_the_wave():
+    z = 3.0 * np.sin(2 * np.pi * X / 7.5)  # 7.5 mm wave, λc = 0.25 mm: transmission 0.9997
+    w, r = sf.split_profile(z, 1 / FS, 0.25)
+    inner = slice(200, N - 200)  # beyond λc from the ends
+    assert np.max(np.abs(w - z)[inner]) < 0.001 * 3.0
+    assert np.max(np.abs(r[inner])) < 0.001 * 3.0
+    # at the ends the zero-order correction is exact for a constant, biased by the local
+    # slope times the one-sided kernel centroid (documented end effect): a few percent here
+    assert np.max(np.abs(w - z)) < 0.05 * 3.0
+
+
+def test_end_handling_keeps_a_constant():
+    z = np.full(2000, 4.0)
+    assert np.allclose(sf.gaussian_filter(z, 1 / FS, 0.8), 4.0, atol=1e-12)
+    zero = sf.gaussian_filter(z, 1 / FS, 0.8, end="zero")
+    assert zero[0] == pytest.approx(2.0, rel=0.01)  # half the kernel outside: falls off
+
+
+def test_segment_rms_of_a_known_signal():
+    # sinusoid with a whole number of periods per 0.25 mm segment: RMS = a/sqrt(2) exactly
+    z = 2.0 * np.sin(2 * np.pi * 20.0 * X) + 5.0  # offset removed per segment
+    assert segment_rms(z, FS, 0.25) == pytest.approx(2.0 / np.sqrt(2), rel=1e-10)
+    # one period per 2.5 mm segment
+    z2 = 1.5 * np.cos(2 * np.pi * 0.4 * X)
+    assert segment_rms(z2, FS, 2.5) == pytest.approx(1.5 / np.sqrt(2), rel=1e-10)
+
+
+def test_amplitude_parameters_of_a_sinusoid():
+    r = 0.8 * np.sin(2 * np.pi * 40.0 * X)
+    p = sf.amplitude_parameters(np.zeros(N), r, 1 / FS, 0.25)
+    assert p["Rq_um"] == pytest.approx(0.8 / np.sqrt(2), rel=1e-3)
+    assert p["Ra_um"] == pytest.approx(0.8 * 2 / np.pi, rel=1e-2)  # 20 samples per period
+    assert p["Rz_um"] == pytest.approx(1.6, rel=1e-3)
+
+
+def test_analyse_profile_recovers_split_components():
+    rng = np.random.default_rng(1)
+    wav = 4.0 * np.cos(2 * np.pi * 0.4 * X)  # cosines: orthogonal to the tilt line
+    rough = 0.3 * np.cos(2 * np.pi * 60.0 * X)
+    z = wav + rough + 2.0 * X + 3.0 + rng.normal(0, 0.005, N)
+    ds = sf.analyse_profile(X, z, {"lambda_c_mm": 0.5})
+    assert float(ds.tilt_um_per_mm) == pytest.approx(2.0, abs=0.05)
+    assert float(ds.waviness_rms_um) == pytest.approx(4.0 / np.sqrt(2), rel=0.06)
+    assert float(ds.roughness_rms_um) == pytest.approx(0.3 / np.sqrt(2), rel=0.05)
+    pk = sf.profile_peaks(ds, sf.settings({}))
+    assert pk.loc[pk.band == "waviness", "f_spatial_per_mm"].iloc[0] == pytest.approx(0.4)
+    assert 60.0 in pk.loc[pk.band == "roughness", "f_spatial_per_mm"].round(6).tolist()
+
+
+def test_mechanism_attribution():
+    feeds = [1.0, 2.0, 4.0, 8.0]
+    cuts = pd.DataFrame({"cut": [f"s1_g{i + 1}_px" for i in range(4)], "set": 1,
+                         "direction": "px", "feed_mm_s": feeds})
+    rows = []
+    for c, v in zip(cuts.cut, feeds, strict=True):
+        rows.append({"cut": c, "band": "waviness", "f_spatial_per_mm": 0.45,
+                     "amplitude_um": 1.0})
+        rows.append({"cut": c, "band": "roughness", "f_spatial_per_mm": 60.0 / v,
+                     "amplitude_um": 0.1})
+        rows.append({"cut": c, "band": "roughness", "f_spatial_per_mm": 3.0 + v * 1.7,
+                     "amplitude_um": 0.05})  # neither: wanders
+    out = sf.attribute_mechanisms(pd.DataFrame(rows), cuts)
+    assert (out.loc[out.band == "waviness", "mechanism"] == "kinematic").all()
+    dyn = out[(out.band == "roughness") & np.isclose(out.f_temporal_hz, 60.0)]
+    assert len(dyn) == 4 and (dyn.mechanism == "dynamic").all()
+    assert (out.loc[out.amplitude_um == 0.05, "mechanism"] == "unclassified").all()
+
+
+def test_tables_layout_and_thesis_comparison():
+    rows = [{"cut": f"s{s}_g{g}_{d}", "set": s, "segment": g, "direction": d,
+             "waviness_rms_um": 1.0} for s in (1, 2, 3) for g in range(1, 6)
+            for d in ("py", "px", "my")]
+    tab = sf.rms_table(pd.DataFrame(rows), "waviness_rms_um")
+    assert list(tab.columns[:3]) == ["s1_px", "s1_py", "s1_my"]
+    assert list(tab.columns)[-1] == "s3_my" and list(tab.index) == [1, 2, 3, 4, 5]
+    thesis = sf.load_thesis_tables()
+    t21 = thesis["table_2_1_waviness_rms_um"]
+    assert t21.loc[1, "s1_px"] == 0.61 and t21.loc[5, "s3_my"] == 2.41
+    assert thesis["table_2_2_roughness_rms_um"].loc[5, "s3_my"] == 1.74
+    cmp_ = sf.compare_with_thesis(t21, t21, "t")
+    assert cmp_["within_1.5x"].all() and len(cmp_) == 45
+
+
+# ---- reader -----------------------------------------------------------------------------
+def _write(tmp_path, text, name="p.csv"):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+def _good_rows(n=100, dx=0.00125):
+    return "".join(f"{i * dx:.6f},{np.sin(i / 5):.5f}\n" for i in range(n))
+
+
+def test_reader_reads_a_good_file(tmp_path):
+    x, z, fs = read_profile(_write(tmp_path, "x_mm,z_um\n" + _good_rows()))
+    assert x.size == 100 and fs == pytest.approx(800.0)
+
+
+def test_reader_rejects_nan(tmp_path):
+    rows = _good_rows().splitlines()
+    rows[10] = "0.012500,nan"
+    with pytest.raises(RawDataError, match=r"row 12, column z_um"):
+        read_profile(_write(tmp_path, "x_mm,z_um\n" + "\n".join(rows) + "\n"))
+
+
+def test_reader_rejects_non_uniform_x(tmp_path):
+    rows = _good_rows().splitlines()
+    rows[50] = "0.063000,0.1"
+    with pytest.raises(RawDataError, match="not uniformly spaced"):
+        read_profile(_write(tmp_path, "x_mm,z_um\n" + "\n".join(rows) + "\n"))
+
+
+def test_reader_rejects_missing_column(tmp_path):
+    with pytest.raises(RawDataError, match="column 'z_um' is missing.*z_mm"):
+        read_profile(_write(tmp_path, "x_mm,z_mm\n" + _good_rows()))

@@ -1,0 +1,35 @@
+"""Identify the calibrated model from the C-Track tables (thesis ch. 1)."""
+
+import numpy as np
+
+from robomill import calibration as cal
+from robomill.io import write_artefact, write_table
+from robomill.io.ctrack import READERS
+from robomill.io.manifest import load_manifest
+from robomill.runlog import setup
+
+log = setup(snakemake.log[0], "calibration_identify")
+inp, p = snakemake.input, snakemake.params
+manifest = load_manifest(inp.manifest)
+tables = {}
+for name, relpath in p.relpaths.items():
+    manifest.verify_file(relpath)
+    tables[name] = READERS[name](inp[name])
+c = p.calibration
+em = c["error_model"]
+ident = cal.identify(
+    tables["circles"], tables["home"], tables["steps"], tables["loads"], tables["base"],
+    masses=cal.mass_model_from_config(c["mass_model"]),
+    fixture_offset_mm=np.asarray(c["fixture_offset_mm"], float),
+    orders={i + 1: o for i, o in enumerate(em["orders"])},
+    max_degree=int(em["max_degree"]), holdout_every=int(em["holdout_every"]),
+    iterations=int(c["iterations"]),
+)
+inputs = [inp[k] for k in p.relpaths]
+write_artefact(cal.model_to_dataset(ident), snakemake.output.model, rule="calibration_identify",
+               inputs=inputs, config_section=c)
+write_table(cal.joint_error_table(ident, int(em["holdout_every"])), snakemake.output.joint_errors)
+write_table(ident.base, snakemake.output.base)
+write_table(cal.circle_table(tables["circles"], ident), snakemake.output.circles)
+log.info("compliance %s rad/Nm; base %.3g rad/Nm (R2 %.3f)", ident.model.compliance,
+         ident.base_compliance, ident.base_r2)

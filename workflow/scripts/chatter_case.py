@@ -1,0 +1,19 @@
+"""One configured lobe case -> results/chatter/cases/<name>.nc (ZOA and SDM)."""
+
+import os
+
+for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ[_v] = "1"  # many small eigenproblems: threads only add overhead
+
+from robomill.chatter.study import run_case  # noqa: E402
+from robomill.io import write_artefact  # noqa: E402
+from robomill.runlog import setup  # noqa: E402
+
+log = setup(snakemake.log[0], "chatter")
+p = snakemake.params
+case = dict(p.case)
+ds = run_case(case, m=p.sdm_steps_per_period, rtol=p.rtol, depth_max_m=p.depth_max_mm * 1e-3)
+write_artefact(ds, snakemake.output.nc, rule="chatter_case",
+               config_section={"case": case, "m": p.sdm_steps_per_period, "rtol": p.rtol})
+log.info("case %s: min a_crit zoa %.3f mm, sdm %.3f mm", case["name"],
+         float(ds.a_crit_mm.sel(solver="zoa").min()), float(ds.a_crit_mm.sel(solver="sdm").min()))

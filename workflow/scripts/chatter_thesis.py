@@ -1,0 +1,28 @@
+"""Thesis robot: lobes for +X, +Y, -Y, mode coupling, recommendations."""
+
+import os
+
+for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ[_v] = "1"
+
+import pandas as pd  # noqa: E402
+
+from robomill.chatter.study import run_thesis  # noqa: E402
+from robomill.io import write_artefact, write_table  # noqa: E402
+from robomill.runlog import setup  # noqa: E402
+
+log = setup(snakemake.log[0], "chatter")
+inp, p = snakemake.input, snakemake.params
+modes = pd.read_csv(inp.modes)
+coeffs = pd.read_csv(inp.coefficients)
+peaks = pd.read_csv(inp.peaks)
+missing = [c for c in ("f_n_hz", "zeta", "k_modal_N_m", "shape_x", "shape_y")
+           if c not in modes.columns]
+if missing:
+    raise ValueError(f"{inp.modes}: missing columns {missing} (contract: CONTRACTS.md)")
+lobes, rec = run_thesis(modes, coeffs, peaks, dict(p.thesis), teeth=p.flutes,
+                        spindle_rpm=p.spindle_rpm, depths_mm=list(p.depths_mm))
+write_artefact(lobes, snakemake.output.lobes, rule="chatter_thesis",
+               inputs=[inp.modes, inp.coefficients, inp.peaks], config_section=dict(p.thesis))
+write_table(rec, snakemake.output.recommendations)
+log.info("recommendations:\n%s", rec.to_string())

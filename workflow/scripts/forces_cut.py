@@ -1,0 +1,37 @@
+"""Analyse one cut's force record in chunks: mean forces, Welch PSD, low-band thesis power,
+peaks (robomill.forces)."""
+
+from robomill.runlog import setup
+
+log = setup(snakemake.log[0], "forces_cut")
+
+from robomill.forces import (  # noqa: E402
+    ForceAnalysisSettings,
+    ForceSpectrumAccumulator,
+    force_cut_dataset,
+)
+from robomill.io import write_artefact  # noqa: E402
+from robomill.io.forces import open_force_record  # noqa: E402
+from robomill.io.manifest import load_manifest  # noqa: E402
+
+p = snakemake.params
+s = p.settings
+manifest = load_manifest(snakemake.input.manifest)
+path = manifest.verify_file(p.relpath)
+entry = manifest.entry(p.relpath)
+cut = manifest.cut(p.cut)
+record = open_force_record(path, float(entry["fs_hz"]))
+acc = ForceSpectrumAccumulator(record.fs_hz, record.n_samples,
+                               ForceAnalysisSettings.from_mapping(s))
+for t, force in record.chunks(int(s["chunk_samples"])):
+    acc.add(t, force)
+exp = manifest.experiment
+ds = force_cut_dataset(acc.result(), cut=cut.as_dict(), fs_hz=record.fs_hz,
+                       n_samples=record.n_samples, spindle_rpm=exp["spindle_rpm"],
+                       flutes=exp["flutes"], dominant_band_hz=s["dominant_band_hz"],
+                       kinematic_band_per_mm=s["kinematic_band_per_mm"],
+                       n_harmonics=s["n_harmonics"])
+write_artefact(ds, snakemake.output[0], rule="forces_cut", inputs=[snakemake.input.raw],
+               config_section=s)
+log.info("%s: %d samples, dominant %.2f Hz, kinematic %.3f 1/mm", p.cut, record.n_samples,
+         float(ds["dominant_hz"]), float(ds["kinematic_per_mm"]))

@@ -1,0 +1,24 @@
+"""Gather the per-cut force analyses: spectra.nc, peaks.csv, mean forces, harmonics and the
+identified cutting coefficients (robomill.forces.gather_force_study)."""
+
+from robomill.runlog import setup
+
+log = setup(snakemake.log[0], "forces_gather")
+
+from robomill.forces import gather_force_study  # noqa: E402
+from robomill.io import open_artefact, write_artefact, write_table  # noqa: E402
+from robomill.io.manifest import load_manifest  # noqa: E402
+
+s = snakemake.params.settings
+exp = load_manifest(snakemake.input.manifest).experiment
+datasets = [open_artefact(p) for p in snakemake.input.cuts]
+spectra, peaks, means, harmonics, coeffs = gather_force_study(
+    datasets, flutes=int(exp["flutes"]), confidence=float(s["confidence"]))
+out = snakemake.output
+write_artefact(spectra, out.spectra, rule="forces_gather", inputs=snakemake.input.cuts,
+               config_section=s)
+write_table(peaks, out.peaks)
+write_table(coeffs, out.coefficients)
+write_table(means, out.means)
+write_table(harmonics, out.harmonics)
+log.info("coefficients:\n%s", coeffs.to_string(index=False))

@@ -1,0 +1,11 @@
+"""Write the reproduction scorecard: source numbers beside ours, read from the artefacts."""
+
+from robomill.io import write_table
+from robomill.runlog import setup
+from robomill.scorecard import build_scorecard
+
+log = setup(snakemake.log[0], "scorecard")
+table = build_scorecard(snakemake.params.root)
+write_table(table, snakemake.output.csv)
+counts = table["verdict"].value_counts().to_dict()
+log.info("scorecard: %d numbers, %s", len(table), counts)
