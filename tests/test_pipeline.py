@@ -29,3 +29,27 @@ def test_raw_folder_of_synthetic_run_matches_manifest(tiny_run):
     from robomill.io.manifest import load_manifest
 
     load_manifest(tiny_run / "results/synthetic/raw/manifest.yaml").verify_all()
+
+
+def test_long_jobs_end_their_log_with_what_they_did_and_how_long(tiny_run):
+    """Force simulations, lobe maps and sensitivity shards log progress and a final summary."""
+    import re
+
+    logs = tiny_run / "results/logs"
+    files = (sorted((logs / "forces").glob("synth_*.log"))
+             + sorted((logs / "chatter/cases").glob("*.log"))
+             + sorted((logs / "hexapod").glob("sensitivity_*.log")))
+    assert len(files) >= 3
+    for f in files:
+        last = f.read_text().strip().splitlines()[-1]
+        assert re.search(r" in \d+\.\d s$", last), (f.name, last)
+
+
+def test_provenance_report(tiny_run):
+    """`make report`: Snakemake's report with the chapters' figures and tables by chapter."""
+    proc = run_snakemake(tiny_run, "--report", "results/report.html", timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    html = (tiny_run / "results/report.html").read_text(errors="replace")
+    for category in ("Chapter 0", "Chapter 2", "Chapter 4", "Book"):
+        assert category in html
+    assert "table_2_1_waviness_rms.csv" in html and "fig2_" in html

@@ -707,9 +707,10 @@ def dynamics_datasets(section: Mapping[str, Any]) -> tuple[Any, Any]:
     return traj, forces
 
 
-def sensitivity_shard(section: Mapping[str, Any], actuator: int) -> Any:
+def sensitivity_shard(section: Mapping[str, Any], actuator: int, progress=None) -> Any:
     """Drift of the vertical move's final pose for one actuator over every configured force
-    error (one Snakemake job): signed components, ``drift_mm`` and ``tilt_deg``."""
+    error (one Snakemake job): signed components, ``drift_mm`` and ``tilt_deg``.
+    ``progress(fraction)`` is called after each error size."""
     import xarray as xr
 
     hx = hexapod_from_config(section)
@@ -717,10 +718,12 @@ def sensitivity_shard(section: Mapping[str, Any], actuator: int) -> Any:
     opts = solver_options(section)
     errs = np.asarray(section["sensitivity"]["error_pct"], float)
     dps, drs = [], []
-    for e in errs:
+    for k, e in enumerate(errs):
         dp, dr = force_error_drift(hx, prog, actuator, float(e), **opts)
         dps.append(dp)
         drs.append(dr)
+        if progress is not None:
+            progress((k + 1) / len(errs))
     dp = np.array(dps)[None] * 1e3
     dr = np.rad2deg(np.array(drs))[None]
     dims = ("actuator", "force_error_pct", "axis")

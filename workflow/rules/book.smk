@@ -7,7 +7,12 @@ rule scorecard:
         code=code("scorecard"),
         checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
     output:
-        csv="results/thesis/scorecard.csv",
+        csv=report(
+            "results/thesis/scorecard.csv",
+            caption="../report/book.rst",
+            category="Book",
+            subcategory="Tables",
+        ),
     log:
         "results/logs/book/scorecard.log",
     benchmark:

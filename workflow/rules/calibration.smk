@@ -58,7 +58,12 @@ rule calibration_accuracy:
         accuracy=f"{RAW}/{CTRACK_TABLES.get('accuracy', 'ctrack/accuracy.csv')}",
         code=code("calibration", "io.ctrack"),
     output:
-        accuracy="results/calibration/accuracy.csv",
+        accuracy=report(
+            "results/calibration/accuracy.csv",
+            caption="../report/ch1.rst",
+            category="Chapter 1",
+            subcategory="Tables",
+        ),
         regions="results/calibration/accuracy_by_region.csv",
         points="results/calibration/accuracy_points.csv",
     log:
@@ -98,7 +103,13 @@ rule ch1:
             caption="../report/ch1.rst",
             category="Chapter 1",
         ),
-        figures=directory("results/figures/ch1"),
+        figures=report(
+            directory("results/figures/ch1"),
+            patterns=["{name}.png"],
+            caption="../report/ch1.rst",
+            category="Chapter 1",
+            subcategory="Figures",
+        ),
     log:
         "results/logs/chapters/ch1.log",
     benchmark:

@@ -15,7 +15,13 @@ rule ch0:
             caption="../report/ch0.rst",
             category="Chapter 0",
         ),
-        figures=directory("results/figures/ch0"),
+        figures=report(
+            directory("results/figures/ch0"),
+            patterns=["{name}.png"],
+            caption="../report/ch0.rst",
+            category="Chapter 0",
+            subcategory="Figures",
+        ),
     log:
         "results/logs/chapters/ch0.log",
     benchmark:

@@ -69,7 +69,12 @@ rule chatter_thesis:
         ),
     output:
         lobes="results/chatter/lobes.nc",
-        recommendations="results/chatter/recommendations.csv",
+        recommendations=report(
+            "results/chatter/recommendations.csv",
+            caption="../report/ch4.rst",
+            category="Chapter 4",
+            subcategory="Tables",
+        ),
     log:
         "results/logs/chatter/thesis.log",
     benchmark:
@@ -108,7 +113,13 @@ rule ch4:
             caption="../report/ch4.rst",
             category="Chapter 4",
         ),
-        figures=directory("results/figures/ch4"),
+        figures=report(
+            directory("results/figures/ch4"),
+            patterns=["{name}.png"],
+            caption="../report/ch4.rst",
+            category="Chapter 4",
+            subcategory="Figures",
+        ),
     log:
         "results/logs/chapters/ch4.log",
     benchmark:

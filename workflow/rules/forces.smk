@@ -62,8 +62,18 @@ rule forces_gather:
         code=code("forces"),
     output:
         spectra="results/forces/spectra.nc",
-        peaks="results/forces/peaks.csv",
-        coefficients="results/forces/cutting_coefficients.csv",
+        peaks=report(
+            "results/forces/peaks.csv",
+            caption="../report/ch3_1_forces.rst",
+            category="Chapter 3",
+            subcategory="Tables",
+        ),
+        coefficients=report(
+            "results/forces/cutting_coefficients.csv",
+            caption="../report/ch3_1_forces.rst",
+            category="Chapter 3",
+            subcategory="Tables",
+        ),
         means="results/forces/mean_forces.csv",
         harmonics="results/forces/harmonics.csv",
     log:
@@ -105,7 +115,13 @@ rule ch3_forces:
             caption="../report/ch3_1_forces.rst",
             category="Chapter 3",
         ),
-        figures=directory("results/figures/ch3/forces"),
+        figures=report(
+            directory("results/figures/ch3/forces"),
+            patterns=["{name}.png"],
+            caption="../report/ch3_1_forces.rst",
+            category="Chapter 3",
+            subcategory="Figures",
+        ),
     log:
         "results/logs/chapters/ch3_forces.log",
     benchmark:

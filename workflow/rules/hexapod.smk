@@ -86,7 +86,13 @@ rule ch6:
             caption="../report/ch6.rst",
             category="Chapter 6",
         ),
-        figures=directory("results/figures/ch6"),
+        figures=report(
+            directory("results/figures/ch6"),
+            patterns=["{name}.png"],
+            caption="../report/ch6.rst",
+            category="Chapter 6",
+            subcategory="Figures",
+        ),
     log:
         "results/logs/chapters/ch6.log",
     benchmark:

@@ -61,7 +61,12 @@ rule modal_identify:
         frf="results/modal/frf.nc",
         code=code("modal", "io.impact"),
     output:
-        modes="results/modal/modes.csv",
+        modes=report(
+            "results/modal/modes.csv",
+            caption="../report/ch3_3_modal.rst",
+            category="Chapter 3",
+            subcategory="Tables",
+        ),
         peaks="results/modal/peak_picking.csv",
         stabilization="results/modal/stabilization.csv",
         synth="results/modal/frf_synth.nc",
@@ -104,7 +109,13 @@ rule ch3_modal:
             caption="../report/ch3_3_modal.rst",
             category="Chapter 3",
         ),
-        figures=directory("results/figures/ch3/modal"),
+        figures=report(
+            directory("results/figures/ch3/modal"),
+            patterns=["{name}.png"],
+            caption="../report/ch3_3_modal.rst",
+            category="Chapter 3",
+            subcategory="Figures",
+        ),
     log:
         "results/logs/chapters/ch3_modal.log",
     benchmark:

@@ -145,7 +145,12 @@ rule stiffness_optimal:
         ),
         joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
     output:
-        poses="results/stiffness/optimal_poses.csv",
+        poses=report(
+            "results/stiffness/optimal_poses.csv",
+            caption="../report/ch5.rst",
+            category="Chapter 5",
+            subcategory="Tables",
+        ),
     log:
         "results/logs/stiffness/optimal.log",
     benchmark:
@@ -245,7 +250,13 @@ rule ch5:
             caption="../report/ch5.rst",
             category="Chapter 5",
         ),
-        figures=directory("results/figures/ch5"),
+        figures=report(
+            directory("results/figures/ch5"),
+            patterns=["{name}.png"],
+            caption="../report/ch5.rst",
+            category="Chapter 5",
+            subcategory="Figures",
+        ),
     log:
         "results/logs/chapters/ch5.log",
     benchmark:

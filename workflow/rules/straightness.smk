@@ -72,7 +72,12 @@ rule straightness_gather:
         code=code("straightness"),
     output:
         profiles="results/straightness/profiles.nc",
-        peaks="results/straightness/peaks.csv",
+        peaks=report(
+            "results/straightness/peaks.csv",
+            caption="../report/ch3_2_straightness.rst",
+            category="Chapter 3",
+            subcategory="Tables",
+        ),
         gears="results/straightness/gears.csv",
     log:
         "results/logs/straightness/gather.log",
@@ -132,7 +137,13 @@ rule ch3_straightness:
             caption="../report/ch3_2_straightness.rst",
             category="Chapter 3",
         ),
-        figures=directory("results/figures/ch3/straightness"),
+        figures=report(
+            directory("results/figures/ch3/straightness"),
+            patterns=["{name}.png"],
+            caption="../report/ch3_2_straightness.rst",
+            category="Chapter 3",
+            subcategory="Figures",
+        ),
     log:
         "results/logs/chapters/ch3_straightness.log",
     benchmark:

@@ -52,9 +52,24 @@ rule surface_gather:
         peaks=expand("results/surface/cuts/{cut}_peaks.csv", cut=SURFACE_FILES),
         code=code("surface"),
     output:
-        waviness="results/surface/table_2_1_waviness_rms.csv",
-        roughness="results/surface/table_2_2_roughness_rms.csv",
-        comparison="results/surface/thesis_comparison.csv",
+        waviness=report(
+            "results/surface/table_2_1_waviness_rms.csv",
+            caption="../report/ch2.rst",
+            category="Chapter 2",
+            subcategory="Tables",
+        ),
+        roughness=report(
+            "results/surface/table_2_2_roughness_rms.csv",
+            caption="../report/ch2.rst",
+            category="Chapter 2",
+            subcategory="Tables",
+        ),
+        comparison=report(
+            "results/surface/thesis_comparison.csv",
+            caption="../report/ch2.rst",
+            category="Chapter 2",
+            subcategory="Tables",
+        ),
         peaks="results/surface/peaks.csv",
         metrics="results/surface/metrics.csv",
         spectra="results/surface/spectra.nc",
@@ -121,7 +136,13 @@ rule ch2:
             caption="../report/ch2.rst",
             category="Chapter 2",
         ),
-        figures=directory("results/figures/ch2"),
+        figures=report(
+            directory("results/figures/ch2"),
+            patterns=["{name}.png"],
+            caption="../report/ch2.rst",
+            category="Chapter 2",
+            subcategory="Figures",
+        ),
     log:
         "results/logs/chapters/ch2.log",
     benchmark:

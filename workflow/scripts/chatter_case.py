@@ -7,13 +7,16 @@ for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 from robomill.chatter.study import run_case  # noqa: E402
 from robomill.io import write_artefact  # noqa: E402
-from robomill.runlog import setup  # noqa: E402
+from robomill.runlog import Progress, setup  # noqa: E402
 
 log = setup(snakemake.log[0], "chatter")
 p = snakemake.params
 case = dict(p.case)
-ds = run_case(case, m=p.sdm_steps_per_period, rtol=p.rtol, depth_max_m=p.depth_max_mm * 1e-3)
+progress = Progress(log, 1.0, f"lobe map {case['name']}")
+ds = run_case(case, m=p.sdm_steps_per_period, rtol=p.rtol, depth_max_m=p.depth_max_mm * 1e-3,
+              progress=progress.update)
 write_artefact(ds, snakemake.output.nc, rule="chatter_case",
                config_section={"case": case, "m": p.sdm_steps_per_period, "rtol": p.rtol})
-log.info("case %s: min a_crit zoa %.3f mm, sdm %.3f mm", case["name"],
-         float(ds.a_crit_mm.sel(solver="zoa").min()), float(ds.a_crit_mm.sel(solver="sdm").min()))
+progress.finish(f"case {case['name']}: {ds.sizes['spindle_rpm']} speeds, min a_crit zoa "
+                f"{float(ds.a_crit_mm.sel(solver='zoa').min()):.3f} mm, sdm "
+                f"{float(ds.a_crit_mm.sel(solver='sdm').min()):.3f} mm")

@@ -2,10 +2,12 @@
 
 from robomill.hexapod import sensitivity_shard
 from robomill.io import write_artefact
-from robomill.runlog import setup
+from robomill.runlog import Progress, setup
 
 log = setup(snakemake.log[0], "hexapod")
 section = snakemake.params.hexapod
-ds = sensitivity_shard(section, int(snakemake.params.actuator))
+progress = Progress(log, 1.0, f"sensitivity of actuator {snakemake.params.actuator}")
+ds = sensitivity_shard(section, int(snakemake.params.actuator), progress=progress.update)
 write_artefact(ds, snakemake.output[0], rule=snakemake.rule, config_section=section)
-log.info("actuator %s: drift %s mm", snakemake.params.actuator, ds["drift_mm"].values.round(4))
+progress.finish(f"actuator {snakemake.params.actuator}: {ds.sizes['force_error_pct']} force "
+                f"errors, drift {ds['drift_mm'].values.round(4).tolist()} mm")

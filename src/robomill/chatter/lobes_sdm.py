@@ -160,7 +160,8 @@ def critical_depth(tool: LinearTool, cut: CuttingModel, spindle_rpm: float, *,
 
 def sdm_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray, *,
               depth_max_m: float, m: int = STEPS_PER_PERIOD, n_scan: int = 16,
-              rtol: float = 0.005, f_ref_hz: np.ndarray | None = None):
+              rtol: float = 0.005, f_ref_hz: np.ndarray | None = None,
+              progress=None):
     """Semi-discretization lobe diagram on a speed grid.
 
     Parameters
@@ -194,6 +195,8 @@ def sdm_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray, *,
     f_out = np.full(n_t.shape, np.nan)
     kind = np.full(n_t.shape, "", dtype=object)
     for i, n in enumerate(n_t):
+        if progress is not None:  # fraction of the speed grid done (for long maps' logs)
+            progress(i / len(n_t))
         a, mu = critical_depth(tool, cut, n, depth_max_m=depth_max_m, m=m, n_scan=n_scan,
                                rtol=rtol)
         a_out[i] = a

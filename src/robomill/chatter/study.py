@@ -31,12 +31,12 @@ def speed_grid(spec: dict) -> np.ndarray:
 
 
 def lobes_dataset(tool, cut: CuttingModel, rpm: np.ndarray, *, depth_max_m: float, m: int,
-                  rtol: float) -> xr.Dataset:
+                  rtol: float, progress=None) -> xr.Dataset:
     """ZOA and SDM lobes on one speed grid: a_crit_mm, chatter_hz over (solver, spindle_rpm),
     and the SDM bifurcation kind."""
     a_z, f_z = zoa_lobes(tool, cut, rpm)
     a_s, f_s, kind = sdm_lobes(tool, cut, rpm, depth_max_m=depth_max_m, m=m, rtol=rtol,
-                               f_ref_hz=f_z)
+                               f_ref_hz=f_z, progress=progress)
     return xr.Dataset(
         {
             "a_crit_mm": (("solver", "spindle_rpm"), np.stack([a_z, a_s]) * 1e3,
@@ -55,14 +55,16 @@ def lobes_dataset(tool, cut: CuttingModel, rpm: np.ndarray, *, depth_max_m: floa
                "depth_max_mm": depth_max_m * 1e3})
 
 
-def run_case(case: dict, *, m: int, rtol: float, depth_max_m: float) -> xr.Dataset:
-    """One configured lobe case (schema ``chatter.cases[]``)."""
+def run_case(case: dict, *, m: int, rtol: float, depth_max_m: float,
+             progress=None) -> xr.Dataset:
+    """One configured lobe case (schema ``chatter.cases[]``); ``progress(fraction)`` is called
+    as the semi-discretization works through the speed grid."""
     modes = modes_from_xy_lists(case["modes"].get("x", []), case["modes"].get("y", []))
     tool = tool_from_modes(modes)
     cut = CuttingModel.from_immersion(case["teeth"], case["Kt_N_m2"], case["Kr"],
                                       case["radial_immersion"], case["milling"])
     ds = lobes_dataset(tool, cut, speed_grid(case["spindle_rpm"]), depth_max_m=depth_max_m,
-                       m=m, rtol=rtol)
+                       m=m, rtol=rtol, progress=progress)
     ds.attrs.update({"case_" + k: v for k, v in case.items() if k != "modes"})
     ds.attrs["case_modes"] = case["modes"]
     ds.attrs["phi_st_rad"], ds.attrs["phi_ex_rad"] = cut.phi_st, cut.phi_ex

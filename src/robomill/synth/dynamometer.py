@@ -204,15 +204,27 @@ def simulate_blocks(cell, cut, config: Mapping[str, Any]
     return n, fs, blocks()
 
 
-def simulate_file(config: Mapping[str, Any], cut, path: str | Path, cell=None) -> Path:
+def simulate_file(config: Mapping[str, Any], cut, path: str | Path, cell=None,
+                  progress=None) -> Path:
     """Simulate one cut's record and write it to ``path`` (``.h5`` or ``.csv``) block by
-    block."""
+    block; ``progress(fraction)`` is called after each block."""
     from robomill.io.atomic import atomic_path
     from robomill.io.forces import write_forces_csv, write_forces_h5
     from robomill.synth.cell import cell_from_config
 
     cell = cell or cell_from_config(config)
     n, fs, blocks = simulate_blocks(cell, cut, config)
+    if progress is not None:
+        inner = blocks
+
+        def reporting():
+            done = 0
+            for t, F in inner:
+                yield t, F
+                done += len(t)
+                progress(done / n)
+
+        blocks = reporting()
     path = Path(path)
     with atomic_path(path) as tmp:
         if path.suffix == ".csv":
