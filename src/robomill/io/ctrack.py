@@ -36,7 +36,7 @@ def _joints(path, df, column="joint"):
     bad = np.flatnonzero((j != np.round(j)) | (j < 1) | (j > N_JOINTS))
     if bad.size:
         i = int(bad[0])
-        raise RawDataError(path, f"joint {j[i]!r} is not a joint number",
+        raise RawDataError(path, f"joint {float(j[i])!r} is not a joint number",
                            where=f"row {i + 2}, column {column}",
                            expected=f"an integer 1..{N_JOINTS}")
     return df.astype({column: int})
@@ -77,7 +77,8 @@ def read_steps(path: str | Path) -> pd.DataFrame:
     bad = np.flatnonzero(~np.isin(d, (-1.0, 1.0)))
     if bad.size:
         i = int(bad[0])
-        raise RawDataError(path, f"direction {d[i]!r}", where=f"row {i + 2}, column direction",
+        raise RawDataError(path, f"direction {float(d[i])!r}",
+                           where=f"row {i + 2}, column direction",
                            expected="+1 or -1 (the approach direction)")
     for (j, q), g in df.groupby(["joint", "q_deg"]):
         dirs = set(g["direction"].astype(int))

@@ -151,7 +151,7 @@ def check_increasing(path: str | Path, values: np.ndarray, column: str) -> None:
     if bad.size:
         i = int(bad[0]) + 1
         raise RawDataError(path, f"{column} is not strictly increasing "
-                           f"({values[i - 1]!r} then {values[i]!r})",
+                           f"({float(values[i - 1])!r} then {float(values[i])!r})",
                            where=f"row {i + 2}, column {column}",
                            expected=f"strictly increasing {column}")
 
