@@ -44,6 +44,21 @@ def tree_digest(folder: Path) -> str:
     return h.hexdigest()
 
 
+def raw_copy_of_run(run_dir: Path, dst: Path, *, config_path: Path) -> Path:
+    """Copy a finished run's synthetic raw files to ``dst`` (a raw data set, as a user would
+    have) and write the tiny config pointing at it (``data.source: raw``) to ``config_path``.
+    Returns the raw folder; callers may alter files (and the manifest) before running."""
+    import shutil
+
+    import yaml
+
+    shutil.copytree(run_dir / "results/synthetic/raw", dst)
+    cfg = yaml.safe_load((REPO / ".test" / "config.yaml").read_text())
+    cfg["data"] = {"source": "raw", "raw_dir": str(dst)}
+    config_path.write_text(yaml.safe_dump(cfg, sort_keys=False))
+    return dst
+
+
 def run_snakemake(workdir: Path, *args: str, configfile: Path | None = None,
                   timeout: int = 900) -> subprocess.CompletedProcess:
     """Run the repository's workflow in ``workdir`` (results land there)."""

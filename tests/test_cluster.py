@@ -14,8 +14,7 @@ import shutil
 import subprocess
 
 import pytest
-import yaml
-from conftest import REPO, SNAKEMAKE
+from conftest import REPO, SNAKEMAKE, raw_copy_of_run
 from slurm_cluster import missing_requirements, single_node_slurm
 from test_reliability import assert_same_results
 
@@ -26,12 +25,8 @@ def test_calibration_on_slurm_equals_local(tiny_run, tmp_path):
     why = missing_requirements()
     if why:
         pytest.skip(f"single-node Slurm not available: {why}")
-    raw = tmp_path / "raw"
-    shutil.copytree(tiny_run / "results/synthetic/raw", raw)
-    cfg = yaml.safe_load((REPO / ".test/config.yaml").read_text())
-    cfg["data"] = {"source": "raw", "raw_dir": str(raw)}
     cfgfile = tmp_path / "config.yaml"
-    cfgfile.write_text(yaml.safe_dump(cfg, sort_keys=False))
+    raw_copy_of_run(tiny_run, tmp_path / "raw", config_path=cfgfile)
     work = tmp_path / "work"
     work.mkdir()
     with single_node_slurm(tmp_path / "slurm") as env:

@@ -15,7 +15,7 @@ from pathlib import Path
 import pandas as pd
 import pytest
 import xarray as xr
-from conftest import REPO, SNAKEMAKE, run_snakemake, tree_digest
+from conftest import REPO, SNAKEMAKE, raw_copy_of_run, run_snakemake, tree_digest
 
 pytestmark = pytest.mark.pipeline
 
@@ -73,14 +73,13 @@ def test_killed_run_resumes_to_identical_artefacts(tiny_run, tmp_path):
 
 
 def test_one_bad_cut_fails_only_its_own_jobs(tiny_run, tmp_path):
-    import shutil
 
     import yaml
 
     from robomill.io.hashing import sha256_file
 
-    raw = tmp_path / "raw"
-    shutil.copytree(tiny_run / "results/synthetic/raw", raw)
+    cfgfile = tmp_path / "config.yaml"
+    raw = raw_copy_of_run(tiny_run, tmp_path / "raw", config_path=cfgfile)
     manifest = yaml.safe_load((raw / "manifest.yaml").read_text())
     profiles = [f for f in manifest["files"] if f["kind"] == "profile"]
     bad = profiles[0]
@@ -90,11 +89,6 @@ def test_one_bad_cut_fails_only_its_own_jobs(tiny_run, tmp_path):
     bad["sha256"] = sha256_file(raw / bad["path"])  # a consistent manifest, a malformed file
     (raw / "manifest.yaml").write_text(yaml.safe_dump(manifest, sort_keys=False))
     before = tree_digest(raw)
-
-    cfg = yaml.safe_load((REPO / ".test/config.yaml").read_text())
-    cfg["data"] = {"source": "raw", "raw_dir": str(raw)}
-    cfgfile = tmp_path / "config.yaml"
-    cfgfile.write_text(yaml.safe_dump(cfg, sort_keys=False))
     work = tmp_path / "work"
     work.mkdir()
     proc = run_snakemake(work, "-j2", "--keep-going", "all", configfile=cfgfile)

@@ -4,7 +4,7 @@ edit reruns the rules that use it (and what depends on them), nothing else."""
 import shutil
 
 import pytest
-from conftest import REPO, SNAKEMAKE
+from conftest import REPO, SNAKEMAKE, raw_copy_of_run
 
 from robomill.why import parse_dry_run
 
@@ -33,17 +33,12 @@ def _planned(repo, work, target):
 
 
 def test_edits_rerun_only_what_uses_them(tiny_run, tmp_path):
-    import yaml
 
     repo = _copy_repo(tmp_path / "repo")
     work = tmp_path / "work"
     work.mkdir()
     # the tiny run's synthetic raw files serve as a raw data set (no simulators to rerun)
-    raw = tmp_path / "raw"
-    shutil.copytree(tiny_run / "results/synthetic/raw", raw)
-    cfg = yaml.safe_load((repo / ".test/config.yaml").read_text())
-    cfg["data"] = {"source": "raw", "raw_dir": str(raw)}
-    (work / "config.yaml").write_text(yaml.safe_dump(cfg, sort_keys=False))
+    raw_copy_of_run(tiny_run, tmp_path / "raw", config_path=work / "config.yaml")
     proc = _snakemake(repo, work, "-j2", "ch0")
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert _planned(repo, work, "ch0") == {}
