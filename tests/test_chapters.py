@@ -36,6 +36,15 @@ def test_good_chapter_renders_with_parameter_table(tmp_path):
     assert (out / "figs" / "f.png").exists()
 
 
+def test_figures_are_inline_even_when_the_environment_forces_agg(tmp_path, monkeypatch):
+    """Headless machines often export MPLBACKEND=Agg; the chapter page must still show figures."""
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    nb = _notebook(tmp_path, "import matplotlib.pyplot as plt\nimport robomill.plotting\n"
+                   "plt.plot([0, 1], [1, 0])\nplt.show()")
+    out = _render(tmp_path, nb, data="a.csv")
+    assert "<img" in (out / "c.html").read_text()
+
+
 def test_failing_cell_fails_the_chapter_and_keeps_the_notebook(tmp_path):
     nb = _notebook(tmp_path, "raise ValueError('planted failure')")
     with pytest.raises(ChapterError, match="planted failure") as info:

@@ -7,7 +7,26 @@ from pathlib import Path
 
 import matplotlib
 
-if "ipykernel" not in sys.modules:  # notebooks keep their inline backend
+
+def _inline_in_notebooks() -> bool:
+    """Switch a notebook kernel to the inline backend; False outside a kernel.
+
+    Chapters must show their figures inline even where the environment exports
+    ``MPLBACKEND=Agg`` (headless CI does): the kernel then starts on Agg and the rendered HTML
+    chapter would hold no figure. ``%matplotlib inline`` also registers the PNG formatter.
+    """
+    if "ipykernel" not in sys.modules:
+        return False
+    from IPython import get_ipython
+
+    shell = get_ipython()
+    if shell is None:
+        return False
+    shell.run_line_magic("matplotlib", "inline")
+    return True
+
+
+if not _inline_in_notebooks():
     matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
