@@ -25,6 +25,12 @@ def test_simulation_artefact(tiny_run):
         ds.attrs["point2_depth_mm"]
     assert ds.attrs["adaptation_lowered_fraction"] <= 0.02 + 1e-12
     assert ds["onset_unstable"].values.tolist() == (ds["onset_depth_fraction"] > 1).values.tolist()
+    assert np.size(ds.attrs["detections_point1_s"]) == 0  # the stable point raises no alarm
+    grows = ds["onset_depth_fraction"].values > 1
+    assert (ds["onset_growth_rate_simulated_1_s"].values[grows] > 0).all()
+    assert (ds["onset_growth_rate_sdm_1_s"].values[grows] > 0).all()
+    assert (ds["onset_growth_rate_sdm_1_s"].values[~grows] < 0).all()
+    assert ds.attrs["indicator_final_point1_N"] < ds.attrs["indicator_final_point2_N"]
 
 
 def test_thesis_artefacts(tiny_run):

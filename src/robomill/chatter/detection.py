@@ -34,6 +34,36 @@ def chatter_indicator(force_N: np.ndarray, fs_hz: float, tooth_hz: float,
     return float(spec[i]), float(f[i])
 
 
+def growth_rate_1_s(t_s: np.ndarray, amplitude: np.ndarray, *, stop_fraction: float = 0.2,
+                    span_ratio: float = 10.0) -> float:
+    """Exponential growth rate σ [1/s] of a growing chatter line, A_c(t) ∝ e^{σ t}.
+
+    The growth is read over the last ``span_ratio`` (a decade) of uninterrupted rise before the
+    indicator first reaches ``stop_fraction`` of its maximum: the linear part of the growth,
+    after the entry transient and the beating of the other multipliers have faded and before
+    the chip leaves the cut and saturates it. The indicator is the chatter line over a floor
+    (the cut's own non-harmonic content, uncorrelated with it), A² ≈ A_floor² + A_c², A_floor
+    the smallest value before the peak; σ is the least-squares slope of ln √(A² − A_floor²).
+    Compared with the semi-discretization's Floquet exponent σ = ln ρ(Φ)/τ (ρ: spectral radius
+    of the monodromy matrix over one tooth period τ). NaN when the indicator never grows."""
+    t, a = np.asarray(t_s, float), np.asarray(amplitude, float)
+    ok = np.isfinite(a) & (a > 0)
+    t, a = t[ok], a[ok]
+    if a.size < 3:
+        return float("nan")
+    peak = int(np.argmax(a))
+    stop = int(np.nonzero(a[: peak + 1] >= stop_fraction * a[peak])[0][0])
+    below = np.nonzero(a[:stop] < a[stop] / span_ratio)[0]
+    if below.size == 0:
+        return float("nan")  # never a decade below: no growth seen from a small level
+    start = int(below[-1]) + 1
+    if stop - start < 2:
+        return float("nan")
+    floor = float(np.min(a[: stop + 1]))
+    chatter = np.sqrt(np.maximum(a[start: stop + 1] ** 2 - floor**2, 1e-300))
+    return float(np.polyfit(t[start: stop + 1], np.log(chatter), 1)[0])
+
+
 @dataclass
 class SlidingDetector:
     """Growth detector on the chatter indicator of successive windows."""

@@ -6,8 +6,13 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill.chatter.detection import SlidingDetector, chatter_indicator, run_adaptive
-from robomill.chatter.lobes_sdm import sdm_lobes
+from robomill.chatter.detection import (
+    SlidingDetector,
+    chatter_indicator,
+    growth_rate_1_s,
+    run_adaptive,
+)
+from robomill.chatter.lobes_sdm import sdm_lobes, sdm_spectral_radius
 from robomill.chatter.lobes_zoa import zoa_lobes
 from robomill.chatter.model import CuttingModel, modes_from_xy_lists, tool_from_modes
 from robomill.chatter.thesis import (
@@ -20,6 +25,10 @@ from robomill.chatter.thesis import (
 from robomill.chatter.timedomain import SeedParams, SeedSimulation, horizontal_tool
 
 SOLVERS = ("zoa", "sdm")
+GROWTH_WINDOW_TEETH = 20
+"""Window of the indicator used for the growth rate, in tooth periods: short against the
+e-folding time of chatter near the boundary (0.3 s at 1 % above it in the seed), long enough
+to resolve the chatter line between two tooth-passing harmonics (bins of f_tooth/20)."""
 
 
 def _coord(values, units, long_name):
@@ -89,19 +98,31 @@ def _detector(sim, p: SeedParams, det: dict) -> SlidingDetector:
                            min_fraction_of_mean=det["min_fraction_of_mean"])
 
 
+def growth_rate_of_run(rec: dict, fs_hz: float, tooth_hz: float, det: dict) -> float:
+    """Simulated chatter growth rate [1/s] of a run: :func:`growth_rate_1_s` on the indicator
+    over ``GROWTH_WINDOW_TEETH``-tooth windows advanced one tooth period at a time."""
+    t, amp, _ = _indicator_series(rec, fs_hz, tooth_hz,
+                                  dict(det, window_s=GROWTH_WINDOW_TEETH / tooth_hz),
+                                  1.0 / tooth_hz)
+    return growth_rate_1_s(t, amp)
+
+
 def classify_run(p: SeedParams, depth_m: float, *, duration_s: float, steps_per_tooth: int,
-                 det: dict) -> tuple[bool, float]:
+                 det: dict) -> tuple[bool, float, float]:
     """Time-domain verdict at fixed setpoint: unstable when the chatter indicator of the last
-    window exceeds the detector floor (a fraction of the mean force)."""
+    window exceeds the detector floor (a fraction of the mean force). Returns (unstable,
+    indicator of the last window [N], simulated growth rate [1/s], NaN if it does not grow)."""
     sim = SeedSimulation(p, depth_m, steps_per_tooth=steps_per_tooth, duration_s=duration_s)
     sim.run(duration_s)
     rec = sim.record()
     fs = sim.record_fs_hz
+    tooth_hz = p.teeth * p.spindle_rpm / 60.0
     n = int(round(det["window_s"] * fs))
     R = np.hypot(rec["Rx_N"], rec["Rz_N"])[-n:]
-    amp, _ = chatter_indicator(R, fs, p.teeth * p.spindle_rpm / 60.0, tuple(det["band_hz"]),
+    amp, _ = chatter_indicator(R, fs, tooth_hz, tuple(det["band_hz"]),
                                det["harmonic_halfwidth_hz"])
-    return bool(amp >= det["min_fraction_of_mean"] * np.mean(R)), float(amp)
+    unstable = bool(amp >= det["min_fraction_of_mean"] * np.mean(R))
+    return unstable, float(amp), growth_rate_of_run(rec, fs, tooth_hz, det)
 
 
 def run_seed(cfg: dict) -> xr.Dataset:
@@ -115,8 +136,10 @@ def run_seed(cfg: dict) -> xr.Dataset:
                           m=cfg["sdm_steps_per_period"], rtol=cfg["rtol"])
     a_sdm = lobes["a_crit_mm"].sel(solver="sdm").values * 1e-3
     a_star = float(np.nanmin(a_sdm))
-    a_n = float(sdm_lobes(tool, cut, [p.spindle_rpm], depth_max_m=cfg["depth_max_mm"] * 1e-3,
-                          m=cfg["sdm_steps_per_period"], rtol=cfg["rtol"] / 5)[0][0])
+    a_at_n, f_at_n, kind_at_n = sdm_lobes(tool, cut, [p.spindle_rpm],
+                                          depth_max_m=cfg["depth_max_mm"] * 1e-3,
+                                          m=cfg["sdm_steps_per_period"], rtol=cfg["rtol"] / 5)
+    a_n = float(a_at_n[0])
     a1, a2 = cfg["point1_fraction"] * a_n, cfg["point2_fraction"] * a_n
     det, ad, dur = cfg["detector"], cfg["adaptation"], cfg["duration_s"]
     spt = cfg["steps_per_tooth"]
@@ -158,10 +181,14 @@ def run_seed(cfg: dict) -> xr.Dataset:
         a_b = float(sdm_lobes(horizontal_tool(pn), pn.cutting_model(), [n_rpm],
                               depth_max_m=cfg["depth_max_mm"] * 1e-3,
                               m=cfg["sdm_steps_per_period"], rtol=cfg["rtol"] / 5)[0][0])
-        for frac in cfg["onset"]["depth_fractions"]:
-            unstable, amp = classify_run(pn, frac * a_b, duration_s=cfg["onset"]["duration_s"],
-                                         steps_per_tooth=spt, det=det)
-            onset.append((n_rpm, frac, a_b * 1e3, unstable, amp))
+        fracs = np.asarray(cfg["onset"]["depth_fractions"], float)
+        rho, _ = sdm_spectral_radius(horizontal_tool(pn), pn.cutting_model(), n_rpm,
+                                     fracs * a_b, m=cfg["sdm_steps_per_period"])
+        for frac, sigma in zip(fracs, np.log(rho) / pn.tooth_period_s, strict=True):
+            unstable, amp, grow = classify_run(pn, frac * a_b, steps_per_tooth=spt, det=det,
+                                               duration_s=cfg["onset"]["duration_s"])
+            onset.append((n_rpm, frac, a_b * 1e3, unstable, amp, sigma,
+                          grow if frac > 1 else np.nan))
     onset = np.array(onset, float)
     runs_attrs = {"units": "1", "long_name": "point1: stable point; point2: unstable point; "
                   "point2_adaptive: point 2 with detection and depth lowering"}
@@ -204,6 +231,10 @@ def run_seed(cfg: dict) -> xr.Dataset:
                                {"units": "1", "long_name": "time domain finds chatter"}),
             "onset_indicator_N": ("check", onset[:, 4], {"units": "N", "long_name":
                                                          "indicator in the last window"}),
+            "onset_growth_rate_sdm_1_s": ("check", onset[:, 5], {
+                "units": "1/s", "long_name": "SDM Floquet exponent ln(rho)/tau at the depth"}),
+            "onset_growth_rate_simulated_1_s": ("check", onset[:, 6], {
+                "units": "1/s", "long_name": "simulated chatter growth rate (unstable checks)"}),
         },
         coords={
             "run": ("run", names, runs_attrs),
@@ -218,7 +249,26 @@ def run_seed(cfg: dict) -> xr.Dataset:
         },
     )
     ev = events["point2_adaptive"]
+    # linear theory beside the simulation: Floquet exponents σ = ln ρ / τ of the SDM at the
+    # point-2 depth and at the depth the logic block left, against the simulated growth
+    a_adapted = a2 * (1.0 - ev["lowered_fraction"])
+    rho, _ = sdm_spectral_radius(tool, cut, p.spindle_rpm, np.array([a2, a_adapted]),
+                                 m=cfg["sdm_steps_per_period"])
+    sigma_sdm = np.log(rho) / p.tooth_period_s
+    sigma_sim = growth_rate_of_run(runs["point2"], fs, tooth_hz, det)
+    # settling: mean chatter indicator over the last quarter of each run
+    final = {k: float(np.mean(indic[k][1][indic[k][0] >= 0.75 * dur])) for k in names}
     ds.attrs.update({
+        "sdm_bifurcation_at_n": str(kind_at_n[0]),
+        "detector_window_s": float(det["window_s"]),
+        "growth_window_teeth": GROWTH_WINDOW_TEETH,
+        "Kt_noise_fraction": float(p.Kt_noise_fraction),
+        "sdm_chatter_hz_at_n": float(f_at_n[0]),
+        "growth_rate_sdm_point2_1_s": float(sigma_sdm[0]),
+        "growth_rate_sdm_adapted_1_s": float(sigma_sdm[1]),
+        "growth_rate_simulated_point2_1_s": sigma_sim,
+        "adapted_depth_mm": a_adapted * 1e3,
+        **{f"indicator_final_{k}_N": v for k, v in final.items()},
         "seed_params": p.as_dict(), "a_star_mm": a_star * 1e3,
         "a_boundary_at_n_mm": a_n * 1e3, "point1_depth_mm": a1 * 1e3,
         "point2_depth_mm": a2 * 1e3, "spindle_rpm_seed": p.spindle_rpm,

@@ -57,6 +57,9 @@ class SeedParams:
     feed_m_s: float = 0.01
     force_setpoint_N: float = 40.0
     spindle_rpm: float = 1260.0
+    # cutting-coefficient variation per tooth pass (assumed; 0: the ideal, exactly periodic cut)
+    Kt_noise_fraction: float = 0.0
+    noise_seed: int = 0
     # PIDs (assumed)
     kp_y: float = 2.0e5
     ki_y: float = 9.0e6
@@ -74,7 +77,13 @@ class SeedParams:
     @classmethod
     def from_config(cls, section: dict) -> SeedParams:
         names = set(cls.__dataclass_fields__)
-        return cls(**{k: v for k, v in section.items() if k in names})
+        unknown = sorted(set(section) - names)
+        if unknown:
+            from robomill.io import ConfigError
+
+            raise ConfigError(f"chatter.seed.params: unknown key(s) {unknown}; expected some "
+                              f"of {sorted(names)}")
+        return cls(**section)
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -121,7 +130,7 @@ def horizontal_tool(p: SeedParams) -> LinearTool:
 
 
 @numba.njit(cache=True)
-def _rhs(s, t, dxi, dzi, a_gain, fd, vd, pr, out_R):
+def _rhs(s, t, dxi, dzi, a_gain, fd, vd, pr, kt_pass, out_R):
     """Right-hand side; dxi, dzi: tool vibration minus its value one tooth period ago."""
     m, ms, b, bs, c = pr[0], pr[1], pr[2], pr[3], pr[4]
     teeth, Kt, Kr, phst, phex = int(pr[5]), pr[6], pr[7], pr[8], pr[9]
@@ -129,6 +138,7 @@ def _rhs(s, t, dxi, dzi, a_gain, fd, vd, pr, out_R):
     kpy, kiy, kdy, Ny, thp, thi, thd, Nf = pr[12], pr[13], pr[14], pr[15], pr[16], pr[17], \
         pr[18], pr[19]
     kpv, kiv, kdv, Nv = pr[20], pr[21], pr[22], pr[23]
+    phase0 = pr[24]
     d = np.empty(N_STATE)
     # vertical cascade
     Fsy = c * s[Y]
@@ -150,13 +160,16 @@ def _rhs(s, t, dxi, dzi, a_gain, fd, vd, pr, out_R):
     Rz = 0.0
     two_pi = 2.0 * np.pi
     for j in range(teeth):
-        phi = (omega * t + two_pi * j / teeth) % two_pi
+        turns = (omega * t + phase0 + two_pi * j / teeth) / two_pi
+        phi = (turns - np.floor(turns)) * two_pi
         if phi > phst and phi < phex:
+            # cutting-coefficient variation of this pass of tooth j (material inhomogeneity)
+            pas = min(int(np.floor(turns)) * teeth + j, kt_pass.size - 1)
             sp, cp = np.sin(phi), np.cos(phi)
             h = S * sp + dxi * sp + dzi * cp
             if h < 0.0:
                 h = 0.0
-            Rt = Kt * a * h
+            Rt = Kt * kt_pass[pas] * a * h
             Rr = Kr * Rt
             Rx += -Rt * cp - Rr * sp
             Rz += Rt * sp - Rr * cp
@@ -178,7 +191,8 @@ def _rhs(s, t, dxi, dzi, a_gain, fd, vd, pr, out_R):
 
 
 @numba.njit(cache=True)
-def _integrate(s, k0, n_steps, dt, msteps, hist_x, hist_z, a_gain, fd, vd, pr, rec, every):
+def _integrate(s, k0, n_steps, dt, msteps, hist_x, hist_z, a_gain, fd, vd, pr, kt_pass, rec,
+               every):
     """Advance ``n_steps`` RK4 steps from step index k0; the vibration histories hold
     x_s − ẋ_d t and z_s at every step (index k + msteps for step k). Records (t, ξx, ξz, Rx, Rz,
     a, F_sy) every ``every`` steps into ``rec``; returns the number of records."""
@@ -191,7 +205,7 @@ def _integrate(s, k0, n_steps, dt, msteps, hist_x, hist_z, a_gain, fd, vd, pr, r
         dz0 = hist_z[k + msteps] - hist_z[k]
         dxh = 0.5 * (hist_x[k + msteps] + (s[XS] - vd * t)) - 0.5 * (hist_x[k] + hist_x[k + 1])
         dzh = 0.5 * (hist_z[k + msteps] + s[ZS]) - 0.5 * (hist_z[k] + hist_z[k + 1])
-        k1 = _rhs(s, t, dx0, dz0, a_gain, fd, vd, pr, R)
+        k1 = _rhs(s, t, dx0, dz0, a_gain, fd, vd, pr, kt_pass, R)
         if i % every == 0:
             rec[nrec, 0] = t
             rec[nrec, 1] = s[XS] - vd * t
@@ -202,25 +216,32 @@ def _integrate(s, k0, n_steps, dt, msteps, hist_x, hist_z, a_gain, fd, vd, pr, r
             rec[nrec, 6] = pr[4] * s[Y]
             nrec += 1
         s2 = s + 0.5 * dt * k1
-        k2 = _rhs(s2, t + 0.5 * dt, dxh, dzh, a_gain, fd, vd, pr, R)
+        k2 = _rhs(s2, t + 0.5 * dt, dxh, dzh, a_gain, fd, vd, pr, kt_pass, R)
         s3 = s + 0.5 * dt * k2
-        k3 = _rhs(s3, t + 0.5 * dt, dxh, dzh, a_gain, fd, vd, pr, R)
+        k3 = _rhs(s3, t + 0.5 * dt, dxh, dzh, a_gain, fd, vd, pr, kt_pass, R)
         s4 = s + dt * k3
         # delayed value at t + dt; current value estimated by the Euler predictor
         dx1 = (s4[XS] - vd * (t + dt)) - hist_x[k + 1]
         dz1 = s4[ZS] - hist_z[k + 1]
-        k4 = _rhs(s4, t + dt, dx1, dz1, a_gain, fd, vd, pr, R)
+        k4 = _rhs(s4, t + dt, dx1, dz1, a_gain, fd, vd, pr, kt_pass, R)
         s[:] = s + dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
         hist_x[k + 1 + msteps] = s[XS] - vd * (t + dt)
         hist_z[k + 1 + msteps] = s[ZS]
     return nrec
 
 
-def _packed(p: SeedParams) -> np.ndarray:
+def _packed(p: SeedParams, dt_s: float) -> np.ndarray:
+    """Parameters for the compiled right-hand side. The last one is the spindle-angle offset of
+    a quarter step: RK4 evaluates at whole and half steps, so no evaluation point then lies on a
+    tooth's entry or exit angle, where floating-point rounding of ω t would count the tooth in
+    at one tooth period and out at the next. That non-periodic switching excites the chatter
+    mode like white noise (first order in the step; it kept a stable cut's regenerative Δ at a
+    few µm instead of letting it decay)."""
     return np.array([p.m_kg, p.m_s_kg, p.b_N_s_m, p.b_s_N_s_m, p.c_s_N_m, p.teeth, p.Kt_N_m2,
                      p.Kr, p.phi_st_rad, p.phi_ex_rad, p.feed_per_tooth_m,
                      2 * np.pi * p.spindle_rpm / 60.0, p.kp_y, p.ki_y, p.kd_y, p.N_y,
-                     p.theta_p, p.theta_i, p.theta_d, p.N_f, p.kp_v, p.ki_v, p.kd_v, p.N_v])
+                     p.theta_p, p.theta_i, p.theta_d, p.N_f, p.kp_v, p.ki_v, p.kd_v, p.N_v,
+                     0.25 * dt_s * 2 * np.pi * p.spindle_rpm / 60.0])
 
 
 class SeedSimulation:
@@ -250,7 +271,8 @@ class SeedSimulation:
         self.every = int(record_every)
         self.a_gain = depth_m / params.force_setpoint_N
         self.force_setpoint_N = params.force_setpoint_N
-        self.pr = _packed(params)
+        self.pr = _packed(params, self.dt)
+        self.kt_pass = self._pass_factors(duration_s)
         self.hist_x = np.zeros(self.n_total + self.m + 2)
         self.hist_z = np.zeros(self.n_total + self.m + 2)
         self.k = 0
@@ -259,6 +281,17 @@ class SeedSimulation:
         self.s = self._equilibrium(start_at_contact)
         self.hist_x[: self.m + 1] = self.s[XS]
         self.hist_z[: self.m + 1] = self.s[ZS]
+
+    def _pass_factors(self, duration_s: float) -> np.ndarray:
+        """K_t factor of every tooth pass, 1 + σ ξ with ξ ~ N(0, 1) seeded (material
+        inhomogeneity, run-out and chip-formation scatter lumped; seed 002 models none, and a
+        noise-free cut near the boundary would take arbitrarily long to show chatter). The
+        variation is independent from pass to pass, a broadband excitation of the regenerative
+        mode, whose stable response stays small and whose unstable growth starts from it."""
+        p = self.p
+        n_pass = int(np.ceil(duration_s / p.tooth_period_s)) + 2 * p.teeth + 2
+        xi = np.random.default_rng(int(p.noise_seed)).standard_normal(n_pass)
+        return np.clip(1.0 + float(p.Kt_noise_fraction) * xi, 0.0, None)
 
     def _equilibrium(self, at_contact: bool) -> np.ndarray:
         """Initial state. Horizontal: at the commanded velocity, no cutting yet. Vertical: at
@@ -293,7 +326,7 @@ class SeedSimulation:
             self.rec = np.concatenate([self.rec, np.zeros((need - self.rec.shape[0], 7))])
         got = _integrate(self.s, self.k, n, self.dt, self.m, self.hist_x, self.hist_z,
                          self.a_gain, self.force_setpoint_N, self.p.feed_m_s, self.pr,
-                         self.rec[self.nrec:], self.every)
+                         self.kt_pass, self.rec[self.nrec:], self.every)
         self.nrec += got
         self.k += n
 
