@@ -348,8 +348,15 @@ class StreamDecimator:
         self.buf_start = keep_from
 
     def result(self) -> np.ndarray:
-        """The decimated record ``(n_channels, ceil(n / factor))``."""
+        """The decimated record ``(n_channels, ceil(n / factor))`` (what was not drained)."""
         return np.concatenate(self.out, axis=1) if self.out else self.buf[:, :0]
+
+    def drain(self) -> np.ndarray:
+        """The decimated samples produced since the last drain, and forget them (bounded
+        memory for a consumer that processes the output as it comes)."""
+        block = self.result()
+        self.out = []
+        return block
 
 
 def decimate_whole(x: np.ndarray, h: np.ndarray, factor: int) -> np.ndarray:
@@ -370,6 +377,7 @@ class ForceAnalysisSettings:
     fir_atten_db: float = 120.0
     envelope_blocks: int = 400
     excerpt_samples: int = 1000
+    lowband_max_s: float = 300.0
 
     @classmethod
     def from_mapping(cls, m: Mapping) -> ForceAnalysisSettings:
@@ -380,8 +388,8 @@ class ForceAnalysisSettings:
 class ForceSpectrumAccumulator:
     """Everything the force chapter needs from one cut, accumulated chunk by chunk.
 
-    Feed consecutive chunks of ``(n, 3)`` forces with :meth:`add`; memory is independent of the
-    record length except for the decimated low-band record (``n / decimation`` samples).
+    Feed consecutive chunks of ``(n, 3)`` forces with :meth:`add`; peak memory is independent of
+    the record length (at most ``lowband_max_s`` of the decimated low-band record is held).
 
     - mean forces (running sums);
     - full-band Welch PSD (:class:`robomill.spectra.WelchAccumulator`, equal to
@@ -391,7 +399,11 @@ class ForceSpectrumAccumulator:
       decimation (:class:`StreamDecimator`) followed by one DFT of the short decimated record:
       the bins k/T below ``lowband_hz`` are those of the full-rate DFT, scaled the same way
       (the filter starts in steady state at the level of the first samples, so the record's
-      mean causes no start-up transient);
+      mean causes no start-up transient). A record longer than ``lowband_max_s`` (a long
+      monitoring recording, not a thesis cut) gets the mean of P(k) over consecutive
+      ``lowband_max_s`` segments instead (resolution 1/``lowband_max_s``, an unwindowed
+      Bartlett average, same scale for a stationary signal; a last partial segment is dropped),
+      so that memory stays bounded at any length;
     - a min/max envelope (for the record plot) and a short raw excerpt (the middle of the
       record, for the zoom of thesis Fig 3.3b).
     """
@@ -409,6 +421,14 @@ class ForceSpectrumAccumulator:
         h = lowpass_fir(self.fs, settings.lowband_hz, self.fs_low - settings.lowband_hz,
                         settings.fir_atten_db)
         self.dec = StreamDecimator(h, settings.decimation, 3)
+        n_low = -(-self.n // settings.decimation)
+        seg = max(1, int(round(settings.lowband_max_s * self.fs_low)))
+        self.low_segment = n_low if n_low <= seg else seg
+        self.low_pending: list[np.ndarray] = []
+        self.low_fill = 0
+        self.low_power_sum: np.ndarray | None = None
+        self.low_f: np.ndarray | None = None
+        self.low_segments = 0
         self.sum = np.zeros(3)
         self.count = 0
         nb = max(1, min(settings.envelope_blocks, self.n))
@@ -432,6 +452,7 @@ class ForceSpectrumAccumulator:
         if self.offset is None:  # start the decimator in steady state at the first level
             self.offset = F[:, : self.s.decimation * 8].mean(axis=1, keepdims=True)
         self.dec.add(F - self.offset)
+        self._low_band(self.dec.drain())
         # envelope blocks overlapping this chunk
         b0 = np.searchsorted(self.block_edges, i0, side="right") - 1
         b1 = np.searchsorted(self.block_edges, i1, side="left")
@@ -447,21 +468,36 @@ class ForceSpectrumAccumulator:
             self.excerpt[:, lo - e0:hi - e0] = F[:, lo - i0:hi - i0]
         self.count = i1
 
-    def result(self) -> dict[str, np.ndarray]:
-        """Arrays of the cut's analysis (see :func:`force_cut_dataset`)."""
+    def _low_band(self, block: np.ndarray) -> None:
+        """Collect decimated samples; each full low-band segment adds its thesis power P(k)."""
         from robomill.spectra import thesis_spectrum
 
+        if block.shape[1]:
+            self.low_pending.append(block)
+            self.low_fill += block.shape[1]
+        while self.low_fill >= self.low_segment:
+            buf = np.concatenate(self.low_pending, axis=1)
+            seg, rest = buf[:, : self.low_segment], buf[:, self.low_segment:]
+            spec = thesis_spectrum(seg + self.offset, self.fs_low)
+            if self.low_power_sum is None:
+                self.low_power_sum, self.low_f = np.zeros_like(spec.power), spec.f
+            self.low_power_sum += spec.power
+            self.low_segments += 1
+            self.low_pending, self.low_fill = [rest], rest.shape[1]
+
+    def result(self) -> dict[str, np.ndarray]:
+        """Arrays of the cut's analysis (see :func:`force_cut_dataset`)."""
         if self.count != self.n:
             raise ValueError(f"accumulated {self.count} samples, expected {self.n}")
         f, psd = self.welch.result()
-        low = self.dec.result() + self.offset
-        spec = thesis_spectrum(low, self.fs_low)
-        keep = spec.f <= self.s.lowband_hz
+        power = self.low_power_sum / self.low_segments
+        keep = self.low_f <= self.s.lowband_hz
         # the decimated DFT has n/D samples: |Z_low|²/N_low² equals |Z|²/N² of the full record
         return {
             "mean": self.sum / self.n,
             "f_welch": f, "psd": psd,
-            "f_low": spec.f[keep], "power_low": spec.power[:, keep],
+            "f_low": self.low_f[keep], "power_low": power[:, keep],
+            "lowband_segments": self.low_segments,
             "env_t": (self.block_edges[:-1] + self.block_edges[1:]) / 2 / self.fs,
             "env_min": self.env_min, "env_max": self.env_max,
             "excerpt_t": (self.ex_start + np.arange(self.excerpt.shape[1])) / self.fs,
@@ -576,7 +612,8 @@ def force_cut_dataset(result: Mapping[str, np.ndarray], *, cut: Mapping, fs_hz: 
                "direction": cut["direction"], "feed_mm_s": v, "depth_mm": float(cut["depth_mm"]),
                "fs_hz": float(fs_hz), "n_samples": int(n_samples),
                "feed_per_tooth_mm": feed_per_tooth_mm(v, spindle_rpm, flutes),
-               "tooth_passing_hz": f_tp},
+               "tooth_passing_hz": f_tp,
+               "lowband_segments": int(result.get("lowband_segments", 1))},
     )
     return ds
 
