@@ -19,7 +19,8 @@ venv: $(STAMP)
 $(STAMP): environment.lock pyproject.toml
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --disable-pip-version-check "$$(grep -E '^uv==' environment.lock | cut -d' ' -f1)"
-	$(BIN)/uv pip sync -q --python $(BIN)/python environment.lock
+	# bytecode compiled at install: imports stay fast even where PYTHONDONTWRITEBYTECODE is set
+	$(BIN)/uv pip sync -q --compile-bytecode --python $(BIN)/python environment.lock
 	$(BIN)/uv pip install -q --python $(BIN)/python --no-deps -e .
 	$(BIN)/python -m ipykernel install --sys-prefix --name robomill --display-name "robomill (.venv)" >/dev/null
 	@touch $(STAMP)

@@ -18,8 +18,8 @@ import pandas as pd
 BENCH_DIR = Path(__file__).resolve().parent
 sys.path.insert(0, str(BENCH_DIR))
 
-MODULES = ["bench_pipeline", "bench_chatter", "bench_surface", "bench_forces",
-           "bench_straightness"]
+MODULES = ["bench_chatter", "bench_surface", "bench_forces", "bench_straightness",
+           "bench_longrecord", "bench_study"]
 """Benchmark modules in benchmarks/; each exposes ``run(out_dir) -> list[dict]``."""
 
 
@@ -27,6 +27,8 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--out", default="results/benchmarks")
     ap.add_argument("--only", nargs="*", help="run only these benchmark modules")
+    ap.add_argument("--book", default="results/thesis",
+                    help="book folder that gets the benchmarks page (if it exists)")
     args = ap.parse_args(argv)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -42,8 +44,16 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{name}: {len(got)} rows in {time.perf_counter() - t0:.1f} s", flush=True)
         rows.extend(got)
     df = pd.DataFrame(rows)
-    df.to_csv(out / "summary.csv", index=False)
+    summary = out / "summary.csv"
+    if args.only and summary.exists():  # a partial run keeps the other benchmarks' rows
+        old = pd.read_csv(summary)
+        df = pd.concat([old[~old["benchmark"].isin(df.get("benchmark", []))], df])
+    df.to_csv(summary, index=False)
     print(df.to_string(index=False))
+    if Path(args.book).joinpath("index.html").exists():
+        from robomill.book import add_benchmarks_page
+
+        print(f"book page: {add_benchmarks_page(args.book, out / 'summary.csv')}")
     return 0
 
 

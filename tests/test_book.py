@@ -103,3 +103,15 @@ def test_book_in_headless_chromium(tiny_run):
     finally:
         browser.quit()
     assert (thesis / "screenshot.png").stat().st_size > 10_000
+
+
+def test_benchmarks_page_is_added_to_an_existing_book(tmp_path):
+    from robomill.book import add_benchmarks_page
+
+    (tmp_path / "index.html").write_text("<html><body><ol><li>ch</li></ol><ol></ol></body></html>")
+    csv = tmp_path / "summary.csv"
+    csv.write_text("benchmark,metric,value,unit\nstudy,no-op rerun of `all`,3.9,s\n")
+    for _ in range(2):  # twice: one link only
+        page = add_benchmarks_page(tmp_path, csv)
+    assert "no-op rerun" in page.read_text()
+    assert (tmp_path / "index.html").read_text().count('href="benchmarks.html"') == 1

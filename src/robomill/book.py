@@ -184,6 +184,22 @@ def build_book(
     return index
 
 
+def add_benchmarks_page(out_dir: str | Path, benchmarks_csv: str | Path) -> Path:
+    """Write ``benchmarks.html`` into an existing book from ``make bench``'s summary.csv and
+    link it from the contents (``make bench`` runs after the book was built)."""
+    out = Path(out_dir)
+    page = out / "benchmarks.html"
+    _write_table_page(page, "Benchmarks", pd.read_csv(benchmarks_csv))
+    index = out / "index.html"
+    if index.exists():
+        text = index.read_text()
+        if 'href="benchmarks.html"' not in text:
+            text = text.replace("</ol>", '<li><a href="benchmarks.html">Benchmarks</a></li></ol>',
+                                1)
+            index.write_text(text)
+    return page
+
+
 def _page(title: str, body: str) -> str:
     return (f"<!DOCTYPE html><html><head><meta charset='utf-8'><title>{html.escape(title)}"
             f"</title><style>{_CSS}{_NAV_CSS}</style></head><body>{body}</body></html>")

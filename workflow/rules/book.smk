@@ -50,6 +50,7 @@ rule book:
             os.path.dirname(os.path.dirname(input.cuts)), "figures"
         ),
         out_dir=lambda w, output: os.path.dirname(output.index),
+        benchmarks="results/benchmarks/summary.csv",
     script:
         "../scripts/book.py"
 

@@ -13,5 +13,6 @@ index = build_book(
     provenance=run_provenance(snakemake.config, inp.manifest),
     cuts_csv=inp.cuts,
     scorecard_csv=inp.get("scorecard"),
+    benchmarks_csv=snakemake.params.benchmarks,  # written by `make bench`, used when present
 )
 log.info("book written to %s (%d chapters)", index, len(inp.chapters))
