@@ -91,3 +91,77 @@ def test_repository_chapters_declare_typed_parameters(repo):
         declared = declared_parameters(nb)
         assert "fig_dir" in declared, nb
         assert all(t not in ("None", "") for t in declared.values()), (nb, declared)
+
+
+def test_kernels_talk_over_private_unix_sockets(tmp_path):
+    """Parallel chapter jobs must not race for TCP ports: each kernel gets IPC sockets in its
+    own folder, and the chapter runs over them."""
+    from robomill.chapters import private_kernel_manager
+
+    a = private_kernel_manager("python3", tmp_path / "a")
+    b = private_kernel_manager("python3", tmp_path / "b")
+    assert a.transport == b.transport == "ipc"
+    assert a.ip.startswith(str(tmp_path / "a")) and b.ip.startswith(str(tmp_path / "b"))
+    nb = _notebook(tmp_path, "import json, pathlib\nfrom ipykernel.kernelapp import IPKernelApp\n"
+                   "app = IPKernelApp.instance()\nprint('transport', app.transport)")
+    out = _render(tmp_path, nb, data="a.csv")
+    assert "transport ipc" in (out / "c.html").read_text()
+
+
+def test_parallel_chapters_all_render(tmp_path):
+    """Four chapters started at the same moment in separate processes all render."""
+    import concurrent.futures as cf
+    import multiprocessing
+
+    jobs = []
+    for i in range(4):
+        d = tmp_path / f"job{i}"
+        d.mkdir()
+        jobs.append((_notebook(d, f"print('job', {i})"), d))
+    ctx = multiprocessing.get_context("spawn")
+    with cf.ProcessPoolExecutor(4, mp_context=ctx) as pool:
+        list(pool.map(_render_positional, [d for _, d in jobs], [nb for nb, _ in jobs]))
+    for i, (_, d) in enumerate(jobs):
+        assert f"job {i}" in (d / "out" / "c.html").read_text()
+
+
+def _render_positional(tmp_path, nb):
+    return _render(tmp_path, nb, data="a.csv")
+
+
+def test_kernel_that_never_answers_is_started_again(tmp_path, monkeypatch):
+    """A start-up failure (no cell ran) is retried with a fresh kernel; a cell failure is not."""
+    import papermill as pm
+
+    from robomill import chapters
+
+    real = pm.execute_notebook
+    calls = []
+
+    def first_start_fails(*args, **kwargs):
+        calls.append(kwargs["km"].ip)
+        if len(calls) == 1:
+            raise RuntimeError("Kernel didn't respond in 1 seconds")
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(pm, "execute_notebook", first_start_fails)
+    out = _render(tmp_path, _notebook(tmp_path, "print('value', n * 21)"), data="a.csv")
+    assert "value 42" in (out / "c.html").read_text()
+    assert len(calls) == 2 and calls[0] != calls[1]
+
+    def never_starts(*args, **kwargs):
+        calls.append(kwargs["km"].ip)
+        raise RuntimeError("Kernel didn't respond in 1 seconds")
+
+    calls.clear()
+    monkeypatch.setattr(pm, "execute_notebook", never_starts)
+    with pytest.raises(ChapterError, match="didn't respond"):
+        _render(tmp_path / "again", _notebook(tmp_path, "print(1)"), data="a.csv")
+    assert len(calls) == chapters.KERNEL_START_ATTEMPTS
+
+    calls.clear()
+    monkeypatch.setattr(pm, "execute_notebook", first_start_fails)
+    with pytest.raises(ChapterError, match="planted"):
+        _render(tmp_path / "cell", _notebook(tmp_path, "raise ValueError('planted')"),
+                data="a.csv")
+    assert len(calls) == 2  # the first (start) failure retried; the cell failure was not

@@ -8,6 +8,7 @@ beside the log so the error can be read in context.
 
 from __future__ import annotations
 
+import logging
 import shutil
 import tempfile
 from collections.abc import Mapping
@@ -15,6 +16,11 @@ from pathlib import Path
 from typing import Any
 
 import nbformat
+
+log = logging.getLogger(__name__)
+
+#: a kernel that never answered is started afresh this many times in all
+KERNEL_START_ATTEMPTS = 2
 
 
 class ChapterError(RuntimeError):
@@ -83,6 +89,29 @@ def _parameter_table(parameters: Mapping[str, Any], declared: Mapping[str, str])
     return "**Parameters of this run**\n\n" + "\n".join(rows)
 
 
+def private_kernel_manager(kernel: str, socket_dir: Path):
+    """A kernel manager whose kernel talks over Unix sockets in ``socket_dir``.
+
+    Chapter jobs run in parallel, each starting a kernel. Over TCP, jupyter_client picks five
+    free ports by binding and releasing them and the kernel binds them later; two jobs
+    starting together can pick the same ports, and one of them then waits for a kernel that
+    never answers ("Kernel didn't respond", papermill issue 511; seen here with ch2 and ch5).
+    IPC sockets in a folder private to the job cannot collide.
+    """
+    from jupyter_client.manager import AsyncKernelManager
+
+    return AsyncKernelManager(kernel_name=kernel, transport="ipc",
+                              ip=str(Path(socket_dir) / "kernel"))
+
+
+def _kernel_never_ran(error: Exception, staged_nb: Path) -> bool:
+    """True when execution failed before the kernel ran any cell (a start-up failure)."""
+    if not staged_nb.exists():
+        return True
+    nb = nbformat.read(staged_nb, as_version=4)
+    return not any(c.get("execution_count") for c in nb.cells if c.cell_type == "code")
+
+
 def notebook_errors(nb: nbformat.NotebookNode) -> list[str]:
     """Error outputs of an executed notebook, as ``"cell N: EName: value"`` lines."""
     found = []
@@ -127,14 +156,24 @@ def render_chapter(
         params = {**parameters, "fig_dir": str(staged_figs.resolve())}
         declared = check_parameters(notebook, params)
         error: Exception | None = None
-        try:
-            pm.execute_notebook(
-                str(notebook), str(staged_nb), parameters=params, kernel_name=kernel,
-                start_timeout=start_timeout_s, execution_timeout=execution_timeout_s,
-                cwd=str(cwd) if cwd else None, progress_bar=False, log_output=False,
-            )
-        except Exception as exc:  # papermill raises PapermillExecutionError and others
-            error = exc
+        for attempt in range(1, KERNEL_START_ATTEMPTS + 1):
+            error = None
+            sockets = Path(tempfile.mkdtemp(prefix="robomill-kernel-"))
+            try:
+                pm.execute_notebook(
+                    str(notebook), str(staged_nb), parameters=params, kernel_name=kernel,
+                    km=private_kernel_manager(kernel, sockets),
+                    start_timeout=start_timeout_s, execution_timeout=execution_timeout_s,
+                    cwd=str(cwd) if cwd else None, progress_bar=False, log_output=False,
+                )
+            except Exception as exc:  # papermill raises PapermillExecutionError and others
+                error = exc
+            finally:
+                shutil.rmtree(sockets, ignore_errors=True)
+            if error is None or not _kernel_never_ran(error, staged_nb):
+                break
+            log.warning("chapter %s: kernel did not start (%s), attempt %d of %d", notebook,
+                        error, attempt, KERNEL_START_ATTEMPTS)
         nb = nbformat.read(staged_nb, as_version=4) if staged_nb.exists() else None
         problems = notebook_errors(nb) if nb is not None else []
         if error is not None or problems:
