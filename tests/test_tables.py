@@ -29,6 +29,8 @@ def test_good_file(tmp_path):
         ("x_mm,z_um\n0,1\n1,nan\n", "row 3, column z_um"),
         ("x_mm,z_um\n0,1\n1,inf\n", "not finite"),
         ("x_mm,z_um\n0,1\n1\n", "row 3.*truncated"),
+        ("x_mm;z_um\n0;1\n", "separated by semicolons; the contract requires commas"),
+        ("x_mm\tz_um\n0\t1\n", "separated by tabs"),
     ],
 )
 def test_bad_files_are_explained(tmp_path, text, match):

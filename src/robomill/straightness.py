@@ -26,7 +26,7 @@ All functions are pure (numpy / pandas / xarray in, out); readers and writers li
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -283,6 +283,17 @@ def _gear_field(g: Any, name: str) -> Any:
     return g[name] if isinstance(g, Mapping) else getattr(g, name)
 
 
+def gear_orders(gears: Sequence[Any]) -> Iterator[tuple[int, str, str, float]]:
+    """``(joint, stage, order, multiplier)`` for every gear and order: ``runout`` turns
+    ``r`` times per joint revolution, ``mesh`` ``r z`` times (SPEC §3.2)."""
+    for g in gears:
+        r = float(_gear_field(g, "rev_per_joint_rev"))
+        z = int(_gear_field(g, "teeth"))
+        joint, stage = int(_gear_field(g, "joint")), str(_gear_field(g, "stage"))
+        yield joint, stage, "runout", r
+        yield joint, stage, "mesh", r * z
+
+
 def joint_path_for_line(robot: SerialRobot, start_mm: np.ndarray, end_mm: np.ndarray,
                         rotation: np.ndarray, q0_rad: np.ndarray,
                         n_points: int = 41) -> tuple[np.ndarray, np.ndarray]:
@@ -327,17 +338,12 @@ def gear_spatial_frequencies(q_rad: np.ndarray, s_mm: np.ndarray,
     s = np.asarray(s_mm, float)
     dq = np.abs(np.gradient(q, s, axis=0)) / (2 * np.pi)  # joint rev per mm
     mean_rate = np.abs(q[-1] - q[0]) / (s[-1] - s[0]) / (2 * np.pi)
-    rows = []
-    for g in gears:
-        j = int(_gear_field(g, "joint"))
-        r = float(_gear_field(g, "rev_per_joint_rev"))
-        z = int(_gear_field(g, "teeth"))
-        for order, mult in (("runout", r), ("mesh", r * z)):
-            rows.append({"joint": j, "stage": str(_gear_field(g, "stage")), "order": order,
-                         "f_spatial_per_mm": mult * mean_rate[j - 1],
-                         "f_min_per_mm": mult * dq[:, j - 1].min(),
-                         "f_max_per_mm": mult * dq[:, j - 1].max(),
-                         "rev_per_mm_joint": mean_rate[j - 1]})
+    rows = [{"joint": j, "stage": stage, "order": order,
+             "f_spatial_per_mm": mult * mean_rate[j - 1],
+             "f_min_per_mm": mult * dq[:, j - 1].min(),
+             "f_max_per_mm": mult * dq[:, j - 1].max(),
+             "rev_per_mm_joint": mean_rate[j - 1]}
+            for j, stage, order, mult in gear_orders(gears)]
     return pd.DataFrame(rows)
 
 
@@ -355,15 +361,11 @@ def gear_frequencies_from_motion(t_s: np.ndarray, q_rad: np.ndarray, p_mm: np.nd
     v = np.linalg.norm(np.gradient(np.asarray(p_mm, float), t, axis=0), axis=1)
     sel = v >= min_speed_fraction * v.max()
     rows = []
-    for g in gears:
-        j = int(_gear_field(g, "joint"))
-        r = float(_gear_field(g, "rev_per_joint_rev"))
-        z = int(_gear_field(g, "teeth"))
-        for order, mult in (("runout", r), ("mesh", r * z)):
-            ft = mult * qd[sel, j - 1]
-            rows.append({"joint": j, "stage": str(_gear_field(g, "stage")), "order": order,
-                         "f_temporal_hz": float(ft.mean()),
-                         "f_spatial_per_mm": float(np.mean(ft / v[sel]))})
+    for j, stage, order, mult in gear_orders(gears):
+        ft = mult * qd[sel, j - 1]
+        rows.append({"joint": j, "stage": stage, "order": order,
+                     "f_temporal_hz": float(ft.mean()),
+                     "f_spatial_per_mm": float(np.mean(ft / v[sel]))})
     return pd.DataFrame(rows)
 
 

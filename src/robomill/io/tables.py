@@ -30,6 +30,11 @@ def _column_hint(expected: str, found: Sequence[str]) -> str | None:
             if mc and mc["stem"] == m["stem"] and mc["unit"] != m["unit"]:
                 return (f"column '{col}' is in unit '{mc['unit']}', the contract requires "
                         f"'{expected}' (unit '{m['unit']}'): convert the values and rename it")
+    if len(found) == 1:
+        for sep, name in ((";", "semicolons"), ("\t", "tabs"), ("|", "bars")):
+            if sep in found[0] and expected in [c.strip() for c in found[0].split(sep)]:
+                return (f"the header is separated by {name}; the contract requires commas "
+                        "(export as CSV with ',' as separator and '.' as decimal mark)")
     import difflib
 
     close = difflib.get_close_matches(expected, list(found), n=1, cutoff=0.7)
