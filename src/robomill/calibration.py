@@ -27,7 +27,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
-import scipy.optimize
 import xarray as xr
 
 from robomill.kinematics import geometric_model, rodrigues
@@ -100,6 +99,7 @@ def fit_circle(points: np.ndarray, *, refine: bool = True) -> CircleFit:
             return np.r_[rad - x[3], h]
 
         # the plane offset is fitted too (the SVD plane minimizes the same residuals)
+        import scipy.optimize  # here, not at the top: keeps Snakemake's start-up short
         sol = scipy.optimize.least_squares(resid, np.r_[a, b, 0.0, r], method="lm",
                                            xtol=1e-15, ftol=1e-15, gtol=1e-15)
         a, b, height, r = sol.x

@@ -31,7 +31,6 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
-import scipy.signal
 import xarray as xr
 
 DIRECTIONS = ("X", "Y", "Z")
@@ -88,6 +87,8 @@ def modal_acceleration_ms2(modes, force_N: np.ndarray, fs_hz: float) -> np.ndarr
     """
     force = np.asarray(force_N, float)
     acc = np.zeros_like(force)
+    import scipy.signal  # here, not at the top: keeps Snakemake's start-up short
+
     for m in modes:
         wn = 2 * np.pi * m.f_hz
         num, den = [1.0 / m.m_kg, 0.0, 0.0], [1.0, 2 * m.zeta * wn, wn**2]

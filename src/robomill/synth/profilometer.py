@@ -50,12 +50,9 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
-import scipy.interpolate
-import scipy.signal
 import xarray as xr
 
 from robomill.experiment import Cut, feed_per_tooth_mm, plan_cuts
-from robomill.spectra import segment_rms
 
 INSTRUMENT_NUMBER = 1
 """Stream number of this instrument in the per-file random generators."""
@@ -135,6 +132,7 @@ def kinematic_waviness_um(cell, cut: Cut, p: Mapping[str, Any]) -> np.ndarray:
     step = float(p["ik_step_mm"])
     s_coarse = np.arange(s[0], s[-1] + step, step)
     q_coarse = cell.joint_path_rad(cut, s_coarse)
+    import scipy.interpolate  # here, not at the top: keeps Snakemake's start-up short
     q = scipy.interpolate.CubicSpline(s_coarse, q_coarse, axis=0)(s)
     e = cell.tcp_error_mm(q)
     dq1 = cell.joint_error_rad(q)[:, 0]
@@ -143,6 +141,10 @@ def kinematic_waviness_um(cell, cut: Cut, p: Mapping[str, Any]) -> np.ndarray:
 
 
 def _unit_segment_rms(z: np.ndarray, fs: float, segment_mm: float) -> np.ndarray:
+    from robomill.spectra import (
+        segment_rms,  # here, not at the top: keeps Snakemake's start-up short
+    )
+
     rms = segment_rms(z, fs, segment_mm)
     return z / rms if rms > 0 else z
 
@@ -166,6 +168,7 @@ def components_um(cell, cut: Cut, p: Mapping[str, Any]) -> dict[str, np.ndarray]
     """Every planted component of one trace [µm]: waviness, roughness, tilt, noise."""
     x = x_mm(p)
     fs = float(p["fs_per_mm"])
+    import scipy.signal  # here, not at the top: keeps Snakemake's start-up short
     kin = scipy.signal.detrend(kinematic_waviness_um(cell, cut, p))
     waviness = waviness_level_um(p, cut) * _unit_segment_rms(kin, fs, WAVINESS_SEGMENT_MM)
     rng = _rng(cell, cut, 1)
@@ -198,6 +201,10 @@ def truth(config: Mapping[str, Any], cell) -> xr.Dataset:
     fs = float(p["fs_per_mm"])
     cuts = _cuts(config)
     wav, rough, rigid = [], [], []
+    import scipy.signal  # here, not at the top: keeps Snakemake's start-up short
+
+    from robomill.spectra import segment_rms
+
     for c in cuts:
         rough.append(segment_rms(roughness_component_um(cell, c, p), fs, ROUGHNESS_SEGMENT_MM))
         wav.append(waviness_level_um(p, c))

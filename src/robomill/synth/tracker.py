@@ -24,7 +24,6 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
-import scipy.interpolate
 import xarray as xr
 
 from robomill.experiment import Cut, plan_cuts
@@ -127,6 +126,7 @@ def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
     n_grid = int(np.ceil(L / float(tr["path_step_mm"]))) + 1
     s_grid = np.linspace(0.0, L, n_grid)
     q_grid = cell.joint_path_rad(cut, s_grid)
+    import scipy.interpolate  # here, not at the top: keeps Snakemake's start-up short
     q = scipy.interpolate.CubicSpline(s_grid, q_grid, axis=0)(s)
     nominal = cell.cut_path_mm(cut, s)
     gear_err = cell.tcp_error_mm(q)
