@@ -98,14 +98,27 @@ def test_kernels_talk_over_private_unix_sockets(tmp_path):
     own folder, and the chapter runs over them."""
     from robomill.chapters import private_kernel_manager
 
-    a = private_kernel_manager("python3", tmp_path / "a")
-    b = private_kernel_manager("python3", tmp_path / "b")
+    a = private_kernel_manager("python3", tmp_path / "a")()
+    b = private_kernel_manager("python3", tmp_path / "b")()
     assert a.transport == b.transport == "ipc"
     assert a.ip.startswith(str(tmp_path / "a")) and b.ip.startswith(str(tmp_path / "b"))
     nb = _notebook(tmp_path, "import json, pathlib\nfrom ipykernel.kernelapp import IPKernelApp\n"
                    "app = IPKernelApp.instance()\nprint('transport', app.transport)")
     out = _render(tmp_path, nb, data="a.csv")
     assert "transport ipc" in (out / "c.html").read_text()
+
+
+def test_no_kernel_outlives_its_chapter(tmp_path):
+    """nbclient owns the kernel manager, so the kernel is shut down after the render."""
+    import psutil
+
+    def kernels():
+        return {p.pid for p in psutil.Process().children(recursive=True)
+                if "ipykernel" in " ".join(p.cmdline())}
+
+    before = kernels()
+    _render(tmp_path, _notebook(tmp_path, "print(1)"), data="a.csv")
+    assert kernels() <= before
 
 
 def test_parallel_chapters_all_render(tmp_path):
@@ -139,7 +152,7 @@ def test_kernel_that_never_answers_is_started_again(tmp_path, monkeypatch):
     calls = []
 
     def first_start_fails(*args, **kwargs):
-        calls.append(kwargs["km"].ip)
+        calls.append(kwargs["kernel_manager_class"]().ip)
         if len(calls) == 1:
             raise RuntimeError("Kernel didn't respond in 1 seconds")
         return real(*args, **kwargs)
@@ -150,7 +163,7 @@ def test_kernel_that_never_answers_is_started_again(tmp_path, monkeypatch):
     assert len(calls) == 2 and calls[0] != calls[1]
 
     def never_starts(*args, **kwargs):
-        calls.append(kwargs["km"].ip)
+        calls.append(kwargs["kernel_manager_class"]().ip)
         raise RuntimeError("Kernel didn't respond in 1 seconds")
 
     calls.clear()

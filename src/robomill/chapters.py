@@ -90,18 +90,26 @@ def _parameter_table(parameters: Mapping[str, Any], declared: Mapping[str, str])
 
 
 def private_kernel_manager(kernel: str, socket_dir: Path):
-    """A kernel manager whose kernel talks over Unix sockets in ``socket_dir``.
+    """A kernel manager class whose kernels talk over Unix sockets in ``socket_dir``.
 
     Chapter jobs run in parallel, each starting a kernel. Over TCP, jupyter_client picks five
     free ports by binding and releasing them and the kernel binds them later; two jobs
     starting together can pick the same ports, and one of them then waits for a kernel that
     never answers ("Kernel didn't respond", papermill issue 511; seen here with ch2 and ch5).
-    IPC sockets in a folder private to the job cannot collide.
+    IPC sockets in a folder private to the job cannot collide. A class, not an instance, is
+    handed to papermill (``kernel_manager_class``) so that nbclient owns the manager and
+    shuts the kernel down when the notebook is done.
     """
     from jupyter_client.manager import AsyncKernelManager
 
-    return AsyncKernelManager(kernel_name=kernel, transport="ipc",
-                              ip=str(Path(socket_dir) / "kernel"))
+    prefix = str(Path(socket_dir) / "kernel")
+
+    class PrivateSocketKernelManager(AsyncKernelManager):
+        def __init__(self, **kwargs):
+            kwargs.setdefault("kernel_name", kernel)
+            super().__init__(transport="ipc", ip=prefix, **kwargs)
+
+    return PrivateSocketKernelManager
 
 
 def _kernel_never_ran(error: Exception, staged_nb: Path) -> bool:
@@ -162,7 +170,7 @@ def render_chapter(
             try:
                 pm.execute_notebook(
                     str(notebook), str(staged_nb), parameters=params, kernel_name=kernel,
-                    km=private_kernel_manager(kernel, sockets),
+                    kernel_manager_class=private_kernel_manager(kernel, sockets),
                     start_timeout=start_timeout_s, execution_timeout=execution_timeout_s,
                     cwd=str(cwd) if cwd else None, progress_bar=False, log_output=False,
                 )
