@@ -17,8 +17,8 @@ rule synth_ctrack:
     conda:
         ENV
     params:
-        synth=lookup(dpath="synth", within=config),
-        experiment=lookup(dpath="experiment", within=config),
+        synth=config["synth"],
+        experiment=config["experiment"],
         table=lambda w: w.table,
     script:
         "../scripts/calibration_synth.py"
@@ -45,7 +45,7 @@ rule calibration_identify:
     conda:
         ENV
     params:
-        calibration=lookup(dpath="calibration", within=config),
+        calibration=config["calibration"],
         relpaths={k: v for k, v in CTRACK_TABLES.items() if k != "accuracy"},
     script:
         "../scripts/calibration_identify.py"
@@ -73,7 +73,7 @@ rule calibration_accuracy:
     conda:
         ENV
     params:
-        regions=lookup(dpath="calibration/regions", within=config),
+        regions=config["calibration"]["regions"],
         relpath=CTRACK_TABLES.get("accuracy", "ctrack/accuracy.csv"),
     script:
         "../scripts/calibration_accuracy.py"
@@ -117,7 +117,7 @@ rule ch1:
     conda:
         ENV
     params:
-        options=lookup(dpath="chapters", within=config),
+        options=config["chapters"],
         failed_copy="results/logs/chapters/ch1.failed.ipynb",
     script:
         "../scripts/render_chapter.py"

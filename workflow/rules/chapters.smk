@@ -29,7 +29,7 @@ rule ch0:
     conda:
         ENV
     params:
-        options=lookup(dpath="chapters", within=config),
+        options=config["chapters"],
         failed_copy="results/logs/chapters/ch0.failed.ipynb",
     script:
         "../scripts/render_chapter.py"

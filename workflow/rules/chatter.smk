@@ -24,9 +24,9 @@ rule chatter_case:
         ENV
     params:
         case=lambda w: CHATTER_CASES[w.chatter_case],
-        sdm_steps_per_period=lookup(dpath="chatter/sdm_steps_per_period", within=config),
-        rtol=lookup(dpath="chatter/rtol", within=config),
-        depth_max_mm=lookup(dpath="chatter/depth_max_mm", within=config),
+        sdm_steps_per_period=config["chatter"]["sdm_steps_per_period"],
+        rtol=config["chatter"]["rtol"],
+        depth_max_mm=config["chatter"]["depth_max_mm"],
     script:
         "../scripts/chatter_case.py"
 
@@ -50,7 +50,7 @@ rule chatter_seed:
     conda:
         ENV
     params:
-        seed=lookup(dpath="chatter/seed", within=config),
+        seed=config["chatter"]["seed"],
     script:
         "../scripts/chatter_seed.py"
 
@@ -82,9 +82,9 @@ rule chatter_thesis:
     conda:
         ENV
     params:
-        thesis=lookup(dpath="chatter/thesis", within=config),
-        spindle_rpm=lookup(dpath="experiment/spindle_rpm", within=config),
-        flutes=lookup(dpath="experiment/flutes", within=config),
+        thesis=config["chatter"]["thesis"],
+        spindle_rpm=config["experiment"]["spindle_rpm"],
+        flutes=config["experiment"]["flutes"],
         depths_mm=sorted({s["depth_mm"] for s in config["experiment"]["sets"]}),
     script:
         "../scripts/chatter_thesis.py"
@@ -127,7 +127,7 @@ rule ch4:
     conda:
         ENV
     params:
-        options=lookup(dpath="chapters", within=config),
+        options=config["chapters"],
         failed_copy="results/logs/chapters/ch4.failed.ipynb",
     script:
         "../scripts/render_chapter.py"

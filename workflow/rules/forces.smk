@@ -27,8 +27,8 @@ rule forces_synth_dynamometer:
     conda:
         ENV
     params:
-        synth=lookup(dpath="synth", within=config),
-        experiment=lookup(dpath="experiment", within=config),
+        synth=config["synth"],
+        experiment=config["experiment"],
         cut=lambda w: CUT_BY_ID[w.cut].as_dict(),
     script:
         "../scripts/forces_synth_dynamometer.py"
@@ -48,7 +48,7 @@ rule forces_cut:
     conda:
         ENV
     params:
-        settings=lookup(dpath="forces", within=config),
+        settings=config["forces"],
         relpath=lambda w: force_entry(w)["path"],
         cut=lambda w: w.cut,
     script:
@@ -83,7 +83,7 @@ rule forces_gather:
     conda:
         ENV
     params:
-        settings=lookup(dpath="forces", within=config),
+        settings=config["forces"],
     script:
         "../scripts/forces_gather.py"
 
@@ -129,10 +129,10 @@ rule ch3_forces:
     conda:
         ENV
     params:
-        options=lookup(dpath="chapters", within=config),
+        options=config["chapters"],
         failed_copy="results/logs/chapters/ch3_forces.failed.ipynb",
         parameters={
-            "settings": lookup(dpath="forces", within=config),
+            "settings": config["forces"],
             "synthetic": SYNTHETIC,
         },
     script:

@@ -21,7 +21,7 @@ rule hexapod_dynamics:
     conda:
         ENV
     params:
-        hexapod=lookup(dpath="hexapod", within=config),
+        hexapod=config["hexapod"],
     script:
         "../scripts/hexapod_dynamics.py"
 
@@ -38,7 +38,7 @@ rule hexapod_sensitivity_shard:
     conda:
         ENV
     params:
-        hexapod=lookup(dpath="hexapod", within=config),
+        hexapod=config["hexapod"],
         actuator=lambda wildcards: int(wildcards.actuator),
     script:
         "../scripts/hexapod_sensitivity_shard.py"
@@ -60,7 +60,7 @@ rule hexapod_sensitivity:
     conda:
         ENV
     params:
-        hexapod=lookup(dpath="hexapod", within=config),
+        hexapod=config["hexapod"],
     script:
         "../scripts/hexapod_sensitivity.py"
 
@@ -100,7 +100,7 @@ rule ch6:
     conda:
         ENV
     params:
-        options=lookup(dpath="chapters", within=config),
+        options=config["chapters"],
         failed_copy="results/logs/chapters/ch6.failed.ipynb",
     script:
         "../scripts/render_chapter.py"

@@ -19,8 +19,8 @@ rule synth_impact:
     conda:
         ENV
     params:
-        synth=lookup(dpath="synth", within=config),
-        experiment=lookup(dpath="experiment", within=config),
+        synth=config["synth"],
+        experiment=config["experiment"],
         direction=lambda w: w.hit_dir,
         hit=lambda w: int(w.hit),
     script:
@@ -47,7 +47,7 @@ rule modal_frf:
     conda:
         ENV
     params:
-        modal=lookup(dpath="modal", within=config),
+        modal=config["modal"],
         files=[
             {"path": f["path"], "direction": f["direction"], "hit": f["hit"]}
             for f in MODAL_HITS
@@ -77,7 +77,7 @@ rule modal_identify:
     conda:
         ENV
     params:
-        modal=lookup(dpath="modal", within=config),
+        modal=config["modal"],
     script:
         "../scripts/modal_identify.py"
 
@@ -123,7 +123,7 @@ rule ch3_modal:
     conda:
         ENV
     params:
-        options=lookup(dpath="chapters", within=config),
+        options=config["chapters"],
         failed_copy="results/logs/chapters/ch3_modal.failed.ipynb",
     script:
         "../scripts/render_chapter.py"

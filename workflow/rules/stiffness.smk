@@ -36,7 +36,7 @@ rule synth_loadtests_robot:
     conda:
         ENV
     params:
-        synth=lookup(dpath="synth", within=config),
+        synth=config["synth"],
         robot=lambda w: w.robot,
     script:
         "../scripts/stiffness_synth_robot.py"
@@ -54,7 +54,7 @@ rule synth_loadtests:
     conda:
         ENV
     params:
-        synth=lookup(dpath="synth", within=config),
+        synth=config["synth"],
         robot=lambda w: w.robot,
     script:
         "../scripts/stiffness_synth_loadtests.py"
@@ -80,7 +80,7 @@ rule stiffness_identify:
         robot=lambda w: w.robot,
         robot_rel=lambda w: STIFF_REL[("robot", w.robot)],
         tests_rel=lambda w: STIFF_REL[("stiffness", w.robot)],
-        options=lookup(dpath="stiffness/identification", within=config),
+        options=config["stiffness"]["identification"],
     script:
         "../scripts/stiffness_identify.py"
 
@@ -107,7 +107,7 @@ rule stiffness_map:
         robot_rel=STIFF_REL.get(("robot", MAP_ROBOT), ""),
         height_mm=lambda w: float(w.height),
         redundancy_deg=lambda w: float(w.angle),
-        map=lookup(dpath="stiffness/map", within=config),
+        map=config["stiffness"]["map"],
     script:
         "../scripts/stiffness_map.py"
 
@@ -129,7 +129,7 @@ rule stiffness_maps:
     conda:
         ENV
     params:
-        map=lookup(dpath="stiffness/map", within=config),
+        map=config["stiffness"]["map"],
         seed=STIFF_SEED,
     script:
         "../scripts/stiffness_maps.py"
@@ -158,7 +158,7 @@ rule stiffness_optimal:
     conda:
         ENV
     params:
-        map=lookup(dpath="stiffness/map", within=config),
+        map=config["stiffness"]["map"],
         seed=STIFF_SEED,
     script:
         "../scripts/stiffness_optimal.py"
@@ -176,7 +176,7 @@ rule stiffness_beamframe:
     conda:
         ENV
     params:
-        beamframe=lookup(dpath="stiffness/beamframe", within=config),
+        beamframe=config["stiffness"]["beamframe"],
     script:
         "../scripts/stiffness_beamframe.py"
 
@@ -201,10 +201,10 @@ rule stiffness_thesis:
         ENV
     params:
         robot_rel=STIFF_REL.get(("robot", THESIS_ROBOT), ""),
-        synth=lookup(dpath="synth", within=config),
-        experiment=lookup(dpath="experiment", within=config),
+        synth=config["synth"],
+        experiment=config["experiment"],
         cuts=[c.as_dict() for c in CUTS],
-        beamframe=lookup(dpath="stiffness/beamframe", within=config),
+        beamframe=config["stiffness"]["beamframe"],
     script:
         "../scripts/stiffness_thesis.py"
 
@@ -264,7 +264,7 @@ rule ch5:
     conda:
         ENV
     params:
-        options=lookup(dpath="chapters", within=config),
+        options=config["chapters"],
         failed_copy="results/logs/chapters/ch5.failed.ipynb",
     script:
         "../scripts/render_chapter.py"

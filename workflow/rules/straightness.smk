@@ -24,8 +24,8 @@ rule straightness_synth_tracker:
     conda:
         ENV
     params:
-        synth=lookup(dpath="synth", within=config),
-        experiment=lookup(dpath="experiment", within=config),
+        synth=config["synth"],
+        experiment=config["experiment"],
         direction=lambda w: TRACKER_RUNS[w.run]["direction"],
         feed_mm_s=lambda w: TRACKER_RUNS[w.run]["feed_mm_s"],
         cut=lambda w: TRACKER_RUNS[w.run]["cut"],
@@ -51,10 +51,10 @@ rule straightness_run:
     conda:
         ENV
     params:
-        settings=lookup(dpath="straightness", within=config),
-        robot=lookup(dpath="synth/robot", within=config),
-        gears=lookup(dpath="synth/gears", within=config),
-        q_home_deg=lookup(dpath="synth/q_home_deg", within=config),
+        settings=config["straightness"],
+        robot=config["synth"]["robot"],
+        gears=config["synth"]["gears"],
+        q_home_deg=config["synth"]["q_home_deg"],
         relpath=lambda w: TRACKER_RUNS[w.run]["path"],
         direction=lambda w: TRACKER_RUNS[w.run]["direction"],
         feed_mm_s=lambda w: TRACKER_RUNS[w.run]["feed_mm_s"],
@@ -86,7 +86,7 @@ rule straightness_gather:
     conda:
         ENV
     params:
-        settings=lookup(dpath="straightness", within=config),
+        settings=config["straightness"],
         runs=[{"run": r} for r in TRACKER_RUNS],
     script:
         "../scripts/straightness_gather.py"
@@ -107,7 +107,7 @@ rule straightness_truth_check:
     conda:
         ENV
     params:
-        settings=lookup(dpath="straightness", within=config),
+        settings=config["straightness"],
     script:
         "../scripts/straightness_truth_check.py"
 
@@ -151,10 +151,10 @@ rule ch3_straightness:
     conda:
         ENV
     params:
-        options=lookup(dpath="chapters", within=config),
+        options=config["chapters"],
         failed_copy="results/logs/chapters/ch3_straightness.failed.ipynb",
         parameters={
-            "settings": lookup(dpath="straightness", within=config),
+            "settings": config["straightness"],
             "synthetic": SYNTHETIC,
         },
     script:

@@ -17,8 +17,8 @@ rule surface_synth_profile:
     conda:
         ENV
     params:
-        synth=lookup(dpath="synth", within=config),
-        experiment=lookup(dpath="experiment", within=config),
+        synth=config["synth"],
+        experiment=config["experiment"],
         cut=lambda w: SURFACE_CUTS[w.cut],
     script:
         "../scripts/surface_synth_profile.py"
@@ -39,7 +39,7 @@ rule surface_profile:
     conda:
         ENV
     params:
-        settings=lookup(dpath="surface", within=config),
+        settings=config["surface"],
         relpath=lambda w: SURFACE_FILES[w.cut]["path"],
         cut=lambda w: SURFACE_CUTS[w.cut],
     script:
@@ -81,7 +81,7 @@ rule surface_gather:
     conda:
         ENV
     params:
-        settings=lookup(dpath="surface", within=config),
+        settings=config["surface"],
         cuts=list(SURFACE_CUTS.values()),
     script:
         "../scripts/surface_gather.py"
@@ -150,10 +150,10 @@ rule ch2:
     conda:
         ENV
     params:
-        options=lookup(dpath="chapters", within=config),
+        options=config["chapters"],
         failed_copy="results/logs/chapters/ch2.failed.ipynb",
         parameters={
-            "settings": lookup(dpath="surface", within=config),
+            "settings": config["surface"],
             "synthetic": SYNTHETIC,
         },
     script:

@@ -26,8 +26,8 @@ rule synth_truth:
     conda:
         ENV
     params:
-        synth=lookup(dpath="synth", within=config),
-        experiment=lookup(dpath="experiment", within=config),
+        synth=config["synth"],
+        experiment=config["experiment"],
     script:
         "../scripts/synth_truth.py"
 
