@@ -112,7 +112,7 @@ def private_kernel_manager(kernel: str, socket_dir: Path):
     return PrivateSocketKernelManager
 
 
-def _kernel_never_ran(error: Exception, staged_nb: Path) -> bool:
+def _kernel_never_ran(staged_nb: Path) -> bool:
     """True when execution failed before the kernel ran any cell (a start-up failure)."""
     if not staged_nb.exists():
         return True
@@ -178,7 +178,7 @@ def render_chapter(
                 error = exc
             finally:
                 shutil.rmtree(sockets, ignore_errors=True)
-            if error is None or not _kernel_never_ran(error, staged_nb):
+            if error is None or not _kernel_never_ran(staged_nb):
                 break
             log.warning("chapter %s: kernel did not start (%s), attempt %d of %d", notebook,
                         error, attempt, KERNEL_START_ATTEMPTS)
