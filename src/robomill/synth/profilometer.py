@@ -141,9 +141,8 @@ def kinematic_waviness_um(cell, cut: Cut, p: Mapping[str, Any]) -> np.ndarray:
 
 
 def _unit_segment_rms(z: np.ndarray, fs: float, segment_mm: float) -> np.ndarray:
-    from robomill.spectra import (
-        segment_rms,  # here, not at the top: keeps Snakemake's start-up short
-    )
+    # imported here, not at the top: keeps Snakemake's start-up short
+    from robomill.spectra import segment_rms
 
     rms = segment_rms(z, fs, segment_mm)
     return z / rms if rms > 0 else z
