@@ -46,6 +46,15 @@ def raw_files(kind, **meta):
     ]
 
 
+def cuts_by_set(cuts):
+    """Cut mappings (``Cut.as_dict()``) grouped by their set, in plan order: the unit of one
+    simulator job (a set is one machining session of the study plan)."""
+    sets = {}
+    for c in cuts:
+        sets.setdefault(int(c["set"]), []).append(dict(c))
+    return sets
+
+
 def notebook(name):
     """A chapter notebook in the repository (works with --directory elsewhere)."""
     return str(REPO / "notebooks" / name)

@@ -1,9 +1,8 @@
 # Stage 'forces' (chapter 3.1, issue 4): dynamometer records -> per-cut chunked spectra and
 # mean forces -> peaks table, spectra and the identified cutting coefficients.
-# One simulator job and one analysis job per cut, then one gather job.
+# One simulator job per set, one analysis job per cut, then one gather job.
 FORCE_FILES = {f["cut"]: f for f in RAW_FILES if f["kind"] == "force"}
 FORCE_FORMAT = config["synth"]["dynamometer"]["format"]
-CUT_BY_ID = {c.id: c for c in CUTS}
 
 
 # the manifest entry of a cut's record; the planted truth input (synthetic runs only)
@@ -13,25 +12,37 @@ forces_truth_input = lambda w: (
 )
 
 
-rule forces_synth_dynamometer:
-    input:
-        code=code(
-            "synth.dynamometer", "synth.cell", "forces", "io.forces", "kinematics"
-        ),
-    output:
-        f"results/synthetic/raw/forces/{{cut}}.{FORCE_FORMAT}",
-    log:
-        "results/logs/forces/synth_{cut}.log",
-    benchmark:
-        "results/benchmarks/rules/forces/synth_{cut}.tsv"
-    conda:
-        ENV
-    params:
-        synth=config["synth"],
-        experiment=config["experiment"],
-        cut=lambda w: CUT_BY_ID[w.cut].as_dict(),
-    script:
-        "../scripts/forces_synth_dynamometer.py"
+# One simulator job per set (its records written one after the other in one process).
+FORCE_SYNTH_SETS = (
+    cuts_by_set(c.as_dict() for c in CUTS if c.id in FORCE_FILES) if SYNTHETIC else {}
+)
+
+for _set_no, _set_cuts in FORCE_SYNTH_SETS.items():
+
+    rule:
+        name:
+            f"forces_synth_dynamometer_s{_set_no}"
+        input:
+            code=code(
+                "synth.dynamometer", "synth.cell", "forces", "io.forces", "kinematics"
+            ),
+        output:
+            [
+                f"results/synthetic/raw/forces/{c['id']}.{FORCE_FORMAT}"
+                for c in _set_cuts
+            ],
+        log:
+            f"results/logs/forces/synth_s{_set_no}.log",
+        benchmark:
+            f"results/benchmarks/rules/forces/synth_s{_set_no}.tsv"
+        conda:
+            ENV
+        params:
+            synth=config["synth"],
+            experiment=config["experiment"],
+            cuts=_set_cuts,
+        script:
+            "../scripts/forces_synth_dynamometer.py"
 
 
 rule forces_cut:

@@ -1,27 +1,35 @@
 # Stage 'surface' (chapter 2, issue 3): stylus profiles -> detrend, Gaussian waviness/roughness
 # split, thesis spectra, segment RMS tables 2.1/2.2, peaks and their mechanism.
-# One simulator job and one analysis job per cut, then one gather job.
+# One simulator job per set, one analysis job per cut, then one gather job.
 SURFACE_FILES = {f["cut"]: f for f in RAW_FILES if f["kind"] == "profile"}
 SURFACE_CUTS = {c.id: c.as_dict() for c in CUTS if c.id in SURFACE_FILES}
 
 
-rule surface_synth_profile:
-    input:
-        code=code("synth.profilometer", "synth.cell", "kinematics", "spectra"),
-    output:
-        "results/synthetic/raw/profiles/{cut}.csv",
-    log:
-        "results/logs/surface/synth_{cut}.log",
-    benchmark:
-        "results/benchmarks/rules/surface/synth_{cut}.tsv"
-    conda:
-        ENV
-    params:
-        synth=config["synth"],
-        experiment=config["experiment"],
-        cut=lambda w: SURFACE_CUTS[w.cut],
-    script:
-        "../scripts/surface_synth_profile.py"
+# One simulator job per set (a machining session; its cuts simulated one after the other in one
+# process, so that Python and the library start once per set instead of once per cut).
+SURFACE_SYNTH_SETS = cuts_by_set(SURFACE_CUTS.values()) if SYNTHETIC else {}
+
+for _set_no, _set_cuts in SURFACE_SYNTH_SETS.items():
+
+    rule:
+        name:
+            f"surface_synth_profiles_s{_set_no}"
+        input:
+            code=code("synth.profilometer", "synth.cell", "kinematics", "spectra"),
+        output:
+            [f"results/synthetic/raw/profiles/{c['id']}.csv" for c in _set_cuts],
+        log:
+            f"results/logs/surface/synth_s{_set_no}.log",
+        benchmark:
+            f"results/benchmarks/rules/surface/synth_s{_set_no}.tsv"
+        conda:
+            ENV
+        params:
+            synth=config["synth"],
+            experiment=config["experiment"],
+            cuts=_set_cuts,
+        script:
+            "../scripts/surface_synth_profile.py"
 
 
 rule surface_profile:

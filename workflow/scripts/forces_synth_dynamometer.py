@@ -1,4 +1,6 @@
-"""Simulate one cut's dynamometer record (robomill.synth.dynamometer), written block by block."""
+"""Simulate the dynamometer records of one set's cuts (robomill.synth.dynamometer), each
+written block by block, one after the other in this process (one output per cut, in the
+order of ``params.cuts``)."""
 
 from robomill.runlog import Progress, setup
 
@@ -9,7 +11,8 @@ from robomill.synth.dynamometer import simulate_file  # noqa: E402
 
 p = snakemake.params
 config = {"synth": p.synth, "experiment": p.experiment}
-cut = Cut(**p.cut)
-progress = Progress(log, 1.0, f"dynamometer record of {cut.id}")
-simulate_file(config, cut, snakemake.output[0], progress=progress.update)
-progress.finish(f"simulated {cut.id} -> {snakemake.output[0]}")
+for spec, path in zip(p.cuts, snakemake.output, strict=True):
+    cut = Cut(**spec)
+    progress = Progress(log, 1.0, f"dynamometer record of {cut.id}")
+    simulate_file(config, cut, path, progress=progress.update)
+    progress.finish(f"simulated {cut.id} -> {path}")

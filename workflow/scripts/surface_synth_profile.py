@@ -1,4 +1,5 @@
-"""Simulate one stylus profile (profiles/<cut>.csv) from the virtual cell."""
+"""Simulate the stylus profiles (profiles/<cut>.csv) of one set's cuts from the virtual cell,
+one after the other in this process (one output per cut, in the order of ``params.cuts``)."""
 
 from robomill.experiment import Cut
 from robomill.runlog import setup
@@ -8,6 +9,8 @@ from robomill.synth.profilometer import simulate_profile
 log = setup(snakemake.log[0], "surface_synth_profile")
 p = snakemake.params
 cfg = {"synth": p.synth, "experiment": p.experiment}
-cut = Cut(**p.cut)
-simulate_profile(cfg, cut, snakemake.output[0], cell=cell_from_config(cfg))
-log.info("profile of %s (feed %g mm/s) written to %s", cut.id, cut.feed_mm_s, snakemake.output[0])
+cell = cell_from_config(cfg)
+for spec, path in zip(p.cuts, snakemake.output, strict=True):
+    cut = Cut(**spec)
+    simulate_profile(cfg, cut, path, cell=cell)
+    log.info("profile of %s (feed %g mm/s) written to %s", cut.id, cut.feed_mm_s, path)
