@@ -32,9 +32,11 @@ BUDGET_S, NOOP_BUDGET_S, RSS_BUDGET_MB = 600.0, 5.0, 2048.0
 
 
 def _snakemake(work: Path, config: Path, *targets: str, extra: tuple = ()) -> tuple[float, str]:
+    # targets before the options: `--forcerun` takes every word after it, so
+    # `--forcerun ch2 ch2` would force ch2 and leave the default target `all`
     t0 = time.perf_counter()
     proc = subprocess.run([SNAKEMAKE, "-s", str(REPO / "Snakefile"), "--directory", str(work),
-                           "--configfile", str(config), "-j2", *extra, *targets],
+                           "--configfile", str(config), "-j2", *targets, *extra],
                           capture_output=True, text=True)
     wall = time.perf_counter() - t0
     if proc.returncode:

@@ -5,9 +5,9 @@ artefacts as the local run.
 In `make test` (and CI) the cluster runs the tiny study's calibration stage and its chapter
 from the tiny run's raw files (as a raw data set): every job of that stage, the chapter's
 papermill kernel included, goes through sbatch/srun on a single-node cluster brought up from
-Debian's packages. The whole tiny `all` (86 jobs, synthetic) on Slurm is the same test on every
+Debian's packages. The whole tiny `all` (76 jobs, synthetic) on Slurm is the same test on every
 artefact; it is opt-in (`ROBOMILL_SLURM_ALL=1 make test-cluster`) because on 2 cores it takes
-about 11 min (693 s on 2026-12-01; README, Clusters), mostly the two nested Snakemake
+about 9 min (547 s on 2026-12-01; README, Clusters), mostly the two nested Snakemake
 start-ups the plugin runs inside every job and its status polling. Without root or the
 packages the tests are skipped, saying why.
 """
@@ -65,7 +65,7 @@ def test_calibration_stage_and_chapter_on_slurm_equal_local(tiny_run, tmp_path):
 
 
 @pytest.mark.skipif(os.environ.get("ROBOMILL_SLURM_ALL") != "1",
-                    reason="the whole tiny study on Slurm takes about 11 min on 2 cores; "
+                    reason="the whole tiny study on Slurm takes about 9 min on 2 cores; "
                            "set ROBOMILL_SLURM_ALL=1 to run it")
 def test_whole_tiny_study_on_slurm_equals_local(tiny_run, tmp_path):
     work = tmp_path / "work"
