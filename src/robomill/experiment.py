@@ -7,7 +7,7 @@ A cut is identified by ``s{set}_g{segment}_{dir}`` with ``dir`` in ``px, py, my`
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass
 
 import pandas as pd
@@ -86,6 +86,15 @@ def plan_cuts(sets: Sequence[Mapping], n_sets: int | None = None,
                 cuts.append(Cut(cut_id(set_no, g, d), set_no, g, d, float(feed),
                                 float(spec["depth_mm"])))
     return cuts
+
+
+def cuts_by_set(cuts: Iterable[Cut]) -> dict[int, list[Cut]]:
+    """The cuts grouped by set (one machining session of the plan), sets and cuts in the order
+    given: the unit of one synthetic-instrument job."""
+    sets: dict[int, list[Cut]] = {}
+    for c in cuts:
+        sets.setdefault(int(c.set), []).append(c)
+    return sets
 
 
 def cuts_table(cuts: Sequence[Cut], spindle_rpm: float, flutes: int) -> pd.DataFrame:

@@ -3,6 +3,7 @@
 import os
 from pathlib import Path
 
+from robomill.experiment import cuts_by_set
 from robomill.io.manifest import load_manifest
 from robomill.synth.plan import experiment_header, planned_files, synthetic_cuts
 
@@ -44,15 +45,6 @@ def raw_files(kind, **meta):
         for f in RAW_FILES
         if f["kind"] == kind and all(f.get(k) == v for k, v in meta.items())
     ]
-
-
-def cuts_by_set(cuts):
-    """Cut mappings (``Cut.as_dict()``) grouped by their set, in plan order: the unit of one
-    simulator job (a set is one machining session of the study plan)."""
-    sets = {}
-    for c in cuts:
-        sets.setdefault(int(c["set"]), []).append(dict(c))
-    return sets
 
 
 def notebook(name):

@@ -14,7 +14,7 @@ forces_truth_input = lambda w: (
 
 # One simulator job per set (its records written one after the other in one process).
 FORCE_SYNTH_SETS = (
-    cuts_by_set(c.as_dict() for c in CUTS if c.id in FORCE_FILES) if SYNTHETIC else {}
+    cuts_by_set(c for c in CUTS if c.id in FORCE_FILES) if SYNTHETIC else {}
 )
 
 for _set_no, _set_cuts in FORCE_SYNTH_SETS.items():
@@ -27,10 +27,7 @@ for _set_no, _set_cuts in FORCE_SYNTH_SETS.items():
                 "synth.dynamometer", "synth.cell", "forces", "io.forces", "kinematics"
             ),
         output:
-            [
-                f"results/synthetic/raw/forces/{c['id']}.{FORCE_FORMAT}"
-                for c in _set_cuts
-            ],
+            [f"results/synthetic/raw/forces/{c.id}.{FORCE_FORMAT}" for c in _set_cuts],
         log:
             f"results/logs/forces/synth_s{_set_no}.log",
         benchmark:
@@ -40,7 +37,7 @@ for _set_no, _set_cuts in FORCE_SYNTH_SETS.items():
         params:
             synth=config["synth"],
             experiment=config["experiment"],
-            cuts=_set_cuts,
+            cuts=[c.as_dict() for c in _set_cuts],
         script:
             "../scripts/forces_synth_dynamometer.py"
 

@@ -7,7 +7,9 @@ SURFACE_CUTS = {c.id: c.as_dict() for c in CUTS if c.id in SURFACE_FILES}
 
 # One simulator job per set (a machining session; its cuts simulated one after the other in one
 # process, so that Python and the library start once per set instead of once per cut).
-SURFACE_SYNTH_SETS = cuts_by_set(SURFACE_CUTS.values()) if SYNTHETIC else {}
+SURFACE_SYNTH_SETS = (
+    cuts_by_set(c for c in CUTS if c.id in SURFACE_FILES) if SYNTHETIC else {}
+)
 
 for _set_no, _set_cuts in SURFACE_SYNTH_SETS.items():
 
@@ -17,7 +19,7 @@ for _set_no, _set_cuts in SURFACE_SYNTH_SETS.items():
         input:
             code=code("synth.profilometer", "synth.cell", "kinematics", "spectra"),
         output:
-            [f"results/synthetic/raw/profiles/{c['id']}.csv" for c in _set_cuts],
+            [f"results/synthetic/raw/profiles/{c.id}.csv" for c in _set_cuts],
         log:
             f"results/logs/surface/synth_s{_set_no}.log",
         benchmark:
@@ -27,7 +29,7 @@ for _set_no, _set_cuts in SURFACE_SYNTH_SETS.items():
         params:
             synth=config["synth"],
             experiment=config["experiment"],
-            cuts=_set_cuts,
+            cuts=[c.as_dict() for c in _set_cuts],
         script:
             "../scripts/surface_synth_profile.py"
 
