@@ -37,6 +37,9 @@ class ForceRecord:
     fs_hz: float
     n_samples: int
     _csv: np.ndarray | None = None  # CSV files are small: kept as read
+    time_jitter_s: float = 0.0
+    """Largest distance of a CSV time stamp from the grid ``t0 + k/fs_hz`` when ``t_s`` was
+    printed with limited precision (0 when every step is exact to :data:`RTOL`)."""
 
     def chunks(self, chunk_samples: int = 262_144) -> Iterator[tuple[np.ndarray, np.ndarray]]:
         """Yield ``(t_s (n,), force_N (n, 3))`` blocks in order, each validated: finite values,
@@ -47,7 +50,8 @@ class ForceRecord:
             blocks = ((i, self._csv[i:i + chunk_samples])
                       for i in range(0, self.n_samples, chunk_samples))
             for i0, block in blocks:
-                prev_t = _check_block(self.path, i0, block, step, prev_t, csv=True)
+                prev_t = _check_block(self.path, i0, block, step, prev_t, csv=True,
+                                      check_step=self.time_jitter_s == 0.0)
                 yield block[:, 0], block[:, 1:]
             return
         import h5py
@@ -74,8 +78,12 @@ class ForceRecord:
 
 
 def _check_block(path: Path, i0: int, block: np.ndarray, step: float, prev_t: float | None,
-                 *, csv: bool) -> float:
-    """Validate one block (rows ``i0…``) and return its last time."""
+                 *, csv: bool, check_step: bool = True) -> float:
+    """Validate one block (rows ``i0…``) and return its last time.
+
+    ``check_step=False`` (a CSV whose whole ``t_s`` already fits the grid ``t0 + k/fs``
+    within a quarter step, :func:`robomill.io.tables.fit_time_grid`) skips the per-step
+    tolerance; finiteness and strict increase are still checked."""
     def where(i: int, col: str) -> str:
         return f"row {i0 + i + 2}, column {col}" if csv else f"dataset {col}, sample {i0 + i}"
 
@@ -97,6 +105,8 @@ def _check_block(path: Path, i0: int, block: np.ndarray, step: float, prev_t: fl
         raise RawDataError(path, "t_s is not strictly increasing "
                            f"({float(t[k])!r} then {float(t[k + 1])!r})",
                            where=where(k + 1 + off, "t_s"), expected="strictly increasing time")
+    if not check_step:
+        return float(block[-1, 0])
     if prev_t is None and d.size:
         med = float(np.median(d))
         if abs(med - step) > RTOL * step:
@@ -111,6 +121,29 @@ def _check_block(path: Path, i0: int, block: np.ndarray, step: float, prev_t: fl
                            "(missing or repeated samples?)", where=where(k + 1 + off, "t_s"),
                            expected=f"uniform sampling at {1 / step:.6g} Hz")
     return float(block[-1, 0])
+
+
+def _csv_time_jitter(path: Path, t: np.ndarray, step: float) -> float:
+    """0 when every CSV time step is ``step`` within :data:`RTOL`; otherwise, if ``t`` was
+    printed with limited precision but every sample fits ``t0 + k·step'`` (``step'`` within
+    RTOL of ``step``) within a quarter step, that largest distance (logged); otherwise 0, and
+    :meth:`ForceRecord.chunks` reports the offending row."""
+    import logging
+
+    from robomill.io.tables import fit_time_grid
+
+    d = np.diff(t)
+    if d.size == 0 or (np.all(np.abs(d - step) <= RTOL * step)):
+        return 0.0
+    if np.any(d <= 0):
+        return 0.0
+    grid = fit_time_grid(t)
+    if grid is None or abs(grid.step - step) > RTOL * step:
+        return 0.0
+    logging.getLogger("robomill.io").info(
+        "%s: t_s printed with limited precision: every sample fits t0 + k/%.6g Hz within "
+        "%.3g s (%.3g of a step)", path, 1.0 / grid.step, grid.jitter, grid.jitter / grid.step)
+    return max(grid.jitter, np.finfo(float).tiny)
 
 
 def open_force_record(path: str | Path, fs_hz: float) -> ForceRecord:
@@ -135,7 +168,9 @@ def open_force_record(path: str | Path, fs_hz: float) -> ForceRecord:
         from robomill.io.tables import read_numeric_csv
 
         df = read_numeric_csv(path, COLUMNS, min_rows=2)
-        return ForceRecord(path, float(fs_hz), len(df), df[list(COLUMNS)].to_numpy(float))
+        data = df[list(COLUMNS)].to_numpy(float)
+        return ForceRecord(path, float(fs_hz), len(df), data,
+                           time_jitter_s=_csv_time_jitter(path, data[:, 0], 1.0 / fs_hz))
     if path.suffix.lower() not in (".h5", ".hdf5"):
         raise RawDataError(path, f"unknown file type {path.suffix!r}",
                            expected="forces/<cut>.csv or forces/<cut>.h5")

@@ -9,14 +9,18 @@ from __future__ import annotations
 
 import csv
 import io
+import logging
 import re
 from collections.abc import Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 import pandas as pd
 
 from robomill.io.errors import RawDataError
+
+_log = logging.getLogger("robomill.io")
 
 _UNIT_SUFFIX = re.compile(r"^(?P<stem>.+?)_(?P<unit>[A-Za-z0-9]+)$")
 
@@ -161,24 +165,85 @@ def check_increasing(path: str | Path, values: np.ndarray, column: str) -> None:
                            expected=f"strictly increasing {column}")
 
 
+@dataclass(frozen=True)
+class TimeGrid:
+    """A sampled axis fitted to the grid ``t0 + k·step`` (see :func:`fit_time_grid`)."""
+
+    t0: float
+    step: float
+    jitter: float
+    """Largest distance of a sample from its grid point (axis units)."""
+
+
+def fit_time_grid(values: np.ndarray) -> TimeGrid | None:
+    """Fit an axis printed with limited precision to the uniform grid ``t0 + k·step``.
+
+    Each difference is rounded to a whole number of median steps; the axis is on a grid only
+    if every difference is exactly one step (no gap, no repeated sample). The grid is then
+    the least-squares line ``t_k = t0 + k·step`` (k = 0…n−1), and it is accepted when every
+    sample lies within a quarter step of it — the tolerance that still assigns every sample
+    its one index unambiguously (a sample off by half a step could belong to either); every
+    single step must also be within a quarter step of the fitted one (a jump of 1.4 steps
+    followed by exact steps is a shifted record, not rounding).
+
+    Returns
+    -------
+    TimeGrid or None
+        The fitted grid, or None when a gap, a repeat or an excursion beyond a quarter step
+        rules out a uniform grid.
+    """
+    v = np.asarray(values, dtype=float)
+    if v.size < 3:
+        return None
+    d = np.diff(v)
+    med = float(np.median(d))
+    if not med > 0:
+        return None
+    m = np.rint(d / med)
+    if np.any(m != 1):
+        return None
+    k = np.arange(v.size, dtype=float)
+    step, t0 = np.polyfit(k, v, 1)
+    res = v - (t0 + step * k)
+    jitter = float(np.max(np.abs(res)))
+    if not step > 0 or jitter > 0.25 * step or np.any(np.abs(d - step) > 0.25 * step):
+        return None
+    return TimeGrid(float(t0), float(step), jitter)
+
+
 def check_uniform(path: str | Path, values: np.ndarray, column: str, *,
                   step: float | None = None, rtol: float = 1e-3) -> float:
     """Raise unless ``values`` are uniformly spaced (to ``rtol`` of the step); return the step.
 
     If ``step`` is given (e.g. ``1/fs`` from the manifest) the spacing must equal it.
+    An axis printed with limited precision (e.g. 7 significant digits, so that single steps
+    read 0.000488 or 0.000489) is accepted when every sample fits ``t0 + k·step`` within a
+    quarter step (:func:`fit_time_grid`); the jitter is logged (logger ``robomill.io``) and
+    the fitted step returned. Gaps and repeated samples are still refused.
     """
     check_increasing(path, values, column)
     d = np.diff(values)
     actual = float(np.median(d))
+    grid = None
     if step is not None and abs(actual - step) > rtol * abs(step):
-        raise RawDataError(path, f"{column} spacing is {actual:.6g}",
-                           where=f"column {column}",
-                           expected=f"spacing {step:.6g} (from the manifest), within {rtol:g}")
+        grid = fit_time_grid(values)
+        if grid is None or abs(grid.step - step) > rtol * abs(step):
+            raise RawDataError(path, f"{column} spacing is {actual:.6g}",
+                               where=f"column {column}",
+                               expected=f"spacing {step:.6g} (from the manifest), within {rtol:g}")
     ref = step if step is not None else actual
     off = np.flatnonzero(np.abs(d - ref) > rtol * abs(ref))
     if off.size:
+        grid = grid or fit_time_grid(values)
+        if grid is not None and (step is None or abs(grid.step - step) <= rtol * abs(step)):
+            _log.info("%s: %s printed with limited precision: every sample fits t0 + k*%.9g "
+                      "within %.3g (%.3g of a step)", path, column, grid.step, grid.jitter,
+                      grid.jitter / grid.step)
+            return step if step is not None else grid.step
         i = int(off[0]) + 1
         raise RawDataError(path, f"{column} is not uniformly spaced: step {d[i - 1]:.6g} "
                            f"instead of {ref:.6g}", where=f"row {i + 2}, column {column}",
-                           expected=f"uniform spacing within {rtol:g} relative")
+                           expected=f"uniform spacing within {rtol:g} relative, or every "
+                                    f"sample within a quarter step of t0 + k·step "
+                                    f"(no gap, no repeat)")
     return ref
