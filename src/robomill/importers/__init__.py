@@ -1,0 +1,1 @@
+"""Importers: native instrument exports converted into the raw-data contract."""

@@ -1,0 +1,232 @@
+"""Kistler DynoWare ASCII/CSV force exports → ``forces/<cut>.csv``.
+
+A DynoWare export (Kistler Type 2825A, "Export ASCII") is a text file with
+
+1. a metadata header of ``key<sep>value`` lines — among them the sampling rate
+   (``Sampling rate``/``Sample rate``/``Abtastrate``, in Hz or kHz) and, often, the number of
+   samples;
+2. a channel row naming the columns (``Time``, ``Fx``, ``Fy``, ``Fz``, maybe ``Mz``…);
+3. a units row (``s``, ``N``, ``N``, ``N``);
+4. one row per sample, tab-, semicolon- or comma-separated, decimal point or decimal comma.
+
+The dynamometer measures the force on the *plate* (the workpiece) in the plate's axes; the
+contract wants the cutting force **on the tool** in the block frame R0 (Altintas 2012,
+action = −reaction). ``--axes`` maps plate axes to R0 axes with signs: entry *i* gives R0 axis
+*i*, so the default ``-x,-y,-z`` is "plate axes parallel to R0, reading sign inverted"; a
+plate mounted turned by 90° about Z would be ``-y,x,-z``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+from pathlib import Path
+
+import numpy as np
+
+from robomill.importers._common import (
+    cut_id,
+    is_number,
+    map_axes,
+    parse_axes,
+    read_text,
+    split_fields,
+    time_axis,
+    to_float,
+    write_csv,
+)
+from robomill.io.errors import RawDataError
+
+FORMAT = "dynoware"
+KIND = "force"
+DESCRIPTION = "Kistler DynoWare ASCII/CSV force export"
+
+WHAT = "a Kistler DynoWare ASCII export (header, channel row Fx Fy Fz, units row, samples)"
+
+_RATE_KEY = re.compile(r"(sampl\w*\s*(rate|frequency)|abtast\w*|sample\s*rate|rate)", re.I)
+_COUNT_KEY = re.compile(r"(number\s+of\s+samples|samples|anzahl\s+werte|messwerte)", re.I)
+_TIME_NAMES = {"time", "t", "zeit", "time [s]"}
+_UNIT_N = {"n": 1.0, "kn": 1e3}
+_UNIT_S = {"s": 1.0, "ms": 1e-3}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--axes``, ``--channels``, ``--fs-hz``."""
+    parser.add_argument("--axes", default="-x,-y,-z",
+                        help="plate axis and sign giving each of the tool-force axes X,Y,Z of "
+                             "the block frame (default -x,-y,-z: plate parallel to the block, "
+                             "force on the tool = reading with its sign inverted)")
+    parser.add_argument("--channels", default="Fx,Fy,Fz",
+                        help="names of the plate's x,y,z force channels (default Fx,Fy,Fz)")
+    parser.add_argument("--fs-hz", type=float, default=None,
+                        help="sampling rate [Hz] when the header has none (checked against "
+                             "the header and the time column otherwise)")
+
+
+def _name(field: str) -> tuple[str, str | None]:
+    """``'Fx [N]'`` → ``('fx', 'n')``; ``'Fx'`` → ``('fx', None)``."""
+    m = re.match(r"^\s*([^\[\(]+?)\s*(?:[\[\(]\s*([^\]\)]*)\s*[\]\)])?\s*$", field)
+    if not m:
+        return field.strip().lower(), None
+    return m[1].strip().lower(), (m[2].strip().lower() if m[2] else None)
+
+
+def _key_value(line: str) -> tuple[str, str]:
+    """``'Sampling rate: 10000 Hz'`` (or tab/semicolon/= separated) → key, rest."""
+    m = re.match(r"^\s*([^:\t;=]+?)\s*[:\t;=]\s*(.*)$", line)
+    return (m[1], m[2]) if m else (line.strip(), "")
+
+
+def _rate_from_header(source: Path, lines: list[str]) -> float | None:
+    for i, line in enumerate(lines, start=1):
+        key, rest = _key_value(line)
+        if not rest.strip() or not _RATE_KEY.fullmatch(key):
+            continue
+        m = re.search(r"([0-9]+(?:[.,][0-9]+)?(?:[eE][+-]?[0-9]+)?)\s*(k?hz)?", rest, re.I)
+        if not m:
+            raise RawDataError(source, f"sampling rate {rest.strip()!r} is not a number",
+                               where=f"header line {i}", expected="e.g. 'Sampling rate: 10000 Hz'")
+        value = float(m[1].replace(",", "."))
+        unit = (m[2] or "hz").lower()
+        return value * (1e3 if unit == "khz" else 1.0)
+    return None
+
+
+def _count_from_header(lines: list[str]) -> int | None:
+    for line in lines:
+        key, rest = _key_value(line)
+        if _COUNT_KEY.fullmatch(key) and re.fullmatch(r"\s*\d+\s*", rest):
+            return int(rest)
+    return None
+
+
+def read_dynoware(source: Path, *, channels: tuple[str, str, str] = ("Fx", "Fy", "Fz"),
+                  fs_hz: float | None = None) -> tuple[np.ndarray, np.ndarray, float, float]:
+    """Read a DynoWare export: ``(t_s (n,), plate_force_N (n, 3), fs_hz, jitter_s)``.
+
+    The forces are the plate's channels named ``channels`` (x, y, z), in N (``kN`` columns
+    are converted), not yet mapped to the tool (see :func:`convert`).
+
+    Raises
+    ------
+    RawDataError
+        Missing/empty/binary file; no channel row naming the three channels (the message
+        lists the columns found); a unit other than N/kN (s/ms for time); no sampling rate
+        (header or ``fs_hz``) nor time column; a rate that disagrees; text in a sample row; a
+        short (truncated) row; fewer samples than the header announces; fewer than 2 samples.
+    """
+    text = read_text(source, WHAT)
+    lines = text.splitlines()
+    want = [c.strip().lower() for c in channels]
+    head_row = None
+    sep = None
+    for i, line in enumerate(lines[:400]):
+        for s in ("\t", ";", ",", None):
+            names = [_name(f)[0] for f in split_fields(line, s)]
+            if all(w in names for w in want):
+                head_row, sep = i, s
+                break
+        if head_row is not None:
+            break
+    if head_row is None:
+        first = next((ln for ln in lines if ln.strip()), "")
+        raise RawDataError(source, "no channel row naming " + ", ".join(channels),
+                           where="header (first 400 lines)",
+                           expected=f"{WHAT}; first line is {first[:60]!r}; "
+                                    "name the channels with --channels if they differ")
+    fields = split_fields(lines[head_row], sep)
+    parsed = [_name(f) for f in fields]
+    names = [p[0] for p in parsed]
+    units: list[str | None] = [p[1] for p in parsed]
+    data_start = head_row + 1
+    if data_start < len(lines):
+        cand = split_fields(lines[data_start], sep)
+        if cand and not all(is_number(c) for c in cand if c):
+            units = [u.strip().lower() if u else None for u in cand] + [None] * len(fields)
+            data_start += 1
+    idx = [names.index(w) for w in want]
+    t_idx = next((i for i, n in enumerate(names) if n in _TIME_NAMES), None)
+    scale = []
+    for name, i in zip(channels, idx, strict=True):
+        u = (units[i] or "n").lower()
+        if u not in _UNIT_N:
+            raise RawDataError(source, f"channel {name} is in unit {units[i]!r}",
+                               where=f"units row (line {data_start}), column {name}",
+                               expected="N or kN")
+        scale.append(_UNIT_N[u])
+    t_scale = 1.0
+    if t_idx is not None:
+        u = (units[t_idx] or "s").lower()
+        if u not in _UNIT_S:
+            raise RawDataError(source, f"time column in unit {units[t_idx]!r}",
+                               where=f"units row (line {data_start}), column {fields[t_idx]}",
+                               expected="s or ms")
+        t_scale = _UNIT_S[u]
+    rows = list(lines[data_start:])
+    while rows and not rows[-1].strip():
+        rows.pop()
+    decimal_comma = sep != "," and any("," in r for r in rows[:20])
+    ncol = len(fields)
+    values = np.empty((len(rows), ncol))
+    for k, line in enumerate(rows):
+        lineno = data_start + k + 1
+        f = split_fields(line, sep)
+        if len(f) < ncol:
+            raise RawDataError(source, f"row has {len(f)} fields, the channel row has {ncol}"
+                               + (" (truncated last row?)" if k == len(rows) - 1 else ""),
+                               where=f"line {lineno}", expected=f"{ncol} fields")
+        for j in range(ncol):
+            try:
+                values[k, j] = to_float(f[j], decimal_comma)
+            except ValueError:
+                raise RawDataError(source, f"value {f[j]!r} is not a number",
+                                   where=f"line {lineno}, column {fields[j]}",
+                                   expected="a number") from None
+    bad = ~np.isfinite(values)
+    if bad.any():
+        k, j = np.argwhere(bad)[0]
+        raise RawDataError(source, "value is not finite",
+                           where=f"line {data_start + k + 1}, column {fields[j]}",
+                           expected="a finite number")
+    n = len(rows)
+    if n < 2:
+        raise RawDataError(source, f"only {n} samples", where=f"line {data_start + 1}",
+                           expected="at least 2 samples after the units row")
+    announced = _count_from_header(lines[:head_row])
+    if announced is not None and announced != n:
+        raise RawDataError(source, f"{n} samples, the header announces {announced}"
+                           + (" (truncated export?)" if n < announced else ""),
+                           where="samples / header 'Number of samples'",
+                           expected=f"{announced} sample rows")
+    rate = _rate_from_header(source, lines[:head_row])
+    if rate is not None and fs_hz is not None and abs(rate - fs_hz) > 1e-3 * fs_hz:
+        raise RawDataError(source, f"header sampling rate {rate:g} Hz", where="header",
+                           expected=f"--fs-hz {fs_hz:g} as given")
+    rate = fs_hz or rate
+    t = values[:, t_idx] * t_scale if t_idx is not None else None
+    t_s, rate, jitter = time_axis(source, t, n, rate,
+                                  column=fields[t_idx] if t_idx is not None else "Time")
+    force = values[:, idx] * np.asarray(scale)
+    return t_s - t_s[0], force, rate, jitter
+
+
+def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> list[dict]:
+    """Write ``staging/forces/<cut>.csv`` per source (force on the tool, R0) and return the
+    manifest entries ``{"path", "kind": "force", "cut", "fs_hz"}``."""
+    entries = []
+    for src in sources:
+        src = Path(src)
+        mapping = parse_axes(getattr(args, "axes", "-x,-y,-z"), src)
+        chans = tuple(c.strip() for c in getattr(args, "channels", "Fx,Fy,Fz").split(","))
+        if len(chans) != 3:
+            raise RawDataError(src, f"--channels {','.join(chans)!r} names {len(chans)} channels",
+                               where="option --channels", expected="three names, e.g. Fx,Fy,Fz")
+        t, plate, fs, _jitter = read_dynoware(src, channels=chans,
+                                              fs_hz=getattr(args, "fs_hz", None))
+        tool = map_axes(plate, mapping)
+        cut = cut_id(args, src, len(sources))
+        rel = f"forces/{cut}.csv"
+        write_csv(staging / rel, ("t_s", "Fx_N", "Fy_N", "Fz_N"), (t, *tool.T),
+                  ("%.9f", "%.6g", "%.6g", "%.6g"))
+        entries.append({"path": rel, "kind": KIND, "cut": cut, "fs_hz": fs})
+    return entries

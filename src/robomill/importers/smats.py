@@ -1,0 +1,162 @@
+"""NIST SMATS profile files → ``profiles/<cut>.csv``.
+
+NIST's Surface Metrology Algorithm Testing System (SMATS, the internet-based reference
+software of the NIST Precision Engineering Division) reads two profile formats, both
+documented on its "Data Format" page:
+
+* **ASCII**: whitespace- or line-separated numbers; the *first* value is the sampling
+  spacing in x and the remaining values are the heights z, all in micrometres.
+* **SDF** (Surface Data File, ISO 25178-71 / EUNA 15178, ASCII variants ``aBCR-1.0``,
+  ``aISO-1.0``, ``aNIST-1.0``): a
+  header of ``Key = value`` lines (``NumPoints``, ``NumProfiles``, ``Xscale``, ``Yscale``,
+  ``Zscale`` in metres per unit, ``Zresolution``, ``Compression``, ``DataType``,
+  ``CheckType``) closed by a line ``*``, then the heights (z = value·Zscale), closed by
+  ``*``.
+
+For an SDF with several profiles ``--profile`` picks one (default 0). x is written from 0 in
+mm, z in µm. The SMATS XML exchange format named in issue 21 could not be found published
+(see ``tests/data/real/smats/SOURCE.md``); such a file is refused with a message saying so.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+from pathlib import Path
+
+import numpy as np
+
+from robomill.importers._common import cut_id, read_text, write_csv
+from robomill.io.errors import RawDataError
+
+FORMAT = "smats"
+KIND = "profile"
+DESCRIPTION = "NIST SMATS profile (ASCII: spacing then heights in µm; or SDF aBCR-1.0)"
+
+WHAT = ("a NIST SMATS profile: ASCII (first value the x spacing, then heights, all in µm) "
+        "or SDF (aBCR-1.0 header, '*', heights, '*')")
+_SDF_KEYS = ("NumPoints", "NumProfiles", "Xscale", "Zscale")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--profile``."""
+    parser.add_argument("--profile", type=int, default=0,
+                        help="SDF with several profiles: which one (default 0)")
+
+
+def _read_sdf(source: Path, lines: list[str], profile: int) -> tuple[np.ndarray, np.ndarray]:
+    header: dict[str, str] = {}
+    end = None
+    for i, line in enumerate(lines[1:], start=1):
+        if line.strip() == "*":
+            end = i
+            break
+        key, eq, value = line.partition("=")
+        if eq:
+            header[key.strip()] = value.strip()
+    if end is None:
+        raise RawDataError(source, "SDF header is not closed by a '*' line", where="header",
+                           expected=WHAT)
+    for key in _SDF_KEYS:
+        if key not in header:
+            raise RawDataError(source, f"SDF header key {key} is missing", where="header",
+                               expected="keys " + ", ".join(_SDF_KEYS))
+    try:
+        npts = int(header["NumPoints"])
+        nprof = int(header["NumProfiles"])
+        xscale = float(header["Xscale"])
+        zscale = float(header["Zscale"])
+    except ValueError as exc:
+        raise RawDataError(source, f"SDF header value is not a number ({exc})", where="header",
+                           expected="NumPoints, NumProfiles integers; Xscale, Zscale numbers"
+                           ) from None
+    if npts < 2 or nprof < 1 or not xscale > 0 or not zscale > 0:
+        raise RawDataError(source, f"NumPoints {npts}, NumProfiles {nprof}, Xscale {xscale:g}, "
+                           f"Zscale {zscale:g}", where="header",
+                           expected="NumPoints ≥ 2, NumProfiles ≥ 1, positive scales")
+    if not 0 <= profile < nprof:
+        raise RawDataError(source, f"--profile {profile} outside the file",
+                           where="option --profile", expected=f"0 … {nprof - 1}")
+    body = []
+    closed = False
+    for i, line in enumerate(lines[end + 1:], start=end + 2):
+        if line.strip() == "*":
+            closed = True
+            break
+        for tok in line.split():
+            try:
+                body.append(float(tok))
+            except ValueError:
+                raise RawDataError(source, f"value {tok!r} is not a number", where=f"line {i}",
+                                   expected="height values") from None
+    want = npts * nprof
+    if len(body) != want:
+        raise RawDataError(source, f"{len(body)} height values, the header announces "
+                           f"{npts}×{nprof} = {want}" + ("" if closed else " (truncated?)"),
+                           where="data section", expected=f"{want} values closed by '*'")
+    z = np.asarray(body).reshape(nprof, npts)[profile] * zscale * 1e6
+    x = np.arange(npts) * xscale * 1e3
+    return x, z
+
+
+def read_smats(source: Path, *, profile: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """Read one profile: ``(x_mm (n,), z_um (n,))``.
+
+    Raises
+    ------
+    RawDataError
+        Missing/empty/binary file; an XML file (format not published); text in the data; a
+        spacing ≤ 0; fewer than 2 heights; for SDF, a missing header key, an unclosed header,
+        a value count different from ``NumPoints × NumProfiles`` (truncated), ``--profile``
+        out of range.
+    """
+    source = Path(source)
+    text = read_text(source, WHAT)
+    lines = text.splitlines()
+    first = lines[0].strip() if lines else ""
+    if first.startswith("<"):
+        raise RawDataError(source, "XML profile file: the SMATS XML layout is not published, "
+                           "so it cannot be read reliably", where="line 1",
+                           expected="SMATS ASCII or SDF (export the profile as SDF or ASCII),"
+                                    " or an X3P file (robomill import x3p)")
+    if re.match(r"^[ab](BCR|ISO|NIST)-\d", first):
+        if first.startswith("b"):
+            raise RawDataError(source, f"binary SDF ({first[:8]})", where="line 1",
+                               expected="an ASCII SDF (aBCR-1.0, aISO-1.0, aNIST-1.0)")
+        x, z = _read_sdf(source, lines, profile)
+    else:
+        values = []
+        for i, line in enumerate(lines, start=1):
+            for tok in line.replace(",", " ").split():
+                try:
+                    values.append(float(tok))
+                except ValueError:
+                    raise RawDataError(source, f"value {tok!r} is not a number",
+                                       where=f"line {i}", expected=WHAT) from None
+        if len(values) < 3:
+            raise RawDataError(source, f"{len(values)} values", where="file",
+                               expected="the spacing and at least 2 heights")
+        dx_um = values[0]
+        if not dx_um > 0:
+            raise RawDataError(source, f"spacing {dx_um:g} µm", where="line 1 (first value)",
+                               expected="a positive x spacing in µm")
+        z = np.asarray(values[1:])
+        x = np.arange(z.size) * dx_um * 1e-3
+    if not np.all(np.isfinite(z)):
+        raise RawDataError(source, "height is not finite",
+                           where=f"height {int(np.argmax(~np.isfinite(z)))}",
+                           expected="finite heights")
+    return x, z
+
+
+def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> list[dict]:
+    """Write ``staging/profiles/<cut>.csv`` per source; return the manifest entries."""
+    entries = []
+    for src in sources:
+        src = Path(src)
+        x_mm, z_um = read_smats(src, profile=getattr(args, "profile", 0))
+        cut = cut_id(args, src, len(sources))
+        rel = f"profiles/{cut}.csv"
+        write_csv(staging / rel, ("x_mm", "z_um"), (x_mm, z_um), ("%.9g", "%.6g"))
+        entries.append({"path": rel, "kind": KIND, "cut": cut})
+    return entries
