@@ -129,6 +129,18 @@ def read_dynoware(source: Path, *, channels: tuple[str, str, str] = ("Fx", "Fy",
         if head_row is not None:
             break
     if head_row is None:
+        for i, line in enumerate(lines[:400]):
+            for s in ("\t", ";", ",", None):
+                fields = split_fields(line, s)
+                names = [_name(f)[0] for f in fields]
+                found = [c for c, w in zip(channels, want, strict=True) if w in names]
+                if len(found) >= 2 or (found and any(n in _TIME_NAMES for n in names)):
+                    missing = [c for c in channels if c not in found]
+                    raise RawDataError(source, "channel " + ", ".join(missing) + " is missing"
+                                       f" (the channel row has {', '.join(fields)})",
+                                       where=f"channel row (line {i + 1})",
+                                       expected="channels " + ", ".join(channels)
+                                                + " (or name them with --channels)")
         first = next((ln for ln in lines if ln.strip()), "")
         raise RawDataError(source, "no channel row naming " + ", ".join(channels),
                            where="header (first 400 lines)",

@@ -66,12 +66,34 @@ def _open(source: Path):
         raise RawDataError(source, f"lead-in tag is {magic!r}", where="bytes 0-3",
                            expected="an NI TDMS file (tag b'TDSm'); .tdms_index files are "
                                     "not the data")
+    import logging
+
+    class _Collect(logging.Handler):
+        def __init__(self):
+            super().__init__(logging.WARNING)
+            self.messages: list[str] = []
+
+        def emit(self, record):
+            self.messages.append(record.getMessage())
+
+    collect = _Collect()
+    log = logging.getLogger("nptdms")
+    log.addHandler(collect)
     try:
-        return TdmsFile.read(source)
-    except Exception as exc:  # npTDMS raises ValueError/struct.error/OSError on damage
+        tdms = TdmsFile.read(source)
+    except Exception as exc:  # npTDMS raises ValueError/IndexError/struct.error on damage
         raise RawDataError(source, f"cannot be read ({type(exc).__name__}: {exc})",
                            where="file structure",
                            expected="a complete TDMS file (truncated copy?)") from None
+    finally:
+        log.removeHandler(collect)
+    short = [m for m in collect.messages if "less data than expected" in m
+             or "incomplete" in m or "Cropping data" in m]
+    if short:
+        raise RawDataError(source, f"the last segment is incomplete ({short[0]})",
+                           where="last data segment",
+                           expected="a complete TDMS file (truncated copy?)")
+    return tdms
 
 
 def list_channels(tdms) -> list[str]:
@@ -81,6 +103,9 @@ def list_channels(tdms) -> list[str]:
 
 def _channel(source: Path, tdms, name: str | None, option: str):
     names = list_channels(tdms)
+    if not names:
+        raise RawDataError(source, "the file holds no channels", where="file structure",
+                           expected="a TDMS file with channels (truncated copy?)")
     if not name:
         raise RawDataError(source, f"no channel given for {option}", where=f"option {option}",
                            expected="one of " + ", ".join(repr(n) for n in names[:20]))

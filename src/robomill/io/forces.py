@@ -172,15 +172,23 @@ def open_force_record(path: str | Path, fs_hz: float) -> ForceRecord:
         return ForceRecord(path, float(fs_hz), len(df), data,
                            time_jitter_s=_csv_time_jitter(path, data[:, 0], 1.0 / fs_hz))
     if path.suffix.lower() not in (".h5", ".hdf5"):
-        raise RawDataError(path, f"unknown file type {path.suffix!r}",
+        from robomill.io.tables import native_format_hint
+
+        native = native_format_hint(path)
+        raise RawDataError(path, f"unknown file type {path.suffix!r}"
+                           + (f"; {native}" if native else ""),
                            expected="forces/<cut>.csv or forces/<cut>.h5")
     import h5py
 
     try:
         f = h5py.File(path, "r")
     except OSError as exc:
+        from robomill.io.tables import native_format_hint
+
         size = path.stat().st_size
-        raise RawDataError(path, f"not a readable HDF5 file ({exc}; {size} bytes on disk)",
+        native = native_format_hint(path)
+        raise RawDataError(path, f"not a readable HDF5 file ({exc}; {size} bytes on disk)"
+                           + (f"; {native}" if native else ""),
                            where="file structure (superblock; fields t_s, Fx_N, Fy_N, Fz_N "
                                  "unreachable)",
                            expected="a complete HDF5 file (truncated copy?)") from None

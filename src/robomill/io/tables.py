@@ -47,6 +47,16 @@ def _column_hint(expected: str, found: Sequence[str]) -> str | None:
     return None
 
 
+def native_format_hint(path: str | Path) -> str | None:
+    """If ``path`` is a native instrument export (DynoWare, TDMS, X3P, …), the sentence naming
+    it and its import command (:func:`robomill.importers.sniff.hint`); None otherwise."""
+    try:
+        from robomill.importers.sniff import hint
+    except ImportError:  # pragma: no cover - the importers are part of the package
+        return None
+    return hint(path)
+
+
 def read_numeric_csv(
     path: str | Path,
     columns: Sequence[str],
@@ -88,7 +98,9 @@ def read_numeric_csv(
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
-        raise RawDataError(path, f"not UTF-8 text ({exc.reason} at byte {exc.start})",
+        native = native_format_hint(path)
+        raise RawDataError(path, f"not UTF-8 text ({exc.reason} at byte {exc.start})"
+                           + (f"; {native}" if native else ""),
                            expected="a UTF-8 CSV file") from None
     lines = text.splitlines()
     header = next(csv.reader([lines[0]]))
@@ -96,6 +108,11 @@ def read_numeric_csv(
     required = list(columns) + list(text_columns)
     for col in required:
         if col not in header:
+            native = native_format_hint(path)
+            if native:
+                raise RawDataError(path, f"column '{col}' is missing; {native}",
+                                   where="header (row 1)",
+                                   expected="columns " + ", ".join(required))
             hint = _column_hint(col, header)
             raise RawDataError(
                 path,

@@ -1,0 +1,473 @@
+"""Importers (issue 21): native exports → contract files, on real public files, on files
+constructed from the published layouts, on generated files with planted values, and on a
+bad-input corpus (truncated, wrong format, missing channel) that must give one RawDataError
+naming the source file and the field.
+
+The contract files written are read back with the pipeline's own readers
+(``robomill.io.forces``, ``io.tracker``, ``io.profiles``, ``io.impact``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import hashlib
+import importlib
+import re
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from robomill.io import RawDataError
+from robomill.io.forces import read_forces
+from robomill.io.impact import read_hit
+from robomill.io.profiles import read_profile
+from robomill.io.tracker import read_tracker
+
+DATA = Path(__file__).parent / "data"
+REAL = DATA / "real"
+BUILT = DATA / "constructed"
+DYNO = BUILT / "dynoware" / "slot_s1_g1_px.txt"
+TDMS = REAL / "tdms" / "raw1.tdms"
+LAND = REAL / "x3p" / "sample-land_rows4-7.x3p"
+SA = BUILT / "spatialanalyzer" / "py_f2.txt"
+FARO = BUILT / "faro" / "px_f1.csv"
+SINE = BUILT / "smats" / "sine.txt"
+SDF = BUILT / "smats" / "two_profiles.sdf"
+
+FORMATS = ("dynoware", "tdms", "spatialanalyzer", "faro", "smats", "x3p")
+
+
+def module(fmt: str):
+    return importlib.import_module(f"robomill.importers.{fmt}")
+
+
+def run(fmt: str, sources, staging: Path, argv=()) -> list[dict]:
+    """Parse ``argv`` as the command would (``--cut`` plus the importer's options) and
+    convert."""
+    mod = module(fmt)
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--cut", default=None)
+    mod.add_arguments(parser)
+    args = parser.parse_args(list(argv))
+    return mod.convert([Path(s) for s in sources], staging, args)
+
+
+def one_error(fmt, source, tmp_path, argv=(), match=""):
+    """The conversion raises exactly one RawDataError naming ``source``, matching ``match``;
+    nothing is written."""
+    staging = tmp_path / "staging"
+    with pytest.raises(RawDataError) as info:
+        run(fmt, [source], staging, argv)
+    msg = str(info.value)
+    assert msg.startswith(str(source)), msg
+    assert re.search(match, msg), msg
+    assert not staging.exists() or not any(p.is_file() for p in staging.rglob("*"))
+    return msg
+
+
+@pytest.mark.parametrize("fmt", FORMATS)
+def test_interface(fmt):
+    mod = module(fmt)
+    assert mod.FORMAT == fmt
+    assert mod.KIND in ("force", "tracker", "profile")
+    assert mod.DESCRIPTION and callable(mod.convert) and callable(mod.add_arguments)
+
+
+# --------------------------------------------------------------------------- DynoWare
+
+
+def test_dynoware_constructed_export(tmp_path):
+    entries = run("dynoware", [DYNO], tmp_path, ["--cut", "s1_g1_px"])
+    assert entries == [{"path": "forces/s1_g1_px.csv", "kind": "force", "cut": "s1_g1_px",
+                        "fs_hz": 10000.0}]
+    t, F = read_forces(tmp_path / entries[0]["path"], 10000.0)
+    assert t.size == 2000 and t[0] == 0.0 and t[-1] == pytest.approx(0.1999)
+    # planted tool force 40 + 25 cos, -15 + 20 sin, 8 + 3 cos 2φ (plate reads minus that)
+    np.testing.assert_allclose(F.mean(axis=0), [40.0, -15.0, 8.0], atol=0.05)
+    phase = 2 * np.pi * 200.0 * t
+    assert np.corrcoef(F[:, 0], np.cos(phase))[0, 1] > 0.99
+    assert np.corrcoef(F[:, 1], np.sin(phase))[0, 1] > 0.99
+
+
+def test_dynoware_axes_mapping(tmp_path):
+    default = run("dynoware", [DYNO], tmp_path / "a", ["--cut", "c"])
+    turned = run("dynoware", [DYNO], tmp_path / "b", ["--cut", "c", "--axes=y,-x,z"])
+    _, Fd = read_forces(tmp_path / "a" / default[0]["path"], 10000.0)
+    _, Ft = read_forces(tmp_path / "b" / turned[0]["path"], 10000.0)
+    plate = -Fd  # the default inverts every axis
+    np.testing.assert_allclose(Ft, np.column_stack([plate[:, 1], -plate[:, 0], plate[:, 2]]),
+                               atol=1e-3)
+
+
+def _dyno_text(rows, *, sep="\t", comma=False, header=None, units=("s", "N", "N", "N"),
+               names=("Time", "Fx", "Fy", "Fz")):
+    head = header if header is not None else ["Kistler DynoWare", "Sampling rate: 2 kHz",
+                                              f"Number of samples: {len(rows)}"]
+    out = list(head) + [sep.join(names)]
+    if units:
+        out.append(sep.join(units))
+    for r in rows:
+        s = sep.join(f"{v:.6f}" for v in r)
+        out.append(s.replace(".", ",") if comma else s)
+    return "\n".join(out) + "\n"
+
+
+def test_dynoware_generated_semicolon_decimal_comma_kn(tmp_path):
+    fs = 2000.0
+    t = np.arange(400) / fs
+    plate_kn = np.column_stack([0.1 * np.sin(2 * np.pi * 50 * t), 0.02 + 0 * t, -0.3 + 0 * t])
+    src = tmp_path / "cut.txt"
+    src.write_text(_dyno_text(np.column_stack([t, plate_kn]), sep=";", comma=True,
+                              units=("s", "kN", "kN", "kN")), encoding="cp1252")
+    e = run("dynoware", [src], tmp_path / "out")
+    assert e[0]["cut"] == "cut" and e[0]["fs_hz"] == 2000.0
+    _, F = read_forces(tmp_path / "out" / "forces" / "cut.csv", fs)
+    np.testing.assert_allclose(F, -1e3 * plate_kn, atol=1e-3)
+
+
+def test_dynoware_without_time_column_uses_the_rate(tmp_path):
+    src = tmp_path / "c.txt"
+    rows = np.column_stack([np.ones(100), 2 * np.ones(100), 3 * np.ones(100)])
+    src.write_text(_dyno_text(rows, names=("Fx", "Fy", "Fz"), units=("N", "N", "N")))
+    e = run("dynoware", [src], tmp_path / "o")
+    t, F = read_forces(tmp_path / "o" / e[0]["path"], 2000.0)
+    np.testing.assert_allclose(t, np.arange(100) / 2000.0)
+    np.testing.assert_allclose(F[0], [-1, -2, -3])
+
+
+def test_dynoware_bad_inputs(tmp_path):
+    lines = DYNO.read_text().splitlines()
+    # truncated: the export stops in the middle of a row
+    trunc = tmp_path / "trunc.txt"
+    trunc.write_text("\n".join(lines[:500]) + "\n" + lines[500][:9] + "\n")
+    one_error("dynoware", trunc, tmp_path,
+              match=r"line 501: row has 2 fields, the channel row has 4 \(truncated last row\?\)")
+    # truncated between rows: fewer samples than the header announces
+    short = tmp_path / "short.txt"
+    short.write_text("\n".join(lines[:800]) + "\n")
+    one_error("dynoware", short, tmp_path,
+              match=r"header 'Number of samples': 789 samples, the header announces 2000 "
+                    r"\(truncated export\?\)")
+    # wrong format: a contract CSV, and a binary file
+    one_error("dynoware", DATA / "bad" / "forces" / "missing_column.csv", tmp_path,
+              match=r"no channel row naming Fx, Fy, Fz")
+    one_error("dynoware", TDMS, tmp_path, match=r"binary file, not a text export")
+    # missing channel
+    nofz = tmp_path / "nofz.txt"
+    nofz.write_text("\n".join(ln.rsplit("\t", 1)[0] if i >= 9 else ln
+                              for i, ln in enumerate(lines)) + "\n")
+    one_error("dynoware", nofz, tmp_path,
+              match=r"channel row \(line 10\): channel Fz is missing \(the channel row has "
+                    r"Time, Fx, Fy\)")
+    # text in a sample, a unit that is not a force, a rate that disagrees, a bad --axes
+    text = tmp_path / "text.txt"
+    fields = lines[20].split("\t")
+    fields[2] = "abc"
+    text.write_text("\n".join(lines[:20] + ["\t".join(fields)] + lines[21:]) + "\n")
+    one_error("dynoware", text, tmp_path,
+              match=r"line 21, column Fy: value 'abc' is not a number")
+    unit = tmp_path / "unit.txt"
+    unit.write_text("\n".join(lines[:10] + ["s\tN\tmV\tN"] + lines[11:]) + "\n")
+    one_error("dynoware", unit, tmp_path,
+              match=r"units row \(line 11\), column Fy: channel Fy is in unit 'mv'")
+    one_error("dynoware", DYNO, tmp_path, ["--fs-hz", "5000"],
+              match=r"header: header sampling rate 10000 Hz \(expected --fs-hz 5000")
+    one_error("dynoware", DYNO, tmp_path, ["--axes=-x,-x,-z"],
+              match=r"option --axes: --axes '-x,-x,-z' does not name each axis once")
+    norate = tmp_path / "norate.txt"
+    norate.write_text(_dyno_text(np.ones((10, 3)), header=["DynoWare"],
+                                 names=("Fx", "Fy", "Fz"), units=("N", "N", "N")))
+    one_error("dynoware", norate, tmp_path,
+              match=r"column Time: no time stamps and no sampling rate \(expected --fs-hz")
+
+
+# --------------------------------------------------------------------------- TDMS
+
+FORCE_CH = ["--fx", "First  Channel", "--fy", "Second Chan", "--fz", "Layer Data/Third Chan"]
+
+
+def test_tdms_real_file_as_force_record(tmp_path):
+    from nptdms import TdmsFile
+
+    e = run("tdms", [TDMS], tmp_path, ["--cut", "s1_g1_px", "--n-per-unit", "100", *FORCE_CH])
+    assert e == [{"path": "forces/s1_g1_px.csv", "kind": "force", "cut": "s1_g1_px",
+                  "fs_hz": 50000.0}]
+    t, F = read_forces(tmp_path / e[0]["path"], 50000.0)
+    g = TdmsFile.read(TDMS)["Layer Data"]
+    assert t.size == 2000
+    np.testing.assert_allclose(F[:, 0], -100 * g["First  Channel"][:], rtol=1e-5, atol=1e-4)
+    np.testing.assert_allclose(F[:, 2], -100 * g["Third Chan"][:], rtol=1e-5, atol=1e-4)
+
+
+def test_tdms_real_file_as_impact_hit(tmp_path):
+    e = run("tdms", [TDMS], tmp_path,
+            ["--record", "impact", "--force", "First  Channel", "--ax", "Second Chan",
+             "--ay", "Third Chan", "--az", "Fourth Chan", "--direction", "Y", "--hit", "3",
+             "--force-n-per-unit", "10", "--accel-ms2-per-unit", "9.81"])
+    assert e == [{"path": "impact/hitY_3.csv", "kind": "impact", "direction": "Y", "hit": 3}]
+    fs, force, acc = read_hit(tmp_path / e[0]["path"])[:3]
+    assert fs == pytest.approx(50000.0) and force.shape == (2000,) and acc.shape == (2000, 3)
+
+
+def test_tdms_generated_planted_sinusoid(tmp_path):
+    from nptdms import ChannelObject, TdmsWriter
+
+    fs = 4096.0
+    t = np.arange(2048) / fs
+    fx = 3.0 * np.sin(2 * np.pi * 96.0 * t)
+    src = tmp_path / "gen.tdms"
+    props = {"wf_increment": 1 / fs, "wf_start_offset": 0.0, "unit_string": "N"}
+    with TdmsWriter(src) as w:
+        w.write_segment([ChannelObject("Dyno", n, v, properties=props)
+                         for n, v in (("Fx", fx), ("Fy", 0 * fx + 1.0), ("Fz", 0 * fx - 2.0))])
+    e = run("tdms", [src], tmp_path / "o", ["--fx", "Fx", "--fy", "Fy", "--fz", "Fz",
+                                            "--axes=x,y,z"])
+    assert e[0]["fs_hz"] == 4096.0 and e[0]["cut"] == "gen"
+    tt, F = read_forces(tmp_path / "o" / e[0]["path"], fs)
+    spec = np.abs(np.fft.rfft(F[:, 0]))
+    assert np.fft.rfftfreq(tt.size, 1 / fs)[np.argmax(spec)] == pytest.approx(96.0)
+    np.testing.assert_allclose(F[:, 1:], [[1.0, -2.0]] * tt.size, atol=1e-6)
+    # channels of unequal length: one clear error
+    bad = tmp_path / "unequal.tdms"
+    with TdmsWriter(bad) as w:
+        w.write_segment([ChannelObject("Dyno", "Fx", fx, properties=props),
+                         ChannelObject("Dyno", "Fy", fx[:100], properties=props),
+                         ChannelObject("Dyno", "Fz", fx, properties=props)])
+    one_error("tdms", bad, tmp_path, ["--fx", "Fx", "--fy", "Fy", "--fz", "Fz"],
+              match=r"Dyno/Fy: channel 'Dyno/Fy' has 100 samples, the first has 2048 "
+                    r"\(truncated acquisition\?\)")
+
+
+def test_tdms_bad_inputs(tmp_path):
+    raw = TDMS.read_bytes()
+    half = tmp_path / "half.tdms"
+    half.write_bytes(raw[: len(raw) // 2])
+    one_error("tdms", half, tmp_path, FORCE_CH,
+              match=r"last data segment: the last segment is incomplete .*truncated copy")
+    one_error("tdms", DYNO, tmp_path, FORCE_CH,
+              match=r"bytes 0-3: lead-in tag is b'Kist' \(expected an NI TDMS file")
+    msg = one_error("tdms", TDMS, tmp_path, ["--fx", "First  Channel", "--fy", "Second Chan",
+                                             "--fz", "Fz"],
+                    match=r"option --fz: channel 'Fz' is missing \(expected one of "
+                          r"'Layer Data/First  Channel'")
+    assert msg.count("RawDataError") == 0
+    one_error("tdms", TDMS, tmp_path, ["--fx", "First  Channel", "--fy", "Second Chan"],
+              match=r"option --fz: no channel given for --fz")
+    one_error("tdms", TDMS, tmp_path, ["--record", "impact", "--force", "First  Channel"],
+              match=r"option --direction: no hammer direction")
+
+
+# --------------------------------------------------------------------------- X3P
+
+
+def _land_rows():
+    with zipfile.ZipFile(LAND) as z:
+        return np.frombuffer(z.read("sample-land/bindata/data.bin"), "<f8").reshape(4, 918)
+
+
+def test_x3p_real_scan_longest_valid_run(tmp_path):
+    e = run("x3p", [LAND], tmp_path, ["--cut", "s2_g1_px", "--row", "2",
+                                      "--dropouts", "longest"])
+    assert e == [{"path": "profiles/s2_g1_px.csv", "kind": "profile", "cut": "s2_g1_px"}]
+    x, z, fs_per_mm = read_profile(tmp_path / e[0]["path"])
+    assert x.size == 879 and fs_per_mm == pytest.approx(1 / 0.00258, rel=1e-6)
+    row = _land_rows()[2]
+    np.testing.assert_allclose(z, row[39:918] * 1e6, rtol=1e-5)
+
+
+def test_x3p_real_scan_dropouts_refused_by_default(tmp_path):
+    one_error("x3p", LAND, tmp_path, ["--row", "2"],
+              match=r"row 2, point \d+: 7 invalid point\(s\) inside the profile "
+                    r"\(expected a profile without dropouts")
+    one_error("x3p", LAND, tmp_path, ["--row", "9"],
+              match=r"option --row: --row 9 is outside the surface \(expected 0 … 3\)")
+
+
+def test_x3p_opengps_samples_xml_and_int16():
+    from robomill.importers.x3p import read_x3p
+
+    x1, z1, i1 = read_x3p(REAL / "x3p" / "ISO5436-sample1.x3p")
+    x4, z4, i4 = read_x3p(REAL / "x3p" / "ISO5436-sample4_bin.x3p")
+    assert i1["feature"] == "SUR" and i1["size"] == (4, 4) and i1["row"] == 2
+    np.testing.assert_allclose(x1, x4)
+    np.testing.assert_allclose(x1, [0, 16.016, 32.032, 48.048], rtol=1e-9)
+    # the int16 file is the same surface quantised to 1000 µm steps of CZ/Increment
+    assert np.max(np.abs(z4 - z1)) <= 500.0 + 1e-6
+
+
+def write_x3p(path: Path, z_m: np.ndarray, *, dx_m=1e-6, feature="PRF", dtype="D",
+              data: bytes | None = None, md5: str | None = None, drop: str | None = None,
+              main_name="main.xml"):
+    """A minimal ISO 25178-72 X3P (main.xml + bindata/data.bin), for generated tests."""
+    raw = data if data is not None else z_m.astype({"D": "<f8", "F": "<f4"}[dtype]).tobytes()
+    ny = 1 if z_m.ndim == 1 else z_m.shape[0]
+    nx = z_m.shape[-1]
+    cx = ("<CX><AxisType>I</AxisType><DataType>D</DataType>"
+          + ("" if drop == "Increment" else f"<Increment>{dx_m!r}</Increment>")
+          + "<Offset>0</Offset></CX>")
+    xml = (f'<?xml version="1.0" encoding="UTF-8"?><p:ISO5436_2 '
+           f'xmlns:p="http://www.opengps.eu/2008/ISO5436_2"><Record1><Revision>ISO5436 - 2000'
+           f"</Revision><FeatureType>{feature}</FeatureType><Axes>{cx}<CY><AxisType>I"
+           f"</AxisType><DataType>D</DataType><Increment>1e-6</Increment><Offset>0</Offset>"
+           f"</CY><CZ><AxisType>A</AxisType><DataType>{dtype}</DataType></CZ></Axes>"
+           f"</Record1><Record3><MatrixDimension><SizeX>{nx}</SizeX><SizeY>{ny}</SizeY>"
+           f"<SizeZ>1</SizeZ></MatrixDimension><DataLink><PointDataLink>bindata/data.bin"
+           f"</PointDataLink><MD5ChecksumPointData>{md5 or hashlib.md5(raw).hexdigest()}"
+           f"</MD5ChecksumPointData></DataLink></Record3></p:ISO5436_2>")
+    with zipfile.ZipFile(path, "w") as zf:
+        zf.writestr(main_name, xml)
+        zf.writestr("bindata/data.bin", raw)
+    return path
+
+
+def test_x3p_generated_profile_planted_sine(tmp_path):
+    x_m = np.arange(1000) * 0.8e-6
+    z_m = 0.4e-6 * np.sin(2 * np.pi * x_m / 80e-6)
+    src = write_x3p(tmp_path / "prf.x3p", z_m, dx_m=0.8e-6, dtype="F")
+    e = run("x3p", [src], tmp_path / "o")
+    x, z, fs = read_profile(tmp_path / "o" / e[0]["path"])
+    assert fs == pytest.approx(1250.0) and x.size == 1000
+    np.testing.assert_allclose(z, 0.4 * np.sin(2 * np.pi * x / 0.08), atol=1e-6)
+
+
+def test_x3p_bad_inputs(tmp_path):
+    z = np.zeros(200)
+    raw = z.tobytes()
+    trunc = write_x3p(tmp_path / "trunc.x3p", z, data=raw[:-80])
+    one_error("x3p", trunc, tmp_path,
+              match=r"archive member bindata/data.bin: bindata/data.bin has 1520 bytes, "
+                    r"200×1×1 points of type D need 1600 \(truncated\?\)")
+    damaged = write_x3p(tmp_path / "md5.x3p", z, md5="0" * 32)
+    one_error("x3p", damaged, tmp_path,
+              match=r"Record3/DataLink/MD5ChecksumPointData: bindata/data.bin MD5 is")
+    cut_zip = tmp_path / "cut.x3p"
+    cut_zip.write_bytes(LAND.read_bytes()[:5000])
+    one_error("x3p", cut_zip, tmp_path, match=r"(not a zip archive|damaged zip archive)")
+    one_error("x3p", SINE, tmp_path, match=r"file: not a zip archive \(expected an X3P file")
+    nomain = write_x3p(tmp_path / "nomain.x3p", z, main_name="header.xml")
+    one_error("x3p", nomain, tmp_path, match=r"archive: no main.xml in the archive")
+    noinc = write_x3p(tmp_path / "noinc.x3p", z, drop="Increment")
+    one_error("x3p", noinc, tmp_path,
+              match=r"main.xml: Record1/Axes/CX/Increment: element Record1/Axes/CX/Increment "
+                    r"is missing")
+    pcl = write_x3p(tmp_path / "pcl.x3p", z, feature="PCL")
+    one_error("x3p", pcl, tmp_path,
+              match=r"main.xml: Record1/FeatureType: feature type is PCL")
+
+
+# --------------------------------------------------------------------------- SMATS / SDF
+
+
+def test_smats_ascii_constructed(tmp_path):
+    e = run("smats", [SINE], tmp_path, ["--cut", "s1_g1_py"])
+    x, z, fs = read_profile(tmp_path / e[0]["path"])
+    assert x.size == 1600 and fs == pytest.approx(800.0)  # 1.25 µm spacing
+    A = np.column_stack([np.sin(2 * np.pi * x / 0.1), np.cos(2 * np.pi * x / 0.1),
+                         np.ones_like(x)])
+    amp = np.linalg.lstsq(A, z, rcond=None)[0]
+    assert np.hypot(amp[0], amp[1]) == pytest.approx(0.5, abs=0.01)
+
+
+def test_smats_sdf_second_profile(tmp_path):
+    e = run("smats", [SDF], tmp_path, ["--cut", "s1_g2_py", "--profile", "1"])
+    x, z, fs = read_profile(tmp_path / e[0]["path"])
+    assert x.size == 512 and fs == pytest.approx(800.0)
+    np.testing.assert_allclose(z, 0.150 * np.cos(2 * np.pi * x / 0.05), atol=0.0006)
+
+
+def test_smats_bad_inputs(tmp_path):
+    lines = SDF.read_text().splitlines()
+    trunc = tmp_path / "trunc.sdf"
+    trunc.write_text("\n".join(lines[:40]) + "\n")
+    one_error("smats", trunc, tmp_path,
+              match=r"data section: 416 height values, the header announces 512×2 = 1024 "
+                    r"\(truncated\?\)")
+    nokey = tmp_path / "nokey.sdf"
+    nokey.write_text("\n".join(ln for ln in lines if not ln.startswith("Zscale")) + "\n")
+    one_error("smats", nokey, tmp_path, match=r"header: SDF header key Zscale is missing")
+    xml = tmp_path / "p.xml"
+    xml.write_text('<?xml version="1.0"?><SMATS><Profile/></SMATS>\n')
+    one_error("smats", xml, tmp_path, match=r"line 1: XML profile file: the SMATS XML layout "
+                                            r"is not published")
+    one_error("smats", TDMS, tmp_path, match=r"binary file, not a text export")
+    text = tmp_path / "text.txt"
+    text.write_text("1.25\n0.1\n0.2\nabc\n0.3\n")
+    one_error("smats", text, tmp_path, match=r"line 4: value 'abc' is not a number")
+    one_error("smats", SDF, tmp_path, ["--profile", "2"],
+              match=r"option --profile: --profile 2 outside the file \(expected 0 … 1\)")
+
+
+# --------------------------------------------------------------------------- trackers
+
+SA_ARGS = ["--direction", "py", "--feed-mm-s", "2", "--fs-hz", "815"]
+FARO_ARGS = ["--direction", "px", "--feed-mm-s", "1", "--fs-hz", "815"]
+
+
+def test_spatialanalyzer_coarse_stamps_rebuilt(tmp_path):
+    e = run("spatialanalyzer", [SA], tmp_path, SA_ARGS)
+    assert e == [{"path": "tracker/py_f2.csv", "kind": "tracker", "direction": "py",
+                  "feed_mm_s": 2.0, "fs_hz": 815.0}]
+    t, p = read_tracker(tmp_path / e[0]["path"], fs_hz=815.0)
+    np.testing.assert_allclose(t, np.arange(1000) / 815.0, atol=1e-9)
+    # planted: y = 1200 + 2 t (mm)
+    assert np.polyfit(t, p[:, 1], 1)[0] == pytest.approx(2.0, abs=1e-3)
+
+
+def test_faro_ms_stamps_and_units(tmp_path):
+    e = run("faro", [FARO], tmp_path, FARO_ARGS)
+    t, p = read_tracker(tmp_path / e[0]["path"], fs_hz=815.0)
+    assert t.size == 1500 and np.polyfit(t, p[:, 0], 1)[0] == pytest.approx(1.0, abs=1e-3)
+    # the same export in metres, without time stamps: rebuilt from --fs-hz, converted to mm
+    src = tmp_path / "m.csv"
+    rows = [ln.split(",") for ln in FARO.read_text().splitlines()[4:]]
+    src.write_text("FARO export\nUnits: m\nName,X,Y,Z\n" + "".join(
+        f"{r[0]},{float(r[1]) / 1e3:.7f},{float(r[2]) / 1e3:.7f},{float(r[3]) / 1e3:.7f}\n"
+        for r in rows))
+    e2 = run("faro", [src], tmp_path / "m", FARO_ARGS)
+    t2, p2 = read_tracker(tmp_path / "m" / e2[0]["path"], fs_hz=815.0)
+    np.testing.assert_allclose(p2, p, atol=1e-4)
+    np.testing.assert_allclose(t2, np.arange(1500) / 815.0, atol=1e-9)
+
+
+def test_tracker_fine_stamps_give_the_rate(tmp_path):
+    src = tmp_path / "fine.csv"
+    t = np.arange(500) / 1000.0
+    src.write_text("Name,X,Y,Z,Time\n" + "".join(
+        f"P{k},{k * 0.01:.4f},0,0,{tk:.6f}\n" for k, tk in enumerate(t)))
+    e = run("faro", [src], tmp_path / "o", ["--direction", "px", "--feed-mm-s", "10"])
+    assert e[0]["fs_hz"] == 1000.0
+
+
+def test_tracker_bad_inputs(tmp_path):
+    one_error("spatialanalyzer", SA, tmp_path, ["--direction", "py", "--feed-mm-s", "2"],
+              match=r"column Timestamp: time stamps are coarse or uneven .* and no rate was "
+                    r"stated \(expected --fs-hz RATE")
+    one_error("spatialanalyzer", SA, tmp_path, ["--direction", "py", "--feed-mm-s", "2",
+                                                "--fs-hz", "400"],
+              match=r"column Timestamp: time stamps span 1.2[0-9]* s, 1000 samples at 400 Hz "
+                    r"span 2.4975 s")
+    lines = FARO.read_text().splitlines()
+    trunc = tmp_path / "trunc.csv"
+    trunc.write_text("\n".join(lines[:300] + [lines[300][:12]]) + "\n")
+    one_error("faro", trunc, tmp_path, FARO_ARGS,
+              match=r"line 301: row has 2 fields, the header has 5 \(truncated last row\?\)")
+    noz = tmp_path / "noz.csv"
+    noz.write_text("\n".join(",".join(ln.split(",")[:3]) for ln in lines) + "\n")
+    one_error("faro", noz, tmp_path, FARO_ARGS,
+              match=r"header \(first 200 lines\): no header row naming X, Y, Z")
+    one_error("faro", TDMS, tmp_path, FARO_ARGS, match=r"binary file, not a text export")
+    one_error("faro", FARO, tmp_path, ["--feed-mm-s", "1"],
+              match=r"option --direction: no cut direction")
+    text = tmp_path / "text.csv"
+    fields = lines[10].split(",")
+    fields[2] = "abc"
+    text.write_text("\n".join(lines[:10] + [",".join(fields)] + lines[11:]) + "\n")
+    one_error("faro", text, tmp_path, FARO_ARGS,
+              match=r"line 11, column Y \(mm\): value 'abc' is not a number")
+
+
+def test_cut_given_for_several_sources(tmp_path):
+    with pytest.raises(RawDataError, match=r"option --cut: --cut c given for 2 source files"):
+        run("smats", [SINE, SDF], tmp_path, ["--cut", "c"])
