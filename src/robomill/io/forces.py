@@ -126,7 +126,8 @@ def _check_block(path: Path, i0: int, block: np.ndarray, step: float, prev_t: fl
 def _csv_time_jitter(path: Path, t: np.ndarray, step: float) -> float:
     """0 when every CSV time step is ``step`` within :data:`RTOL`; otherwise, if ``t`` was
     printed with limited precision but every sample fits ``t0 + k·step'`` (``step'`` within
-    RTOL of ``step``) within a quarter step, that largest distance (logged); otherwise 0, and
+    RTOL of ``step``) within a quarter step, that largest distance (logged); a fitted
+    ``step'`` that disagrees with the manifest raises; otherwise 0, and
     :meth:`ForceRecord.chunks` reports the offending row."""
     import logging
 
@@ -138,8 +139,14 @@ def _csv_time_jitter(path: Path, t: np.ndarray, step: float) -> float:
     if np.any(d <= 0):
         return 0.0
     grid = fit_time_grid(t)
-    if grid is None or abs(grid.step - step) > RTOL * step:
+    if grid is None:
         return 0.0
+    if abs(grid.step - step) > RTOL * step:
+        raise RawDataError(path, f"sampling rate is {1 / grid.step:.6g} Hz (time step "
+                           f"{grid.step:.6g} s, fitted to t_s printed with limited precision)",
+                           where="column t_s",
+                           expected=f"fs_hz = {1 / step:.6g} Hz as the manifest says "
+                                    f"(step {step:.6g} s within {RTOL:g})")
     logging.getLogger("robomill.io").info(
         "%s: t_s printed with limited precision: every sample fits t0 + k/%.6g Hz within "
         "%.3g s (%.3g of a step)", path, 1.0 / grid.step, grid.jitter, grid.jitter / grid.step)

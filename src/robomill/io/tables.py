@@ -234,33 +234,35 @@ def check_uniform(path: str | Path, values: np.ndarray, column: str, *,
 
     If ``step`` is given (e.g. ``1/fs`` from the manifest) the spacing must equal it.
     An axis printed with limited precision (e.g. 7 significant digits, so that single steps
-    read 0.000488 or 0.000489) is accepted when every sample fits ``t0 + k·step`` within a
-    quarter step (:func:`fit_time_grid`); the jitter is logged (logger ``robomill.io``) and
-    the fitted step returned. Gaps and repeated samples are still refused.
+    read 0.000488 or 0.000489 s at 2048 Hz) is accepted when every sample fits
+    ``t0 + k·step`` within a quarter step (:func:`fit_time_grid`); the jitter is logged
+    (logger ``robomill.io``) and the step returned. Gaps and repeated samples are still
+    refused, at the row where they occur.
     """
     check_increasing(path, values, column)
     d = np.diff(values)
     actual = float(np.median(d))
-    grid = None
-    if step is not None and abs(actual - step) > rtol * abs(step):
-        grid = fit_time_grid(values)
-        if grid is None or abs(grid.step - step) > rtol * abs(step):
-            raise RawDataError(path, f"{column} spacing is {actual:.6g}",
-                               where=f"column {column}",
-                               expected=f"spacing {step:.6g} (from the manifest), within {rtol:g}")
     ref = step if step is not None else actual
+    rate_ok = step is None or abs(actual - step) <= rtol * abs(step)
     off = np.flatnonzero(np.abs(d - ref) > rtol * abs(ref))
-    if off.size:
-        grid = grid or fit_time_grid(values)
-        if grid is not None and (step is None or abs(grid.step - step) <= rtol * abs(step)):
-            _log.info("%s: %s printed with limited precision: every sample fits t0 + k*%.9g "
-                      "within %.3g (%.3g of a step)", path, column, grid.step, grid.jitter,
-                      grid.jitter / grid.step)
-            return step if step is not None else grid.step
-        i = int(off[0]) + 1
-        raise RawDataError(path, f"{column} is not uniformly spaced: step {d[i - 1]:.6g} "
-                           f"instead of {ref:.6g}", where=f"row {i + 2}, column {column}",
-                           expected=f"uniform spacing within {rtol:g} relative, or every "
-                                    f"sample within a quarter step of t0 + k·step "
-                                    f"(no gap, no repeat)")
-    return ref
+    if rate_ok and not off.size:
+        return ref
+    grid = fit_time_grid(values)
+    if grid is not None and (step is None or abs(grid.step - step) <= rtol * abs(step)):
+        _log.info("%s: %s printed with limited precision: every sample fits t0 + k*%.9g "
+                  "within %.3g (%.3g of a step)", path, column, grid.step, grid.jitter,
+                  grid.jitter / grid.step)
+        return step if step is not None else grid.step
+    gaps = np.flatnonzero(np.rint(d / ref) != 1)
+    if grid is None and gaps.size:
+        off = gaps
+    elif not rate_ok:
+        raise RawDataError(path, f"{column} spacing is {actual:.6g}",
+                           where=f"column {column}",
+                           expected=f"spacing {step:.6g} (from the manifest), within {rtol:g}")
+    i = int(off[0]) + 1
+    raise RawDataError(path, f"{column} is not uniformly spaced: step {d[i - 1]:.6g} "
+                       f"instead of {ref:.6g}", where=f"row {i + 2}, column {column}",
+                       expected=f"uniform spacing within {rtol:g} relative, or every "
+                                f"sample within a quarter step of t0 + k·step "
+                                f"(no gap, no repeat)")
