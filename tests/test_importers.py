@@ -471,3 +471,27 @@ def test_tracker_bad_inputs(tmp_path):
 def test_cut_given_for_several_sources(tmp_path):
     with pytest.raises(RawDataError, match=r"option --cut: --cut c given for 2 source files"):
         run("smats", [SINE, SDF], tmp_path, ["--cut", "c"])
+
+
+def test_time_axis_rebuilds_checks_and_refuses(tmp_path):
+    from robomill.importers._common import time_axis
+
+    src = tmp_path / "stream.txt"
+    fs = 815.0
+    true = 0.25 + np.arange(2000) / fs
+    ms = np.round(true, 3)  # stamps printed to the millisecond: 1 or 2 ms steps
+    t, rate, jitter = time_axis(src, ms, ms.size, fs, column="Time")
+    np.testing.assert_allclose(t - t[0], np.arange(2000) / fs, atol=1e-12)
+    assert rate == fs and jitter <= 1e-3
+    fine = np.round(true, 7)  # fine stamps: the grid is kept and gives the rate
+    t2, rate2, jitter2 = time_axis(src, fine, fine.size, None, column="Time")
+    assert rate2 == fs and jitter2 < 1e-7
+    with pytest.raises(RawDataError, match=r"column Time: time stamps give 815 Hz \(expected "
+                                           r"--fs-hz 800 within 0.1 %"):
+        time_axis(src, fine, fine.size, 800.0, column="Time")
+    gap = np.delete(ms, np.arange(1000, 1005))
+    with pytest.raises(RawDataError, match=r"sample 1000, column Time: gap of 0.00[67]\d* s "
+                                           r"between two samples"):
+        time_axis(src, gap, gap.size, fs, column="Time")
+    with pytest.raises(RawDataError, match=r"sample 10, column Time: time goes backwards"):
+        time_axis(src, np.r_[ms[:10], ms[8:]], ms.size, fs, column="Time")

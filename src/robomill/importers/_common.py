@@ -161,7 +161,8 @@ def time_axis(source: Path, t: np.ndarray | None, n: int, fs_hz: float | None, *
     step = 1.0 / fs_hz
     span = float(t[-1] - t[0])
     want = (n - 1) * step
-    if res < step / 2 and np.any(d > 1.5 * step + res):
+    # consecutive stamps rounded to ``res`` differ by at most step + res; more is a gap
+    if np.any(d > 1.5 * step + res):
         i = int(np.flatnonzero(d > 1.5 * step + res)[0])
         raise RawDataError(source, f"gap of {d[i]:.6g} s between two samples",
                            where=f"sample {i + 1}, column {column}",
