@@ -295,6 +295,14 @@ def test_x3p_opengps_samples_xml_and_int16():
     np.testing.assert_allclose(x1, [0, 16.016, 32.032, 48.048], rtol=1e-9)
     # the int16 file is the same surface quantised to 1000 µm steps of CZ/Increment
     assert np.max(np.abs(z4 - z1)) <= 500.0 + 1e-6
+    # row 1 ends in the invalid point: an empty Datum in the XML, a clear bit in valid.bin
+    xa, za, ia = read_x3p(REAL / "x3p" / "ISO5436-sample1.x3p", row=1)
+    xb, zb, ib = read_x3p(REAL / "x3p" / "ISO5436-sample1_bin.x3p", row=1)
+    assert ia["cropped"] == ib["cropped"] == (0, 1)
+    np.testing.assert_array_equal(za, zb)
+    with pytest.raises(RawDataError, match=r"row 1, points 3…3: invalid points at the ends "
+                                           r"of the profile"):
+        read_x3p(REAL / "x3p" / "ISO5436-sample1_bin.x3p", row=1, crop=False)
 
 
 def write_x3p(path: Path, z_m: np.ndarray, *, dx_m=1e-6, feature="PRF", dtype="D",

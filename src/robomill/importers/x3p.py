@@ -224,8 +224,10 @@ def read_x3p(source: Path, *, row: int | None = None, crop: bool = True,
                            expected="a profile of valid points (choose another --row)")
     i0, i1 = int(idx[0]), int(idx[-1]) + 1
     if not crop and (i0 > 0 or i1 < nx):
+        ends = ([f"points 0…{i0 - 1}"] if i0 > 0 else []) + (
+            [f"points {i1}…{nx - 1}"] if i1 < nx else [])
         raise RawDataError(source, "invalid points at the ends of the profile",
-                           where=f"row {r}, points 0…{i0 - 1} / {i1}…{nx - 1}",
+                           where=f"row {r}, " + " and ".join(ends),
                            expected="valid points only (or drop --no-crop)")
     inner = np.flatnonzero(~ok[i0:i1])
     if inner.size and dropouts == "longest":
