@@ -11,8 +11,13 @@ def test_force_artefacts(tiny_run):
     from robomill.io import open_artefact
 
     peaks = pd.read_csv(tiny_run / "results/forces/peaks.csv")
-    assert list(peaks.columns) == ["cut", "dominant_hz", "dominant_power", "kinematic_per_mm"]
+    assert list(peaks.columns) == ["cut", "dominant_hz", "dominant_power", "kinematic_per_mm",
+                                   "kinematic_resolution_per_mm", "kinematic_below_resolution",
+                                   "dominant_below_resolution"]
     assert len(peaks) == 6
+    # 40 mm records: the kinematic peak (~0.5 1/mm, 20 periods) is resolved; 1/L = 0.025 1/mm
+    assert not peaks["kinematic_below_resolution"].any()
+    np.testing.assert_allclose(peaks["kinematic_resolution_per_mm"], 1 / 40.0, rtol=1e-3)
     assert peaks["dominant_hz"].between(60, 120).all()
     sp = open_artefact(tiny_run / "results/forces/spectra.nc")
     for v in list(sp.data_vars) + list(sp.coords):
