@@ -192,7 +192,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"robomill import: {exc}")
         return 2
     parser = format_parser(args.format, module)
-    if args.import_help:
+    if args.import_help or any(a in ("-h", "--help") for a in args.rest):
         parser.print_help()
         return 0
     fargs = parser.parse_args(args.rest)
