@@ -221,7 +221,7 @@ def cell_problems(raw_dir: Path) -> tuple[list[str], list[str]]:
     :mod:`robomill.io.cell`)."""
     path = raw_dir / "cell.yaml"
     if not path.exists():
-        return [], [f"{path}: no cell file (the study's default cell is used)"]
+        return [], [f"{path}: no cell file in the folder"]
     try:
         from robomill.io.cell import read_cell
     except ImportError:
