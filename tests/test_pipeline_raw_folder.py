@@ -85,3 +85,25 @@ def test_numbers_on_the_command_line_reach_the_analysis(tmp_path, raw_folder):
     log = (tmp_path / "bad/results/logs/forces/cut_s1_g1_px.log").read_text()
     assert "forces.decimation 25 leaves fs 400 Hz of the 10000 Hz record" in log
     assert "decimation <= 19" in log
+
+
+def test_check_and_manifest_on_the_tiny_runs_raw_folder(tiny_run, tmp_path, capsys):
+    """The synthetic raw folder of the tiny run (every kind) passes `robomill check`, and
+    `robomill manifest` on a copy without its manifest finds every file again with the same
+    kind, metadata and sha256 (the tracker's optional `cut`, absent from its name, aside)."""
+    import shutil
+
+    from robomill.cli import main
+
+    raw = tiny_run / "results/synthetic/raw"
+    assert main(["check", str(raw)]) == 0
+    copy = tmp_path / "raw"
+    shutil.copytree(raw, copy)
+    (copy / "manifest.yaml").unlink()
+    assert main(["manifest", str(copy)]) == 0
+    ours = {f["path"]: f for f in yaml.safe_load((copy / "manifest.yaml").read_text())["files"]}
+    theirs = {f["path"]: f for f in yaml.safe_load((raw / "manifest.yaml").read_text())["files"]}
+    assert set(ours) == set(theirs)
+    for path, f in theirs.items():
+        expected = {k: v for k, v in f.items() if not (f["kind"] == "tracker" and k == "cut")}
+        assert ours[path] == expected, path

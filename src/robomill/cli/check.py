@@ -67,9 +67,16 @@ def _check_robot(path: Path, entry: Mapping[str, Any]) -> None:
 
 
 def _check_stiffness(path: Path, entry: Mapping[str, Any]) -> None:
-    from robomill.io.robots import read_load_tests
+    from robomill.io.robots import read_load_tests, read_robot_file
 
-    read_load_tests(path, int(entry.get("n_joints", 6)))
+    n_joints = 6
+    robot_path = entry.get("_robot_path")  # the robot file of the same `robot`, as the
+    if robot_path is not None:            # stiffness rules pair them
+        try:
+            n_joints = read_robot_file(robot_path)[0].n_joints
+        except RawDataError:
+            pass  # reported with the robot file itself
+    read_load_tests(path, n_joints)
 
 
 CHECKERS: dict[str, Callable[[Path, Mapping[str, Any]], None]] = {
@@ -282,6 +289,9 @@ def check_folder(raw_dir: str | Path, *, jobs: int = 2) -> tuple[list[str], list
     for kind in sorted({f["kind"] for f in valid if f["kind"] not in CHECKERS}):
         notes.append(f"{kind} files: checked for presence and sha256 only (no reader for "
                      f"kind {kind!r} in robomill check)")
+    robots = {f["robot"]: raw_dir / f["path"] for f in valid if f["kind"] == "robot"}
+    valid = [{**f, "_robot_path": robots.get(f.get("robot"))} if f["kind"] == "stiffness"
+             else f for f in valid]
     with ThreadPoolExecutor(max(1, jobs)) as pool:
         results = list(pool.map(lambda f: file_problem(raw_dir, f, mpath.name), valid))
     problems += [r for r in results if r]
