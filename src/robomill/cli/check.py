@@ -286,7 +286,7 @@ def check_folder(raw_dir: str | Path, *, jobs: int = 2) -> tuple[list[str], list
     problems += cell
     files = data.get("files") if isinstance(data, Mapping) and isinstance(
         data.get("files"), list) else []
-    for kind in sorted({f["kind"] for f in valid if f["kind"] not in CHECKERS}):
+    for kind in sorted({f["kind"] for f in valid if f["kind"] not in CHECKERS} - {"cell"}):
         notes.append(f"{kind} files: checked for presence and sha256 only (no reader for "
                      f"kind {kind!r} in robomill check)")
     robots = {f["robot"]: raw_dir / f["path"] for f in valid if f["kind"] == "robot"}

@@ -140,6 +140,10 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
 
     rel = path.relative_to(raw_dir).as_posix()
     inf = Inference(rel)
+    if rel == "cell.yaml" and "cell" in KIND_KEYS:  # the cell file, where the manifest
+        inf.entry = {"path": rel, "kind": "cell"}    # lists it (kind `cell`)
+        inf.missing = [k for k in KIND_KEYS["cell"] if k not in inf.entry]
+        return inf
     native = NATIVE_SUFFIXES.get(path.suffix.lower())
     if native:
         detail = uff_summary(path) if native == "uff" else None
@@ -189,13 +193,16 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
 
 
 def data_files(raw_dir: Path) -> list[Path]:
-    """Every data file of the raw folder (hidden files, the manifest, the cell file and
-    README/.gitkeep excluded), sorted."""
+    """Every data file of the raw folder (hidden files, the manifest and README/.gitkeep
+    excluded; the cell file too unless the manifest has a kind ``cell`` to list it), sorted."""
+    from robomill.io.manifest import KIND_KEYS
+
+    ignored = [n for n in IGNORED_NAMES if not (n == "cell.yaml" and "cell" in KIND_KEYS)]
     out = []
     for p in sorted(raw_dir.rglob("*")):
         rel = p.relative_to(raw_dir)
         if (p.is_file() and not any(part.startswith(".") for part in rel.parts)
-                and not (len(rel.parts) == 1 and p.name in IGNORED_NAMES)
+                and not (len(rel.parts) == 1 and p.name in ignored)
                 and p.name not in ("README.md", ".gitkeep")):
             out.append(p)
     return out
