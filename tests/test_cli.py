@@ -285,11 +285,13 @@ def fake_registry(tmp_path, monkeypatch):
     mod_dir.mkdir()
     (mod_dir / "fake_importer_21.py").write_text(textwrap.dedent(FAKE))
     (mod_dir / "broken_importer_21.py").write_text('FORMAT = "broken"\n')
+    (mod_dir / "needsdep_importer_21.py").write_text("import nosuchpackage_21  # noqa\n")
     monkeypatch.syspath_prepend(str(mod_dir))
     import robomill.importers as importers
 
     monkeypatch.setattr(importers, "FORMATS", {"fake": "fake_importer_21",
                                                "broken": "broken_importer_21",
+                                               "needsdep": "needsdep_importer_21",
                                                "absent": "robomill.importers.absent_21"})
     return importers
 
@@ -394,7 +396,8 @@ def test_import_refuses_an_entry_already_listed(tmp_path, fake_registry, capsys)
 
 
 @pytest.mark.parametrize(("fmt", "message"), [
-    ("nosuch", "unknown format 'nosuch' (expected one of fake, broken, absent)"),
+    ("nosuch", "unknown format 'nosuch' (expected one of fake, broken, needsdep, absent)"),
+    ("needsdep", "needs the Python package 'nosuchpackage_21', which is not installed"),
     ("absent", "module robomill.importers.absent_21 is not part of this robomill"),
     ("broken", "lacks DESCRIPTION, add_arguments, convert"),
 ])
@@ -403,6 +406,13 @@ def test_import_bad_format_is_a_clear_usage_error(tmp_path, fake_registry, capsy
     assert main(["import", fmt, "x", "--to", str(tmp_path / "raw")]) == 2
     assert message in capsys.readouterr().out
     assert not (tmp_path / "raw").exists()
+
+
+def test_import_help_lists_formats_with_their_state(fake_registry, capsys):
+    assert main(["import", "--help"]) == 0
+    out = capsys.readouterr().out
+    assert "fake" in out and "test importer (text force records)" in out
+    assert "absent" in out and "(unavailable:" in out
 
 
 def test_import_format_help_shows_its_options(fake_registry, capsys):
