@@ -69,7 +69,12 @@ def update_manifest(raw_dir: str | Path) -> tuple[dict[str, Any], list[str], lis
     changes: list[str] = []
     todo: list[str] = []
     old_files = old.get("files") if isinstance(old.get("files"), list) else []
-    by_path = {f["path"]: f for f in old_files if isinstance(f, dict) and "path" in f}
+    by_path = {f["path"]: f for f in old_files if isinstance(f, dict)
+               and isinstance(f.get("path"), str)}
+    for i, f in enumerate(old_files):
+        if not (isinstance(f, dict) and isinstance(f.get("path"), str)):
+            todo.append(f"manifest.yaml: files[{i}] is {f!r}, not an entry with a path: "
+                        "dropped (list the file again)")
     entries: dict[str, dict[str, Any]] = {}
     for p in data_files(raw_dir):
         inf = infer_file(raw_dir, p)
@@ -108,8 +113,11 @@ def update_manifest(raw_dir: str | Path) -> tuple[dict[str, Any], list[str], lis
         if e["path"] in old_sha and old_sha[e["path"]] not in (None, e["sha256"]):
             changes.append(f"{e['path']}: sha256 changed (the file was modified since the "
                            "manifest was written)")
-    # files that are gone stay listed as the user wrote them (check reports them)
-    files = built["files"] + [dict(f) for p, f in by_path.items() if p not in entries]
+    # in the user's order, new files after; files that are gone (or native exports the user
+    # listed) stay as the user wrote them (check reports them)
+    fresh = {e["path"]: e for e in built["files"]}
+    files = [fresh.get(p, dict(f)) for p, f in by_path.items()] + [
+        fresh[p] for p in order if p not in by_path]
 
     experiment = dict(old.get("experiment") or {})
     for key in EXPERIMENT_KEYS:
