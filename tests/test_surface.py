@@ -97,14 +97,15 @@ def test_analyse_profile_recovers_split_components():
     wv = pk[pk.band == "waviness"].iloc[0]
     assert wv["resolution_per_mm"] == pytest.approx(1 / L)
     assert not pk.loc[pk.band == "roughness", "below_resolution"].any()
-    assert bool(wv["below_resolution"]) is (0.4 * L < 10)
+    assert bool(wv["below_resolution"]) is (0.4 * L < sf.DEFAULTS["min_peak_cycles"])
 
 
-@pytest.mark.parametrize(("length_mm", "flagged"), [(5.0, True), (15.0, True), (25.0, False),
+@pytest.mark.parametrize(("length_mm", "flagged"), [(4.0, True), (6.0, False), (15.0, False),
                                                      (40.0, False)])
 def test_waviness_peak_of_a_short_profile_is_flagged(length_mm, flagged):
-    """Known truth: a 0.5 1/mm waviness in profiles of 5–40 mm; fewer than 10 periods in the
-    profile (L < 20 mm) is flagged below the record's resolution 1/L."""
+    """Known truth: a 0.5 1/mm waviness in profiles of 4–40 mm; fewer than 2.5 periods in the
+    profile (L < 5 mm: half a bin beyond the 20 % matching tolerance) is flagged below the
+    record's resolution 1/L."""
     x = np.arange(int(length_mm * 200)) / 200.0
     z = 3.0 * np.cos(2 * np.pi * 0.5 * x) + 0.2 * np.cos(2 * np.pi * 60.0 * x)
     ds = sf.analyse_profile(x, z, {"lambda_c_mm": 0.5})

@@ -154,8 +154,9 @@ if "kinematic_below_resolution" in pk:
             + ", ".join(f"{r.cut} ({r.kinematic_per_mm:.2f} mm⁻¹ at 1/L = "
                         f"{r.kinematic_resolution_per_mm:.3f} mm⁻¹)"
                         for r in flagged.itertuples())
-            + "). Their kinematic peak is not evidence of a kinematic irregularity: record "
-              "longer cuts (at least 10 periods, 20 mm for a 0.5 mm⁻¹ peak)."))
+            + f"). Their kinematic peak (frequency known to worse than ±{50 / cycles:.0f} %, "
+              "half a bin) is not evidence of a kinematic irregularity: record longer cuts "
+              f"(at least {cycles:g} periods, {cycles / 0.5:g} mm for a 0.5 mm⁻¹ peak)."))
     else:
         display(Markdown(f"Every kinematic peak has at least {cycles:g} periods in its record "
                          "(resolved; sanity flag `kinematic_below_resolution` in peaks.csv)."))

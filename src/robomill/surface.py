@@ -62,7 +62,7 @@ DEFAULTS: dict[str, Any] = {
     "peak_prominence_ratio": 5.0,
     "match_tolerance": 0.2,
     "min_feed_ratio": 1.5,
-    "min_peak_cycles": 10.0,
+    "min_peak_cycles": 2.5,
     "waviness_plot_max_per_mm": 1.0,
     "roughness_plot_max_per_mm": 30.0,
 }
