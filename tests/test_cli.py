@@ -322,6 +322,9 @@ def test_import_moves_files_and_merges_the_manifest(tmp_path, fake_registry, cap
         assert f["sha256"] == sha256_file(raw / f["path"])
         assert f["fs_hz"] == 1000.0 and f["kind"] == "force"
     assert "imported" in capsys.readouterr().out
+    # the new cuts are listed with feed and depth to fill in (robomill manifest lists them)
+    assert m["cuts"] == [{"id": f"s1_g{i}_px", "set": 1, "segment": i, "direction": "px",
+                          "feed_mm_s": None, "depth_mm": None} for i in (1, 2)]
     assert not list(raw.rglob(".*importing")) and not list(raw.rglob(".*replaced"))
 
 

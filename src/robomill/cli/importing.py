@@ -59,6 +59,24 @@ def _check_entries(entries: Any, staging: Path, module: str) -> list[dict[str, A
     return out
 
 
+def _with_cut_stubs(cuts: Any, entries: list[dict[str, Any]]) -> Any:
+    """``cuts`` plus a stub (:func:`robomill.cli.layout.cut_stub`: feed and depth ``null``,
+    to fill in) for each well-formed cut id of ``entries`` not listed yet."""
+    from robomill.cli.layout import cut_stub
+    from robomill.experiment import CUT_ID
+
+    if not isinstance(cuts, list):
+        return cuts
+    known = {c.get("id") for c in cuts if isinstance(c, Mapping)}
+    out = list(cuts)
+    for e in entries:
+        cid = e.get("cut")
+        if isinstance(cid, str) and CUT_ID.match(cid) and cid not in known:
+            out.append(cut_stub(cid))
+            known.add(cid)
+    return out
+
+
 def import_files(module, sources: list[Path], raw_dir: Path, args: argparse.Namespace, *,
                  overwrite: bool = False) -> list[dict[str, Any]]:
     """Convert ``sources`` with importer ``module`` and add them to ``raw_dir`` atomically.
@@ -127,6 +145,7 @@ def import_files(module, sources: list[Path], raw_dir: Path, args: argparse.Name
             kept = [f for f in files if not (isinstance(f, Mapping)
                                              and f.get("path") in {e["path"] for e in entries})]
             new["files"] = kept + entries
+            new["cuts"] = _with_cut_stubs(new.get("cuts"), entries)
             write_manifest_text(new, mpath, header)
         except OSError as exc:
             for target, backup in reversed(placed):
