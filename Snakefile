@@ -4,7 +4,7 @@ import sys
 
 from snakemake.utils import min_version, validate
 
-from robomill.config import SECTIONS
+from robomill.config import SECTIONS, prepare_config
 
 min_version("9.0")
 
@@ -12,6 +12,8 @@ min_version("9.0")
 configfile: "config.yaml"
 
 
+# values as users write them: `data=FOLDER`, numbers given as text (YAML 1.1, --config)
+prepare_config(config, f"{workflow.basedir}/workflow/schemas/config.schema.yaml")
 validate(config, "workflow/schemas/config.schema.yaml")
 for keys, name in SECTIONS:  # each section by its own schema (fills its defaults)
     section = config

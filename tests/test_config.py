@@ -1,6 +1,7 @@
 """The configuration schema: defaults fill in, bad values are rejected naming the key."""
 
 import copy
+import re
 
 import pytest
 
@@ -60,3 +61,83 @@ def test_load_config_reads_yaml_safely(tmp_path, repo):
     p.write_text("!!python/object/apply:os.system ['true']\n")
     with pytest.raises(Exception, match="constructor|tag"):
         load_config(p, repo / "workflow/schemas/config.schema.yaml")
+
+
+# ---- values as users write them (issue 21) ---------------------------------------------------
+@pytest.mark.parametrize(("text", "wanted", "expected"), [
+    ("10", ["integer"], (True, 10)),
+    ("1e3", ["integer"], (True, 1000)),
+    ("10.0", ["integer"], (True, 10)),
+    ("10.5", ["integer"], (False, None)),
+    ("6.0e8", ["number"], (True, 6.0e8)),
+    ("6e8", ["number"], (True, 6.0e8)),
+    ("-2.5E-3", ["number"], (True, -2.5e-3)),
+    ("250", ["number"], (True, 250)),
+    ("inf", ["number"], (False, None)),
+    ("ten", ["number"], (False, None)),
+    ("null", ["integer", "null"], (True, None)),
+    ("12", ["integer", "null"], (True, 12)),
+    ("yes", ["boolean"], (True, True)),
+    ("Off", ["boolean"], (True, False)),
+])
+def test_coerce_value_reads_what_the_text_spells(text, wanted, expected):
+    from robomill.config import coerce_value
+
+    ok, value = coerce_value(text, wanted)
+    assert (ok, value) == expected
+    if ok:
+        assert type(value) is type(expected[1])
+
+
+def test_yaml_1_1_exponent_floats_in_a_config_file_are_numbers(tmp_path, repo):
+    """PyYAML reads `6.0e8` and `6e8` (no dot or no exponent sign) as text; the schema wants
+    numbers there, so they are converted."""
+    import yaml
+
+    text = (repo / "config.yaml").read_text().replace("Kt_N_m2: 6.0e+8", "Kt_N_m2: 6.0e8", 1)
+    text = text.replace("lowband_hz: 250.0 ", "lowband_hz: 2.5e2 ", 1)
+    assert "Kt_N_m2: 6.0e8" in text and "lowband_hz: 2.5e2" in text
+    p = tmp_path / "config.yaml"
+    p.write_text(text)
+    raw = yaml.safe_load(text)
+    assert raw["chatter"]["cases"][0]["Kt_N_m2"] == "6.0e8"  # what PyYAML gives
+    cfg = load_config(p, repo / "workflow/schemas/config.schema.yaml")
+    assert cfg["chatter"]["cases"][0]["Kt_N_m2"] == 6.0e8
+    assert cfg["forces"]["lowband_hz"] == 250.0
+
+
+def test_command_line_numbers_are_converted_and_bad_ones_get_the_fix(repo, config):
+    """`--config forces='{decimation: 10}'` reaches the config as {'decimation': '10'}
+    (Snakemake parses nested values with YAML's BaseLoader: all text)."""
+    from snakemake.cli import parse_config
+
+    over = parse_config(["forces={decimation: 10, lowband_hz: 2.5e+2}", "data=/some/folder"])
+    assert over["forces"] == {"decimation": "10", "lowband_hz": "2.5e+2"}
+    cfg = copy.deepcopy(config)
+    cfg["forces"] = {**cfg["forces"], **over["forces"]}
+    cfg["data"] = over["data"]
+    out = validate_config(cfg, repo / "workflow/schemas/config.schema.yaml")
+    assert out["forces"]["decimation"] == 10 and out["forces"]["lowband_hz"] == 250.0
+    assert out["data"] == {"source": "raw", "raw_dir": "/some/folder"}
+    cfg["forces"]["decimation"] = "10.5"
+    with pytest.raises(ConfigError, match=re.escape(
+            "config key 'forces.decimation': '10.5' is not an integer or null (expected an "
+            "integer or null: write e.g. decimation: 10 in the config file, or --config "
+            "forces='{decimation: 10}' on the command line)")):
+        validate_config(cfg, repo / "workflow/schemas/config.schema.yaml")
+    cfg["forces"]["decimation"] = 10
+    cfg["chatter"]["cases"][0]["Kt_N_m2"] = "6.0e8 N/m2"
+    with pytest.raises(ConfigError, match=r"chatter.cases\[0\].Kt_N_m2': '6.0e8 N/m2' is not "
+                                          r"a number"):
+        validate_config(cfg, repo / "workflow/schemas/config.schema.yaml")
+
+
+@pytest.mark.parametrize(("value", "expected"), [
+    ("/data/run1", {"source": "raw", "raw_dir": "/data/run1"}),
+    ("synthetic", {"source": "synthetic", "raw_dir": "data/raw"}),
+    ({"source": "raw", "raw_dir": "x"}, {"source": "raw", "raw_dir": "x"}),
+])
+def test_data_folder_shorthand(repo, config, value, expected):
+    cfg = copy.deepcopy(config)
+    cfg["data"] = value
+    assert validate_config(cfg, repo / "workflow/schemas/config.schema.yaml")["data"] == expected

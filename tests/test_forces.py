@@ -9,9 +9,11 @@ from robomill.forces import (
     ForceAnalysisSettings,
     StreamDecimator,
     analyse_force_record,
+    auto_decimation,
     decimate_whole,
     dominant_peak,
     feed_per_tooth_mm,
+    force_cut_dataset,
     identify_cutting_coefficients,
     lowpass_fir,
     mean_slot_forces,
@@ -105,9 +107,11 @@ def test_chunked_spectra_equal_unchunked():
     np.testing.assert_allclose(r["psd"], psd, rtol=1e-10, atol=1e-18)
     np.testing.assert_allclose(r["f_welch"], f)
     # low band: equal to the decimated whole record, and to the full-rate thesis DFT bins
-    h = lowpass_fir(FS, s.lowband_hz, FS / s.decimation - s.lowband_hz, s.fir_atten_db)
-    off = F[: 8 * s.decimation].mean(axis=0)[:, None]  # steady-state start (see the class)
-    ref = thesis_spectrum(decimate_whole(F.T - off, h, s.decimation) + off, FS / s.decimation)
+    D = auto_decimation(FS, s.lowband_hz)  # decimation: null (the default) derives it
+    assert D == 25 and r["decimation"] == D
+    h = lowpass_fir(FS, s.lowband_hz, FS / D - s.lowband_hz, s.fir_atten_db)
+    off = F[: 8 * D].mean(axis=0)[:, None]  # steady-state start (see the class)
+    ref = thesis_spectrum(decimate_whole(F.T - off, h, D) + off, FS / D)
     keep = ref.f <= s.lowband_hz
     np.testing.assert_allclose(r["power_low"], ref.power[:, keep], rtol=1e-10, atol=1e-18)
     # the same bins k/T as the full-rate thesis DFT, with the same power where it matters
@@ -163,3 +167,75 @@ def test_identification_intervals_cover_truth_with_noise():
 def test_identification_needs_several_feeds():
     with pytest.raises(ValueError, match="at least 3 cuts"):
         identify_cutting_coefficients([0.001, 0.001], [0.25, 0.25], np.zeros((2, 3)))
+
+
+# ---- settings from the data (issue 21) -------------------------------------------------------
+@pytest.mark.parametrize(("fs_hz", "band_hz", "expected"),
+                         [(25_000.0, 250.0, 25), (10_000.0, 250.0, 10), (48_000.0, 250.0, 48),
+                          (25_000.0, 100.0, 62), (1_200.0, 250.0, 1), (815.0, 100.0, 2)])
+def test_auto_decimation_keeps_four_times_the_band(fs_hz, band_hz, expected):
+    D = auto_decimation(fs_hz, band_hz)
+    assert D == expected
+    assert fs_hz / D >= 4 * band_hz or D == 1
+    assert fs_hz / (D + 1) < 4 * band_hz  # the largest such factor
+
+
+def test_ten_khz_record_with_default_settings_finds_its_peak():
+    """A 10 kHz record (Kistler DynoWare at 6000 rpm, 2 teeth) with the default settings: the
+    decimation comes from the rate (10), and a planted 85 Hz modulation is found within a
+    bin. With the old fixed decimation 25 it was refused (400 Hz left for a 250 Hz band)."""
+    fs, spindle_hz = 10_000.0, 6000 / 60
+    t = np.arange(int(4.0 * fs)) / fs
+    a = 0.25 * (1 + 0.05 * np.sin(2 * np.pi * 85.0 * t))
+    F = slot_forces_band_limited(2 * np.pi * spindle_hz * t, 0.004, a, K,
+                                 slot_force_tables(2, int(0.45 * fs / spindle_hz)))
+    F = F + np.random.default_rng(3).normal(0, 0.2, F.shape)
+    res = analyse_force_record(chunks_of(t, F, 7_777), fs, len(t))
+    assert res["decimation"] == 10
+    assert res["f_low"].max() <= 250.0 and res["lowband_resolution_hz"] == pytest.approx(0.25)
+    # the tooth passing (200 Hz) and the spindle (100 Hz) are in the band: left out
+    cut = {"id": "s1_g1_py", "set": 1, "segment": 1, "direction": "py", "feed_mm_s": 2.0,
+           "depth_mm": 0.25}
+    ds = force_cut_dataset(res, cut=cut, fs_hz=fs, n_samples=t.size, spindle_rpm=6000,
+                           flutes=2, dominant_band_hz=(15.0, 250.0),
+                           kinematic_band_per_mm=(0.3, 1.0), n_harmonics=13)
+    assert abs(float(ds["dominant_hz"]) - 85.0) <= fs / len(t)
+    assert not bool(ds["dominant_below_resolution"])
+    assert float(ds["harmonic_hz"][0]) == 200.0
+
+
+def test_explicit_decimation_too_high_for_the_record_names_the_fix():
+    from robomill.io import ConfigError
+
+    t = np.arange(20_000) / 10_000.0
+    F = np.zeros((t.size, 3))
+    with pytest.raises(ConfigError, match=r"forces.decimation 25 leaves fs 400 Hz of the 10000 Hz "
+                       r"record.*decimation <= 19.*or null"):
+        analyse_force_record([(t, F)], 10_000.0, t.size, ForceAnalysisSettings(decimation=25))
+    with pytest.raises(ConfigError, match="lowband_hz 250 Hz is not below the Nyquist"):
+        analyse_force_record([(t, F)], 400.0, t.size, ForceAnalysisSettings())
+
+
+@pytest.mark.parametrize(("length_mm", "flagged"),
+                         [(5.0, True), (10.0, True), (15.0, True), (25.0, False), (40.0, False)])
+def test_kinematic_peak_of_a_short_record_is_flagged(length_mm, flagged):
+    """Known truth: a 0.5 1/mm force modulation planted in records of 5–40 mm at 4 mm/s. The
+    peak has 0.5 L periods in the record; fewer than min_peak_cycles = 10 (L < 20 mm) is
+    flagged below the record's resolution, and the flag and resolution 1/L are in the
+    dataset."""
+    v, fs = 4.0, 5_000.0
+    t = np.arange(int(round(length_mm / v * fs))) / fs
+    F = np.column_stack([np.zeros_like(t), 10 + np.sin(2 * np.pi * 0.5 * v * t),
+                         np.zeros_like(t)])
+    s = ForceAnalysisSettings(welch_nperseg=1024, lowband_hz=100.0)
+    res = analyse_force_record([(t, F)], fs, t.size, s)
+    cut = {"id": "s1_g1_py", "set": 1, "segment": 1, "direction": "py", "feed_mm_s": v,
+           "depth_mm": 0.25}
+    ds = force_cut_dataset(res, cut=cut, fs_hz=fs, n_samples=t.size, spindle_rpm=6000,
+                           flutes=2, dominant_band_hz=(15.0, 100.0),
+                           kinematic_band_per_mm=(0.3, 1.0), n_harmonics=3)
+    assert float(ds["kinematic_resolution_per_mm"]) == pytest.approx(1 / length_mm, rel=1e-3)
+    if not flagged:
+        assert float(ds["kinematic_per_mm"]) == pytest.approx(0.5, abs=1 / length_mm)  # a bin
+    assert bool(ds["kinematic_below_resolution"]) is flagged
+    assert ds.attrs["decimation"] == 12

@@ -11,8 +11,16 @@ def test_force_artefacts(tiny_run):
     from robomill.io import open_artefact
 
     peaks = pd.read_csv(tiny_run / "results/forces/peaks.csv")
-    assert list(peaks.columns) == ["cut", "dominant_hz", "dominant_power", "kinematic_per_mm"]
+    assert list(peaks.columns) == ["cut", "dominant_hz", "dominant_power", "kinematic_per_mm",
+                                   "kinematic_resolution_per_mm", "kinematic_below_resolution",
+                                   "dominant_below_resolution"]
     assert len(peaks) == 6
+    # the tiny study's 4 mm records (synth.dynamometer.record_length_mm): 1/L = 0.25 1/mm, a
+    # kinematic peak near 0.5 1/mm has 2 periods in the record: every cut is flagged; the
+    # dominant peak (~70 Hz over 0.5-2 s: 35-140 periods) is resolved
+    np.testing.assert_allclose(peaks["kinematic_resolution_per_mm"], 1 / 4.0, rtol=1e-3)
+    assert peaks["kinematic_below_resolution"].all()
+    assert not peaks["dominant_below_resolution"].any()
     assert peaks["dominant_hz"].between(60, 120).all()
     sp = open_artefact(tiny_run / "results/forces/spectra.nc")
     for v in list(sp.data_vars) + list(sp.coords):

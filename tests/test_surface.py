@@ -92,6 +92,29 @@ def test_analyse_profile_recovers_split_components():
     pk = sf.profile_peaks(ds, sf.settings({}))
     assert pk.loc[pk.band == "waviness", "f_spatial_per_mm"].iloc[0] == pytest.approx(0.4)
     assert 60.0 in pk.loc[pk.band == "roughness", "f_spatial_per_mm"].round(6).tolist()
+    # sanity flags: the resolution of each band's spectrum, nothing flagged here
+    L = N / FS
+    wv = pk[pk.band == "waviness"].iloc[0]
+    assert wv["resolution_per_mm"] == pytest.approx(1 / L)
+    assert not pk.loc[pk.band == "roughness", "below_resolution"].any()
+    assert bool(wv["below_resolution"]) is (0.4 * L < sf.DEFAULTS["min_peak_cycles"])
+
+
+@pytest.mark.parametrize(("length_mm", "flagged"), [(4.0, True), (6.0, False), (15.0, False),
+                                                     (40.0, False)])
+def test_waviness_peak_of_a_short_profile_is_flagged(length_mm, flagged):
+    """Known truth: a 0.5 1/mm waviness in profiles of 4–40 mm; fewer than 2.5 periods in the
+    profile (L < 5 mm: half a bin beyond the 20 % matching tolerance) is flagged below the
+    record's resolution 1/L."""
+    x = np.arange(int(length_mm * 200)) / 200.0
+    z = 3.0 * np.cos(2 * np.pi * 0.5 * x) + 0.2 * np.cos(2 * np.pi * 60.0 * x)
+    ds = sf.analyse_profile(x, z, {"lambda_c_mm": 0.5})
+    pk = sf.profile_peaks(ds, sf.settings({}))
+    wv = pk[pk.band == "waviness"]
+    assert len(wv) >= 1
+    assert wv["resolution_per_mm"].iloc[0] == pytest.approx(1 / length_mm, rel=1e-2)
+    top = wv.sort_values("power_um2").iloc[-1]
+    assert bool(top["below_resolution"]) is flagged
 
 
 def test_mechanism_attribution():

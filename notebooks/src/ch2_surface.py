@@ -235,6 +235,23 @@ if len(dyn):
              f"{dyn.f_temporal_hz.quantile(0.9):.0f} Hz (10–90 %), while their wavelength "
              "grows with feed")
 display(Markdown(text + "."))
+# sanity flag: peaks with too few periods in the length their spectrum covers
+if "below_resolution" in pk:
+    low = pk[pk["below_resolution"].astype(bool)]
+    cycles = (settings or {}).get("min_peak_cycles", 2.5)
+    if len(low):
+        by_band = low.groupby("band").size().to_dict()
+        display(Markdown(
+            f"**Sanity flag: {len(low)} of {len(pk)} peaks are below their record's "
+            f"resolution** (fewer than {cycles:g} periods in the profile or segment: "
+            + ", ".join(f"{n} {b}" for b, n in by_band.items())
+            + f"; e.g. {low.iloc[0].cut} at {low.iloc[0].f_spatial_per_mm:.2f} mm⁻¹ with "
+              f"1/L = {low.iloc[0].resolution_per_mm:.3f} mm⁻¹). Their frequency is known to "
+              f"worse than ±{50 / cycles:.0f} % (half a bin), so their mechanism is not "
+              "evidence; longer profiles resolve them."))
+    else:
+        display(Markdown(f"Every peak has at least {cycles:g} periods in its record (sanity "
+                         "flag `below_resolution` in peaks.csv)."))
 
 # %% [markdown]
 # ## Planted vs recovered (synthetic data only)

@@ -143,6 +143,23 @@ display(Markdown(
     f"median **{kin.median():.2f} mm⁻¹** over all cuts (range {kin.min():.2f}–{kin.max():.2f}; "
     f"thesis: about 0.5 mm⁻¹). The resolution of a {float(sp['feed_mm_s'][0]):g} mm/s record is "
     f"1/L = {float(sp['f_spatial_low'].isel(cut=0, lf_bin=1)):.3f} mm⁻¹."))
+# sanity flag: a kinematic peak with too few periods in the record cannot be resolved
+if "kinematic_below_resolution" in pk:
+    flagged = pk[pk["kinematic_below_resolution"].astype(bool)]
+    cycles = settings.get("min_peak_cycles", 10.0)
+    if len(flagged):
+        display(Markdown(
+            f"**Sanity flag: {len(flagged)} of {len(pk)} cuts have a kinematic peak below the "
+            f"record's resolution** (fewer than {cycles:g} periods in the record: "
+            + ", ".join(f"{r.cut} ({r.kinematic_per_mm:.2f} mm⁻¹ at 1/L = "
+                        f"{r.kinematic_resolution_per_mm:.3f} mm⁻¹)"
+                        for r in flagged.itertuples())
+            + f"). Their kinematic peak (frequency known to worse than ±{50 / cycles:.0f} %, "
+              "half a bin) is not evidence of a kinematic irregularity: record longer cuts "
+              f"(at least {cycles:g} periods, {cycles / 0.5:g} mm for a 0.5 mm⁻¹ peak)."))
+    else:
+        display(Markdown(f"Every kinematic peak has at least {cycles:g} periods in its record "
+                         "(resolved; sanity flag `kinematic_below_resolution` in peaks.csv)."))
 
 # %% [markdown]
 # ## Figures 3.8–3.10 — spectra in time frequency, 0–250 Hz (dominant peak)

@@ -8,6 +8,7 @@ default filling, so library users get exactly the configuration the pipeline see
 from __future__ import annotations
 
 import copy
+import math
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -77,9 +78,147 @@ def _check(instance: Any, schema_path: Path, prefix: tuple[str, ...]) -> None:
                           f"(schema {schema_path.name})")
 
 
+# ---- values as users write them ----------------------------------------------------------------
+_BOOLEANS = {"true": True, "yes": True, "on": True, "false": False, "no": False, "off": False}
+
+
+def _key_path(prefix: tuple[str, ...], path) -> str:
+    key = ".".join(prefix)
+    for part in path:
+        key += f"[{part}]" if isinstance(part, int) else (f".{part}" if key else str(part))
+    return key or "<root>"
+
+
+def _types(schema_type: Any) -> list[str]:
+    return [schema_type] if isinstance(schema_type, str) else list(schema_type or [])
+
+
+def coerce_value(text: str, wanted: list[str]) -> tuple[bool, Any]:
+    """``text`` as the first JSON-schema type of ``wanted`` it spells, as YAML 1.2 would
+    read it: ``(True, value)``, or ``(False, None)`` when it spells none of them.
+
+    ``integer``: ``10``, ``1e3``, ``10.0`` (integral values only); ``number``: any float
+    Python reads (``6.0e8``, ``6e8``, ``1.5``, ``inf`` excluded); ``boolean``: true/false,
+    yes/no, on/off; ``null``: ``null``, ``~`` or empty. PyYAML implements YAML 1.1, whose
+    floats need a dot and a signed exponent: ``6.0e+8`` is a number there but ``6.0e8`` and
+    ``6e8`` are text (YAML 1.2 reads all three as numbers); Snakemake's ``--config`` parser
+    reads nested values as text.
+    """
+    t = text.strip()
+    for typ in wanted:
+        if typ in ("integer", "number"):
+            try:
+                value = float(t)
+            except ValueError:
+                continue
+            if not math.isfinite(value):
+                continue
+            if typ == "integer" or (value.is_integer() and "." not in t and "e" not in t.lower()):
+                if not value.is_integer():
+                    continue
+                return True, int(value)
+            return True, value
+        if typ == "boolean" and t.lower() in _BOOLEANS:
+            return True, _BOOLEANS[t.lower()]
+        if typ == "null" and t.lower() in ("null", "~", ""):
+            return True, None
+    return False, None
+
+
+_NAMES = {"integer": "an integer", "number": "a number", "boolean": "true or false",
+          "null": "null"}
+_EXAMPLES = {"integer": "10", "number": "2.5e+2", "boolean": "true", "null": "null"}
+
+
+def _fix_hint(key: str, text: str, wanted: list[str]) -> str:
+    """The message for a text value that spells none of the ``wanted`` types, with the fix."""
+    leaf = key.rsplit(".", 1)[-1].split("[")[0]
+    typ = next((w for w in wanted if w in _EXAMPLES), "null")
+    example = _EXAMPLES[typ]
+    section = key.split(".")[0].split("[")[0]
+    inline = f"{{{leaf}: {example}}}" if "." in key else example
+    what = " or ".join(_NAMES.get(w, w) for w in wanted)
+    return (f"config key '{key}': {text!r} is not {what} (expected {what}: write e.g. "
+            f"{leaf}: {example} in the config file, or --config {section}='{inline}' on the "
+            "command line)")
+
+
+def coerce_numbers(node: Any, schema_path: str | Path, prefix: tuple[str, ...] = ()) -> list[str]:
+    """Convert, in place, text values of ``node`` where its schema wants a number, an integer,
+    a boolean or null and the text spells one (:func:`coerce_value`); return one line per
+    conversion (``forces.decimation: '10' -> 10``).
+
+    Config values as users write them: ``Kt_N_m2: 6.0e8`` in a YAML file and
+    ``--config forces='{decimation: 10}'`` both reach the configuration as text.
+
+    Raises
+    ------
+    ConfigError
+        A text value where the schema wants a number that does not spell one; the message
+        gives the exact fix.
+    """
+    import jsonschema
+
+    validator = jsonschema.Draft202012Validator(_load_yaml(Path(schema_path)))
+    done: list[str] = []
+    for _ in range(10_000):  # each pass fixes every reachable error; nested ones need more
+        changed = False
+        for err in validator.iter_errors(node):
+            if err.validator != "type" or not isinstance(err.instance, str):
+                continue
+            wanted = _types(err.validator_value)
+            if not set(wanted) & {"integer", "number", "boolean", "null"}:
+                continue
+            key = _key_path(prefix, err.absolute_path)
+            ok, value = coerce_value(err.instance, wanted)
+            if not ok:
+                raise ConfigError(_fix_hint(key, err.instance, wanted))
+            parent = node
+            *head, last = list(err.absolute_path) or [None]
+            if last is None:
+                continue
+            for part in head:
+                parent = parent[part]
+            parent[last] = value
+            done.append(f"{key}: {err.instance!r} -> {value!r}")
+            changed = True
+        if not changed:
+            return done
+    return done
+
+
+def normalize_data(config: dict[str, Any]) -> None:
+    """``data: <folder>`` (``--config data=FOLDER``) means raw data from that folder:
+    ``{source: raw, raw_dir: FOLDER}``; ``data: synthetic`` means ``{source: synthetic}``.
+    A mapping is left as it is."""
+    data = config.get("data")
+    if isinstance(data, str):
+        config["data"] = ({"source": "synthetic"} if data.strip() == "synthetic"
+                          else {"source": "raw", "raw_dir": data})
+
+
+def prepare_config(config: dict[str, Any], schema_path: str | Path) -> list[str]:
+    """Before validation, in place: the ``data`` shorthand (:func:`normalize_data`), then
+    text values converted where the schema wants numbers (:func:`coerce_numbers`) at the top
+    level and in every present section. The Snakefile calls this on Snakemake's ``config``
+    before ``validate``; :func:`validate_config` calls it on its copy."""
+    schema_path = Path(schema_path)
+    normalize_data(config)
+    done = coerce_numbers(config, schema_path)
+    for keys, name in SECTIONS:
+        node: Any = config
+        for k in keys:
+            node = node.get(k) if isinstance(node, dict) else None
+        if isinstance(node, dict):
+            done += coerce_numbers(node, schema_path.parent / "config" / f"{name}.schema.yaml",
+                                   keys)
+    return done
+
+
 def validate_config(config: Mapping[str, Any], schema_path: str | Path) -> dict[str, Any]:
     """Validate ``config`` against the top-level schema and every section's schema, filling
-    defaults; return the filled copy.
+    defaults; return the filled copy. Text spelling a number where the schema wants one is
+    converted first (:func:`prepare_config`).
 
     Raises
     ------
@@ -88,6 +227,7 @@ def validate_config(config: Mapping[str, Any], schema_path: str | Path) -> dict[
     """
     cfg = copy.deepcopy(dict(config))
     schema_path = Path(schema_path)
+    prepare_config(cfg, schema_path)
     _check(cfg, schema_path, ())
     for keys, name in SECTIONS:
         node = cfg

@@ -367,12 +367,40 @@ def decimate_whole(x: np.ndarray, h: np.ndarray, factor: int) -> np.ndarray:
     return scipy.signal.upfirdn(h, x, 1, factor, axis=-1)[:, :-(-x.shape[1] // factor)]
 
 
+LOWBAND_OVERSAMPLING = 4
+"""The decimated low-band record keeps ``fs/D ≥ 4 × lowband_hz`` (:func:`auto_decimation`)."""
+
+
+def auto_decimation(fs_hz: float, lowband_hz: float) -> int:
+    """Decimation factor of the low-band record, from the record's rate and the band.
+
+    The largest integer ``D`` with ``fs/D ≥ 4 × lowband_hz`` (at least 1): the anti-alias FIR
+    (:func:`lowpass_fir`) then passes ``lowband_hz`` and stops from ``fs/D − lowband_hz ≥
+    3 × lowband_hz``, so nothing folds into the band and the transition is twice the band
+    wide (a short filter). 25 at 25 kHz and a 250 Hz band (a 1 kHz low-band record), 10 at
+    10 kHz.
+
+    Examples
+    --------
+    >>> auto_decimation(25_000, 250), auto_decimation(10_000, 250), auto_decimation(815, 250)
+    (25, 10, 1)
+    """
+    if fs_hz <= 0 or lowband_hz <= 0:
+        raise ValueError(f"need positive fs ({fs_hz}) and band ({lowband_hz})")
+    return max(1, int(np.floor(fs_hz / (LOWBAND_OVERSAMPLING * lowband_hz) + 1e-9)))
+
+
 @dataclass
 class ForceAnalysisSettings:
-    """Parameters of the per-cut force analysis (config section ``forces``)."""
+    """Parameters of the per-cut force analysis (config section ``forces``).
+
+    ``decimation`` ``None`` (the default): derived from each record's rate
+    (:func:`auto_decimation`); an integer is used as given and must leave
+    ``fs/decimation > 2 × lowband_hz``.
+    """
 
     welch_nperseg: int = 16384
-    decimation: int = 25
+    decimation: int | None = None
     lowband_hz: float = 250.0
     fir_atten_db: float = 120.0
     envelope_blocks: int = 400
@@ -409,19 +437,30 @@ class ForceSpectrumAccumulator:
     """
 
     def __init__(self, fs_hz: float, n_samples: int, settings: ForceAnalysisSettings):
+        from robomill.io.errors import ConfigError
         from robomill.spectra import WelchAccumulator
 
         self.fs, self.n, self.s = float(fs_hz), int(n_samples), settings
-        self.fs_low = self.fs / settings.decimation
-        if self.fs_low - settings.lowband_hz <= settings.lowband_hz:
-            raise ValueError(f"decimation {settings.decimation} leaves fs {self.fs_low:g} Hz: "
-                             f"too low for a {settings.lowband_hz:g} Hz band")
+        band = settings.lowband_hz
+        if 2 * band >= self.fs:
+            raise ConfigError(f"forces.lowband_hz {band:g} Hz is not below the Nyquist "
+                              f"frequency of a {self.fs:g} Hz record (expected lowband_hz "
+                              f"< {self.fs / 2:g} Hz for this record)")
+        self.D = int(settings.decimation or auto_decimation(self.fs, band))
+        self.fs_low = self.fs / self.D
+        if self.fs_low - band <= band:
+            ok = int(np.ceil(self.fs / (2 * band)) - 1)
+            raise ConfigError(f"forces.decimation {self.D} leaves fs {self.fs_low:g} Hz of the "
+                              f"{self.fs:g} Hz record: too low for a {band:g} Hz band "
+                              f"(expected decimation <= {ok} for this record, or null to "
+                              "derive it from the record's rate)")
         nper = min(settings.welch_nperseg, self.n)
         self.welch = WelchAccumulator(self.fs, nper, n_channels=3)
-        h = lowpass_fir(self.fs, settings.lowband_hz, self.fs_low - settings.lowband_hz,
+        # stop where the decimated record folds back into the band (Nyquist when D = 1)
+        h = lowpass_fir(self.fs, band, min(self.fs_low - band, self.fs / 2),
                         settings.fir_atten_db)
-        self.dec = StreamDecimator(h, settings.decimation, 3)
-        n_low = -(-self.n // settings.decimation)
+        self.dec = StreamDecimator(h, self.D, 3)
+        n_low = -(-self.n // self.D)
         seg = max(1, int(round(settings.lowband_max_s * self.fs_low)))
         self.low_segment = n_low if n_low <= seg else seg
         self.low_pending: list[np.ndarray] = []
@@ -450,7 +489,7 @@ class ForceSpectrumAccumulator:
         self.sum += F.sum(axis=1)
         self.welch.add(F)
         if self.offset is None:  # start the decimator in steady state at the first level
-            self.offset = F[:, : self.s.decimation * 8].mean(axis=1, keepdims=True)
+            self.offset = F[:, : self.D * 8].mean(axis=1, keepdims=True)
         self.dec.add(F - self.offset)
         self._low_band(self.dec.drain())
         # envelope blocks overlapping this chunk
@@ -498,6 +537,8 @@ class ForceSpectrumAccumulator:
             "f_welch": f, "psd": psd,
             "f_low": self.low_f[keep], "power_low": power[:, keep],
             "lowband_segments": self.low_segments,
+            "decimation": self.D,
+            "lowband_resolution_hz": self.fs_low / self.low_segment,
             "env_t": (self.block_edges[:-1] + self.block_edges[1:]) / 2 / self.fs,
             "env_min": self.env_min, "env_max": self.env_max,
             "excerpt_t": (self.ex_start + np.arange(self.excerpt.shape[1])) / self.fs,
@@ -515,11 +556,17 @@ def analyse_force_record(chunks: Iterable[tuple[np.ndarray, np.ndarray]], fs_hz:
     return acc.result()
 
 
-def dominant_peak(f_hz: np.ndarray, power: np.ndarray, band_hz: tuple[float, float]
+def dominant_peak(f_hz: np.ndarray, power: np.ndarray, band_hz: tuple[float, float], *,
+                  exclude_hz: Iterable[float] = (), exclude_width_hz: float = 0.0
                   ) -> tuple[float, float]:
-    """Frequency and power of the largest bin of ``power`` within ``band_hz`` (inclusive)."""
+    """Frequency and power of the largest bin of ``power`` within ``band_hz`` (inclusive),
+    bins within ``exclude_width_hz`` of any of ``exclude_hz`` left out (the spindle's own
+    harmonics, when a slow spindle puts them in the band)."""
     f_hz, power = np.asarray(f_hz), np.asarray(power)
-    sel = np.flatnonzero((f_hz >= band_hz[0]) & (f_hz <= band_hz[1]))
+    ok = (f_hz >= band_hz[0]) & (f_hz <= band_hz[1])
+    for fx in exclude_hz:
+        ok &= np.abs(f_hz - fx) > exclude_width_hz
+    sel = np.flatnonzero(ok)
     if sel.size == 0:
         return float("nan"), float("nan")
     i = sel[np.argmax(power[sel])]
@@ -551,20 +598,38 @@ def _var(dims, data, units, long_name):
 def force_cut_dataset(result: Mapping[str, np.ndarray], *, cut: Mapping, fs_hz: float,
                       n_samples: int, spindle_rpm: float, flutes: int,
                       dominant_band_hz: tuple[float, float],
-                      kinematic_band_per_mm: tuple[float, float], n_harmonics: int):
+                      kinematic_band_per_mm: tuple[float, float], n_harmonics: int,
+                      min_peak_cycles: float = 10.0):
     """The analysis of one cut (from :meth:`ForceSpectrumAccumulator.result`) as a dataset,
     with its peaks: the dominant low-frequency peak (largest bin of the thesis power summed
-    over the three axes in ``dominant_band_hz``), the kinematic peak (same, in spatial
-    frequency f/v within ``kinematic_band_per_mm``) and the tooth-passing harmonics (Welch)."""
+    over the three axes in ``dominant_band_hz``, the spindle harmonics ±2.5 bins left out),
+    the kinematic peak (same, in spatial
+    frequency f/v within ``kinematic_band_per_mm``) and the tooth-passing harmonics (Welch).
+
+    Sanity flags (:func:`robomill.spectra.below_resolution`): a peak with fewer than
+    ``min_peak_cycles`` periods in the low-band record (resolution 1/T in time, 1/(v T) = 1/L
+    in space, L the record's length along the cut) is flagged ``*_below_resolution``: a short
+    record (5–25 mm) cannot resolve a kinematic peak near 0.5 1/mm."""
     import xarray as xr
 
     from robomill.experiment import DIRECTION_VECTORS
+    from robomill.spectra import below_resolution
 
     v = float(cut["feed_mm_s"])
     total_low = np.asarray(result["power_low"]).sum(axis=0)
     f_low = np.asarray(result["f_low"])
-    f_dom, p_dom = dominant_peak(f_low, total_low, tuple(dominant_band_hz))
+    # the spindle's harmonics k n/60 (runout, tooth passing) are tabulated as harmonics, not
+    # searched as the dominant peak: with a slow spindle (6000 rpm, 2 teeth: 100, 200 Hz)
+    # they fall in the band (at 28 000 rpm they do not: 467 Hz)
+    df_hz = float(result.get("lowband_resolution_hz", fs_hz / max(int(n_samples), 1)))
+    spindle_hz = float(spindle_rpm) / 60.0
+    f_dom, p_dom = dominant_peak(
+        f_low, total_low, tuple(dominant_band_hz),
+        exclude_hz=spindle_hz * np.arange(1, int(dominant_band_hz[1] / spindle_hz) + 2),
+        exclude_width_hz=2.5 * df_hz)
     f_kin, p_kin = dominant_peak(f_low / v, total_low, tuple(kinematic_band_per_mm))
+    dom_flag = bool(below_resolution(f_dom, df_hz, min_cycles=min_peak_cycles))
+    kin_flag = bool(below_resolution(f_kin, df_hz / v, min_cycles=min_peak_cycles))
     f_tp = tooth_passing_hz(spindle_rpm, flutes)
     fk, hp = harmonic_powers(result["f_welch"], result["psd"], f_tp, n_harmonics)
     R = cut_frame(DIRECTION_VECTORS[cut["direction"]])
@@ -599,6 +664,17 @@ def force_cut_dataset(result: Mapping[str, np.ndarray], *, cut: Mapping, fs_hz: 
             "kinematic_per_mm": _var((), f_kin, "1/mm", "kinematic (spatial) peak"),
             "kinematic_power": _var((), p_kin, "N^2",
                                     "thesis power at the kinematic peak, summed over axes"),
+            "lowband_resolution_hz": _var((), df_hz, "Hz",
+                                          "frequency resolution of the low band 1/T"),
+            "kinematic_resolution_per_mm": _var((), df_hz / v, "1/mm",
+                                                "spatial resolution of the low band 1/(v T)"),
+            "dominant_below_resolution": _var((), dom_flag, "1",
+                                              f"dominant peak has fewer than {min_peak_cycles:g} "
+                                              "periods in the record (or none was found)"),
+            "kinematic_below_resolution": _var((), kin_flag, "1",
+                                               f"kinematic peak has fewer than "
+                                               f"{min_peak_cycles:g} periods in the record "
+                                               "(or none was found)"),
         },
         coords={
             "axis": _var("axis", list(AXES), "1", "force channel (R0 axes)"),
@@ -613,7 +689,9 @@ def force_cut_dataset(result: Mapping[str, np.ndarray], *, cut: Mapping, fs_hz: 
                "fs_hz": float(fs_hz), "n_samples": int(n_samples),
                "feed_per_tooth_mm": feed_per_tooth_mm(v, spindle_rpm, flutes),
                "tooth_passing_hz": f_tp,
-               "lowband_segments": int(result.get("lowband_segments", 1))},
+               "lowband_segments": int(result.get("lowband_segments", 1)),
+               "decimation": int(result.get("decimation", 0)),
+               "min_peak_cycles": float(min_peak_cycles)},
     )
     return ds
 
@@ -627,7 +705,9 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
     (dims ``cut, axis, frequency, lf_bin, harmonic, block, sample``; the low band is padded
     with NaN to the longest record), the ``peaks.csv`` table (``cut, dominant_hz,
     dominant_power, kinematic_per_mm``), per-cut mean forces, harmonic powers, and the
-    identified cutting coefficients (:func:`identify_cutting_coefficients`). The spectra
+    identified cutting coefficients (:func:`identify_cutting_coefficients`); ``peaks.csv``
+    then carries the sanity flags ``kinematic_resolution_per_mm, kinematic_below_resolution,
+    dominant_below_resolution`` (:func:`force_cut_dataset`). The spectra
     dataset also holds the model force shape of thesis Fig 3.2 over one revolution with the
     identified coefficients (``model_force``).
     """
@@ -655,8 +735,13 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
                  "tooth_passing_hz": ("Hz", "tooth-passing frequency")}
     for name, (unit, ln) in attr_vars.items():
         spectra[name] = _var("cut", [d.attrs[name] for d in cut_datasets], unit, ln)
-    for name in ("dominant_hz", "dominant_power", "kinematic_per_mm", "kinematic_power"):
-        spectra[name] = _var("cut", [float(d[name]) for d in cut_datasets],
+    flags = ("lowband_resolution_hz", "kinematic_resolution_per_mm",
+             "dominant_below_resolution", "kinematic_below_resolution")
+    have_flags = all(name in d for d in cut_datasets for name in flags)
+    for name in ("dominant_hz", "dominant_power", "kinematic_per_mm", "kinematic_power",
+                 *(flags if have_flags else ())):
+        cast = bool if name.endswith("below_resolution") else float
+        spectra[name] = _var("cut", [cast(d[name]) for d in cut_datasets],
                              cut_datasets[0][name].attrs["units"],
                              cut_datasets[0][name].attrs["long_name"])
     spectra = spectra.assign_coords(cut=_var("cut", ids, "1", "cut id"))
@@ -670,6 +755,10 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
                           "dominant_hz": spectra["dominant_hz"].values,
                           "dominant_power": spectra["dominant_power"].values,
                           "kinematic_per_mm": spectra["kinematic_per_mm"].values})
+    if have_flags:  # sanity flags after the thesis columns
+        for name in ("kinematic_resolution_per_mm", "kinematic_below_resolution",
+                     "dominant_below_resolution"):
+            peaks[name] = spectra[name].values
     means = pd.DataFrame({"cut": ids, **{k: spectra[k].values for k in
                                          ("set", "segment", "direction", "feed_mm_s",
                                           "depth_mm", "feed_per_tooth_mm")}})

@@ -183,3 +183,23 @@ def find_peaks_spectrum(f: np.ndarray, power: np.ndarray, *, fmin: float = 0.0,
     idx, _ = scipy.signal.find_peaks(pb, height=prominence_ratio * floor)
     idx = idx[np.argsort(pb[idx])[::-1][:n]]
     return [(float(fb[i]), float(pb[i])) for i in sorted(idx, key=lambda i: fb[i])]
+
+
+def below_resolution(f: np.ndarray | float, resolution: np.ndarray | float, *,
+                     min_cycles: float) -> np.ndarray:
+    """Sanity flag: peaks a record cannot resolve.
+
+    A DFT of a record of length ``T`` has bins ``k/T``; a peak at frequency ``f`` lies in bin
+    ``k = f T`` and is known to half a bin, a relative uncertainty ``1/(2 f T)``. A peak with
+    fewer than ``min_cycles`` periods in the record (``f < min_cycles × resolution``, the
+    resolution being ``1/T``) is flagged, and so is a missing (NaN) peak: 10 cycles means the
+    frequency is known to ±5 %. Works in time (Hz, 1/s) and space (1/mm, 1/mm) alike.
+
+    Examples
+    --------
+    >>> below_resolution([0.5, 0.5], [1 / 40, 1 / 10], min_cycles=10).tolist()
+    [False, True]
+    """
+    f = np.asarray(f, float)
+    res = np.asarray(resolution, float)
+    return ~(f >= min_cycles * res)

@@ -34,6 +34,7 @@ import xarray as xr
 import yaml
 
 from robomill.spectra import (
+    below_resolution,
     find_peaks_spectrum,
     segment_averaged_spectrum,
     segment_rms,
@@ -61,6 +62,7 @@ DEFAULTS: dict[str, Any] = {
     "peak_prominence_ratio": 5.0,
     "match_tolerance": 0.2,
     "min_feed_ratio": 1.5,
+    "min_peak_cycles": 2.5,
     "waviness_plot_max_per_mm": 1.0,
     "roughness_plot_max_per_mm": 30.0,
 }
@@ -181,18 +183,28 @@ def profile_peaks(ds: xr.Dataset, opts: Mapping[str, Any]) -> pd.DataFrame:
     """Dominant peaks of one analysed profile: waviness band from the whole-profile thesis
     spectrum (resolution fs/N), roughness band from the segment-averaged spectrum with
     ``roughness_peak_segment_mm`` segments (variance of a random-vibration spectrum reduced by
-    averaging). ``amplitude_um`` is the sinusoid amplitude sqrt(2 P) at the peak bin."""
+    averaging). ``amplitude_um`` is the sinusoid amplitude sqrt(2 P) at the peak bin.
+
+    Sanity flag: ``resolution_per_mm`` is the bin spacing of the spectrum the peak was found
+    in (1/L for waviness, 1/segment for roughness) and ``below_resolution`` marks a peak with
+    fewer than ``min_peak_cycles`` periods in that length
+    (:func:`robomill.spectra.below_resolution`)."""
     rows = []
     n, ratio = int(opts["n_peaks"]), float(opts["peak_prominence_ratio"])
-    lo, hi = opts["waviness_band_per_mm"]
-    for f, p in find_peaks_spectrum(ds["f"].values, ds["power"].values, fmin=lo, fmax=hi,
-                                    n=n, prominence_ratio=ratio):
-        rows.append({"band": "waviness", "f_spatial_per_mm": f, "power_um2": p})
-    lo, hi = opts["roughness_band_per_mm"]
-    for f, p in find_peaks_spectrum(ds["f_peak"].values, ds["power_peak"].values, fmin=lo,
-                                    fmax=hi, n=n, prominence_ratio=ratio):
-        rows.append({"band": "roughness", "f_spatial_per_mm": f, "power_um2": p})
-    df = pd.DataFrame(rows, columns=["band", "f_spatial_per_mm", "power_um2"])
+    cycles = float(opts.get("min_peak_cycles", DEFAULTS["min_peak_cycles"]))
+    for band, f_name, p_name in (("waviness", "f", "power"),
+                                 ("roughness", "f_peak", "power_peak")):
+        lo, hi = opts[f"{band}_band_per_mm"]
+        f_axis = ds[f_name].values
+        res = float(f_axis[1] - f_axis[0]) if f_axis.size > 1 else float("nan")
+        for f, p in find_peaks_spectrum(f_axis, ds[p_name].values, fmin=lo, fmax=hi, n=n,
+                                        prominence_ratio=ratio):
+            rows.append({"band": band, "f_spatial_per_mm": f, "power_um2": p,
+                         "resolution_per_mm": res,
+                         "below_resolution": bool(below_resolution(f, res,
+                                                                   min_cycles=cycles))})
+    df = pd.DataFrame(rows, columns=["band", "f_spatial_per_mm", "power_um2",
+                                     "resolution_per_mm", "below_resolution"])
     df["amplitude_um"] = np.sqrt(2.0 * df["power_um2"].astype(float))
     return df
 

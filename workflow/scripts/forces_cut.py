@@ -30,8 +30,15 @@ ds = force_cut_dataset(acc.result(), cut=cut.as_dict(), fs_hz=record.fs_hz,
                        n_samples=record.n_samples, spindle_rpm=exp["spindle_rpm"],
                        flutes=exp["flutes"], dominant_band_hz=s["dominant_band_hz"],
                        kinematic_band_per_mm=s["kinematic_band_per_mm"],
-                       n_harmonics=s["n_harmonics"])
+                       n_harmonics=s["n_harmonics"],
+                       min_peak_cycles=float(s["min_peak_cycles"]))
 write_artefact(ds, snakemake.output[0], rule="forces_cut", inputs=[snakemake.input.raw],
                config_section=s)
-log.info("%s: %d samples, dominant %.2f Hz, kinematic %.3f 1/mm", p.cut, record.n_samples,
+log.info("%s: %d samples at %g Hz, decimation %d (%s), dominant %.2f Hz, kinematic %.3f 1/mm",
+         p.cut, record.n_samples, record.fs_hz, acc.D,
+         "from the rate" if s["decimation"] is None else "forces.decimation",
          float(ds["dominant_hz"]), float(ds["kinematic_per_mm"]))
+if bool(ds["kinematic_below_resolution"]):
+    log.warning("%s: kinematic peak %.3f 1/mm is below the record's resolution (%.3f 1/mm, "
+                "fewer than %g periods in the record)", p.cut, float(ds["kinematic_per_mm"]),
+                float(ds["kinematic_resolution_per_mm"]), float(s["min_peak_cycles"]))

@@ -50,7 +50,8 @@ peaks = pd.concat([pd.read_csv(f) for f in snakemake.input.peaks], ignore_index=
 peaks = attribute_mechanisms(peaks, cuts, tolerance=float(opts["match_tolerance"]),
                              min_feed_ratio=float(opts["min_feed_ratio"]))
 cols = ["cut", "f_spatial_per_mm", "f_temporal_hz", "amplitude_um", "mechanism", "band",
-        "feed_mm_s", "power_um2", "n_witnesses", "n_kinematic_support", "n_dynamic_support"]
+        "feed_mm_s", "power_um2", "n_witnesses", "n_kinematic_support", "n_dynamic_support",
+        "resolution_per_mm", "below_resolution"]
 write_table(peaks[cols], snakemake.output.peaks)
 
 spectra = spectra_dataset(per_cut, ids)

@@ -1,0 +1,321 @@
+"""``robomill check DIR``: every problem of a raw folder, one line each, without Snakemake.
+
+The manifest is validated entry by entry with the pipeline's own validator
+(:func:`robomill.io.manifest.parse_manifest`), so that one bad entry does not hide the next;
+the cell file with :func:`robomill.io.cell.read_cell` where this installation has it; every
+listed file against its sha256 and with the reader its analysis uses (the same reader, the
+same arguments), and every data file of the folder must be listed.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import time
+from collections.abc import Callable, Iterable, Mapping
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+from typing import Any
+
+from robomill.io.errors import RawDataError
+
+HELP = ("validate a raw folder (manifest, cell file, every data file with the pipeline's "
+        "readers); one line per problem, exit status 1 if any")
+
+
+def _check_profile(path: Path, entry: Mapping[str, Any]) -> None:
+    from robomill.io.profiles import read_profile
+
+    read_profile(path)
+
+
+def _check_force(path: Path, entry: Mapping[str, Any]) -> None:
+    from robomill.io.forces import open_force_record
+
+    record = open_force_record(path, float(entry["fs_hz"]))
+    for _ in record.chunks(1 << 20):  # every sample is checked as it streams
+        pass
+
+
+def _check_tracker(path: Path, entry: Mapping[str, Any]) -> None:
+    from robomill.io.tracker import read_tracker
+
+    read_tracker(path, fs_hz=float(entry["fs_hz"]))
+
+
+def _check_impact(path: Path, entry: Mapping[str, Any]) -> None:
+    from robomill.io.impact import read_hit
+
+    fs = entry.get("fs_hz")
+    read_hit(path, fs_hz=None if fs is None else float(fs))
+
+
+def _check_ctrack(path: Path, entry: Mapping[str, Any]) -> None:
+    from robomill.io.ctrack import READERS
+
+    table = entry["table"]
+    if table not in READERS:
+        raise RawDataError(path, f"unknown C-Track table {table!r}", where="manifest table",
+                           expected="one of " + ", ".join(READERS))
+    READERS[table](path)
+
+
+def _check_robot(path: Path, entry: Mapping[str, Any]) -> None:
+    from robomill.io.robots import read_robot_file
+
+    read_robot_file(path)
+
+
+def _check_stiffness(path: Path, entry: Mapping[str, Any]) -> None:
+    from robomill.io.robots import read_load_tests, read_robot_file
+
+    n_joints = 6
+    robot_path = entry.get("_robot_path")  # the robot file of the same `robot`, as the
+    if robot_path is not None:            # stiffness rules pair them
+        try:
+            n_joints = read_robot_file(robot_path)[0].n_joints
+        except RawDataError:
+            pass  # reported with the robot file itself
+    read_load_tests(path, n_joints)
+
+
+CHECKERS: dict[str, Callable[[Path, Mapping[str, Any]], None]] = {
+    "profile": _check_profile,
+    "force": _check_force,
+    "tracker": _check_tracker,
+    "impact": _check_impact,
+    "ctrack": _check_ctrack,
+    "robot": _check_robot,
+    "stiffness": _check_stiffness,
+}
+"""The reader each kind's analysis uses, called as the pipeline calls it. A kind without an
+entry here is reported as not checked (a note, not a problem)."""
+
+
+def _line(exc: BaseException) -> str:
+    """One line: ``file: where: problem (expected …)``."""
+    return " ".join(str(exc).split())
+
+
+_INDEX = re.compile(r"^(cuts|files)\[0\]")
+
+
+def _reindex(exc: RawDataError, section: str, i: int) -> RawDataError:
+    """The error of entry ``i`` validated alone (as ``{section}[0]``) renamed to its index."""
+    where = _INDEX.sub(f"{section}[{i}]", exc.where) if exc.where else exc.where
+    return RawDataError(exc.path, exc.problem, where=where, expected=exc.expected)
+
+
+def manifest_problems(data: Any, path: Path) -> tuple[list[str], list[dict]]:
+    """Every problem of a manifest mapping, one line each, and the file entries that are
+    valid (those whose data files are then checked).
+
+    Each section, each cut and each file is validated on its own with
+    :func:`~robomill.io.manifest.parse_manifest` (files against the cuts that are valid), then
+    duplicates across entries; the whole is validated last.
+    """
+    from robomill.io.manifest import EXPERIMENT_KEYS, parse_manifest
+
+    good_exp = {"spindle_rpm": 1.0, "flutes": 1, "tool_diameter_mm": 1.0, "cut_length_mm": 1.0}
+    if not isinstance(data, Mapping):
+        try:
+            parse_manifest(data, path)
+        except RawDataError as exc:
+            return [_line(exc)], []
+    problems: list[str] = []
+    for key in ("experiment", "cuts", "files"):
+        if key not in data:
+            problems.append(_line(RawDataError(path, f"top-level key '{key}' is missing",
+                                               expected="top-level keys experiment, cuts, "
+                                                        "files")))
+    exp = data.get("experiment")
+    if "experiment" in data:
+        if not isinstance(exp, Mapping):
+            problems.append(_line(RawDataError(path, f"{type(exp).__name__} found",
+                                               where="experiment",
+                                               expected="a mapping with keys "
+                                                        + ", ".join(EXPERIMENT_KEYS))))
+        else:
+            for key in EXPERIMENT_KEYS:
+                one = {k: v for k, v in good_exp.items() if k != key}
+                if key in exp:
+                    one[key] = exp[key]
+                try:
+                    parse_manifest({"experiment": one, "cuts": [], "files": []}, path)
+                except RawDataError as exc:
+                    problems.append(_line(exc))
+    good_cuts: list[dict] = []
+    cuts = data.get("cuts", [])
+    if not isinstance(cuts, list):
+        problems.append(_line(RawDataError(path, "cuts is not a list", where="cuts",
+                                           expected="a list of cuts")))
+        cuts = []
+    seen: dict[str, int] = {}
+    for i, c in enumerate(cuts):
+        try:
+            parse_manifest({"experiment": good_exp, "cuts": [c], "files": []}, path)
+        except RawDataError as exc:
+            problems.append(_line(_reindex(exc, "cuts", i)))
+            continue
+        if c["id"] in seen:
+            problems.append(_line(RawDataError(
+                path, f"duplicate cut id {c['id']!r} (also cuts[{seen[c['id']]}])",
+                where=f"cuts[{i}].id", expected="unique cut ids")))
+            continue
+        seen[c["id"]] = i
+        good_cuts.append(c)
+    files = data.get("files", [])
+    if not isinstance(files, list):
+        problems.append(_line(RawDataError(path, "files is not a list", where="files",
+                                           expected="a list of files")))
+        files = []
+    paths: dict[str, int] = {}
+    good_files: list[dict] = []
+    for i, f in enumerate(files):
+        try:
+            parse_manifest({"experiment": good_exp, "cuts": good_cuts, "files": [f]}, path)
+        except RawDataError as exc:
+            problems.append(_line(_reindex(exc, "files", i)))
+            continue
+        if f["path"] in paths:
+            problems.append(_line(RawDataError(
+                path, f"duplicate path {f['path']!r} (also files[{paths[f['path']]}])",
+                where=f"files[{i}].path", expected="each file listed once")))
+            continue
+        paths[f["path"]] = i
+        good_files.append(f)
+    if not problems:
+        try:
+            parse_manifest(data, path)
+        except RawDataError as exc:  # anything the per-entry passes cannot see
+            problems.append(_line(exc))
+    return problems, good_files
+
+
+def file_problem(raw_dir: Path, entry: Mapping[str, Any], manifest_name: str = "manifest.yaml"
+                 ) -> str | None:
+    """The first problem of one listed file (existence, sha256, its reader), or ``None``."""
+    from robomill.io.hashing import sha256_file
+
+    rel = entry["path"]
+    full = raw_dir / rel
+    if not full.is_file():
+        return _line(RawDataError(full, "file listed in the manifest does not exist",
+                                  where=f"{manifest_name}: files[path={rel}]",
+                                  expected="the file to be present"))
+    actual = sha256_file(full)
+    if actual != entry.get("sha256"):
+        return _line(RawDataError(full, f"sha256 is {actual}, the manifest says "
+                                  f"{entry.get('sha256')}",
+                                  where=f"{manifest_name}: files[path={rel}].sha256",
+                                  expected="the file unchanged since the manifest was written "
+                                           "(restore it, or run robomill manifest on purpose)"))
+    checker = CHECKERS.get(entry["kind"])
+    if checker is None:
+        return None
+    try:
+        checker(full, entry)
+    except RawDataError as exc:
+        return _line(exc)
+    except (ValueError, KeyError, OSError) as exc:  # a reader's non-contract failure
+        return _line(RawDataError(full, f"{type(exc).__name__}: {exc}",
+                                  expected=f"a readable {entry['kind']} file"))
+    return None
+
+
+def cell_problems(raw_dir: Path) -> tuple[list[str], list[str]]:
+    """Problems of ``cell.yaml`` and notes (the file absent, or this installation without
+    :mod:`robomill.io.cell`)."""
+    path = raw_dir / "cell.yaml"
+    if not path.exists():
+        return [], [f"{path}: no cell file in the folder"]
+    try:
+        from robomill.io.cell import read_cell
+    except ImportError:
+        return [], [f"{path}: not checked (this robomill has no robomill.io.cell reader)"]
+    try:
+        read_cell(path)
+    except RawDataError as exc:
+        return [_line(exc)], []
+    return [], []
+
+
+def unlisted_problems(raw_dir: Path, listed: Iterable[str]) -> list[str]:
+    """A line for every data file of the folder that the manifest does not list."""
+    from robomill.cli.layout import data_files, infer_file
+
+    listed = set(listed)
+    out = []
+    for p in data_files(raw_dir):
+        rel = p.relative_to(raw_dir).as_posix()
+        if rel in listed:
+            continue
+        note = infer_file(raw_dir, p).note
+        out.append(_line(RawDataError(
+            p, "file is present but not listed in the manifest",
+            where="manifest.yaml: files",
+            expected=note or "every raw data file listed with kind and sha256 "
+                             "(robomill manifest adds it)")))
+    return out
+
+
+def check_folder(raw_dir: str | Path, *, jobs: int = 2) -> tuple[list[str], list[str]]:
+    """Every problem of raw folder ``raw_dir`` (one line each, manifest first, then the cell
+    file, then the files in manifest order, then unlisted files) and the notes.
+
+    ``jobs`` files are read at a time (threads: the readers spend their time in NumPy, HDF5
+    and hashing, which release the GIL).
+    """
+    from robomill.cli.manifest import read_manifest_text
+
+    raw_dir = Path(raw_dir)
+    mpath = raw_dir / "manifest.yaml"
+    if not raw_dir.is_dir():
+        return [_line(RawDataError(raw_dir, "not a folder",
+                                   expected="a raw folder with manifest.yaml"))], []
+    if not mpath.exists():
+        return [_line(RawDataError(mpath, "manifest does not exist",
+                                   expected="manifest.yaml in the raw folder (robomill "
+                                            "manifest writes it)"))], []
+    try:
+        data, _ = read_manifest_text(mpath)
+    except RawDataError as exc:
+        return [_line(exc)], []
+    problems, valid = manifest_problems(data, mpath)
+    cell, notes = cell_problems(raw_dir)
+    problems += cell
+    files = data.get("files") if isinstance(data, Mapping) and isinstance(
+        data.get("files"), list) else []
+    for kind in sorted({f["kind"] for f in valid if f["kind"] not in CHECKERS} - {"cell"}):
+        notes.append(f"{kind} files: checked for presence and sha256 only (no reader for "
+                     f"kind {kind!r} in robomill check)")
+    robots = {f["robot"]: raw_dir / f["path"] for f in valid if f["kind"] == "robot"}
+    valid = [{**f, "_robot_path": robots.get(f.get("robot"))} if f["kind"] == "stiffness"
+             else f for f in valid]
+    with ThreadPoolExecutor(max(1, jobs)) as pool:
+        results = list(pool.map(lambda f: file_problem(raw_dir, f, mpath.name), valid))
+    problems += [r for r in results if r]
+    problems += unlisted_problems(raw_dir, [f["path"] for f in files
+                                            if isinstance(f, Mapping) and "path" in f])
+    return problems, notes
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("check", help=HELP, description=HELP + ". Each line reads "
+                       "'file: where: problem (expected ...)'.")
+    p.add_argument("dir", type=Path, metavar="DIR", help="the raw folder")
+    p.add_argument("-j", "--jobs", type=int, default=2, help="files read at a time (default 2)")
+    p.add_argument("-q", "--quiet", action="store_true", help="print problems only")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    t0 = time.perf_counter()
+    problems, notes = check_folder(args.dir, jobs=args.jobs)
+    for line in problems:
+        print(line)
+    if not args.quiet:
+        for line in notes:
+            print(f"note: {line}")
+        print(f"{args.dir}: {len(problems)} problem(s) ({time.perf_counter() - t0:.1f} s)")
+    return 1 if problems else 0

@@ -1,0 +1,109 @@
+"""``robomill init DIR``: a raw-folder skeleton with commented templates."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from robomill.cli.layout import KIND_FOLDERS
+
+HELP = "make a raw-folder skeleton: one folder per kind, commented manifest.yaml and cell.yaml"
+
+MANIFEST_TEMPLATE = """\
+# manifest.yaml: what each raw file is (docs/data-contract.md has the full contract).
+# Put your files in the kind folders, then run `robomill manifest .` in this folder: it lists
+# every file with its kind, metadata and sha256 and keeps what you wrote here. Fill in what it
+# reports it could not infer, then run `robomill check .`.
+#
+# experiment: the machining conditions shared by all cuts
+#   spindle_rpm (number), flutes (integer), tool_diameter_mm, cut_length_mm
+# cuts: one entry per cut, id s{set}_g{segment}_{dir} with dir px (+X), py (+Y), my (-Y)
+#   - {id: s1_g1_px, set: 1, segment: 1, direction: px, feed_mm_s: 1.0, depth_mm: 0.25}
+# files: path (relative to this file), kind, sha256, and the keys of the kind:
+#   profile  (profiles/<cut>.csv: x_mm, z_um)            cut
+#   force    (forces/<cut>.csv or .h5: t_s, Fx_N, ...)   cut, fs_hz
+#   tracker  (tracker/<dir>_f<feed>.csv: t_s, x_mm, ...) direction, feed_mm_s, fs_hz
+#   impact   (impact/hit<X|Y|Z>_<k>.csv)                 direction, hit
+#   ctrack   (ctrack/<table>.csv)                        table
+#   robot    (stiffness/<robot>.yaml)                    robot
+#   stiffness (stiffness/load_tests_<robot>.csv)         robot
+# Native exports (DynoWare, TDMS, UFF, SpatialAnalyzer, FARO, SMATS, X3P): convert them with
+# `robomill import FORMAT FILE... --to .` (robomill import --help lists the formats).
+experiment:
+  spindle_rpm: null
+  flutes: null
+  tool_diameter_mm: null
+  cut_length_mm: null
+cuts: []
+files: []
+"""
+
+CELL_TEMPLATE = """\
+# cell.yaml: the facts of the robot cell the measurements were taken in.
+# The values below are the thesis cell (ABB IRB 1600, assumed transmissions): replace them.
+robot:
+  name: irb1600
+  convention: dh            # dh (standard Denavit-Hartenberg) or mdh (modified)
+  length_unit: mm
+  angle_unit: deg
+  joints:                   # one row per joint: a, alpha, d, theta_offset
+    - {a: 150.0, alpha: -90.0, d: 486.5, theta_offset: 0.0}
+    - {a: 700.0, alpha: 0.0, d: 0.0, theta_offset: -90.0}
+    - {a: 0.0, alpha: -90.0, d: 0.0, theta_offset: 0.0}
+    - {a: 0.0, alpha: 90.0, d: 600.0, theta_offset: 0.0}
+    - {a: 0.0, alpha: -90.0, d: 0.0, theta_offset: 0.0}
+    - {a: 0.0, alpha: 0.0, d: 65.0, theta_offset: 0.0}
+  tool: [0.0, 0.0, 180.0]   # tool centre point in the flange frame [length_unit]
+q_home_deg: [0.0, 20.0, 10.0, 0.0, 60.0, 0.0]   # posture near the workpiece (IK seed)
+tool_rotation: [[1.0, 0.0, 0.0], [0.0, -1.0, 0.0], [0.0, 0.0, -1.0]]   # tool axis down
+transmissions:              # gear stages per joint (straightness vs gear mesh, chapter 3.2)
+  - {joint: 1, stage: motor, rev_per_joint_rev: 120.0, teeth: 17}
+  - {joint: 1, stage: reducer_input, rev_per_joint_rev: 8.0, teeth: 40}
+  - {joint: 2, stage: motor, rev_per_joint_rev: 125.0, teeth: 15}
+  - {joint: 2, stage: reducer_input, rev_per_joint_rev: 8.3, teeth: 40}
+# Optional: where each instrument's frame sits in the robot base frame (omit when the
+# instrument already reports in base axes).
+# base_from_instrument:
+#   tracker: {rotation: [[1, 0, 0], [0, 1, 0], [0, 0, 1]], translation_mm: [0.0, 0.0, 0.0]}
+#   ctrack: {rotation: [[1, 0, 0], [0, 1, 0], [0, 0, 1]], translation_mm: [0.0, 0.0, 0.0]}
+"""
+
+
+def init_folder(raw_dir: str | Path) -> list[str]:
+    """Create the skeleton of a raw folder; existing files are never overwritten.
+
+    Returns one line per thing made or kept.
+    """
+    raw_dir = Path(raw_dir)
+    lines = []
+    raw_dir.mkdir(parents=True, exist_ok=True)
+    for folder in dict.fromkeys(KIND_FOLDERS.values()):
+        d = raw_dir / folder
+        lines.append(f"{d}/: {'kept' if d.exists() else 'made'}")
+        d.mkdir(exist_ok=True)
+    for name, text in (("manifest.yaml", MANIFEST_TEMPLATE), ("cell.yaml", CELL_TEMPLATE)):
+        p = raw_dir / name
+        if p.exists():
+            lines.append(f"{p}: exists, kept as it is")
+        else:
+            p.write_text(text)
+            lines.append(f"{p}: template written")
+    return lines
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("init", help=HELP, description=HELP + " (existing files are kept).")
+    p.add_argument("dir", type=Path, metavar="DIR", help="the raw folder to make")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    try:
+        lines = init_folder(args.dir)
+    except OSError as exc:
+        print(f"{args.dir}: cannot make the raw folder ({exc})")
+        return 1
+    for line in lines:
+        print(line)
+    print(f"next: put your files in {args.dir}/<kind>/, then robomill manifest {args.dir}")
+    return 0
