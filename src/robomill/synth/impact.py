@@ -47,9 +47,13 @@ def hit_path(direction: str, hit: int) -> str:
 
 
 def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """Raw files of the impact test: ``hits_per_direction`` hits along X, Y and Z."""
-    n = int(config["synth"]["impact"]["hits_per_direction"])
-    return [{"path": hit_path(d, k), "kind": "impact", "direction": d, "hit": k}
+    """Raw files of the impact test: ``hits_per_direction`` hits along X, Y and Z at node 1
+    (the tool tip, a driving point), with the simulated sensors' ranges (``range_N``,
+    ``range_ms2``) as a lab states them in its manifest."""
+    imp = config["synth"]["impact"]
+    n = int(imp["hits_per_direction"])
+    return [{"path": hit_path(d, k), "kind": "impact", "direction": d, "hit": k,
+             "range_N": float(imp["force_range_N"]), "range_ms2": float(imp["accel_range_ms2"])}
             for d in DIRECTIONS for k in range(1, n + 1)]
 
 
