@@ -182,7 +182,7 @@ def read_uff58(path: str | Path) -> list[dict]:
         sets = [sets]
     sets = [s for s in sets if isinstance(s, dict) and s.get("type") in (58, "58")]
     with path.open("rb") as fh:  # every universal data set ends with a line "    -1"
-        fh.seek(max(0, path.stat().st_size - 64))
+        fh.seek(max(0, path.stat().st_size - 4096))
         tail = fh.read().rstrip()
     if sets and not tail.endswith(b"-1"):
         raise RawDataError(path, "the last data set does not end with its '-1' line "
@@ -456,8 +456,9 @@ def write_modes_uff(modes, shapes, path: str | Path, *,
     nodes = sorted({n for n, _ in shapes.points})
     xyz = np.array([node_xyz_m[n] if node_xyz_m and n in node_xyz_m
                     else ((n - 1) * 0.1, 0.0, 0.0) for n in nodes], float)
-    sets = [pyuff.prepare_15(node_nums=np.array(nodes, float), def_cs=np.zeros(len(nodes)),
-                             disp_cs=np.zeros(len(nodes)), color=np.ones(len(nodes)),
+    ids = np.array(nodes, int)
+    sets = [pyuff.prepare_15(node_nums=ids, def_cs=np.zeros(len(nodes), int),
+                             disp_cs=np.zeros(len(nodes), int), color=np.ones(len(nodes), int),
                              x=xyz[:, 0], y=xyz[:, 1], z=xyz[:, 2])]
     for r, row in enumerate(modes.itertuples(index=False)):
         comp = np.zeros((len(nodes), 3), complex)
@@ -474,7 +475,7 @@ def write_modes_uff(modes, shapes, path: str | Path, *,
             model_type=1, analysis_type=3, data_ch=2, spec_data_type=8, data_type=5,
             n_data_per_node=3, r1=comp[:, 0], r2=comp[:, 1], r3=comp[:, 2], load_case=1,
             mode_n=int(row.mode), eig=eig, modal_a=complex(m, 0.0), modal_b=0j,
-            node_nums=np.array(nodes, float)))
+            node_nums=ids))
     with atomic_path(path) as tmp:
         pyuff.UFF(str(tmp)).write_sets(sets, mode="overwrite")
     return Path(path)
