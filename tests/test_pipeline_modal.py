@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pandas as pd
 import pytest
 
 pytestmark = pytest.mark.pipeline
+REPO = Path(__file__).resolve().parents[1]
 
 
 def test_modal_artefacts(tiny_run):
@@ -15,7 +18,6 @@ def test_modal_artefacts(tiny_run):
     from robomill.config import load_config
     from robomill.io.impact import read_frf, read_frf_uff
     from robomill.synth.cell import cell_from_config
-    from tests.conftest import REPO
 
     res = tiny_run / "results" / "modal"
     ds = read_frf(res / "frf.nc")

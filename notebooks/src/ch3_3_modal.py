@@ -221,15 +221,17 @@ for o in ("XYZ" if TOOLTIP_LAYOUT else ""):
 # meets both on at least one FRF.
 
 # %%
-ok = peak_table[peak_table["natural_frequency"]].copy()
+ok = peak_table[peak_table["natural_frequency"].astype(bool)].copy()
 df_line = f[1] - f[0]
-ok["group"] = (ok["f_hz"].sort_values().diff() > 3 * df_line).cumsum()
-grouped = (ok.sort_values("f_hz").assign(group=lambda d: (d["f_hz"].diff() > 3 * df_line)
-                                          .cumsum())
-           .groupby("group").agg(f_hz=("f_hz", "median"), n_frfs=("f_hz", "size"),
-                                 frfs=("output", lambda s: ", ".join(
-                                     s + "/" + ok.loc[s.index, "input"]))))
-picked = grouped["f_hz"].to_numpy()
+if ok.empty:
+    grouped = pd.DataFrame(columns=["f_hz", "n_frfs", "frfs"])
+else:
+    grouped = (ok.sort_values("f_hz").assign(group=lambda d: (d["f_hz"].diff() > 3 * df_line)
+                                              .cumsum())
+               .groupby("group").agg(f_hz=("f_hz", "median"), n_frfs=("f_hz", "size"),
+                                     frfs=("output", lambda s: ", ".join(
+                                         s + "/" + ok.loc[s.index, "input"]))))
+picked = grouped["f_hz"].to_numpy(float)
 nearest = [min(THESIS_HZ, key=lambda x: abs(x - p)) for p in picked]
 grouped["thesis_hz"] = nearest
 display(Markdown(
@@ -237,9 +239,10 @@ display(Markdown(
     f"{int(peak_table['real_sign_change'].sum())} pass the real-part criterion, "
     f"{int(peak_table['coherence_ok'].sum())} the coherence criterion, "
     f"{int(peak_table['natural_frequency'].sum())} both. They group into **{len(grouped)} "
-    f"frequencies**: {', '.join(f'{x:.2f}' for x in picked)} Hz (thesis: "
-    f"{', '.join(f'{x:g}' for x in THESIS_HZ)} Hz). Peak picking cannot separate modes whose "
-    "half-power bands overlap on the FRF where both respond; the LSCF fit below does."
+    f"frequencies**: {', '.join(f'{x:.2f}' for x in picked)} Hz"
+    + (f" (thesis: {', '.join(f'{x:g}' for x in THESIS_HZ)} Hz)" if TOOLTIP_LAYOUT else "")
+    + ". Peak picking cannot separate modes whose half-power bands overlap on the FRF where "
+    "both respond; the LSCF fit below does."
 ))
 grouped.round(2)
 
@@ -286,11 +289,13 @@ plt.show()
 display(Markdown(
     f"**{len(mode_table)} modes** identified between {mode_table.f_n_hz.min():.2f} and "
     f"{mode_table.f_n_hz.max():.2f} Hz: "
-    + ", ".join(f"{x:.2f}" for x in mode_table.f_n_hz) + " Hz (thesis: "
-    + ", ".join(f"{x:g}" for x in THESIS_HZ) + " Hz; differences "
-    + ", ".join(f"{a - min(THESIS_HZ, key=lambda x: abs(x - a)):+.2f}"
-                for a in mode_table.f_n_hz) + " Hz to the nearest thesis value"
-    + (")." if len(mode_table) == len(THESIS_HZ) else ", counts differ).")
+    + ", ".join(f"{x:.2f}" for x in mode_table.f_n_hz) + " Hz"
+    + ((" (thesis: " + ", ".join(f"{x:g}" for x in THESIS_HZ) + " Hz; differences "
+        + ", ".join(f"{a - min(THESIS_HZ, key=lambda x: abs(x - a)):+.2f}"
+                    for a in mode_table.f_n_hz) + " Hz to the nearest thesis value"
+        + (")." if len(mode_table) == len(THESIS_HZ) else ", counts differ)."))
+       if TOOLTIP_LAYOUT else " (not the thesis' tool-tip test: no comparison with its "
+                              "values).")
 ))
 flagged = mode_table[mode_table["flags"].fillna("") != ""]
 display(Markdown(

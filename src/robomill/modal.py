@@ -485,6 +485,12 @@ def hit_table_empty() -> pd.DataFrame:
     return pd.DataFrame(columns=HIT_COLUMNS)
 
 
+def empty_traces() -> xr.Dataset:
+    """The hit-trace artefact of a study whose impact files are FRFs (no hit records)."""
+    return xr.Dataset(coords={"hit_file": ("hit_file", np.array([], dtype=str),
+                                           {"units": "1", "long_name": "raw file of the hit"})})
+
+
 def hit_traces(hits: Sequence, table: pd.DataFrame, fs_hz: float,
                keep_s: float = 1.0) -> xr.Dataset:
     """The first ``keep_s`` of every hit for the chapter's plots: ``force_N`` and the first
@@ -560,7 +566,8 @@ def peak_picking(ds: xr.Dataset, *, band_hz: Sequence[float], coherence_min: flo
     ``prominence`` × its largest value in the band). Criteria (thesis §3.3):
     ``real_sign_change`` — the nearest local extrema of Re H below and above it (within
     ``real_window_hz``) are a maximum and a minimum of opposite signs; ``coherence_ok`` —
-    γ² > ``coherence_min`` at the candidate. ``natural_frequency`` = both.
+    γ² > ``coherence_min`` at the candidate (FRFs imported without coherence: NaN, and the
+    criterion is not applied). ``natural_frequency`` = both.
 
     Returns
     -------
@@ -578,7 +585,8 @@ def peak_picking(ds: xr.Dataset, *, band_hz: Sequence[float], coherence_min: flo
             h = ds["H"].sel(output=o, input=i).values[sel]
             if not np.isfinite(h).any():
                 continue  # a pair this layout did not measure
-            coh = ds["coherence"].sel(output=o, input=i).values[sel]
+            coh = (ds["coherence"].sel(output=o, input=i).values[sel] if "coherence" in ds
+                   else np.full(sel.size, np.nan))
             im, re = h.imag, h.real
             peaks, _ = scipy.signal.find_peaks(np.abs(im), prominence=prominence
                                                * np.nanmax(np.abs(im)))
@@ -600,7 +608,7 @@ def peak_picking(ds: xr.Dataset, *, band_hz: Sequence[float], coherence_min: flo
                              "real_above_m_N": float(re[hi]) if hi is not None else np.nan,
                              "coherence": float(coh[k]),
                              "real_sign_change": bool(sign_change),
-                             "coherence_ok": bool(coh[k] > coherence_min)})
+                             "coherence_ok": bool(np.isnan(coh[k]) or coh[k] > coherence_min)})
     out = pd.DataFrame(rows, columns=["output", "input", "f_hz", "imag_extremum_m_N",
                                       "real_below_m_N", "real_above_m_N", "coherence",
                                       "real_sign_change", "coherence_ok"])
@@ -1015,7 +1023,8 @@ def coherence_at(ds: xr.Dataset, f_hz: Sequence[float]) -> np.ndarray:
 
 def band_from_data(ds: xr.Dataset, *, force_spectrum: np.ndarray | None = None,
                    coherence_min: float = 0.75, force_drop_db: float = 10.0,
-                   smooth_hz: float = 2.0) -> tuple[float, float]:
+                   smooth_hz: float = 2.0,
+                   no_coherence_low_fraction: float = 0.02) -> tuple[float, float]:
     """The analysis band from the data: where the hammer excited the structure and the
     coherence shows it.
 
@@ -1024,8 +1033,10 @@ def band_from_data(ds: xr.Dataset, *, force_spectrum: np.ndarray | None = None,
     lines (the usual "10 dB" rule for a hammer tip, Ewins 2000 §3.6), and the last line where
     the median coherence of the measured FRFs (smoothed over ``smooth_hz``) reaches
     ``coherence_min``. Lower limit: the first line above DC where that smoothed median
-    coherence reaches ``coherence_min``. Without coherence and spectrum: the whole axis
-    above DC.
+    coherence reaches ``coherence_min``. Without coherence (FRFs imported without type-6
+    sets) the lowest lines cannot be judged, and a receptance converted from an accelerance
+    there is noise divided by ω²: the band then starts at ``no_coherence_low_fraction`` of
+    its upper limit (assumed 2 %: 20 Hz for a 1 kHz export).
 
     Returns
     -------
@@ -1058,6 +1069,8 @@ def band_from_data(ds: xr.Dataset, *, force_spectrum: np.ndarray | None = None,
             raise ValueError(f"the coherence never reaches {coherence_min:g}: no usable band "
                              "(set modal.band_hz)")
         lo, hi = max(lo, float(f[good[0]])), min(hi, float(f[good[-1]]))
+    else:
+        lo = max(lo, float(f[np.searchsorted(f, no_coherence_low_fraction * hi)]))
     return lo, hi
 
 

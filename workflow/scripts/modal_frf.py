@@ -2,9 +2,6 @@
 H(response point, reference point) of whatever layout was measured (H1, H2, coherence), the
 hammer's force spectrum, UFF 58 export with node numbers."""
 
-import numpy as np
-import xarray as xr
-
 from robomill import modal
 from robomill.io import write_artefact, write_table
 from robomill.io.impact import load_impact_test, write_frf_uff
@@ -45,7 +42,7 @@ write_artefact(modal.split_complex(ds), snakemake.output.frf, rule="modal_frf", 
 write_frf_uff(ds, snakemake.output.uff)
 write_table(hits, snakemake.output.hits)
 if traces is None:
-    traces = xr.Dataset(coords={"hit_file": ("hit_file", np.array([], dtype=object))})
+    traces = modal.empty_traces()
 write_artefact(traces, snakemake.output.traces, rule="modal_frf", inputs=inputs,
                config_section=cfg)
 if len(hits):
