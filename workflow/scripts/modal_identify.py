@@ -20,7 +20,10 @@ else:
     spec = ds["force_spectrum"].values if "force_spectrum" in ds else None
     band = list(modal.band_from_data(ds, force_spectrum=spec,
                                      coherence_min=cfg["coherence_min"]))
-    log.info("band %.4g-%.4g Hz from the hammer spectrum and the coherence", *band)
+    basis = [w for w, ok in (("the hammer spectrum", spec is not None),
+                              ("the coherence", "coherence" in ds)) if ok]
+    log.info("band %.4g-%.4g Hz from %s", *band,
+             " and ".join(basis) or "the frequency axis (no coherence: from 2 % of its top)")
 peaks = modal.peak_picking(ds, band_hz=band, coherence_min=cfg["coherence_min"],
                            prominence=cfg["peak_prominence"],
                            real_window_hz=cfg["real_window_hz"])
