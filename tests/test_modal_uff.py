@@ -169,6 +169,10 @@ def test_load_impact_test_from_a_manifest_mixes_csv_and_uff_hits(tmp_path):
         load_impact_test(man, bad)
     with pytest.raises(RawDataError, match=r"files\[0\]\.node: node 0 is not a node number"):
         load_impact_test(man, [dict(files[0], node=0)])
+    with pytest.raises(RawDataError, match=r"files\[0\]\.hit: hit 'one' is not a hit number"):
+        load_impact_test(man, [dict(files[0], hit="one")])
+    with pytest.raises(RawDataError, match=r"files\[0\]\.range_ms2: range_ms2 -1"):
+        load_impact_test(man, [dict(files[0], range_ms2=-1)])
 
 
 # ---- FRF forms, FRFs out with nodes, modes out ------------------------------------------------

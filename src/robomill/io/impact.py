@@ -78,15 +78,19 @@ def entry_metadata(manifest_path: str | Path, entry: Mapping[str, Any],
     ------
     RawDataError
         Naming the manifest and the key: a CSV entry without ``direction``, a direction that
-        is not ±X/±Y/±Z, a node that is not a positive integer, a range that is not a positive
-        number.
+        is not ±X/±Y/±Z, a hit that is not an integer, a node that is not a positive
+        integer, a range that is not a positive number.
     """
     from robomill.modal import parse_direction
 
     where = f"files[{index}]" if index is not None else f"file {entry.get('path')}"
     path = str(entry.get("path", ""))
     is_uff = path.lower().endswith((".uff", ".unv"))
-    out: dict[str, Any] = {"direction": None, "hit": entry.get("hit", 1)}
+    hit = entry.get("hit", 1)
+    if isinstance(hit, bool) or not isinstance(hit, (int, np.integer)):
+        raise RawDataError(manifest_path, f"hit {hit!r} is not a hit number",
+                           where=f"{where}.hit", expected="an integer (1, 2, …)")
+    out: dict[str, Any] = {"direction": None, "hit": int(hit)}
     if "direction" in entry or not is_uff:
         if "direction" not in entry:
             raise RawDataError(manifest_path, "impact CSV entry without 'direction'",
