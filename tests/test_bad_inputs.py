@@ -18,7 +18,7 @@ import pytest
 from robomill.io import RawDataError
 from robomill.io.ctrack import READERS
 from robomill.io.forces import read_forces
-from robomill.io.impact import read_frf_uff, read_hit
+from robomill.io.impact import read_frf_uff, read_hit, read_hits_uff
 from robomill.io.manifest import load_manifest
 from robomill.io.profiles import read_profile
 from robomill.io.robots import read_load_tests, read_robot_file
@@ -33,6 +33,7 @@ CALLS = {
     "hit": read_hit,
     "hit@5000": lambda p: read_hit(p, fs_hz=5000.0),  # the file is sampled at 10 kHz
     "uff": read_frf_uff,
+    "uff_hits": read_hits_uff,
     **{f"ctrack:{t}": reader for t, reader in READERS.items()},
     "robot": read_robot_file,
     "load_tests": read_load_tests,
@@ -135,7 +136,9 @@ CASES = [
     ("impact", "impact/empty.csv", "hit", r"file is empty"),
     ("impact", "impact/header_only.csv", "hit", r"header only, no data rows"),
     ("impact", "impact/missing_column.csv", "hit",
-     r"header \(row 1\): column 'az_ms2' is missing"),
+     r"header \(row 1\): column 'force_N' is missing"),
+    ("impact", "impact/no_response.csv", "hit",
+     r"header \(row 1\): no response column \(expected at least one of ax_ms2, ay_ms2, az_ms2\)"),
     ("impact", "impact/misspelt_column.csv", "hit", UNIT.format("az_ms2", "az_ms", "ms")),
     ("impact", "impact/unit_force_kN.csv", "hit", UNIT.format("force_N", "force_kN", "kN")),
     ("impact", "impact/text_in_number.csv", "hit",
@@ -150,14 +153,17 @@ CASES = [
     ("impact", "impact/wrong_fs.csv", "hit@5000",
      r"column t_s: t_s spacing is 0.0001 \(expected spacing 0.0002 \(from the manifest\)"),
     # --- impact FRFs as UFF 58
-    ("impact", "impact/uff_empty.uff", "uff", r"no FRF data set \(UFF 58 with function type 4\)"),
-    ("impact", "impact/uff_junk.uff", "uff", r"no FRF data set \(UFF 58 with function type 4\)"),
+    ("impact", "impact/uff_empty.uff", "uff", r"no UFF 58 data set"),
+    ("impact", "impact/uff_junk.uff", "uff", r"no UFF 58 data set"),
     ("impact", "impact/uff_truncated.uff", "uff",
-     r"no FRF for response/reference .*Z/Z \(truncated or incomplete file\?\)"),
-    ("impact", "impact/uff_incomplete.uff", "uff",
-     r"no FRF for response/reference X/Y, .* \(truncated or incomplete file\?\)"),
+     r"after data set 8: the last data set does not end with its '-1' line \(truncated file\?\)"),
+    ("impact", "impact/uff_unit_code.uff", "uff",
+     r"data set 1 \(H X/X\): FRF unit codes 0/13 \(ordinate/denominator\) \(expected 8/13 "
+     r"receptance, 11/13 mobility or 12/13 accelerance\)"),
+    ("impact", "impact/uff_hits_no_force.uff", "uff_hits",
+     r"data set 1 \(acc 1\+X\): acceleration before any hammer force set"),
     ("impact", "impact/uff_bad_direction.uff", "uff",
-     r"data set 1 \(H X/X receptance m/N\): direction codes 1/7"),
+     r"data set 1 \(H X/X receptance m/N\): direction code 7 in ref_dir"),
     # --- ctrack/<table>.csv
     ("ctrack", "ctrack/circles_too_few_points.csv", "ctrack:circles",
      r"column q_deg, rows with joint = 3: joint 3 has 2 circle point\(s\)"),

@@ -42,7 +42,7 @@ def test_known_poles_and_residues_give_the_frf_exactly(tiny_config):
     ref = cell.receptance_m_per_N(f)
     assert np.max(np.abs(H - ref)) <= 1e-12 * np.max(np.abs(ref))
     # and back: poles -> f_n, zeta; residues -> shapes, modal stiffness
-    table = modal.modes_table(poles, residues)
+    table, _ = modal.modes_table(poles, residues)
     np.testing.assert_allclose(table["f_n_hz"], f_n, rtol=1e-12)
     np.testing.assert_allclose(table["zeta"], zeta, rtol=1e-12)
     np.testing.assert_allclose(table["k_modal_N_m"], k, rtol=1e-9)
@@ -155,9 +155,16 @@ def test_uff58_round_trip_and_broken_file(tmp_path, tiny_config):
     assert list(back["output"].values) == ["X", "Y", "Z"]
     text = path.read_text()
     broken = tmp_path / "broken.uff"
-    broken.write_text(text[: len(text) // 3])
-    with pytest.raises(RawDataError, match="broken.uff"):
+    # cut inside a data set: refused, naming the file
+    broken.write_text(text[: len(text) // 3 + 500])
+    with pytest.raises(RawDataError, match="broken.uff.*truncated"):
         read_frf_uff(broken)
+    # cut at a set boundary: a complete file of fewer FRFs (here: response X, references
+    # X, Y, Z, a roving-hammer layout) is read as such
+    part = tmp_path / "part.uff"
+    part.write_text(text[: len(text) // 3])
+    back = read_frf_uff(part)
+    assert list(back["output"].values) == ["X"] and list(back["input"].values) == list("XYZ")
     junk = tmp_path / "junk.uff"
     junk.write_text("    -1\n    58\nnot a data set\n")
     with pytest.raises(RawDataError):

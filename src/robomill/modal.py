@@ -21,7 +21,7 @@ The chain, each step a pure function on arrays:
    extremum; the real part has a local maximum and a local minimum of opposite signs on
    either side; the coherence there exceeds 0.75.
 5. :func:`stabilization` and :func:`select_poles` — poles by the least-squares
-   complex-frequency (LSCF, common-denominator over all nine FRFs) method of sdypy-EMA for
+   complex-frequency (LSCF, common-denominator over all measured FRFs) method of sdypy-EMA for
    model orders 2…2·``max_order``; a pole is *stable* when the previous order has a pole
    within ``tol_f`` in frequency, ``tol_zeta`` in damping and with residue vectors of MAC ≥
    ``mac_min`` (residues by LSFD at each order). Stable poles are grouped by frequency;
@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import warnings
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
@@ -75,7 +75,8 @@ def check_hit(force_N: np.ndarray, accel_ms2: np.ndarray, fs_hz: float, *,
               trigger_fraction: float = 0.05, double_hit_fraction: float = 0.1,
               overload_samples: int = 3, flat_rtol: float = 1e-4,
               force_range_N: float | None = None,
-              accel_range_ms2: float | None = None) -> HitCheck:
+              accel_range_ms2: float | None = None,
+              channels: Sequence[str] | None = None) -> HitCheck:
     """Accept or reject one hit (thesis §3.3: double hits and overloads are rejected).
 
     Parameters
@@ -83,7 +84,7 @@ def check_hit(force_N: np.ndarray, accel_ms2: np.ndarray, fs_hz: float, *,
     force_N
         Hammer force ``(n,)``.
     accel_ms2
-        Accelerations ``(n, 3)`` (X, Y, Z).
+        Accelerations ``(n, k)``: any number of response channels (``(n,)`` for one).
     fs_hz
         Sampling rate.
     trigger_fraction
@@ -96,7 +97,11 @@ def check_hit(force_N: np.ndarray, accel_ms2: np.ndarray, fs_hz: float, *,
         consecutive samples is clipped (overload).
     force_range_N, accel_range_ms2
         Measurement ranges of the channels, when known: a sample reaching its range (within
-        ``flat_rtol``) is an overload even if too short to show a flat top.
+        ``flat_rtol``) is an overload even if too short to show a flat top. Unknown
+        (``None``): overload is detected from flat-topping (clipping) alone.
+    channels
+        Names of the channels in messages: force first, then one per response column
+        (default ``force_N, ax_ms2, ay_ms2, az_ms2``).
 
     Returns
     -------
@@ -110,7 +115,8 @@ def check_hit(force_N: np.ndarray, accel_ms2: np.ndarray, fs_hz: float, *,
         return HitCheck(False, "no impact: the force never rises above zero", 0)
     trigger = int(np.argmax(force > trigger_fraction * peak))
     ranges = [force_range_N] + [accel_range_ms2] * acc.shape[1]
-    for name, x, rng in zip(CHANNELS, [force, *acc.T], ranges, strict=False):
+    names = list(channels) if channels is not None else list(CHANNELS)
+    for name, x, rng in zip(names, [force, *acc.T], ranges, strict=False):
         ax = np.abs(x)
         top = ax.max()
         if top == 0:
@@ -171,10 +177,173 @@ def impact_windows(n: int, fs_hz: float, trigger_index: int, *, force_window_s: 
     return w_force, w_exp, sigma
 
 
-# ---- 3. FRF matrix ------------------------------------------------------------------------------
+# ---- 3. points and FRFs over any test layout ---------------------------------------------------
+AXIS_CODE = {"X": 1, "Y": 2, "Z": 3}
+"""UFF direction codes of the base axes (a negative code is the negative axis)."""
+TOOLTIP = ((1, 1), (1, 2), (1, 3))
+"""The tool-tip points of the thesis layout: node 1, +X, +Y, +Z."""
+
+
+def parse_direction(text: str | int) -> int:
+    """A direction as a signed UFF code: ``"X"``/``"+X"``/``1`` → 1, ``"-Y"``/``-2`` → −2.
+
+    Raises
+    ------
+    ValueError
+        Anything but ±X, ±Y, ±Z (or ±1, ±2, ±3).
+    """
+    if isinstance(text, (int, np.integer)) and not isinstance(text, bool):
+        if abs(int(text)) in (1, 2, 3):
+            return int(text)
+    elif isinstance(text, str):
+        t = text.strip().upper()
+        sign = -1 if t.startswith("-") else 1
+        t = t.lstrip("+-")
+        if t in AXIS_CODE:
+            return sign * AXIS_CODE[t]
+    raise ValueError(f"direction {text!r} is not one of X, Y, Z, +X, -X, +Y, -Y, +Z, -Z")
+
+
+def point_label(node: int, dir_code: int) -> str:
+    """Label of a measurement point ``(node, ±direction)``: the axis letter, ``-`` before it
+    for a negative direction, the node number before that unless it is node 1 (so the
+    thesis layout keeps its labels ``X, Y, Z``): ``(1, 2)`` → ``"Y"``, ``(3, -1)`` →
+    ``"3-X"``."""
+    axis = "XYZ"[abs(int(dir_code)) - 1]
+    return f"{'' if int(node) == 1 else int(node)}{'-' if dir_code < 0 else ''}{axis}"
+
+
+def _point_key(p: tuple[int, int]) -> tuple[int, int, int]:
+    return (int(p[0]), abs(int(p[1])), int(p[1]) < 0)
+
+
+def frf_coords(freq_hz: np.ndarray, outputs: Sequence[tuple[int, int]] = TOOLTIP,
+               inputs: Sequence[tuple[int, int]] = TOOLTIP) -> dict:
+    """Labelled coordinates ``output, input, frequency`` of an FRF dataset.
+
+    ``output``/``input`` carry the point labels (:func:`point_label`); ``output_node``,
+    ``output_dir``, ``input_node``, ``input_dir`` the node numbers and signed UFF direction
+    codes (X=1, Y=2, Z=3; negative: the negative axis) of each response and reference point.
+    """
+    out: dict = {}
+    for dim, pts, what in (("output", outputs, "response (accelerometer)"),
+                           ("input", inputs, "reference (hammer)")):
+        pts = [(int(n), int(d)) for n, d in pts]
+        out[dim] = (dim, [point_label(*p) for p in pts],
+                    {"units": "1", "long_name": f"{what} point: node and direction"})
+        out[f"{dim}_node"] = (dim, np.array([p[0] for p in pts]),
+                              {"units": "1", "long_name": f"{what} node number"})
+        out[f"{dim}_dir"] = (dim, np.array([p[1] for p in pts]),
+                             {"units": "1", "long_name": f"{what} direction, UFF code "
+                                                        "(X=1, Y=2, Z=3, negative axis < 0)"})
+    out["frequency"] = ("frequency", np.asarray(freq_hz, float),
+                        {"units": "Hz", "long_name": "frequency"})
+    return out
+
+
+def points(ds: xr.Dataset, dim: str) -> list[tuple[int, int]]:
+    """The ``(node, direction code)`` points along ``output`` or ``input`` of an FRF dataset
+    (datasets without node coordinates: node 1, the axis of each label)."""
+    if f"{dim}_node" in ds.coords:
+        return [(int(n), int(d)) for n, d in zip(ds[f"{dim}_node"].values,
+                                                 ds[f"{dim}_dir"].values, strict=True)]
+    return [(1, parse_direction(str(v))) for v in ds[dim].values]
+
+
+@dataclass
+class HitGroup:
+    """Accepted hits of one reference point measured with the same response points.
+
+    ``hits`` are ``(force_N (n,), accel_ms2 (n, k), trigger_index)``; ``responses`` the k
+    response points ``(node, direction code)``, in the order of the acceleration columns.
+    """
+
+    reference: tuple[int, int]
+    responses: tuple[tuple[int, int], ...]
+    hits: list = field(default_factory=list)
+
+
+def frf_from_groups(groups: Sequence[HitGroup], fs_hz: int, *, force_window_s: float,
+                    exponential_end: float) -> xr.Dataset:
+    """Receptance FRFs H(response point, reference point) of any test layout, by
+    :class:`pyFRF.FRF` on the windowed accepted hits of each group.
+
+    Per group the hits are windowed (:func:`impact_windows`; the same exponential window on
+    force and response) and averaged: H1 = S_xf/S_ff, H2 = S_xx/S_fx, γ² = |S_xf|²/(S_ff
+    S_xx) (pyFRF; accelerance turned into receptance by pyFRF's ``frf_form``). The result
+    spans every response point (``output``) and every reference point (``input``) measured;
+    pairs never measured together are NaN (``n_hits`` 0). SISO, roving hammer (one response,
+    many references), roving accelerometer (one reference, responses at many nodes),
+    tri-axial responses and the 3×3 tool-tip matrix are all special cases.
+
+    Raises
+    ------
+    ValueError
+        A group without accepted hits, records of different lengths, or a pair measured in
+        two groups.
+    """
+    import pyFRF
+
+    fs_hz = int(fs_hz)
+    outs = sorted({p for g in groups for p in g.responses}, key=_point_key)
+    ins = sorted({g.reference for g in groups}, key=_point_key)
+    n = None
+    sigma = np.nan
+    freq = None
+    H = H2 = coh = nh = None
+    for g in groups:
+        if not g.hits:
+            raise ValueError(f"no accepted hit at reference point {point_label(*g.reference)}: "
+                             "the FRF column cannot be estimated")
+        exc, resp = [], []
+        for force, acc, trig in g.hits:
+            if n is not None and force.size != n:
+                raise ValueError(f"hit records of {force.size} and {n} samples: all hits of "
+                                 "one test need the same record length")
+            n = force.size
+            w_f, w_e, sigma = impact_windows(n, fs_hz, trig, force_window_s=force_window_s,
+                                             exponential_end=exponential_end)
+            exc.append((force * w_f * w_e)[None, :])
+            resp.append((np.asarray(acc, float).reshape(n, -1) * w_e[:, None]).T)
+        frf = pyFRF.FRF(fs_hz, exc=np.array(exc), resp=np.array(resp), exc_type="f",
+                        resp_type="a", window="none", frf_estimator="H1")
+        with np.errstate(divide="ignore", invalid="ignore"):
+            h1 = frf.get_FRF(frf_estimator="H1", frf_form="receptance")[:, 0, :]
+            h2 = frf.get_FRF(frf_estimator="H2", frf_form="receptance")[:, 0, :]
+            c = np.real(frf.get_coherence()).reshape(len(g.responses), -1)
+        if freq is None:
+            freq = frf.get_f_axis()
+            shape = (len(outs), len(ins), freq.size)
+            H, H2 = np.full(shape, np.nan + 0j), np.full(shape, np.nan + 0j)
+            coh, nh = np.full(shape, np.nan), np.zeros(shape[:2], int)
+        j = ins.index(g.reference)
+        for k, p in enumerate(g.responses):
+            i = outs.index(p)
+            if nh[i, j]:
+                raise ValueError(f"FRF {point_label(*p)}/{point_label(*g.reference)} measured "
+                                 "in two groups of hits")
+            H[i, j], H2[i, j], coh[i, j], nh[i, j] = h1[k], h2[k], c[k], len(g.hits)
+    if freq is None:
+        raise ValueError("no hit group: nothing to estimate")
+    dims = ("output", "input", "frequency")
+    ds = xr.Dataset(
+        {"H": (dims, H, {"units": "m/N", "long_name": "receptance FRF, H1 estimator"}),
+         "H2": (dims, H2, {"units": "m/N", "long_name": "receptance FRF, H2 estimator"}),
+         "coherence": (dims, coh, {"units": "1", "long_name": "ordinary coherence"}),
+         "n_hits": (("output", "input"), nh, {"units": "1",
+                                              "long_name": "accepted hits averaged"})},
+        coords=frf_coords(freq, outs, ins))
+    ds.attrs["window_sigma_per_s"] = float(sigma)
+    ds.attrs["fs_hz"] = fs_hz
+    ds.attrs["record_samples"] = int(n)
+    ds.attrs["force_window_s"] = float(force_window_s)
+    ds.attrs["exponential_end"] = float(exponential_end)
+    return ds
+
+
 def frf_matrix(hits: dict[str, list[tuple[np.ndarray, np.ndarray, int]]], fs_hz: int, *,
                force_window_s: float, exponential_end: float) -> xr.Dataset:
-    """The 3×3 receptance FRF matrix from accepted hits, by :class:`pyFRF.FRF`.
+    """The thesis' 3×3 tool-tip receptance matrix (:func:`frf_from_groups` on node 1).
 
     Parameters
     ----------
@@ -188,63 +357,179 @@ def frf_matrix(hits: dict[str, list[tuple[np.ndarray, np.ndarray, int]]], fs_hz:
     -------
     xr.Dataset
         ``H`` (H1) and ``H2`` complex [m/N], ``coherence`` [1] over ``output, input,
-        frequency``; ``n_hits`` per input; attribute ``window_sigma_per_s``.
+        frequency``; ``n_hits`` per pair; attribute ``window_sigma_per_s``.
     """
-    import pyFRF
-
-    fs_hz = int(fs_hz)
-    n = None
-    out: dict[str, np.ndarray] = {}
-    n_hits = []
-    sigma = np.nan
-    for j, d in enumerate(AXES):
-        group = hits.get(d, [])
-        if not group:
+    for d in AXES:
+        if not hits.get(d):
             raise ValueError(f"no accepted hit in direction {d}: the FRF column cannot be "
                              "estimated")
-        exc, resp = [], []
-        for force, acc, trig in group:
-            n = force.size
-            w_f, w_e, sigma = impact_windows(n, fs_hz, trig, force_window_s=force_window_s,
-                                             exponential_end=exponential_end)
-            exc.append((force * w_f * w_e)[None, :])
-            resp.append((np.asarray(acc, float) * w_e[:, None]).T)
-        frf = pyFRF.FRF(fs_hz, exc=np.array(exc), resp=np.array(resp), exc_type="f",
-                        resp_type="a", window="none", frf_estimator="H1")
-        with np.errstate(divide="ignore", invalid="ignore"):
-            h1 = frf.get_FRF(frf_estimator="H1", frf_form="receptance")[:, 0, :]
-            h2 = frf.get_FRF(frf_estimator="H2", frf_form="receptance")[:, 0, :]
-            coh = np.real(frf.get_coherence())
-        if not out:
-            freq = frf.get_f_axis()
-            out = {"H": np.full((3, 3, freq.size), np.nan + 0j),
-                   "H2": np.full((3, 3, freq.size), np.nan + 0j),
-                   "coherence": np.full((3, 3, freq.size), np.nan)}
-        out["H"][:, j], out["H2"][:, j], out["coherence"][:, j] = h1, h2, coh
-        n_hits.append(len(group))
+    groups = [HitGroup((1, AXIS_CODE[d]), TOOLTIP, list(hits[d])) for d in AXES]
+    return frf_from_groups(groups, fs_hz, force_window_s=force_window_s,
+                           exponential_end=exponential_end)
+
+
+def check_and_group(hits: Sequence, *, trigger_fraction: float = 0.05,
+                    double_hit_fraction: float = 0.1, overload_samples: int = 3,
+                    force_range_N: float | None = None,
+                    accel_range_ms2: float | None = None) -> tuple[pd.DataFrame, list[HitGroup]]:
+    """Check every hit (:func:`check_hit`) and group the accepted ones by reference point and
+    response points (:class:`HitGroup`, input of :func:`frf_from_groups`).
+
+    Parameters
+    ----------
+    hits
+        ``(record, meta)`` pairs: a :class:`robomill.io.impact.HitRecord` and its manifest
+        metadata (``path``, ``hit``, ``range_N``, ``range_ms2``; the per-file ranges win over
+        ``force_range_N``/``accel_range_ms2``; neither: overload by flat-topping alone).
+
+    Returns
+    -------
+    table
+        One row per hit: ``direction, hit, path, accepted, reason, peak_force_N, trigger_s,
+        reference, responses``.
+    groups
+        The accepted hits, grouped, in order of first appearance.
+    """
+    rows, groups = [], {}
+    for rec, meta in hits:
+        r_n = meta.get("range_N") if meta.get("range_N") is not None else force_range_N
+        r_a = meta.get("range_ms2") if meta.get("range_ms2") is not None else accel_range_ms2
+        names = ["force_N", *(rec.columns or [point_label(*p) for p in rec.responses])]
+        c = check_hit(rec.force_N, rec.accel_ms2, rec.fs_hz, trigger_fraction=trigger_fraction,
+                      double_hit_fraction=double_hit_fraction,
+                      overload_samples=overload_samples, force_range_N=r_n,
+                      accel_range_ms2=r_a, channels=names)
+        ref = tuple(rec.reference)
+        rows.append({"direction": point_label(1, ref[1]), "hit": meta.get("hit"),
+                     "path": meta.get("path", rec.source), "accepted": c.accepted,
+                     "reason": c.reason, "peak_force_N": float(np.max(rec.force_N)),
+                     "trigger_s": c.trigger_index / rec.fs_hz,
+                     "reference": point_label(*ref),
+                     "responses": " ".join(point_label(*p) for p in rec.responses)})
+        key = (ref, tuple(rec.responses))
+        g = groups.setdefault(key, HitGroup(ref, tuple(rec.responses), []))
+        if c.accepted:
+            g.hits.append((rec.force_N, rec.accel_ms2, c.trigger_index))
+    return pd.DataFrame(rows), list(groups.values())
+
+
+def combine_frfs(datasets: Sequence[xr.Dataset]) -> xr.Dataset:
+    """One FRF dataset over the union of the points of several (same frequency axis).
+
+    Raises
+    ------
+    ValueError
+        Different frequency axes, or a response/reference pair in two datasets.
+    """
+    if len(datasets) == 1:
+        return datasets[0]
+    f = datasets[0]["frequency"].values
+    for d in datasets[1:]:
+        if d.sizes["frequency"] != f.size or not np.allclose(d["frequency"].values, f):
+            raise ValueError("FRF files on different frequency axes cannot be combined")
+    outs = sorted({p for d in datasets for p in points(d, "output")}, key=_point_key)
+    ins = sorted({p for d in datasets for p in points(d, "input")}, key=_point_key)
+    shape = (len(outs), len(ins), f.size)
+    H = np.full(shape, np.nan + 0j)
+    coh = np.full(shape, np.nan)
+    for d in datasets:
+        for a, o in enumerate(points(d, "output")):
+            for b, i in enumerate(points(d, "input")):
+                h = d["H"].values[a, b]
+                if not np.isfinite(h).any():
+                    continue
+                ia, ib = outs.index(o), ins.index(i)
+                if np.isfinite(H[ia, ib]).any():
+                    raise ValueError(f"FRF {point_label(*o)}/{point_label(*i)} in two files")
+                H[ia, ib] = h
+                if "coherence" in d:
+                    coh[ia, ib] = d["coherence"].values[a, b]
     dims = ("output", "input", "frequency")
-    ds = xr.Dataset(
-        {"H": (dims, out["H"], {"units": "m/N", "long_name": "receptance FRF, H1 estimator"}),
-         "H2": (dims, out["H2"], {"units": "m/N", "long_name": "receptance FRF, H2 estimator"}),
-         "coherence": (dims, out["coherence"], {"units": "1",
-                                                "long_name": "ordinary coherence"}),
-         "n_hits": ("input", np.array(n_hits), {"units": "1",
-                                                "long_name": "accepted hits averaged"})},
-        coords=frf_coords(freq))
-    ds.attrs["window_sigma_per_s"] = float(sigma)
-    ds.attrs["fs_hz"] = fs_hz
-    ds.attrs["record_samples"] = int(n)
+    ds = xr.Dataset({"H": (dims, H, dict(datasets[0]["H"].attrs))},
+                    coords=frf_coords(f, outs, ins))
+    if np.isfinite(coh).any():
+        ds["coherence"] = (dims, coh, {"units": "1", "long_name": "ordinary coherence"})
     return ds
 
 
-def frf_coords(freq_hz: np.ndarray) -> dict:
-    """Labelled coordinates ``output, input, frequency`` of an FRF dataset."""
-    return {"output": ("output", list(AXES), {"units": "1",
-                                              "long_name": "response direction (base axis)"}),
-            "input": ("input", list(AXES), {"units": "1",
-                                            "long_name": "hammer direction (base axis)"}),
-            "frequency": ("frequency", np.asarray(freq_hz, float),
-                          {"units": "Hz", "long_name": "frequency"})}
+def force_spectrum(groups: Sequence[HitGroup], ds: xr.Dataset) -> np.ndarray:
+    """Mean one-sided auto-spectrum [N²/Hz] of the windowed hammer force over every accepted
+    hit, on the FRF lines of ``ds`` (the input of :func:`band_from_data`)."""
+    fs = float(ds.attrs["fs_hz"])
+    acc = []
+    for g in groups:
+        for force, _, trig in g.hits:
+            w_f, w_e, _ = impact_windows(force.size, fs, trig,
+                                         force_window_s=_force_window_s(ds),
+                                         exponential_end=_exponential_end(ds))
+            acc.append(2 * np.abs(np.fft.rfft(force * w_f * w_e)) ** 2 / (fs * force.size))
+    s = np.mean(acc, axis=0)
+    return s[: ds.sizes["frequency"]]
+
+
+def _force_window_s(ds: xr.Dataset) -> float:
+    return float(ds.attrs.get("force_window_s", 0.01))
+
+
+def _exponential_end(ds: xr.Dataset) -> float:
+    return float(ds.attrs.get("exponential_end", 0.05))
+
+
+HIT_COLUMNS = ["direction", "hit", "path", "accepted", "reason", "peak_force_N", "trigger_s",
+               "reference", "responses"]
+"""Columns of ``results/modal/hits.csv``."""
+
+
+def hit_table_empty() -> pd.DataFrame:
+    """The hit table of a study whose impact files are FRFs (no hit to check)."""
+    return pd.DataFrame(columns=HIT_COLUMNS)
+
+
+def empty_traces() -> xr.Dataset:
+    """The hit-trace artefact of a study whose impact files are FRFs (no hit records)."""
+    return xr.Dataset(coords={"hit_file": ("hit_file", np.array([], dtype=str),
+                                           {"units": "1", "long_name": "raw file of the hit"})})
+
+
+def hit_traces(hits: Sequence, table: pd.DataFrame, fs_hz: float,
+               keep_s: float = 1.0) -> xr.Dataset:
+    """The first ``keep_s`` of every hit for the chapter's plots: ``force_N`` and the first
+    response along each of +X, +Y, +Z (``ax_ms2, ay_ms2, az_ms2``; NaN where that axis was
+    not measured) over ``hit_file, time``."""
+    n_keep = min(min(r.force_N.size for r, _ in hits), int(round(keep_s * fs_hz)))
+    data = np.full((4, len(hits), n_keep), np.nan)
+    for k, (rec, _) in enumerate(hits):
+        data[0, k] = rec.force_N[:n_keep]
+        for axis in (1, 2, 3):
+            cols = [j for j, p in enumerate(rec.responses) if abs(p[1]) == axis]
+            if cols:
+                j = cols[0]
+                data[axis, k] = np.sign(rec.responses[j][1]) * rec.accel_ms2[:n_keep, j]
+    names = [("force_N", "N", "hammer force"), ("ax_ms2", "m/s^2", "tool-tip acceleration X"),
+             ("ay_ms2", "m/s^2", "tool-tip acceleration Y"),
+             ("az_ms2", "m/s^2", "tool-tip acceleration Z")]
+    return xr.Dataset(
+        {name: (("hit_file", "time"), data[c], {"units": unit, "long_name": long})
+         for c, (name, unit, long) in enumerate(names)},
+        coords={"hit_file": ("hit_file", table["path"].tolist(),
+                             {"units": "1", "long_name": "raw file of the hit"}),
+                "time": ("time", np.arange(n_keep) / fs_hz, {"units": "s", "long_name": "time"}),
+                "direction": ("hit_file", table["direction"].tolist(),
+                              {"units": "1", "long_name": "hit direction"}),
+                "accepted": ("hit_file", table["accepted"].to_numpy(),
+                             {"units": "1", "long_name": "hit accepted"})})
+
+
+def to_receptance(frf: np.ndarray, f_hz: np.ndarray, form: str) -> np.ndarray:
+    """Receptance [m/N] from an accelerance [(m/s²)/N], mobility [(m/s)/N] or receptance:
+    ``H_x = H_a/(jω)² = H_v/(jω)`` (DC, where ω = 0, becomes NaN)."""
+    power = {"receptance": 0, "mobility": 1, "accelerance": 2}[form]
+    jw = 2j * np.pi * np.asarray(f_hz, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        out = np.asarray(frf, complex) / jw**power
+    if power:
+        out[..., np.asarray(f_hz) == 0] = np.nan
+    return out
 
 
 def split_complex(ds: xr.Dataset) -> xr.Dataset:
@@ -275,13 +560,14 @@ def join_complex(ds: xr.Dataset) -> xr.Dataset:
 # ---- 4. thesis peak picking -------------------------------------------------------------------
 def peak_picking(ds: xr.Dataset, *, band_hz: Sequence[float], coherence_min: float = 0.75,
                  prominence: float = 0.05, real_window_hz: float = 3.0) -> pd.DataFrame:
-    """Natural-frequency candidates by the thesis' criteria, on each of the 9 FRFs.
+    """Natural-frequency candidates by the thesis' criteria, on each measured FRF.
 
     A candidate is an extremum of Im H (a peak of |Im H| with prominence at least
     ``prominence`` × its largest value in the band). Criteria (thesis §3.3):
     ``real_sign_change`` — the nearest local extrema of Re H below and above it (within
     ``real_window_hz``) are a maximum and a minimum of opposite signs; ``coherence_ok`` —
-    γ² > ``coherence_min`` at the candidate. ``natural_frequency`` = both.
+    γ² > ``coherence_min`` at the candidate (FRFs imported without coherence: NaN, and the
+    criterion is not applied). ``natural_frequency`` = both.
 
     Returns
     -------
@@ -294,10 +580,13 @@ def peak_picking(ds: xr.Dataset, *, band_hz: Sequence[float], coherence_min: flo
     df = f[1] - f[0]
     w = max(2, int(round(real_window_hz / df)))
     rows = []
-    for o in AXES:
-        for i in AXES:
+    for o in ds["output"].values.tolist():
+        for i in ds["input"].values.tolist():
             h = ds["H"].sel(output=o, input=i).values[sel]
-            coh = ds["coherence"].sel(output=o, input=i).values[sel]
+            if not np.isfinite(h).any():
+                continue  # a pair this layout did not measure
+            coh = (ds["coherence"].sel(output=o, input=i).values[sel] if "coherence" in ds
+                   else np.full(sel.size, np.nan))
             im, re = h.imag, h.real
             peaks, _ = scipy.signal.find_peaks(np.abs(im), prominence=prominence
                                                * np.nanmax(np.abs(im)))
@@ -319,7 +608,7 @@ def peak_picking(ds: xr.Dataset, *, band_hz: Sequence[float], coherence_min: flo
                              "real_above_m_N": float(re[hi]) if hi is not None else np.nan,
                              "coherence": float(coh[k]),
                              "real_sign_change": bool(sign_change),
-                             "coherence_ok": bool(coh[k] > coherence_min)})
+                             "coherence_ok": bool(np.isnan(coh[k]) or coh[k] > coherence_min)})
     out = pd.DataFrame(rows, columns=["output", "input", "f_hz", "imag_extremum_m_N",
                                       "real_below_m_N", "real_above_m_N", "coherence",
                                       "real_sign_change", "coherence_ok"])
@@ -328,12 +617,16 @@ def peak_picking(ds: xr.Dataset, *, band_hz: Sequence[float], coherence_min: flo
 
 
 # ---- 5. poles: LSCF stabilization chart ---------------------------------------------------------
-def _frf_rows(ds: xr.Dataset, var: str = "H") -> tuple[np.ndarray, np.ndarray]:
-    """The 9 FRFs as rows ``(9, nf)`` (output-major) and their frequencies, DC dropped."""
+def _frf_rows(ds: xr.Dataset, var: str = "H") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The measured FRFs as rows ``(n_measured, nf)`` (output-major; a pair is measured when
+    it has a finite value above DC), their frequencies (DC dropped), and the flat indices of
+    the measured pairs in the ``(output, input)`` grid."""
     f = ds["frequency"].values
-    h = ds[var].transpose("output", "input", "frequency").values.reshape(9, -1)
+    h = ds[var].transpose("output", "input", "frequency").values
+    h = h.reshape(h.shape[0] * h.shape[1], -1)
     keep = f > 0
-    return h[:, keep], f[keep]
+    measured = np.flatnonzero(np.isfinite(h[:, keep]).any(axis=1))
+    return h[measured][:, keep], f[keep], measured
 
 
 def _lsfd(poles: np.ndarray, frf: np.ndarray, freq: np.ndarray, band_hz: Sequence[float]):
@@ -373,10 +666,10 @@ def stabilization(ds: xr.Dataset, *, band_hz: Sequence[float], max_order: int = 
 
     For each order (denominator degree 2, 4, …, 2·``max_order``) the poles with positive
     imaginary part, frequency in ``band_hz`` and 0 < ζ < ``zeta_max`` are kept; their residues
-    over the 9 FRFs come from LSFD at that order. Each pole is compared with the nearest pole of
-    the previous order: status ``new``, ``f`` (frequency within ``tol_f`` relative), ``fd``
-    (and damping within ``tol_zeta`` relative), ``stable`` (and MAC of the residue vectors
-    ≥ ``mac_min``).
+    over all measured FRFs (any layout: :func:`_frf_rows`) come from LSFD at that order.
+    Each pole is compared with the nearest pole of the previous order: status ``new``,
+    ``f`` (frequency within ``tol_f`` relative), ``fd`` (and damping within ``tol_zeta``
+    relative), ``stable`` (and MAC of the residue vectors ≥ ``mac_min``).
 
     Returns
     -------
@@ -385,7 +678,8 @@ def stabilization(ds: xr.Dataset, *, band_hz: Sequence[float], max_order: int = 
     """
     from sdypy import EMA
 
-    frf, freq = _frf_rows(ds)
+    frf, freq, _ = _frf_rows(ds)
+    frf = np.nan_to_num(frf)
     model = EMA.Model(frf=frf, freq=freq, lower=band_hz[0], upper=band_hz[1],
                       pol_order_high=int(max_order), frf_form="receptance")
     with warnings.catch_warnings():
@@ -503,54 +797,281 @@ def modal_residues(f_hz: Sequence[float], zeta: Sequence[float], k_N_m: Sequence
 
 def modal_constants(ds: xr.Dataset, poles: np.ndarray, *,
                     band_hz: Sequence[float]) -> tuple[np.ndarray, np.ndarray]:
-    """Residue matrices ``(3, 3, n_modes)`` of the measured FRFs at the given (windowed)
+    """Residues ``(n_output, n_input, n_modes)`` of the measured FRFs at the given (windowed)
     poles by LSFD (sdypy-EMA, lower and upper residuals), and the synthesized FRF
-    ``(3, 3, n_freq)`` on the dataset's frequencies (NaN outside the band and at DC)."""
-    frf, freq = _frf_rows(ds)
-    A, H, _, _ = _lsfd(np.asarray(poles, complex), frf, freq, band_hz)
+    ``(n_output, n_input, n_freq)`` on the dataset's frequencies (NaN outside the band, at
+    DC and for pairs the layout did not measure)."""
+    frf, freq, measured = _frf_rows(ds)
+    A, H, _, _ = _lsfd(np.asarray(poles, complex), np.nan_to_num(frf), freq, band_hz)
+    n_o, n_i = ds.sizes["output"], ds.sizes["input"]
     f_all = ds["frequency"].values
-    synth = np.full((9, f_all.size), np.nan + 0j)
+    res = np.full((n_o * n_i, A.shape[1]), np.nan + 0j)
+    res[measured] = A
+    synth = np.full((n_o * n_i, f_all.size), np.nan + 0j)
     inside = (freq >= band_hz[0]) & (freq <= band_hz[1])
-    synth[:, np.flatnonzero(f_all > 0)[inside]] = H[:, inside]
-    return A.reshape(3, 3, -1), synth.reshape(3, 3, -1)
+    rows = synth[measured]
+    rows[:, np.flatnonzero(f_all > 0)[inside]] = H[:, inside]
+    synth[measured] = rows
+    return res.reshape(n_o, n_i, -1), synth.reshape(n_o, n_i, -1)
+
+
+def _unit_phase(v: np.ndarray) -> np.ndarray:
+    """A complex vector scaled to unit norm and turned so that its largest component is real
+    and positive."""
+    v = np.asarray(v, complex)
+    k = int(np.nanargmax(np.abs(v)))
+    return v / np.linalg.norm(v) * np.exp(-1j * np.angle(v[k]))
+
+
+def driving_points(outputs: Sequence[tuple[int, int]],
+                   inputs: Sequence[tuple[int, int]]) -> list[tuple[int, int, int]]:
+    """Driving points of a layout: ``(i_output, i_input, sign)`` where response and reference
+    are the same node and axis (``sign`` −1 when their directions are opposite)."""
+    out = []
+    for i, (no, do) in enumerate(outputs):
+        for j, (ni, di) in enumerate(inputs):
+            if no == ni and abs(do) == abs(di):
+                out.append((i, j, int(np.sign(do) * np.sign(di))))
+    return out
+
+
+@dataclass
+class ModeShapes:
+    """Complex unit mode shapes over the measured points (see :func:`mode_shapes`)."""
+
+    points: list[tuple[int, int]]
+    """``(node, direction code)`` of each component."""
+    shapes: np.ndarray
+    """``(n_modes, n_points)`` complex, unit norm, largest component real positive."""
+    m_modal_kg: np.ndarray
+    """Modal mass of the unit shape (NaN without a driving point)."""
+    driving_point: str
+    """Label of the driving point used for the scaling ('' when none)."""
+
+
+def mode_shapes(poles: np.ndarray, residues: np.ndarray,
+                outputs: Sequence[tuple[int, int]],
+                inputs: Sequence[tuple[int, int]]) -> ModeShapes:
+    """Mode shapes over the measured points and, where a driving point exists, modal masses.
+
+    With ``R = 2jω_d A_r`` ≈ ``u uᵀ`` (``u`` the mass-normalised shape; Ewins, *Modal
+    Testing*, 2000, §4.4: residue ``A_jk = u_j u_k/(2jω_d)`` for a lightly damped mode):
+
+    * one reference point: the shape over the response points is the column ``R[:, ref]``;
+    * one response point (roving hammer): the row ``R[resp, :]`` over the reference points;
+    * several of both: the column of the driving-point reference (the reference with the
+      largest residues when there is none).
+
+    The shape is normalised to unit norm (complex; :func:`_unit_phase`). With a driving point
+    ``p`` (same node and axis in response and reference), ``u_p² = R_pp`` scales it: the
+    modal mass of the unit shape is ``m = |R_pp| / ‖ψ‖²`` with the sign of ``Re R_pp``
+    (negative: non-physical). Without one the shape stays unscaled and ``m`` is NaN.
+    """
+    outputs = [tuple(p) for p in outputs]
+    inputs = [tuple(p) for p in inputs]
+    dps = driving_points(outputs, inputs)
+    if len(inputs) == 1:
+        pts, axis = outputs, "column"
+    elif len(outputs) == 1:
+        pts, axis = inputs, "row"
+    else:
+        pts, axis = outputs, "column"
+    shapes = np.full((len(poles), len(pts)), np.nan + 0j)
+    masses = np.full(len(poles), np.nan)
+    dp_label = ""
+    for r, p in enumerate(np.asarray(poles, complex)):
+        R = 2j * p.imag * residues[:, :, r]
+        if dps:
+            i, j, sgn = max(dps, key=lambda d: np.abs(np.nan_to_num(R[d[0], d[1]])))
+            dp_label = point_label(*outputs[i])
+        else:
+            i = j = None
+            sgn = 1
+        if axis == "column":
+            jj = j if j is not None else int(np.nanargmax(np.nansum(np.abs(R), axis=0)))
+            psi = R[:, jj]
+        else:
+            ii = i if i is not None else 0
+            psi = R[ii, :]
+        # points with an unmeasured pair get NaN; the shape over the others is normalised
+        ok = np.isfinite(psi)
+        if ok.any():
+            shapes[r, ok] = _unit_phase(psi[ok])
+        if i is not None and ok.any():
+            Rpp = sgn * R[i, j]
+            masses[r] = np.sign(Rpp.real) * np.abs(Rpp) / np.sum(np.abs(psi[ok]) ** 2)
+    return ModeShapes(list(pts), shapes, masses, dp_label)
+
+
+def mac_matrix(shapes: np.ndarray) -> np.ndarray:
+    """Modal assurance criterion between every pair of (complex) mode shapes ``(n_modes,
+    n_points)``: ``MAC_rs = |φ_rᴴ φ_s|² / ((φ_rᴴ φ_r)(φ_sᴴ φ_s))`` (Allemang & Brown 1982),
+    over the points where both are measured."""
+    phi = np.nan_to_num(np.asarray(shapes, complex))
+    num = np.abs(phi.conj() @ phi.T) ** 2
+    nrm = np.real(np.sum(phi.conj() * phi, axis=1))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return num / np.outer(nrm, nrm)
+
+
+def _is_tooltip(outputs, inputs) -> bool:
+    return ([tuple(p) for p in outputs] == list(TOOLTIP)
+            and [tuple(p) for p in inputs] == list(TOOLTIP))
+
+
+MODE_COLUMNS = ["mode", "f_n_hz", "zeta", "k_modal_N_m", "m_modal_kg", "shape_x", "shape_y",
+                "shape_z", "zeta_windowed", "rank1", "n_stable", "driving_point", "coherence",
+                "physical", "flags"]
+"""Columns of the mode table (``results/modal/modes.csv``)."""
 
 
 def modes_table(poles: np.ndarray, residues: np.ndarray, *,
                 poles_measured: np.ndarray | None = None,
-                n_stable: Sequence[int] | None = None) -> pd.DataFrame:
-    """Modal parameters at the tool tip from (window-corrected) poles and residue matrices.
+                n_stable: Sequence[int] | None = None,
+                outputs: Sequence[tuple[int, int]] = TOOLTIP,
+                inputs: Sequence[tuple[int, int]] = TOOLTIP,
+                coherence: Sequence[float] | None = None,
+                coherence_min: float = 0.75) -> tuple[pd.DataFrame, ModeShapes]:
+    """Modal parameters from (window-corrected) poles and residues, and the mode shapes.
 
-    For each mode, ``R = 2jω_d A_r`` ≈ ``φφᵀ/m`` (real, symmetric, rank one for a
-    proportionally damped mode); its largest eigenpair ``(λ, v)`` of the symmetric real part
-    gives the unit shape ``φ = v`` (largest component positive), ``m = 1/λ`` and
-    ``k = m ω_n²``. ``rank1`` = λ / Σ|eigenvalues| (1 for a clean single mode).
+    The 3×3 tool-tip matrix (outputs = inputs = node 1 +X, +Y, +Z): ``R = 2jω_d A_r`` ≈
+    ``φφᵀ/m`` (real, symmetric, rank one for a proportionally damped mode); its largest
+    eigenpair ``(λ, v)`` of the symmetric real part gives the unit shape ``φ = v`` (largest
+    component positive), ``m = 1/λ`` and ``k = m ω_n²``; ``rank1`` = λ / Σ|eigenvalues|.
+    Any other layout: :func:`mode_shapes` (``rank1`` NaN); ``m`` and ``k`` only with a
+    driving point.
+
+    Sanity flags (column ``flags``, ``physical`` False when any): a negative modal mass or
+    stiffness (the driving-point residue has the wrong sign: a sign or direction mix-up, or a
+    computational pole); no driving point (no modal mass or stiffness); the mean coherence of
+    the measured FRFs at the natural frequency below ``coherence_min``.
 
     Returns
     -------
     pandas.DataFrame
-        ``mode, f_n_hz, zeta, k_modal_N_m, m_modal_kg, shape_x, shape_y, shape_z,
-        zeta_windowed, rank1, n_stable``.
+        :data:`MODE_COLUMNS`; ``shape_x, shape_y, shape_z`` are the real unit shape at node 1
+        where those points were measured (NaN otherwise).
+    ModeShapes
+        The complex shapes over all measured points.
     """
     f, z = pole_f_zeta(poles)
+    tooltip = _is_tooltip(outputs, inputs)
+    general = mode_shapes(poles, residues, outputs, inputs)
+    shapes = general.shapes.copy()
     rows = []
     for r, p in enumerate(np.asarray(poles, complex)):
-        R = 2j * p.imag * residues[:, :, r]
-        S = np.real(R + R.T) / 2
-        lam, vec = np.linalg.eigh(S)
-        i = int(np.argmax(np.abs(lam)))
-        v = vec[:, i] * np.sign(vec[np.argmax(np.abs(vec[:, i])), i])
-        m = 1.0 / lam[i]
         wn = 2 * np.pi * f[r]
+        flags = []
+        if tooltip:
+            R = 2j * p.imag * residues[:, :, r]
+            S = np.real(R + R.T) / 2
+            lam, vec = np.linalg.eigh(S)
+            i = int(np.argmax(np.abs(lam)))
+            v = vec[:, i] * np.sign(vec[np.argmax(np.abs(vec[:, i])), i])
+            m = 1.0 / lam[i]
+            rank1 = float(np.abs(lam[i]) / np.sum(np.abs(lam)))
+            comp = {d: v[d - 1] for d in (1, 2, 3)}
+            shapes[r] = v
+            dp = "X, Y, Z"
+        else:
+            m = general.m_modal_kg[r]
+            rank1 = np.nan
+            comp = {abs(d): (np.sign(d) * shapes[r, k]).real
+                    for k, (n, d) in enumerate(general.points) if n == 1}
+            dp = general.driving_point
+            if not dp:
+                flags.append("no driving point: shape unscaled, no modal mass or stiffness")
+        if np.isfinite(m) and m <= 0:
+            flags.append(f"negative modal mass {m:.3g} kg and stiffness {m * wn**2:.3g} N/m "
+                         "(non-physical: sign or direction mix-up, or a computational pole)")
+        coh = float(coherence[r]) if coherence is not None else np.nan
+        if np.isfinite(coh) and coh < coherence_min:
+            flags.append(f"coherence {coh:.2f} at {f[r]:.4g} Hz below {coherence_min:g}")
         row = {"mode": r + 1, "f_n_hz": f[r], "zeta": z[r], "k_modal_N_m": m * wn**2,
-               "m_modal_kg": m, "shape_x": v[0], "shape_y": v[1], "shape_z": v[2]}
+               "m_modal_kg": m, "shape_x": comp.get(1, np.nan),
+               "shape_y": comp.get(2, np.nan), "shape_z": comp.get(3, np.nan)}
         row["zeta_windowed"] = (pole_f_zeta(poles_measured)[1][r]
                                 if poles_measured is not None else z[r])
-        row["rank1"] = float(np.abs(lam[i]) / np.sum(np.abs(lam)))
+        row["rank1"] = rank1
         row["n_stable"] = int(n_stable[r]) if n_stable is not None else 0
+        row["driving_point"] = dp
+        row["coherence"] = coh
+        row["physical"] = not any(fl.startswith("negative") for fl in flags)
+        row["flags"] = "; ".join(flags)
         rows.append(row)
-    return pd.DataFrame(rows, columns=["mode", "f_n_hz", "zeta", "k_modal_N_m", "m_modal_kg",
-                                       "shape_x", "shape_y", "shape_z", "zeta_windowed",
-                                       "rank1", "n_stable"])
+    pts = list(TOOLTIP) if tooltip else general.points
+    ms = ModeShapes(pts, shapes, np.array([row["m_modal_kg"] for row in rows], float)
+                    if rows else np.array([]), "X, Y, Z" if tooltip else general.driving_point)
+    return pd.DataFrame(rows, columns=MODE_COLUMNS), ms
+
+
+def coherence_at(ds: xr.Dataset, f_hz: Sequence[float]) -> np.ndarray:
+    """Mean coherence of the measured FRFs at the lines nearest ``f_hz`` (NaN where the
+    dataset has no coherence)."""
+    if "coherence" not in ds:
+        return np.full(len(f_hz), np.nan)
+    f = ds["frequency"].values
+    c = ds["coherence"].transpose("output", "input", "frequency").values
+    c = c.reshape(-1, f.size)
+    out = []
+    for fr in f_hz:
+        k = int(np.argmin(np.abs(f - fr)))
+        col = c[:, k]
+        out.append(float(np.nanmean(col)) if np.isfinite(col).any() else np.nan)
+    return np.array(out)
+
+
+def band_from_data(ds: xr.Dataset, *, force_spectrum: np.ndarray | None = None,
+                   coherence_min: float = 0.75, force_drop_db: float = 10.0,
+                   smooth_hz: float = 2.0,
+                   no_coherence_low_fraction: float = 0.02) -> tuple[float, float]:
+    """The analysis band from the data: where the hammer excited the structure and the
+    coherence shows it.
+
+    Upper limit: the first line above which the hammer's force auto-spectrum ``force_spectrum``
+    (over ``ds.frequency``) stays ``force_drop_db`` below its mean over the lowest 5 % of the
+    lines (the usual "10 dB" rule for a hammer tip, Ewins 2000 §3.6), and the last line where
+    the median coherence of the measured FRFs (smoothed over ``smooth_hz``) reaches
+    ``coherence_min``. Lower limit: the first line above DC where that smoothed median
+    coherence reaches ``coherence_min``. Without coherence (FRFs imported without type-6
+    sets) the lowest lines cannot be judged, and a receptance converted from an accelerance
+    there is noise divided by ω²: the band then starts at ``no_coherence_low_fraction`` of
+    its upper limit (assumed 2 %: 20 Hz for a 1 kHz export).
+
+    Returns
+    -------
+    (f_lo_hz, f_hi_hz)
+
+    Raises
+    ------
+    ValueError
+        When the coherence never reaches ``coherence_min``.
+    """
+    f = ds["frequency"].values
+    lo, hi = float(f[f > 0][0]), float(f[-1])
+    if force_spectrum is not None:
+        s = np.asarray(force_spectrum, float)
+        ref = np.mean(s[(f > 0) & (f <= f[-1] * 0.05 + f[1])])
+        above = s >= ref * 10 ** (-force_drop_db / 10)
+        above[f <= 0] = True
+        below = np.flatnonzero(~above)
+        if below.size:
+            hi = min(hi, float(f[below[0]]))
+    if "coherence" in ds and np.isfinite(ds["coherence"].values).any():
+        c = ds["coherence"].transpose("output", "input", "frequency").values
+        with warnings.catch_warnings():  # DC and unmeasured pairs are all-NaN lines
+            warnings.simplefilter("ignore", RuntimeWarning)
+            med = np.nanmedian(c.reshape(-1, f.size), axis=0)
+        w = max(1, int(round(smooth_hz / (f[1] - f[0]))))
+        med = np.convolve(np.nan_to_num(med), np.ones(w) / w, mode="same")
+        good = np.flatnonzero((med >= coherence_min) & (f > 0) & (f <= hi))
+        if good.size == 0:
+            raise ValueError(f"the coherence never reaches {coherence_min:g}: no usable band "
+                             "(set modal.band_hz)")
+        lo, hi = max(lo, float(f[good[0]])), min(hi, float(f[good[-1]]))
+    else:
+        lo = max(lo, float(f[np.searchsorted(f, no_coherence_low_fraction * hi)]))
+    return lo, hi
 
 
 @dataclass
@@ -562,13 +1083,16 @@ class Identification:
     modes: pd.DataFrame
     residues: np.ndarray
     H_synth: np.ndarray
+    shapes: ModeShapes | None = None
+    mac: np.ndarray | None = None
 
 
 def identify(ds: xr.Dataset, *, band_hz: Sequence[float], max_order: int = 40,
              tol_f: float = 0.01, tol_zeta: float = 0.05, mac_min: float = 0.95,
              zeta_max: float = 0.2, cluster_tol: float = 0.01,
-             min_stable: int = 5) -> Identification:
-    """Stabilization chart → selected poles → residues (LSFD) → window-corrected modes."""
+             min_stable: int = 5, coherence_min: float = 0.75) -> Identification:
+    """Stabilization chart over all measured FRFs → selected poles → residues (LSFD) →
+    window-corrected modes, shapes over the measured points, MAC matrix, sanity flags."""
     stab = stabilization(ds, band_hz=band_hz, max_order=max_order, tol_f=tol_f,
                          tol_zeta=tol_zeta, mac_min=mac_min, zeta_max=zeta_max)
     sel = select_poles(stab, cluster_tol=cluster_tol, min_stable=min_stable)
@@ -577,6 +1101,24 @@ def identify(ds: xr.Dataset, *, band_hz: Sequence[float], max_order: int = 40,
     p_meas = sel["pole_real"].to_numpy() + 1j * sel["pole_imag"].to_numpy()
     residues, synth = modal_constants(ds, p_meas, band_hz=band_hz)
     p_true = correct_window_damping(p_meas, ds.attrs.get("window_sigma_per_s", 0.0))
-    modes = modes_table(p_true, residues, poles_measured=p_meas,
-                        n_stable=sel["n_stable"].to_numpy())
-    return Identification(stab, sel, modes, residues, synth)
+    modes, shapes = modes_table(p_true, residues, poles_measured=p_meas,
+                                n_stable=sel["n_stable"].to_numpy(),
+                                outputs=points(ds, "output"), inputs=points(ds, "input"),
+                                coherence=coherence_at(ds, pole_f_zeta(p_meas)[0]),
+                                coherence_min=coherence_min)
+    return Identification(stab, sel, modes, residues, synth, shapes,
+                          mac_matrix(shapes.shapes))
+
+
+def shapes_table(shapes: ModeShapes) -> pd.DataFrame:
+    """Long table of the complex mode shapes: ``mode, point, node, direction, shape_real,
+    shape_imag, shape_abs, shape_phase_deg`` (``results/modal/mode_shapes.csv``)."""
+    rows = []
+    for r in range(shapes.shapes.shape[0]):
+        for k, (n, d) in enumerate(shapes.points):
+            v = shapes.shapes[r, k]
+            rows.append({"mode": r + 1, "point": point_label(n, d), "node": n, "direction": d,
+                         "shape_real": v.real, "shape_imag": v.imag, "shape_abs": abs(v),
+                         "shape_phase_deg": float(np.degrees(np.angle(v)))})
+    return pd.DataFrame(rows, columns=["mode", "point", "node", "direction", "shape_real",
+                                       "shape_imag", "shape_abs", "shape_phase_deg"])

@@ -1,5 +1,7 @@
-# Stage 'modal' (thesis §3.3): impact test -> 3x3 FRF matrix -> peak picking, LSCF
-# stabilization chart, modes (f_n, zeta, shapes, modal mass/stiffness at the tool tip).
+# Stage 'modal' (thesis §3.3, any test layout): impact hits (CSV or UFF 58 time histories)
+# or UFF 58 FRFs -> FRFs H(response point, reference point) -> peak picking, LSCF
+# stabilization chart, modes (f_n, zeta, complex shapes over the measured points, modal
+# mass/stiffness with a driving point, MAC, sanity flags), UFF 55 mode shapes.
 
 
 wildcard_constraints:
@@ -48,10 +50,7 @@ rule modal_frf:
         ENV
     params:
         modal=config["modal"],
-        files=[
-            {"path": f["path"], "direction": f["direction"], "hit": f["hit"]}
-            for f in MODAL_HITS
-        ],
+        files=[{k: v for k, v in f.items() if k != "sha256"} for f in MODAL_HITS],
     script:
         "../scripts/modal_frf.py"
 
@@ -70,6 +69,9 @@ rule modal_identify:
         peaks="results/modal/peak_picking.csv",
         stabilization="results/modal/stabilization.csv",
         synth="results/modal/frf_synth.nc",
+        shapes="results/modal/mode_shapes.csv",
+        mac="results/modal/mac.csv",
+        uff="results/modal/modes.uff",
     log:
         "results/logs/modal/identify.log",
     benchmark:
@@ -87,6 +89,7 @@ rule modal:
         "results/modal/frf.nc",
         "results/modal/modes.csv",
         "results/modal/peak_picking.csv",
+        "results/modal/modes.uff",
 
 
 rule ch3_modal:
@@ -100,6 +103,8 @@ rule ch3_modal:
         modes="results/modal/modes.csv",
         peaks="results/modal/peak_picking.csv",
         stabilization="results/modal/stabilization.csv",
+        shapes="results/modal/mode_shapes.csv",
+        mac="results/modal/mac.csv",
         forces_peaks="results/forces/peaks.csv",
         code=code("chapters", "plotting"),
     output:

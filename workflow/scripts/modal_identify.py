@@ -1,16 +1,29 @@
-"""3x3 FRF matrix -> thesis peak picking, LSCF stabilization chart, modes (sdypy-EMA)."""
+"""FRFs of any layout -> thesis peak picking, LSCF stabilization chart over all measured FRFs,
+modes (sdypy-EMA), mode shapes over the measured points, MAC matrix, sanity flags, UFF 55."""
 
+import numpy as np
+import pandas as pd
 import xarray as xr
 
 from robomill import modal
 from robomill.io import write_artefact, write_table
-from robomill.io.impact import read_frf
+from robomill.io.impact import read_frf, write_modes_uff
 from robomill.runlog import setup
 
 log = setup(snakemake.log[0], "modal_identify")
 cfg = snakemake.params.modal
 ds = read_frf(snakemake.input.frf)
-band = cfg["band_hz"]
+if cfg["band_hz"] is not None:
+    band = [float(b) for b in cfg["band_hz"]]
+    log.info("band %.4g-%.4g Hz (modal.band_hz)", *band)
+else:
+    spec = ds["force_spectrum"].values if "force_spectrum" in ds else None
+    band = list(modal.band_from_data(ds, force_spectrum=spec,
+                                     coherence_min=cfg["coherence_min"]))
+    basis = [w for w, ok in (("the hammer spectrum", spec is not None),
+                              ("the coherence", "coherence" in ds)) if ok]
+    log.info("band %.4g-%.4g Hz from %s", *band,
+             " and ".join(basis) or "the frequency axis (no coherence: from 2 % of its top)")
 peaks = modal.peak_picking(ds, band_hz=band, coherence_min=cfg["coherence_min"],
                            prominence=cfg["peak_prominence"],
                            real_window_hz=cfg["real_window_hz"])
@@ -18,22 +31,30 @@ write_table(peaks, snakemake.output.peaks)
 idn = modal.identify(ds, band_hz=band, max_order=cfg["max_order"], tol_f=cfg["tol_f"],
                      tol_zeta=cfg["tol_zeta"], mac_min=cfg["mac_min"],
                      zeta_max=cfg["zeta_max"], cluster_tol=cfg["cluster_tol"],
-                     min_stable=cfg["min_stable"])
+                     min_stable=cfg["min_stable"], coherence_min=cfg["coherence_min"])
 write_table(idn.modes, snakemake.output.modes)
 write_table(idn.stabilization, snakemake.output.stabilization)
-mode_coord = {"mode": ("mode", idn.modes["mode"].to_numpy(),
-                       {"units": "1", "long_name": "mode number"})}
+shapes = modal.shapes_table(idn.shapes)
+write_table(shapes, snakemake.output.shapes)
+mac = pd.DataFrame(idn.mac, columns=[f"mode_{m}" for m in idn.modes["mode"]])
+mac.insert(0, "mode", idn.modes["mode"].to_numpy())
+write_table(mac, snakemake.output.mac)
+write_modes_uff(idn.modes, idn.shapes, snakemake.output.uff)
+modes = idn.modes["mode"].to_numpy()
 synth = xr.Dataset(
     {"H_synth": (("output", "input", "frequency"), idn.H_synth,
                  {"units": "m/N", "long_name": "FRF synthesized from the identified poles and "
                                                "residues (windowed, as measured)"}),
      "residue": (("output", "input", "mode"), idn.residues,
                  {"units": "m/(N s)", "long_name": "modal constant A_r (LSFD)"})},
-    coords={**modal.frf_coords(ds["frequency"].values), **mode_coord})
+    coords={**modal.frf_coords(ds["frequency"].values, modal.points(ds, "output"),
+                               modal.points(ds, "input")),
+            "mode": ("mode", modes, {"units": "1", "long_name": "mode number"})})
+synth.attrs["band_hz"] = np.asarray(band, float)
 write_artefact(modal.split_complex(synth), snakemake.output.synth, rule="modal_identify",
                inputs=[snakemake.input.frf], config_section=cfg)
-for _, m in idn.modes.iterrows():
-    log.info("mode %d: f_n %.3f Hz, zeta %.4f, k %.3g N/m, m %.3g kg", m["mode"], m["f_n_hz"],
-             m["zeta"], m["k_modal_N_m"], m["m_modal_kg"])
+for m in idn.modes.itertuples():
+    log.info("mode %d: f_n %.3f Hz, zeta %.4f, k %.3g N/m, m %.3g kg%s", m.mode, m.f_n_hz,
+             m.zeta, m.k_modal_N_m, m.m_modal_kg, f" -- {m.flags}" if m.flags else "")
 log.info("%d thesis-criteria peaks of %d candidates", int(peaks["natural_frequency"].sum()),
          len(peaks))

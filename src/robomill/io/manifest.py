@@ -47,7 +47,9 @@ KIND_KEYS: dict[str, dict[str, tuple[type, ...]]] = {
     "profile": {"cut": (str,)},
     "force": {"cut": (str,), "fs_hz": (int, float)},
     "tracker": {"direction": (str,), "feed_mm_s": (int, float), "fs_hz": (int, float)},
-    "impact": {"direction": (str,), "hit": (int,)},
+    # impact: CSV hits need 'direction', UFF files need nothing; robomill.io.impact
+    # .entry_metadata checks direction, hit, node, response_node, range_N, range_ms2
+    "impact": {},
     "ctrack": {"table": (str,)},
     "robot": {"robot": (str,)},
     "stiffness": {"robot": (str,)},

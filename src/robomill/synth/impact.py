@@ -47,9 +47,13 @@ def hit_path(direction: str, hit: int) -> str:
 
 
 def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """Raw files of the impact test: ``hits_per_direction`` hits along X, Y and Z."""
-    n = int(config["synth"]["impact"]["hits_per_direction"])
-    return [{"path": hit_path(d, k), "kind": "impact", "direction": d, "hit": k}
+    """Raw files of the impact test: ``hits_per_direction`` hits along X, Y and Z at node 1
+    (the tool tip, a driving point), with the simulated sensors' ranges (``range_N``,
+    ``range_ms2``) as a lab states them in its manifest."""
+    imp = config["synth"]["impact"]
+    n = int(imp["hits_per_direction"])
+    return [{"path": hit_path(d, k), "kind": "impact", "direction": d, "hit": k,
+             "range_N": float(imp["force_range_N"]), "range_ms2": float(imp["accel_range_ms2"])}
             for d in DIRECTIONS for k in range(1, n + 1)]
 
 
@@ -157,3 +161,32 @@ def truth(config: Mapping[str, Any], cell) -> xr.Dataset:
                         {"units": "1", "long_name": "hit number"})},
         coords={"impact_file": ("impact_file", [f["path"] for f in files],
                                 {"units": "1", "long_name": "impact file (raw path)"})})
+
+
+def structure_hit(modes, dofs, reference, responses, *, fs_hz: float, n: int,
+                  rng: np.random.Generator, t0_s: float = 0.05, pulse_s: float = 0.002,
+                  peak_N: float = 100.0, force_noise_N: float = 0.0,
+                  accel_noise_ms2: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """One hit on a multi-node structure (the known truth of the layout tests).
+
+    ``modes`` are :class:`robomill.synth.cell.Mode` whose ``shape`` spans the degrees of
+    freedom ``dofs`` (``(node, axis code)`` with positive axes); the hammer hits
+    ``reference`` (``(node, ±axis)``) with a half-sine pulse (:func:`half_sine_pulse`) and the
+    accelerations at ``responses`` (``(node, ±axis)``) follow from
+    :func:`modal_acceleration_ms2`. A negative direction flips the sign of the force or the
+    measured acceleration.
+
+    Returns
+    -------
+    force_N (n,), accel_ms2 (n, len(responses))
+    """
+    dofs = [tuple(d) for d in dofs]
+    t = np.arange(n) / fs_hz
+    f = half_sine_pulse(t, t0_s + rng.uniform(0, 2 / fs_hz), pulse_s * rng.uniform(0.9, 1.1),
+                        peak_N * rng.uniform(0.8, 1.2))
+    force = np.zeros((n, len(dofs)))
+    force[:, dofs.index((reference[0], abs(reference[1])))] = np.sign(reference[1]) * f
+    acc = modal_acceleration_ms2(modes, force, fs_hz)
+    cols = [np.sign(d) * acc[:, dofs.index((node, abs(d)))] for node, d in responses]
+    out = np.column_stack(cols) + rng.normal(0.0, accel_noise_ms2, (n, len(responses)))
+    return f + rng.normal(0.0, force_noise_N, n), out
