@@ -442,8 +442,6 @@ def test_importer_returning_bad_entries_writes_nothing(tmp_path, fake_registry, 
     assert list(raw.iterdir()) == []
 
 
-@pytest.mark.xfail(strict=True, reason="the importer modules arrive with the issue21imp and "
-                   "issue22 branches: remove this mark when they are merged")
 def test_every_registered_importer_module_exists():
     import importlib.util
 
