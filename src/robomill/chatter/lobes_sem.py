@@ -297,7 +297,7 @@ def critical_depth(tool: LinearTool, cut: CuttingModel, spindle_rpm: float, *,
     """
     if not 0 < accuracy < 1:
         raise ValueError(f"accuracy must be in (0, 1), got {accuracy}")
-    xtol = accuracy / 50.0
+    xtol = accuracy / 20.0
     p = int(p0)
     op = speed_operator(tool, cut, spindle_rpm, p)
     if guess_m is not None and np.isfinite(guess_m) and 0 < guess_m < depth_max_m:
