@@ -159,7 +159,7 @@ def run(out_dir: Path) -> list[dict]:
                              ModeXY(850.0, 0.02, 2.5e7, (0.6, 0.8))])
     cut3 = CuttingModel.from_immersion(3, 7e8, 0.3, 0.5, "up")
     rows.append(_converged_rows("3-mode 2-DOF (3 teeth, a_e/D 0.5, up)", tool3, cut3,
-                                np.linspace(5000, 25000, 200), 20e-3, every=10))
+                                np.linspace(5000, 25000, 200), 20e-3, every=40))
     t0 = time.perf_counter()
     a, _, _ = sdm_lobes(tool, cut, rpm, depth_max_m=10e-3, m=40, rtol=0.005)
     t_lib = time.perf_counter() - t0

@@ -359,6 +359,8 @@ def run_thesis(modes: pd.DataFrame, coeffs: pd.DataFrame, peaks: pd.DataFrame, c
     lobes = xr.concat(per_dir, dim=xr.DataArray(list(DIRECTIONS), dims="direction"))
     lobes["direction"].attrs = {"units": "1", "long_name": "slot feed direction (px: +X, "
                                 "py: +Y, my: -Y)"}
+    rel = lobes["a_crit_error_mm"] / lobes["a_crit_mm"].sel(solver="sem")
+    lobes.attrs["worst_relative_error"] = float(rel.max()) if rel.notnull().any() else np.nan
     # force peaks (60–120 Hz in the thesis) by direction
     pk = peaks.copy()
     pk["direction"] = pk["cut"].astype(str).str.rsplit("_", n=1).str[-1]
