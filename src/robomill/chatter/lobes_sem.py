@@ -50,13 +50,13 @@ import scipy.linalg
 from robomill.chatter.lobes_sdm import classify_multiplier, multiplier_frequency_hz
 from robomill.chatter.model import CuttingModel, LinearTool
 
-NODES = 6
+NODES = 8
 """Starting collocation order p per element (p + 1 Chebyshev–Gauss–Lobatto nodes)."""
 P_STEP = 2
 """Order added for the error estimate and at each refinement."""
 P_MAX = 48
 """Largest order tried; a speed whose estimate still misses the accuracy keeps its estimate."""
-CYCLES_PER_ELEMENT = 0.5
+CYCLES_PER_ELEMENT = 1.0
 """Elements per cutting segment: at most this many periods of the fastest tool mode each."""
 N_SCAN = 32
 """Depths of the geometric scan for the first unstable bracket (a ratio of 1.2 between
