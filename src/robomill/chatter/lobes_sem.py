@@ -43,6 +43,7 @@ every depth.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 import scipy.linalg
@@ -65,6 +66,7 @@ ACCURACY = 0.005
 """Default relative accuracy of the critical depth (``chatter.accuracy``)."""
 
 
+@lru_cache(maxsize=64)
 def cheb(p: int) -> tuple[np.ndarray, np.ndarray]:
     """Chebyshev–Gauss–Lobatto nodes x_j = −cos(πj/p) on [−1, 1] (ascending) and the
     differentiation matrix D with (Df)(x_i) = f'(x_i) for polynomials of degree ≤ p
@@ -77,6 +79,8 @@ def cheb(p: int) -> tuple[np.ndarray, np.ndarray]:
     dx = x[:, None] - x[None, :]
     D = np.outer(c, 1.0 / c) / (dx + np.eye(p + 1))
     D -= np.diag(D.sum(axis=1))
+    x.setflags(write=False)  # cached: shared by every caller
+    D.setflags(write=False)
     return x, D
 
 
