@@ -30,14 +30,14 @@ against n_s + 2m = 322 for the first-order semi-discretization with m = 160.
 
 Critical depth: a geometric scan of :data:`N_SCAN` depths (as
 :func:`robomill.chatter.lobes_sdm.critical_depth`, so unstable islands above a stable band are
-caught at the scan resolution), or — warm start — a bracket around the neighbouring speed's
-depth with a check that no smaller depth is unstable; the first crossing of ρ(Φ(a)) = 1 by
-batched bracketing and linear interpolation; then the same at order p + ``P_STEP`` from that
-root. |a(p + P_STEP) − a(p)| plus the root tolerance is the error estimate of the value
-reported (the finer one, so the estimate is conservative for a spectrally convergent method);
-p grows until the estimate meets the relative ``accuracy``. The depth-independent pieces (free
-flight exponentials, collocation matrices) are built once per speed and order and reused for
-every depth.
+caught at the scan resolution), joined — warm start — by a fine bracket around the
+neighbouring speed's depth, all in one batched eigenvalue call; the first crossing of
+ρ(Φ(a)) = 1 by batched bracketing and linear interpolation; then the same at order
+p + ``P_STEP`` from that root. |a(p + P_STEP) − a(p)| plus the root tolerance is the error
+estimate of the value reported (the finer one, so the estimate is conservative for a
+spectrally convergent method); p grows until the estimate meets the relative ``accuracy``.
+The depth-independent pieces (free-flight exponentials, collocation matrices) are built once
+per speed and order and reused for every depth.
 """
 
 from __future__ import annotations
@@ -265,11 +265,15 @@ def _grid_root(op: SpeedOperator, lo: float, hi: float, xtol_rel: float,
 
 
 def _scan_root(op: SpeedOperator, depth_max_m: float, n_scan: int, xtol_rel: float,
-               depth_min_m: float | None = None) -> float:
-    """Geometric scan of ``n_scan`` depths up to ``depth_max_m`` for the first unstable one,
-    then :func:`_grid_root` in the bracket below it (NaN: stable up to ``depth_max_m``)."""
-    lo_scan = depth_min_m if depth_min_m is not None else depth_max_m / 300.0
-    scan = np.geomspace(lo_scan, depth_max_m, n_scan)
+               extra_m: np.ndarray | None = None) -> float:
+    """Geometric scan of ``n_scan`` depths from ``depth_max_m``/300 to ``depth_max_m`` (with
+    ``extra_m`` depths added: the warm start's fine bracket around the neighbouring speed's
+    depth), all in one batch, for the first unstable one; then :func:`_grid_root` in the
+    bracket below it (NaN: stable up to ``depth_max_m``)."""
+    scan = np.geomspace(depth_max_m / 300.0, depth_max_m, n_scan)
+    if extra_m is not None:
+        extra = np.asarray(extra_m, float)
+        scan = np.unique(np.concatenate([scan, extra[(extra > 0) & (extra < depth_max_m)]]))
     rho, _ = op.spectral_radius(scan)
     bad = np.nonzero(rho >= 1.0)[0]
     if bad.size == 0:
@@ -282,30 +286,25 @@ def _scan_root(op: SpeedOperator, depth_max_m: float, n_scan: int, xtol_rel: flo
 
 
 def _near_root(op: SpeedOperator, a0: float, depth_max_m: float, n_scan: int,
-               xtol_rel: float, width: float = 0.05, check_below: bool = True) -> float:
-    """Root near a previous estimate a0 in the bracket a0(1 ± width) (widened once to 4×);
-    a full scan when it holds no crossing. With ``check_below`` the bracket is accepted only
-    when ``n_scan // 2`` depths below it are all stable (so it is the smallest unstable
-    depth: no island below; evaluated in the same batch); without it (the same speed at a
-    finer order) the island structure of the coarser order is trusted."""
+               xtol_rel: float, width: float) -> float:
+    """The same speed at a finer order: the root in the bracket a0(1 ± width) around the
+    coarser order's root (widened once to 4×; the coarser order's island structure is
+    trusted), a full scan when it holds no crossing."""
     for w in (width, 4 * width):
         lo, hi = a0 * (1 - w), min(a0 * (1 + w), depth_max_m)
-        below = (np.geomspace(depth_max_m / 300.0, lo, max(4, n_scan // 2))[:-1]
-                 if check_below and lo > depth_max_m / 300.0 else np.array([]))
         grid = np.linspace(lo, hi, GRID_ROOT_POINTS + 2)
-        rho, _ = op.spectral_radius(np.concatenate([below, grid]))
-        if (rho[:below.size] >= 1.0).any():
-            break  # an island below: the full scan decides
-        rg = rho[below.size:]
-        bad = np.nonzero(rg >= 1.0)[0]
+        rho, _ = op.spectral_radius(grid)
+        bad = np.nonzero(rho >= 1.0)[0]
         if bad.size and bad[0] > 0:
             j = int(bad[0])
-            return _grid_root(op, grid[j - 1], grid[j], xtol_rel, rg[j - 1], rg[j])
-        if bad.size and not check_below:
-            continue  # unstable at the bracket's lower end: widen
-        if bad.size:
-            break
+            return _grid_root(op, grid[j - 1], grid[j], xtol_rel, rho[j - 1], rho[j])
     return _scan_root(op, depth_max_m, n_scan, xtol_rel)
+
+
+WARM_WIDTH = 0.05
+"""Warm start: depths at a0(1 + WARM_WIDTH·{−1, −½, 0, ½, 1}) around the neighbouring speed's
+critical depth a0 join the scan, so a lobe that continues from the neighbour is bracketed to
+±2.5 % at once (and a narrow one the scan alone would step over is kept)."""
 
 
 @dataclass
@@ -339,8 +338,8 @@ def critical_depth(tool: LinearTool, cut: CuttingModel, spindle_rpm: float, *,
     n_scan
         Depths of the geometric scan that finds the first unstable bracket.
     guess_m
-        Critical depth at a neighbouring speed: the search starts from its bracket
-        (warm start), with a check that no smaller depth is unstable.
+        Critical depth at a neighbouring speed (warm start): a fine bracket around it joins
+        the scan (:data:`WARM_WIDTH`).
 
     Returns
     -------
@@ -354,10 +353,9 @@ def critical_depth(tool: LinearTool, cut: CuttingModel, spindle_rpm: float, *,
     xtol = accuracy / 20.0
     p = int(p0)
     op = speed_operator(tool, cut, spindle_rpm, p)
-    if guess_m is not None and np.isfinite(guess_m) and 0 < guess_m < depth_max_m:
-        a_lo = _near_root(op, guess_m, depth_max_m, n_scan, xtol)
-    else:
-        a_lo = _scan_root(op, depth_max_m, n_scan, xtol)
+    extra = (guess_m * (1 + WARM_WIDTH * np.linspace(-1.0, 1.0, 5))
+             if guess_m is not None and np.isfinite(guess_m) else None)
+    a_lo = _scan_root(op, depth_max_m, n_scan, xtol, extra)
     while True:
         op_hi = speed_operator(tool, cut, spindle_rpm, p + P_STEP)
         if not np.isfinite(a_lo):
@@ -368,7 +366,7 @@ def critical_depth(tool: LinearTool, cut: CuttingModel, spindle_rpm: float, *,
                 return CriticalDepth(float("nan"), float("nan"), complex(mu[0]), p + P_STEP)
         else:
             a_hi = _near_root(op_hi, a_lo, depth_max_m, n_scan, xtol,
-                              width=max(2 * accuracy, 10 * xtol), check_below=False)
+                              width=max(2 * accuracy, 10 * xtol))
         err = abs(a_hi - a_lo) + 2 * xtol * a_hi if np.isfinite(a_lo) else float("inf")
         if err <= accuracy * a_hi or p + P_STEP >= P_MAX:
             _, mu = op_hi.spectral_radius([a_hi * (1 + xtol)])
