@@ -122,30 +122,39 @@ SDM_CONVERGED_M = 160
 (+0.18 % at 6400 rpm; m = 80 is +0.75 %)."""
 
 
+ROUNDS = 3
+"""Interleaved repetitions of each timing; the fastest of each side is kept (the machine is
+shared, so single timings swing by 2-3x)."""
+
+
 def _converged_rows(name: str, tool, cut, rpm: np.ndarray, depth_max_m: float,
                     every: int) -> dict:
     """SEM map converged to ACCURACY against first-order SDM at m = 160 (on every
-    ``every``-th speed, scaled to the whole grid)."""
+    ``every``-th speed, scaled to the whole grid), best of ROUNDS interleaved rounds."""
     sem_lobes(tool, cut, rpm[:2], depth_max_m=depth_max_m, accuracy=ACCURACY)  # warm caches
-    t0 = time.perf_counter()
-    r = sem_lobes(tool, cut, rpm, depth_max_m=depth_max_m, accuracy=ACCURACY)
-    t_sem = time.perf_counter() - t0
     sub = rpm[::every]
-    t0 = time.perf_counter()
-    a_sdm, _, _ = sdm_lobes(tool, cut, sub, depth_max_m=depth_max_m, m=SDM_CONVERGED_M,
-                            rtol=ACCURACY)
-    t_sdm = (time.perf_counter() - t0) * rpm.size / sub.size
+    t_sem, t_sdm = [], []
+    for _ in range(ROUNDS):
+        t0 = time.perf_counter()
+        r = sem_lobes(tool, cut, rpm, depth_max_m=depth_max_m, accuracy=ACCURACY)
+        t_sem.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        a_sdm, _, _ = sdm_lobes(tool, cut, sub, depth_max_m=depth_max_m, m=SDM_CONVERGED_M,
+                                rtol=ACCURACY)
+        t_sdm.append((time.perf_counter() - t0) * rpm.size / sub.size)
+    t_sem, t_sdm = min(t_sem), min(t_sdm)
     a_sem = r["a_crit_m"]
     worst = float(np.nanmax(r["error_m"] / a_sem))
     diff = float(np.nanmax(np.abs(a_sdm / a_sem[::every] - 1)))
-    scaled = "" if every == 1 else f" ({sub.size} speeds, scaled)"
+    scaled = "" if every == 1 else f" on {sub.size} speeds, scaled"
     return {"benchmark": "chatter",
             "metric": f"converged lobe map {name}, {rpm.size} speeds, error <= 0.5 %",
             "value": t_sem, "unit": "s", "baseline": t_sdm, "ratio": t_sdm / t_sem,
             "note": f"spectral element (orders {int(r['p'].min())}-{int(r['p'].max())}, worst "
                     f"estimated error {100 * worst:.3f} %) vs first-order SDM m = "
-                    f"{SDM_CONVERGED_M}{scaled}; largest depth difference {100 * diff:.2f} % "
-                    f"(the SDM's own error at m = {SDM_CONVERGED_M})"}
+                    f"{SDM_CONVERGED_M}{scaled}; best of {ROUNDS} interleaved rounds; "
+                    f"largest depth difference {100 * diff:.2f} % (the SDM's own error at "
+                    f"m = {SDM_CONVERGED_M})"}
 
 
 def run(out_dir: Path) -> list[dict]:
@@ -153,7 +162,7 @@ def run(out_dir: Path) -> list[dict]:
     tool = tool_from_modes([ModeXY(922.0, 0.011, 1.34e6, (1.0, 0.0))])
     cut = CuttingModel.from_immersion(2, 6e8, 0.3333, 0.05, "down")
     rpm = np.linspace(5000, 25000, 200)
-    rows.append(_converged_rows("insperger2004_down005", tool, cut, rpm, 10e-3, every=1))
+    rows.append(_converged_rows("insperger2004_down005", tool, cut, rpm, 10e-3, every=4))
     tool3 = tool_from_modes([ModeXY(700.0, 0.02, 2e7, (1.0, 0.0)),
                              ModeXY(1100.0, 0.015, 3e7, (1.0, 0.0)),
                              ModeXY(850.0, 0.02, 2.5e7, (0.6, 0.8))])
