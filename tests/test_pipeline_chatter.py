@@ -39,6 +39,13 @@ def test_simulation_artefact(tiny_run):
     assert (ds["onset_growth_rate_sdm_1_s"].values[grows] > 0).all()
     assert (ds["onset_growth_rate_sdm_1_s"].values[~grows] < 0).all()
     assert ds.attrs["indicator_final_point1_N"] < ds.attrs["indicator_final_point2_N"]
+    # the SDM diagram's discretization error, against the converged spectral element
+    err = ds["seed_a_crit_error_mm"].values
+    a_sdm = ds["seed_a_crit_mm"].sel(solver="sdm").values
+    fin = np.isfinite(a_sdm) & np.isfinite(ds["seed_a_crit_sem_mm"].values)
+    assert fin.any() and (err[fin] >= 0).all()
+    np.testing.assert_allclose(np.abs(a_sdm - ds["seed_a_crit_sem_mm"].values)[fin],
+                               err[fin], atol=ds.attrs["accuracy"] * a_sdm[fin].max())
 
 
 def test_thesis_artefacts(tiny_run):

@@ -41,6 +41,7 @@ rule chatter_seed:
             "chatter.detection",
             "chatter.lobes_zoa",
             "chatter.lobes_sdm",
+            "chatter.lobes_sem",
             "chatter.model",
             "chatter.study",
         ),
@@ -54,6 +55,7 @@ rule chatter_seed:
         ENV
     params:
         seed=config["chatter"]["seed"],
+        accuracy=config["chatter"]["accuracy"],
     script:
         "../scripts/chatter_seed.py"
 

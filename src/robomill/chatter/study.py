@@ -13,7 +13,7 @@ from robomill.chatter.detection import (
     run_adaptive,
 )
 from robomill.chatter.lobes_sdm import sdm_lobes, sdm_spectral_radius
-from robomill.chatter.lobes_sem import sem_lobes
+from robomill.chatter.lobes_sem import ACCURACY, sem_lobes
 from robomill.chatter.lobes_zoa import zoa_lobes
 from robomill.chatter.model import CuttingModel, modes_from_xy_lists, tool_from_modes
 from robomill.chatter.thesis import (
@@ -164,7 +164,7 @@ def classify_run(p: SeedParams, depth_m: float, *, duration_s: float, steps_per_
     return unstable, float(amp), growth_rate_of_run(rec, fs, tooth_hz, det)
 
 
-def run_seed(cfg: dict) -> xr.Dataset:
+def run_seed(cfg: dict, *, accuracy: float = ACCURACY) -> xr.Dataset:
     """Seed 002: its lobe diagram, points 1 and 2, the three time histories (point 1, point 2
     without and with adaptation), the indicator histories and the onset check."""
     p = SeedParams.from_config(cfg["params"])
@@ -174,6 +174,10 @@ def run_seed(cfg: dict) -> xr.Dataset:
     lobes = sdm_lobes_dataset(tool, cut, rpm, depth_max_m=cfg["depth_max_mm"] * 1e-3,
                               m=cfg["sdm_steps_per_period"], rtol=cfg["rtol"])
     a_sdm = lobes["a_crit_mm"].sel(solver="sdm").values * 1e-3
+    # the SDM diagram's own discretization error: its distance to the converged spectral
+    # element (plus that one's error estimate); the time-domain points below stay on the SDM
+    ref = sem_lobes(tool, cut, rpm, depth_max_m=cfg["depth_max_mm"] * 1e-3, accuracy=accuracy)
+    sdm_err = np.abs(a_sdm - ref["a_crit_m"]) + ref["error_m"]
     a_star = float(np.nanmin(a_sdm))
     a_at_n, f_at_n, kind_at_n = sdm_lobes(tool, cut, [p.spindle_rpm],
                                           depth_max_m=cfg["depth_max_mm"] * 1e-3,
@@ -258,6 +262,11 @@ def run_seed(cfg: dict) -> xr.Dataset:
                              {"units": "Hz", "long_name": "frequency of the indicator line"}),
             "seed_a_crit_mm": (("solver", "spindle_rpm"), lobes["a_crit_mm"].values,
                                lobes["a_crit_mm"].attrs),
+            "seed_a_crit_error_mm": ("spindle_rpm", sdm_err * 1e3, {
+                "units": "mm", "long_name": "discretization error of the sdm critical depth: "
+                "|a_sdm - a_sem| + the sem error estimate (sem converged to accuracy)"}),
+            "seed_a_crit_sem_mm": ("spindle_rpm", ref["a_crit_m"] * 1e3, {
+                "units": "mm", "long_name": "converged critical depth (spectral element)"}),
             "seed_chatter_hz": (("solver", "spindle_rpm"), lobes["chatter_hz"].values,
                                 lobes["chatter_hz"].attrs),
             "onset_a_boundary_mm": ("check", onset[:, 2], {"units": "mm", "long_name":
@@ -321,6 +330,7 @@ def run_seed(cfg: dict) -> xr.Dataset:
         "chatter_hz_zoa_at_n": float(np.interp(p.spindle_rpm, rpm, lobes["chatter_hz"]
                                                .sel(solver="zoa").values)),
         "sdm_steps_per_period": int(cfg["sdm_steps_per_period"]),
+        "accuracy": float(accuracy),
         "steps_per_tooth": int(spt),
     })
     return ds
