@@ -170,3 +170,29 @@ def test_stable_to_depth_max_gives_nan():
 def test_bad_accuracy_is_refused():
     with pytest.raises(ValueError, match="accuracy"):
         critical_depth(TOOL, CUT, 6400.0, depth_max_m=10e-3, accuracy=0.0)
+
+
+def test_accuracy_config_key(repo):
+    """chatter.accuracy defaults to 0.005; 0, above 0.1 and the removed first-order keys are
+    refused with the key named."""
+    import copy
+
+    import yaml
+
+    from robomill.config import validate_config
+    from robomill.io import ConfigError
+
+    schema = repo / "workflow/schemas/config.schema.yaml"
+    raw = yaml.safe_load(open(repo / "config.yaml"))
+    cfg = copy.deepcopy(raw)
+    del cfg["chatter"]["accuracy"]
+    assert validate_config(cfg, schema)["chatter"]["accuracy"] == ACCURACY
+    for bad in (0.0, 0.5):
+        cfg = copy.deepcopy(raw)
+        cfg["chatter"]["accuracy"] = bad
+        with pytest.raises(ConfigError, match=r"chatter\.accuracy"):
+            validate_config(cfg, schema)
+    cfg = copy.deepcopy(raw)
+    cfg["chatter"]["sdm_steps_per_period"] = 40
+    with pytest.raises(ConfigError, match="sdm_steps_per_period"):
+        validate_config(cfg, schema)
