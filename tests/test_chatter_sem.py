@@ -113,7 +113,7 @@ def test_zoa_and_sem_agree_for_symmetric_slotting():
     rpm = np.linspace(8000, 14000, 7)
     a_z, _ = zoa_lobes(tool, cut, rpm)
     r = sem_lobes(tool, cut, rpm, depth_max_m=10e-3)
-    np.testing.assert_allclose(r["a_crit_m"], a_z, rtol=0.01)
+    np.testing.assert_allclose(r["a_crit_m"], a_z, rtol=0.003)  # measured: <= 0.10 %
     assert (r["error_m"] <= ACCURACY * r["a_crit_m"]).all()
     assert set(r["kind"]) == {"hopf"}
 
