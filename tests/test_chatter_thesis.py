@@ -51,3 +51,24 @@ def test_recommend_margin_and_best_speed():
     assert best["spindle_rpm"] == 30000.0
     assert best["axial_depth_mm"] == pytest.approx(1.6)
     assert best["stability_margin"] == pytest.approx(0.25)
+
+
+def test_recommend_applies_the_safety_fraction_on_top_of_the_error():
+    """With an error estimate the best speed is the one with the largest a_crit − error and
+    the recommended depth is (1 − safety)(a_crit − error); the thesis depth is chatter-free
+    only if it is below a_crit − error."""
+    rpm = np.array([26000.0, 28000.0, 30000.0])
+    a = np.array([1.9e-3, 0.5e-3, 2.0e-3])
+    err = np.array([0.0, 0.01e-3, 0.2e-3])  # 30 000 rpm is deeper but less certain
+    rows = recommend(a, rpm, np.array([70.0, 71.0, 72.0]), "px", thesis_rpm=28000.0,
+                     thesis_depths_m=[0.495e-3], safety_fraction=0.2, solver="sem",
+                     a_error_m=err)
+    th = [r for r in rows if r["kind"] == "thesis"][0]
+    assert th["a_crit_error_mm"] == pytest.approx(0.01)
+    assert th["stability_margin"] > 0 and th["chatter_free"] is False
+    best = [r for r in rows if r["kind"] == "recommended"][0]
+    assert best["spindle_rpm"] == 26000.0
+    assert best["axial_depth_mm"] == pytest.approx(0.8 * 1.9)
+    nan_err = recommend(a, rpm, np.zeros(3), "px", thesis_rpm=28000.0, thesis_depths_m=[1e-4],
+                        safety_fraction=0.2, solver="zoa")
+    assert all(np.isnan(r["a_crit_error_mm"]) for r in nan_err)

@@ -12,7 +12,11 @@ wildcard_constraints:
 rule chatter_case:
     input:
         code=code(
-            "chatter.model", "chatter.lobes_zoa", "chatter.lobes_sdm", "chatter.study"
+            "chatter.model",
+            "chatter.lobes_zoa",
+            "chatter.lobes_sdm",
+            "chatter.lobes_sem",
+            "chatter.study",
         ),
     output:
         nc="results/chatter/cases/{chatter_case}.nc",
@@ -24,8 +28,7 @@ rule chatter_case:
         ENV
     params:
         case=lambda w: CHATTER_CASES[w.chatter_case],
-        sdm_steps_per_period=config["chatter"]["sdm_steps_per_period"],
-        rtol=config["chatter"]["rtol"],
+        accuracy=config["chatter"]["accuracy"],
         depth_max_mm=config["chatter"]["depth_max_mm"],
     script:
         "../scripts/chatter_case.py"
@@ -38,6 +41,7 @@ rule chatter_seed:
             "chatter.detection",
             "chatter.lobes_zoa",
             "chatter.lobes_sdm",
+            "chatter.lobes_sem",
             "chatter.model",
             "chatter.study",
         ),
@@ -51,6 +55,7 @@ rule chatter_seed:
         ENV
     params:
         seed=config["chatter"]["seed"],
+        accuracy=config["chatter"]["accuracy"],
     script:
         "../scripts/chatter_seed.py"
 
@@ -64,6 +69,7 @@ rule chatter_thesis:
             "chatter.thesis",
             "chatter.lobes_zoa",
             "chatter.lobes_sdm",
+            "chatter.lobes_sem",
             "chatter.model",
             "chatter.study",
         ),
@@ -83,6 +89,7 @@ rule chatter_thesis:
         ENV
     params:
         thesis=config["chatter"]["thesis"],
+        accuracy=config["chatter"]["accuracy"],
         spindle_rpm=config["experiment"]["spindle_rpm"],
         flutes=config["experiment"]["flutes"],
         depths_mm=sorted({s["depth_mm"] for s in config["experiment"]["sets"]}),

@@ -1,4 +1,4 @@
-"""One configured lobe case -> results/chatter/cases/<name>.nc (ZOA and SDM)."""
+"""One configured lobe case -> results/chatter/cases/<name>.nc (ZOA and converged SEM)."""
 
 import os
 
@@ -13,10 +13,11 @@ log = setup(snakemake.log[0], "chatter")
 p = snakemake.params
 case = dict(p.case)
 progress = Progress(log, 1.0, f"lobe map {case['name']}")
-ds = run_case(case, m=p.sdm_steps_per_period, rtol=p.rtol, depth_max_m=p.depth_max_mm * 1e-3,
+ds = run_case(case, accuracy=p.accuracy, depth_max_m=p.depth_max_mm * 1e-3,
               progress=progress.update)
 write_artefact(ds, snakemake.output.nc, rule="chatter_case",
-               config_section={"case": case, "m": p.sdm_steps_per_period, "rtol": p.rtol})
+               config_section={"case": case, "accuracy": p.accuracy})
 progress.finish(f"case {case['name']}: {ds.sizes['spindle_rpm']} speeds, min a_crit zoa "
-                f"{float(ds.a_crit_mm.sel(solver='zoa').min()):.3f} mm, sdm "
-                f"{float(ds.a_crit_mm.sel(solver='sdm').min()):.3f} mm")
+                f"{float(ds.a_crit_mm.sel(solver='zoa').min()):.3f} mm, sem "
+                f"{float(ds.a_crit_mm.sel(solver='sem').min()):.3f} mm, worst error "
+                f"{100 * ds.attrs['worst_relative_error']:.3f} %")

@@ -21,8 +21,10 @@ missing = [c for c in ("f_n_hz", "zeta", "k_modal_N_m", "shape_x", "shape_y")
 if missing:
     raise ValueError(f"{inp.modes}: missing columns {missing} (contract: CONTRACTS.md)")
 lobes, rec = run_thesis(modes, coeffs, peaks, dict(p.thesis), teeth=p.flutes,
-                        spindle_rpm=p.spindle_rpm, depths_mm=list(p.depths_mm))
+                        spindle_rpm=p.spindle_rpm, depths_mm=list(p.depths_mm),
+                        accuracy=p.accuracy)
 write_artefact(lobes, snakemake.output.lobes, rule="chatter_thesis",
-               inputs=[inp.modes, inp.coefficients, inp.peaks], config_section=dict(p.thesis))
+               inputs=[inp.modes, inp.coefficients, inp.peaks],
+               config_section={**dict(p.thesis), "accuracy": p.accuracy})
 write_table(rec, snakemake.output.recommendations)
 log.info("recommendations:\n%s", rec.to_string())

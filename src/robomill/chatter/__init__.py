@@ -20,13 +20,17 @@ Modules
 :mod:`~robomill.chatter.model`      linear tool models (modes → state space), directional
                                     matrix W(φ), immersion angles
 :mod:`~robomill.chatter.lobes_zoa`  zero-order analytical lobes (Altintas & Budak 1995)
-:mod:`~robomill.chatter.lobes_sdm`  first-order semi-discretization (Insperger & Stépán 2004)
+:mod:`~robomill.chatter.lobes_sdm`  first-order semi-discretization (Insperger & Stépán 2004;
+                                    the seed-002 diagram and the benchmark's baseline)
+:mod:`~robomill.chatter.lobes_sem`  spectral element with exact free flight (Khasawneh & Mann
+                                    2011): converged lobes with a per-speed error estimate
 :mod:`~robomill.chatter.timedomain` seed-002 robot–tool–surface simulation (numba)
 :mod:`~robomill.chatter.detection`  sliding-window FFT detection, adaptive depth logic
 :mod:`~robomill.chatter.thesis`     thesis robot: slot frames, mode coupling, recommendations
 """
 
 from robomill.chatter.lobes_sdm import sdm_lobes, sdm_spectral_radius
+from robomill.chatter.lobes_sem import sem_lobes, sem_spectral_radius
 from robomill.chatter.lobes_zoa import zoa_lobes
 from robomill.chatter.model import (
     CuttingModel,
@@ -43,6 +47,8 @@ __all__ = [
     "immersion_angles",
     "sdm_lobes",
     "sdm_spectral_radius",
+    "sem_lobes",
+    "sem_spectral_radius",
     "tool_from_modes",
     "zoa_lobes",
 ]

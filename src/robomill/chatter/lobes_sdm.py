@@ -23,8 +23,10 @@ import scipy.linalg
 from robomill.chatter.model import CuttingModel, LinearTool
 
 STEPS_PER_PERIOD = 40
-"""Default steps per tooth period (the value of Insperger & Stépán 2004 and Ding et al. 2010;
-convergence is shown in tests/test_chatter_sdm.py)."""
+"""Default steps per tooth period (the value of Insperger & Stépán 2004 and Ding et al. 2010).
+The method is second order: on the a_e/D = 0.05 benchmark at 6400 rpm m = 40 is +3.1 % above
+the converged depth, m = 80 +0.75 %, m = 160 +0.18 % (tests/test_chatter_sem.py); converged
+lobes come from :mod:`robomill.chatter.lobes_sem`."""
 
 
 def _exp_integrals(Ai: np.ndarray, h: float):

@@ -13,6 +13,7 @@ from robomill.chatter.detection import (
     run_adaptive,
 )
 from robomill.chatter.lobes_sdm import sdm_lobes, sdm_spectral_radius
+from robomill.chatter.lobes_sem import ACCURACY, sem_lobes
 from robomill.chatter.lobes_zoa import zoa_lobes
 from robomill.chatter.model import CuttingModel, modes_from_xy_lists, tool_from_modes
 from robomill.chatter.thesis import (
@@ -24,7 +25,9 @@ from robomill.chatter.thesis import (
 )
 from robomill.chatter.timedomain import SeedParams, SeedSimulation, horizontal_tool
 
-SOLVERS = ("zoa", "sdm")
+SOLVERS = ("zoa", "sem")
+MODE_COUPLING_RTOL = 0.005
+"""Bisection bracket of the mode-coupling depth (its error is half of it)."""
 GROWTH_WINDOW_TEETH = 20
 """Window of the indicator used for the growth rate, in tooth periods: short against the
 e-folding time of chatter near the boundary (0.3 s at 1 % above it in the seed), long enough
@@ -39,10 +42,10 @@ def speed_grid(spec: dict) -> np.ndarray:
     return np.linspace(float(spec["start"]), float(spec["stop"]), int(spec["num"]))
 
 
-def lobes_dataset(tool, cut: CuttingModel, rpm: np.ndarray, *, depth_max_m: float, m: int,
-                  rtol: float, progress=None) -> xr.Dataset:
-    """ZOA and SDM lobes on one speed grid: a_crit_mm, chatter_hz over (solver, spindle_rpm),
-    and the SDM bifurcation kind."""
+def sdm_lobes_dataset(tool, cut: CuttingModel, rpm: np.ndarray, *, depth_max_m: float, m: int,
+                      rtol: float, progress=None) -> xr.Dataset:
+    """ZOA and first-order SDM lobes on one speed grid (the seed-002 diagram): a_crit_mm,
+    chatter_hz over (solver = zoa, sdm; spindle_rpm), and the SDM bifurcation kind."""
     a_z, f_z = zoa_lobes(tool, cut, rpm)
     a_s, f_s, kind = sdm_lobes(tool, cut, rpm, depth_max_m=depth_max_m, m=m, rtol=rtol,
                                f_ref_hz=f_z, progress=progress)
@@ -56,15 +59,51 @@ def lobes_dataset(tool, cut: CuttingModel, rpm: np.ndarray, *, depth_max_m: floa
                                 {"units": "1", "long_name": "SDM critical multiplier: hopf, "
                                  "flip (period doubling), fold; empty if stable to depth_max"}),
         },
-        coords={"solver": ("solver", list(SOLVERS), {"units": "1", "long_name":
-                                                     "zoa: zero-order analytical; sdm: "
-                                                     "semi-discretization"}),
+        coords={"solver": ("solver", ["zoa", "sdm"], {"units": "1", "long_name":
+                                                      "zoa: zero-order analytical; sdm: "
+                                                      "semi-discretization"}),
                 "spindle_rpm": _coord(rpm, "rpm", "spindle speed")},
         attrs={"sdm_steps_per_period": int(m), "sdm_rtol": float(rtol),
                "depth_max_mm": depth_max_m * 1e3})
 
 
-def run_case(case: dict, *, m: int, rtol: float, depth_max_m: float,
+def lobes_dataset(tool, cut: CuttingModel, rpm: np.ndarray, *, depth_max_m: float,
+                  accuracy: float, progress=None) -> xr.Dataset:
+    """ZOA and converged spectral-element lobes on one speed grid: ``a_crit_mm``,
+    ``chatter_hz`` over (solver = zoa, sem; spindle_rpm); beside them the SEM's estimated
+    discretization error ``a_crit_error_mm`` (refined per speed to ``accuracy``), its
+    ``bifurcation`` kind and the ``collocation_order`` used
+    (:func:`robomill.chatter.lobes_sem.sem_lobes`)."""
+    a_z, f_z = zoa_lobes(tool, cut, rpm)
+    r = sem_lobes(tool, cut, rpm, depth_max_m=depth_max_m, accuracy=accuracy, f_ref_hz=f_z,
+                  progress=progress)
+    return xr.Dataset(
+        {
+            "a_crit_mm": (("solver", "spindle_rpm"), np.stack([a_z, r["a_crit_m"]]) * 1e3,
+                          {"units": "mm", "long_name": "critical axial depth of cut"}),
+            "a_crit_error_mm": ("spindle_rpm", r["error_m"] * 1e3,
+                                {"units": "mm", "long_name": "estimated discretization error "
+                                 "of the sem critical depth: |a(p) - a(p-2)| + root tolerance"}),
+            "chatter_hz": (("solver", "spindle_rpm"), np.stack([f_z, r["chatter_hz"]]),
+                           {"units": "Hz", "long_name": "chatter frequency at the boundary"}),
+            "bifurcation": ("spindle_rpm", r["kind"].astype(str),
+                            {"units": "1", "long_name": "sem critical multiplier: hopf, "
+                             "flip (period doubling), fold; empty if stable to depth_max"}),
+            "collocation_order": ("spindle_rpm", r["p"].astype(np.int64),
+                                  {"units": "1", "long_name": "sem polynomial order p per "
+                                   "element at which the accuracy was met"}),
+        },
+        coords={"solver": ("solver", list(SOLVERS), {"units": "1", "long_name":
+                                                     "zoa: zero-order analytical; sem: "
+                                                     "spectral element (Chebyshev "
+                                                     "collocation)"}),
+                "spindle_rpm": _coord(rpm, "rpm", "spindle speed")},
+        attrs={"accuracy": float(accuracy), "depth_max_mm": depth_max_m * 1e3,
+               "worst_relative_error": float(np.nanmax(r["error_m"] / r["a_crit_m"]))
+               if np.isfinite(r["a_crit_m"]).any() else float("nan")})
+
+
+def run_case(case: dict, *, accuracy: float, depth_max_m: float,
              progress=None) -> xr.Dataset:
     """One configured lobe case (schema ``chatter.cases[]``); ``progress(fraction)`` is called
     as the semi-discretization works through the speed grid."""
@@ -73,7 +112,7 @@ def run_case(case: dict, *, m: int, rtol: float, depth_max_m: float,
     cut = CuttingModel.from_immersion(case["teeth"], case["Kt_N_m2"], case["Kr"],
                                       case["radial_immersion"], case["milling"])
     ds = lobes_dataset(tool, cut, speed_grid(case["spindle_rpm"]), depth_max_m=depth_max_m,
-                       m=m, rtol=rtol, progress=progress)
+                       accuracy=accuracy, progress=progress)
     ds.attrs.update({"case_" + k: v for k, v in case.items() if k != "modes"})
     ds.attrs["case_modes"] = case["modes"]
     ds.attrs["phi_st_rad"], ds.attrs["phi_ex_rad"] = cut.phi_st, cut.phi_ex
@@ -125,16 +164,20 @@ def classify_run(p: SeedParams, depth_m: float, *, duration_s: float, steps_per_
     return unstable, float(amp), growth_rate_of_run(rec, fs, tooth_hz, det)
 
 
-def run_seed(cfg: dict) -> xr.Dataset:
+def run_seed(cfg: dict, *, accuracy: float = ACCURACY) -> xr.Dataset:
     """Seed 002: its lobe diagram, points 1 and 2, the three time histories (point 1, point 2
     without and with adaptation), the indicator histories and the onset check."""
     p = SeedParams.from_config(cfg["params"])
     tool = horizontal_tool(p)
     cut = p.cutting_model()
     rpm = speed_grid(cfg["spindle_rpm"])
-    lobes = lobes_dataset(tool, cut, rpm, depth_max_m=cfg["depth_max_mm"] * 1e-3,
-                          m=cfg["sdm_steps_per_period"], rtol=cfg["rtol"])
+    lobes = sdm_lobes_dataset(tool, cut, rpm, depth_max_m=cfg["depth_max_mm"] * 1e-3,
+                              m=cfg["sdm_steps_per_period"], rtol=cfg["rtol"])
     a_sdm = lobes["a_crit_mm"].sel(solver="sdm").values * 1e-3
+    # the SDM diagram's own discretization error: its distance to the converged spectral
+    # element (plus that one's error estimate); the time-domain points below stay on the SDM
+    ref = sem_lobes(tool, cut, rpm, depth_max_m=cfg["depth_max_mm"] * 1e-3, accuracy=accuracy)
+    sdm_err = np.abs(a_sdm - ref["a_crit_m"]) + ref["error_m"]
     a_star = float(np.nanmin(a_sdm))
     a_at_n, f_at_n, kind_at_n = sdm_lobes(tool, cut, [p.spindle_rpm],
                                           depth_max_m=cfg["depth_max_mm"] * 1e-3,
@@ -219,6 +262,11 @@ def run_seed(cfg: dict) -> xr.Dataset:
                              {"units": "Hz", "long_name": "frequency of the indicator line"}),
             "seed_a_crit_mm": (("solver", "spindle_rpm"), lobes["a_crit_mm"].values,
                                lobes["a_crit_mm"].attrs),
+            "seed_a_crit_error_mm": ("spindle_rpm", sdm_err * 1e3, {
+                "units": "mm", "long_name": "discretization error of the sdm critical depth: "
+                "|a_sdm - a_sem| + the sem error estimate (sem converged to accuracy)"}),
+            "seed_a_crit_sem_mm": ("spindle_rpm", ref["a_crit_m"] * 1e3, {
+                "units": "mm", "long_name": "converged critical depth (spectral element)"}),
             "seed_chatter_hz": (("solver", "spindle_rpm"), lobes["chatter_hz"].values,
                                 lobes["chatter_hz"].attrs),
             "onset_a_boundary_mm": ("check", onset[:, 2], {"units": "mm", "long_name":
@@ -282,16 +330,24 @@ def run_seed(cfg: dict) -> xr.Dataset:
         "chatter_hz_zoa_at_n": float(np.interp(p.spindle_rpm, rpm, lobes["chatter_hz"]
                                                .sel(solver="zoa").values)),
         "sdm_steps_per_period": int(cfg["sdm_steps_per_period"]),
+        "accuracy": float(accuracy),
         "steps_per_tooth": int(spt),
     })
     return ds
 
 
 def run_thesis(modes: pd.DataFrame, coeffs: pd.DataFrame, peaks: pd.DataFrame, cfg: dict,
-               *, teeth: int, spindle_rpm: float, depths_mm: list[float]
-               ) -> tuple[xr.Dataset, pd.DataFrame]:
-    """Lobes for the +X, +Y, −Y slots, the mode-coupling check, the force-peak comparison and
-    the recommendations table."""
+               *, teeth: int, spindle_rpm: float, depths_mm: list[float],
+               accuracy: float) -> tuple[xr.Dataset, pd.DataFrame]:
+    """Lobes for the +X, +Y, −Y slots (converged to ``accuracy``, with their error), the
+    mode-coupling check, the force-peak comparison and the recommendations table.
+
+    The recommended depth applies the safety fraction on top of the error: a_rec =
+    (1 − safety_fraction)(a_limit − a_limit_error), with a_limit the smaller of the
+    regenerative and mode-coupling depths and a_limit_error the discretization error of the
+    regenerative depth (sem; none for zoa) or the bisection half-bracket of the mode-coupling
+    depth; ``stability_margin_min`` = (a_limit − a_limit_error)/a − 1 is the margin at the
+    pessimistic end of the error and decides ``chatter_free``."""
     cut = cutting_from_coefficients(coeffs, teeth)
     rpm = speed_grid(cfg["spindle_rpm"])
     dmax = cfg["depth_max_mm"] * 1e-3
@@ -299,19 +355,22 @@ def run_thesis(modes: pd.DataFrame, coeffs: pd.DataFrame, peaks: pd.DataFrame, c
     for d in DIRECTIONS:
         modes_d = modes_in_slot_frame(modes, d)
         tool = tool_from_modes(modes_d)
-        ds = lobes_dataset(tool, cut, rpm, depth_max_m=dmax, m=cfg["sdm_steps_per_period"],
-                           rtol=cfg["rtol"])
+        ds = lobes_dataset(tool, cut, rpm, depth_max_m=dmax, accuracy=accuracy)
         per_dir.append(ds)
-        mc.append(mode_coupling(modes_d, cut, depth_max_m=dmax))
+        mc.append(mode_coupling(modes_d, cut, depth_max_m=dmax, rtol=MODE_COUPLING_RTOL))
         for s in SOLVERS:
+            err = ds["a_crit_error_mm"].values * 1e-3 if s == "sem" else None
             rows += recommend(ds["a_crit_mm"].sel(solver=s).values * 1e-3, rpm,
                               ds["chatter_hz"].sel(solver=s).values, d,
                               thesis_rpm=spindle_rpm,
                               thesis_depths_m=[x * 1e-3 for x in depths_mm],
-                              safety_fraction=cfg["safety_fraction"], solver=s)
+                              safety_fraction=cfg["safety_fraction"], solver=s,
+                              a_error_m=err)
     lobes = xr.concat(per_dir, dim=xr.DataArray(list(DIRECTIONS), dims="direction"))
     lobes["direction"].attrs = {"units": "1", "long_name": "slot feed direction (px: +X, "
                                 "py: +Y, my: -Y)"}
+    rel = lobes["a_crit_error_mm"] / lobes["a_crit_mm"].sel(solver="sem")
+    lobes.attrs["worst_relative_error"] = float(rel.max()) if rel.notnull().any() else np.nan
     # force peaks (60–120 Hz in the thesis) by direction
     pk = peaks.copy()
     pk["direction"] = pk["cut"].astype(str).str.rsplit("_", n=1).str[-1]
@@ -350,13 +409,19 @@ def run_thesis(modes: pd.DataFrame, coeffs: pd.DataFrame, peaks: pd.DataFrame, c
     amc = {d: x["a_mc_m"] * 1e3 for d, x in zip(DIRECTIONS, mc, strict=True)}
     rec["a_mode_coupling_mm"] = rec["direction"].map(amc)
     limit = np.fmin(rec["a_crit_mm"], rec["a_mode_coupling_mm"])
+    by_mc = rec["a_mode_coupling_mm"] < rec["a_crit_mm"]
+    limit_err = np.where(by_mc, 0.5 * MODE_COUPLING_RTOL * rec["a_mode_coupling_mm"],
+                         rec["a_crit_error_mm"].fillna(0.0))
     is_rec = rec["kind"] == "recommended"
-    rec.loc[is_rec, "axial_depth_mm"] = (1 - cfg["safety_fraction"]) * limit[is_rec]
+    rec.loc[is_rec, "axial_depth_mm"] = ((1 - cfg["safety_fraction"])
+                                         * (limit - limit_err)[is_rec])
     rec["a_limit_mm"] = limit
-    rec["limited_by"] = np.where(rec["a_mode_coupling_mm"] < rec["a_crit_mm"], "mode_coupling",
-                                 "regenerative")
+    rec["a_limit_error_mm"] = limit_err
+    rec["limited_by"] = np.where(by_mc, "mode_coupling", "regenerative")
     rec["stability_margin"] = rec["a_limit_mm"] / rec["axial_depth_mm"] - 1
-    rec["chatter_free"] = rec["stability_margin"] > 0
+    rec["stability_margin_min"] = ((rec["a_limit_mm"] - rec["a_limit_error_mm"])
+                                   / rec["axial_depth_mm"] - 1)
+    rec["chatter_free"] = rec["stability_margin_min"] > 0
     fpk = dict(zip(DIRECTIONS, fmed, strict=True))
     rec["force_peak_median_hz"] = rec["direction"].map(fpk)
     return lobes, rec

@@ -94,25 +94,35 @@ def mode_coupling(modes: list[ModeXY], cut: CuttingModel, *, depth_max_m: float,
 
 def recommend(a_crit_m: np.ndarray, spindle_rpm: np.ndarray, chatter_hz: np.ndarray,
               direction: str, *, thesis_rpm: float, thesis_depths_m: list[float],
-              safety_fraction: float, solver: str) -> list[dict]:
+              safety_fraction: float, solver: str, a_error_m: np.ndarray | None = None
+              ) -> list[dict]:
     """Rows of ``recommendations.csv`` for one slot direction: the thesis' own (speed, depth)
     pairs with their margin, and the recommended chatter-free point: the speed of the grid with
-    the largest critical depth and a depth ``safety_fraction`` below it. The stability margin is
-    a_crit/a − 1 (> 0 stable; 0.25 = 25 % deeper would still be stable)."""
+    the largest pessimistic critical depth a_crit − error, and a depth ``safety_fraction``
+    below that pessimistic depth, (1 − safety_fraction)(a_crit − error). The stability margin
+    is a_crit/a − 1 (> 0 stable; 0.25 = 25 % deeper would still be stable); ``a_error_m`` is
+    the estimated error of each critical depth (None: taken as exact and written as NaN, as
+    for the zero-order method, whose approximation error is a model error, not estimated)."""
     rows = []
     a = np.where(np.isfinite(a_crit_m), a_crit_m, np.inf)
+    err = (np.zeros_like(a) if a_error_m is None
+           else np.where(np.isfinite(a_error_m), a_error_m, 0.0))
+    err_mm = err * 1e3 if a_error_m is not None else np.full_like(a, np.nan)
     i_th = int(np.argmin(np.abs(spindle_rpm - thesis_rpm)))
     for d in thesis_depths_m:
         rows.append({"direction": direction, "kind": "thesis", "solver": solver,
                      "spindle_rpm": float(spindle_rpm[i_th]), "axial_depth_mm": d * 1e3,
-                     "a_crit_mm": a[i_th] * 1e3, "stability_margin": a[i_th] / d - 1,
+                     "a_crit_mm": a[i_th] * 1e3, "a_crit_error_mm": err_mm[i_th],
+                     "stability_margin": a[i_th] / d - 1,
                      "chatter_hz": float(chatter_hz[i_th]),
-                     "chatter_free": bool(a[i_th] > d)})
+                     "chatter_free": bool(a[i_th] - err[i_th] > d)})
     fin = np.isfinite(a_crit_m)
-    i = int(np.argmax(np.where(fin, a_crit_m, -1))) if fin.any() else i_th
-    a_rec = a[i] * (1 - safety_fraction) if np.isfinite(a[i]) else max(thesis_depths_m)
+    i = int(np.argmax(np.where(fin, a_crit_m - err, -1))) if fin.any() else i_th
+    a_rec = ((a[i] - err[i]) * (1 - safety_fraction) if np.isfinite(a[i])
+             else max(thesis_depths_m))
     rows.append({"direction": direction, "kind": "recommended", "solver": solver,
                  "spindle_rpm": float(spindle_rpm[i]), "axial_depth_mm": a_rec * 1e3,
-                 "a_crit_mm": a[i] * 1e3, "stability_margin": a[i] / a_rec - 1,
-                 "chatter_hz": float(chatter_hz[i]), "chatter_free": bool(a[i] > a_rec)})
+                 "a_crit_mm": a[i] * 1e3, "a_crit_error_mm": err_mm[i],
+                 "stability_margin": a[i] / a_rec - 1,
+                 "chatter_hz": float(chatter_hz[i]), "chatter_free": bool(a[i] - err[i] > a_rec)})
     return rows
