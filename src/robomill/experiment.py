@@ -9,7 +9,9 @@ from __future__ import annotations
 import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import asdict, dataclass
+from typing import Any
 
+import numpy as np
 import pandas as pd
 
 DIRECTIONS = ("py", "px", "my")
@@ -28,6 +30,12 @@ def cut_id(set_: int, segment: int, direction: str) -> str:
     if direction not in DIRECTION_VECTORS:
         raise ValueError(f"direction {direction!r} is not one of {', '.join(DIRECTION_VECTORS)}")
     return f"s{int(set_)}_g{int(segment)}_{direction}"
+
+
+def tracker_run_id(direction: str, feed_mm_s: float) -> str:
+    """Tracker run identifier ``<dir>_f<feed>`` (feed printed with ``%g``: ``py_f2``,
+    ``my_f2.5``)."""
+    return f"{direction}_f{float(feed_mm_s):g}"
 
 
 @dataclass(frozen=True)
@@ -95,6 +103,42 @@ def cuts_by_set(cuts: Iterable[Cut]) -> dict[int, list[Cut]]:
     for c in cuts:
         sets.setdefault(int(c.set), []).append(c)
     return sets
+
+
+def cut_endpoints_mm(cut: Cut, experiment: Mapping, set_index: int | None = None
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """Start and end of a cut's TCP path in the robot base frame [mm] (slot floor).
+
+    Layout of ``experiment.layout`` (thesis §2.1): the block frame R0 has its origin at
+    ``block_origin_mm`` and axes parallel to the base axes. Segment g of set s is a U whose
+    corner is at ``(margin + (g−1)·segment_pitch, margin + (s−1)·set_pitch, −depth)`` in R0;
+    its cuts run +Y from the corner, then +X, then −Y, each ``cut_length_mm`` long.
+    ``set_index`` overrides ``cut.set − 1`` (the row of the U).
+    """
+    lay = experiment["layout"]
+    L = float(experiment["cut_length_mm"])
+    s = (cut.set - 1) if set_index is None else set_index
+    corner = np.array([lay["margin_mm"] + (cut.segment - 1) * lay["segment_pitch_mm"],
+                       lay["margin_mm"] + s * lay["set_pitch_mm"], -cut.depth_mm])
+    origin = np.asarray(lay["block_origin_mm"], float)
+    start_local = {"py": corner, "px": corner + [0, L, 0], "my": corner + [L, L, 0]}
+    a = origin + start_local[cut.direction]
+    b = a + L * np.asarray(DIRECTION_VECTORS[cut.direction])
+    return a, b
+
+
+def cut_joint_path_rad(robot: Any, cut: Cut, experiment: Mapping, s_mm: np.ndarray, *,
+                       tool_rotation: np.ndarray, q0_rad: np.ndarray) -> np.ndarray:
+    """Joint angles ``(len(s), n)`` along a cut at path abscissae ``s_mm`` [mm]: inverse
+    kinematics of the straight TCP line of :func:`cut_endpoints_mm` at the fixed orientation
+    ``tool_rotation``, from the posture ``q0_rad`` (``cell.yaml: q_home_deg``)."""
+    a, b = cut_endpoints_mm(cut, experiment)
+    u = (b - a) / np.linalg.norm(b - a)
+    P = a + np.outer(np.asarray(s_mm, float), u)
+    T = np.broadcast_to(np.eye(4), (len(P), 4, 4)).copy()
+    T[:, :3, :3] = tool_rotation
+    T[:, :3, 3] = P
+    return robot.ik_path(T, q0_rad)
 
 
 def cuts_table(cuts: Sequence[Cut], spindle_rpm: float, flutes: int) -> pd.DataFrame:

@@ -3,7 +3,7 @@
 import os
 from pathlib import Path
 
-from robomill.experiment import cuts_by_set
+from robomill.experiment import cuts_by_set, tracker_run_id
 from robomill.io.manifest import load_manifest
 from robomill.synth.plan import experiment_header, planned_files, synthetic_cuts
 
@@ -24,6 +24,12 @@ else:
     RAW_FILES = _manifest.files
     EXPERIMENT = _manifest.experiment
 CUT_IDS = [c.id for c in CUTS]
+
+# The cell (robot, home posture, tool orientation, gear trains): the raw folder's cell.yaml
+# (kind cell; synthetic mode writes one from config cell:), else the configuration's cell:
+# section written to results/ingest/cell.yaml (raw folders from before cell files).
+CELL_RELPATH = next((f["path"] for f in RAW_FILES if f["kind"] == "cell"), "")
+CELL = f"{RAW}/{CELL_RELPATH}" if CELL_RELPATH else "results/ingest/cell.yaml"
 
 
 wildcard_constraints:

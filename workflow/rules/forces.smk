@@ -2,7 +2,6 @@
 # mean forces -> peaks table, spectra and the identified cutting coefficients.
 # One simulator job per set, one analysis job per cut, then one gather job.
 FORCE_FILES = {f["cut"]: f for f in RAW_FILES if f["kind"] == "force"}
-FORCE_FORMAT = config["synth"]["dynamometer"]["format"]
 
 
 # the manifest entry of a cut's record; the planted truth input (synthetic runs only)
@@ -10,36 +9,6 @@ force_entry = lambda w: FORCE_FILES[w.cut]
 forces_truth_input = lambda w: (
     {"truth": "results/synthetic/truth.nc"} if SYNTHETIC else {}
 )
-
-
-# One simulator job per set (its records written one after the other in one process).
-FORCE_SYNTH_SETS = (
-    cuts_by_set(c for c in CUTS if c.id in FORCE_FILES) if SYNTHETIC else {}
-)
-
-for _set_no, _set_cuts in FORCE_SYNTH_SETS.items():
-
-    rule:
-        name:
-            f"forces_synth_dynamometer_s{_set_no}"
-        input:
-            code=code(
-                "synth.dynamometer", "synth.cell", "forces", "io.forces", "kinematics"
-            ),
-        output:
-            [f"results/synthetic/raw/forces/{c.id}.{FORCE_FORMAT}" for c in _set_cuts],
-        log:
-            f"results/logs/forces/synth_s{_set_no}.log",
-        benchmark:
-            f"results/benchmarks/rules/forces/synth_s{_set_no}.tsv"
-        conda:
-            ENV
-        params:
-            synth=config["synth"],
-            experiment=config["experiment"],
-            cuts=[c.as_dict() for c in _set_cuts],
-        script:
-            "../scripts/forces_synth_dynamometer.py"
 
 
 rule forces_cut:

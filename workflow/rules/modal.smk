@@ -7,26 +7,6 @@ wildcard_constraints:
     hit="[0-9]+",
 
 
-rule synth_impact:
-    input:
-        code=code("synth.impact", "synth.cell"),
-    output:
-        "results/synthetic/raw/impact/hit{hit_dir}_{hit}.csv",
-    log:
-        "results/logs/synth/impact/hit{hit_dir}_{hit}.log",
-    benchmark:
-        "results/benchmarks/rules/synth/impact/hit{hit_dir}_{hit}.tsv"
-    conda:
-        ENV
-    params:
-        synth=config["synth"],
-        experiment=config["experiment"],
-        direction=lambda w: w.hit_dir,
-        hit=lambda w: int(w.hit),
-    script:
-        "../scripts/modal_synth_impact.py"
-
-
 MODAL_HITS = [f for f in RAW_FILES if f["kind"] == "impact"]
 
 

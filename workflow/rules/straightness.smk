@@ -1,8 +1,6 @@
 # Stage 'straightness' (chapter 3.2, issue 5): laser-tracker runs re-ordered in space, their
 # spectra in 1/mm, gear spatial frequencies and peak -> gear attribution.
 # One simulator job and one analysis job per tracker run, then one gather job.
-from robomill.synth.tracker import run_id as tracker_run_id
-
 TRACKER_RUNS = {
     tracker_run_id(f["direction"], f["feed_mm_s"]): f
     for f in RAW_FILES
@@ -10,34 +8,12 @@ TRACKER_RUNS = {
 }
 
 
-rule straightness_synth_tracker:
-    input:
-        code=code("synth.tracker", "synth.cell", "kinematics"),
-    output:
-        "results/synthetic/raw/tracker/{run}.csv",
-    log:
-        "results/logs/straightness/synth_{run}.log",
-    benchmark:
-        "results/benchmarks/rules/straightness/synth_{run}.tsv"
-    wildcard_constraints:
-        run="(px|py|my)_f[0-9.]+",
-    conda:
-        ENV
-    params:
-        synth=config["synth"],
-        experiment=config["experiment"],
-        direction=lambda w: TRACKER_RUNS[w.run]["direction"],
-        feed_mm_s=lambda w: TRACKER_RUNS[w.run]["feed_mm_s"],
-        cut=lambda w: TRACKER_RUNS[w.run]["cut"],
-    script:
-        "../scripts/straightness_synth_tracker.py"
-
-
 rule straightness_run:
     input:
         raw=lambda w: f"{RAW}/{TRACKER_RUNS[w.run]['path']}",
         manifest=MANIFEST,
-        code=code("straightness", "io.tracker", "spectra", "kinematics"),
+        cell=CELL,
+        code=code("straightness", "io.tracker", "io.cell", "spectra", "kinematics"),
     output:
         nc="results/straightness/runs/{run}.nc",
         peaks="results/straightness/runs/{run}_peaks.csv",
@@ -52,9 +28,7 @@ rule straightness_run:
         ENV
     params:
         settings=config["straightness"],
-        robot=config["synth"]["robot"],
-        gears=config["synth"]["gears"],
-        q_home_deg=config["synth"]["q_home_deg"],
+        cell_relpath=CELL_RELPATH,
         relpath=lambda w: TRACKER_RUNS[w.run]["path"],
         direction=lambda w: TRACKER_RUNS[w.run]["direction"],
         feed_mm_s=lambda w: TRACKER_RUNS[w.run]["feed_mm_s"],

@@ -7,10 +7,10 @@ from robomill.synth.tracker import simulate_run, write_run
 
 log = setup(snakemake.log[0], "straightness_synth_tracker")
 p = snakemake.params
-cfg = {"synth": p.synth, "experiment": p.experiment}
+cfg = dict(p.cfg)
 cell = cell_from_config(cfg)
-exp = p.experiment
-cut = next(c for c in plan_cuts(exp["sets"], int(p.synth["sets"]), exp["directions"])
+exp = cfg["experiment"]
+cut = next(c for c in plan_cuts(exp["sets"], int(cfg["synth"]["sets"]), exp["directions"])
            if c.id == p.cut)
 df = simulate_run(cfg, cell, p.direction, float(p.feed_mm_s), cut)
 write_run(df, snakemake.output[0])

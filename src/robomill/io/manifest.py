@@ -51,6 +51,7 @@ KIND_KEYS: dict[str, dict[str, tuple[type, ...]]] = {
     "ctrack": {"table": (str,)},
     "robot": {"robot": (str,)},
     "stiffness": {"robot": (str,)},
+    "cell": {},
 }
 """Metadata keys required per file kind. Chapter issues extend their kind's entry."""
 
@@ -68,6 +69,12 @@ class Manifest:
     @property
     def raw_dir(self) -> Path:
         return self.path.parent
+
+    @property
+    def cell_file(self) -> str | None:
+        """Path (relative to the raw folder) of the cell file (kind ``cell``), if listed."""
+        cells = self.files_of("cell")
+        return cells[0]["path"] if cells else None
 
     def cut(self, cut_id: str) -> Cut:
         for c in self.cuts:
@@ -199,6 +206,11 @@ def parse_manifest(data: Any, path: str | Path) -> Manifest:
         if "cut" in f and f["cut"] not in seen:
             raise RawDataError(path, f"file refers to unknown cut {f['cut']!r}",
                                where=f"{where}.cut", expected="a cut listed under cuts")
+        if f["kind"] == "cell" and any(g["kind"] == "cell" for g in files):
+            first = next(j for j, g in enumerate(files) if g["kind"] == "cell")
+            raise RawDataError(path, f"second cell file {f['path']!r} (also files[{first}])",
+                               where=f"{where}.kind",
+                               expected="at most one file of kind cell (cell.yaml)")
         paths[f["path"]] = i
         files.append(dict(f))
     extra = {k: v for k, v in data.items() if k not in ("experiment", "cuts", "files")}

@@ -10,7 +10,7 @@ follow the joint-stiffness model X = J K_θ⁻¹ Jᵀ F with the planted K_θ
 (``synth.loadtests.robots[*].k_Nm_rad``), which :func:`truth` writes into ``truth.nc``.
 
 Robots: every entry of ``synth.loadtests.robots``; an entry without ``robot:`` is the cell's
-robot (``synth.robot``, the thesis IRB 1600).
+robot (``cell.robot``, the thesis IRB 1600).
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ def robots(config: Mapping[str, Any]) -> list[dict[str, Any]]:
     out = []
     for entry in lt.get("robots", []):
         e = dict(entry)
-        spec = dict(e.get("robot") or config["synth"]["robot"])
+        spec = dict(e.get("robot") or config["cell"]["robot"])  # default: the cell's robot
         spec["name"] = e["name"]
         e["robot"] = spec
         out.append(e)

@@ -32,8 +32,9 @@ def experiment_header(config: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def planned_files(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """Every synthetic raw file (path relative to the raw folder, kind, metadata)."""
-    files: list[dict[str, Any]] = []
+    """Every synthetic raw file (path relative to the raw folder, kind, metadata): the cell
+    file ``cell.yaml`` (written from ``config.yaml: cell``), then each instrument's files."""
+    files: list[dict[str, Any]] = [{"path": "cell.yaml", "kind": "cell"}]
     for module in INSTRUMENTS.values():
         files.extend(module.plan(config))
     return files

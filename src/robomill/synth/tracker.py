@@ -26,7 +26,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill.experiment import Cut, plan_cuts
+from robomill.experiment import Cut, plan_cuts, tracker_run_id
 
 INSTRUMENT_NUMBER = 3
 """Stream number of this instrument in the per-file random generators."""
@@ -51,8 +51,8 @@ def settings(config: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def run_id(direction: str, feed_mm_s: float) -> str:
-    """Run identifier ``<dir>_f<feed>`` (feed printed with ``%g``: ``py_f2``, ``my_f2.5``)."""
-    return f"{direction}_f{float(feed_mm_s):g}"
+    """Run identifier ``<dir>_f<feed>`` (:func:`robomill.experiment.tracker_run_id`)."""
+    return tracker_run_id(direction, feed_mm_s)
 
 
 def tracker_runs(config: Mapping[str, Any]) -> list[dict[str, Any]]:
