@@ -59,3 +59,32 @@ def test_the_checker_finds_an_offender(tmp_path):
     assert _imports_synth(bad) == ["robomill.synth.cell", "robomill"]
     assert READS_SYNTH.search('params: seed=config["synth"]["seed"]')
     assert READS_SYNTH.search("x = config.get('synth', {})")
+
+
+PLAN_CHECK = """
+import sys
+from robomill.config import load_config
+from robomill.io.manifest import parse_manifest
+from robomill.synth.plan import SIMULATORS, synthetic_manifest
+plan = parse_manifest(synthetic_manifest(load_config({config!r})), "manifest.yaml",
+                      require_sha256=False)
+print(len(plan.cuts), len(plan.files), plan.cell_file)
+print(sorted(m for m in SIMULATORS if "robomill.synth." + m in sys.modules) or "none")
+print("robomill.synth.cell" in sys.modules, "scipy.signal" in sys.modules)
+"""
+
+
+def test_planning_the_dag_imports_no_simulator():
+    import subprocess
+    import sys
+
+    code = PLAN_CHECK.format(config=str(REPO / "config.yaml"))
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stderr
+    counts, simulators, heavy = out.stdout.splitlines()[:3]
+    # the default study: 45 cuts; files: the cell, 45 profiles, 45 force records, 24 tracker
+    # runs (3 directions x 8 feeds), 15 impact hits, 6 C-Track tables, 2 robots x 2 files
+    assert counts == "45 140 cell.yaml"
+    assert simulators == "none"
+    assert heavy == "False False"

@@ -4,8 +4,8 @@ import os
 from pathlib import Path
 
 from robomill.experiment import cuts_by_set, tracker_run_id
-from robomill.io.manifest import load_manifest
-from robomill.synth.plan import experiment_header, planned_files, synthetic_cuts
+from robomill.io.manifest import load_manifest, parse_manifest
+from robomill.synth.plan import synthetic_manifest
 
 REPO = Path(workflow.basedir)
 SYNTHETIC = config["data"]["source"] == "synthetic"
@@ -13,16 +13,17 @@ RAW = "results/synthetic/raw" if SYNTHETIC else config["data"]["raw_dir"]
 MANIFEST = f"{RAW}/manifest.yaml"
 ENV = "../envs/robomill.yaml"
 
-# The study plan: from the configuration for synthetic data, from the manifest for raw data.
-if SYNTHETIC:
-    CUTS = synthetic_cuts(config)
-    RAW_FILES = planned_files(config)
-    EXPERIMENT = experiment_header(config)
-else:
-    _manifest = load_manifest(MANIFEST)
-    CUTS = _manifest.cuts
-    RAW_FILES = _manifest.files
-    EXPERIMENT = _manifest.experiment
+# The study plan, one parser in both modes: the raw folder's manifest.yaml, or for synthetic
+# data the manifest the simulators will write (planned from the configuration without
+# importing a simulator; robomill.synth.plan).
+PLAN = (
+    parse_manifest(synthetic_manifest(config), MANIFEST, require_sha256=False)
+    if SYNTHETIC
+    else load_manifest(MANIFEST)
+)
+CUTS = PLAN.cuts
+RAW_FILES = PLAN.files
+EXPERIMENT = PLAN.experiment
 CUT_IDS = [c.id for c in CUTS]
 
 # The cell (robot, home posture, tool orientation, gear trains): the raw folder's cell.yaml

@@ -148,8 +148,11 @@ def _check_keys(path: Path, where: str, obj: Any, keys: Mapping[str, tuple[type,
                                expected=" or ".join(t.__name__ for t in types))
 
 
-def parse_manifest(data: Any, path: str | Path) -> Manifest:
-    """Validate a manifest mapping (as loaded from YAML) and return a :class:`Manifest`."""
+def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True) -> Manifest:
+    """Validate a manifest mapping (as loaded from YAML) and return a :class:`Manifest`.
+
+    ``require_sha256=False`` validates a *plan*: the synthetic study's manifest before its
+    files exist (:func:`robomill.synth.plan.synthetic_manifest`), through the same checks."""
     path = Path(path)
     if not isinstance(data, Mapping):
         raise RawDataError(path, "not a YAML mapping",
@@ -191,7 +194,8 @@ def parse_manifest(data: Any, path: str | Path) -> Manifest:
     paths: dict[str, int] = {}
     for i, f in enumerate(data["files"]):
         where = f"files[{i}]"
-        _check_keys(path, where, f, {"path": (str,), "kind": (str,), "sha256": (str,)})
+        _check_keys(path, where, f, {"path": (str,), "kind": (str,),
+                                     **({"sha256": (str,)} if require_sha256 else {})})
         if f["kind"] not in KIND_KEYS:
             raise RawDataError(path, f"unknown kind {f['kind']!r}", where=f"{where}.kind",
                                expected="one of " + ", ".join(KIND_KEYS))

@@ -66,12 +66,11 @@ def settings(config: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """One record per cut: ``forces/<cut>.<format>``, kind ``force``, keys ``cut``, ``fs_hz``."""
-    from robomill.synth.plan import synthetic_cuts
+    """One record per cut: ``forces/<cut>.<format>``, kind ``force``, keys ``cut``, ``fs_hz``
+    (:func:`robomill.synth.plan.instrument_files`)."""
+    from robomill.synth.plan import instrument_files
 
-    s = settings(config)
-    return [{"path": f"forces/{c.id}.{s['format']}", "kind": "force", "cut": c.id,
-             "fs_hz": float(s["fs_hz"])} for c in synthetic_cuts(config)]
+    return instrument_files(config, "dynamometer")
 
 
 def truth(config: Mapping[str, Any], cell) -> Any:

@@ -60,14 +60,11 @@ def robot_entry(config: Mapping[str, Any], name: str) -> dict[str, Any]:
 
 
 def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """Raw files this instrument writes: per robot, its robot file and its load tests."""
-    files = []
-    for e in robots(config):
-        name = e["name"]
-        files.append({"path": f"stiffness/{name}.yaml", "kind": "robot", "robot": name})
-        files.append({"path": f"stiffness/load_tests_{name}.csv", "kind": "stiffness",
-                      "robot": name})
-    return files
+    """Raw files this instrument writes: per robot, its robot file and its load tests
+    (:func:`robomill.synth.plan.instrument_files`)."""
+    from robomill.synth.plan import instrument_files
+
+    return instrument_files(config, "loadtests")
 
 
 def _plane_centres(e: Mapping[str, Any]) -> np.ndarray:

@@ -96,9 +96,11 @@ def _cuts(config: Mapping[str, Any]) -> list[Cut]:
 
 
 def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """One profile per cut: ``{path: profiles/<cut>.csv, kind: profile, cut}``."""
-    return [{"path": f"profiles/{c.id}.csv", "kind": "profile", "cut": c.id}
-            for c in _cuts(config)]
+    """One profile per cut: ``{path: profiles/<cut>.csv, kind: profile, cut}``
+    (:func:`robomill.synth.plan.instrument_files`)."""
+    from robomill.synth.plan import instrument_files
+
+    return instrument_files(config, "profilometer")
 
 
 def _rng(cell, cut: Cut, stream: int) -> np.random.Generator:
