@@ -26,6 +26,8 @@ truth: str = None  # results/synthetic/truth.nc (synthetic runs only)
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
+import os
+
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
@@ -275,7 +277,8 @@ err_table.round(2)
 # "close" when it lies within ±15 % of it.
 
 # %%
-fp = pd.read_csv(forces_peaks)
+fp = (pd.read_csv(forces_peaks) if forces_peaks and os.path.exists(forces_peaks)
+      else pd.DataFrame())  # a raw folder without force records: no chapter 3.1
 if len(fp) and "dominant_hz" in fp:
     f_vib = float(np.median(fp["dominant_hz"]))
     close = mode_table[np.abs(mode_table["f_n_hz"] / f_vib - 1) <= 0.15]
@@ -295,4 +298,5 @@ if len(fp) and "dominant_hz" in fp:
                   "can couple into an elliptical tool path (thesis §3.3)." if pairs else "")
     ))
 else:
-    display(Markdown("The forces chapter found no dominant vibration frequency in this run."))
+    display(Markdown("The forces chapter found no dominant vibration frequency in this run "
+                     "(or this run has no force records)."))

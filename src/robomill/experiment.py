@@ -141,8 +141,31 @@ def cut_joint_path_rad(robot: Any, cut: Cut, experiment: Mapping, s_mm: np.ndarr
     return robot.ik_path(T, q0_rad)
 
 
+KIND_LABELS = {"profile": "profile", "force": "force", "tracker": "tracker", "impact": "impact",
+               "ctrack": "ctrack", "robot": "robot", "stiffness": "stiffness"}
+
+
+def missing_data(files: Iterable[Mapping], cuts: Sequence[Cut], needs: Sequence[str]
+                 ) -> str | None:
+    """Why a chapter cannot be built from this raw folder, or None if it can.
+
+    ``needs`` lists raw-data kinds (``profile``, ``force``, ``impact`` …) and/or ``cuts``; the
+    reason names what the manifest lacks: ``no impact files in manifest.yaml``."""
+    kinds = {f["kind"] for f in files}
+    lacking = [k for k in needs if (not cuts if k == "cuts" else k not in kinds)]
+    if not lacking:
+        return None
+    names = [("cuts" if k == "cuts" else f"{KIND_LABELS.get(k, k)} files") for k in lacking]
+    return f"no {' and no '.join(names)} in manifest.yaml"
+
+
 def cuts_table(cuts: Sequence[Cut], spindle_rpm: float, flutes: int) -> pd.DataFrame:
-    """The experiment plan as a table, with feed per tooth [µm] and tooth-passing frequency."""
+    """The experiment plan as a table, with feed per tooth [µm] and tooth-passing frequency
+    (no rows, the same columns, for a folder without cuts)."""
+    if not cuts:
+        return pd.DataFrame(columns=["cut", "set", "segment", "direction", "feed_mm_s",
+                                     "depth_mm", "feed_per_tooth_um", "spindle_hz",
+                                     "tooth_passing_hz"])
     df = pd.DataFrame([c.as_dict() for c in cuts])
     df["feed_per_tooth_um"] = [
         1e3 * feed_per_tooth_mm(v, spindle_rpm, flutes) for v in df["feed_mm_s"]

@@ -104,4 +104,4 @@ rule ch1:
         "../scripts/render_chapter.py"
 
 
-ALL_TARGETS.append("results/chapters/ch1_calibration.html")
+add_chapter("1", "results/chapters/ch1_calibration.html", needs=("ctrack",))

@@ -1,9 +1,10 @@
 # Helpers shared by the rules: where raw data comes from, the study plan, target lists.
 # Keep this file small: computation lives in src/robomill/.
 import os
+import sys
 from pathlib import Path
 
-from robomill.experiment import cuts_by_set, tracker_run_id
+from robomill.experiment import cuts_by_set, missing_data, tracker_run_id
 from robomill.io.manifest import load_manifest, parse_manifest
 from robomill.synth.plan import synthetic_manifest
 
@@ -39,6 +40,26 @@ wildcard_constraints:
 
 # Every stage appends the outputs that `all` must build (chapters, book).
 ALL_TARGETS = []
+# Chapters left out of `all` for want of data (partial raw folders): label -> reason.
+SKIPPED = {}
+
+
+def has_kind(kind):
+    """Whether the raw folder has files of `kind` (optional cross-chapter inputs)."""
+    return any(f["kind"] == kind for f in RAW_FILES)
+
+
+def add_chapter(label, html, needs=()):
+    """Build chapter `label` (its .html) in `all` if the raw folder has the kinds it `needs`;
+    otherwise skip it with one line (`chapter 3.3: no impact files in manifest.yaml`).
+    """
+    why = missing_data(RAW_FILES, CUTS, needs)
+    if why is None:
+        ALL_TARGETS.append(html)
+    else:
+        SKIPPED[label] = why
+        if workflow.is_main_process:
+            print(f"chapter {label}: {why}", file=sys.stderr)
 
 
 def all_targets(wildcards):

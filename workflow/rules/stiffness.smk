@@ -237,4 +237,4 @@ rule ch5:
         "../scripts/render_chapter.py"
 
 
-ALL_TARGETS.append("results/chapters/ch5_stiffness.html")
+add_chapter("5", "results/chapters/ch5_stiffness.html", needs=("robot", "stiffness"))

@@ -135,4 +135,6 @@ rule ch3_straightness:
         "../scripts/render_chapter.py"
 
 
-ALL_TARGETS.append("results/chapters/ch3_2_straightness.html")
+add_chapter(
+    "3.2", "results/chapters/ch3_2_straightness.html", needs=("tracker", "profile")
+)

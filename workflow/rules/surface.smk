@@ -141,4 +141,4 @@ rule ch2:
         "../scripts/render_chapter.py"
 
 
-ALL_TARGETS.append("results/chapters/ch2_surface.html")
+add_chapter("2", "results/chapters/ch2_surface.html", needs=("profile",))
