@@ -35,7 +35,7 @@ CELL = f"{RAW}/{CELL_RELPATH}" if CELL_RELPATH else "results/ingest/cell.yaml"
 
 
 wildcard_constraints:
-    cut="s[0-9]+_g[0-9]+_(px|py|my)",
+    cut="[A-Za-z0-9_.-]+",  # any cut id (robomill.experiment.FREE_CUT_ID)
 
 
 # Every stage appends the outputs that `all` must build (chapters, book).

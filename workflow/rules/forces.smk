@@ -15,7 +15,7 @@ rule forces_cut:
     input:
         raw=lambda w: f"{RAW}/{force_entry(w)['path']}",
         manifest=MANIFEST,
-        code=code("forces", "io.forces", "spectra"),
+        code=code("forces", "io.forces", "spectra", "experiment"),
     output:
         "results/forces/cuts/{cut}.nc",
     log:

@@ -20,7 +20,7 @@ from typing import Any
 
 import yaml
 
-from robomill.experiment import CUT_ID, Cut
+from robomill.experiment import CUT_ID, DIRECTION_VECTORS, FREE_CUT_ID, MILLING, Cut
 from robomill.io.errors import RawDataError
 from robomill.io.hashing import sha256_file
 
@@ -35,12 +35,25 @@ EXPERIMENT_KEYS = {
 }
 CUT_KEYS = {
     "id": (str,),
-    "set": (int,),
-    "segment": (int,),
-    "direction": (str,),
     "feed_mm_s": (int, float),
     "depth_mm": (int, float),
 }
+"""Keys every cut carries."""
+
+CUT_OPTIONAL_KEYS: dict[str, tuple[type, ...]] = {
+    "set": (int,),
+    "segment": (int,),
+    "direction": (str,),
+    "direction_deg": (int, float),
+    "spindle_rpm": (int, float),
+    "flutes": (int,),
+    "tool_diameter_mm": (int, float),
+    "radial_immersion": (int, float),
+    "milling": (str,),
+    "start_mm": (list,),
+}
+"""Optional cut keys: grouping (``set``, ``segment``), the feed direction (``direction`` or
+``direction_deg``, one of them required) and the process keys overriding ``experiment``."""
 
 KIND_KEYS: dict[str, dict[str, tuple[type, ...]]] = {
     # kind -> metadata keys every file of that kind must carry (besides path, kind, sha256)
@@ -148,6 +161,81 @@ def _check_keys(path: Path, where: str, obj: Any, keys: Mapping[str, tuple[type,
                                expected=" or ".join(t.__name__ for t in types))
 
 
+def _parse_cut(path: Path, where: str, c: Mapping[str, Any], seen: Mapping[str, int]) -> Cut:
+    """One ``cuts`` entry: required keys, optional grouping/direction/process keys."""
+    unknown = sorted(set(c) - set(CUT_KEYS) - set(CUT_OPTIONAL_KEYS))
+    if unknown:
+        raise RawDataError(path, f"unknown key(s) {', '.join(map(str, unknown))}", where=where,
+                           expected="keys " + ", ".join([*CUT_KEYS, *CUT_OPTIONAL_KEYS]))
+    for key, types in CUT_OPTIONAL_KEYS.items():
+        value = c.get(key)
+        if value is not None and (isinstance(value, bool) or not isinstance(value, types)):
+            raise RawDataError(path, f"key '{key}' is {value!r}", where=f"{where}.{key}",
+                               expected=" or ".join(t.__name__ for t in types))
+    cid = c["id"]
+    if not FREE_CUT_ID.match(cid):
+        raise RawDataError(path, f"cut id {cid!r} is malformed", where=f"{where}.id",
+                           expected="letters, digits, '_', '.', '-' only ([A-Za-z0-9_.-]+)")
+    m = CUT_ID.match(cid)
+    if m and all(k in c for k in ("set", "segment", "direction")) and (
+            int(m["set"]), int(m["segment"]), m["direction"]) != (
+            c["set"], c["segment"], c["direction"]):
+        raise RawDataError(path, f"cut id {cid!r} disagrees with set={c['set']}, "
+                           f"segment={c['segment']}, direction={c['direction']}",
+                           where=where, expected="id built from set, segment, direction")
+    if cid in seen:
+        raise RawDataError(path, f"duplicate cut id {cid!r} (also cuts[{seen[cid]}])",
+                           where=f"{where}.id", expected="unique cut ids")
+    if c["feed_mm_s"] <= 0 or c["depth_mm"] <= 0:
+        raise RawDataError(path, "feed_mm_s and depth_mm must be positive", where=where,
+                           expected="positive numbers")
+    direction, deg = c.get("direction"), c.get("direction_deg")
+    if direction is None and deg is None:
+        raise RawDataError(path, "neither direction nor direction_deg is given", where=where,
+                           expected="direction (px, mx, py, my) or direction_deg (feed "
+                                    "direction in the base XY plane, 0 = +X)")
+    if direction is not None and deg is not None:
+        raise RawDataError(path, "both direction and direction_deg are given", where=where,
+                           expected="one of direction, direction_deg")
+    if direction is not None and direction not in DIRECTION_VECTORS:
+        raise RawDataError(path, f"direction {direction!r} is unknown",
+                           where=f"{where}.direction",
+                           expected="one of " + ", ".join(DIRECTION_VECTORS))
+    for key in ("spindle_rpm", "tool_diameter_mm"):
+        if c.get(key) is not None and c[key] <= 0:
+            raise RawDataError(path, f"{key} is {c[key]!r}", where=f"{where}.{key}",
+                               expected="a positive number")
+    if c.get("flutes") is not None and c["flutes"] < 1:
+        raise RawDataError(path, f"flutes is {c['flutes']!r}", where=f"{where}.flutes",
+                           expected="a positive integer")
+    ae = c.get("radial_immersion")
+    if ae is not None and not 0 < ae <= 1:
+        raise RawDataError(path, f"radial_immersion is {ae!r}",
+                           where=f"{where}.radial_immersion",
+                           expected="a_e / D in (0, 1] (1 = slot)")
+    mode = c.get("milling")
+    if mode is not None and mode not in MILLING:
+        raise RawDataError(path, f"milling {mode!r} is unknown", where=f"{where}.milling",
+                           expected="one of " + ", ".join(MILLING))
+    if mode == "slot" and ae is not None and ae < 1:
+        raise RawDataError(path, f"milling slot with radial_immersion {ae!r}", where=where,
+                           expected="radial_immersion 1 for a slot (or milling up/down)")
+    start = c.get("start_mm")
+    if start is not None and (len(start) != 3 or any(
+            isinstance(v, bool) or not isinstance(v, int | float) for v in start)):
+        raise RawDataError(path, f"start_mm is {start!r}", where=f"{where}.start_mm",
+                           expected="[x, y, z] of the path start in the base frame [mm]")
+    return Cut(cid, c.get("set"), c.get("segment"), direction, float(c["feed_mm_s"]),
+               float(c["depth_mm"]),
+               spindle_rpm=None if c.get("spindle_rpm") is None else float(c["spindle_rpm"]),
+               flutes=c.get("flutes"),
+               tool_diameter_mm=(None if c.get("tool_diameter_mm") is None
+                                 else float(c["tool_diameter_mm"])),
+               radial_immersion=None if ae is None else float(ae), milling=mode,
+               direction_deg=None if deg is None else float(deg),
+               start_mm=None if start is None else tuple(float(v) for v in start))
+
+
 def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True) -> Manifest:
     """Validate a manifest mapping (as loaded from YAML) and return a :class:`Manifest`.
 
@@ -169,24 +257,8 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True) 
     for i, c in enumerate(data["cuts"]):
         where = f"cuts[{i}]"
         _check_keys(path, where, c, CUT_KEYS)
-        m = CUT_ID.match(c["id"])
-        if not m:
-            raise RawDataError(path, f"cut id {c['id']!r} is malformed", where=f"{where}.id",
-                               expected="s{set}_g{segment}_{dir} with dir in px, py, my")
-        if (int(m["set"]), int(m["segment"]), m["direction"]) != (
-                c["set"], c["segment"], c["direction"]):
-            raise RawDataError(path, f"cut id {c['id']!r} disagrees with set={c['set']}, "
-                               f"segment={c['segment']}, direction={c['direction']}",
-                               where=where, expected="id built from set, segment, direction")
-        if c["id"] in seen:
-            raise RawDataError(path, f"duplicate cut id {c['id']!r} (also cuts[{seen[c['id']]}])",
-                               where=f"{where}.id", expected="unique cut ids")
-        if c["feed_mm_s"] <= 0 or c["depth_mm"] <= 0:
-            raise RawDataError(path, "feed_mm_s and depth_mm must be positive", where=where,
-                               expected="positive numbers")
+        cuts.append(_parse_cut(path, where, c, seen))
         seen[c["id"]] = i
-        cuts.append(Cut(c["id"], c["set"], c["segment"], c["direction"],
-                        float(c["feed_mm_s"]), float(c["depth_mm"])))
     if not isinstance(data["files"], list):
         raise RawDataError(path, "files is not a list", where="files",
                            expected="a list of files")
