@@ -201,3 +201,29 @@ def test_written_cell_is_plain_yaml(cell_cfg, tmp_path):
     assert list(data) == ["robot", "q_home_deg", "tool_rotation", "transmissions"]
     assert all(set(t) == {"joint", "stage", "rev_per_joint_rev", "teeth"}
                for t in data["transmissions"])
+
+
+def test_the_readme_non_thesis_example_is_valid():
+    """README "Your own measurements": its cell.yaml and its cuts parse, and the PUMA 560
+    reaches the cuts' start points from its home posture."""
+    import re
+
+    from robomill.experiment import cut_endpoints_mm, cut_process
+
+    text = (REPO / "README.md").read_text()
+    blocks = re.findall(r"```yaml\n(.*?)```", text, flags=re.S)
+    cell_text = next(b for b in blocks if b.startswith("# cell.yaml"))
+    manifest_text = next(b for b in blocks if b.startswith("# manifest.yaml"))
+    cell = parse_cell(yaml.safe_load(cell_text), "cell.yaml")
+    assert cell.robot.name == "puma560" and "tracker" in cell.base_from_instrument
+    data = yaml.safe_load(manifest_text.replace("sha256: …", "sha256: '0'"))
+    m = parse_manifest({**data, "files": []}, "manifest.yaml")
+    assert [cut_process(c, m.experiment)["tooth_passing_hz"] for c in m.cuts] == \
+        [600.0, 900.0, 1200.0]
+    for c in m.cuts:
+        a, b = cut_endpoints_mm(c, m.experiment)
+        T = np.broadcast_to(np.eye(4), (2, 4, 4)).copy()
+        T[:, :3, :3] = cell.tool_rotation
+        T[:, :3, 3] = [a, b]
+        q = cell.joint_path_rad(T, data_file=c.id, instrument="tracker")
+        np.testing.assert_allclose(cell.robot.fk(q)[:, :3, 3], [a, b], atol=1e-6)
