@@ -10,13 +10,13 @@ SYNTH_CFG = {
 SYNTH_FORCE_FORMAT = config["synth"]["dynamometer"]["format"]
 
 
-def synth_files(kind):
-    """The planned synthetic raw files of `kind`."""
-    return [f for f in RAW_FILES if f["kind"] == kind] if SYNTHETIC else []
-
-
+# the planned synthetic raw files of each kind (none in raw mode)
+SYNTH_FILES = {}
+for _f in RAW_FILES if SYNTHETIC else []:
+    SYNTH_FILES.setdefault(_f["kind"], []).append(_f)
 SYNTH_TRACKER_RUNS = {
-    tracker_run_id(f["direction"], f["feed_mm_s"]): f for f in synth_files("tracker")
+    tracker_run_id(f["direction"], f["feed_mm_s"]): f
+    for f in SYNTH_FILES.get("tracker", [])
 }
 
 
@@ -66,7 +66,7 @@ rule synth_truth:
 # Stylus profiles: one simulator job per set (a machining session; its cuts simulated one
 # after the other in one process, so that Python and the library start once per set).
 for _set_no, _set_cuts in cuts_by_set(
-    c for c in CUTS if c.id in {f["cut"] for f in synth_files("profile")}
+    c for c in CUTS if c.id in {f["cut"] for f in SYNTH_FILES.get("profile", [])}
 ).items():
 
     rule:
@@ -91,7 +91,7 @@ for _set_no, _set_cuts in cuts_by_set(
 
 # Dynamometer records: one simulator job per set.
 for _set_no, _set_cuts in cuts_by_set(
-    c for c in CUTS if c.id in {f["cut"] for f in synth_files("force")}
+    c for c in CUTS if c.id in {f["cut"] for f in SYNTH_FILES.get("force", [])}
 ).items():
 
     rule:
