@@ -23,7 +23,7 @@ rule straightness_run:
     benchmark:
         "results/benchmarks/rules/straightness/run_{run}.tsv"
     wildcard_constraints:
-        run="(px|py|my)_f[0-9.]+",
+        run="(px|mx|py|my)_f[0-9.]+",
     conda:
         ENV
     params:

@@ -129,7 +129,7 @@ rule straightness_synth_tracker:
     benchmark:
         "results/benchmarks/rules/straightness/synth_{run}.tsv"
     wildcard_constraints:
-        run="(px|py|my)_f[0-9.]+",
+        run="(px|mx|py|my)_f[0-9.]+",
     conda:
         ENV
     params:

@@ -37,9 +37,39 @@ def _settings(config: Mapping[str, Any], instrument: str) -> dict[str, Any]:
 
 
 def synthetic_cuts(config: Mapping[str, Any]) -> list[Cut]:
-    """The cuts of the virtual study (``experiment.sets`` cycled to ``synth.sets`` sets)."""
+    """The cuts of the virtual study: ``experiment.cuts`` when given (a design of any kind,
+    parsed by the manifest's own cut parser), else ``experiment.sets`` cycled to
+    ``synth.sets`` sets (the thesis design).
+
+    Raises
+    ------
+    ConfigError
+        A cut the simulators cannot make: not a slot (they model slotting only), or off the
+        thesis layout without ``start_mm``.
+    """
     exp = config["experiment"]
-    return plan_cuts(exp["sets"], int(config["synth"]["sets"]), exp["directions"])
+    if not exp.get("cuts"):
+        return plan_cuts(exp["sets"], int(config["synth"]["sets"]), exp["directions"])
+    from robomill.io.errors import ConfigError, RawDataError
+    from robomill.io.manifest import parse_manifest
+
+    header = experiment_header(config)
+    try:
+        cuts = parse_manifest({"experiment": header, "cuts": list(exp["cuts"]), "files": []},
+                              "config.yaml: experiment").cuts
+    except RawDataError as err:
+        raise ConfigError(f"config key 'experiment.cuts': {err.where}: {err.problem}"
+                          + (f" (expected {err.expected})" if err.expected else "")) from None
+    for i, c in enumerate(cuts):
+        if (c.radial_immersion or 1.0) < 1.0 or (c.milling or "slot") != "slot":
+            raise ConfigError(f"config key 'experiment.cuts[{i}]': cut {c.id!r} is not a slot "
+                              "(the simulators model slotting only: radial_immersion 1)")
+        on_layout = c.set is not None and c.segment is not None and c.direction in (
+            "px", "py", "my")
+        if c.start_mm is None and not on_layout:
+            raise ConfigError(f"config key 'experiment.cuts[{i}]': cut {c.id!r} needs start_mm "
+                              "(or set, segment and a direction px/py/my of the thesis layout)")
+    return cuts
 
 
 def experiment_header(config: Mapping[str, Any]) -> dict[str, Any]:
@@ -59,10 +89,10 @@ def tracker_runs(config: Mapping[str, Any]) -> list[dict[str, Any]]:
     cut with that direction and feed. Keys ``run, direction, feed_mm_s, cut`` (a :class:`Cut`)."""
     exp = config["experiment"]
     tr = _settings(config, "tracker")
-    dirs = tr["directions"] or list(exp["directions"])
+    dirs = tr["directions"] or list(exp.get("directions") or ("py", "px", "my", "mx"))
     feeds = tr["feeds_mm_s"]
     chosen: dict[tuple[str, float], Cut] = {}
-    for c in synthetic_cuts(config):
+    for c in synthetic_cuts(config):  # cuts given by direction_deg only: no tracker run
         if c.direction in dirs and (feeds is None or any(
                 math.isclose(c.feed_mm_s, f, rel_tol=1e-5, abs_tol=1e-8) for f in feeds)):
             chosen[(c.direction, c.feed_mm_s)] = c
