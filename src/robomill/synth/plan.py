@@ -143,11 +143,14 @@ def instrument_files(config: Mapping[str, Any], instrument: str) -> list[dict[st
 
 
 def planned_files(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """Every synthetic raw file (path relative to the raw folder, kind, metadata): the cell
-    file ``cell.yaml`` (written from ``config.yaml: cell``), then each instrument's files."""
-    files: list[dict[str, Any]] = [{"path": "cell.yaml", "kind": "cell"}]
+    """Every synthetic raw file (path relative to the raw folder, kind, metadata): each
+    instrument's files, then the cell file ``cell.yaml`` (written from ``config.yaml: cell``;
+    last, so that the manifest and ``results/ingest/files.csv`` of the thesis study keep their
+    order and columns, with one row more)."""
+    files: list[dict[str, Any]] = []
     for instrument in SIMULATORS:
         files.extend(instrument_files(config, instrument))
+    files.append({"path": "cell.yaml", "kind": "cell"})
     return files
 
 
