@@ -181,3 +181,28 @@ def test_bad_cut_keys_are_named(edit, message):
     cut = {k: v for k, v in cut.items() if v is not None}
     with pytest.raises(RawDataError, match=r"^manifest\.yaml: " + message):
         _parse([cut])
+
+
+@pytest.mark.parametrize(("entry", "message"), [
+    ({"direction": "mx"}, None),
+    ({"direction_deg": 45.0}, None),
+    ({}, r"files\[0\] \(tracker/r\.csv\): give one of direction, direction_deg"),
+    ({"direction": "px", "direction_deg": 0.0}, r"direction_deg \(both are given\)"),
+    ({"direction": "east"}, r"files\[0\] \(tracker/r\.csv\)\.direction: direction 'east' is "
+                            r"unknown"),
+    ({"direction_deg": "ne"}, r"\.direction_deg: key 'direction_deg' is 'ne'"),
+])
+def test_tracker_runs_take_the_direction_forms_of_cuts(entry, message):
+    from robomill.experiment import tracker_direction, tracker_run_id
+    from robomill.io.manifest import parse_manifest
+
+    f = {"path": "tracker/r.csv", "kind": "tracker", "feed_mm_s": 2.0, "fs_hz": 815.0,
+         "sha256": "0", **entry}
+    data = {"experiment": EXP, "cuts": [], "files": [f]}
+    if message is None:
+        m = parse_manifest(data, "manifest.yaml")
+        run = tracker_run_id(tracker_direction(m.files[0]), 2.0)
+        assert run == {"direction": "mx_f2", "direction_deg": "d45_f2"}[next(iter(entry))]
+    else:
+        with pytest.raises(RawDataError, match=message):
+            parse_manifest(data, "manifest.yaml")

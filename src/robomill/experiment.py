@@ -47,9 +47,17 @@ def cut_id(set_: int, segment: int, direction: str) -> str:
     return f"s{int(set_)}_g{int(segment)}_{direction}"
 
 
+def tracker_direction(entry: Mapping[str, Any]) -> str:
+    """The direction label of a tracker run (manifest entry): its ``direction`` name, or
+    ``d<deg>`` for a feed direction given as ``direction_deg`` (``d45``, ``d-30``)."""
+    if entry.get("direction") is not None:
+        return str(entry["direction"])
+    return f"d{float(entry['direction_deg']):g}"
+
+
 def tracker_run_id(direction: str, feed_mm_s: float) -> str:
     """Tracker run identifier ``<dir>_f<feed>`` (feed printed with ``%g``: ``py_f2``,
-    ``my_f2.5``)."""
+    ``my_f2.5``; ``d45_f2`` for a run along 45°)."""
     return f"{direction}_f{float(feed_mm_s):g}"
 
 

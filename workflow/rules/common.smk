@@ -4,7 +4,12 @@ import os
 import sys
 from pathlib import Path
 
-from robomill.experiment import cuts_by_set, missing_data, tracker_run_id
+from robomill.experiment import (
+    cuts_by_set,
+    missing_data,
+    tracker_direction,
+    tracker_run_id,
+)
 from robomill.io.manifest import load_manifest, parse_manifest
 from robomill.synth.plan import synthetic_manifest
 

@@ -2,7 +2,7 @@
 # spectra in 1/mm, gear spatial frequencies and peak -> gear attribution.
 # One simulator job and one analysis job per tracker run, then one gather job.
 TRACKER_RUNS = {
-    tracker_run_id(f["direction"], f["feed_mm_s"]): f
+    tracker_run_id(tracker_direction(f), f["feed_mm_s"]): f
     for f in RAW_FILES
     if f["kind"] == "tracker"
 }
@@ -23,14 +23,14 @@ rule straightness_run:
     benchmark:
         "results/benchmarks/rules/straightness/run_{run}.tsv"
     wildcard_constraints:
-        run="(px|mx|py|my)_f[0-9.]+",
+        run="(px|mx|py|my|d-?[0-9.]+)_f[0-9.]+",
     conda:
         ENV
     params:
         settings=config["straightness"],
         cell_relpath=CELL_RELPATH,
         relpath=lambda w: TRACKER_RUNS[w.run]["path"],
-        direction=lambda w: TRACKER_RUNS[w.run]["direction"],
+        direction=lambda w: tracker_direction(TRACKER_RUNS[w.run]),
         feed_mm_s=lambda w: TRACKER_RUNS[w.run]["feed_mm_s"],
         fs_hz=lambda w: TRACKER_RUNS[w.run]["fs_hz"],
         cut=lambda w: TRACKER_RUNS[w.run].get("cut", ""),

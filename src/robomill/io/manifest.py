@@ -59,7 +59,7 @@ KIND_KEYS: dict[str, dict[str, tuple[type, ...]]] = {
     # kind -> metadata keys every file of that kind must carry (besides path, kind, sha256)
     "profile": {"cut": (str,)},
     "force": {"cut": (str,), "fs_hz": (int, float)},
-    "tracker": {"direction": (str,), "feed_mm_s": (int, float), "fs_hz": (int, float)},
+    "tracker": {"feed_mm_s": (int, float), "fs_hz": (int, float)},  # + direction(_deg)
     "impact": {"direction": (str,), "hit": (int,)},
     "ctrack": {"table": (str,)},
     "robot": {"robot": (str,)},
@@ -159,6 +159,23 @@ def _check_keys(path: Path, where: str, obj: Any, keys: Mapping[str, tuple[type,
         if isinstance(value, bool) or not isinstance(value, types):
             raise RawDataError(path, f"key '{key}' is {value!r}", where=where,
                                expected=" or ".join(t.__name__ for t in types))
+
+
+def _check_tracker_direction(path: Path, where: str, f: Mapping[str, Any]) -> None:
+    """A tracker run's feed direction: ``direction`` (px, mx, py, my) or ``direction_deg``
+    (base XY plane, 0 = +X), exactly one (the same forms as a cut)."""
+    direction, deg = f.get("direction"), f.get("direction_deg")
+    if (direction is None) == (deg is None):
+        raise RawDataError(path, "give one of direction, direction_deg"
+                           + (" (both are given)" if direction is not None else ""),
+                           where=where, expected="direction (px, mx, py, my) or direction_deg")
+    if direction is not None and direction not in DIRECTION_VECTORS:
+        raise RawDataError(path, f"direction {direction!r} is unknown",
+                           where=f"{where}.direction",
+                           expected="one of " + ", ".join(DIRECTION_VECTORS))
+    if deg is not None and (isinstance(deg, bool) or not isinstance(deg, int | float)):
+        raise RawDataError(path, f"key 'direction_deg' is {deg!r}",
+                           where=f"{where}.direction_deg", expected="a number [deg]")
 
 
 def _parse_cut(path: Path, where: str, c: Mapping[str, Any], seen: Mapping[str, int]) -> Cut:
@@ -272,6 +289,8 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True) 
             raise RawDataError(path, f"unknown kind {f['kind']!r}", where=f"{where}.kind",
                                expected="one of " + ", ".join(KIND_KEYS))
         _check_keys(path, f"{where} ({f['path']})", f, KIND_KEYS[f["kind"]])
+        if f["kind"] == "tracker":
+            _check_tracker_direction(path, f"{where} ({f['path']})", f)
         if f["path"] in paths:
             first = paths[f["path"]]
             raise RawDataError(path, f"duplicate path {f['path']!r} (also files[{first}])",
