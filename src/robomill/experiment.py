@@ -228,10 +228,6 @@ def cut_joint_path_rad(robot: Any, cut: Cut, experiment: Mapping, s_mm: np.ndarr
     return robot.ik_path(T, q0_rad)
 
 
-KIND_LABELS = {"profile": "profile", "force": "force", "tracker": "tracker", "impact": "impact",
-               "ctrack": "ctrack", "robot": "robot", "stiffness": "stiffness"}
-
-
 def missing_data(files: Iterable[Mapping], cuts: Sequence[Cut], needs: Sequence[str]
                  ) -> str | None:
     """Why a chapter cannot be built from this raw folder, or None if it can.
@@ -242,7 +238,7 @@ def missing_data(files: Iterable[Mapping], cuts: Sequence[Cut], needs: Sequence[
     lacking = [k for k in needs if (not cuts if k == "cuts" else k not in kinds)]
     if not lacking:
         return None
-    names = [("cuts" if k == "cuts" else f"{KIND_LABELS.get(k, k)} files") for k in lacking]
+    names = ["cuts" if k == "cuts" else f"{k} files" for k in lacking]
     return f"no {' and no '.join(names)} in manifest.yaml"
 
 
