@@ -233,7 +233,7 @@ CASES = [
     ("manifest", "manifest/missing_cut_key/manifest.yaml", "manifest",
      r"cuts\[0\]: key 'depth_mm' is missing"),
     ("manifest", "manifest/malformed_cut_id/manifest.yaml", "manifest",
-     r"cuts\[0\]\.id: cut id 'cut1' is malformed"),
+     r"cuts\[0\]\.id: cut id 'cut 1/a' is malformed \(expected letters, digits"),
     ("manifest", "manifest/cut_id_disagrees/manifest.yaml", "manifest",
      r"cuts\[0\]: cut id 's1_g1_px' disagrees with set=1, segment=2, direction=px"),
     ("manifest", "manifest/duplicate_cut_id/manifest.yaml", "manifest",

@@ -115,3 +115,18 @@ def test_benchmarks_page_is_added_to_an_existing_book(tmp_path):
         page = add_benchmarks_page(tmp_path, csv)
     assert "no-op rerun" in page.read_text()
     assert (tmp_path / "index.html").read_text().count('href="benchmarks.html"') == 1
+
+
+def test_book_lists_the_chapters_skipped_for_want_of_data(tmp_path):
+    from robomill.book import build_book
+
+    cuts = tmp_path / "cuts.csv"  # a folder without cuts (impact test only)
+    cuts.write_text("cut,set,segment,direction,feed_mm_s,depth_mm,feed_per_tooth_um,"
+                    "spindle_hz,tooth_passing_hz\n")
+    index = build_book([], tmp_path / "figures", tmp_path / "thesis", provenance={},
+                       cuts_csv=cuts, skipped={"3.1": "no force files in manifest.yaml",
+                                               "0": "no cuts in manifest.yaml"})
+    text = index.read_text()
+    assert "<li>chapter 3.1: no force files in manifest.yaml</li>" in text
+    assert "<li>chapter 0: no cuts in manifest.yaml</li>" in text
+    assert "The experiment:" not in text  # no cuts: no experiment summary

@@ -42,7 +42,7 @@ def test_circle_fit_rejects_too_few_or_collinear_points():
 def test_vector_model_eq14_equals_dh(raw_config):
     from robomill.kinematics import robot_from_mapping
 
-    robot = robot_from_mapping(raw_config["synth"]["robot"])
+    robot = robot_from_mapping(raw_config["cell"]["robot"])
     vm = cal.vector_model_from_serial(robot)
     q = np.random.default_rng(3).uniform(-2, 2, size=(50, 6))
     assert np.abs(vm.tcp(q) - robot.fk(q)[:, :3, 3]).max() < 1e-9
@@ -87,13 +87,20 @@ def study(raw_config):
     return cfg, cell_from_config(cfg)
 
 
+def _cell_orders(cfg):
+    """The Fourier orders from the cell's transmissions (as the pipeline derives them)."""
+    from robomill.io.cell import cell_mapping, parse_cell
+
+    return parse_cell(cell_mapping(cfg["cell"]), "cell.yaml").fourier_orders()
+
+
 def _identify(cfg, cell, noise):
     tabs = {t: sc.simulate_table(cfg, cell, t, noise_mm=noise) for t in sc.TABLES}
     c = cfg["calibration"]
     ident = cal.identify(tabs["circles"], tabs["home"], tabs["steps"], tabs["loads"],
                          tabs["base"], masses=cal.mass_model_from_config(c["mass_model"]),
                          fixture_offset_mm=c["fixture_offset_mm"],
-                         orders={i + 1: o for i, o in enumerate(c["error_model"]["orders"])})
+                         orders={i + 1: o for i, o in enumerate(_cell_orders(cfg))})
     return tabs, ident
 
 

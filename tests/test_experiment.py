@@ -41,3 +41,18 @@ def test_cuts_by_set_groups_uneven_sets_in_plan_order():
     assert [c.feed_mm_s for c in grouped[3]] == [1.0, 1.0, 2.0, 2.0]
     assert sum(len(v) for v in grouped.values()) == len(cuts)
     assert cuts_by_set([]) == {}
+
+
+def test_missing_data_names_what_a_chapter_lacks():
+    from robomill.experiment import Cut, cuts_table, missing_data
+
+    files = [{"kind": "force"}, {"kind": "cell"}]
+    cut = [Cut("s1_g1_px", 1, 1, "px", 1.0, 0.25)]
+    assert missing_data(files, cut, ("force",)) is None
+    assert missing_data(files, cut, ()) is None
+    assert missing_data(files, cut, ("impact",)) == "no impact files in manifest.yaml"
+    assert missing_data(files, [], ("cuts", "force")) == "no cuts in manifest.yaml"
+    assert (missing_data(files, cut, ("robot", "stiffness"))
+            == "no robot files and no stiffness files in manifest.yaml")
+    empty = cuts_table([], 28000, 2)  # a folder without cuts: no rows, the same columns
+    assert len(empty) == 0 and list(empty.columns) == list(cuts_table(cut, 28000, 2).columns)

@@ -14,7 +14,7 @@ from robomill.kinematics import (
 
 @pytest.fixture
 def irb(config):
-    return robot_from_mapping(config["synth"]["robot"])
+    return robot_from_mapping(config["cell"]["robot"])
 
 
 @pytest.fixture

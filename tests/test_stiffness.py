@@ -32,7 +32,7 @@ def kr360():
 
 @pytest.fixture
 def irb(config):
-    return robot_from_mapping(config["synth"]["robot"])
+    return robot_from_mapping(config["cell"]["robot"])
 
 
 def _tests(robot, n, rng, directions=None):

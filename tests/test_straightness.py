@@ -178,3 +178,41 @@ def test_evaluation_counts_found_missed_and_false():
     c = st.attribution_counts(ev)
     assert c["above_noise"] == 2 and c["found"] == 1 and c["missed"] == 1
     assert c["false_attributions"] == 1
+
+
+def _cell_file(tiny_config, **extra):
+    from robomill.io.cell import cell_mapping, parse_cell
+
+    return parse_cell({**cell_mapping(tiny_config["cell"]), **extra}, "raw/cell.yaml")
+
+
+def test_a_tracker_run_in_its_own_frame_is_refused_then_registered(tiny_config):
+    """Points in the tracker's frame (3 m and 30° from the robot base) give a RawDataError that
+    names the file and points at base_from_instrument; registering the frame in the cell file
+    gives back exactly the base-frame analysis."""
+    from robomill.io import RawDataError
+
+    cell = cell_from_config(tiny_config)
+    run = next(r for r in tracker.tracker_runs(tiny_config) if r["direction"] == "px")
+    df = tracker.simulate_run(tiny_config, cell, run["direction"], run["feed_mm_s"], run["cut"])
+    t, p_base = df["t_s"].to_numpy(), df[["x_mm", "y_mm", "z_mm"]].to_numpy()
+    c, s = np.cos(np.pi / 6), np.sin(np.pi / 6)
+    R, T = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1.0]]), np.array([3000.0, -500.0, 100.0])
+    p_tracker = (p_base - T) @ R  # p_base = R p_tracker + T
+    with pytest.raises(RawDataError, match=r"^tracker/px_f2\.csv: .*not reachable by robot "
+                       r"'irb1600' of raw/cell\.yaml.*base_from_instrument\.tracker"):
+        st.analyse_tracker_run(t, p_tracker, _cell_file(tiny_config),
+                               data_file="tracker/px_f2.csv", **ANALYSIS)
+    registered = _cell_file(tiny_config, base_from_instrument={
+        "tracker": {"rotation": R.tolist(), "translation_mm": T.tolist()}})
+    _, spec_a, gears_a, peaks_a = st.analyse_tracker_run(
+        t, p_tracker, registered, data_file="tracker/px_f2.csv", **ANALYSIS)
+    _, spec_b, gears_b, peaks_b = st.analyse_run(
+        t, p_base, robot=cell.robot, gears=cell.gears, tool_rotation=cell.tool_rotation(),
+        q0_rad=cell.q_home_rad, **ANALYSIS)
+    np.testing.assert_allclose(gears_a["f_spatial_per_mm"], gears_b["f_spatial_per_mm"],
+                               rtol=1e-6, atol=1e-9)  # round-off of the registered points
+    np.testing.assert_allclose(peaks_a["f_spatial_per_mm"], peaks_b["f_spatial_per_mm"],
+                               rtol=1e-6)
+    assert list(peaks_a["stage"].fillna("")) == list(peaks_b["stage"].fillna(""))
+    assert len(peaks_a) > 0

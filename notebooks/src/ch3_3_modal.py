@@ -35,6 +35,8 @@ truth: str = None  # results/synthetic/truth.nc (synthetic runs only)
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
+import os
+
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
@@ -407,7 +409,8 @@ err_table.round(2)
 # "close" when it lies within ±15 % of it.
 
 # %%
-fp = pd.read_csv(forces_peaks)
+fp = (pd.read_csv(forces_peaks) if forces_peaks and os.path.exists(forces_peaks)
+      else pd.DataFrame())  # a raw folder without force records: no chapter 3.1
 if not TOOLTIP_LAYOUT:
     display(Markdown("Mode coupling at the tool tip needs the tool-tip layout (X, Y, Z at "
                      "node 1, hit and measured): not this test."))
@@ -430,4 +433,5 @@ elif len(fp) and "dominant_hz" in fp:
                   "can couple into an elliptical tool path (thesis §3.3)." if pairs else "")
     ))
 else:
-    display(Markdown("The forces chapter found no dominant vibration frequency in this run."))
+    display(Markdown("The forces chapter found no dominant vibration frequency in this run "
+                     "(or this run has no force records)."))

@@ -118,8 +118,13 @@ def build_book(
     cuts_csv: str | Path | None = None,
     scorecard_csv: str | Path | None = None,
     benchmarks_csv: str | Path | None = None,
+    skipped: Mapping[str, str] | None = None,
 ) -> Path:
-    """Write the book into ``out_dir`` and return the path of ``index.html``."""
+    """Write the book into ``out_dir`` and return the path of ``index.html``.
+
+    ``skipped`` maps the label of every chapter left out of the run (``"3.3"``) to the reason
+    (``"no impact files in manifest.yaml"``): a partial raw folder builds what it has data
+    for, and the book says what is missing and why."""
     out = Path(out_dir)
     if out.exists():
         for sub in ("chapters", "figures"):
@@ -142,8 +147,7 @@ def build_book(
             "surface spectra, cutting forces, path straightness against gear-mesh "
             "frequencies, modal identification, chatter, stiffness and pose, and hexapod "
             "dynamics, computed by the robomill pipeline from this run's data.</p>"]
-    if cuts_csv and Path(cuts_csv).exists():
-        cuts = pd.read_csv(cuts_csv)
+    if cuts_csv and Path(cuts_csv).exists() and len(cuts := pd.read_csv(cuts_csv)):
         body.append(f"<p><b>The experiment:</b> {len(cuts)} cuts in {cuts['set'].nunique()} "
                     f"set(s); spindle {60 * cuts['spindle_hz'].iloc[0]:.0f} rpm; feeds "
                     f"{cuts['feed_mm_s'].min():g}–{cuts['feed_mm_s'].max():g} mm/s; depths "
@@ -164,6 +168,11 @@ def build_book(
         _write_table_page(out / "benchmarks.html", "Benchmarks", pd.read_csv(benchmarks_csv))
     body.extend(extra)
     body.append("</ol>")
+    if skipped:
+        body.append("<h2>Not built from this data</h2><ul>")
+        for label, why in skipped.items():
+            body.append(f"<li>chapter {html.escape(str(label))}: {html.escape(str(why))}</li>")
+        body.append("</ul>")
     for page in pages:
         if not page.figures:
             continue

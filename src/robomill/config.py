@@ -25,6 +25,7 @@ def _load_yaml(path: Path) -> Any:
 
 SECTIONS: tuple[tuple[tuple[str, ...], str], ...] = (
     (("data",), "data"),
+    (("cell",), "cell"),
     (("experiment",), "experiment"),
     (("synth",), "synth"),
     (("synth", "profilometer"), "synth_profilometer"),

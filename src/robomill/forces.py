@@ -632,7 +632,9 @@ def force_cut_dataset(result: Mapping[str, np.ndarray], *, cut: Mapping, fs_hz: 
     kin_flag = bool(below_resolution(f_kin, df_hz / v, min_cycles=min_peak_cycles))
     f_tp = tooth_passing_hz(spindle_rpm, flutes)
     fk, hp = harmonic_powers(result["f_welch"], result["psd"], f_tp, n_harmonics)
-    R = cut_frame(DIRECTION_VECTORS[cut["direction"]])
+    R = cut_frame(DIRECTION_VECTORS[cut["direction"]] if cut.get("direction_deg") is None
+                  else (np.cos(np.deg2rad(cut["direction_deg"])),
+                        np.sin(np.deg2rad(cut["direction_deg"])), 0.0))
     mean = np.asarray(result["mean"])
     ds = xr.Dataset(
         {
@@ -684,8 +686,10 @@ def force_cut_dataset(result: Mapping[str, np.ndarray], *, cut: Mapping, fs_hz: 
             "harmonic": _var("harmonic", np.arange(1, fk.size + 1), "1",
                              "tooth-passing harmonic order"),
         },
-        attrs={"cut": cut["id"], "set": int(cut["set"]), "segment": int(cut["segment"]),
-               "direction": cut["direction"], "feed_mm_s": v, "depth_mm": float(cut["depth_mm"]),
+        attrs={"cut": cut["id"],
+               **{k: int(cut[k]) for k in ("set", "segment") if cut.get(k) is not None},
+               "direction": cut.get("direction") or f"{float(cut['direction_deg']):g} deg",
+               "feed_mm_s": v, "depth_mm": float(cut["depth_mm"]),
                "fs_hz": float(fs_hz), "n_samples": int(n_samples),
                "feed_per_tooth_mm": feed_per_tooth_mm(v, spindle_rpm, flutes),
                "tooth_passing_hz": f_tp,

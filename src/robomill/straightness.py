@@ -652,3 +652,35 @@ def attribution_counts(evaluation: pd.DataFrame) -> dict[str, int]:
         "marginal_found": int(((e["class"] == "marginal") & e["found"]).sum()),
         "false_attributions": int(e["false_attribution"].sum()),
     }
+
+
+def analyse_tracker_run(t_s: np.ndarray, points_mm: np.ndarray, cell: Any, *,
+                        data_file: str, **settings: Any
+                        ) -> tuple[Profile, ProfileSpectrum, pd.DataFrame, pd.DataFrame]:
+    """:func:`analyse_run` for a tracker file in the cell described by ``cell``
+    (:class:`robomill.io.cell.Cell`, read from ``cell.yaml``).
+
+    The points are first registered to the robot base frame with the cell's
+    ``base_from_instrument.tracker`` (if any); the robot, its home posture (IK seed), the tool
+    orientation and the gear trains are the cell's. A path out of the robot's reach raises
+    :class:`~robomill.io.errors.RawDataError` naming ``data_file`` and pointing at
+    ``base_from_instrument`` (not the inverse kinematics' ``RuntimeError``).
+    """
+    from robomill.io.errors import RawDataError
+
+    base = cell.to_base_mm("tracker", points_mm)
+    try:
+        return analyse_run(t_s, base, robot=cell.robot, gears=cell.transmissions,
+                           tool_rotation=cell.tool_rotation, q0_rad=cell.q_home_rad,
+                           **settings)
+    except RuntimeError:
+        prof = spatial_profile(t_s, base, ds_mm=settings["ds_mm"], trim_mm=settings["trim_mm"])
+        T = np.broadcast_to(np.eye(4), (2, 4, 4)).copy()
+        T[:, :3, :3] = cell.tool_rotation
+        T[:, :3, 3] = [prof.start_mm, prof.end_mm]
+        cell.joint_path_rad(T, data_file=data_file, instrument="tracker")  # raises RawDataError
+        raise RawDataError(data_file, f"the path is not reachable by robot '{cell.robot.name}'",
+                           where="tracker points in the robot base frame",
+                           expected="points in the base frame of the robot of "
+                                    f"{cell.path}: register the tracker frame with "
+                                    "base_from_instrument.tracker in cell.yaml") from None

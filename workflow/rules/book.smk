@@ -51,6 +51,7 @@ rule book:
         ),
         out_dir=lambda w, output: os.path.dirname(output.index),
         benchmarks="results/benchmarks/summary.csv",
+        skipped=SKIPPED,
     script:
         "../scripts/book.py"
 

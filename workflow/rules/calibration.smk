@@ -3,27 +3,6 @@
 CTRACK_TABLES = {f["table"]: f["path"] for f in RAW_FILES if f["kind"] == "ctrack"}
 
 
-rule synth_ctrack:
-    input:
-        code=code("synth.ctrack", "synth.cell", "kinematics"),
-    output:
-        "results/synthetic/raw/ctrack/{table}.csv",
-    log:
-        "results/logs/synth/ctrack_{table}.log",
-    benchmark:
-        "results/benchmarks/rules/synth/ctrack_{table}.tsv"
-    wildcard_constraints:
-        table="circles|home|steps|base|loads|accuracy",
-    conda:
-        ENV
-    params:
-        synth=config["synth"],
-        experiment=config["experiment"],
-        table=lambda w: w.table,
-    script:
-        "../scripts/calibration_synth.py"
-
-
 rule calibration_identify:
     input:
         manifest=MANIFEST,
@@ -32,7 +11,8 @@ rule calibration_identify:
         steps=f"{RAW}/{CTRACK_TABLES.get('steps', 'ctrack/steps.csv')}",
         base=f"{RAW}/{CTRACK_TABLES.get('base', 'ctrack/base.csv')}",
         loads=f"{RAW}/{CTRACK_TABLES.get('loads', 'ctrack/loads.csv')}",
-        code=code("calibration", "io.ctrack", "kinematics"),
+        cell=CELL,
+        code=code("calibration", "io.ctrack", "io.cell", "kinematics"),
     output:
         model="results/calibration/model.nc",
         joint_errors="results/calibration/joint_errors.csv",
@@ -47,6 +27,7 @@ rule calibration_identify:
     params:
         calibration=config["calibration"],
         relpaths={k: v for k, v in CTRACK_TABLES.items() if k != "accuracy"},
+        cell_relpath=CELL_RELPATH,
     script:
         "../scripts/calibration_identify.py"
 
@@ -123,4 +104,4 @@ rule ch1:
         "../scripts/render_chapter.py"
 
 
-ALL_TARGETS.append("results/chapters/ch1_calibration.html")
+add_chapter("1", "results/chapters/ch1_calibration.html", needs=("ctrack",))

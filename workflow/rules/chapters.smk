@@ -35,7 +35,7 @@ rule ch0:
         "../scripts/render_chapter.py"
 
 
-ALL_TARGETS.append("results/chapters/ch0_experiment.html")
+add_chapter("0", "results/chapters/ch0_experiment.html", needs=("cuts",))
 
 
 rule ch3:

@@ -140,4 +140,4 @@ rule ch4:
         "../scripts/render_chapter.py"
 
 
-ALL_TARGETS.append("results/chapters/ch4_chatter.html")
+add_chapter("4", "results/chapters/ch4_chatter.html", needs=("impact", "force"))

@@ -1,11 +1,17 @@
 # Helpers shared by the rules: where raw data comes from, the study plan, target lists.
 # Keep this file small: computation lives in src/robomill/.
 import os
+import sys
 from pathlib import Path
 
-from robomill.experiment import cuts_by_set
-from robomill.io.manifest import load_manifest
-from robomill.synth.plan import experiment_header, planned_files, synthetic_cuts
+from robomill.experiment import (
+    cuts_by_set,
+    missing_data,
+    tracker_direction,
+    tracker_run_id,
+)
+from robomill.io.manifest import load_manifest, parse_manifest
+from robomill.synth.plan import synthetic_manifest
 
 REPO = Path(workflow.basedir)
 SYNTHETIC = config["data"]["source"] == "synthetic"
@@ -13,25 +19,52 @@ RAW = "results/synthetic/raw" if SYNTHETIC else config["data"]["raw_dir"]
 MANIFEST = f"{RAW}/manifest.yaml"
 ENV = "../envs/robomill.yaml"
 
-# The study plan: from the configuration for synthetic data, from the manifest for raw data.
-if SYNTHETIC:
-    CUTS = synthetic_cuts(config)
-    RAW_FILES = planned_files(config)
-    EXPERIMENT = experiment_header(config)
-else:
-    _manifest = load_manifest(MANIFEST)
-    CUTS = _manifest.cuts
-    RAW_FILES = _manifest.files
-    EXPERIMENT = _manifest.experiment
+# The study plan, one parser in both modes: the raw folder's manifest.yaml, or for synthetic
+# data the manifest the simulators will write (planned from the configuration without
+# importing a simulator; robomill.synth.plan).
+PLAN = (
+    parse_manifest(synthetic_manifest(config), MANIFEST, require_sha256=False)
+    if SYNTHETIC
+    else load_manifest(MANIFEST)
+)
+CUTS = PLAN.cuts
+RAW_FILES = PLAN.files
+EXPERIMENT = PLAN.experiment
 CUT_IDS = [c.id for c in CUTS]
+
+# The cell (robot, home posture, tool orientation, gear trains): the raw folder's cell.yaml
+# (kind cell; synthetic mode writes one from config cell:), else the configuration's cell:
+# section written to results/ingest/cell.yaml (raw folders from before cell files).
+CELL_RELPATH = next((f["path"] for f in RAW_FILES if f["kind"] == "cell"), "")
+CELL = f"{RAW}/{CELL_RELPATH}" if CELL_RELPATH else "results/ingest/cell.yaml"
 
 
 wildcard_constraints:
-    cut="s[0-9]+_g[0-9]+_(px|py|my)",
+    cut="[A-Za-z0-9_.-]+",  # any cut id (robomill.experiment.FREE_CUT_ID)
 
 
 # Every stage appends the outputs that `all` must build (chapters, book).
 ALL_TARGETS = []
+# Chapters left out of `all` for want of data (partial raw folders): label -> reason.
+SKIPPED = {}
+
+
+def has_kind(kind):
+    """Whether the raw folder has files of `kind` (optional cross-chapter inputs)."""
+    return any(f["kind"] == kind for f in RAW_FILES)
+
+
+def add_chapter(label, html, needs=()):
+    """Build chapter `label` (its .html) in `all` if the raw folder has the kinds it `needs`;
+    otherwise skip it with one line (`chapter 3.3: no impact files in manifest.yaml`).
+    """
+    why = missing_data(RAW_FILES, CUTS, needs)
+    if why is None:
+        ALL_TARGETS.append(html)
+    else:
+        SKIPPED[label] = why
+        if workflow.is_main_process:
+            print(f"chapter {label}: {why}", file=sys.stderr)
 
 
 def all_targets(wildcards):

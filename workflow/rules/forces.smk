@@ -2,7 +2,6 @@
 # mean forces -> peaks table, spectra and the identified cutting coefficients.
 # One simulator job per set, one analysis job per cut, then one gather job.
 FORCE_FILES = {f["cut"]: f for f in RAW_FILES if f["kind"] == "force"}
-FORCE_FORMAT = config["synth"]["dynamometer"]["format"]
 
 
 # the manifest entry of a cut's record; the planted truth input (synthetic runs only)
@@ -12,41 +11,11 @@ forces_truth_input = lambda w: (
 )
 
 
-# One simulator job per set (its records written one after the other in one process).
-FORCE_SYNTH_SETS = (
-    cuts_by_set(c for c in CUTS if c.id in FORCE_FILES) if SYNTHETIC else {}
-)
-
-for _set_no, _set_cuts in FORCE_SYNTH_SETS.items():
-
-    rule:
-        name:
-            f"forces_synth_dynamometer_s{_set_no}"
-        input:
-            code=code(
-                "synth.dynamometer", "synth.cell", "forces", "io.forces", "kinematics"
-            ),
-        output:
-            [f"results/synthetic/raw/forces/{c.id}.{FORCE_FORMAT}" for c in _set_cuts],
-        log:
-            f"results/logs/forces/synth_s{_set_no}.log",
-        benchmark:
-            f"results/benchmarks/rules/forces/synth_s{_set_no}.tsv"
-        conda:
-            ENV
-        params:
-            synth=config["synth"],
-            experiment=config["experiment"],
-            cuts=[c.as_dict() for c in _set_cuts],
-        script:
-            "../scripts/forces_synth_dynamometer.py"
-
-
 rule forces_cut:
     input:
         raw=lambda w: f"{RAW}/{force_entry(w)['path']}",
         manifest=MANIFEST,
-        code=code("forces", "io.forces", "spectra"),
+        code=code("forces", "io.forces", "spectra", "experiment"),
     output:
         "results/forces/cuts/{cut}.nc",
     log:
@@ -114,8 +83,9 @@ rule ch3_forces:
         coefficients="results/forces/cutting_coefficients.csv",
         means="results/forces/mean_forces.csv",
         harmonics="results/forces/harmonics.csv",
-        modes="results/modal/modes.csv",
         code=code("forces", "chapters", "plotting"),
+        # the impact test's modes, when the raw folder has one (chapter 3.3)
+        **({"modes": "results/modal/modes.csv"} if has_kind("impact") else {}),
     output:
         ipynb="results/chapters/ch3_1_forces.ipynb",
         html=report(
@@ -147,4 +117,4 @@ rule ch3_forces:
         "../scripts/render_chapter.py"
 
 
-ALL_TARGETS.append("results/chapters/ch3_1_forces.html")
+add_chapter("3.1", "results/chapters/ch3_1_forces.html", needs=("force",))

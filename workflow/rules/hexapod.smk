@@ -106,4 +106,4 @@ rule ch6:
         "../scripts/render_chapter.py"
 
 
-ALL_TARGETS.append("results/chapters/ch6_hexapod.html")
+add_chapter("6", "results/chapters/ch6_hexapod.html")

@@ -17,3 +17,18 @@ rule ingest_manifest:
         ENV
     script:
         "../scripts/ingest_manifest.py"
+
+
+rule ingest_cell:
+    output:
+        "results/ingest/cell.yaml",
+    log:
+        "results/logs/ingest/cell.log",
+    benchmark:
+        "results/benchmarks/rules/ingest/cell.tsv"
+    conda:
+        ENV
+    params:
+        cell=config["cell"],
+    script:
+        "../scripts/cell_write.py"

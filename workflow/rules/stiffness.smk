@@ -23,41 +23,7 @@ MAP_JOBS = [
     for h in STIFF_CFG.get("map", {}).get("heights_mm", [])
     for a in STIFF_CFG.get("map", {}).get("redundancy_deg", [])
 ]
-STIFF_SEED = int(config["synth"]["seed"])
-
-
-rule synth_loadtests_robot:
-    output:
-        robot="results/synthetic/raw/stiffness/{robot}.yaml",
-    log:
-        "results/logs/synth/stiffness/{robot}_robot.log",
-    benchmark:
-        "results/benchmarks/rules/synth/stiffness/{robot}_robot.tsv"
-    conda:
-        ENV
-    params:
-        synth=config["synth"],
-        robot=lambda w: w.robot,
-    script:
-        "../scripts/stiffness_synth_robot.py"
-
-
-rule synth_loadtests:
-    input:
-        code=code("synth.loadtests", "stiffness", "kinematics"),
-    output:
-        tests="results/synthetic/raw/stiffness/load_tests_{robot}.csv",
-    log:
-        "results/logs/synth/stiffness/{robot}_tests.log",
-    benchmark:
-        "results/benchmarks/rules/synth/stiffness/{robot}_tests.tsv"
-    conda:
-        ENV
-    params:
-        synth=config["synth"],
-        robot=lambda w: w.robot,
-    script:
-        "../scripts/stiffness_synth_loadtests.py"
+STIFF_SEED = int(STIFF_CFG.get("seed", 20240601))
 
 
 rule stiffness_identify:
@@ -190,7 +156,8 @@ rule stiffness_thesis:
         ),
         joints=f"results/stiffness/{THESIS_ROBOT}/joint_stiffness.csv",
         manifest=MANIFEST,
-        code=code("beamframe", "stiffness", "kinematics"),
+        cell=CELL,
+        code=code("beamframe", "stiffness", "kinematics", "experiment", "io.cell"),
     output:
         slots="results/stiffness/thesis_slots.csv",
     log:
@@ -201,7 +168,7 @@ rule stiffness_thesis:
         ENV
     params:
         robot_rel=STIFF_REL.get(("robot", THESIS_ROBOT), ""),
-        synth=config["synth"],
+        cell_relpath=CELL_RELPATH,
         experiment=config["experiment"],
         cuts=[c.as_dict() for c in CUTS],
         beamframe=config["stiffness"]["beamframe"],
@@ -270,4 +237,4 @@ rule ch5:
         "../scripts/render_chapter.py"
 
 
-ALL_TARGETS.append("results/chapters/ch5_stiffness.html")
+add_chapter("5", "results/chapters/ch5_stiffness.html", needs=("robot", "stiffness"))

@@ -1,43 +1,19 @@
 # Stage 'straightness' (chapter 3.2, issue 5): laser-tracker runs re-ordered in space, their
 # spectra in 1/mm, gear spatial frequencies and peak -> gear attribution.
 # One simulator job and one analysis job per tracker run, then one gather job.
-from robomill.synth.tracker import run_id as tracker_run_id
-
 TRACKER_RUNS = {
-    tracker_run_id(f["direction"], f["feed_mm_s"]): f
+    tracker_run_id(tracker_direction(f), f["feed_mm_s"]): f
     for f in RAW_FILES
     if f["kind"] == "tracker"
 }
-
-
-rule straightness_synth_tracker:
-    input:
-        code=code("synth.tracker", "synth.cell", "kinematics"),
-    output:
-        "results/synthetic/raw/tracker/{run}.csv",
-    log:
-        "results/logs/straightness/synth_{run}.log",
-    benchmark:
-        "results/benchmarks/rules/straightness/synth_{run}.tsv"
-    wildcard_constraints:
-        run="(px|py|my)_f[0-9.]+",
-    conda:
-        ENV
-    params:
-        synth=config["synth"],
-        experiment=config["experiment"],
-        direction=lambda w: TRACKER_RUNS[w.run]["direction"],
-        feed_mm_s=lambda w: TRACKER_RUNS[w.run]["feed_mm_s"],
-        cut=lambda w: TRACKER_RUNS[w.run]["cut"],
-    script:
-        "../scripts/straightness_synth_tracker.py"
 
 
 rule straightness_run:
     input:
         raw=lambda w: f"{RAW}/{TRACKER_RUNS[w.run]['path']}",
         manifest=MANIFEST,
-        code=code("straightness", "io.tracker", "spectra", "kinematics"),
+        cell=CELL,
+        code=code("straightness", "io.tracker", "io.cell", "spectra", "kinematics"),
     output:
         nc="results/straightness/runs/{run}.nc",
         peaks="results/straightness/runs/{run}_peaks.csv",
@@ -47,16 +23,14 @@ rule straightness_run:
     benchmark:
         "results/benchmarks/rules/straightness/run_{run}.tsv"
     wildcard_constraints:
-        run="(px|py|my)_f[0-9.]+",
+        run="(px|mx|py|my|d-?[0-9.]+)_f[0-9.]+",
     conda:
         ENV
     params:
         settings=config["straightness"],
-        robot=config["synth"]["robot"],
-        gears=config["synth"]["gears"],
-        q_home_deg=config["synth"]["q_home_deg"],
+        cell_relpath=CELL_RELPATH,
         relpath=lambda w: TRACKER_RUNS[w.run]["path"],
-        direction=lambda w: TRACKER_RUNS[w.run]["direction"],
+        direction=lambda w: tracker_direction(TRACKER_RUNS[w.run]),
         feed_mm_s=lambda w: TRACKER_RUNS[w.run]["feed_mm_s"],
         fs_hz=lambda w: TRACKER_RUNS[w.run]["fs_hz"],
         cut=lambda w: TRACKER_RUNS[w.run].get("cut", ""),
@@ -161,4 +135,6 @@ rule ch3_straightness:
         "../scripts/render_chapter.py"
 
 
-ALL_TARGETS.append("results/chapters/ch3_2_straightness.html")
+add_chapter(
+    "3.2", "results/chapters/ch3_2_straightness.html", needs=("tracker", "profile")
+)

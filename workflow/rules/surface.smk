@@ -5,35 +5,6 @@ SURFACE_FILES = {f["cut"]: f for f in RAW_FILES if f["kind"] == "profile"}
 SURFACE_CUTS = {c.id: c.as_dict() for c in CUTS if c.id in SURFACE_FILES}
 
 
-# One simulator job per set (a machining session; its cuts simulated one after the other in one
-# process, so that Python and the library start once per set instead of once per cut).
-SURFACE_SYNTH_SETS = (
-    cuts_by_set(c for c in CUTS if c.id in SURFACE_FILES) if SYNTHETIC else {}
-)
-
-for _set_no, _set_cuts in SURFACE_SYNTH_SETS.items():
-
-    rule:
-        name:
-            f"surface_synth_profiles_s{_set_no}"
-        input:
-            code=code("synth.profilometer", "synth.cell", "kinematics", "spectra"),
-        output:
-            [f"results/synthetic/raw/profiles/{c.id}.csv" for c in _set_cuts],
-        log:
-            f"results/logs/surface/synth_s{_set_no}.log",
-        benchmark:
-            f"results/benchmarks/rules/surface/synth_s{_set_no}.tsv"
-        conda:
-            ENV
-        params:
-            synth=config["synth"],
-            experiment=config["experiment"],
-            cuts=[c.as_dict() for c in _set_cuts],
-        script:
-            "../scripts/surface_synth_profile.py"
-
-
 rule surface_profile:
     input:
         raw=lambda w: f"{RAW}/{SURFACE_FILES[w.cut]['path']}",
@@ -170,4 +141,4 @@ rule ch2:
         "../scripts/render_chapter.py"
 
 
-ALL_TARGETS.append("results/chapters/ch2_surface.html")
+add_chapter("2", "results/chapters/ch2_surface.html", needs=("profile",))

@@ -1,6 +1,38 @@
-# The virtual cell: planted truth and the manifest of the synthetic raw files.
-# Each instrument's simulator rule lives with its stage (surface.smk, forces.smk, ...) and
-# writes into results/synthetic/raw/; this file gathers them.
+# The virtual cell: every instrument simulator, the planted truth and the manifest of the
+# synthetic raw files. The only rules that read config["synth"] (a test enforces it): the
+# analyses read the raw folder (results/synthetic/raw/: manifest.yaml, cell.yaml, data files)
+# exactly as they read real data.
+SYNTH_CFG = {
+    "cell": config["cell"],
+    "synth": config["synth"],
+    "experiment": config["experiment"],
+}
+SYNTH_FORCE_FORMAT = config["synth"]["dynamometer"]["format"]
+
+
+# the planned synthetic raw files of each kind (none in raw mode)
+SYNTH_FILES = {}
+for _f in RAW_FILES if SYNTHETIC else []:
+    SYNTH_FILES.setdefault(_f["kind"], []).append(_f)
+SYNTH_TRACKER_RUNS = {
+    tracker_run_id(f["direction"], f["feed_mm_s"]): f
+    for f in SYNTH_FILES.get("tracker", [])
+}
+
+
+rule synth_cell:
+    output:
+        "results/synthetic/raw/cell.yaml",
+    log:
+        "results/logs/synth/cell.log",
+    benchmark:
+        "results/benchmarks/rules/synth/cell.tsv"
+    conda:
+        ENV
+    params:
+        cell=config["cell"],
+    script:
+        "../scripts/cell_write.py"
 
 
 rule synth_truth:
@@ -26,10 +58,167 @@ rule synth_truth:
     conda:
         ENV
     params:
-        synth=config["synth"],
-        experiment=config["experiment"],
+        cfg=SYNTH_CFG,
     script:
         "../scripts/synth_truth.py"
+
+
+# Stylus profiles: one simulator job per set (a machining session; its cuts simulated one
+# after the other in one process, so that Python and the library start once per set).
+for _set_no, _set_cuts in cuts_by_set(
+    c for c in CUTS if c.id in {f["cut"] for f in SYNTH_FILES.get("profile", [])}
+).items():
+
+    rule:
+        name:
+            f"surface_synth_profiles_s{_set_no}"
+        input:
+            code=code("synth.profilometer", "synth.cell", "kinematics", "spectra"),
+        output:
+            [f"results/synthetic/raw/profiles/{c.id}.csv" for c in _set_cuts],
+        log:
+            f"results/logs/surface/synth_s{_set_no}.log",
+        benchmark:
+            f"results/benchmarks/rules/surface/synth_s{_set_no}.tsv"
+        conda:
+            ENV
+        params:
+            cfg=SYNTH_CFG,
+            cuts=[c.as_dict() for c in _set_cuts],
+        script:
+            "../scripts/surface_synth_profile.py"
+
+
+# Dynamometer records: one simulator job per set.
+for _set_no, _set_cuts in cuts_by_set(
+    c for c in CUTS if c.id in {f["cut"] for f in SYNTH_FILES.get("force", [])}
+).items():
+
+    rule:
+        name:
+            f"forces_synth_dynamometer_s{_set_no}"
+        input:
+            code=code(
+                "synth.dynamometer", "synth.cell", "forces", "io.forces", "kinematics"
+            ),
+        output:
+            [
+                f"results/synthetic/raw/forces/{c.id}.{SYNTH_FORCE_FORMAT}"
+                for c in _set_cuts
+            ],
+        log:
+            f"results/logs/forces/synth_s{_set_no}.log",
+        benchmark:
+            f"results/benchmarks/rules/forces/synth_s{_set_no}.tsv"
+        conda:
+            ENV
+        params:
+            cfg=SYNTH_CFG,
+            cuts=[c.as_dict() for c in _set_cuts],
+        script:
+            "../scripts/forces_synth_dynamometer.py"
+
+
+rule straightness_synth_tracker:
+    input:
+        code=code("synth.tracker", "synth.cell", "kinematics"),
+    output:
+        "results/synthetic/raw/tracker/{run}.csv",
+    log:
+        "results/logs/straightness/synth_{run}.log",
+    benchmark:
+        "results/benchmarks/rules/straightness/synth_{run}.tsv"
+    wildcard_constraints:
+        run="(px|mx|py|my)_f[0-9.]+",
+    conda:
+        ENV
+    params:
+        cfg=SYNTH_CFG,
+        direction=lambda w: SYNTH_TRACKER_RUNS[w.run]["direction"],
+        feed_mm_s=lambda w: SYNTH_TRACKER_RUNS[w.run]["feed_mm_s"],
+        cut=lambda w: SYNTH_TRACKER_RUNS[w.run]["cut"],
+    script:
+        "../scripts/straightness_synth_tracker.py"
+
+
+rule synth_impact:
+    input:
+        code=code("synth.impact", "synth.cell"),
+    output:
+        "results/synthetic/raw/impact/hit{hit_dir}_{hit}.csv",
+    log:
+        "results/logs/synth/impact/hit{hit_dir}_{hit}.log",
+    benchmark:
+        "results/benchmarks/rules/synth/impact/hit{hit_dir}_{hit}.tsv"
+    wildcard_constraints:
+        hit_dir="[XYZ]",
+        hit="[0-9]+",
+    conda:
+        ENV
+    params:
+        cfg=SYNTH_CFG,
+        direction=lambda w: w.hit_dir,
+        hit=lambda w: int(w.hit),
+    script:
+        "../scripts/modal_synth_impact.py"
+
+
+rule synth_ctrack:
+    input:
+        code=code("synth.ctrack", "synth.cell", "kinematics"),
+    output:
+        "results/synthetic/raw/ctrack/{table}.csv",
+    log:
+        "results/logs/synth/ctrack_{table}.log",
+    benchmark:
+        "results/benchmarks/rules/synth/ctrack_{table}.tsv"
+    wildcard_constraints:
+        table="circles|home|steps|base|loads|accuracy",
+    conda:
+        ENV
+    params:
+        cfg=SYNTH_CFG,
+        table=lambda w: w.table,
+    script:
+        "../scripts/calibration_synth.py"
+
+
+rule synth_loadtests_robot:
+    output:
+        robot="results/synthetic/raw/stiffness/{robot}.yaml",
+    log:
+        "results/logs/synth/stiffness/{robot}_robot.log",
+    benchmark:
+        "results/benchmarks/rules/synth/stiffness/{robot}_robot.tsv"
+    wildcard_constraints:
+        robot="[A-Za-z0-9_-]+",
+    conda:
+        ENV
+    params:
+        cfg=SYNTH_CFG,
+        robot=lambda w: w.robot,
+    script:
+        "../scripts/stiffness_synth_robot.py"
+
+
+rule synth_loadtests:
+    input:
+        code=code("synth.loadtests", "stiffness", "kinematics"),
+    output:
+        tests="results/synthetic/raw/stiffness/load_tests_{robot}.csv",
+    log:
+        "results/logs/synth/stiffness/{robot}_tests.log",
+    benchmark:
+        "results/benchmarks/rules/synth/stiffness/{robot}_tests.tsv"
+    wildcard_constraints:
+        robot="[A-Za-z0-9_-]+",
+    conda:
+        ENV
+    params:
+        cfg=SYNTH_CFG,
+        robot=lambda w: w.robot,
+    script:
+        "../scripts/stiffness_synth_loadtests.py"
 
 
 rule synth_manifest:

@@ -14,5 +14,6 @@ index = build_book(
     cuts_csv=inp.cuts,
     scorecard_csv=inp.get("scorecard"),
     benchmarks_csv=snakemake.params.benchmarks,  # written by `make bench`, used when present
+    skipped=snakemake.params.skipped,  # chapters without data in this raw folder, and why
 )
 log.info("book written to %s (%d chapters)", index, len(inp.chapters))

@@ -4,6 +4,7 @@ import numpy as np
 
 from robomill import calibration as cal
 from robomill.io import write_artefact, write_table
+from robomill.io.cell import read_cell
 from robomill.io.ctrack import READERS
 from robomill.io.manifest import load_manifest
 from robomill.runlog import setup
@@ -15,8 +16,15 @@ tables = {}
 for name, relpath in p.relpaths.items():
     manifest.verify_file(relpath)
     tables[name] = READERS[name](inp[name])
-c = p.calibration
-em = c["error_model"]
+if p.cell_relpath:
+    manifest.verify_file(p.cell_relpath)
+c = dict(p.calibration)
+# Fourier orders of the joint errors: the cell's gear trains (r and r·z of every element),
+# unless the configuration lists them explicitly
+em = dict(c["error_model"])
+if em.get("orders") is None:
+    em["orders"] = read_cell(inp.cell).fourier_orders()
+c["error_model"] = em
 ident = cal.identify(
     tables["circles"], tables["home"], tables["steps"], tables["loads"], tables["base"],
     masses=cal.mass_model_from_config(c["mass_model"]),

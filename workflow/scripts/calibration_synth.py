@@ -5,6 +5,6 @@ from robomill.synth.cell import cell_from_config
 from robomill.synth.ctrack import write_table
 
 log = setup(snakemake.log[0], "synth_ctrack")
-cfg = {"synth": snakemake.params.synth, "experiment": snakemake.params.experiment}
+cfg = dict(snakemake.params.cfg)
 write_table(cfg, cell_from_config(cfg), snakemake.params.table, snakemake.output[0])
 log.info("wrote %s", snakemake.output[0])

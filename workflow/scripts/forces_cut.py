@@ -5,6 +5,7 @@ from robomill.runlog import setup
 
 log = setup(snakemake.log[0], "forces_cut")
 
+from robomill.experiment import cut_process  # noqa: E402
 from robomill.forces import (  # noqa: E402
     ForceAnalysisSettings,
     ForceSpectrumAccumulator,
@@ -25,10 +26,10 @@ acc = ForceSpectrumAccumulator(record.fs_hz, record.n_samples,
                                ForceAnalysisSettings.from_mapping(s))
 for t, force in record.chunks(int(s["chunk_samples"])):
     acc.add(t, force)
-exp = manifest.experiment
-ds = force_cut_dataset(acc.result(), cut=cut.as_dict(), fs_hz=record.fs_hz,
-                       n_samples=record.n_samples, spindle_rpm=exp["spindle_rpm"],
-                       flutes=exp["flutes"], dominant_band_hz=s["dominant_band_hz"],
+proc = cut_process(cut, manifest.experiment)  # the cut's own speed and flutes (else the
+ds = force_cut_dataset(acc.result(), cut=cut.as_dict(), fs_hz=record.fs_hz,  # experiment's)
+                       n_samples=record.n_samples, spindle_rpm=proc["spindle_rpm"],
+                       flutes=proc["flutes"], dominant_band_hz=s["dominant_band_hz"],
                        kinematic_band_per_mm=s["kinematic_band_per_mm"],
                        n_harmonics=s["n_harmonics"],
                        min_peak_cycles=float(s["min_peak_cycles"]))

@@ -10,7 +10,7 @@ from robomill.experiment import Cut  # noqa: E402
 from robomill.synth.dynamometer import simulate_file  # noqa: E402
 
 p = snakemake.params
-config = {"synth": p.synth, "experiment": p.experiment}
+config = dict(p.cfg)
 for spec, path in zip(p.cuts, snakemake.output, strict=True):
     cut = Cut(**spec)
     progress = Progress(log, 1.0, f"dynamometer record of {cut.id}")

@@ -6,7 +6,7 @@ from robomill.synth.impact import planted_defect, write_hit
 
 log = setup(snakemake.log[0], "synth_impact")
 p = snakemake.params
-cfg = {"synth": p.synth, "experiment": p.experiment}
+cfg = dict(p.cfg)
 write_hit(cfg, cell_from_config(cfg), p.direction, p.hit, snakemake.output[0])
 log.info("hit %s_%d written (planted defect: %s)", p.direction, p.hit,
          planted_defect(cfg, p.direction, p.hit))

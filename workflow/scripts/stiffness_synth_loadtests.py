@@ -4,6 +4,6 @@ from robomill.runlog import setup
 from robomill.synth.loadtests import write_load_tests
 
 log = setup(snakemake.log[0], "stiffness")
-write_load_tests({"synth": snakemake.params.synth}, snakemake.params.robot,
+write_load_tests(dict(snakemake.params.cfg), snakemake.params.robot,
                  snakemake.output.tests)
 log.info("wrote %s", snakemake.output.tests)

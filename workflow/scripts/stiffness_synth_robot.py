@@ -4,6 +4,6 @@ from robomill.runlog import setup
 from robomill.synth.loadtests import write_robot_file
 
 log = setup(snakemake.log[0], "stiffness")
-write_robot_file({"synth": snakemake.params.synth}, snakemake.params.robot,
+write_robot_file(dict(snakemake.params.cfg), snakemake.params.robot,
                  snakemake.output.robot)
 log.info("wrote %s", snakemake.output.robot)

@@ -4,25 +4,29 @@ import numpy as np
 import pandas as pd
 
 from robomill.beamframe import sections_from_config, slot_stiffness_table
-from robomill.experiment import Cut
+from robomill.experiment import Cut, cut_joint_path_rad
 from robomill.io import write_table
+from robomill.io.cell import read_cell
 from robomill.io.manifest import load_manifest
 from robomill.io.robots import read_robot_file
 from robomill.runlog import setup
 from robomill.stiffness import compliance_from_table
-from robomill.synth.cell import cell_from_config
 
 log = setup(snakemake.log[0], "stiffness")
-load_manifest(snakemake.input.manifest).verify_file(snakemake.params.robot_rel)
+p = snakemake.params
+manifest = load_manifest(snakemake.input.manifest)
+manifest.verify_file(p.robot_rel)
+if p.cell_relpath:
+    manifest.verify_file(p.cell_relpath)
 robot, _ = read_robot_file(snakemake.input.robot)
+cell = read_cell(snakemake.input.cell)  # posture and tool orientation of the cell
 c = compliance_from_table(pd.read_csv(snakemake.input.joints))
-cell = cell_from_config({"synth": snakemake.params.synth,
-                         "experiment": snakemake.params.experiment})
-cell.robot = robot  # geometry of the cell, robot from the robot file
-cuts = [Cut(**d) for d in snakemake.params.cuts]
-L = float(snakemake.params.experiment["cut_length_mm"])
-q = np.array([cell.joint_path_rad(cut, np.array([L / 2]))[0] for cut in cuts])
-bf = snakemake.params.beamframe
+cuts = [Cut(**d) for d in p.cuts]
+L = float(p.experiment["cut_length_mm"])
+q = np.array([cut_joint_path_rad(robot, cut, p.experiment, np.array([L / 2]),
+                                 tool_rotation=cell.tool_rotation, q0_rad=cell.q_home_rad)[0]
+              for cut in cuts])
+bf = p.beamframe
 sections = sections_from_config(bf["thesis_sections"], bf["E_Pa"], bf["G_Pa"])
 table = slot_stiffness_table(robot, c, sections, cuts, q)
 write_table(table, snakemake.output.slots)

@@ -4,21 +4,23 @@ import numpy as np
 import pandas as pd
 
 from robomill.io import write_artefact, write_table
+from robomill.io.cell import read_cell
 from robomill.io.manifest import load_manifest
 from robomill.io.tracker import read_tracker
-from robomill.kinematics import robot_from_mapping
 from robomill.runlog import setup
-from robomill.straightness import analyse_run, profile_dataset
+from robomill.straightness import analyse_tracker_run, profile_dataset
 
 log = setup(snakemake.log[0], "straightness_run")
 p = snakemake.params
 opt = p.settings
-load_manifest(snakemake.input.manifest).verify_file(p.relpath)
+manifest = load_manifest(snakemake.input.manifest)
+manifest.verify_file(p.relpath)
+if p.cell_relpath:  # the raw folder's cell.yaml (else the configuration's cell, ingest_cell)
+    manifest.verify_file(p.cell_relpath)
+cell = read_cell(snakemake.input.cell)
 t, points = read_tracker(snakemake.input.raw, fs_hz=float(p.fs_hz))
-robot = robot_from_mapping(p.robot)
-prof, spec, gears, peaks = analyse_run(
-    t, points, robot=robot, gears=p.gears, tool_rotation=np.asarray(opt["tool_rotation"], float),
-    q0_rad=np.deg2rad(np.asarray(p.q_home_deg, float)), ds_mm=opt["ds_mm"],
+prof, spec, gears, peaks = analyse_tracker_run(
+    t, points, cell, data_file=snakemake.input.raw, ds_mm=opt["ds_mm"],
     trim_mm=opt["trim_mm"], nfft=opt["nfft"], fmin_cycles=opt["fmin_cycles"],
     fmax_per_mm=opt["fmax_per_mm"], threshold=opt["threshold"], n_peaks=opt["n_peaks"],
     tol_bins=opt["tol_bins"], detrend_order=opt["detrend_order"])

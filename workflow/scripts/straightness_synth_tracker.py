@@ -1,17 +1,15 @@
 """Simulate one laser-tracker run (tracker/<dir>_f<feed>.csv) from the virtual cell."""
 
-from robomill.experiment import plan_cuts
 from robomill.runlog import setup
 from robomill.synth.cell import cell_from_config
+from robomill.synth.plan import synthetic_cuts
 from robomill.synth.tracker import simulate_run, write_run
 
 log = setup(snakemake.log[0], "straightness_synth_tracker")
 p = snakemake.params
-cfg = {"synth": p.synth, "experiment": p.experiment}
+cfg = dict(p.cfg)
 cell = cell_from_config(cfg)
-exp = p.experiment
-cut = next(c for c in plan_cuts(exp["sets"], int(p.synth["sets"]), exp["directions"])
-           if c.id == p.cut)
+cut = next(c for c in synthetic_cuts(cfg) if c.id == p.cut)
 df = simulate_run(cfg, cell, p.direction, float(p.feed_mm_s), cut)
 write_run(df, snakemake.output[0])
 log.info("tracker run %s_f%g along %s: %d samples, %.2f s", p.direction, p.feed_mm_s, cut.id,

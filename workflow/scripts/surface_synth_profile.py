@@ -8,7 +8,7 @@ from robomill.synth.profilometer import simulate_profile
 
 log = setup(snakemake.log[0], "surface_synth_profile")
 p = snakemake.params
-cfg = {"synth": p.synth, "experiment": p.experiment}
+cfg = dict(p.cfg)
 cell = cell_from_config(cfg)
 for spec, path in zip(p.cuts, snakemake.output, strict=True):
     cut = Cut(**spec)

@@ -5,7 +5,7 @@ from robomill.runlog import setup
 from robomill.synth.truth import cell_truth
 
 log = setup(snakemake.log[0], "synth_truth")
-cfg = {"synth": snakemake.params.synth, "experiment": snakemake.params.experiment}
+cfg = dict(snakemake.params.cfg)  # cell (facts) + synth (planted truth) + experiment
 ds = cell_truth(cfg)
 write_artefact(ds, snakemake.output[0], rule="synth_truth", config_section=cfg)
 log.info("wrote %s with %d variables", snakemake.output[0], len(ds.data_vars))

@@ -20,7 +20,7 @@ from typing import Any
 
 import yaml
 
-from robomill.experiment import CUT_ID, Cut
+from robomill.experiment import CUT_ID, DIRECTION_VECTORS, FREE_CUT_ID, MILLING, Cut
 from robomill.io.errors import RawDataError
 from robomill.io.hashing import sha256_file
 
@@ -35,24 +35,38 @@ EXPERIMENT_KEYS = {
 }
 CUT_KEYS = {
     "id": (str,),
-    "set": (int,),
-    "segment": (int,),
-    "direction": (str,),
     "feed_mm_s": (int, float),
     "depth_mm": (int, float),
 }
+"""Keys every cut carries."""
+
+CUT_OPTIONAL_KEYS: dict[str, tuple[type, ...]] = {
+    "set": (int,),
+    "segment": (int,),
+    "direction": (str,),
+    "direction_deg": (int, float),
+    "spindle_rpm": (int, float),
+    "flutes": (int,),
+    "tool_diameter_mm": (int, float),
+    "radial_immersion": (int, float),
+    "milling": (str,),
+    "start_mm": (list,),
+}
+"""Optional cut keys: grouping (``set``, ``segment``), the feed direction (``direction`` or
+``direction_deg``, one of them required) and the process keys overriding ``experiment``."""
 
 KIND_KEYS: dict[str, dict[str, tuple[type, ...]]] = {
     # kind -> metadata keys every file of that kind must carry (besides path, kind, sha256)
     "profile": {"cut": (str,)},
     "force": {"cut": (str,), "fs_hz": (int, float)},
-    "tracker": {"direction": (str,), "feed_mm_s": (int, float), "fs_hz": (int, float)},
+    "tracker": {"feed_mm_s": (int, float), "fs_hz": (int, float)},  # + direction(_deg)
     # impact: CSV hits need 'direction', UFF files need nothing; robomill.io.impact
     # .entry_metadata checks direction, hit, node, response_node, range_N, range_ms2
     "impact": {},
     "ctrack": {"table": (str,)},
     "robot": {"robot": (str,)},
     "stiffness": {"robot": (str,)},
+    "cell": {},
 }
 """Metadata keys required per file kind. Chapter issues extend their kind's entry."""
 
@@ -70,6 +84,12 @@ class Manifest:
     @property
     def raw_dir(self) -> Path:
         return self.path.parent
+
+    @property
+    def cell_file(self) -> str | None:
+        """Path (relative to the raw folder) of the cell file (kind ``cell``), if listed."""
+        cells = self.files_of("cell")
+        return cells[0]["path"] if cells else None
 
     def cut(self, cut_id: str) -> Cut:
         for c in self.cuts:
@@ -143,8 +163,103 @@ def _check_keys(path: Path, where: str, obj: Any, keys: Mapping[str, tuple[type,
                                expected=" or ".join(t.__name__ for t in types))
 
 
-def parse_manifest(data: Any, path: str | Path) -> Manifest:
-    """Validate a manifest mapping (as loaded from YAML) and return a :class:`Manifest`."""
+def _check_tracker_direction(path: Path, where: str, f: Mapping[str, Any]) -> None:
+    """A tracker run's feed direction: ``direction`` (px, mx, py, my) or ``direction_deg``
+    (base XY plane, 0 = +X), exactly one (the same forms as a cut)."""
+    direction, deg = f.get("direction"), f.get("direction_deg")
+    if (direction is None) == (deg is None):
+        raise RawDataError(path, "give one of direction, direction_deg"
+                           + (" (both are given)" if direction is not None else ""),
+                           where=where, expected="direction (px, mx, py, my) or direction_deg")
+    if direction is not None and direction not in DIRECTION_VECTORS:
+        raise RawDataError(path, f"direction {direction!r} is unknown",
+                           where=f"{where}.direction",
+                           expected="one of " + ", ".join(DIRECTION_VECTORS))
+    if deg is not None and (isinstance(deg, bool) or not isinstance(deg, int | float)):
+        raise RawDataError(path, f"key 'direction_deg' is {deg!r}",
+                           where=f"{where}.direction_deg", expected="a number [deg]")
+
+
+def _parse_cut(path: Path, where: str, c: Mapping[str, Any], seen: Mapping[str, int]) -> Cut:
+    """One ``cuts`` entry: required keys, optional grouping/direction/process keys."""
+    unknown = sorted(set(c) - set(CUT_KEYS) - set(CUT_OPTIONAL_KEYS))
+    if unknown:
+        raise RawDataError(path, f"unknown key(s) {', '.join(map(str, unknown))}", where=where,
+                           expected="keys " + ", ".join([*CUT_KEYS, *CUT_OPTIONAL_KEYS]))
+    for key, types in CUT_OPTIONAL_KEYS.items():
+        value = c.get(key)
+        if value is not None and (isinstance(value, bool) or not isinstance(value, types)):
+            raise RawDataError(path, f"key '{key}' is {value!r}", where=f"{where}.{key}",
+                               expected=" or ".join(t.__name__ for t in types))
+    cid = c["id"]
+    if not FREE_CUT_ID.match(cid):
+        raise RawDataError(path, f"cut id {cid!r} is malformed", where=f"{where}.id",
+                           expected="letters, digits, '_', '.', '-' only ([A-Za-z0-9_.-]+)")
+    m = CUT_ID.match(cid)
+    if m and all(k in c for k in ("set", "segment", "direction")) and (
+            int(m["set"]), int(m["segment"]), m["direction"]) != (
+            c["set"], c["segment"], c["direction"]):
+        raise RawDataError(path, f"cut id {cid!r} disagrees with set={c['set']}, "
+                           f"segment={c['segment']}, direction={c['direction']}",
+                           where=where, expected="id built from set, segment, direction")
+    if cid in seen:
+        raise RawDataError(path, f"duplicate cut id {cid!r} (also cuts[{seen[cid]}])",
+                           where=f"{where}.id", expected="unique cut ids")
+    if c["feed_mm_s"] <= 0 or c["depth_mm"] <= 0:
+        raise RawDataError(path, "feed_mm_s and depth_mm must be positive", where=where,
+                           expected="positive numbers")
+    direction, deg = c.get("direction"), c.get("direction_deg")
+    if direction is None and deg is None:
+        raise RawDataError(path, "neither direction nor direction_deg is given", where=where,
+                           expected="direction (px, mx, py, my) or direction_deg (feed "
+                                    "direction in the base XY plane, 0 = +X)")
+    if direction is not None and deg is not None:
+        raise RawDataError(path, "both direction and direction_deg are given", where=where,
+                           expected="one of direction, direction_deg")
+    if direction is not None and direction not in DIRECTION_VECTORS:
+        raise RawDataError(path, f"direction {direction!r} is unknown",
+                           where=f"{where}.direction",
+                           expected="one of " + ", ".join(DIRECTION_VECTORS))
+    for key in ("spindle_rpm", "tool_diameter_mm"):
+        if c.get(key) is not None and c[key] <= 0:
+            raise RawDataError(path, f"{key} is {c[key]!r}", where=f"{where}.{key}",
+                               expected="a positive number")
+    if c.get("flutes") is not None and c["flutes"] < 1:
+        raise RawDataError(path, f"flutes is {c['flutes']!r}", where=f"{where}.flutes",
+                           expected="a positive integer")
+    ae = c.get("radial_immersion")
+    if ae is not None and not 0 < ae <= 1:
+        raise RawDataError(path, f"radial_immersion is {ae!r}",
+                           where=f"{where}.radial_immersion",
+                           expected="a_e / D in (0, 1] (1 = slot)")
+    mode = c.get("milling")
+    if mode is not None and mode not in MILLING:
+        raise RawDataError(path, f"milling {mode!r} is unknown", where=f"{where}.milling",
+                           expected="one of " + ", ".join(MILLING))
+    if mode == "slot" and ae is not None and ae < 1:
+        raise RawDataError(path, f"milling slot with radial_immersion {ae!r}", where=where,
+                           expected="radial_immersion 1 for a slot (or milling up/down)")
+    start = c.get("start_mm")
+    if start is not None and (len(start) != 3 or any(
+            isinstance(v, bool) or not isinstance(v, int | float) for v in start)):
+        raise RawDataError(path, f"start_mm is {start!r}", where=f"{where}.start_mm",
+                           expected="[x, y, z] of the path start in the base frame [mm]")
+    return Cut(cid, c.get("set"), c.get("segment"), direction, float(c["feed_mm_s"]),
+               float(c["depth_mm"]),
+               spindle_rpm=None if c.get("spindle_rpm") is None else float(c["spindle_rpm"]),
+               flutes=c.get("flutes"),
+               tool_diameter_mm=(None if c.get("tool_diameter_mm") is None
+                                 else float(c["tool_diameter_mm"])),
+               radial_immersion=None if ae is None else float(ae), milling=mode,
+               direction_deg=None if deg is None else float(deg),
+               start_mm=None if start is None else tuple(float(v) for v in start))
+
+
+def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True) -> Manifest:
+    """Validate a manifest mapping (as loaded from YAML) and return a :class:`Manifest`.
+
+    ``require_sha256=False`` validates a *plan*: the synthetic study's manifest before its
+    files exist (:func:`robomill.synth.plan.synthetic_manifest`), through the same checks."""
     path = Path(path)
     if not isinstance(data, Mapping):
         raise RawDataError(path, "not a YAML mapping",
@@ -161,24 +276,8 @@ def parse_manifest(data: Any, path: str | Path) -> Manifest:
     for i, c in enumerate(data["cuts"]):
         where = f"cuts[{i}]"
         _check_keys(path, where, c, CUT_KEYS)
-        m = CUT_ID.match(c["id"])
-        if not m:
-            raise RawDataError(path, f"cut id {c['id']!r} is malformed", where=f"{where}.id",
-                               expected="s{set}_g{segment}_{dir} with dir in px, py, my")
-        if (int(m["set"]), int(m["segment"]), m["direction"]) != (
-                c["set"], c["segment"], c["direction"]):
-            raise RawDataError(path, f"cut id {c['id']!r} disagrees with set={c['set']}, "
-                               f"segment={c['segment']}, direction={c['direction']}",
-                               where=where, expected="id built from set, segment, direction")
-        if c["id"] in seen:
-            raise RawDataError(path, f"duplicate cut id {c['id']!r} (also cuts[{seen[c['id']]}])",
-                               where=f"{where}.id", expected="unique cut ids")
-        if c["feed_mm_s"] <= 0 or c["depth_mm"] <= 0:
-            raise RawDataError(path, "feed_mm_s and depth_mm must be positive", where=where,
-                               expected="positive numbers")
+        cuts.append(_parse_cut(path, where, c, seen))
         seen[c["id"]] = i
-        cuts.append(Cut(c["id"], c["set"], c["segment"], c["direction"],
-                        float(c["feed_mm_s"]), float(c["depth_mm"])))
     if not isinstance(data["files"], list):
         raise RawDataError(path, "files is not a list", where="files",
                            expected="a list of files")
@@ -186,11 +285,14 @@ def parse_manifest(data: Any, path: str | Path) -> Manifest:
     paths: dict[str, int] = {}
     for i, f in enumerate(data["files"]):
         where = f"files[{i}]"
-        _check_keys(path, where, f, {"path": (str,), "kind": (str,), "sha256": (str,)})
+        _check_keys(path, where, f, {"path": (str,), "kind": (str,),
+                                     **({"sha256": (str,)} if require_sha256 else {})})
         if f["kind"] not in KIND_KEYS:
             raise RawDataError(path, f"unknown kind {f['kind']!r}", where=f"{where}.kind",
                                expected="one of " + ", ".join(KIND_KEYS))
         _check_keys(path, f"{where} ({f['path']})", f, KIND_KEYS[f["kind"]])
+        if f["kind"] == "tracker":
+            _check_tracker_direction(path, f"{where} ({f['path']})", f)
         if f["path"] in paths:
             first = paths[f["path"]]
             raise RawDataError(path, f"duplicate path {f['path']!r} (also files[{first}])",
@@ -201,6 +303,11 @@ def parse_manifest(data: Any, path: str | Path) -> Manifest:
         if "cut" in f and f["cut"] not in seen:
             raise RawDataError(path, f"file refers to unknown cut {f['cut']!r}",
                                where=f"{where}.cut", expected="a cut listed under cuts")
+        if f["kind"] == "cell" and any(g["kind"] == "cell" for g in files):
+            first = next(j for j, g in enumerate(files) if g["kind"] == "cell")
+            raise RawDataError(path, f"second cell file {f['path']!r} (also files[{first}])",
+                               where=f"{where}.kind",
+                               expected="at most one file of kind cell (cell.yaml)")
         paths[f["path"]] = i
         files.append(dict(f))
     extra = {k: v for k, v in data.items() if k not in ("experiment", "cuts", "files")}

@@ -1,10 +1,12 @@
 """The virtual robot cell: one ground truth from which every instrument simulator draws.
 
-The cell (``config.yaml: synth``) holds the robot (nominal geometry), its joint gear trains
-with planted eccentricities, the tool-tip modal model, the cutting coefficients and the
-seed. Every simulator takes its physics from here, so that instruments agree the way real
-ones do: the same eccentric gears make the tracker's straightness error and the surface
-waviness; the same modes ring in the impact test and in the cutting forces.
+The virtual cell joins the facts of the cell (``config.yaml: cell``: the robot's nominal
+geometry and gear trains, the same mapping written to the raw folder as ``cell.yaml``) with
+the planted truth of ``config.yaml: synth``: the gear eccentricities, the tool-tip modal
+model, the cutting coefficients and the seed. Every simulator takes its physics from here, so
+that instruments agree the way real ones do: the same eccentric gears make the tracker's
+straightness error and the surface waviness; the same modes ring in the impact test and in
+the cutting forces.
 
 Geometry of the experiment (``config.yaml: experiment.layout``): the block frame R0 has its
 origin at ``block_origin_mm`` in the robot base frame and axes parallel to the base axes; the
@@ -22,7 +24,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from robomill.experiment import DIRECTION_VECTORS, Cut
+from robomill.experiment import Cut, cut_endpoints_mm
 from robomill.kinematics import SerialRobot, robot_from_mapping
 
 ARCSEC = np.pi / (180.0 * 3600.0)
@@ -83,25 +85,19 @@ class VirtualCell:
     seed: int
     config: dict[str, Any] = field(default_factory=dict)
     q_home_rad: np.ndarray = field(default_factory=lambda: np.zeros(6))
+    tool_rotation_matrix: np.ndarray = field(
+        default_factory=lambda: np.array([[1.0, 0, 0], [0, -1.0, 0], [0, 0, -1.0]]))
 
     # ---- geometry of the cuts -------------------------------------------------------------
     def cut_endpoints_mm(self, cut: Cut, set_index: int | None = None) -> tuple[np.ndarray,
                                                                               np.ndarray]:
-        """Start and end of a cut's TCP path in the robot base frame [mm] (slot floor)."""
-        lay = self.experiment["layout"]
-        L = float(self.experiment["cut_length_mm"])
-        s = (cut.set - 1) if set_index is None else set_index
-        corner = np.array([lay["margin_mm"] + (cut.segment - 1) * lay["segment_pitch_mm"],
-                           lay["margin_mm"] + s * lay["set_pitch_mm"], -cut.depth_mm])
-        origin = np.asarray(lay["block_origin_mm"], float)
-        start_local = {"py": corner, "px": corner + [0, L, 0], "my": corner + [L, L, 0]}
-        a = origin + start_local[cut.direction]
-        b = a + L * np.asarray(DIRECTION_VECTORS[cut.direction])
-        return a, b
+        """Start and end of a cut's TCP path in the robot base frame [mm] (slot floor;
+        :func:`robomill.experiment.cut_endpoints_mm`)."""
+        return cut_endpoints_mm(cut, self.experiment, set_index)
 
     def tool_rotation(self) -> np.ndarray:
-        """TCP orientation for milling: tool z axis pointing down (−Z), tool x along +X."""
-        return np.array([[1.0, 0, 0], [0, -1.0, 0], [0, 0, -1.0]])
+        """TCP orientation while milling (``cell.tool_rotation``; default tool z axis down)."""
+        return np.array(self.tool_rotation_matrix, float)
 
     def cut_path_mm(self, cut: Cut, s_mm: np.ndarray) -> np.ndarray:
         """Nominal TCP positions ``(len(s), 3)`` at path abscissae ``s_mm`` along a cut."""
@@ -250,33 +246,50 @@ def _prewarp(num, den, wn, fs_hz):
     return [num[0] * g**2], [den[0], den[1] * g, den[2] * g**2]
 
 
-def _gears_from_config(gears: Sequence[Mapping], rng: np.random.Generator) -> list[GearStage]:
+def _gears_from_config(transmissions: Sequence[Mapping], errors: Sequence[Mapping],
+                       rng: np.random.Generator) -> list[GearStage]:
+    """The planted gear stages: the cell's nominal ``transmissions`` (``config.yaml: cell``)
+    with the error amplitudes of ``synth.gears`` matched by (joint, stage); a transmission
+    without an entry has no error. Phases are drawn in the order of the transmissions."""
+    from robomill.io.errors import ConfigError
+
+    planted = {(int(g["joint"]), str(g["stage"])): g for g in errors}
+    known = {(int(t["joint"]), str(t["stage"])) for t in transmissions}
+    unknown = sorted(set(planted) - known)
+    if unknown:
+        raise ConfigError(f"config key 'synth.gears': joint {unknown[0][0]} stage "
+                          f"{unknown[0][1]!r} is not a transmission of config key "
+                          "'cell.transmissions'")
     out = []
-    for g in gears:
+    for t in transmissions:
+        g = planted.get((int(t["joint"]), str(t["stage"])), {})
         phases = rng.uniform(0, 2 * np.pi, size=2)
         out.append(GearStage(
-            joint=int(g["joint"]), stage=str(g["stage"]),
-            rev_per_joint_rev=float(g["rev_per_joint_rev"]), teeth=int(g["teeth"]),
-            runout_rad=float(g["runout_arcsec"]) * ARCSEC,
-            mesh_rad=float(g["mesh_arcsec"]) * ARCSEC,
+            joint=int(t["joint"]), stage=str(t["stage"]),
+            rev_per_joint_rev=float(t["rev_per_joint_rev"]), teeth=int(t["teeth"]),
+            runout_rad=float(g.get("runout_arcsec", 0.0)) * ARCSEC,
+            mesh_rad=float(g.get("mesh_arcsec", 0.0)) * ARCSEC,
             runout_phase_rad=float(g.get("runout_phase_rad", phases[0])),
             mesh_phase_rad=float(g.get("mesh_phase_rad", phases[1]))))
     return out
 
 
 def cell_from_config(config: Mapping[str, Any]) -> VirtualCell:
-    """Build the virtual cell from the whole (validated) configuration mapping."""
-    syn = config["synth"]
+    """Build the virtual cell from the whole (validated) configuration mapping: the facts of
+    ``cell`` (robot, home, tool rotation, transmissions) with the planted truth of ``synth``."""
+    syn, facts = config["synth"], config["cell"]
     rng = np.random.default_rng(int(syn["seed"]))
-    robot = robot_from_mapping(syn["robot"])
+    robot = robot_from_mapping(facts["robot"])
     modes = []
     for m in syn["modes"]:
         shape = np.asarray(m["shape"], float)
         shape = shape / np.linalg.norm(shape)
         modes.append(Mode(float(m["f_hz"]), float(m["zeta"]), float(m["k_N_m"]),
                           tuple(float(x) for x in shape)))
-    q_home = np.deg2rad(np.asarray(syn.get("q_home_deg", [0, 0, 0, 0, 0, 0]), float))
-    return VirtualCell(robot=robot, gears=_gears_from_config(syn["gears"], rng), modes=modes,
+    q_home = np.deg2rad(np.asarray(facts.get("q_home_deg", [0, 0, 0, 0, 0, 0]), float))
+    gears = _gears_from_config(facts["transmissions"], syn["gears"], rng)
+    R = np.asarray(facts.get("tool_rotation", [[1, 0, 0], [0, -1, 0], [0, 0, -1]]), float)
+    return VirtualCell(robot=robot, gears=gears, modes=modes,
                        cutting={k: float(v) for k, v in syn["cutting"].items()},
                        experiment=dict(config["experiment"]), seed=int(syn["seed"]),
-                       config=dict(config), q_home_rad=q_home)
+                       config=dict(config), q_home_rad=q_home, tool_rotation_matrix=R)

@@ -49,16 +49,20 @@ from robomill.calibration import (
 )
 from robomill.io.atomic import atomic_path
 from robomill.kinematics import rodrigues
+from robomill.synth.plan import CTRACK_TABLES
 
-TABLES = ("circles", "home", "steps", "base", "loads", "accuracy")
+TABLES = CTRACK_TABLES
 INSTRUMENT = 5
 ARCSEC = np.pi / (180.0 * 3600.0)
 XYZ = ["x_mm", "y_mm", "z_mm"]
 
 
 def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """The C-Track tables of the synthetic study (one file per table)."""
-    return [{"path": f"ctrack/{t}.csv", "kind": "ctrack", "table": t} for t in TABLES]
+    """The C-Track tables of the synthetic study, one file per table
+    (:func:`robomill.synth.plan.instrument_files`)."""
+    from robomill.synth.plan import instrument_files
+
+    return instrument_files(config, "ctrack")
 
 
 @dataclass

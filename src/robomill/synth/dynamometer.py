@@ -66,12 +66,11 @@ def settings(config: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """One record per cut: ``forces/<cut>.<format>``, kind ``force``, keys ``cut``, ``fs_hz``."""
-    from robomill.synth.plan import synthetic_cuts
+    """One record per cut: ``forces/<cut>.<format>``, kind ``force``, keys ``cut``, ``fs_hz``
+    (:func:`robomill.synth.plan.instrument_files`)."""
+    from robomill.synth.plan import instrument_files
 
-    s = settings(config)
-    return [{"path": f"forces/{c.id}.{s['format']}", "kind": "force", "cut": c.id,
-             "fs_hz": float(s["fs_hz"])} for c in synthetic_cuts(config)]
+    return instrument_files(config, "dynamometer")
 
 
 def truth(config: Mapping[str, Any], cell) -> Any:
@@ -116,7 +115,7 @@ def slow_channels(cell, cut, config: Mapping[str, Any], rng: np.random.Generator
     """
     from scipy.interpolate import CubicSpline
 
-    from robomill.experiment import DIRECTION_VECTORS
+    from robomill.experiment import cut_process, feed_direction
     from robomill.forces import (
         CuttingCoefficients,
         cut_frame,
@@ -127,14 +126,15 @@ def slow_channels(cell, cut, config: Mapping[str, Any], rng: np.random.Generator
 
     s = settings(config)
     exp = cell.experiment
-    flutes, rpm = int(exp["flutes"]), float(exp["spindle_rpm"])
+    proc = cut_process(cut, exp)  # the cut's own speed and flutes (else the experiment's)
+    flutes, rpm = int(proc["flutes"]), float(proc["spindle_rpm"])
     L = record_length_mm(config)
     v = cut.feed_mm_s
     duration = L / v
     fs_v = float(s["vibration_fs_hz"])
     n_v = int(np.ceil(duration * fs_v)) + 2
     t_v = np.arange(n_v) / fs_v
-    R = cut_frame(DIRECTION_VECTORS[cut.direction])
+    R = cut_frame(feed_direction(cut))
     c0 = feed_per_tooth_mm(v, rpm, flutes)
     coeffs = CuttingCoefficients.from_mapping(cell.cutting)
     # gear path error along the recorded length, mean removed, cut frame [mm]
@@ -163,7 +163,7 @@ def simulate_blocks(cell, cut, config: Mapping[str, Any]
     ``(t_s, force_N (n, 3))`` of at most ``chunk_samples`` samples (R0 axes, on the tool)."""
     import scipy.signal
 
-    from robomill.experiment import DIRECTION_VECTORS
+    from robomill.experiment import cut_process, feed_direction
     from robomill.forces import (
         CuttingCoefficients,
         cut_frame,
@@ -175,11 +175,12 @@ def simulate_blocks(cell, cut, config: Mapping[str, Any]
     rng = np.random.default_rng([cell.seed, INSTRUMENT_NUMBER, zlib.crc32(cut.id.encode())])
     fs = float(s["fs_hz"])
     exp = cell.experiment
-    flutes, spindle_hz = int(exp["flutes"]), float(exp["spindle_rpm"]) / 60.0
+    proc = cut_process(cut, exp)
+    flutes, spindle_hz = int(proc["flutes"]), float(proc["spindle_rpm"]) / 60.0
     n = int(round(record_length_mm(config) / cut.feed_mm_s * fs))
     phase0 = float(rng.uniform(0, 2 * np.pi))
     slow = slow_channels(cell, cut, config, rng)
-    R = cut_frame(DIRECTION_VECTORS[cut.direction])
+    R = cut_frame(feed_direction(cut))
     coeffs = CuttingCoefficients.from_mapping(cell.cutting)
     b, a = _dynamometer_filter(float(s["dynamometer_f_n_hz"]), float(s["dynamometer_zeta"]), fs)
     tables = slot_force_tables(flutes, int(s["anti_alias_fraction"] * fs / spindle_hz))

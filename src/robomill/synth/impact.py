@@ -33,7 +33,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-DIRECTIONS = ("X", "Y", "Z")
+from robomill.synth.plan import IMPACT_DIRECTIONS, hit_path
+
+DIRECTIONS = IMPACT_DIRECTIONS
 """Hit directions (base axes)."""
 INSTRUMENT_NUMBER = 6
 """Stream number of this instrument in the per-file random generators (issue #6)."""
@@ -41,20 +43,12 @@ COLUMNS = ("t_s", "force_N", "ax_ms2", "ay_ms2", "az_ms2")
 """Columns of an impact file (``docs/data-contract.md``)."""
 
 
-def hit_path(direction: str, hit: int) -> str:
-    """Path of one hit's file, relative to the raw folder."""
-    return f"impact/hit{direction}_{hit}.csv"
-
-
 def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """Raw files of the impact test: ``hits_per_direction`` hits along X, Y and Z at node 1
-    (the tool tip, a driving point), with the simulated sensors' ranges (``range_N``,
-    ``range_ms2``) as a lab states them in its manifest."""
-    imp = config["synth"]["impact"]
-    n = int(imp["hits_per_direction"])
-    return [{"path": hit_path(d, k), "kind": "impact", "direction": d, "hit": k,
-             "range_N": float(imp["force_range_N"]), "range_ms2": float(imp["accel_range_ms2"])}
-            for d in DIRECTIONS for k in range(1, n + 1)]
+    """Raw files of the impact test: ``hits_per_direction`` hits along X, Y and Z
+    (:func:`robomill.synth.plan.instrument_files`)."""
+    from robomill.synth.plan import instrument_files
+
+    return instrument_files(config, "impact")
 
 
 def _rng(seed: int, direction: str, hit: int) -> np.random.Generator:

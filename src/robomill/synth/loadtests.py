@@ -10,7 +10,7 @@ follow the joint-stiffness model X = J K_θ⁻¹ Jᵀ F with the planted K_θ
 (``synth.loadtests.robots[*].k_Nm_rad``), which :func:`truth` writes into ``truth.nc``.
 
 Robots: every entry of ``synth.loadtests.robots``; an entry without ``robot:`` is the cell's
-robot (``synth.robot``, the thesis IRB 1600).
+robot (``cell.robot``, the thesis IRB 1600).
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ def robots(config: Mapping[str, Any]) -> list[dict[str, Any]]:
     out = []
     for entry in lt.get("robots", []):
         e = dict(entry)
-        spec = dict(e.get("robot") or config["synth"]["robot"])
+        spec = dict(e.get("robot") or config["cell"]["robot"])  # default: the cell's robot
         spec["name"] = e["name"]
         e["robot"] = spec
         out.append(e)
@@ -60,14 +60,11 @@ def robot_entry(config: Mapping[str, Any], name: str) -> dict[str, Any]:
 
 
 def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """Raw files this instrument writes: per robot, its robot file and its load tests."""
-    files = []
-    for e in robots(config):
-        name = e["name"]
-        files.append({"path": f"stiffness/{name}.yaml", "kind": "robot", "robot": name})
-        files.append({"path": f"stiffness/load_tests_{name}.csv", "kind": "stiffness",
-                      "robot": name})
-    return files
+    """Raw files this instrument writes: per robot, its robot file and its load tests
+    (:func:`robomill.synth.plan.instrument_files`)."""
+    from robomill.synth.plan import instrument_files
+
+    return instrument_files(config, "loadtests")
 
 
 def _plane_centres(e: Mapping[str, Any]) -> np.ndarray:

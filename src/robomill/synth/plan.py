@@ -1,28 +1,75 @@
-"""The synthetic study: which raw files the instrument simulators write, and the manifest."""
+"""The plan of the synthetic study: which raw files the instrument simulators write, as a
+manifest (without sha256), computed from the configuration alone.
+
+Snakemake plans its DAG from here at every start (``workflow/rules/common.smk``), so this
+module imports no simulator: each instrument's ``plan(config)`` delegates to the functions
+below, and the plan goes through the same parser as a real folder's ``manifest.yaml``
+(:func:`robomill.io.manifest.parse_manifest` with ``require_sha256=False``): cuts and files
+come from one place in both modes.
+"""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from typing import Any
 
-from robomill.experiment import Cut, plan_cuts
-from robomill.synth import ctrack, dynamometer, impact, loadtests, profilometer, tracker
+from robomill.experiment import Cut, plan_cuts, tracker_run_id
 
-INSTRUMENTS = {
-    "profile": profilometer,
-    "force": dynamometer,
-    "tracker": tracker,
-    "impact": impact,
-    "ctrack": ctrack,
-    "stiffness": loadtests,
+SIMULATORS = ("profilometer", "dynamometer", "tracker", "impact", "ctrack", "loadtests")
+"""The six simulator modules of :mod:`robomill.synth` (none imported by planning)."""
+
+CTRACK_TABLES = ("circles", "home", "steps", "base", "loads", "accuracy")
+"""The C-Track tables of the calibration protocol (one file each)."""
+
+IMPACT_DIRECTIONS = ("X", "Y", "Z")
+"""Impact hit directions (base axes)."""
+
+PLAN_DEFAULTS = {  # the planning keys of the instruments (their schemas' defaults)
+    "dynamometer": {"format": "h5", "fs_hz": 25000.0},
+    "tracker": {"fs_hz": 815.0, "directions": None, "feeds_mm_s": None},
+    "impact": {"hits_per_direction": 5, "force_range_N": 2000.0, "accel_range_ms2": 50.0},
 }
-"""Instrument module per raw-data kind; each has ``plan(config) -> list[dict]``."""
+
+
+def _settings(config: Mapping[str, Any], instrument: str) -> dict[str, Any]:
+    return {**PLAN_DEFAULTS[instrument], **dict(config["synth"].get(instrument) or {})}
 
 
 def synthetic_cuts(config: Mapping[str, Any]) -> list[Cut]:
-    """The cuts of the virtual study (``experiment.sets`` cycled to ``synth.sets`` sets)."""
+    """The cuts of the virtual study: ``experiment.cuts`` when given (a design of any kind,
+    parsed by the manifest's own cut parser), else ``experiment.sets`` cycled to
+    ``synth.sets`` sets (the thesis design).
+
+    Raises
+    ------
+    ConfigError
+        A cut the simulators cannot make: not a slot (they model slotting only), or off the
+        thesis layout without ``start_mm``.
+    """
     exp = config["experiment"]
-    return plan_cuts(exp["sets"], int(config["synth"]["sets"]), exp["directions"])
+    if not exp.get("cuts"):
+        return plan_cuts(exp["sets"], int(config["synth"]["sets"]), exp["directions"])
+    from robomill.io.errors import ConfigError, RawDataError
+    from robomill.io.manifest import parse_manifest
+
+    header = experiment_header(config)
+    try:
+        cuts = parse_manifest({"experiment": header, "cuts": list(exp["cuts"]), "files": []},
+                              "config.yaml: experiment").cuts
+    except RawDataError as err:
+        raise ConfigError(f"config key 'experiment.cuts': {err.where}: {err.problem}"
+                          + (f" (expected {err.expected})" if err.expected else "")) from None
+    for i, c in enumerate(cuts):
+        if (c.radial_immersion or 1.0) < 1.0 or (c.milling or "slot") != "slot":
+            raise ConfigError(f"config key 'experiment.cuts[{i}]': cut {c.id!r} is not a slot "
+                              "(the simulators model slotting only: radial_immersion 1)")
+        on_layout = c.set is not None and c.segment is not None and c.direction in (
+            "px", "py", "my")
+        if c.start_mm is None and not on_layout:
+            raise ConfigError(f"config key 'experiment.cuts[{i}]': cut {c.id!r} needs start_mm "
+                              "(or set, segment and a direction px/py/my of the thesis layout)")
+    return cuts
 
 
 def experiment_header(config: Mapping[str, Any]) -> dict[str, Any]:
@@ -31,9 +78,97 @@ def experiment_header(config: Mapping[str, Any]) -> dict[str, Any]:
     return {k: exp[k] for k in ("spindle_rpm", "flutes", "tool_diameter_mm", "cut_length_mm")}
 
 
+def hit_path(direction: str, hit: int) -> str:
+    """Path of one impact hit's file, relative to the raw folder."""
+    return f"impact/hit{direction}_{hit}.csv"
+
+
+def tracker_runs(config: Mapping[str, Any]) -> list[dict[str, Any]]:
+    """The tracker runs: one per (direction, feed) of the experiment (``synth.tracker``
+    ``directions``/``feeds_mm_s`` select; null = all), each following the path of the last
+    cut with that direction and feed. Keys ``run, direction, feed_mm_s, cut`` (a :class:`Cut`)."""
+    exp = config["experiment"]
+    tr = _settings(config, "tracker")
+    dirs = tr["directions"] or list(exp.get("directions") or ("py", "px", "my", "mx"))
+    feeds = tr["feeds_mm_s"]
+    chosen: dict[tuple[str, float], Cut] = {}
+    for c in synthetic_cuts(config):  # cuts given by direction_deg only: no tracker run
+        if c.direction in dirs and (feeds is None or any(
+                math.isclose(c.feed_mm_s, f, rel_tol=1e-5, abs_tol=1e-8) for f in feeds)):
+            chosen[(c.direction, c.feed_mm_s)] = c
+    runs = []
+    for d in dirs:
+        for (dd, feed), c in sorted(chosen.items(), key=lambda kv: kv[0][1]):
+            if dd == d:
+                runs.append({"run": tracker_run_id(d, feed), "direction": d,
+                             "feed_mm_s": feed, "cut": c})
+    return runs
+
+
+def loadtest_robots(config: Mapping[str, Any]) -> list[str]:
+    """Names of the robots of the simulated load tests (``synth.loadtests.robots``)."""
+    return [str(e["name"]) for e in (config["synth"].get("loadtests") or {}).get("robots", [])]
+
+
+def instrument_files(config: Mapping[str, Any], instrument: str) -> list[dict[str, Any]]:
+    """The raw files (path, kind, metadata) one simulator writes."""
+    if instrument == "profilometer":
+        return [{"path": f"profiles/{c.id}.csv", "kind": "profile", "cut": c.id}
+                for c in synthetic_cuts(config)]
+    if instrument == "dynamometer":
+        s = _settings(config, "dynamometer")
+        return [{"path": f"forces/{c.id}.{s['format']}", "kind": "force", "cut": c.id,
+                 "fs_hz": float(s["fs_hz"])} for c in synthetic_cuts(config)]
+    if instrument == "tracker":
+        fs = float(_settings(config, "tracker")["fs_hz"])
+        return [{"path": f"tracker/{r['run']}.csv", "kind": "tracker",
+                 "direction": r["direction"], "feed_mm_s": float(r["feed_mm_s"]),
+                 "fs_hz": fs, "cut": r["cut"].id} for r in tracker_runs(config)]
+    if instrument == "impact":
+        if "impact" not in config["synth"]:
+            return []
+        s = _settings(config, "impact")
+        n = int(s["hits_per_direction"])
+        # the simulated sensors' ranges, as a lab states them in its manifest
+        ranges = {"range_N": float(s["force_range_N"]), "range_ms2": float(s["accel_range_ms2"])}
+        return [{"path": hit_path(d, k), "kind": "impact", "direction": d, "hit": k, **ranges}
+                for d in IMPACT_DIRECTIONS for k in range(1, n + 1)]
+    if instrument == "ctrack":
+        return [{"path": f"ctrack/{t}.csv", "kind": "ctrack", "table": t} for t in CTRACK_TABLES]
+    if instrument == "loadtests":
+        files = []
+        for name in loadtest_robots(config):
+            files.append({"path": f"stiffness/{name}.yaml", "kind": "robot", "robot": name})
+            files.append({"path": f"stiffness/load_tests_{name}.csv", "kind": "stiffness",
+                          "robot": name})
+        return files
+    raise ValueError(f"unknown instrument {instrument!r} (one of {', '.join(SIMULATORS)})")
+
+
 def planned_files(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """Every synthetic raw file (path relative to the raw folder, kind, metadata)."""
+    """Every synthetic raw file (path relative to the raw folder, kind, metadata): each
+    instrument's files, then the cell file ``cell.yaml`` (written from ``config.yaml: cell``;
+    last, so that the manifest and ``results/ingest/files.csv`` of the thesis study keep their
+    order and columns, with one row more)."""
     files: list[dict[str, Any]] = []
-    for module in INSTRUMENTS.values():
-        files.extend(module.plan(config))
+    for instrument in SIMULATORS:
+        files.extend(instrument_files(config, instrument))
+    files.append({"path": "cell.yaml", "kind": "cell"})
     return files
+
+
+def synthetic_manifest(config: Mapping[str, Any]) -> dict[str, Any]:
+    """The synthetic study as a manifest mapping without sha256 (``experiment``, ``cuts``,
+    ``files``): what :func:`robomill.io.manifest.parse_manifest` reads in both modes."""
+    return {"experiment": experiment_header(config),
+            "cuts": [c.as_dict() for c in synthetic_cuts(config)],
+            "files": planned_files(config)}
+
+
+def instruments() -> dict[str, Any]:
+    """The simulator module of each raw-data kind (imports them: for the truth, not planning)."""
+    import importlib
+
+    return {kind: importlib.import_module(f"robomill.synth.{name}") for kind, name in (
+        ("profile", "profilometer"), ("force", "dynamometer"), ("tracker", "tracker"),
+        ("impact", "impact"), ("ctrack", "ctrack"), ("stiffness", "loadtests"))}

@@ -52,7 +52,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill.experiment import Cut, feed_per_tooth_mm, plan_cuts
+from robomill.experiment import DIRECTION_DEG, Cut, cut_process
 
 INSTRUMENT_NUMBER = 1
 """Stream number of this instrument in the per-file random generators."""
@@ -91,14 +91,17 @@ def settings(config: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def _cuts(config: Mapping[str, Any]) -> list[Cut]:
-    exp = config["experiment"]
-    return plan_cuts(exp["sets"], int(config["synth"]["sets"]), exp["directions"])
+    from robomill.synth.plan import synthetic_cuts
+
+    return synthetic_cuts(config)
 
 
 def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """One profile per cut: ``{path: profiles/<cut>.csv, kind: profile, cut}``."""
-    return [{"path": f"profiles/{c.id}.csv", "kind": "profile", "cut": c.id}
-            for c in _cuts(config)]
+    """One profile per cut: ``{path: profiles/<cut>.csv, kind: profile, cut}``
+    (:func:`robomill.synth.plan.instrument_files`)."""
+    from robomill.synth.plan import instrument_files
+
+    return instrument_files(config, "profilometer")
 
 
 def _rng(cell, cut: Cut, stream: int) -> np.random.Generator:
@@ -106,15 +109,26 @@ def _rng(cell, cut: Cut, stream: int) -> np.random.Generator:
                                   stream])
 
 
+def level_key(levels: Mapping[str, Any], cut: Cut) -> str:
+    """The entry of a per-direction level table (``waviness``/``roughness``: px, py, my) that
+    a cut takes: its own direction, else the named direction nearest its feed direction
+    (assumed: a cut of another direction behaves like the nearest measured one)."""
+    if cut.direction in levels:
+        return str(cut.direction)
+    deg = cut.direction_deg if cut.direction_deg is not None else DIRECTION_DEG[cut.direction]
+    return min(levels, key=lambda k: abs((float(deg) - DIRECTION_DEG[k] + 180.0) % 360.0
+                                         - 180.0))
+
+
 def waviness_level_um(p: Mapping[str, Any], cut: Cut) -> float:
     """Planted waviness RMS (2.5 mm segments) of a cut: ``level (1 − exp(−v/v0))``."""
-    w = p["waviness"][cut.direction]
+    w = p["waviness"][level_key(p["waviness"], cut)]
     return float(w["level_um"] * (1.0 - np.exp(-cut.feed_mm_s / w["v0_mm_s"])))
 
 
 def roughness_level_um(p: Mapping[str, Any], cut: Cut) -> float:
     """Planted vibration-mark RMS (0.25 mm segments): ``level (1 + (v/knee)^exponent)``."""
-    r = p["roughness"][cut.direction]
+    r = p["roughness"][level_key(p["roughness"], cut)]
     return float(r["level_um"] * (1.0 + (cut.feed_mm_s / r["knee_mm_s"]) ** r["exponent"]))
 
 
@@ -155,8 +169,7 @@ def roughness_component_um(cell, cut: Cut, p: Mapping[str, Any]) -> np.ndarray:
     fs_t = fs * cut.feed_mm_s  # temporal sampling [Hz]: the stylus sample spacing in time
     vib = cell.random_vibration_m(x.size, fs_t, 1.0, _rng(cell, cut, 0))[:, 2]
     vib = roughness_level_um(p, cut) * _unit_segment_rms(vib, fs, ROUGHNESS_SEGMENT_MM)
-    exp = cell.experiment
-    c_mm = feed_per_tooth_mm(cut.feed_mm_s, exp["spindle_rpm"], exp["flutes"])
+    c_mm = cut_process(cut, cell.experiment)["feed_per_tooth_mm"]  # the cut's own speed, flutes
     transmission = np.exp(-np.pi * (ALPHA * float(p["stylus_lambda_s_mm"]) / c_mm) ** 2)
     phase = _rng(cell, cut, 3).uniform(0, 2 * np.pi)
     marks = float(p["feed_mark_um"]) * transmission * np.sin(2 * np.pi * x / c_mm + phase)

@@ -26,7 +26,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill.experiment import Cut, plan_cuts
+from robomill.experiment import Cut, tracker_run_id
 
 INSTRUMENT_NUMBER = 3
 """Stream number of this instrument in the per-file random generators."""
@@ -51,41 +51,24 @@ def settings(config: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def run_id(direction: str, feed_mm_s: float) -> str:
-    """Run identifier ``<dir>_f<feed>`` (feed printed with ``%g``: ``py_f2``, ``my_f2.5``)."""
-    return f"{direction}_f{float(feed_mm_s):g}"
+    """Run identifier ``<dir>_f<feed>`` (:func:`robomill.experiment.tracker_run_id`)."""
+    return tracker_run_id(direction, feed_mm_s)
 
 
 def tracker_runs(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """The tracker runs: one per (direction, feed) of the experiment, each following the path
-    of the last cut with that direction and feed. Keys ``run, direction, feed_mm_s, cut``
-    (a :class:`Cut`)."""
-    exp = config["experiment"]
-    tr = settings(config)
-    cuts = plan_cuts(exp["sets"], int(config["synth"]["sets"]), exp["directions"])
-    dirs = tr["directions"] or list(exp["directions"])
-    feeds = tr["feeds_mm_s"]
-    chosen: dict[tuple[str, float], Cut] = {}
-    for c in cuts:
-        if c.direction in dirs and (feeds is None or any(np.isclose(c.feed_mm_s, f)
-                                                         for f in feeds)):
-            chosen[(c.direction, c.feed_mm_s)] = c
-    runs = []
-    for d in dirs:
-        for (dd, feed), c in sorted(chosen.items(), key=lambda kv: kv[0][1]):
-            if dd == d:
-                runs.append({"run": run_id(d, feed), "direction": d, "feed_mm_s": feed,
-                             "cut": c})
-    return runs
+    """The tracker runs (:func:`robomill.synth.plan.tracker_runs`)."""
+    from robomill.synth import plan as _plan
+
+    return _plan.tracker_runs(config)
 
 
 def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
     """Raw files of the synthetic study: ``tracker/<dir>_f<feed>.csv`` for every direction
     and feed (kind ``tracker``; metadata ``direction, feed_mm_s, fs_hz`` and ``cut``, the
-    cut whose path the run follows)."""
-    fs = float(settings(config)["fs_hz"])
-    return [{"path": f"tracker/{r['run']}.csv", "kind": "tracker", "direction": r["direction"],
-             "feed_mm_s": float(r["feed_mm_s"]), "fs_hz": fs, "cut": r["cut"].id}
-            for r in tracker_runs(config)]
+    cut whose path the run follows; :func:`robomill.synth.plan.instrument_files`)."""
+    from robomill.synth.plan import instrument_files
+
+    return instrument_files(config, "tracker")
 
 
 def motion_law(length_mm: float, feed_mm_s: float, accel_mm_s2: float,

@@ -8,7 +8,7 @@ from typing import Any
 import xarray as xr
 
 from robomill.synth.cell import cell_from_config
-from robomill.synth.plan import INSTRUMENTS
+from robomill.synth.plan import instruments
 
 
 def cell_truth(config: Mapping[str, Any]) -> xr.Dataset:
@@ -16,7 +16,7 @@ def cell_truth(config: Mapping[str, Any]) -> xr.Dataset:
     instrument module plants (its optional ``truth(config, cell) -> xr.Dataset``)."""
     cell = cell_from_config(config)
     parts = [cell.truth()]
-    for module in INSTRUMENTS.values():
+    for module in instruments().values():
         fn = getattr(module, "truth", None)
         if fn is not None:
             parts.append(fn(config, cell))

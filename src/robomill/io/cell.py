@@ -1,0 +1,322 @@
+"""The robot cell file ``cell.yaml`` (manifest kind ``cell``): the facts of the cell.
+
+One file per raw folder describes the cell the measurements were taken in, so that every
+analysis that needs the robot reads it from the data, not from the virtual cell of the
+simulators (``docs/data-contract.md``, section *The cell*)::
+
+    robot: {name: irb1600, convention: dh, length_unit: mm, angle_unit: deg,
+            joints: [{a: 150.0, alpha: -90.0, d: 486.5, theta_offset: 0.0}, ...],
+            tool: [0.0, 0.0, 180.0]}
+    q_home_deg: [0, 20, 10, 0, 60, 0]          # IK seed (the posture branch)
+    tool_rotation: [[1, 0, 0], [0, -1, 0], [0, 0, -1]]   # TCP orientation while cutting
+    transmissions:                             # nominal gear trains (no error amplitudes)
+      - {joint: 1, stage: motor, rev_per_joint_rev: 120.0, teeth: 17}
+    base_from_instrument:                      # optional, per instrument (tracker, ctrack)
+      tracker: {rotation: [[1, 0, 0], [0, 1, 0], [0, 0, 1]], translation_mm: [0, 0, 0]}
+
+``robot`` follows the robot-file schema of the stiffness section
+(:func:`robomill.io.robots.parse_robot`). ``base_from_instrument[k]`` registers instrument k's
+frame to the robot base: ``p_base = rotation · p_instrument + translation_mm``; an absent entry
+means the instrument already measures in the base frame. Every problem raises one
+:class:`~robomill.io.errors.RawDataError` naming the file and the key.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+
+from robomill.io.errors import RawDataError
+from robomill.io.robots import parse_robot
+from robomill.kinematics import SerialRobot, robot_from_mapping
+
+CELL_KEYS = ("robot", "q_home_deg", "tool_rotation", "transmissions", "base_from_instrument")
+"""Top-level keys of ``cell.yaml`` (``base_from_instrument`` optional)."""
+
+TRANSMISSION_KEYS = ("joint", "stage", "rev_per_joint_rev", "teeth")
+"""Keys of one ``transmissions`` entry."""
+
+INSTRUMENTS = ("tracker", "ctrack")
+"""Instruments whose frame ``base_from_instrument`` may register to the robot base."""
+
+ROTATION_TOL = 1e-6
+"""Largest ``|RᵀR − I|`` entry and ``|det R − 1|`` accepted for a rotation matrix."""
+
+
+@dataclass(frozen=True)
+class Transmission:
+    """One rotating element of a joint's gear train (nominal: no error amplitudes).
+
+    ``rev_per_joint_rev`` revolutions of this element per joint revolution and its tooth
+    count ``teeth``: it turns ``r`` times and meshes ``r·z`` times per joint revolution
+    (Slamani & Bonev 2013; SPEC §3.2).
+    """
+
+    joint: int
+    stage: str
+    rev_per_joint_rev: float
+    teeth: int
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"joint": self.joint, "stage": self.stage,
+                "rev_per_joint_rev": self.rev_per_joint_rev, "teeth": self.teeth}
+
+
+@dataclass(frozen=True)
+class Registration:
+    """Rigid transform from an instrument's frame to the robot base frame."""
+
+    rotation: np.ndarray
+    translation_mm: np.ndarray
+
+    def apply(self, points_mm: np.ndarray) -> np.ndarray:
+        """``p_base = R p + t`` for points ``(..., 3)`` [mm]."""
+        return np.asarray(points_mm, float) @ self.rotation.T + self.translation_mm
+
+
+@dataclass
+class Cell:
+    """A validated cell file."""
+
+    path: Path
+    robot: SerialRobot
+    robot_spec: dict[str, Any]
+    q_home_deg: np.ndarray
+    tool_rotation: np.ndarray
+    transmissions: list[Transmission]
+    base_from_instrument: dict[str, Registration] = field(default_factory=dict)
+
+    @property
+    def q_home_rad(self) -> np.ndarray:
+        return np.deg2rad(self.q_home_deg)
+
+    def to_base_mm(self, instrument: str, points_mm: np.ndarray) -> np.ndarray:
+        """Points measured by ``instrument`` expressed in the robot base frame [mm] (unchanged
+        when the cell registers no frame for it)."""
+        reg = self.base_from_instrument.get(instrument)
+        return np.asarray(points_mm, float) if reg is None else reg.apply(points_mm)
+
+    def fourier_orders(self) -> list[list[float]]:
+        """Per joint (1..n), the sorted distinct orders of its gear elements: each element's
+        revolutions per joint revolution ``r`` and its mesh order ``r·z`` (the orders of the
+        calibration's joint-error Fourier model, ``calibration.error_model.orders``)."""
+        out: list[list[float]] = []
+        for j in range(1, self.robot.n_joints + 1):
+            orders = set()
+            for t in self.transmissions:
+                if t.joint == j:
+                    orders.update({t.rev_per_joint_rev, t.rev_per_joint_rev * t.teeth})
+            out.append(sorted(round(o, 9) for o in orders))
+        return out
+
+    def joint_path_rad(self, targets: np.ndarray, q0_rad: np.ndarray | None = None, *,
+                       data_file: str | Path, instrument: str) -> np.ndarray:
+        """Inverse kinematics along TCP poses ``(m, 4, 4)`` in the base frame, each solution
+        seeding the next (from ``q_home_deg``).
+
+        Raises
+        ------
+        RawDataError
+            Naming ``data_file`` when a pose is out of the robot's reach: the points are then
+            not in this robot's base frame, and ``base_from_instrument`` must register them.
+        """
+        q0 = self.q_home_rad if q0_rad is None else q0_rad
+        try:
+            return self.robot.ik_path(targets, q0)
+        except RuntimeError:
+            reach = _reach_mm(self.robot)
+            p = np.asarray(targets, float)[:, :3, 3]
+            far = float(np.max(np.linalg.norm(p, axis=1)))
+            raise RawDataError(
+                data_file, f"points are not reachable by robot '{self.robot.name}' of "
+                f"{self.path} (up to {far:.0f} mm from its base, reach about {reach:.0f} mm)",
+                where=f"{instrument} points in the robot base frame",
+                expected=f"points in the base frame of this robot: register the {instrument} "
+                         f"frame with base_from_instrument.{instrument} "
+                         "{rotation, translation_mm} in cell.yaml") from None
+
+
+def _reach_mm(robot: SerialRobot) -> float:
+    """Upper bound of the TCP distance from the base origin [mm] (sum of link lengths)."""
+    total = sum(abs(float(a)) + abs(float(d)) for a, d in zip(robot.a_mm, robot.d_mm, strict=True))
+    return total + float(np.linalg.norm(robot.tool_mm))
+
+
+def _matrix(path: Path, where: str, value: Any, shape: tuple[int, ...], what: str
+            ) -> np.ndarray:
+    try:
+        arr = np.array(value, dtype=float)
+    except (TypeError, ValueError):
+        arr = None
+    if (arr is None or isinstance(value, str | bool | Mapping) or arr.shape != shape
+            or not np.all(np.isfinite(arr))):
+        raise RawDataError(path, f"{where} is {value!r}", where=where, expected=what)
+    return arr
+
+
+def _rotation(path: Path, where: str, value: Any) -> np.ndarray:
+    R = _matrix(path, where, value, (3, 3), "a 3×3 rotation matrix (list of 3 rows of 3 numbers)")
+    if (np.max(np.abs(R.T @ R - np.eye(3))) > ROTATION_TOL
+            or abs(np.linalg.det(R) - 1.0) > ROTATION_TOL):
+        raise RawDataError(path, f"{where} is not a rotation (RᵀR ≠ I or det R ≠ 1)",
+                           where=where, expected="an orthonormal 3×3 matrix with determinant +1")
+    return R
+
+
+def _require(path: Path, data: Mapping, key: str, where: str, expected: str) -> Any:
+    if key not in data:
+        raise RawDataError(path, f"key '{key}' is missing", where=where, expected=expected)
+    return data[key]
+
+
+def parse_cell(data: Any, path: str | Path) -> Cell:
+    """Validate a cell mapping (as loaded from ``cell.yaml``) and return a :class:`Cell`.
+
+    Raises
+    ------
+    RawDataError
+        Naming the file and the key (``robot.joints[2].alpha``, ``tool_rotation``,
+        ``transmissions[3].teeth``, ``base_from_instrument.tracker.rotation`` …).
+    """
+    path = Path(path)
+    top = "keys robot, q_home_deg, tool_rotation, transmissions (base_from_instrument optional)"
+    if not isinstance(data, Mapping):
+        raise RawDataError(path, "not a YAML mapping", expected=top)
+    unknown = sorted(set(data) - set(CELL_KEYS))
+    if unknown:
+        raise RawDataError(path, f"unknown key(s) {', '.join(map(str, unknown))}",
+                           where="<top level>", expected=top)
+    spec = _require(path, data, "robot", "robot", top)
+    try:
+        spec = parse_robot(spec, path, n_joints=None)
+    except RawDataError as err:  # the same checks as a robot file, keys under 'robot'
+        where = "robot" + (f".{err.where}" if err.where else "")
+        raise RawDataError(path, err.problem, where=where, expected=err.expected) from None
+    robot = robot_from_mapping(spec)
+    n = robot.n_joints
+
+    q_home = _require(path, data, "q_home_deg", "q_home_deg", top)
+    q_home = _matrix(path, "q_home_deg", q_home, (n,),
+                     f"a list of {n} joint angles [deg] (one per joint of the robot)")
+    R_tool = _rotation(path, "tool_rotation", _require(path, data, "tool_rotation",
+                                                       "tool_rotation", top))
+
+    trans = _require(path, data, "transmissions", "transmissions", top)
+    if not isinstance(trans, list):
+        raise RawDataError(path, f"transmissions is {type(trans).__name__}",
+                           where="transmissions",
+                           expected="a list of {joint, stage, rev_per_joint_rev, teeth}")
+    transmissions = []
+    seen: dict[tuple[int, str], int] = {}
+    for i, t in enumerate(trans):
+        where = f"transmissions[{i}]"
+        keys = "keys " + ", ".join(TRANSMISSION_KEYS)
+        if not isinstance(t, Mapping):
+            raise RawDataError(path, f"{type(t).__name__} found", where=where,
+                               expected="a mapping with " + keys)
+        extra = sorted(set(t) - set(TRANSMISSION_KEYS))
+        if extra:
+            raise RawDataError(path, f"unknown key(s) {', '.join(map(str, extra))}", where=where,
+                               expected=keys + " (error amplitudes are not facts of the cell)")
+        for key in TRANSMISSION_KEYS:
+            _require(path, t, key, where, keys)
+        joint, stage, rev, teeth = (t[k] for k in TRANSMISSION_KEYS)
+        if isinstance(joint, bool) or not isinstance(joint, int) or not 1 <= joint <= n:
+            raise RawDataError(path, f"joint is {joint!r}", where=f"{where}.joint",
+                               expected=f"an integer joint number 1..{n}")
+        if not isinstance(stage, str) or not stage:
+            raise RawDataError(path, f"stage is {stage!r}", where=f"{where}.stage",
+                               expected="a stage name (text)")
+        if (isinstance(rev, bool) or not isinstance(rev, int | float) or not np.isfinite(rev)
+                or rev <= 0):
+            raise RawDataError(path, f"rev_per_joint_rev is {rev!r}",
+                               where=f"{where}.rev_per_joint_rev",
+                               expected="a positive number (element revolutions per joint "
+                                        "revolution)")
+        if isinstance(teeth, bool) or not isinstance(teeth, int) or teeth < 1:
+            raise RawDataError(path, f"teeth is {teeth!r}", where=f"{where}.teeth",
+                               expected="a positive integer tooth count")
+        if (joint, stage) in seen:
+            raise RawDataError(path, f"joint {joint} stage {stage!r} listed twice (also "
+                               f"transmissions[{seen[(joint, stage)]}])", where=where,
+                               expected="each (joint, stage) once")
+        seen[(joint, stage)] = i
+        transmissions.append(Transmission(joint, stage, float(rev), teeth))
+
+    regs: dict[str, Registration] = {}
+    bfi = data.get("base_from_instrument")
+    if bfi is not None:
+        if not isinstance(bfi, Mapping):
+            raise RawDataError(path, f"base_from_instrument is {type(bfi).__name__}",
+                               where="base_from_instrument",
+                               expected="a mapping instrument -> {rotation, translation_mm} "
+                                        "with instruments " + ", ".join(INSTRUMENTS))
+        for inst, reg in bfi.items():
+            where = f"base_from_instrument.{inst}"
+            if inst not in INSTRUMENTS:
+                raise RawDataError(path, f"unknown instrument {inst!r}", where=where,
+                                   expected="one of " + ", ".join(INSTRUMENTS))
+            if not isinstance(reg, Mapping):
+                raise RawDataError(path, f"{type(reg).__name__} found", where=where,
+                                   expected="a mapping {rotation, translation_mm}")
+            extra = sorted(set(reg) - {"rotation", "translation_mm"})
+            if extra:
+                raise RawDataError(path, f"unknown key(s) {', '.join(map(str, extra))}",
+                                   where=where, expected="keys rotation, translation_mm")
+            R = _rotation(path, f"{where}.rotation",
+                          _require(path, reg, "rotation", where, "keys rotation, translation_mm"))
+            t = _matrix(path, f"{where}.translation_mm",
+                        _require(path, reg, "translation_mm", where,
+                                 "keys rotation, translation_mm"),
+                        (3,), "[x, y, z] in mm")
+            regs[str(inst)] = Registration(R, t)
+    return Cell(path=path, robot=robot, robot_spec=spec, q_home_deg=q_home,
+                tool_rotation=R_tool, transmissions=transmissions, base_from_instrument=regs)
+
+
+def read_cell(path: str | Path) -> Cell:
+    """Read and validate ``cell.yaml`` (see the module docstring)."""
+    path = Path(path)
+    if not path.exists():
+        raise RawDataError(path, "cell file does not exist",
+                           expected="cell.yaml in the raw folder (docs/data-contract.md)")
+    try:
+        data = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as exc:
+        raise RawDataError(path, f"not valid YAML: {exc}") from None
+    return parse_cell(data, path)
+
+
+def cell_mapping(cell: Mapping[str, Any]) -> dict[str, Any]:
+    """The ``cell.yaml`` mapping of a configuration's ``cell:`` section (plain YAML types)."""
+    out: dict[str, Any] = {k: cell[k] for k in CELL_KEYS[:4]}
+    out["transmissions"] = [{k: t[k] for k in TRANSMISSION_KEYS} for t in cell["transmissions"]]
+    if cell.get("base_from_instrument"):
+        out["base_from_instrument"] = dict(cell["base_from_instrument"])
+    return _plain(out)
+
+
+def _plain(obj: Any) -> Any:
+    if isinstance(obj, Mapping):
+        return {str(k): _plain(v) for k, v in obj.items()}
+    if isinstance(obj, Sequence) and not isinstance(obj, str):
+        return [_plain(v) for v in obj]
+    if isinstance(obj, np.generic):
+        return obj.item()
+    return obj
+
+
+def write_cell(cell: Mapping[str, Any], path: str | Path) -> Path:
+    """Write a configuration's ``cell:`` section as ``cell.yaml`` (validated, atomically)."""
+    from robomill.io.atomic import atomic_path
+
+    data = cell_mapping(cell)
+    parse_cell(data, path)
+    with atomic_path(path) as tmp:
+        tmp.write_text(yaml.safe_dump(data, sort_keys=False, width=100))
+    return Path(path)

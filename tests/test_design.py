@@ -1,0 +1,73 @@
+"""Cuts of any design in the synthetic study (config ``experiment.cuts``): planning, the
+simulators' per-cut values, and what the simulators refuse."""
+
+import copy
+
+import numpy as np
+import pytest
+
+from robomill.io.errors import ConfigError
+from robomill.synth.plan import synthetic_cuts, synthetic_manifest
+
+SERIES = [  # a spindle-speed series with a 3-flute tool, -X and 45 deg slots
+    {"id": "n12k_mx", "feed_mm_s": 2.0, "depth_mm": 0.25, "direction": "mx",
+     "spindle_rpm": 12000, "flutes": 3, "start_mm": [690.0, -60.0, 199.75]},
+    {"id": "n18k_mx", "feed_mm_s": 2.0, "depth_mm": 0.25, "direction": "mx",
+     "spindle_rpm": 18000, "flutes": 3, "start_mm": [690.0, -30.0, 199.75]},
+    {"id": "n24k_d45", "feed_mm_s": 2.0, "depth_mm": 0.25, "direction_deg": 45.0,
+     "spindle_rpm": 24000, "flutes": 3, "start_mm": [620.0, -100.0, 199.75]},
+]
+
+
+def _design(tiny_config, cuts):
+    cfg = copy.deepcopy(tiny_config)
+    cfg["experiment"]["cuts"] = copy.deepcopy(cuts)
+    return cfg
+
+
+def test_an_explicit_design_is_planned_as_given(tiny_config):
+    cfg = _design(tiny_config, SERIES)
+    cuts = synthetic_cuts(cfg)
+    assert [c.id for c in cuts] == ["n12k_mx", "n18k_mx", "n24k_d45"]
+    files = synthetic_manifest(cfg)["files"]
+    assert {f["cut"] for f in files if f["kind"] == "force"} == {c.id for c in cuts}
+    # tracker runs follow the cuts with a named direction (tiny config: px only -> none)
+    assert not [f for f in files if f["kind"] == "tracker"]
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    ({"radial_immersion": 0.5, "milling": "down"}, r"cut 'n12k_mx' is not a slot"),
+    ({"start_mm": None}, r"cut 'n12k_mx' needs start_mm"),
+    ({"spindle_rpm": -1}, r"experiment\.cuts': cuts\[0\]\.spindle_rpm: spindle_rpm is -1"),
+])
+def test_cuts_the_simulators_cannot_make_are_refused(tiny_config, edit, message):
+    cuts = copy.deepcopy(SERIES)
+    cuts[0].update(edit)
+    cuts[0] = {k: v for k, v in cuts[0].items() if v is not None}
+    with pytest.raises(ConfigError, match=message):
+        synthetic_cuts(_design(tiny_config, cuts))
+
+
+def test_each_simulated_record_carries_its_own_tooth_passing_line(tiny_config, tmp_path):
+    """Known truth: the dynamometer's force is periodic at each cut's own N·n (600, 900 and
+    1200 Hz), not at the experiment's 933 Hz."""
+    from robomill.io.forces import open_force_record
+    from robomill.synth.dynamometer import simulate_file
+
+    cfg = _design(tiny_config, SERIES)
+    cfg["synth"]["dynamometer"] = {**cfg["synth"]["dynamometer"], "record_length_mm": 1.0,
+                                   "format": "csv"}
+    for cut, f_tp in zip(synthetic_cuts(cfg), (600.0, 900.0, 1200.0), strict=True):
+        path = simulate_file(cfg, cut, tmp_path / f"{cut.id}.csv")
+        rec = open_force_record(path, 25000.0)
+        force = np.concatenate([f for _, f in rec.chunks(1 << 20)])
+        w = np.hanning(len(force))[:, None]
+        F = np.abs(np.fft.rfft((force - force.mean(axis=0)) * w, axis=0)).sum(axis=1)
+        f = np.fft.rfftfreq(len(force), 1 / 25000.0)
+        floor = np.median(F[(f > 300) & (f < 3000)])
+
+        def line(hz, F=F, f=f):
+            return F[np.abs(f - hz) <= 2.5].max()
+
+        assert line(f_tp) > 50 * floor and line(2 * f_tp) > 50 * floor  # its own N n
+        assert line(f_tp) > 10 * line(2800 / 3)  # not at the experiment's 933 Hz
