@@ -77,6 +77,7 @@ rule forces:
 rule ch3_forces:
     input:
         unpack(forces_truth_input),
+        **({"modes": "results/modal/modes.csv"} if has_kind("impact") else {}),
         notebook=notebook("ch3_1_forces.ipynb"),
         spectra="results/forces/spectra.nc",
         peaks="results/forces/peaks.csv",
@@ -85,7 +86,6 @@ rule ch3_forces:
         harmonics="results/forces/harmonics.csv",
         code=code("forces", "chapters", "plotting"),
         # the impact test's modes, when the raw folder has one (chapter 3.3)
-        **({"modes": "results/modal/modes.csv"} if has_kind("impact") else {}),
     output:
         ipynb="results/chapters/ch3_1_forces.ipynb",
         html=report(

@@ -75,6 +75,7 @@ rule modal:
 rule ch3_modal:
     input:
         **({"truth": "results/synthetic/truth.nc"} if SYNTHETIC else {}),
+        **({"forces_peaks": "results/forces/peaks.csv"} if has_kind("force") else {}),
         notebook=notebook("ch3_3_modal.ipynb"),
         frf="results/modal/frf.nc",
         synth="results/modal/frf_synth.nc",
@@ -87,7 +88,6 @@ rule ch3_modal:
         mac="results/modal/mac.csv",
         code=code("chapters", "plotting"),
         # the forces chapter's dominant frequencies, when the raw folder has force records
-        **({"forces_peaks": "results/forces/peaks.csv"} if has_kind("force") else {}),
     output:
         ipynb="results/chapters/ch3_3_modal.ipynb",
         html=report(
