@@ -188,7 +188,7 @@ def test_check_reports_every_planted_problem_one_line_each(tmp_path, capsys):
     m = complete_manifest(raw)
     del m["experiment"]["flutes"]                                   # 1 experiment key
     m["cuts"].append({"id": "s1_g9_zz", "set": 1, "segment": 9, "direction": "zz",
-                      "feed_mm_s": 1.0, "depth_mm": 0.25})           # 2 malformed cut id
+                      "feed_mm_s": 1.0, "depth_mm": 0.25})           # 2 unknown direction
     files = {f["path"]: f for f in m["files"]}
     files["tracker/px_f2.csv"]["fs_hz"] = 800.0                      # 3 wrong rate
     files["impact/hitX_1.csv"]["kind"] = "hammer"                    # 4 unknown kind
@@ -209,7 +209,7 @@ def test_check_reports_every_planted_problem_one_line_each(tmp_path, capsys):
     m_path = str(raw / "manifest.yaml")
     expected = [
         (m_path, "experiment", "key 'flutes' is missing"),
-        (m_path, "cuts[1].id", "cut id 's1_g9_zz' is malformed"),
+        (m_path, "cuts[1].direction", "direction 'zz' is unknown"),
         (str(raw / "tracker/px_f2.csv"), "t_s", "(from the manifest)"),
         (m_path, f"files[{list(files).index('impact/hitX_1.csv')}].kind",
          "unknown kind 'hammer'"),
