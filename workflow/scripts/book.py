@@ -14,5 +14,6 @@ index = build_book(
     cuts_csv=inp.cuts,
     scorecard_csv=inp.get("scorecard"),
     benchmarks_csv=snakemake.params.benchmarks,  # written by `make bench`, used when present
+    pdf_name=snakemake.params.pdf_name,  # results/thesis/book.pdf, printed by rule book_pdf
 )
 log.info("book written to %s (%d chapters)", index, len(inp.chapters))
