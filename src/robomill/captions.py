@@ -29,6 +29,7 @@ class _Item:
     caption: str
     number: int
     part: str = ""
+    stem: str | None = None
     shown: bool = False
     referred: bool = False
 
@@ -50,7 +51,8 @@ class Numbering:
     chapter: str
     _items: dict[str, _Item] = field(default_factory=dict)
 
-    def _add(self, kind: str, key: str, caption: str, number: int | None, part: str) -> str:
+    def _add(self, kind: str, key: str, caption: str, number: int | None, part: str,
+             stem: str | None = None) -> str:
         if key in self._items:
             raise ValueError(f"{kind.lower()} {key!r} is declared twice in chapter "
                              f"{self.chapter}")
@@ -62,12 +64,14 @@ class Numbering:
             if (other.kind, other.number, other.part) == label:
                 raise ValueError(f"{kind} {self.chapter}.{number}{part} is used by both "
                                  f"{other.key!r} and {key!r}")
-        self._items[key] = _Item(kind, key, caption, int(number), part)
+        self._items[key] = _Item(kind, key, caption, int(number), part, stem)
         return self.label(key)
 
-    def figure(self, key: str, caption: str, number: int | None = None, part: str = "") -> str:
-        """Declare a figure; returns its label (``"Figure 2.9"``)."""
-        return self._add("Figure", key, caption, number, part)
+    def figure(self, key: str, caption: str, number: int | None = None, part: str = "",
+               stem: str | None = None) -> str:
+        """Declare a figure; returns its label (``"Figure 2.9"``). ``stem`` overrides the
+        file name :meth:`file` gives (for files named before this numbering)."""
+        return self._add("Figure", key, caption, number, part, stem)
 
     def table(self, key: str, caption: str, number: int | None = None, part: str = "") -> str:
         """Declare a table; returns its label (``"Table 2.1"``)."""
@@ -94,6 +98,8 @@ class Numbering:
         """Figure file name without suffix, ``fig<chapter>_<number>_<key>`` (dots in the
         chapter become underscores: chapter ``"3"`` and number 12 give ``fig3_12_<key>``)."""
         item = self._item(key)
+        if item.stem:
+            return item.stem
         return f"fig{self.chapter.replace('.', '_')}_{item.number}_{item.key}"
 
     def caption_text(self, key: str) -> str:
