@@ -6,7 +6,6 @@ import re
 import jupytext
 import nbformat
 import pytest
-
 from conftest import REPO
 
 
