@@ -2,6 +2,7 @@
 edit reruns the rules that use it (and what depends on them), nothing else."""
 
 import shutil
+from pathlib import Path
 
 import pytest
 from conftest import REPO, SNAKEMAKE, raw_copy_of_run
@@ -57,3 +58,44 @@ def test_edits_rerun_only_what_uses_them(tiny_run, tmp_path):
     jobs = _planned(repo, work, "ch0")
     assert set(jobs) == {"ingest_manifest", "ch0"}
     assert "input changed" in jobs["ingest_manifest"].categories
+
+
+def test_editing_any_module_a_rule_imports_makes_why_list_it(tiny_run, tmp_path):
+    """Every library file that ch0's script (render_chapter.py) and notebook import, through
+    the import graph (robomill.codedeps), is an input of ch0: editing any one of them makes
+    `make why` list ch0 ("input changed"). Likewise stiffness.py for stiffness_optimal, whose
+    hand-kept code() list was empty."""
+    import os
+
+    from robomill.codedeps import code_files
+    from robomill.why import format_table
+
+    repo = _copy_repo(tmp_path / "repo")
+    work = tmp_path / "work"
+    work.mkdir()
+    raw_copy_of_run(tiny_run, tmp_path / "raw", config_path=work / "config.yaml")
+    proc = _snakemake(repo, work, "-j2", "ch0")
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert _planned(repo, work, "ch0") == {}
+    modules = code_files([repo / "workflow/scripts/render_chapter.py",
+                          repo / "notebooks/ch0_experiment.ipynb"], repo / "src")
+    names = {os.path.relpath(m, repo / "src") for m in modules}
+    assert {"robomill/chapters.py", "robomill/plotting.py", "robomill/captions.py",
+            "robomill/runlog.py", "robomill/__init__.py"} <= names, names
+    for module in map(Path, modules):
+        st = module.stat()
+        os.utime(module, ns=(st.st_atime_ns, st.st_mtime_ns + 10**10))  # an edit, 10 s later
+        try:
+            jobs = _planned(repo, work, "ch0")
+        finally:
+            os.utime(module, ns=(st.st_atime_ns, st.st_mtime_ns))
+        assert "ch0" in jobs, (module, format_table(list(jobs.values())))
+        assert "input changed" in jobs["ch0"].categories, (module, jobs["ch0"].categories)
+    assert _planned(repo, work, "ch0") == {}
+    # a rule whose hand-kept list was empty, checked on the DAG without building it
+    proc = _snakemake(repo, work, "--detailed-summary", "stiffness_optimal")
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    stiffness = str(repo / "src" / "robomill" / "stiffness.py")
+    rows = [ln.split("\t") for ln in proc.stdout.splitlines()]
+    assert any(len(r) > 4 and r[2] == "stiffness_optimal" and stiffness in r[4].split(",")
+               for r in rows), proc.stdout[-2000:]
