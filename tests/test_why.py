@@ -64,7 +64,8 @@ def test_editing_any_module_a_rule_imports_makes_why_list_it(tiny_run, tmp_path)
     """Every library file that ch0's script (render_chapter.py) and notebook import, through
     the import graph (robomill.codedeps), is an input of ch0: editing any one of them makes
     `make why` list ch0 ("input changed"). Likewise stiffness.py for stiffness_optimal, whose
-    hand-kept code() list was empty."""
+    hand-kept code() list was empty. (Content edits: Snakemake ignores a newer mtime when the
+    checksum of a small input is unchanged.)"""
     import os
 
     from robomill.codedeps import code_files
@@ -83,19 +84,20 @@ def test_editing_any_module_a_rule_imports_makes_why_list_it(tiny_run, tmp_path)
     assert {"robomill/chapters.py", "robomill/plotting.py", "robomill/captions.py",
             "robomill/runlog.py", "robomill/__init__.py"} <= names, names
     for module in map(Path, modules):
-        st = module.stat()
-        os.utime(module, ns=(st.st_atime_ns, st.st_mtime_ns + 10**10))  # an edit, 10 s later
+        text = module.read_text()
+        module.write_text(text + "\n# an edit\n")  # content: an mtime alone is not enough
         try:
             jobs = _planned(repo, work, "ch0")
         finally:
-            os.utime(module, ns=(st.st_atime_ns, st.st_mtime_ns))
+            module.write_text(text)
         assert "ch0" in jobs, (module, format_table(list(jobs.values())))
-        assert "input changed" in jobs["ch0"].categories, (module, jobs["ch0"].categories)
+        # directly, or through ingest_manifest when that imports the module too
+        assert set(jobs["ch0"].categories) & {"input changed", "upstream job reruns"}, \
+            (module, jobs["ch0"].categories)
     assert _planned(repo, work, "ch0") == {}
     # a rule whose hand-kept list was empty, checked on the DAG without building it
-    proc = _snakemake(repo, work, "--detailed-summary", "stiffness_optimal")
+    proc = _snakemake(repo, work, "-n", "--forceall", "stiffness_optimal")
     assert proc.returncode == 0, proc.stderr[-3000:]
-    stiffness = str(repo / "src" / "robomill" / "stiffness.py")
-    rows = [ln.split("\t") for ln in proc.stdout.splitlines()]
-    assert any(len(r) > 4 and r[2] == "stiffness_optimal" and stiffness in r[4].split(",")
-               for r in rows), proc.stdout[-2000:]
+    block = (proc.stdout + proc.stderr).split("rule stiffness_optimal:", 1)[1]
+    inputs = block.split("input:", 1)[1].split("\n", 1)[0].split(", ")
+    assert str(repo / "src" / "robomill" / "stiffness.py") in [i.strip() for i in inputs]
