@@ -163,3 +163,16 @@ def test_identification_intervals_cover_truth_with_noise():
 def test_identification_needs_several_feeds():
     with pytest.raises(ValueError, match="at least 3 cuts"):
         identify_cutting_coefficients([0.001, 0.001], [0.25, 0.25], np.zeros((2, 3)))
+
+
+def test_nearest_modes_of_planted_peaks():
+    import pandas as pd
+
+    from robomill.forces import nearest_modes
+
+    modes = pd.DataFrame({"mode": [1, 2, 3], "f_n_hz": [60.0, 85.0, 110.0]})
+    t = nearest_modes(np.array([61.5, 84.0, 120.0, 72.0]), modes)
+    assert t["nearest_mode"].tolist() == [1, 2, 3, 1]
+    np.testing.assert_allclose(t["offset_hz"], [1.5, -1.0, 10.0, 12.0])
+    empty = nearest_modes(np.array([61.5]), modes.iloc[:0])
+    assert np.isnan(empty["offset_hz"].iloc[0]) and empty["nearest_mode"].iloc[0] is None

@@ -33,6 +33,7 @@ from IPython.display import Markdown, display
 
 from robomill.captions import Numbering
 from robomill.experiment import DIRECTION_LABELS
+from robomill.forces import nearest_modes
 from robomill.io import open_artefact
 from robomill.plotting import save_figure
 
@@ -195,10 +196,7 @@ per_direction("f_low", 250.0, "time", "Time-frequency power,", "frequency [Hz]",
 # %%
 tab = pk.merge(mf[["cut", "feed_mm_s", "depth_mm", "direction"]], on="cut")
 if mode_table is not None and len(mode_table):
-    idx = np.abs(tab["dominant_hz"].to_numpy()[:, None] - mode_f[None, :]).argmin(axis=1)
-    tab["nearest_mode"] = mode_table["mode"].to_numpy()[idx]
-    tab["nearest_mode_hz"] = mode_f[idx]
-    tab["offset_hz"] = tab["dominant_hz"] - tab["nearest_mode_hz"]
+    tab = tab.join(nearest_modes(tab["dominant_hz"], mode_table))
 display(num.caption("peaks"))
 display(tab.round(4))
 
