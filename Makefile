@@ -8,7 +8,8 @@ JOBS ?= 2
 SNAKEMAKE := $(BIN)/snakemake
 CHAPTER ?=
 
-.PHONY: all test test-fast test-cluster report bench lock lint fmt why explore kernel clean venv
+.PHONY: all test test-fast test-cluster report bench lock lint fmt why explore kernel clean venv \
+	notebooks
 
 all: $(STAMP)
 	$(SNAKEMAKE) -j$(JOBS) --rerun-incomplete all
@@ -46,6 +47,16 @@ bench: $(STAMP)
 # Regenerate the pinned, hashed lock from pyproject.toml (needs network access to PyPI).
 lock: 
 	uv pip compile pyproject.toml --extra dev --generate-hashes --universal --python-version 3.11 -q -o environment.lock
+
+# Chapter notebooks: the pipeline runs notebooks/<name>.ipynb, built with jupytext from the
+# percent-format source notebooks/src/<name>.py (edit the source, then `make notebooks`, commit both;
+# tests/test_notebooks.py checks that each pair holds the same cells).
+NOTEBOOK_SRC := $(wildcard notebooks/src/*.py)
+NOTEBOOKS := $(patsubst notebooks/src/%.py,notebooks/%.ipynb,$(NOTEBOOK_SRC))
+notebooks: $(NOTEBOOKS)
+
+notebooks/%.ipynb: notebooks/src/%.py | $(STAMP)
+	$(BIN)/jupytext --quiet --update --to ipynb --set-kernel python3 --output $@ $<
 
 lint: $(STAMP)
 	$(BIN)/ruff check .

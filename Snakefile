@@ -40,6 +40,10 @@ include: "workflow/rules/chapters.smk"
 include: "workflow/rules/book.smk"
 
 
+# every rule's library inputs: what its script and notebook import (common.smk)
+derive_code_inputs(workflow.rules)
+
+
 onerror:
     import atexit
     from robomill.failures import summarize_failures

@@ -13,6 +13,16 @@ REPO = Path(__file__).resolve().parents[1]
 SNAKEMAKE = str(Path(sys.executable).with_name("snakemake"))
 
 
+def missing_system_package(why: str) -> None:
+    """Skip a test whose Debian packages (chromium, slurm, …) are missing, saying why; under
+    ``CI=true`` fail it instead, so that CI never passes by skipping what it should test
+    (`.ci/run` installs the packages of `.ci/apt-packages.txt`)."""
+    if os.environ.get("CI", "").lower() in ("true", "1"):
+        pytest.fail(f"{why} (CI=true: a missing system package fails, it does not skip; "
+                    "install .ci/apt-packages.txt, see README, Tests)", pytrace=False)
+    pytest.skip(why)
+
+
 @pytest.fixture(scope="session")
 def repo() -> Path:
     return REPO

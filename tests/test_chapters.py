@@ -178,3 +178,33 @@ def test_kernel_that_never_answers_is_started_again(tmp_path, monkeypatch):
         _render(tmp_path / "cell", _notebook(tmp_path, "raise ValueError('planted')"),
                 data="a.csv")
     assert len(calls) == 2  # the first (start) failure retried; the cell failure was not
+
+
+def test_page_reads_as_a_document(tmp_path):
+    """Code folded in <details>, one parameter table (no parameters / injected cells), and no
+    staging folder on the page even when a cell prints fig_dir."""
+    nb = _notebook(tmp_path, "print('figures in', fig_dir)\nprint('value', n * 21)")
+    out = tmp_path / "out"
+    render_chapter(nb, out / "c.ipynb", out / "c.html", out / "figs",
+                   {"data": str(tmp_path / "results" / "a.csv"), "n": 2},
+                   failed_copy=tmp_path / "logs" / "c.failed.ipynb", start_timeout_s=120,
+                   cwd=tmp_path)
+    html = (out / "c.html").read_text()
+    assert html.count("Parameters of this run") == 1
+    assert "injected-parameters" not in html and "fig_dir: str = None" not in html
+    assert html.count('<details class="robomill-code">') == 1  # the one remaining code cell
+    assert "<details open" not in html
+    assert "`results/a.csv`" in html or "<code>results/a.csv</code>" in html
+    assert str(tmp_path) not in html
+    assert "figures in out/figs" in html
+    executed = nbformat.read(out / "c.ipynb", as_version=4)  # the executed notebook keeps all
+    assert any("injected-parameters" in c.metadata.get("tags", []) for c in executed.cells)
+
+
+def test_shown_value_is_relative_to_the_run_folder(tmp_path):
+    from robomill.chapters import shown_value
+
+    assert shown_value(str(tmp_path / "results/x.csv"), tmp_path) == "results/x.csv"
+    assert shown_value("results/x.csv", tmp_path) == "results/x.csv"
+    assert shown_value("/elsewhere/x.csv", tmp_path) == "/elsewhere/x.csv"
+    assert shown_value(3.5, tmp_path) == "3.5"

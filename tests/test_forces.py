@@ -239,3 +239,16 @@ def test_kinematic_peak_of_a_short_record_is_flagged(length_mm, flagged):
         assert float(ds["kinematic_per_mm"]) == pytest.approx(0.5, abs=1 / length_mm)  # a bin
     assert bool(ds["kinematic_below_resolution"]) is flagged
     assert ds.attrs["decimation"] == 12
+
+
+def test_nearest_modes_of_planted_peaks():
+    import pandas as pd
+
+    from robomill.forces import nearest_modes
+
+    modes = pd.DataFrame({"mode": [1, 2, 3], "f_n_hz": [60.0, 85.0, 110.0]})
+    t = nearest_modes(np.array([61.5, 84.0, 120.0, 72.0]), modes)
+    assert t["nearest_mode"].tolist() == [1, 2, 3, 1]
+    np.testing.assert_allclose(t["offset_hz"], [1.5, -1.0, 10.0, 12.0])
+    empty = nearest_modes(np.array([61.5]), modes.iloc[:0])
+    assert np.isnan(empty["offset_hz"].iloc[0]) and empty["nearest_mode"].iloc[0] is None

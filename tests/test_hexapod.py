@@ -170,3 +170,52 @@ def test_seed_vertical_move_behaviour(hx, section):
     dp, dr = hp.force_error_drift(hx, prog, 1, 1.0)
     assert 1.0 < np.linalg.norm(dp) * 1e3 < 10.0
     assert 1.0 < np.rad2deg(np.linalg.norm(dr)) < 10.0
+
+
+def _planted_map(slopes_mm_per_pct, errors=(-1.0, -0.5, 0.5, 1.0), bend=0.0):
+    """A sensitivity map whose drift is exactly slope · e (plus ``bend`` · e² along x)."""
+    import xarray as xr
+
+    from robomill.hexapod import gather_sensitivity
+
+    e = np.asarray(errors)
+    shards = []
+    for i, s in enumerate(slopes_mm_per_pct, start=1):
+        d = np.zeros((1, e.size, 3))
+        d[0, :, 2] = s * e
+        d[0, :, 0] = bend * e**2
+        shards.append(xr.Dataset(
+            {"drift_components_mm": (("actuator", "force_error_pct", "axis"), d),
+             "rotvec_deg": (("actuator", "force_error_pct", "axis"), 0 * d)},
+            coords={"actuator": [i], "force_error_pct": e, "axis": ["x", "y", "z"]},
+            attrs={"duration_s": 0.3}))
+    return gather_sensitivity(shards)
+
+
+def test_force_accuracy_requirement_from_a_planted_linear_map():
+    from robomill.hexapod import force_accuracy_requirement
+
+    sens = _planted_map([2.0, 4.0, 3.0])  # mm per %: actuator 2 is the worst
+    t = force_accuracy_requirement(sens, actuator_force_N=1.65, tolerances_mm=[0.01, 0.1])
+    assert list(t.columns) == ["position_tolerance_mm", "force_accuracy_pct",
+                               "force_accuracy_mN", "worst_actuator", "drift_mm_per_pct",
+                               "duration_s"]
+    assert t["worst_actuator"].tolist() == [2, 2]
+    np.testing.assert_allclose(t["drift_mm_per_pct"], 4.0)
+    np.testing.assert_allclose(t["force_accuracy_pct"], [0.0025, 0.025])
+    np.testing.assert_allclose(t["force_accuracy_mN"], [0.0025 / 100 * 1650, 0.025 / 100 * 1650])
+    assert t["duration_s"].iloc[0] == 0.3
+    with pytest.raises(ValueError, match="tolerances_mm"):
+        force_accuracy_requirement(sens, 1.65, tolerances_mm=[0.0])
+    with pytest.raises(ValueError, match="actuator_force_N"):
+        force_accuracy_requirement(sens, -1.0)
+
+
+def test_drift_antisymmetry_sees_a_planted_even_part():
+    from robomill.hexapod import drift_antisymmetry
+
+    assert drift_antisymmetry(_planted_map([2.0]))[1] == pytest.approx(0.0, abs=1e-12)
+    ep, frac = drift_antisymmetry(_planted_map([2.0], bend=1.0))
+    # at e = 0.5: d(+e) + d(-e) = (2 · 0.25, 0, 0); |d(+e)| = |(0.25, 0, 1)|
+    assert ep == 0.5 and frac == pytest.approx(0.5 / np.hypot(0.25, 1.0))
+    assert drift_antisymmetry(_planted_map([2.0], errors=(0.5, 1.0))) is None

@@ -216,3 +216,31 @@ def test_a_tracker_run_in_its_own_frame_is_refused_then_registered(tiny_config):
                                rtol=1e-6)
     assert list(peaks_a["stage"].fillna("")) == list(peaks_b["stage"].fillna(""))
     assert len(peaks_a) > 0
+
+
+def test_gather_profiles_gears_and_truth_check_without_truth():
+    import xarray as xr
+
+    from robomill import straightness as st
+
+    def run(direction, feed, n):
+        f = np.linspace(0, 1, n)
+        attrs = {"direction": direction, "feed_mm_s": feed, "cut": f"s1_g1_{direction}",
+                 "resolution_per_mm": 0.02, "length_mm": 50.0, "speed_mm_s": feed,
+                 "fmin_per_mm": 0.05, "floor_um2": 1e-4}
+        return xr.Dataset({"power_um2": ("f", f**2)}, coords={"f": f}, attrs=attrs)
+
+    a, b = run("py", 2.0, 5), run("my", 4.0, 7)
+    prof = st.gather_profiles([a, b], ["py_f2", "my_f4"])
+    assert prof["run"].values.tolist() == ["py_f2", "my_f4"]
+    assert prof["feed_mm_s"].values.tolist() == [2.0, 4.0]
+    assert prof.sizes["f"] == 5 + 7 - 3  # outer join of both grids (0, 0.5, 1 shared)
+    assert a.attrs["direction"] == "py"  # inputs untouched
+    with pytest.raises(ValueError, match="floor_um2"):
+        bad = a.copy()
+        bad.attrs = {k: v for k, v in a.attrs.items() if k != "floor_um2"}
+        st.gather_profiles([bad], ["py_f2"])
+    gears = st.gather_gears([pd.DataFrame({"f_spatial_per_mm": [0.5], "feed_mm_s": [4.0]})])
+    assert gears["f_temporal_hz"].tolist() == [2.0]
+    empty = st.truth_check(None, None, None, {})
+    assert list(empty.columns) == st.TRUTH_CHECK_COLUMNS and len(empty) == 0

@@ -184,3 +184,39 @@ def test_reader_rejects_non_uniform_x(tmp_path):
 def test_reader_rejects_missing_column(tmp_path):
     with pytest.raises(RawDataError, match="column 'z_um' is missing.*z_mm"):
         read_profile(_write(tmp_path, "x_mm,z_mm\n" + _good_rows()))
+
+
+def test_gather_surface_puts_planted_cuts_in_plan_order():
+    """Two planted profiles, handed over in reverse: metrics, tables and profiles follow the
+    plan, the planted waviness is the larger one where it was planted, and a cut outside the
+    plan is refused."""
+    opts = sf.settings(None)
+    x = np.arange(0, 15, 0.002)
+    rng = np.random.default_rng(3)
+    cuts = pd.DataFrame({"cut": ["s1_g1_py", "s1_g1_px"], "set": [1, 1], "segment": [1, 1],
+                         "direction": ["py", "px"], "feed_mm_s": [1.0, 1.0],
+                         "depth_mm": [0.25, 0.25]})
+    per_cut, peaks = [], []
+    for cut, amp in (("s1_g1_px", 1.0), ("s1_g1_py", 3.0)):  # reverse of the plan
+        z = amp * np.sin(2 * np.pi * 0.4 * x) + 0.2 * np.sin(2 * np.pi * 20 * x) \
+            + 0.01 * rng.standard_normal(x.size)
+        ds = sf.analyse_profile(x, z, opts)
+        ds.attrs.update({"cut": cut, "feed_mm_s": 1.0})
+        per_cut.append(ds)
+        pk = sf.profile_peaks(ds, opts)
+        pk.insert(0, "cut", cut)
+        peaks.append(pk)
+    out = sf.gather_surface(per_cut, cuts, peaks, opts)
+    assert out["metrics"]["cut"].tolist() == ["s1_g1_py", "s1_g1_px"]
+    w = out["metrics"].set_index("cut")["waviness_rms_um"]
+    assert w["s1_g1_py"] / w["s1_g1_px"] == pytest.approx(3.0, rel=0.05)
+    assert out["profiles"]["cut"].values.tolist() == ["s1_g1_py", "s1_g1_px"]
+    assert out["profiles"]["direction"].values.tolist() == ["py", "px"]
+    assert list(out["peaks"].columns) == sf.PEAK_TABLE_COLUMNS
+    assert set(out["comparison"]["table"]) == {"table_2_1_waviness_rms_um",
+                                               "table_2_2_roughness_rms_um"}
+    assert out["spectra"].sizes["cut"] == 2
+    stray = per_cut[0].copy()
+    stray.attrs = {**stray.attrs, "cut": "s9_g9_px"}
+    with pytest.raises(ValueError, match="s9_g9_px"):
+        sf.gather_surface([*per_cut, stray], cuts, peaks, opts)

@@ -16,7 +16,12 @@ import matplotlib.pyplot as plt
 import pandas as pd
 from IPython.display import Markdown, display
 
+from robomill.captions import Numbering
 from robomill.plotting import save_figure
+
+num = Numbering("0")
+num.table("plan", "The cut plan: the cuts of every segment, its feed, depth and feed per tooth")
+num.figure("feed_per_tooth", "Feed per tooth c = v / (N n) of every segment, per set")
 
 table = pd.read_csv(cuts)
 n_sets = table["set"].nunique()
@@ -26,21 +31,23 @@ display(Markdown(
     f"**{len(table)} cuts** in {n_sets} sets; spindle {spindle_hz:.1f} Hz "
     f"({60 * spindle_hz:.0f} rpm), tooth passing {tooth_hz:.1f} Hz. Feed per tooth ranges from "
     f"{table.feed_per_tooth_um.min():.2f} µm to {table.feed_per_tooth_um.max():.2f} µm "
-    "(thesis: 1.07 µm at 1 mm/s, 10.7 µm at 10 mm/s)."
+    f"(thesis: 1.07 µm at 1 mm/s, 10.7 µm at 10 mm/s). {num.ref('plan')} lists the cuts and "
+    f"{num.ref('feed_per_tooth')} shows the feed per tooth of every segment."
 ))
 
 # %% [markdown]
-# ## Table 0.1 — the cut plan
+# ## The cut plan
 
 # %%
+display(num.caption("plan"))
 plan = (table.pivot_table(index=["set", "segment"], columns="direction", values="cut",
                           aggfunc="first")
         .join(table.groupby(["set", "segment"])[["feed_mm_s", "depth_mm",
                                                  "feed_per_tooth_um"]].first()))
-plan.round(3)
+display(plan.round(3))
 
 # %% [markdown]
-# ## Figure 0.1 — feed per tooth of every segment
+# ## Feed per tooth of every segment
 
 # %%
 fig, ax = plt.subplots()
@@ -52,5 +59,7 @@ ax.set_xlabel("segment")
 ax.set_ylabel("feed per tooth c [µm]")
 ax.set_title("Feed per tooth c = v / (N n)")
 ax.legend()
-save_figure(fig, fig_dir, "fig0_1_feed_per_tooth")
+save_figure(fig, fig_dir, num.file("feed_per_tooth"))
 plt.show()
+display(num.caption("feed_per_tooth"))
+num.check()

@@ -29,8 +29,27 @@ import pandas as pd
 from IPython.display import Markdown, display
 
 from robomill.calibration import model_from_dataset
+from robomill.captions import Numbering
 from robomill.io import open_artefact
 from robomill.plotting import save_figure
+
+num = Numbering("1")
+num.figure("joint_circle", "Single-joint method: the circle of joint 2 in its plane and the "
+           "distance of every joint's targets from their fitted circle", number=4)
+num.figure("vector_model", "The vector model: centres O_i, vectors a'_i and axes e_i at home "
+           "and with joint 1 turned by 90° (eq. 1.4)", number=5)
+num.table("a_prime", "The identified vectors a'_i and their lengths")
+num.figure("joint_errors", "Joint positioning errors (measured − commanded, eq. 1.5) and their "
+           "regression model; held-out steps in orange", number=6)
+num.table("validation", "Held-out RMS of the three regression forms, the chosen degree and "
+          "the backlash [arcsec]")
+num.figure("base_deflection", "Base deflection while joint 2 turns the stretched arm, against "
+           "the joint-2 angle and the gravity torque (thesis Figs. 1.7–1.8, eq. 1.6)", number=8)
+num.table("compliance", "Joint compliances identified from the load discs")
+num.figure("accuracy_histograms", "Positioning error on the accuracy points (not used for "
+           "identification), nominal, geometric and full model", number=9)
+num.table("accuracy", "Positioning accuracy of the three models on the accuracy points")
+num.table("regions", "RMS positioning error [mm] by workspace region")
 
 ARCSEC = np.pi / 180 / 3600
 ds = open_artefact(model)
@@ -43,12 +62,13 @@ cir = pd.read_csv(circles)
 cal = model_from_dataset(ds)
 
 # %% [markdown]
-# ## Figure 1.4 — a joint circle and its axis
-#
-# The targets of joint 2 in their circle plane (u, v about the fitted centre) and the
-# residuals from the fitted circle: the fit leaves only the instrument's noise.
+# ## A joint circle and its axis
 
 # %%
+display(Markdown(
+    f"{num.ref('joint_circle')} shows the targets of joint 2 in their circle plane (u, v about "
+    "the fitted centre) and the residuals from the fitted circle: the fit leaves only the "
+    "instrument's noise."))
 fig, axs = plt.subplots(1, 2, figsize=(10, 4.2))
 g = cir[cir["joint"] == 2]
 t = np.linspace(0, 2 * np.pi, 400)
@@ -67,8 +87,9 @@ axs[1].set_xlabel("joint angle [deg]")
 axs[1].set_ylabel("distance from the fitted circle [µm]")
 axs[1].legend(fontsize=7, ncol=2)
 fig.suptitle("Single-joint method: circle of joint 2 and the residuals of every joint")
-save_figure(fig, fig_dir, "fig1_4_joint_circle")
+save_figure(fig, fig_dir, num.file("joint_circle"))
 plt.show()
+display(num.caption("joint_circle"))
 display(Markdown(
     "Circle-fit RMS per joint: " + ", ".join(
         f"joint {j}: {1000 * v:.1f} µm" for j, v in
@@ -77,12 +98,13 @@ display(Markdown(
       f"{ds['circle_radius_mm'].max().item():.0f} mm."))
 
 # %% [markdown]
-# ## Figure 1.5 — the vector model
-#
-# The identified centres O_i joined by the vectors a'_i at the home configuration, and the
-# same chain with joint 1 turned by 90° (eq. 1.4: a_i = R_1…R_i a'_i).
+# ## The vector model
 
 # %%
+display(Markdown(
+    f"{num.ref('vector_model')} joins the identified centres O_i by the vectors a'_i at the "
+    "home configuration, and shows the same chain with joint 1 turned by 90° (eq. 1.4: "
+    f"a_i = R_1…R_i a'_i); {num.ref('a_prime')} lists the vectors."))
 geo = cal.geometry
 fig = plt.figure(figsize=(7, 6))
 ax = fig.add_subplot(projection="3d")
@@ -99,20 +121,23 @@ ax.set_ylabel("y [mm]")
 ax.set_zlabel("z [mm]")
 ax.legend()
 ax.set_title("Centres O_i, vectors a'_i and axes e_i (red)")
-save_figure(fig, fig_dir, "fig1_5_vector_model")
+save_figure(fig, fig_dir, num.file("vector_model"))
 plt.show()
+display(num.caption("vector_model"))
 a = ds["a_prime_mm"].to_pandas()
 a["|a'| [mm]"] = np.linalg.norm(a.to_numpy(), axis=1)
-a.round(3)
+display(num.caption("a_prime"))
+display(a.round(3))
 
 # %% [markdown]
 # ## Joint positioning errors and their regression
-#
-# Each step position is the mean of both approach directions (backlash cancels). The model is
-# Fourier terms at the gear orders plus a low-order polynomial; the degree is chosen on the
-# held-out steps (every 4th), and three candidate forms are compared there.
 
 # %%
+display(Markdown(
+    f"{num.ref('joint_errors')}: each step position is the mean of both approach directions "
+    "(backlash cancels). The model is Fourier terms at the gear orders plus a low-order "
+    "polynomial; the degree is chosen on the held-out steps (every 4th), and three candidate "
+    "forms are compared there."))
 fig, axs = plt.subplots(2, 3, figsize=(12, 6), sharex=False)
 for ax, (j, g) in zip(axs.ravel(), je.groupby("joint"), strict=False):
     q = np.rad2deg(g["q_rad"])
@@ -126,17 +151,20 @@ for ax, (j, g) in zip(axs.ravel(), je.groupby("joint"), strict=False):
     ax.set_ylabel("error [arcsec]")
 axs[0, 0].legend(fontsize=7)
 fig.suptitle("Joint positioning errors (measured − commanded) and the regression model")
-save_figure(fig, fig_dir, "fig1_6_joint_errors")
+save_figure(fig, fig_dir, num.file("joint_errors"))
 plt.show()
+display(num.caption("joint_errors"))
 val = ds["error_validation_rms_rad"].to_pandas() / ARCSEC
 val["chosen degree"] = ds["error_degree"].values
 val["backlash [arcsec]"] = ds["backlash_rad"].values / ARCSEC
-val.round(2)
+display(num.caption("validation"))
+display(val.round(2))
 
 # %%
 best = val[["polynomial", "fourier", "fourier+polynomial"]].idxmin(axis=1)
 display(Markdown(
-    "Held-out RMS [arcsec] of the three forms is in the table; the combined form is best or "
+    f"Held-out RMS [arcsec] of the three forms is in {num.ref('validation')}; the combined "
+    "form is best or "
     f"tied for {int((best == 'fourier+polynomial').sum())} of 6 joints. The held-out residual "
     f"({val['fourier+polynomial'].min():.1f}–{val['fourier+polynomial'].max():.1f} arcsec) is "
     "mostly the C-Track noise seen through the target's radius, not model error. Backlash "
@@ -144,7 +172,7 @@ display(Markdown(
     f"{val['backlash [arcsec]'].max():.0f} arcsec."))
 
 # %% [markdown]
-# ## Figures 1.7–1.8 — base deflection versus joint-2 rotation (eq. 1.6)
+# ## Base deflection versus joint-2 rotation (eq. 1.6)
 
 # %%
 c_base = float(ds["base_compliance_rad_per_Nm"])
@@ -160,20 +188,24 @@ axs[1].set_xlabel("joint-2 gravity torque change [N·m]")
 axs[1].set_ylabel("base deflection [arcsec]")
 axs[1].legend()
 fig.suptitle("Base deflection while joint 2 turns the stretched arm")
-save_figure(fig, fig_dir, "fig1_8_base_deflection")
+save_figure(fig, fig_dir, num.file("base_deflection"))
 plt.show()
+display(num.caption("base_deflection"))
 c = ds["compliance_rad_per_Nm"].values
 display(Markdown(
-    f"The base turns by {c_base * 1e9:.0f} nrad per N·m of joint-2 torque (linear fit, "
+    f"In {num.ref('base_deflection')} the base turns by {c_base * 1e9:.0f} nrad per N·m of "
+    "joint-2 torque (linear fit, "
     f"R² = {r2:.3f}; thesis Fig. 1.8: linear in the torque). That is {100 * c_base / c[1]:.0f} % "
-    f"of the joint-2 compliance identified from the load discs ({c[1] * 1e6:.2f} µrad/N·m), "
+    f"of the joint-2 compliance identified from the load discs ({c[1] * 1e6:.2f} µrad/N·m, "
+    f"{num.ref('compliance')}), "
     "which already contains it: the same arm weight loads both, about parallel axes, so the "
     "base is treated as rigid and its deflection lumped into joint 2."))
 comp = pd.DataFrame({"compliance [µrad/(N·m)]": c * 1e6,
                      "identifiable": ds["compliance_identifiable"].values.astype(bool),
                      "torque at home [N·m]": ds["tau_home_Nm"].values},
                     index=pd.Index(ds["joint"].values, name="joint"))
-comp.round(3)
+display(num.caption("compliance"))
+display(comp.round(3))
 
 # %% [markdown]
 # ## Accuracy before and after calibration
@@ -188,15 +220,18 @@ ax.set_ylabel("points")
 ax.set_yscale("log")
 ax.legend()
 ax.set_title("Positioning error on the accuracy points (not used for identification)")
-save_figure(fig, fig_dir, "fig1_9_accuracy_histograms")
+save_figure(fig, fig_dir, num.file("accuracy_histograms"))
 plt.show()
-acc.round(4)
+display(num.caption("accuracy_histograms"))
+display(num.caption("accuracy"))
+display(acc.round(4))
 
 # %%
 ratio = acc.loc["nominal", "rms_mm"] / acc.loc["full", "rms_mm"]
 ratio_geo = acc.loc["nominal", "rms_mm"] / acc.loc["geometric", "rms_mm"]
 display(Markdown(
-    f"On {int(acc.loc['nominal', 'n_points'])} points the nominal model misses by "
+    f"{num.ref('accuracy_histograms')} and {num.ref('accuracy')}: on "
+    f"{int(acc.loc['nominal', 'n_points'])} points the nominal model misses by "
     f"{acc.loc['nominal', 'mean_mm']:.2f} mm on average (RMS {acc.loc['nominal', 'rms_mm']:.2f},"
     f" max {acc.loc['nominal', 'max_mm']:.2f} mm; the thesis says it 'can be a few "
     "millimetres'). The "
@@ -209,10 +244,12 @@ display(Markdown(
     f"lot, but not enough for offline programming of machining: the "
     f"{acc.loc['full', 'max_mm']:.2f} mm worst case left here is large against machining "
     "tolerances, and cutting forces (not modelled here) deflect the robot far more than "
-    "gravity does."))
+    f"gravity does. {num.ref('regions')} splits the RMS by workspace region."))
 
 # %%
 tab = reg.pivot_table(index="region", columns="model", values="rms_mm")[
     ["nominal", "geometric", "full"]]
 tab["n_points"] = reg.groupby("region")["n_points"].first()
-tab.round(4)
+display(num.caption("regions"))
+display(tab.round(4))
+num.check()

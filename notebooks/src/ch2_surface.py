@@ -29,6 +29,7 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
+from robomill.captions import Numbering
 from robomill.experiment import DIRECTION_LABELS
 from robomill.io import open_artefact
 from robomill.plotting import save_figure
@@ -43,6 +44,37 @@ tab_w = pd.read_csv(waviness, index_col="segment")
 tab_r = pd.read_csv(roughness, index_col="segment")
 thesis = load_thesis_tables()
 lam = settings["lambda_c_mm"]
+first = met["set"].min()
+directions = [d for d in ["px", "py", "my"]
+              if ((met["set"] == first) & (met.direction == d)).any()]
+sets = sorted(met["set"].unique())
+
+num = Numbering("2")
+num.figure("detrend", "A measured profile and the same profile detrended (stylus tilt "
+           "removed)", number=9)
+num.figure("waviness", f"Waviness of that profile: the ISO 16610-21 Gaussian filter, "
+           f"λc = {lam} mm", number=11)
+num.figure("roughness_feed", "Roughness over the first millimetre at the lowest and the "
+           "highest feed", number=12)
+for d in directions:
+    num.figure(f"profiles_{d}", f"Profiles of set {first} along {DIRECTION_LABELS[d]}, every "
+               "feed (offset 15 µm per feed)", number=13 + ["px", "py", "my"].index(d))
+num.figure("spectrum", "Normalized amplitude spectrum A(k) of one profile, waviness and "
+           "roughness ranges (eq. 2.1)", number=16)
+for i, s in enumerate(sets):
+    num.figure(f"spectra_set{s}", f"Power spectra P(k) of every cut of set {s} (eq. 2.2), "
+               "waviness (left) and roughness (right)", number=17,
+               part="abcdefghij"[i] if len(sets) > 1 else "")
+num.table("waviness_rms", "RMS of waviness [µm] by the segment method (2.5 mm segments), "
+          "beside the thesis' Table 2.1", number=1)
+num.table("roughness_rms", "RMS of roughness [µm] by the segment method (0.25 mm segments), "
+          "beside the thesis' Table 2.2", number=2)
+num.figure("rms_vs_feed", "Waviness and roughness RMS against feed, by direction", number=22)
+num.table("peak_counts", "Dominant spectral peaks by band and mechanism")
+num.figure("peak_mechanisms", "Spatial and temporal frequency of every peak against feed, by "
+           "mechanism", number=23)
+if recovery:
+    num.table("recovery", "Planted against recovered RMS per cut (synthetic data)")
 display(Markdown(
     f"**{len(met)} profiles**, {prof.sizes['x']} samples each at "
     f"{1 / float(prof.x[1] - prof.x[0]):.0f} mm⁻¹ ({float(prof.x[-1] - prof.x[0]):.2f} mm); "
@@ -50,7 +82,7 @@ display(Markdown(
     + ("Data: the virtual cell (synthetic)." if synthetic else "Data: measured profiles.")))
 
 # %% [markdown]
-# ## Figure 2.9 — measured and detrended profile
+# ## Measured and detrended profile
 
 # %%
 c0 = met.sort_values(["set", "segment"]).iloc[0]["cut"]
@@ -62,13 +94,14 @@ ax.set_xlabel("x [mm]")
 ax.set_ylabel("z [µm]")
 ax.set_title(f"Profile of {c0}")
 ax.legend()
-save_figure(fig, fig_dir, "fig2_9_detrend")
+save_figure(fig, fig_dir, num.file("detrend"))
 plt.show()
-display(Markdown(f"Tilt removed from {c0}: "
+display(num.caption("detrend"))
+display(Markdown(f"{num.ref('detrend')}: tilt removed from {c0}: "
                  f"{float(met.set_index('cut').loc[c0, 'tilt_um_per_mm']):.2f} µm/mm."))
 
 # %% [markdown]
-# ## Figure 2.11 — waviness; Figure 2.12 — roughness at low and high feed
+# ## Waviness, and roughness at low and high feed
 
 # %%
 fig, ax = plt.subplots()
@@ -77,8 +110,9 @@ ax.plot(p0.x, p0.waviness, lw=1.2, label=f"waviness (λc = {lam} mm)")
 ax.set_xlabel("x [mm]")
 ax.set_ylabel("z [µm]")
 ax.legend()
-save_figure(fig, fig_dir, "fig2_11_waviness")
+save_figure(fig, fig_dir, num.file("waviness"))
 plt.show()
+display(num.caption("waviness"))
 
 d0 = met[met.direction == met.direction.iloc[0]]
 lo, hi = d0.loc[d0.feed_mm_s.idxmin(), "cut"], d0.loc[d0.feed_mm_s.idxmax(), "cut"]
@@ -90,18 +124,22 @@ for ax, c in zip(axs, [lo, hi], strict=True):
     ax.set_title(f"{c}: feed {float(sel.feed_mm_s)} mm/s", fontsize=9)
     ax.set_ylabel("roughness [µm]")
 axs[-1].set_xlabel("x [mm]")
-save_figure(fig, fig_dir, "fig2_12_roughness_feed")
+save_figure(fig, fig_dir, num.file("roughness_feed"))
 plt.show()
+display(num.caption("roughness_feed"))
+display(Markdown(
+    f"{num.ref('waviness')} separates the waviness (wavelengths above λc) from the "
+    f"roughness, which {num.ref('roughness_feed')} shows at feed "
+    f"{float(prof.sel(cut=lo).feed_mm_s):g} and {float(prof.sel(cut=hi).feed_mm_s):g} mm/s."))
 
 # %% [markdown]
-# ## Figures 2.13–2.15 — profiles per direction (first set, every feed)
+# ## Profiles per direction (first set, every feed)
 
 # %%
-first = met["set"].min()
-for i, d in enumerate(["px", "py", "my"]):
+display(Markdown("The profiles of the first set, one figure per direction: "
+                 + ", ".join(num.ref(f"profiles_{d}") for d in directions) + "."))
+for d in directions:
     cs = met[(met["set"] == first) & (met.direction == d)].sort_values("segment")
-    if cs.empty:
-        continue
     fig, ax = plt.subplots()
     for k, (_, r) in enumerate(cs.iterrows()):
         ax.plot(prof.x, prof.sel(cut=r.cut).z + 15 * k, lw=0.5,
@@ -110,11 +148,12 @@ for i, d in enumerate(["px", "py", "my"]):
     ax.set_ylabel("z [µm] (offset 15 µm per feed)")
     ax.set_title(f"Set {first}, direction {DIRECTION_LABELS[d]}")
     ax.legend(fontsize=7, ncol=5)
-    save_figure(fig, fig_dir, f"fig2_{13 + i}_profiles_{d}")
+    save_figure(fig, fig_dir, num.file(f"profiles_{d}"))
     plt.show()
+    display(num.caption(f"profiles_{d}"))
 
 # %% [markdown]
-# ## Figure 2.16 — one spectrum
+# ## One spectrum
 
 # %%
 fig, axs = plt.subplots(1, 2, figsize=(9, 3.6))
@@ -128,14 +167,18 @@ for ax in axs:
     ax.set_xlabel("spatial frequency [mm⁻¹]")
 axs[0].set_ylabel("A(k) [µm]")
 fig.suptitle(f"Normalized amplitude spectrum of {c0}")
-save_figure(fig, fig_dir, "fig2_16_spectrum")
+save_figure(fig, fig_dir, num.file("spectrum"))
 plt.show()
+display(num.caption("spectrum"))
+display(Markdown(f"{num.ref('spectrum')} is the amplitude spectrum of {c0}; the power spectra "
+                 "of every cut follow, one figure per set: "
+                 + ", ".join(num.ref(f"spectra_set{s}") for s in sets) + "."))
 
 # %% [markdown]
-# ## Figures 2.17–2.21 — spectra of every cut (waviness 0–1 mm⁻¹, roughness 0–30 mm⁻¹)
+# ## Spectra of every cut
 
 # %%
-for s in sorted(met["set"].unique()):
+for s in sets:
     fig, axs = plt.subplots(3, 2, figsize=(10, 7.5), sharex="col")
     for i, d in enumerate(["px", "py", "my"]):
         for _, r in met[(met["set"] == s) & (met.direction == d)].sort_values(
@@ -151,11 +194,12 @@ for s in sorted(met["set"].unique()):
     axs[-1, 0].set_xlabel("spatial frequency [mm⁻¹]")
     axs[-1, 1].set_xlabel("spatial frequency [mm⁻¹]")
     fig.suptitle(f"Power spectra, set {s}")
-    save_figure(fig, fig_dir, f"fig2_17_spectra_set{s}")
+    save_figure(fig, fig_dir, num.file(f"spectra_set{s}"))
     plt.show()
+    display(num.caption(f"spectra_set{s}"))
 
 # %% [markdown]
-# ## Tables 2.1 and 2.2 — RMS by the segment method, beside the thesis
+# ## RMS by the segment method, beside the thesis
 
 # %%
 def side_by_side(ours, key):
@@ -164,12 +208,14 @@ def side_by_side(ours, key):
     return pd.concat({"pipeline": ours.round(2), "thesis": th}, axis=1)
 
 
-display(Markdown("**Table 2.1 — RMS of waviness [µm]** (2.5 mm segments)"))
+display(num.caption("waviness_rms"))
 display(side_by_side(tab_w, "table_2_1_waviness_rms_um"))
-display(Markdown("**Table 2.2 — RMS of roughness [µm]** (0.25 mm segments)"))
+display(num.caption("roughness_rms"))
 display(side_by_side(tab_r, "table_2_2_roughness_rms_um"))
 within = cmp_.groupby("table")["within_1.5x"].agg(["sum", "count"])
-display(Markdown("Cells within a factor 1.5 of the thesis: " + "; ".join(
+display(Markdown(
+    f"Cells of {num.ref('waviness_rms')} and {num.ref('roughness_rms')} within a factor 1.5 "
+    "of the thesis: " + "; ".join(
     f"{t}: {int(r['sum'])} of {int(r['count'])}" for t, r in within.iterrows())
     + ". Median ratio pipeline/thesis: "
     + ", ".join(f"{t}: {g.ratio.median():.2f}" for t, g in cmp_.groupby("table")) + "."))
@@ -187,11 +233,12 @@ axs[1].set_ylabel("roughness RMS [µm]")
 for ax in axs:
     ax.set_xlabel("feed [mm/s]")
     ax.legend()
-save_figure(fig, fig_dir, "fig2_22_rms_vs_feed")
+save_figure(fig, fig_dir, num.file("rms_vs_feed"))
 plt.show()
+display(num.caption("rms_vs_feed"))
 order = by_dir["waviness_rms_um"].sort_values()
 display(Markdown(
-    "Mean waviness RMS by direction: " + ", ".join(
+    f"{num.ref('rms_vs_feed')}: mean waviness RMS by direction: " + ", ".join(
         f"{DIRECTION_LABELS[d]} {v:.2f} µm" for d, v in order.items())
     + f" (smallest {DIRECTION_LABELS[order.index[0]]}, largest "
     f"{DIRECTION_LABELS[order.index[-1]]}; thesis: X smallest, +Y largest). Mean roughness "
@@ -205,6 +252,7 @@ display(Markdown(
 
 # %%
 counts = pk.groupby(["band", "mechanism"]).size().unstack(fill_value=0)
+display(num.caption("peak_counts"))
 display(counts)
 wv = pk[pk.band == "waviness"]
 kin = wv[wv.mechanism == "kinematic"]
@@ -220,9 +268,11 @@ axs[1].set_ylabel("temporal frequency [Hz]")
 for ax in axs:
     ax.set_xlabel("feed [mm/s]")
     ax.legend(fontsize=7)
-save_figure(fig, fig_dir, "fig2_23_peak_mechanisms")
+save_figure(fig, fig_dir, num.file("peak_mechanisms"))
 plt.show()
-text = (f"{len(pk)} peaks: {len(kin)} of {len(wv)} waviness peaks are kinematic")
+display(num.caption("peak_mechanisms"))
+text = (f"{num.ref('peak_counts')} and {num.ref('peak_mechanisms')}: "
+        f"{len(pk)} peaks: {len(kin)} of {len(wv)} waviness peaks are kinematic")
 if len(kin):
     text += (f", median wavelength {1 / kin.f_spatial_per_mm.median():.2f} mm "
              f"(spatial frequency {kin.f_spatial_per_mm.min():.2f}–"
@@ -267,7 +317,9 @@ if recovery:
         f"{rec.waviness_ratio.max():.3f}, roughness {rec.roughness_ratio.min():.3f}–"
         f"{rec.roughness_ratio.max():.3f} (worst errors {100 * worst_w:.1f} % and "
         f"{100 * worst_r:.1f} %). The deficit is the Gaussian filter's: it passes "
-        f"exp(−π(αλc/λ)²) of a wave to the waviness, so near-λc content is split."))
+        f"exp(−π(αλc/λ)²) of a wave to the waviness, so near-λc content is split "
+        f"({num.ref('recovery')})."))
+    display(num.caption("recovery"))
     display(rec.round(3))
 else:
     display(Markdown("Measured data: no planted truth to compare with."))
@@ -281,3 +333,6 @@ else:
 # their spatial frequency across feeds (they come from the gear errors mapped through the
 # joint positions: kinematic), the roughness peaks keep their temporal frequency (the robot
 # modes: dynamic) — the thesis' conclusion.
+
+# %%
+num.check()

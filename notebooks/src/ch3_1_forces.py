@@ -31,7 +31,9 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
+from robomill.captions import Numbering
 from robomill.experiment import DIRECTION_LABELS
+from robomill.forces import nearest_modes
 from robomill.io import open_artefact
 from robomill.plotting import save_figure
 
@@ -46,17 +48,44 @@ if fig_set not in set(sp["set"].values.tolist()):
     fig_set = int(sp["set"].values.max())
 mode_table = pd.read_csv(modes) if modes and os.path.exists(modes) else None
 cuts_set = [str(c) for c in sp.cut.values if int(sp["set"].sel(cut=c)) == fig_set]
+dirs_set = [d for d in ("py", "px", "my")
+            if any(str(sp["direction"].sel(cut=c).item()) == d for c in cuts_set)]
+
+# thesis numbers (Figs 3.2–3.11, Table 3.1); the extra tables are Tables 3.3 and 3.4 (Table
+# 3.2 is in the straightness chapter)
+num = Numbering("3")
+num.figure("model_force_shape", "The model's force shape over two revolutions of a 2-flute "
+           "slot, with the coefficients identified below (eq. 3.1)", number=2)
+num.figure("record", "A measured force record: (a) the whole record as a min–max envelope, "
+           "(b) a zoom in its middle", number=3)
+num.figure("full_band_psd", "Welch PSD of that record over the full band, sum of the axes",
+           number=4)
+for k, d in enumerate(dirs_set):
+    num.figure(f"spatial_{d}", f"Spatial-frequency power of the cuts of set {fig_set} along "
+               f"{DIRECTION_LABELS[d]} (kinematic peak near 0.5 mm⁻¹ dotted)", number=5 + k,
+               stem=f"fig3_5_7_spatial_{d}")
+for k, d in enumerate(dirs_set):
+    num.figure(f"time_{d}", f"Time-frequency power 0–250 Hz of the cuts of set {fig_set} along "
+               f"{DIRECTION_LABELS[d]} (identified modes dotted)", number=8 + k,
+               stem=f"fig3_8_10_time_{d}")
+num.table("peaks", "Per-cut peaks: dominant low-frequency and kinematic peak, and the nearest "
+          "identified mode", number=1)
+num.table("harmonics", "Tooth-passing harmonics: median frequency and power over the cuts",
+          number=3)
+num.figure("mean_forces_vs_feed", "Mean forces per cut, divided by N·a, against the feed per tooth",
+           number=11)
+num.table("coefficients", "Identified cutting coefficients with 95 % intervals", number=4)
 display(Markdown(
     f"{sp.sizes['cut']} cuts analysed, {int(sp['n_samples'].sum()):,} samples per axis in "
     f"total; tooth passing {float(sp['tooth_passing_hz'][0]):.1f} Hz."))
 
 # %% [markdown]
-# ## Figure 3.2 — the model's force shape (eq. 3.1)
-#
-# Two revolutions of a 2-flute slot with the coefficients identified below; the thesis plots
-# the Z shape only, "independent of its amplitude".
+# ## The model's force shape (eq. 3.1)
 
 # %%
+display(Markdown(
+    f"{num.ref('model_force_shape')}: two revolutions of a 2-flute slot with the coefficients "
+    "identified below; the thesis plots the Z shape only, \"independent of its amplitude\"."))
 ang = sp["model_angle"].values
 fig, ax = plt.subplots()
 for i, lab in enumerate(["F_x (feed)", "F_y (cross-feed)", "F_z (axial)"]):
@@ -66,11 +95,12 @@ ax.set_ylabel("force on the tool [N]")
 ax.set_title(f"Eq. 3.1, c = {sp.attrs['model_feed_per_tooth_mm'] * 1e3:.2f} µm, "
              f"a = {sp.attrs['model_depth_mm']:.2f} mm")
 ax.legend()
-save_figure(fig, fig_dir, "fig3_2_model_force_shape")
+save_figure(fig, fig_dir, num.file("model_force_shape"))
 plt.show()
+display(num.caption("model_force_shape"))
 
 # %% [markdown]
-# ## Figure 3.3 — a measured record and its zoom; Figure 3.4 — its full-band spectrum
+# ## A measured record, its zoom and its full-band spectrum
 
 # %%
 c0 = cuts_set[0]
@@ -86,8 +116,9 @@ axs[0].set_title(f"(a) {c0}: whole record")
 axs[1].set_xlabel("t [ms]")
 axs[1].set_title("(b) zoom, middle of the record")
 axs[0].legend()
-save_figure(fig, fig_dir, "fig3_3_record")
+save_figure(fig, fig_dir, num.file("record"))
 plt.show()
+display(num.caption("record"))
 
 f = sp["frequency"].values
 psd = d0["psd"].sum("axis").values
@@ -96,19 +127,18 @@ ax.semilogy(f / 1e3, psd, lw=0.7)
 ax.set_xlabel("frequency [kHz]")
 ax.set_ylabel("PSD, sum of axes [N²/Hz]")
 ax.set_title(f"Figure 3.4 — {c0}, Welch PSD over the full band")
-save_figure(fig, fig_dir, "fig3_4_full_band_psd")
+save_figure(fig, fig_dir, num.file("full_band_psd"))
 plt.show()
+display(num.caption("full_band_psd"))
 top = f[np.argmax(psd[f > 500]) + np.sum(f <= 500)]
 display(Markdown(
-    f"The largest full-band peak of {c0} is at **{top:.0f} Hz** (thesis Fig 3.4: dominant "
+    f"{num.ref('record')} shows the record; in {num.ref('full_band_psd')} the largest full-band "
+    "peak of {c0} is at **{top:.0f} Hz** (thesis Fig 3.4: dominant "
     f"peaks can lie above 10 kHz). It is tooth-passing harmonic "
     f"{top / float(d0['tooth_passing_hz']):.1f} amplified by the dynamometer/block resonance."))
 
 # %% [markdown]
-# ## Figures 3.5–3.7 — spectra in spatial frequency (kinematic peak)
-#
-# Thesis normalized power P(k) = |Z(k)|²/N² of each whole record, summed over the three axes,
-# against f/v. The thesis finds the kinematic irregularity near 0.5 mm⁻¹, as on the surface.
+# ## Spectra in spatial frequency (kinematic peak)
 
 
 # %%
@@ -131,11 +161,17 @@ def per_direction(xkey, xmax, name, title, xlabel, vlines=()):
             axx.set_title(f"{c}: {float(d['feed_mm_s']):g} mm/s", fontsize=9)
         axs[-1, 0].set_xlabel(xlabel)
         fig.suptitle(f"{title} {DIRECTION_LABELS[direction]}, set {fig_set}")
-        save_figure(fig, fig_dir, f"{name}_{direction}")
+        save_figure(fig, fig_dir, num.file(f"{name}_{direction}"))
         plt.show()
+        display(num.caption(f"{name}_{direction}"))
 
 
-per_direction("f_spatial_low", 1.0, "fig3_5_7_spatial", "Spatial-frequency power,",
+display(Markdown(
+    "Thesis normalized power P(k) = |Z(k)|²/N² of each whole record, summed over the three "
+    "axes, against f/v ("
+    + ", ".join(num.ref(f"spatial_{d}") for d in dirs_set) + "). The thesis finds the "
+    "kinematic irregularity near 0.5 mm⁻¹, as on the surface."))
+per_direction("f_spatial_low", 1.0, "spatial", "Spatial-frequency power,",
               "spatial frequency f/v [1/mm]", vlines=(0.5,))
 kin = pk.set_index("cut")["kinematic_per_mm"]
 display(Markdown(
@@ -162,29 +198,29 @@ if "kinematic_below_resolution" in pk:
                          "(resolved; sanity flag `kinematic_below_resolution` in peaks.csv)."))
 
 # %% [markdown]
-# ## Figures 3.8–3.10 — spectra in time frequency, 0–250 Hz (dominant peak)
+# ## Spectra in time frequency, 0–250 Hz (dominant peak)
 
 # %%
 mode_f = (mode_table["f_n_hz"].to_numpy() if mode_table is not None else np.array([]))
-per_direction("f_low", 250.0, "fig3_8_10_time", "Time-frequency power,", "frequency [Hz]",
+display(Markdown("The same records in time frequency, 0–250 Hz: "
+                 + ", ".join(num.ref(f"time_{d}") for d in dirs_set) + "."))
+per_direction("f_low", 250.0, "time", "Time-frequency power,", "frequency [Hz]",
               vlines=tuple(mode_f))
 
 # %% [markdown]
-# ## Table 3.1 — per-cut peaks
+# ## Per-cut peaks
 
 # %%
 tab = pk.merge(mf[["cut", "feed_mm_s", "depth_mm", "direction"]], on="cut")
 if mode_table is not None and len(mode_table):
-    idx = np.abs(tab["dominant_hz"].to_numpy()[:, None] - mode_f[None, :]).argmin(axis=1)
-    tab["nearest_mode"] = mode_table["mode"].to_numpy()[idx]
-    tab["nearest_mode_hz"] = mode_f[idx]
-    tab["offset_hz"] = tab["dominant_hz"] - tab["nearest_mode_hz"]
-tab.round(4)
+    tab = tab.join(nearest_modes(tab["dominant_hz"], mode_table))
+display(num.caption("peaks"))
+display(tab.round(4))
 
 # %%
 dom = pk["dominant_hz"]
 inside = ((dom >= 60) & (dom <= 120)).sum()
-text = (f"The dominant low-frequency peak (largest bin of the summed power in "
+text = (f"{num.ref('peaks')}: the dominant low-frequency peak (largest bin of the summed power in "
         f"{settings.get('dominant_band_hz', [15, 250])} Hz) lies between **{dom.min():.1f} and "
         f"{dom.max():.1f} Hz**; {inside} of {len(dom)} cuts have it in 60–120 Hz (thesis: "
         "every cut, 60–120 Hz; the robot vibrates at 60–100 Hz). ")
@@ -213,15 +249,20 @@ display(Markdown(text))
 
 # %%
 hsum = hm.assign(power_N2=hm[["Fx_power_N2", "Fy_power_N2", "Fz_power_N2"]].sum(axis=1))
-hsum.pivot_table(index="harmonic", values=["f_hz", "power_N2"], aggfunc="median").round(4)
+display(Markdown(f"{num.ref('harmonics')} lists the harmonics of the tooth-passing "
+                 "frequency in the dynamometer records."))
+display(num.caption("harmonics"))
+display(hsum.pivot_table(index="harmonic", values=["f_hz", "power_N2"], aggfunc="median")
+        .round(4))
 
 # %% [markdown]
 # ## Cutting-coefficient identification
-#
-# Mean forces per cut in the cut frame, divided by N·a, are linear in the feed per tooth c:
-# F̄_y/(Na) = K_tc c/4 + K_te/π, F̄_x/(Na) = −(K_rc c/4 + K_re/π), F̄_z/(Na) = K_ac c/π + K_ae/2.
 
 # %%
+display(Markdown(
+    f"Mean forces per cut in the cut frame, divided by N·a, are linear in the feed per tooth c "
+    f"({num.ref('mean_forces_vs_feed')}): F̄_y/(Na) = K_tc c/4 + K_te/π, "
+    "F̄_x/(Na) = −(K_rc c/4 + K_re/π), F̄_z/(Na) = K_ac c/π + K_ae/2."))
 fig, axs = plt.subplots(1, 3, figsize=(12, 3.6))
 na = 2 * mf["depth_mm"]
 for axx, comp, lab in zip(axs, ["F_cross_feed_N", "F_feed_N", "F_axial_N"],
@@ -234,8 +275,9 @@ for axx, comp, lab in zip(axs, ["F_cross_feed_N", "F_feed_N", "F_axial_N"],
     axx.set_title(lab, fontsize=10)
 axs[0].set_ylabel("N/mm")
 axs[0].legend()
-save_figure(fig, fig_dir, "fig3_11_mean_forces_vs_feed")
+save_figure(fig, fig_dir, num.file("mean_forces_vs_feed"))
 plt.show()
+display(num.caption("mean_forces_vs_feed"))
 
 table = coef.copy()
 if truth and os.path.exists(truth):
@@ -243,11 +285,12 @@ if truth and os.path.exists(truth):
     planted = {k.split("_")[1]: float(tr[k]) for k in tr.data_vars if k.startswith("cutting_")}
     table["planted"] = table["name"].map(planted)
     table["error_pct"] = 100 * (table["value"] / table["planted"] - 1)
-table.round(3)
+display(num.caption("coefficients"))
+display(table.round(3))
 
 # %%
 worst = table.loc[table["error_pct"].abs().idxmax()] if "error_pct" in table else None
-msg = ("Identified coefficients with 95 % intervals: " + ", ".join(
+msg = (f"Identified coefficients with 95 % intervals ({num.ref('coefficients')}): " + ", ".join(
     f"{r.name} = {r.value:.1f} [{r.ci_low:.1f}, {r.ci_high:.1f}] {r.unit}"
     for r in coef.itertuples()) + ". ")
 if worst is not None:
@@ -256,3 +299,4 @@ if worst is not None:
 msg += ("The thesis assumes typical aluminium values (Altintas 2012) and does not identify "
         "them; these are the values the chatter chapter uses.")
 display(Markdown(msg))
+num.check()

@@ -27,6 +27,7 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
+from robomill.captions import Numbering
 from robomill.experiment import DIRECTION_LABELS
 from robomill.io import open_artefact
 from robomill.plotting import save_figure
@@ -44,6 +45,33 @@ runs = pd.DataFrame({k: prof[k].values for k in ("direction", "feed_mm_s", "cut"
 directions = [d for d in ("py", "my", "px") if d in set(runs["direction"])]
 gear_pk = pk[pk["mechanism"] == "gear"]
 temporal = pk[pk["mechanism"] == "temporal"]
+d16 = "my" if "my" in directions else directions[0]
+
+# thesis numbers for ±Y (Figs 3.12–3.17, Table 3.2); the +X runs and the extra tables are
+# numbered after them (Tables 3.1, 3.3 and 3.4 are in the forces chapter)
+num = Numbering("3")
+for d, (n_dev, n_psd) in {"py": (12, 13), "my": (14, 15), "px": (18, 19)}.items():
+    if d in directions:
+        x = "x" if d == "px" else ""
+        num.figure(f"deviation_{d}", f"Deviation from the best line along the path "
+                   f"{DIRECTION_LABELS[d]}, every feed (0.1 mm running mean in bold)",
+                   number=n_dev, stem=f"fig3_{n_dev - 6 if x else n_dev}{x}_deviation_{d}")
+        num.figure(f"psd_{d}", f"Power spectrum of the motion along {DIRECTION_LABELS[d]} "
+                   "(▼ gear peak, ● other peak)", number=n_psd,
+                   stem=f"fig3_{n_psd - 6 if x else n_psd}{x}_psd_{d}")
+num.figure("psd_high", f"Motion spectrum along {DIRECTION_LABELS[d16]} up to the roughness "
+           "band", number=16, stem=f"fig3_16_psd_high_{d16}")
+num.table("band_floor", "Peak-to-floor ratio of the motion spectrum in the surface band and "
+          "in an equally wide band where nothing is expected", number=5)
+num.figure("temporal_vs_spatial", "Peaks by mechanism: spatial and temporal frequency against "
+           "feed", number=17)
+num.table("mesh", "Mesh spatial frequencies [mm⁻¹] of every gear stage, per direction",
+          number=6)
+num.table("attribution", "Peak → gear attribution, and presence on the surface", number=2)
+tc = pd.read_csv(truth_check)
+if synthetic and len(tc):
+    num.table("truth", "Attribution against the planted gear elements (synthetic data)",
+              number=7)
 display(Markdown(
     f"**{len(runs)} tracker runs** ({', '.join(DIRECTION_LABELS[d] for d in directions)}; "
     f"feeds {', '.join(f'{v:g}' for v in sorted(runs.feed_mm_s.unique()))} mm/s), analysed "
@@ -62,7 +90,7 @@ def run_of(direction, feed):
     return sel.index[0]
 
 
-def deviation_figure(direction, number):
+def deviation_figure(direction, number, key):
     feeds = sorted(runs[runs.direction == direction].feed_mm_s)
     fig, axes = plt.subplots(len(feeds), 1, figsize=(7.5, 1.6 * len(feeds) + 0.6), sharex=True,
                              squeeze=False)
@@ -81,11 +109,12 @@ def deviation_figure(direction, number):
     axes[-1, 0].set_xlabel("distance along the path s [mm]")
     fig.suptitle(f"Fig 3.{number} — deviation from the best line, path "
                  f"{DIRECTION_LABELS[direction]}")
-    save_figure(fig, fig_dir, f"fig3_{number}_deviation_{direction}")
+    save_figure(fig, fig_dir, num.file(key))
     plt.show()
+    display(num.caption(key))
 
 
-def psd_figure(direction, number, fmax, name, title):
+def psd_figure(direction, number, fmax, key, title):
     feeds = sorted(runs[runs.direction == direction].feed_mm_s)
     fig, ax = plt.subplots(figsize=(7.5, 4.2))
     for k, v in enumerate(feeds):
@@ -105,29 +134,33 @@ def psd_figure(direction, number, fmax, name, title):
     ax.legend(fontsize=8, ncol=2)
     ax.set_title(f"Fig 3.{number} — {title}, path {DIRECTION_LABELS[direction]} "
                  "(▼ gear, ● other peak)")
-    save_figure(fig, fig_dir, f"fig3_{number}_{name}_{direction}")
+    save_figure(fig, fig_dir, num.file(key))
     plt.show()
+    display(num.caption(key))
 
 
 # %% [markdown]
-# ## Figs 3.12–3.15 — deviation profiles and their spectra along ±Y
-#
-# Thesis Figs 3.12 (+Y) and 3.14 (−Y) show the deviation at 2–10 mm/s; Figs 3.13 and 3.15
-# its power spectrum, with dominant peaks below 0.5 mm⁻¹ (wavelengths above 2 mm).
+# ## Deviation profiles and their spectra along ±Y
 
 # %%
+ys = [d for d in ("py", "my") if d in directions]
+display(Markdown(
+    "The deviation of the path from its best line at 2–10 mm/s ("
+    + ", ".join(num.ref(f"deviation_{d}") for d in ys) + ") and its power spectrum ("
+    + ", ".join(num.ref(f"psd_{d}") for d in ys) + "), as in thesis Figs 3.12–3.15: dominant "
+    "peaks below 0.5 mm⁻¹ (wavelengths above 2 mm)."))
 numbers = {"py": (12, 13), "my": (14, 15)}
-for d in [d for d in ("py", "my") if d in directions]:
-    deviation_figure(d, numbers[d][0])
-    psd_figure(d, numbers[d][1], 1.0, "psd", "power spectrum of the motion")
-
-# %% [markdown]
-# The +X runs (not in the thesis figures) are analysed the same way:
+for d in ys:
+    deviation_figure(d, numbers[d][0], f"deviation_{d}")
+    psd_figure(d, numbers[d][1], 1.0, f"psd_{d}", "power spectrum of the motion")
 
 # %%
 if "px" in directions:
-    deviation_figure("px", "12x")
-    psd_figure("px", "13x", 1.0, "psd", "power spectrum of the motion")
+    display(Markdown(
+        f"The +X runs (not in the thesis figures) are analysed the same way: "
+        f"{num.ref('deviation_px')} and {num.ref('psd_px')}."))
+    deviation_figure("px", "12x", "deviation_px")
+    psd_figure("px", "13x", 1.0, "psd_px", "power spectrum of the motion")
 
 # %%
 low = gear_pk[gear_pk.f_spatial_per_mm <= 0.6]
@@ -145,14 +178,14 @@ if len(main):
         f"The largest gear peak per run has a wavelength of {wl.min():.1f}–{wl.max():.1f} mm."))
 
 # %% [markdown]
-# ## Fig 3.16 — the motion spectrum at higher frequencies
-#
-# The thesis finds small irregularities near 8 mm⁻¹ on the surfaces cut at 8 and 10 mm/s
-# (≈ 64 and 80 Hz) and no peak there in the motion: they come from vibration, not from the
-# robot's path. The 13 Hz servo ripple appears at 13/v mm⁻¹.
+# ## The motion spectrum at higher frequencies
 
 # %%
-d16 = "my" if "my" in directions else directions[0]
+display(Markdown(
+    "The thesis finds small irregularities near 8 mm⁻¹ on the surfaces cut at 8 and 10 mm/s "
+    "(≈ 64 and 80 Hz) and no peak there in the motion: they come from vibration, not from the "
+    f"robot's path. {num.ref('psd_high')} shows the motion spectrum up to that band; the "
+    "13 Hz servo ripple appears at 13/v mm⁻¹."))
 psd_figure(d16, 16, float(settings["fmax_store_per_mm"]), "psd_high",
            "motion spectrum up to the roughness band")
 band = tuple(settings["surface_band_per_mm"])
@@ -177,17 +210,20 @@ display(Markdown(
     f"{fast.peak_to_floor_in_band.max():.1f}× the noise floor, against "
     f"{hi.peak_to_floor_noise_band.min():.1f}–{hi.peak_to_floor_noise_band.max():.1f}× in the "
     f"equally wide band {quiet[0]:g}–{quiet[1]:g} mm⁻¹ where nothing is expected (a peak needs "
-    f"{settings['threshold']:g}×): the motion has no component near 8 mm⁻¹, as the thesis "
-    "concludes." if len(fast) else "No run at 8 or 10 mm/s in this data set."))
-hi.round(2)
+    f"{settings['threshold']:g}×; {num.ref('band_floor')}): the motion has no component near "
+    "8 mm⁻¹, as the thesis concludes." if len(fast) else
+    f"No run at 8 or 10 mm/s in this data set ({num.ref('band_floor')})."))
+display(num.caption("band_floor"))
+display(hi.round(2))
 
 # %% [markdown]
-# ## Fig 3.17 — constant temporal vs constant spatial frequency
-#
-# A peak whose wavelength grows with the feed has a constant temporal frequency (a servo
-# ripple; thesis: 13 Hz); a gear peak keeps its spatial frequency at every feed.
+# ## Constant temporal vs constant spatial frequency
 
 # %%
+display(Markdown(
+    "A peak whose wavelength grows with the feed has a constant temporal frequency (a servo "
+    "ripple; thesis: 13 Hz); a gear peak keeps its spatial frequency at every feed "
+    f"({num.ref('temporal_vs_spatial')})."))
 fig, axes = plt.subplots(1, 2, figsize=(9, 3.8))
 for mech, mk in (("gear", "v"), ("temporal", "o"), ("spatial", "s"), ("unclassified", "x")):
     sel = pk[pk.mechanism == mech]
@@ -206,8 +242,9 @@ axes[1].set_xlabel("feed [mm/s]")
 axes[1].set_ylabel("temporal frequency [Hz]")
 axes[0].legend(fontsize=8)
 fig.suptitle("Fig 3.17 — peaks by mechanism: spatial and temporal frequency vs feed")
-save_figure(fig, fig_dir, "fig3_17_temporal_vs_spatial")
+save_figure(fig, fig_dir, num.file("temporal_vs_spatial"))
 plt.show()
+display(num.caption("temporal_vs_spatial"))
 if len(temporal):
     display(Markdown(
         f"{len(temporal)} peaks have a constant temporal frequency of "
@@ -219,17 +256,19 @@ if len(temporal):
 
 # %% [markdown]
 # ## Gear spatial frequencies per direction
-#
-# Revolutions per mm of path of every gear element (runout: once per revolution; mesh:
-# teeth per revolution) during each run's cut path; independent of the feed on a given path.
 
 # %%
+display(Markdown(
+    f"{num.ref('mesh')}: revolutions per mm of path of every gear element (runout: once per "
+    "revolution; mesh: teeth per revolution) during each run's cut path; independent of the "
+    "feed on a given path."))
 tab = (gr[gr.order == "mesh"].pivot_table(index=["joint", "stage"], columns="direction",
                                            values="f_spatial_per_mm", aggfunc="mean"))
-tab.round(4)
+display(num.caption("mesh"))
+display(tab.round(4))
 
 # %% [markdown]
-# ## Table 3.2 — peak → gear attribution, and presence on the surface
+# ## Peak → gear attribution, and presence on the surface
 #
 # A tracker peak is on the surface when chapter 2 lists a waviness peak in a cut of the same
 # direction and feed within the coarser of the two resolutions.
@@ -246,11 +285,13 @@ table = xc.assign(direction=xc.direction.map(DIRECTION_LABELS),
     ["direction", "feed_mm_s", "joint", "stage", "order", "f_spatial_per_mm", "amplitude_um",
      "on_surface", "surface_f_per_mm"]]
 display(Markdown(
-    f"{int(xc.on_surface.sum())} of {len(xc)} gear peaks are also surface-waviness peaks "
+    f"{num.ref('attribution')}: {int(xc.on_surface.sum())} of {len(xc)} gear peaks are also "
+    "surface-waviness peaks "
     f"(tolerance {tol:.3f} mm⁻¹; the surface table has {len(sp)} peaks). The thesis finds that "
     "the spatial frequency of the main surface irregularities agrees with some of the gear "
     "spatial frequencies."))
-table.round(4)
+display(num.caption("attribution"))
+display(table.round(4))
 
 # %% [markdown]
 # ## Check against the planted truth (synthetic data)
@@ -263,7 +304,6 @@ table.round(4)
 # than the resolution).
 
 # %%
-tc = pd.read_csv(truth_check)
 if synthetic and len(tc):
     counts = attribution_counts(tc)
     display(Markdown(
@@ -271,8 +311,10 @@ if synthetic and len(tc):
         f"**{counts['above_noise']}**, found **{counts['found']}**, merged with a neighbour "
         f"{counts['merged']}, missed **{counts['missed']}**; marginal {counts['marginal']} "
         f"(found {counts['marginal_found']}). Attributions to a gear that was not planted "
-        f"above the noise: **{counts['false_attributions']}**."))
+        f"above the noise: **{counts['false_attributions']}** ({num.ref('truth')})."))
     shown = tc[tc["class"] != "out_of_band"]
+    display(num.caption("truth"))
     display(shown.round(4))
 else:
     display(Markdown("Real data: no planted truth to compare with."))
+num.check()

@@ -35,6 +35,7 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
+from robomill.captions import Numbering
 from robomill.io import open_artefact
 from robomill.plotting import save_figure
 
@@ -55,6 +56,32 @@ joints = pd.read_csv(map_joints)
 models = pd.read_csv(map_models)
 val = pd.read_csv(map_validation)
 robot_name = mp.attrs.get("robot", "robot")
+heights = mp["height_mm"].values
+
+num = Numbering("5")
+num.table("workspace_ranges", "Workspace ranges: seed 001 against our Monte-Carlo workspace")
+num.figure("workspace", "Monte-Carlo workspace: X–Z projection of the 3-D workspace and the "
+           "X–Z plane")
+num.table("joints", "Identified joint stiffnesses with 95 % intervals, per model, beside the "
+          "seed's 3-D and plane values")
+num.table("identification", "The identifications: poses used, condition number, residual")
+num.table("validation", "Mean absolute error of the predicted deflection on the validation "
+          "poses")
+for i, h in enumerate(heights):
+    num.figure(f"maps_h{h:.0f}", f"Directional stiffness along the tool axes over the working "
+               f"plane, H = {h:.0f} mm, every redundancy angle (seed 001 Fig. 11)", number=2,
+               part="abcdefgh"[i] if len(heights) > 1 else "")
+num.table("maxima", "Largest directional stiffness per height and redundancy angle")
+num.table("optimal", "The stiffness-optimal pose and random poses: deformation under the end "
+          "load")
+num.figure("optimal_poses", "Deformation under the end load, optimal against random poses "
+           "(dashed: the seed's optimum)")
+num.figure("beamframe", "Beam-frame model: nodes at t = 0, and the tool displacement with the "
+           "predicted σ(t) (seed 004, eq. 17)")
+num.table("slots", "Thesis robot: mean stiffness along the slot directions beside the mean "
+          "waviness of Table 2.1")
+num.figure("thesis_slots", "Thesis robot: stiffness per slot direction against the waviness "
+           "RMS of Table 2.1")
 
 # %% [markdown]
 # ## 5.1 Workspace (seed 001 §2)
@@ -69,12 +96,14 @@ rows = [("X (3-D)", *SEED_WORKSPACE["X"], ws[:, 0].min(), ws[:, 0].max()),
         ("Z (X–Z plane)", *SEED_WORKSPACE["XZ_Z"], wxz[:, 2].min(), wxz[:, 2].max())]
 ws_table = pd.DataFrame(rows, columns=["range", "seed min mm", "seed max mm", "ours min mm",
                                        "ours max mm"]).round(0)
+display(num.caption("workspace_ranges"))
 display(ws_table)
 ann = pd.DataFrame({"height_mm": mp["height_mm"].values,
                     "inner diameter mm": mp["annulus_inner_diameter_mm"].values,
                     "outer diameter mm": mp["annulus_outer_diameter_mm"].values})
 display(Markdown(
-    f"Monte-Carlo workspace of the assumed {robot_name} with N = {len(ws)} samples. The "
+    f"{num.ref('workspace_ranges')} and {num.ref('workspace')}: Monte-Carlo workspace of the "
+    f"assumed {robot_name} with N = {len(ws)} samples. The "
     "ranges differ from the seed's by the assumed link lengths, joint limits and end effector "
     "(the seed's MD-H table is not printed). Working-plane annulus with the tool pointing "
     f"down: inner diameter {ann['inner diameter mm'].min():.0f} mm, outer "
@@ -90,8 +119,9 @@ axes[1].scatter(wxz[:, 0], wxz[:, 2], s=1, alpha=0.3, color="C1")
 axes[1].set(xlabel="X [mm]", ylabel="Z [mm]", title="X–Z plane (joints 1, 5, 6 at 0)")
 for ax in axes:
     ax.set_aspect("equal")
-save_figure(fig, fig_dir, "fig5_1_workspace")
+save_figure(fig, fig_dir, num.file("workspace"))
 plt.show()
+display(num.caption("workspace"))
 
 # %% [markdown]
 # ## 5.2 Joint-stiffness identification (seed 001 §3)
@@ -111,11 +141,14 @@ if truth is not None:
     tr = open_artefact(truth)
     planted = tr["stiffness_k_Nm_rad"].sel(stiffness_robot=robot_name).values[:len(tab)]
     tab["planted kN·m/rad"] = planted / 1e3
+display(num.caption("joints"))
 display(tab.drop(columns=["k_Nm_rad", "ci95_low_Nm_rad", "ci95_high_Nm_rad"]).round(4))
 summary = models[["model", "n_poses", "condition_number", "residual_rms_um", "warnings"]]
+display(num.caption("identification"))
 display(summary.round(3))
 display(Markdown(
-    "The synthetic load tests are drawn from the seed's plane-identified K_θ (planted), so "
+    f"{num.ref('joints')} and {num.ref('identification')}: the synthetic load tests are drawn "
+    "from the seed's plane-identified K_θ (planted), so "
     "every identification here should find those values within its interval; the seed's "
     "3-D and plane values differ because a real arm is not a pure joint-stiffness model "
     "(link bending, gravity), which the simulator does not add."))
@@ -123,20 +156,26 @@ display(Markdown(
 # %%
 v = val.groupby("model")[["error_pct", "vector_error_pct"]].agg(lambda s: np.abs(s).mean())
 v["seed error %"] = [SEED_VALIDATION.get(m, np.nan) for m in v.index]
+display(num.caption("validation"))
 display(v.round(2))
 if len(val):
     display(Markdown(
-        f"Mean absolute error of the predicted deflection magnitude on {val['pose'].nunique()} "
+        f"{num.ref('validation')}: mean absolute error of the predicted deflection magnitude on "
+        f"{val['pose'].nunique()} "
         f"validation poses: {', '.join(f'{m} {e:.2f} %' for m, e in v['error_pct'].items())} "
         "(seed: 4.0 % for the 3-D and 3.1 % for the plane identification at one test pose, "
         "0.338 / 0.335 mm predicted vs 0.325 mm measured)."))
+else:
+    display(Markdown(f"No validation poses in this run ({num.ref('validation')} is empty)."))
 
 # %% [markdown]
 # ## 5.3 Directional stiffness over the working plane (seed 001 §4.2, Fig. 11)
 
 # %%
+display(Markdown("Stiffness along the tool axes over the working plane, one figure per "
+                 "height: " + ", ".join(num.ref(f"maps_h{h:.0f}") for h in heights) + "."))
 axes_names = ["X", "Y", "Z"]
-for h in mp["height_mm"].values:
+for h in heights:
     red = mp["redundancy_deg"].values
     fig, axs = plt.subplots(len(red), 3, figsize=(11, 3.2 * len(red)), squeeze=False)
     for i, r in enumerate(red):
@@ -148,17 +187,20 @@ for h in mp["height_mm"].values:
             fig.colorbar(im, ax=axs[i, j], label="N/µm")
     fig.suptitle(f"Directional stiffness along the tool axes, H = {h:.0f} mm")
     fig.tight_layout()
-    save_figure(fig, fig_dir, f"fig5_2_maps_h{h:.0f}")
+    save_figure(fig, fig_dir, num.file(f"maps_h{h:.0f}"))
     plt.show()
+    display(num.caption(f"maps_h{h:.0f}"))
 
 # %%
 mx = mp["k_N_m"].max(dim=("x", "y")).to_dataframe().reset_index().pivot_table(
     index=["height_mm", "redundancy_deg"], columns="axis", values="k_N_m") / 1e6
 mx.columns = [f"max k_{c} N/µm" for c in mx.columns]
 mx["seed max k_Y (printed N/m)"] = [SEED_Y_MAX.get(int(r), np.nan) for _, r in mx.index]
+display(num.caption("maxima"))
 display(mx.round(3))
 display(Markdown(
-    f"Our Z stiffness reaches {mx['max k_Z N/µm'].max():.2f} N/µm; seed 001 reports "
+    f"{num.ref('maxima')}: our Z stiffness reaches {mx['max k_Z N/µm'].max():.2f} N/µm; seed "
+    "001 reports "
     f"{SEED_Z_0DEG_N_MM} N/mm = {SEED_Z_0DEG_N_MM / 1e3:.2f} N/µm at θr = 0° (+200.6 N/mm at "
     "30°). The seed's Y maxima are printed as 93 000 N/m, i.e. 0.093 N/µm: far below its "
     "own Z stiffness, so the unit is probably misprinted; ours are in the same range as Z."))
@@ -176,8 +218,9 @@ def rand_range(h):
 
 
 best["seed_deformation_um"] = best["height_mm"].map(SEED_DEFORMATION_UM)
+display(num.caption("optimal"))
 display(opt.drop(columns=["robot"]).round(1))
-display(Markdown("\n".join(
+display(Markdown(f"{num.ref('optimal')} and {num.ref('optimal_poses')}:\n\n" + "\n".join(
     f"* H = {r.height_mm:.0f} mm: optimal pose at ({r.x_mm:.0f}, {r.y_mm:.0f}) mm, "
     f"θr = {r.redundancy_deg:.0f}°, comprehensive index {r.S_N_m / 1e6:.2f} N/µm, deformation "
     f"under the end load {r.deformation_um:.0f} µm (seed: {r.seed_deformation_um:.0f} µm); "
@@ -194,8 +237,9 @@ ax.set_xticks(np.arange(len(g)), g["pose"], rotation=30)
 ax.set_ylabel("deformation under the end load [µm]")
 ax.set_title("Optimal vs random poses (dashed: seed's optimum)")
 ax.legend()
-save_figure(fig, fig_dir, "fig5_3_optimal_poses")
+save_figure(fig, fig_dir, num.file("optimal_poses"))
 plt.show()
+display(num.caption("optimal_poses"))
 
 # %% [markdown]
 # ## 5.5 Beam-frame model and vibration predictor (seed 004)
@@ -210,7 +254,7 @@ display(Markdown(
     "(positive definite). Cantilever check: beam-frame tip deflection "
     f"{float(bf['cantilever_tip_m']) * 1e6:.4f} µm vs closed form F L³/3EI "
     f"{float(bf['cantilever_closed_form_m']) * 1e6:.4f} µm. Wheel loads F_n = "
-    f"{float(bf['F_n_N']):.1f} N, F_v = {float(bf['F_v_N']):.1f} N."))
+    f"{float(bf['F_n_N']):.1f} N, F_v = {float(bf['F_v_N']):.1f} N ({num.ref('beamframe')})."))
 fig, axs = plt.subplots(1, 2, figsize=(11, 4))
 n = bf["node_m"].values
 axs[0].plot(n[:, 0], n[:, 2], "o-")
@@ -224,8 +268,9 @@ ax2.plot(bf["time"], bf["sigma_pred"], color="C1", label="σ(t) predicted")
 axs[1].set(xlabel="t [s]", ylabel="δ_sum [µm]", title="tool displacement and σ(t), eq. 17")
 ax2.set_ylabel("σ(t)")
 fig.tight_layout()
-save_figure(fig, fig_dir, "fig5_4_beamframe")
+save_figure(fig, fig_dir, num.file("beamframe"))
 plt.show()
+display(num.caption("beamframe"))
 
 # %% [markdown]
 # ## 5.6 The thesis robot: stiffness along the slot directions vs Table 2.1
@@ -246,12 +291,14 @@ wq = {d: float(np.nanmean(wav[[c for c in wav.columns if c.endswith("_" + d)]].v
       for d in ("px", "py", "my")}
 mean_k["waviness RMS µm (Table 2.1, mean)"] = [wq.get(d, np.nan)
                                                 for d in mean_k.index.get_level_values(1)]
+display(num.caption("slots"))
 display(mean_k)
 comb = mean_k.loc["combined"]
 kn = comb["k normal N/µm"]
 spread = 100 * (kn.get("py", np.nan) - kn.get("my", np.nan)) / kn.get("my", np.nan)
 display(Markdown(
-    f"Thesis robot joints not observable in its load tests: {unobs or 'none'} (treated as "
+    f"{num.ref('slots')}, {num.ref('thesis_slots')}: thesis robot joints not observable in its "
+    f"load tests: {unobs or 'none'} (treated as "
     "rigid; a tool on the flange axis gives no torque about joint 6). Both models in series: "
     + ", ".join(f"{d} slots k_normal {kn[d]:.3f}, k_feed {comb.loc[d, 'k feed N/µm']:.3f} N/µm"
                 for d in kn.index)
@@ -277,5 +324,7 @@ ax2.plot(x, [wq.get(d, np.nan) for d in c.index], "kD--", label="waviness RMS")
 ax2.set_ylabel("waviness RMS [µm]")
 ax.set_title("Thesis robot: stiffness per slot direction vs Table 2.1")
 ax.legend(loc="upper left")
-save_figure(fig, fig_dir, "fig5_5_thesis_slots")
+save_figure(fig, fig_dir, num.file("thesis_slots"))
 plt.show()
+display(num.caption("thesis_slots"))
+num.check()

@@ -22,6 +22,7 @@
 trajectory: str = None  # results/hexapod/trajectory.nc
 forces: str = None  # results/hexapod/forces.nc
 sensitivity: str = None  # results/hexapod/sensitivity.nc
+force_accuracy: str = None  # results/hexapod/force_accuracy.csv
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
@@ -30,12 +31,29 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
+from robomill.captions import Numbering
+from robomill.hexapod import drift_antisymmetry
 from robomill.io import open_artefact
 from robomill.plotting import save_figure
+
+num = Numbering("6")
+num.table("seed_table1", "High-speed against conventional ball-end milling, as printed in "
+          "seed 003's Table 1")
+num.figure("trajectory", "The seed's acceleration programme through the inverse dynamics and "
+           "its open-loop replay (left), and the round-trip error (right)")
+num.figure("actuator_forces", "Actuator forces of the programme (seed Fig. 4)")
+num.figure("drift_vs_exact", "The vertical move with exact forces and with actuator 1 at "
+           "+1 % (seed Fig. 5): height, drift and Euler angles")
+num.table("vertical", "The vertical move: the seed's printed numbers beside ours")
+num.figure("drift_map", "Final drift and tilt of the vertical move over force error × "
+           "actuator")
+num.table("force_accuracy", "Force accuracy each position tolerance needs "
+          "(results/hexapod/force_accuracy.csv)")
 
 traj = open_artefact(trajectory)
 frc = open_artefact(forces)
 sens = open_artefact(sensitivity)
+need = pd.read_csv(force_accuracy)
 
 # numbers printed in seed 003 (shown beside ours)
 SEED_FORCE_N = 1.65
@@ -49,23 +67,25 @@ SEED_EULER_DEG = np.array([0.447, 4.7031, 0.0])  # psi, theta, phi
 # ## Context — high-speed machining (seed Table 1)
 #
 # The seed's case for parallel kinematics: high-speed milling needs light, fast axes.
-# Its Table 1 (ball-end milling), as printed:
 
 # %%
-pd.DataFrame(
+display(Markdown(f"{num.ref('seed_table1')} gives the seed's Table 1 (ball-end milling) as "
+                 "printed."))
+display(num.caption("seed_table1"))
+display(pd.DataFrame(
     {"conventional": ["6000", "0.2–0.8", "1–5", "< 36", "high", "high"],
      "high-speed": ["15 000–40 000", "1.5–5", "0.02–0.5", "< 62", "low", "low"]},
     index=["spindle speed [rpm]", "feed [m/min]", "depth of cut [mm]", "hardness [HRC]",
-           "cutting force", "heat"])
+           "cutting force", "heat"]))
 
 # %% [markdown]
-# ## Figure 6.1 — the seed's acceleration programme
-#
-# γx = +1 on [0, 2] s and −1 on [2, 4] s, γy = 5 on [0, 4] s, from rest at (0, 0, 53.3),
-# orientation fixed. The dashed line is the forward dynamics driven open loop by the
-# inverse-dynamics forces (the round trip).
+# ## The seed's acceleration programme
 
 # %%
+display(Markdown(
+    "The programme: γx = +1 on [0, 2] s and −1 on [2, 4] s, γy = 5 on [0, 4] s, from rest at "
+    f"(0, 0, 53.3), orientation fixed. {num.ref('trajectory')} shows it; the dashed line is "
+    "the forward dynamics driven open loop by the inverse-dynamics forces (the round trip)."))
 t = traj["time"].values
 pos = traj["position_mm"]
 rep = traj["replay_position_mm"]
@@ -92,8 +112,9 @@ if t0.size:
 axes[1].set_xlabel("t [s]")
 axes[1].set_ylabel("|replay − command| [mm]")
 axes[1].set_title("round-trip error")
-save_figure(fig, fig_dir, "fig6_1_trajectory")
+save_figure(fig, fig_dir, num.file("trajectory"))
 plt.show()
+display(num.caption("trajectory"))
 display(Markdown(
     f"The programme ends at ({pos.sel(axis='x')[-1]:.1f}, {pos.sel(axis='y')[-1]:.1f}, "
     f"{pos.sel(axis='z')[-1]:.1f}) mm. The open-loop replay follows the command to within "
@@ -106,7 +127,7 @@ display(Markdown(
     "what turns the seed's small force error into a large drift below."))
 
 # %% [markdown]
-# ## Figure 6.2 — actuator forces of the programme (seed Fig. 4)
+# ## Actuator forces of the programme
 
 # %%
 fig, ax = plt.subplots()
@@ -118,18 +139,20 @@ ax.set_xlabel("t [s]")
 ax.set_ylabel("Γ [N]")
 ax.set_title("Inverse dynamics: actuator forces along the programme")
 ax.legend(ncol=2, fontsize=8)
-save_figure(fig, fig_dir, "fig6_2_actuator_forces")
+save_figure(fig, fig_dir, num.file("actuator_forces"))
 plt.show()
+display(num.caption("actuator_forces"))
 f = frc["force_N"]
 display(Markdown(
-    f"At rest at the start all six actuators carry {float(f[0].mean()):.3f} N (closed form "
+    f"{num.ref('actuator_forces')}: at rest at the start all six actuators carry "
+    f"{float(f[0].mean()):.3f} N (closed form "
     f"{float(frc['static_force_N']):.3f} N). Along the programme the forces spread from "
     f"{float(f.min()):.2f} N to {float(f.max()):.2f} N: at mm/s² the inertial part is tiny "
     "and the change is geometric — the platform moves 40 mm sideways, the legs tilt and "
     "share the weight unequally. The seed's Fig. 4 has no scale we can compare with."))
 
 # %% [markdown]
-# ## Figure 6.3 — the vertical move with actuator 1 at +1 % (seed Fig. 5)
+# ## The vertical move with actuator 1 at +1 %
 
 # %%
 tv = traj["time_vertical"].values
@@ -150,8 +173,9 @@ for ax in axes:
     ax.set_xlabel("t [s]")
     ax.legend()
 fig.suptitle("Vertical move: exact forces vs a +1 % error in actuator 1")
-save_figure(fig, fig_dir, "fig6_3_drift_vs_exact")
+save_figure(fig, fig_dir, num.file("drift_vs_exact"))
 plt.show()
+display(num.caption("drift_vs_exact"))
 
 fv = frc["vertical_force_N"]
 end_ex = ex.isel(time_vertical=-1).values
@@ -165,12 +189,14 @@ table = pd.DataFrame(
            "exact end y [mm]", "exact end z [mm]", "perturbed end x [mm]",
            "perturbed end y [mm]", "perturbed end z [mm]", "ψ [deg]", "θ [deg]", "φ [deg]"])
 table["difference"] = table["ours"] - table["seed"]
+display(num.caption("vertical"))
 display(table.round(4))
 drift = traj["vertical_final_drift_mm"].values
 rot = np.linalg.norm(traj["vertical_final_rotvec_deg"].values)
 seed_drift = SEED_PERTURBED_END - SEED_EXACT_END
 display(Markdown(
-    f"With exact forces the platform rises from 53.3 to {end_ex[2]:.3f} mm in "
+    f"{num.ref('drift_vs_exact')} and {num.ref('vertical')}: with exact forces the platform "
+    f"rises from 53.3 to {end_ex[2]:.3f} mm in "
     f"{traj.attrs['vertical_duration_s']:g} s (seed: 54.57). A +1 % error in actuator 1 "
     f"({float(frc['vertical_perturbed_force_N'][0, 0]):.4f} N instead of {float(fv[0, 0]):.4f} N) "
     f"ends {np.linalg.norm(drift):.2f} mm away (seed: {np.linalg.norm(seed_drift):.2f} mm) and "
@@ -184,7 +210,7 @@ display(Markdown(
     "hexapod whose legs are not is singular about z)."))
 
 # %% [markdown]
-# ## Figure 6.4 — drift map: force error × actuator, and the force accuracy a tolerance needs
+# ## Drift map, and the force accuracy a tolerance needs
 
 # %%
 e = sens["force_error_pct"].values
@@ -196,32 +222,33 @@ for ax, name, unit in ((axes[0], "drift_mm", "mm"), (axes[1], "tilt_deg", "deg")
     ax.set_xlabel("force error [%]")
     ax.set_ylabel("actuator")
     ax.set_title(f"final {name.split('_')[0]} after {sens.attrs['duration_s']:g} s")
-save_figure(fig, fig_dir, "fig6_4_drift_map")
+save_figure(fig, fig_dir, num.file("drift_map"))
 plt.show()
+display(num.caption("drift_map"))
 
+display(num.caption("force_accuracy"))
+display(need.rename(columns={
+    "position_tolerance_mm": "position tolerance [mm]",
+    "force_accuracy_pct": "force accuracy needed [%]",
+    "force_accuracy_mN": "force accuracy needed [mN]"})[
+    ["position tolerance [mm]", "force accuracy needed [%]", "force accuracy needed [mN]"]
+].round(4))
 slope = np.linalg.norm(sens["drift_components_per_pct"].values, axis=-1)   # mm per %
-worst = slope.max()
-tols = np.array([0.005, 0.01, 0.05, 0.1])
-need = pd.DataFrame({"position tolerance [mm]": tols,
-                     "force accuracy needed [%]": tols / worst,
-                     "force accuracy needed [mN]": tols / worst / 100 * float(fv[0, 0]) * 1e3})
-display(need.round(4))
-pair = sens["drift_components_mm"]
-if (e > 0).any() and np.isin(-e[e > 0], e).any():
-    ep = e[(e > 0) & np.isin(-e, e)].min()
-    plus, minus = pair.sel(force_error_pct=ep), pair.sel(force_error_pct=-ep)
-    anti = float((np.linalg.norm(plus + minus, axis=-1) / np.linalg.norm(plus, axis=-1)).max())
-    anti_text = (f" The map is antisymmetric to first order: drift(+{ep:g} %) + "
-                 f"drift(−{ep:g} %) is at most {100 * anti:.1f} % of drift(+{ep:g} %).")
-else:
-    anti_text = ""
+anti = drift_antisymmetry(sens)
+anti_text = ("" if anti is None else
+             f" The map is antisymmetric to first order: drift(+{anti[0]:g} %) + "
+             f"drift(−{anti[0]:g} %) is at most {100 * anti[1]:.1f} % of drift(+{anti[0]:g} %).")
+row = need.set_index("position_tolerance_mm").loc[0.01]
 display(Markdown(
-    f"Drift grows linearly with the force error ({slope.min():.2f}–{worst:.2f} mm per % "
+    f"{num.ref('drift_map')}: drift grows linearly with the force error "
+    f"({slope.min():.2f}–{row['drift_mm_per_pct']:.2f} mm per % "
     f"over the actuators; the six actuators are equivalent by the platform's symmetry up to "
-    f"mirror images).{anti_text} Holding the end of this {sens.attrs['duration_s']:g} s move "
+    f"mirror images).{anti_text} {num.ref('force_accuracy')} turns the slope into a "
+    f"requirement: holding the end of this {row['duration_s']:g} s move "
     f"to 0.01 mm open loop would need every actuator's force right to "
-    f"{0.01 / worst:.4f} % ({0.01 / worst / 100 * float(fv[0, 0]) * 1e3:.3f} mN of "
+    f"{row['force_accuracy_pct']:.4f} % ({row['force_accuracy_mN']:.3f} mN of "
     f"{float(fv[0, 0]):.2f} N) — and, because the drift grows like e^(λt), ten times less for "
     f"every {np.log(10) / lam.max() * 1e3:.0f} ms more. Force control of a hexapod therefore "
     "needs a position loop around it; the seed's conclusion (a small error in the force loop "
     "gives a large path error) holds, with a time scale set by √(g/h)."))
+num.check()

@@ -1,5 +1,8 @@
 """Render a chapter: execute its notebook with papermill, convert it to HTML with nbconvert.
 
+The page reads as a document (:func:`document_html`): code folded, one parameter table, no
+run-specific folder; figures and tables are numbered by :mod:`robomill.captions`.
+
 Outputs appear only on success: the notebook runs on a staging copy, its figures go to a
 staging folder, and everything is moved into place at the end. A notebook in which any cell
 raised is a failure even if papermill returned normally; the failed executed notebook is kept
@@ -9,6 +12,7 @@ beside the log so the error can be read in context.
 from __future__ import annotations
 
 import logging
+import os
 import shutil
 import tempfile
 from collections.abc import Mapping
@@ -81,12 +85,55 @@ def check_parameters(notebook: str | Path, parameters: Mapping[str, Any]) -> dic
     return declared
 
 
-def _parameter_table(parameters: Mapping[str, Any], declared: Mapping[str, str]) -> str:
+def shown_value(value: Any, root: str | Path | None = None) -> str:
+    """A parameter value as the chapter page shows it: an absolute path below ``root`` (the
+    run's folder, the one holding ``results/``) becomes relative to it, so that no
+    run-specific folder appears on the page."""
+    text = str(value)
+    if root is not None and isinstance(value, str | Path) and os.path.isabs(text):
+        try:
+            return str(Path(text).resolve().relative_to(Path(root).resolve()))
+        except ValueError:
+            return text
+    return text
+
+
+def _parameter_table(parameters: Mapping[str, Any], declared: Mapping[str, str],
+                     root: str | Path | None = None) -> str:
     rows = ["| parameter | value | type |", "|---|---|---|"]
     for name, value in parameters.items():
-        shown = str(value).replace("|", "\\|")
+        shown = shown_value(value, root).replace("|", "\\|")
         rows.append(f"| `{name}` | `{shown}` | {declared.get(name, '')} |")
     return "**Parameters of this run**\n\n" + "\n".join(rows)
+
+
+#: nbconvert template of the chapter pages: code folded (robomill/data/chapter_template)
+TEMPLATE_DIR = Path(__file__).parent / "data" / "chapter_template"
+
+
+def document_html(nb: nbformat.NotebookNode, table_md: str,
+                  replace: Mapping[str, str] | None = None) -> str:
+    """The chapter page of an executed notebook, as a document.
+
+    The ``parameters`` and papermill's ``injected-parameters`` cells are left out (the one
+    parameter table ``table_md`` is inserted after the title instead), every code cell's
+    input is folded in a ``<details>`` element (one click shows it; printing omits it), and
+    each ``replace`` key (e.g. the staging folder) is replaced in the page.
+    """
+    from nbconvert import HTMLExporter
+
+    nb = nbformat.from_dict(nb)
+    nb.cells = [c for c in nb.cells if not {"parameters", "injected-parameters"}
+                & set(c.metadata.get("tags", []))]
+    table = nbformat.v4.new_markdown_cell(table_md)
+    nb.cells.insert(1 if nb.cells and nb.cells[0].cell_type == "markdown" else 0, table)
+    exporter = HTMLExporter(extra_template_basedirs=[str(TEMPLATE_DIR.parent)],
+                            template_name=TEMPLATE_DIR.name, exclude_input_prompt=True,
+                            exclude_output_prompt=True)
+    body, _ = exporter.from_notebook_node(nb)
+    for old, new in (replace or {}).items():
+        body = body.replace(old, new)
+    return body
 
 
 def private_kernel_manager(kernel: str, socket_dir: Path):
@@ -151,7 +198,6 @@ def render_chapter(
         If execution fails or any cell holds an error output.
     """
     import papermill as pm
-    from nbconvert import HTMLExporter
 
     out_ipynb, out_html, fig_dir = Path(out_ipynb), Path(out_html), Path(fig_dir)
     out_ipynb.parent.mkdir(parents=True, exist_ok=True)
@@ -196,10 +242,10 @@ def render_chapter(
                 + (f"; executed notebook kept at {kept}" if kept else "")
             )
         shown = {k: v for k, v in params.items() if k != "fig_dir"}
-        table = nbformat.v4.new_markdown_cell(_parameter_table(shown, declared))
-        nb.cells.insert(1 if nb.cells and nb.cells[0].cell_type == "markdown" else 0, table)
-        body, _ = HTMLExporter(exclude_input_prompt=True, exclude_output_prompt=True
-                               ).from_notebook_node(nb)
+        root = Path(cwd) if cwd else Path.cwd()
+        body = document_html(nb, _parameter_table(shown, declared, root), replace={
+            str(staged_figs.resolve()): shown_value(str(fig_dir.resolve()), root),
+            str(stage.resolve()): shown_value(str(out_ipynb.parent.resolve()), root)})
         (stage / out_html.name).write_text(body)
         # move into place: figures first, the notebook and the page last
         if fig_dir.exists():

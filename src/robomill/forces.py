@@ -793,3 +793,30 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
                                                      "rotation angle of tooth 1"))
     spectra.attrs.update({"model_feed_per_tooth_mm": c_mod, "model_depth_mm": a_mod})
     return spectra, peaks, means, harmonics, coeffs
+
+
+def nearest_modes(peaks_hz: np.ndarray, modes: pd.DataFrame) -> pd.DataFrame:
+    """The identified mode nearest to each force peak (chapter 3.1, Table 3.1).
+
+    Parameters
+    ----------
+    peaks_hz
+        Peak frequencies [Hz] (the dominant low-frequency peak of each cut).
+    modes
+        ``results/modal/modes.csv``: columns ``mode`` and ``f_n_hz``.
+
+    Returns
+    -------
+    DataFrame
+        One row per peak: ``nearest_mode``, ``nearest_mode_hz`` and ``offset_hz`` (peak −
+        mode); empty columns when there is no mode.
+    """
+    f = np.asarray(peaks_hz, float)
+    f_n = np.asarray(modes["f_n_hz"], float) if len(modes) else np.array([])
+    if f_n.size == 0:
+        return pd.DataFrame({"nearest_mode": pd.Series([None] * f.size, dtype=object),
+                             "nearest_mode_hz": np.full(f.size, np.nan),
+                             "offset_hz": np.full(f.size, np.nan)})
+    idx = np.abs(f[:, None] - f_n[None, :]).argmin(axis=1)
+    return pd.DataFrame({"nearest_mode": modes["mode"].to_numpy()[idx],
+                         "nearest_mode_hz": f_n[idx], "offset_hz": f - f_n[idx]})

@@ -684,3 +684,104 @@ def analyse_tracker_run(t_s: np.ndarray, points_mm: np.ndarray, cell: Any, *,
                            expected="points in the base frame of the robot of "
                                     f"{cell.path}: register the tracker frame with "
                                     "base_from_instrument.tracker in cell.yaml") from None
+
+
+_RUN_COORDS = {  # run coordinate: (units, long name), from each run's attrs
+    "direction": ("1", "cut direction"),
+    "feed_mm_s": ("mm/s", "commanded feed"),
+    "cut": ("1", "cut whose path the run follows"),
+    "resolution_per_mm": ("1/mm", "frequency resolution 1/L"),
+    "length_mm": ("mm", "analysed path length L"),
+    "speed_mm_s": ("mm/s", "measured speed"),
+    "fmin_per_mm": ("1/mm", "lowest analysed frequency"),
+    "floor_um2": ("um^2", "median power in the band"),
+}
+
+
+def gather_profiles(runs: Sequence[xr.Dataset], run_ids: Sequence[str]) -> xr.Dataset:
+    """Stack the per-run :func:`profile_dataset` artefacts along ``run`` (outer join of their
+    axes); each run's attrs (direction, feed, resolution, …) become ``run`` coordinates.
+    The inputs are not modified."""
+    if len(runs) != len(run_ids):
+        raise ValueError(f"gather_profiles: {len(runs)} runs but {len(run_ids)} run ids")
+    missing = [(r, k) for r, ds in zip(run_ids, runs, strict=True) for k in _RUN_COORDS
+               if k not in ds.attrs]
+    if missing:
+        raise ValueError(f"gather_profiles: run attribute(s) missing: {missing[:5]}")
+    coords = {k: ("run", [ds.attrs[k] for ds in runs], {"units": u, "long_name": n})
+              for k, (u, n) in _RUN_COORDS.items()}
+    parts = []
+    for r, ds in zip(run_ids, runs, strict=True):
+        part = ds.expand_dims(run=[r])
+        part.attrs = {}
+        parts.append(part)
+    prof = xr.concat(parts, dim="run", join="outer").assign_coords(coords)
+    prof["run"].attrs = {"units": "1", "long_name": "tracker run <dir>_f<feed>"}
+    return prof
+
+
+def gather_gears(per_run: Sequence[pd.DataFrame]) -> pd.DataFrame:
+    """All runs' gear spatial frequencies, with the temporal frequency f·v they have at the
+    run's feed (``f_temporal_hz``)."""
+    gears = pd.concat(list(per_run), ignore_index=True)
+    gears["f_temporal_hz"] = gears["f_spatial_per_mm"] * gears["feed_mm_s"]
+    return gears
+
+
+def gather_peaks(per_run: Sequence[pd.DataFrame], profiles: xr.Dataset, *,
+                 tol_bins: float) -> pd.DataFrame:
+    """All runs' peaks, classified across feeds (:func:`classify_peaks`) with each run's
+    resolution from ``profiles`` (:func:`gather_profiles`); columns :data:`PEAK_COLUMNS`
+    (plus ``n_candidates`` when present)."""
+    peaks = pd.concat(list(per_run), ignore_index=True)
+    peaks["joint"] = peaks["joint"].astype("Int64")
+    peaks[["stage", "order"]] = peaks[["stage", "order"]].fillna("")
+    res = {(d, float(v)): float(x) for d, v, x in zip(profiles["direction"].values,
+                                                      profiles["feed_mm_s"].values,
+                                                      profiles["resolution_per_mm"].values,
+                                                      strict=True)}
+    peaks = classify_peaks(peaks, res, tol_bins=tol_bins)
+    extra = [c for c in ("n_candidates",) if c in peaks]
+    return peaks[PEAK_COLUMNS + extra]
+
+
+#: results/straightness/truth_check.csv columns
+TRUTH_CHECK_COLUMNS = ["direction", "feed_mm_s", "joint", "stage", "order", "f_spatial_per_mm",
+                       "amplitude_um", "snr_expected", "class", "found", "merged",
+                       "found_amplitude_um", "false_attribution"]
+
+
+def planted_gear_elements(truth: xr.Dataset) -> pd.DataFrame:
+    """Every planted gear element × tracker run of the virtual cell's ``truth.nc``: run,
+    direction, feed, joint, stage, order, spatial frequency and amplitude perpendicular to
+    the path."""
+    rows = []
+    for k, run in enumerate(truth["tracker_run"].values):
+        for g in truth["gear"].values:
+            for o in truth["order"].values:
+                at = {"tracker_run": run, "gear": g, "order": o}
+                rows.append({
+                    "run": str(run), "direction": str(truth["tracker_direction"].values[k]),
+                    "feed_mm_s": float(truth["tracker_feed_mm_s"].values[k]),
+                    "joint": int(truth["gear_joint"].sel(gear=g)),
+                    "stage": str(truth["gear_stage"].sel(gear=g).values), "order": str(o),
+                    "f_spatial_per_mm": float(truth["tracker_gear_f_spatial_per_mm"].sel(at)),
+                    "amplitude_um": float(truth["tracker_gear_amplitude_um"].sel(at))})
+    return pd.DataFrame(rows)
+
+
+def truth_check(peaks: pd.DataFrame | None, truth: xr.Dataset | None,
+                profiles: xr.Dataset | None, options: Mapping[str, Any]) -> pd.DataFrame:
+    """The attribution against the planted gears (:func:`evaluate_attribution`), columns
+    :data:`TRUTH_CHECK_COLUMNS`; an empty table when there is no truth (real data)."""
+    if truth is None:
+        return pd.DataFrame(columns=TRUTH_CHECK_COLUMNS)
+    peaks = peaks.copy()
+    peaks[["stage", "order"]] = peaks[["stage", "order"]].fillna("")
+    runs = pd.DataFrame({k: profiles[k].values for k in ("direction", "feed_mm_s",
+                                                          "resolution_per_mm", "fmin_per_mm",
+                                                          "floor_um2")})
+    ev = evaluate_attribution(peaks, planted_gear_elements(truth), runs,
+                              threshold=options["threshold"], tol_bins=options["tol_bins"],
+                              fmax_per_mm=options["fmax_per_mm"])
+    return ev[TRUTH_CHECK_COLUMNS]

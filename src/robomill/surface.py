@@ -413,3 +413,76 @@ def recovery_table(metrics: pd.DataFrame, truth: xr.Dataset) -> pd.DataFrame:
     df["roughness_ratio"] = df["roughness_rms_um"] / df["surface_planted_roughness_rms_um"]
     return df.rename(columns={"surface_planted_waviness_rms_um": "planted_waviness_rms_um",
                               "surface_planted_roughness_rms_um": "planted_roughness_rms_um"})
+
+
+#: per-cut scalars gathered into results/surface/metrics.csv (one column each)
+METRIC_COLUMNS = ("Wt_um", "Wq_um", "Rq_um", "Ra_um", "Rz_um", "waviness_rms_um",
+                  "roughness_rms_um", "parseval_rms_um", "tilt_um_per_mm")
+#: results/surface/peaks.csv columns
+PEAK_TABLE_COLUMNS = ["cut", "f_spatial_per_mm", "f_temporal_hz", "amplitude_um", "mechanism",
+                      "band", "feed_mm_s", "power_um2", "n_witnesses", "n_kinematic_support",
+                      "n_dynamic_support", "resolution_per_mm", "below_resolution"]
+
+
+def gather_surface(per_cut: Sequence[xr.Dataset], cuts: pd.DataFrame,
+                   peaks: Sequence[pd.DataFrame], options: Mapping[str, Any]
+                   ) -> dict[str, Any]:
+    """Gather the per-cut profile analyses into the chapter-2 artefacts.
+
+    Parameters
+    ----------
+    per_cut
+        :func:`analyse_profile` datasets, each with ``attrs["cut"]`` (any order).
+    cuts
+        The study plan, one row per cut (``cut``, ``set``, ``segment``, ``direction``,
+        ``feed_mm_s``, ``depth_mm``, …).
+    peaks
+        :func:`profile_peaks` tables of the cuts (with a ``cut`` column).
+    options
+        :func:`settings` (``match_tolerance``, ``min_feed_ratio``).
+
+    Returns
+    -------
+    dict
+        ``metrics`` (one row per cut, plan order), ``waviness`` and ``roughness`` (Tables
+        2.1/2.2 by the segment method, :func:`rms_table`), ``comparison`` (both against the
+        thesis, :func:`compare_with_thesis`), ``peaks`` (with mechanism,
+        :func:`attribute_mechanisms`), ``spectra`` (:func:`spectra_dataset`) and ``profiles``
+        (measured, detrended, waviness and roughness along ``cut``, with the plan's
+        ``feed_mm_s``, ``set``, ``segment``, ``direction``).
+    """
+    by_id = {c: i for i, c in enumerate(cuts["cut"])}
+    unknown = [d.attrs.get("cut") for d in per_cut if d.attrs.get("cut") not in by_id]
+    if unknown:
+        raise ValueError(f"gather_surface: cut(s) {unknown} are not in the plan")
+    per_cut = sorted(per_cut, key=lambda d: by_id[d.attrs["cut"]])
+    ids = [d.attrs["cut"] for d in per_cut]
+    metrics = pd.DataFrame([{"cut": c, **{k: float(d[k]) for k in METRIC_COLUMNS}}
+                            for c, d in zip(ids, per_cut, strict=True)])
+    metrics = metrics.merge(cuts[["cut", "set", "segment", "direction", "feed_mm_s",
+                                  "depth_mm"]], on="cut")
+    thesis = load_thesis_tables()
+    out: dict[str, Any] = {"metrics": metrics}
+    comparisons = []
+    for name, key, value in (("waviness", "table_2_1_waviness_rms_um", "waviness_rms_um"),
+                             ("roughness", "table_2_2_roughness_rms_um", "roughness_rms_um")):
+        out[name] = rms_table(metrics, value)
+        comparisons.append(compare_with_thesis(out[name], thesis[key], key))
+    out["comparison"] = pd.concat(comparisons, ignore_index=True)
+    found = attribute_mechanisms(pd.concat(list(peaks), ignore_index=True), cuts,
+                                 tolerance=float(options["match_tolerance"]),
+                                 min_feed_ratio=float(options["min_feed_ratio"]))
+    out["peaks"] = found[PEAK_TABLE_COLUMNS]
+    out["spectra"] = spectra_dataset(per_cut, ids)
+    keep = ["z_measured", "z", "waviness", "roughness"]
+    profiles = xr.concat([d[keep].astype("float32") for d in per_cut], dim="cut",
+                         join="override", compat="override", coords="minimal")
+    for k in keep:
+        profiles[k].attrs = per_cut[0][k].attrs
+    profiles = profiles.assign_coords(cut=("cut", ids, {"units": "1", "long_name": "cut"}))
+    plan = cuts.set_index("cut").loc[ids]
+    for col, units in [("feed_mm_s", "mm/s"), ("set", "1"), ("segment", "1"),
+                       ("direction", "1")]:
+        profiles[col] = ("cut", plan[col].to_numpy(), {"units": units, "long_name": col})
+    out["profiles"] = profiles
+    return out

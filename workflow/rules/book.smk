@@ -1,4 +1,22 @@
-# The book: every chapter in one self-contained folder, results/thesis/ (target `book`).
+# The book: every chapter in one self-contained folder, results/thesis/ (target `book`), and
+# the whole book as one print-ready PDF, results/thesis/book.pdf (headless Chromium). Without
+# a Chromium `all` leaves the PDF out with one warning line; asking for book.pdf fails naming
+# the package to install.
+import shutil
+import sys
+
+CHROMIUM = next(
+    (
+        shutil.which(n)
+        for n in (
+            os.environ.get("ROBOMILL_CHROMIUM") or "chromium",
+            "chromium-browser",
+            "google-chrome",
+        )
+        if shutil.which(n)
+    ),
+    None,
+)
 
 
 rule scorecard:
@@ -52,8 +70,37 @@ rule book:
         out_dir=lambda w, output: os.path.dirname(output.index),
         benchmarks="results/benchmarks/summary.csv",
         skipped=SKIPPED,
+        pdf_name="book.pdf" if CHROMIUM else None,
     script:
         "../scripts/book.py"
 
 
+rule book_pdf:
+    input:
+        index="results/thesis/index.html",
+        chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
+        code=code("book"),
+    output:
+        pdf="results/thesis/book.pdf",
+        page="results/thesis/book_print.html",
+    log:
+        "results/logs/book/book_pdf.log",
+    benchmark:
+        "results/benchmarks/rules/book/book_pdf.tsv"
+    conda:
+        ENV
+    params:
+        chromium=CHROMIUM,
+    script:
+        "../scripts/book_pdf.py"
+
+
 ALL_TARGETS.append("results/thesis/index.html")
+if CHROMIUM:
+    ALL_TARGETS.append("results/thesis/book.pdf")
+else:
+    print(
+        "robomill: results/thesis/book.pdf left out of `all`: no Chromium found "
+        "(apt-get install chromium)",
+        file=sys.stderr,
+    )

@@ -4,6 +4,7 @@ import os
 import sys
 from pathlib import Path
 
+from robomill.codedeps import code_files, load_cache, save_cache
 from robomill.experiment import (
     cuts_by_set,
     missing_data,
@@ -86,10 +87,32 @@ def notebook(name):
 
 
 def code(*modules):
-    """Library modules a rule uses, declared as inputs so that editing one reruns the rule
-    (Snakemake's own code trigger sees only the rule's script). `io.manifest` →
-    src/robomill/io/manifest.py."""
+    """Library modules named by hand as inputs of a rule (`io.manifest` →
+    src/robomill/io/manifest.py). Not needed for what the rule's script or notebook imports:
+    derive_code_inputs adds those to every rule."""
     return [
         str(REPO.joinpath("src", "robomill", *m.split(".")).with_suffix(".py"))
         for m in modules
     ]
+
+
+def derive_code_inputs(rules):
+    """Declare, as inputs of every rule with a script, the library files its script and
+    notebook import, followed through the import graph (robomill.codedeps: ast only,
+    cached), so that editing any of them reruns the rule (Snakemake's own code trigger sees
+    only the script). Called once, after every rule is defined (Snakefile)."""
+    src = REPO / "src"
+    cache = Path(".snakemake") / "robomill-codedeps.json"
+    load_cache(cache)
+    for r in rules:
+        if not r.script:
+            continue
+        script = r.basedir.join(r.script).get_path_or_uri(secret_free=False)
+        have = {str(f) for f in r.input if not callable(f)}
+        notebooks = [f for f in have if f.endswith(".ipynb")]
+        new = [f for f in code_files([script, *notebooks], src) if f not in have]
+        if new:
+            if r.input_modifier is None:  # a rule without inputs of its own
+                r.input_modifier = workflow.modifier.path_modifier
+            r.set_input(*new)
+    save_cache(cache)

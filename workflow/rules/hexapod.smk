@@ -65,9 +65,27 @@ rule hexapod_sensitivity:
         "../scripts/hexapod_sensitivity.py"
 
 
+rule hexapod_force_accuracy:
+    input:
+        sensitivity="results/hexapod/sensitivity.nc",
+        forces="results/hexapod/forces.nc",
+        code=code("hexapod"),
+    output:
+        "results/hexapod/force_accuracy.csv",
+    log:
+        "results/logs/hexapod/force_accuracy.log",
+    benchmark:
+        "results/benchmarks/rules/hexapod/force_accuracy.tsv"
+    conda:
+        ENV
+    script:
+        "../scripts/hexapod_force_accuracy.py"
+
+
 rule hexapod:
     input:
         "results/hexapod/trajectory.nc",
+        "results/hexapod/force_accuracy.csv",
         "results/hexapod/forces.nc",
         "results/hexapod/sensitivity.nc",
 
@@ -78,6 +96,7 @@ rule ch6:
         trajectory="results/hexapod/trajectory.nc",
         forces="results/hexapod/forces.nc",
         sensitivity="results/hexapod/sensitivity.nc",
+        force_accuracy="results/hexapod/force_accuracy.csv",
         code=code("chapters", "plotting"),
     output:
         ipynb="results/chapters/ch6_hexapod.ipynb",

@@ -15,5 +15,6 @@ index = build_book(
     scorecard_csv=inp.get("scorecard"),
     benchmarks_csv=snakemake.params.benchmarks,  # written by `make bench`, used when present
     skipped=snakemake.params.skipped,  # chapters without data in this raw folder, and why
+    pdf_name=snakemake.params.pdf_name,  # results/thesis/book.pdf, printed by rule book_pdf
 )
 log.info("book written to %s (%d chapters)", index, len(inp.chapters))
