@@ -71,12 +71,12 @@ fmt: $(STAMP)
 # Why would a target rerun? `make why` or `make why TARGET=ch2`
 TARGET ?= all
 why: $(STAMP)
-	@$(SNAKEMAKE) -n $(TARGET) 2>&1 | $(BIN)/python -m robomill.why
+	@$(SNAKEMAKE) -n $(TARGET) 2>&1 | $(BIN)/python -m robomill.pipeline.why
 
 # Jupyter Lab on notebooks/explore.ipynb, or `make explore CHAPTER=ch2` on a copy of the
 # chapter notebook with this run's artefact paths injected as parameters
 explore: $(STAMP)
-	$(BIN)/python -m robomill.explore $(CHAPTER)
+	$(BIN)/python -m robomill.pipeline.explore $(CHAPTER)
 
 clean:
 	rm -rf results .snakemake

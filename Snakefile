@@ -4,7 +4,7 @@ import sys
 
 from snakemake.utils import min_version, validate
 
-from robomill.config import SECTIONS, prepare_config
+from robomill.pipeline.config import SECTIONS, prepare_config
 
 min_version("9.0")
 
@@ -46,7 +46,7 @@ derive_code_inputs(workflow.rules)
 
 onerror:
     import atexit
-    from robomill.failures import summarize_failures
+    from robomill.pipeline.failures import summarize_failures
 
     # printed at exit, so it is the last thing on screen, after Snakemake's own messages
     atexit.register(print, summarize_failures(log), file=sys.stderr, flush=True)

@@ -11,7 +11,7 @@ import numpy as np
 import scipy.signal
 
 from robomill import straightness as st
-from robomill.config import load_config, repo_root
+from robomill.pipeline.config import load_config, repo_root
 from robomill.synth import tracker
 from robomill.synth.cell import cell_from_config
 

@@ -51,7 +51,7 @@ def main(argv: list[str] | None = None) -> int:
     df.to_csv(summary, index=False)
     print(df.to_string(index=False))
     if Path(args.book).joinpath("index.html").exists():
-        from robomill.book import add_benchmarks_page
+        from robomill.pipeline.book import add_benchmarks_page
 
         print(f"book page: {add_benchmarks_page(args.book, out / 'summary.csv')}")
     return 0

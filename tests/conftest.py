@@ -30,14 +30,14 @@ def repo() -> Path:
 
 @pytest.fixture(scope="session")
 def config():
-    from robomill.config import load_config
+    from robomill.pipeline.config import load_config
 
     return load_config(REPO / "config.yaml")
 
 
 @pytest.fixture(scope="session")
 def tiny_config():
-    from robomill.config import load_config
+    from robomill.pipeline.config import load_config
 
     return load_config(REPO / ".test" / "config.yaml", REPO / "workflow/schemas/config.schema.yaml")
 

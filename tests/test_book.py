@@ -61,7 +61,7 @@ def test_book_folder_is_self_contained(tiny_run, tmp_path):
 
 #: text that must not be visible on a chapter page: code and run-specific folders
 _CODE_SIGNS = ("import ", "plt.", "display(", "save_figure(", "open_artefact(")
-#: chapters whose sources other issues were editing when robomill.captions came (issues 22
+#: chapters whose sources other issues were editing when robomill.pipeline.captions came (issues 22
 #: and 23): they get their numbered captions when those are merged; drop them from here then
 _CAPTIONS_PENDING = {"ch3_3_modal", "ch4_chatter"}
 _PATH_SIGNS = re.compile(r"(/tmp/|/work/|/home/|/root/|results/chapters/\.|\.venv/|file://)")
@@ -154,7 +154,7 @@ def test_book_in_headless_chromium(tiny_run):
 
 
 def test_print_document_joins_chapters_in_book_order(tmp_path):
-    from robomill.book import print_document
+    from robomill.pipeline.book import print_document
 
     for name, title in (("ch2_surface", "Chapter 2"), ("ch10_x", "Chapter 10"),
                         ("ch3_1_forces", "Chapter 3.1")):
@@ -172,7 +172,7 @@ def test_print_document_joins_chapters_in_book_order(tmp_path):
 
 
 def test_print_pdf_without_chromium_says_what_to_install(tmp_path, monkeypatch):
-    from robomill import book
+    from robomill.pipeline import book
 
     monkeypatch.setenv("ROBOMILL_CHROMIUM", str(tmp_path / "no-such-browser"))
     assert book.find_chromium() is None
@@ -183,7 +183,7 @@ def test_print_pdf_without_chromium_says_what_to_install(tmp_path, monkeypatch):
 
 
 def test_benchmarks_page_is_added_to_an_existing_book(tmp_path):
-    from robomill.book import add_benchmarks_page
+    from robomill.pipeline.book import add_benchmarks_page
 
     (tmp_path / "index.html").write_text("<html><body><ol><li>ch</li></ol><ol></ol></body></html>")
     csv = tmp_path / "summary.csv"
@@ -195,7 +195,7 @@ def test_benchmarks_page_is_added_to_an_existing_book(tmp_path):
 
 
 def test_book_lists_the_chapters_skipped_for_want_of_data(tmp_path):
-    from robomill.book import build_book
+    from robomill.pipeline.book import build_book
 
     cuts = tmp_path / "cuts.csv"  # a folder without cuts (impact test only)
     cuts.write_text("cut,set,segment,direction,feed_mm_s,depth_mm,feed_per_tooth_um,"

@@ -63,7 +63,7 @@ def test_the_checker_finds_an_offender(tmp_path):
 
 PLAN_CHECK = """
 import sys
-from robomill.config import load_config
+from robomill.pipeline.config import load_config
 from robomill.io.manifest import parse_manifest
 from robomill.synth.plan import SIMULATORS, synthetic_manifest
 plan = parse_manifest(synthetic_manifest(load_config({config!r})), "manifest.yaml",
@@ -88,3 +88,45 @@ def test_planning_the_dag_imports_no_simulator():
     assert counts == "45 140 cell.yaml"
     assert simulators == "none"
     assert heavy == "False False"
+
+
+def _imports_pipeline(path: Path) -> list[str]:
+    tree = ast.parse(path.read_text(), filename=str(path))
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            found += [a.name for a in node.names if a.name.startswith("robomill.pipeline")]
+        elif isinstance(node, ast.ImportFrom) and node.module and (
+                node.module.startswith("robomill.pipeline")
+                or (node.module == "robomill" and any(a.name == "pipeline" for a in node.names))):
+            found.append(node.module)
+    return found
+
+
+def test_the_science_imports_nothing_of_the_pipeline_tooling():
+    """Two halves (issue 24): the science modules (calibration, surface, …, io, synth,
+    importers) never import robomill.pipeline; only the package's top level (which re-exports
+    list_artefacts), the command line and the tooling itself may."""
+    pkg = REPO / "src" / "robomill"
+    tooling = {pkg / "pipeline", pkg / "cli"}
+    entry = {pkg / "__init__.py", pkg / "__main__.py"}
+    modules = [p for p in sorted(pkg.rglob("*.py"))
+               if p not in entry and not tooling & set(p.parents)]
+    assert len(modules) > 40
+    offenders = {str(p.relative_to(REPO)): _imports_pipeline(p) for p in modules}
+    assert {k: v for k, v in offenders.items() if v} == {}
+    for name in ("calibration", "surface", "forces", "straightness", "modal", "stiffness",
+                 "beamframe", "hexapod", "kinematics", "spectra"):
+        assert (pkg / f"{name}.py").exists() or (pkg / name).is_dir(), name
+    for name in ("chapters", "book", "scorecard", "runlog", "failures", "why", "explore",
+                 "catalog", "provenance", "config"):
+        assert (pkg / "pipeline" / f"{name}.py").exists(), name
+        assert not (pkg / f"{name}.py").exists(), name
+
+
+def test_the_pipeline_checker_finds_an_offender(tmp_path):
+    bad = tmp_path / "bad.py"
+    bad.write_text("from robomill.pipeline.config import prepare_config\n"
+                   "from robomill import pipeline\nimport robomill.pipeline.book\n")
+    assert _imports_pipeline(bad) == ["robomill.pipeline.config", "robomill",
+                                      "robomill.pipeline.book"]

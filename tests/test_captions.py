@@ -1,8 +1,8 @@
-"""Figure and table numbering of the chapters (robomill.captions)."""
+"""Figure and table numbering of the chapters (robomill.pipeline.captions)."""
 
 import pytest
 
-from robomill.captions import Numbering
+from robomill.pipeline.captions import Numbering
 
 
 def test_numbers_follow_the_thesis_or_continue_in_sequence():

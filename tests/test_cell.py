@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 import yaml
 
-from robomill.config import load_config
 from robomill.io import RawDataError
 from robomill.io.cell import parse_cell, read_cell, write_cell
 from robomill.io.manifest import parse_manifest
+from robomill.pipeline.config import load_config
 
 REPO = Path(__file__).resolve().parents[1]
 EXPERIMENT = {"spindle_rpm": 28000, "flutes": 2, "tool_diameter_mm": 6.0, "cut_length_mm": 40.0}

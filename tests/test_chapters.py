@@ -5,7 +5,7 @@ import nbformat
 import pytest
 from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
 
-from robomill.chapters import ChapterError, check_parameters, render_chapter
+from robomill.pipeline.chapters import ChapterError, check_parameters, render_chapter
 
 
 def _notebook(tmp_path, body, params="data: str = None\nn: int = 2\nfig_dir: str = None"):
@@ -83,7 +83,7 @@ def test_untyped_parameter_is_refused(tmp_path):
 
 
 def test_repository_chapters_declare_typed_parameters(repo):
-    from robomill.chapters import declared_parameters
+    from robomill.pipeline.chapters import declared_parameters
 
     notebooks = sorted((repo / "notebooks").glob("ch*.ipynb"))
     assert notebooks
@@ -96,7 +96,7 @@ def test_repository_chapters_declare_typed_parameters(repo):
 def test_kernels_talk_over_private_unix_sockets(tmp_path):
     """Parallel chapter jobs must not race for TCP ports: each kernel gets IPC sockets in its
     own folder, and the chapter runs over them."""
-    from robomill.chapters import private_kernel_manager
+    from robomill.pipeline.chapters import private_kernel_manager
 
     a = private_kernel_manager("python3", tmp_path / "a")()
     b = private_kernel_manager("python3", tmp_path / "b")()
@@ -146,7 +146,7 @@ def test_kernel_that_never_answers_is_started_again(tmp_path, monkeypatch):
     """A start-up failure (no cell ran) is retried with a fresh kernel; a cell failure is not."""
     import papermill as pm
 
-    from robomill import chapters
+    from robomill.pipeline import chapters
 
     real = pm.execute_notebook
     calls = []
@@ -202,7 +202,7 @@ def test_page_reads_as_a_document(tmp_path):
 
 
 def test_shown_value_is_relative_to_the_run_folder(tmp_path):
-    from robomill.chapters import shown_value
+    from robomill.pipeline.chapters import shown_value
 
     assert shown_value(str(tmp_path / "results/x.csv"), tmp_path) == "results/x.csv"
     assert shown_value("results/x.csv", tmp_path) == "results/x.csv"

@@ -179,8 +179,8 @@ def test_accuracy_config_key(repo):
 
     import yaml
 
-    from robomill.config import validate_config
     from robomill.io import ConfigError
+    from robomill.pipeline.config import validate_config
 
     schema = repo / "workflow/schemas/config.schema.yaml"
     raw = yaml.safe_load(open(repo / "config.yaml"))

@@ -145,8 +145,8 @@ def test_stable_point_is_not_detected(boundary_1260):
 
 
 def test_bad_case_fails_with_key_named(repo):
-    from robomill.config import validate_config
     from robomill.io import ConfigError
+    from robomill.pipeline.config import validate_config
 
     raw = yaml.safe_load(open(repo / "config.yaml"))
     for key, bad in (("milling", "sideways"), ("radial_immersion", 1.5), ("teeth", 0)):

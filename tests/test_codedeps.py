@@ -1,4 +1,5 @@
-"""A rule's code inputs follow the import graph of its script and notebook (robomill.codedeps)."""
+"""A rule's code inputs follow the import graph of its script and notebook
+(robomill.pipeline.codedeps)."""
 
 import json
 import re
@@ -6,7 +7,7 @@ import re
 import pytest
 from conftest import REPO
 
-from robomill import codedeps
+from robomill.pipeline import codedeps
 
 
 @pytest.fixture

@@ -5,8 +5,8 @@ import re
 
 import pytest
 
-from robomill.config import load_config, validate_config
 from robomill.io import ConfigError
+from robomill.pipeline.config import load_config, validate_config
 
 
 def test_default_config_validates_and_fills_defaults(config):
@@ -81,7 +81,7 @@ def test_load_config_reads_yaml_safely(tmp_path, repo):
     ("Off", ["boolean"], (True, False)),
 ])
 def test_coerce_value_reads_what_the_text_spells(text, wanted, expected):
-    from robomill.config import coerce_value
+    from robomill.pipeline.config import coerce_value
 
     ok, value = coerce_value(text, wanted)
     assert (ok, value) == expected

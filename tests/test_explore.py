@@ -3,7 +3,7 @@
 import nbformat
 import pytest
 
-from robomill.explore import prepare_chapter
+from robomill.pipeline.explore import prepare_chapter
 
 pytestmark = pytest.mark.pipeline
 

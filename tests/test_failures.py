@@ -1,6 +1,6 @@
 """Parsing a Snakemake log into the one-screen failure summary."""
 
-from robomill.failures import first_error_line, parse_failed_jobs, summarize_failures
+from robomill.pipeline.failures import first_error_line, parse_failed_jobs, summarize_failures
 
 LOG = """\
 [Mon Nov 23 16:35:04 2026]
@@ -21,7 +21,8 @@ Exiting because a job execution failed.
 def test_summary_names_jobs_errors_logs_and_notebooks(tmp_path):
     log1 = tmp_path / "ch2.log"
     log1.write_text("Traceback (most recent call last):\n  File x\n"
-                    "robomill.chapters.ChapterError: chapter notebook n failed: cell 3: KeyError:"
+                    "robomill.pipeline.chapters.ChapterError: chapter notebook n failed: cell 3: "
+                    "KeyError:"
                     " 'x'; executed notebook kept at results/logs/chapters/ch2.failed.ipynb\n")
     log2 = tmp_path / "p.log"
     log2.write_text("INFO start\nTraceback (most recent call last):\n  File y\n"

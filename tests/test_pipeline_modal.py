@@ -15,8 +15,8 @@ REPO = Path(__file__).resolve().parents[1]
 def test_modal_artefacts(tiny_run):
     import pyuff
 
-    from robomill.config import load_config
     from robomill.io.impact import read_frf, read_frf_uff
+    from robomill.pipeline.config import load_config
     from robomill.synth.cell import cell_from_config
 
     res = tiny_run / "results" / "modal"

@@ -2,7 +2,7 @@
 
 import logging
 
-from robomill.runlog import Progress
+from robomill.pipeline.runlog import Progress
 
 
 def test_progress_logs_percentage_time_left_and_summary(caplog):

@@ -9,7 +9,7 @@ import pandas as pd
 import pytest
 import xarray as xr
 
-from robomill.scorecard import build_scorecard, parse_locator, read_locator, verdict
+from robomill.pipeline.scorecard import build_scorecard, parse_locator, read_locator, verdict
 
 
 def test_locator_reads_cells_aggregates_and_netcdf(tmp_path):
@@ -40,7 +40,7 @@ def test_verdict(ours, source, tol, ok):
 
 
 def _independent(locator: str, root):
-    """Re-read a locator without robomill.scorecard (pandas / xarray only)."""
+    """Re-read a locator without robomill.pipeline.scorecard (pandas / xarray only)."""
     m = re.match(r"^([^:]+)::([\w.]+)(?:\[([^\]]*)\])?(?:@(\w+)(?:\(([^)]*)\))?)?$", locator)
     path, field, sel, agg, args = m.groups()
     pairs = [kv.split("=") for kv in sel.split(",")] if sel else []

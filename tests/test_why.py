@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 from conftest import REPO, SNAKEMAKE, raw_copy_of_run
 
-from robomill.why import parse_dry_run
+from robomill.pipeline.why import parse_dry_run
 
 pytestmark = pytest.mark.pipeline
 
@@ -62,14 +62,14 @@ def test_edits_rerun_only_what_uses_them(tiny_run, tmp_path):
 
 def test_editing_any_module_a_rule_imports_makes_why_list_it(tiny_run, tmp_path):
     """Every library file that ch0's script (render_chapter.py) and notebook import, through
-    the import graph (robomill.codedeps), is an input of ch0: editing any one of them makes
+    the import graph (robomill.pipeline.codedeps), is an input of ch0: editing any one of them makes
     `make why` list ch0 ("input changed"). Likewise stiffness.py for stiffness_optimal, whose
     hand-kept code() list was empty. (Content edits: Snakemake ignores a newer mtime when the
     checksum of a small input is unchanged.)"""
     import os
 
-    from robomill.codedeps import code_files
-    from robomill.why import format_table
+    from robomill.pipeline.codedeps import code_files
+    from robomill.pipeline.why import format_table
 
     repo = _copy_repo(tmp_path / "repo")
     work = tmp_path / "work"
@@ -81,8 +81,9 @@ def test_editing_any_module_a_rule_imports_makes_why_list_it(tiny_run, tmp_path)
     modules = code_files([repo / "workflow/scripts/render_chapter.py",
                           repo / "notebooks/ch0_experiment.ipynb"], repo / "src")
     names = {os.path.relpath(m, repo / "src") for m in modules}
-    assert {"robomill/chapters.py", "robomill/plotting.py", "robomill/captions.py",
-            "robomill/runlog.py", "robomill/__init__.py"} <= names, names
+    assert {"robomill/pipeline/chapters.py", "robomill/plotting.py",
+            "robomill/pipeline/captions.py", "robomill/pipeline/runlog.py",
+            "robomill/__init__.py"} <= names, names
     for module in map(Path, modules):
         text = module.read_text()
         module.write_text(text + "\n# an edit\n")  # content: an mtime alone is not enough

@@ -16,7 +16,7 @@ import matplotlib.pyplot as plt
 import pandas as pd
 from IPython.display import Markdown, display
 
-from robomill.captions import Numbering
+from robomill.pipeline.captions import Numbering
 from robomill.plotting import save_figure
 
 num = Numbering("0")

@@ -31,10 +31,10 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
-from robomill.captions import Numbering
 from robomill.experiment import DIRECTION_LABELS
 from robomill.forces import nearest_modes
 from robomill.io import open_artefact
+from robomill.pipeline.captions import Numbering
 from robomill.plotting import save_figure
 
 sp = open_artefact(spectra)

@@ -27,9 +27,9 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
-from robomill.captions import Numbering
 from robomill.experiment import DIRECTION_LABELS
 from robomill.io import open_artefact
+from robomill.pipeline.captions import Numbering
 from robomill.plotting import save_figure
 from robomill.straightness import attribution_counts, band_peak_ratio, surface_cross_check
 

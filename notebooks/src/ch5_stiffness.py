@@ -35,8 +35,8 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
-from robomill.captions import Numbering
 from robomill.io import open_artefact
+from robomill.pipeline.captions import Numbering
 from robomill.plotting import save_figure
 
 # Numbers printed by seed 001 (Yi et al. 2025) and seed 004 (Cai et al. 2015), for comparison.

@@ -11,7 +11,7 @@ from robomill._imports import skip_iri_format_checks, skip_scipy_capability_note
 skip_iri_format_checks()  # before anything imports jsonschema (see robomill._imports)
 skip_scipy_capability_notes()  # before anything imports scipy.signal/stats (same module)
 
-from robomill.catalog import list_artefacts  # noqa: E402
 from robomill.io.artefacts import open_artefact, write_artefact  # noqa: E402
+from robomill.pipeline.catalog import list_artefacts  # noqa: E402
 
 __all__ = ["__version__", "list_artefacts", "open_artefact", "write_artefact"]

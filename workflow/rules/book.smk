@@ -22,7 +22,7 @@ CHROMIUM = next(
 rule scorecard:
     input:
         chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
-        code=code("scorecard"),
+        code=code("pipeline.scorecard"),
         checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
     output:
         csv=report(
@@ -52,7 +52,7 @@ rule book:
         cuts="results/ingest/cuts.csv",
         manifest=MANIFEST,
         scorecard="results/thesis/scorecard.csv",
-        code=code("book", "provenance"),
+        code=code("pipeline.book", "pipeline.provenance"),
     output:
         index=report(
             "results/thesis/index.html", caption="../report/book.rst", category="Book"
@@ -79,7 +79,7 @@ rule book_pdf:
     input:
         index="results/thesis/index.html",
         chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
-        code=code("book"),
+        code=code("pipeline.book"),
     output:
         pdf="results/thesis/book.pdf",
         page="results/thesis/book_print.html",

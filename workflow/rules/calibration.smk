@@ -76,7 +76,7 @@ rule ch1:
         joint_errors="results/calibration/joint_errors.csv",
         base="results/calibration/base.csv",
         circles="results/calibration/circles.csv",
-        code=code("chapters", "plotting"),
+        code=code("pipeline.chapters", "plotting"),
     output:
         ipynb="results/chapters/ch1_calibration.ipynb",
         html=report(

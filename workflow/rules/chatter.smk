@@ -112,7 +112,7 @@ rule ch4:
         simulation="results/chatter/simulation.nc",
         lobes="results/chatter/lobes.nc",
         recommendations="results/chatter/recommendations.csv",
-        code=code("chapters", "plotting"),
+        code=code("pipeline.chapters", "plotting"),
     output:
         ipynb="results/chapters/ch4_chatter.ipynb",
         html=report(

@@ -4,7 +4,7 @@ import os
 import sys
 from pathlib import Path
 
-from robomill.codedeps import code_files, load_cache, save_cache
+from robomill.pipeline.codedeps import code_files, load_cache, save_cache
 from robomill.experiment import (
     cuts_by_set,
     missing_data,
@@ -98,7 +98,7 @@ def code(*modules):
 
 def derive_code_inputs(rules):
     """Declare, as inputs of every rule with a script, the library files its script and
-    notebook import, followed through the import graph (robomill.codedeps: ast only,
+    notebook import, followed through the import graph (robomill.pipeline.codedeps: ast only,
     cached), so that editing any of them reruns the rule (Snakemake's own code trigger sees
     only the script). Called once, after every rule is defined (Snakefile)."""
     src = REPO / "src"

@@ -84,7 +84,7 @@ rule ch3_forces:
         coefficients="results/forces/cutting_coefficients.csv",
         means="results/forces/mean_forces.csv",
         harmonics="results/forces/harmonics.csv",
-        code=code("forces", "chapters", "plotting"),
+        code=code("forces", "pipeline.chapters", "plotting"),
         # the impact test's modes, when the raw folder has one (chapter 3.3)
     output:
         ipynb="results/chapters/ch3_1_forces.ipynb",

@@ -97,7 +97,7 @@ rule ch6:
         forces="results/hexapod/forces.nc",
         sensitivity="results/hexapod/sensitivity.nc",
         force_accuracy="results/hexapod/force_accuracy.csv",
-        code=code("chapters", "plotting"),
+        code=code("pipeline.chapters", "plotting"),
     output:
         ipynb="results/chapters/ch6_hexapod.ipynb",
         html=report(

@@ -86,7 +86,7 @@ rule ch3_modal:
         stabilization="results/modal/stabilization.csv",
         shapes="results/modal/mode_shapes.csv",
         mac="results/modal/mac.csv",
-        code=code("chapters", "plotting"),
+        code=code("pipeline.chapters", "plotting"),
         # the forces chapter's dominant frequencies, when the raw folder has force records
     output:
         ipynb="results/chapters/ch3_3_modal.ipynb",

@@ -209,7 +209,7 @@ rule ch5:
         thesis_validation=f"results/stiffness/{THESIS_ROBOT}/validation.csv",
         slots="results/stiffness/thesis_slots.csv",
         waviness="results/surface/table_2_1_waviness_rms.csv",
-        code=code("chapters", "plotting"),
+        code=code("pipeline.chapters", "plotting"),
     output:
         ipynb="results/chapters/ch5_stiffness.ipynb",
         html=report(

@@ -103,7 +103,7 @@ rule ch3_straightness:
         truth_check="results/straightness/truth_check.csv",
         surface_peaks="results/surface/peaks.csv",
         cuts="results/ingest/cuts.csv",
-        code=code("straightness", "chapters", "plotting"),
+        code=code("straightness", "pipeline.chapters", "plotting"),
     output:
         ipynb="results/chapters/ch3_2_straightness.ipynb",
         html=report(

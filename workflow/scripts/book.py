@@ -1,8 +1,8 @@
 """Build the thesis book (results/thesis/) from the rendered chapters."""
 
-from robomill.book import build_book
-from robomill.provenance import run_provenance
-from robomill.runlog import setup
+from robomill.pipeline.book import build_book
+from robomill.pipeline.provenance import run_provenance
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "book")
 inp = snakemake.input

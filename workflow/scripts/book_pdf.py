@@ -1,7 +1,7 @@
-"""Print the whole book to one PDF with headless Chromium (see robomill.book.print_pdf)."""
+"""Print the whole book to one PDF with headless Chromium (see robomill.pipeline.book.print_pdf)."""
 
-from robomill.book import print_document, print_pdf
-from robomill.runlog import setup
+from robomill.pipeline.book import print_document, print_pdf
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "book")
 page = print_document(snakemake.input.chapters, snakemake.output.page)

@@ -4,7 +4,7 @@ from robomill import calibration as cal
 from robomill.io import open_artefact, write_table
 from robomill.io.ctrack import read_accuracy
 from robomill.io.manifest import load_manifest
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "calibration_accuracy")
 inp, p = snakemake.input, snakemake.params

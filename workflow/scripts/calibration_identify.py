@@ -7,7 +7,7 @@ from robomill.io import write_artefact, write_table
 from robomill.io.cell import read_cell
 from robomill.io.ctrack import READERS
 from robomill.io.manifest import load_manifest
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "calibration_identify")
 inp, p = snakemake.input, snakemake.params

@@ -1,6 +1,6 @@
 """Simulate one C-Track table of the virtual robot (results/synthetic/raw/ctrack/<table>.csv)."""
 
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.synth.cell import cell_from_config
 from robomill.synth.ctrack import write_table
 

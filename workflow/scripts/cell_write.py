@@ -2,7 +2,7 @@
 folder, or results/ingest/cell.yaml for a raw folder without a cell file."""
 
 from robomill.io.cell import write_cell
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "cell_write")
 write_cell(snakemake.params.cell, snakemake.output[0])

@@ -7,7 +7,7 @@ for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 from robomill.chatter.study import run_case  # noqa: E402
 from robomill.io import write_artefact  # noqa: E402
-from robomill.runlog import Progress, setup  # noqa: E402
+from robomill.pipeline.runlog import Progress, setup  # noqa: E402
 
 log = setup(snakemake.log[0], "chatter")
 p = snakemake.params

@@ -9,7 +9,7 @@ import pandas as pd  # noqa: E402
 
 from robomill.chatter.study import run_thesis  # noqa: E402
 from robomill.io import write_artefact, write_table  # noqa: E402
-from robomill.runlog import setup  # noqa: E402
+from robomill.pipeline.runlog import setup  # noqa: E402
 
 log = setup(snakemake.log[0], "chatter")
 inp, p = snakemake.input, snakemake.params

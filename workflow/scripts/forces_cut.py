@@ -1,7 +1,7 @@
 """Analyse one cut's force record in chunks: mean forces, Welch PSD, low-band thesis power,
 peaks (robomill.forces)."""
 
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "forces_cut")
 

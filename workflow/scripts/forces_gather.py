@@ -1,7 +1,7 @@
 """Gather the per-cut force analyses: spectra.nc, peaks.csv, mean forces, harmonics and the
 identified cutting coefficients (robomill.forces.gather_force_study)."""
 
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "forces_gather")
 

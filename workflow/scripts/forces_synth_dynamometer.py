@@ -2,7 +2,7 @@
 written block by block, one after the other in this process (one output per cut, in the
 order of ``params.cuts``)."""
 
-from robomill.runlog import Progress, setup
+from robomill.pipeline.runlog import Progress, setup
 
 log = setup(snakemake.log[0], "forces_synth")
 

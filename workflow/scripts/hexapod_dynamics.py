@@ -3,7 +3,7 @@ error → trajectory.nc and forces.nc."""
 
 from robomill.hexapod import dynamics_datasets
 from robomill.io import write_artefact
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "hexapod")
 section = snakemake.params.hexapod

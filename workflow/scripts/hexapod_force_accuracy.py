@@ -3,7 +3,7 @@
 
 from robomill.hexapod import force_accuracy_requirement
 from robomill.io import open_artefact
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "hexapod")
 sens = open_artefact(snakemake.input.sensitivity)

@@ -2,7 +2,7 @@
 
 from robomill.hexapod import gather_sensitivity
 from robomill.io import open_artefact, write_artefact
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "hexapod")
 ds = gather_sensitivity([open_artefact(p) for p in snakemake.input.shards])

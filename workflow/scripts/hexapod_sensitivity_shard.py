@@ -2,7 +2,7 @@
 
 from robomill.hexapod import sensitivity_shard
 from robomill.io import write_artefact
-from robomill.runlog import Progress, setup
+from robomill.pipeline.runlog import Progress, setup
 
 log = setup(snakemake.log[0], "hexapod")
 section = snakemake.params.hexapod

@@ -5,7 +5,7 @@ import pandas as pd
 from robomill.experiment import cuts_table
 from robomill.io import write_table
 from robomill.io.manifest import load_manifest
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "ingest_manifest")
 m = load_manifest(snakemake.input.manifest)

@@ -6,7 +6,7 @@ from robomill import modal
 from robomill.io import write_artefact, write_table
 from robomill.io.impact import load_impact_test, write_frf_uff
 from robomill.io.manifest import load_manifest
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "modal_frf")
 cfg = snakemake.params.modal

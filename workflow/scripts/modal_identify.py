@@ -8,7 +8,7 @@ import xarray as xr
 from robomill import modal
 from robomill.io import write_artefact, write_table
 from robomill.io.impact import read_frf, write_modes_uff
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "modal_identify")
 cfg = snakemake.params.modal

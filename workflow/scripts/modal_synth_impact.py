@@ -1,6 +1,6 @@
 """Simulate one impact-test hit (hammer force + tool-tip accelerations) of the virtual cell."""
 
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.synth.cell import cell_from_config
 from robomill.synth.impact import planted_defect, write_hit
 

@@ -1,7 +1,8 @@
-"""Execute a chapter notebook with papermill and render it to HTML (see robomill.chapters)."""
+"""Execute a chapter notebook with papermill and render it to HTML
+(see robomill.pipeline.chapters)."""
 
-from robomill.chapters import render_chapter
-from robomill.runlog import setup
+from robomill.pipeline.chapters import render_chapter
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "chapter")
 # every named input is a notebook parameter, except the notebook itself and `code` (library

@@ -1,8 +1,8 @@
 """Write the reproduction scorecard: source numbers beside ours, read from the artefacts."""
 
 from robomill.io import write_table
-from robomill.runlog import setup
-from robomill.scorecard import build_scorecard
+from robomill.pipeline.runlog import setup
+from robomill.pipeline.scorecard import build_scorecard
 
 log = setup(snakemake.log[0], "scorecard")
 table = build_scorecard(snakemake.params.root)

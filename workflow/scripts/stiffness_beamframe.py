@@ -3,7 +3,7 @@
 from robomill.beamframe import precession_dataset, sections_from_config
 from robomill.io import write_artefact
 from robomill.kinematics import robot_from_mapping
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "stiffness")
 bf = snakemake.params.beamframe

@@ -5,7 +5,7 @@ import pandas as pd
 from robomill.io import write_artefact
 from robomill.io.manifest import load_manifest
 from robomill.io.robots import read_robot_file
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.stiffness import compliance_from_table, map_dataset
 
 log = setup(snakemake.log[0], "stiffness")

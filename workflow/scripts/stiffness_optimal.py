@@ -5,7 +5,7 @@ import pandas as pd
 
 from robomill.io import open_artefact, write_table
 from robomill.io.robots import read_robot_file
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.stiffness import compliance_from_table, optimal_poses
 
 log = setup(snakemake.log[0], "stiffness")

@@ -1,6 +1,6 @@
 """Synthetic raw file stiffness/load_tests_<robot>.csv (kind stiffness): simulated load tests."""
 
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.synth.loadtests import write_load_tests
 
 log = setup(snakemake.log[0], "stiffness")

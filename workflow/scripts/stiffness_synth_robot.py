@@ -1,6 +1,6 @@
 """Synthetic raw file stiffness/<robot>.yaml (kind robot) from the virtual cell's config."""
 
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.synth.loadtests import write_robot_file
 
 log = setup(snakemake.log[0], "stiffness")

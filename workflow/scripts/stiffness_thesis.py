@@ -9,7 +9,7 @@ from robomill.io import write_table
 from robomill.io.cell import read_cell
 from robomill.io.manifest import load_manifest
 from robomill.io.robots import read_robot_file
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.stiffness import compliance_from_table
 
 log = setup(snakemake.log[0], "stiffness")

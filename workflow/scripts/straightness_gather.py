@@ -4,7 +4,7 @@ see robomill.straightness.gather_profiles, gather_gears, gather_peaks)."""
 import pandas as pd
 
 from robomill.io import open_artefact, write_artefact, write_table
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.straightness import gather_gears, gather_peaks, gather_profiles
 
 log = setup(snakemake.log[0], "straightness_gather")

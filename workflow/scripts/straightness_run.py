@@ -7,7 +7,7 @@ from robomill.io import write_artefact, write_table
 from robomill.io.cell import read_cell
 from robomill.io.manifest import load_manifest
 from robomill.io.tracker import read_tracker
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.straightness import analyse_tracker_run, profile_dataset
 
 log = setup(snakemake.log[0], "straightness_run")

@@ -1,6 +1,6 @@
 """Simulate one laser-tracker run (tracker/<dir>_f<feed>.csv) from the virtual cell."""
 
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.synth.cell import cell_from_config
 from robomill.synth.plan import synthetic_cuts
 from robomill.synth.tracker import simulate_run, write_run

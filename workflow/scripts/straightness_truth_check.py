@@ -4,7 +4,7 @@ see robomill.straightness.truth_check)."""
 import pandas as pd
 
 from robomill.io import open_artefact, write_table
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.straightness import attribution_counts, truth_check
 
 log = setup(snakemake.log[0], "straightness_truth_check")

@@ -4,7 +4,7 @@ metrics, spectra and profiles of every cut (see robomill.surface.gather_surface)
 import pandas as pd
 
 from robomill.io import open_artefact, write_artefact, write_table
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.surface import gather_surface, settings
 
 log = setup(snakemake.log[0], "surface_gather")

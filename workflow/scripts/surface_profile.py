@@ -3,7 +3,7 @@
 from robomill.io import write_artefact, write_table
 from robomill.io.manifest import load_manifest
 from robomill.io.profiles import read_profile
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.surface import analyse_profile, profile_peaks, settings
 
 log = setup(snakemake.log[0], "surface_profile")

@@ -3,7 +3,7 @@
 import pandas as pd
 
 from robomill.io import open_artefact, write_table
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.surface import recovery_table
 
 log = setup(snakemake.log[0], "surface_recovery")

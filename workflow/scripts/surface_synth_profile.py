@@ -2,7 +2,7 @@
 one after the other in this process (one output per cut, in the order of ``params.cuts``)."""
 
 from robomill.experiment import Cut
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.synth.cell import cell_from_config
 from robomill.synth.profilometer import simulate_profile
 

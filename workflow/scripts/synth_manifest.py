@@ -4,7 +4,7 @@ from pathlib import Path
 
 from robomill.experiment import Cut
 from robomill.io.manifest import build_manifest, write_manifest
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "synth_manifest")
 p = snakemake.params

@@ -1,7 +1,7 @@
 """Write the virtual cell's planted truth (results/synthetic/truth.nc)."""
 
 from robomill.io import write_artefact
-from robomill.runlog import setup
+from robomill.pipeline.runlog import setup
 from robomill.synth.truth import cell_truth
 
 log = setup(snakemake.log[0], "synth_truth")

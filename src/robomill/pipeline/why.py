@@ -1,7 +1,7 @@
 """Why would these jobs run? A short table from a Snakemake dry run.
 
-``make why`` (or ``snakemake -n TARGET 2>&1 | python -m robomill.why``) prints, for each job
-that would run, its rule, wildcards and the reason, classified as one of: missing output,
+``make why`` (or ``snakemake -n TARGET 2>&1 | python -m robomill.pipeline.why``) prints, for
+each job that would run, its rule, wildcards and the reason, classified as one of: missing output,
 input changed, code changed, params changed, software changed, upstream job reruns, forced.
 """
 

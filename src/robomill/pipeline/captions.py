@@ -8,9 +8,10 @@ A chapter declares its figures and tables once, near the top, in the order they 
 
 and then writes ``f"… as {num.ref('detrend')} shows …"`` in its prose (declared figures can
 be referred to before they appear), saves with ``num.file('detrend')`` (the figure file name
-``fig2_9_detrend`` that the book's index reads, :func:`robomill.book.figure_label`) and puts
-``num.caption('detrend')`` under the figure. :meth:`Numbering.check` at the end of the
-chapter refuses a figure or table that was declared but never shown or never referred to.
+``fig2_9_detrend`` that the book's index reads,
+:func:`robomill.pipeline.book.figure_label`) and puts ``num.caption('detrend')`` under the
+figure. :meth:`Numbering.check` at the end of the chapter refuses a figure or table that
+was declared but never shown or never referred to.
 
 Numbers follow the thesis where a figure reproduces one of its figures (``number=9`` for the
 thesis' Fig. 2.9); otherwise they continue after the largest number used so far. Several

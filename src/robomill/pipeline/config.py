@@ -254,7 +254,7 @@ def repo_root(start: str | Path | None = None) -> Path:
     for p in [here, *here.parents]:
         if (p / "Snakefile").exists() and (p / "workflow").is_dir():
             return p
-    src_root = Path(__file__).resolve().parents[2]
+    src_root = Path(__file__).resolve().parents[3]
     if (src_root / "Snakefile").exists():
         return src_root
     raise FileNotFoundError(f"no robomill checkout (Snakefile + workflow/) above {here}")

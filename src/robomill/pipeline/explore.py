@@ -1,8 +1,8 @@
 """``make explore``: from a finished run into a live notebook.
 
-``python -m robomill.explore`` opens ``notebooks/explore.ipynb`` in Jupyter Lab;
-``python -m robomill.explore ch2`` writes ``results/explore/<chapter>.ipynb``, a copy of the
-chapter notebook with the current run's artefact paths injected as its parameters (read from
+``python -m robomill.pipeline.explore`` opens ``notebooks/explore.ipynb`` in Jupyter Lab;
+``python -m robomill.pipeline.explore ch2`` writes ``results/explore/<chapter>.ipynb``, a copy
+of the chapter notebook with the current run's artefact paths injected as its parameters (read from
 the executed chapter's papermill metadata), and opens it, so every figure can be remade and
 changed live. ``--no-launch`` only prepares the notebook and prints its path.
 """
@@ -55,7 +55,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--results", default="results")
     ap.add_argument("--no-launch", action="store_true")
     args = ap.parse_args(argv)
-    from robomill.config import repo_root
+    from robomill.pipeline.config import repo_root
 
     repo = repo_root()
     if args.chapter:

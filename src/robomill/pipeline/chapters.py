@@ -1,7 +1,7 @@
 """Render a chapter: execute its notebook with papermill, convert it to HTML with nbconvert.
 
 The page reads as a document (:func:`document_html`): code folded, one parameter table, no
-run-specific folder; figures and tables are numbered by :mod:`robomill.captions`.
+run-specific folder; figures and tables are numbered by :mod:`robomill.pipeline.captions`.
 
 Outputs appear only on success: the notebook runs on a staging copy, its figures go to a
 staging folder, and everything is moved into place at the end. A notebook in which any cell
@@ -108,7 +108,7 @@ def _parameter_table(parameters: Mapping[str, Any], declared: Mapping[str, str],
 
 
 #: nbconvert template of the chapter pages: code folded (robomill/data/chapter_template)
-TEMPLATE_DIR = Path(__file__).parent / "data" / "chapter_template"
+TEMPLATE_DIR = Path(__file__).parents[1] / "data" / "chapter_template"
 
 
 def document_html(nb: nbformat.NotebookNode, table_md: str,
