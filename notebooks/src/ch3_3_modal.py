@@ -351,7 +351,7 @@ display(Markdown(
                               "values)")
     + f"; {num.ref('modes')} gives their parameters."
 ))
-flagged = mode_table[mode_table["flags"].fillna("") != ""]
+flagged = mode_table[mode_table["flags"].notna() & (mode_table["flags"].astype(str) != "")]
 display(Markdown(
     "**Sanity flags:** " + ("none: every mode is physical, scaled and well coherent."
                             if flagged.empty else "; ".join(
