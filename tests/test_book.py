@@ -63,7 +63,7 @@ def test_book_folder_is_self_contained(tiny_run, tmp_path):
 _CODE_SIGNS = ("import ", "plt.", "display(", "save_figure(", "open_artefact(")
 #: chapters whose sources other issues were editing when robomill.pipeline.captions came (issues 22
 #: and 23): they get their numbered captions when those are merged; drop them from here then
-_CAPTIONS_PENDING = {"ch3_3_modal", "ch4_chatter"}
+_CAPTIONS_PENDING: set[str] = set()
 _PATH_SIGNS = re.compile(r"(/tmp/|/work/|/home/|/root/|results/chapters/\.|\.venv/|file://)")
 
 

@@ -28,9 +28,9 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
-from robomill.calibration import model_from_dataset
-from robomill.io import open_artefact
+from robomill.calibration import improvement_ratios, model_from_dataset, region_table
 from robomill.pipeline.captions import Numbering
+from robomill.io import open_artefact
 from robomill.plotting import save_figure
 
 num = Numbering("1")
@@ -227,8 +227,8 @@ display(num.caption("accuracy"))
 display(acc.round(4))
 
 # %%
-ratio = acc.loc["nominal", "rms_mm"] / acc.loc["full", "rms_mm"]
-ratio_geo = acc.loc["nominal", "rms_mm"] / acc.loc["geometric", "rms_mm"]
+ratios = improvement_ratios(acc)
+ratio, ratio_geo = ratios["full"], ratios["geometric"]
 display(Markdown(
     f"{num.ref('accuracy_histograms')} and {num.ref('accuracy')}: on "
     f"{int(acc.loc['nominal', 'n_points'])} points the nominal model misses by "
@@ -247,9 +247,7 @@ display(Markdown(
     f"gravity does. {num.ref('regions')} splits the RMS by workspace region."))
 
 # %%
-tab = reg.pivot_table(index="region", columns="model", values="rms_mm")[
-    ["nominal", "geometric", "full"]]
-tab["n_points"] = reg.groupby("region")["n_points"].first()
+tab = region_table(reg)
 display(num.caption("regions"))
 display(tab.round(4))
 num.check()

@@ -25,7 +25,6 @@ fig_dir: str = None  # folder for this chapter's figures
 
 # %%
 import matplotlib.pyplot as plt
-import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
@@ -33,7 +32,12 @@ from robomill.experiment import DIRECTION_LABELS
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.plotting import save_figure
-from robomill.surface import load_thesis_tables
+from robomill.surface import (
+    comparison_summary,
+    direction_means,
+    feed_correlation,
+    load_thesis_tables,
+)
 
 prof = open_artefact(profiles)
 spec = open_artefact(spectra)
@@ -212,18 +216,18 @@ display(num.caption("waviness_rms"))
 display(side_by_side(tab_w, "table_2_1_waviness_rms_um"))
 display(num.caption("roughness_rms"))
 display(side_by_side(tab_r, "table_2_2_roughness_rms_um"))
-within = cmp_.groupby("table")["within_1.5x"].agg(["sum", "count"])
+within = comparison_summary(cmp_)
 display(Markdown(
     f"Cells of {num.ref('waviness_rms')} and {num.ref('roughness_rms')} within a factor 1.5 "
     "of the thesis: " + "; ".join(
-    f"{t}: {int(r['sum'])} of {int(r['count'])}" for t, r in within.iterrows())
+    f"{t}: {int(r['within'])} of {int(r['cells'])}" for t, r in within.iterrows())
     + ". Median ratio pipeline/thesis: "
-    + ", ".join(f"{t}: {g.ratio.median():.2f}" for t, g in cmp_.groupby("table")) + "."))
+    + ", ".join(f"{t}: {r['median_ratio']:.2f}" for t, r in within.iterrows()) + "."))
 
 # %%
-by_dir = met.groupby("direction")[["waviness_rms_um", "roughness_rms_um"]].mean()
-corr_w = np.corrcoef(met.feed_mm_s, met.waviness_rms_um)[0, 1]
-corr_r = np.corrcoef(met.feed_mm_s, met.roughness_rms_um)[0, 1]
+by_dir = direction_means(met)
+corr = feed_correlation(met)
+corr_w, corr_r = corr["waviness"], corr["roughness"]
 fig, axs = plt.subplots(1, 2, figsize=(9, 3.6))
 for d, g in met.groupby("direction"):
     axs[0].plot(g.feed_mm_s, g.waviness_rms_um, "o", label=DIRECTION_LABELS[d])

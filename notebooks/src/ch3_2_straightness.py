@@ -31,7 +31,7 @@ from robomill.experiment import DIRECTION_LABELS
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.plotting import save_figure
-from robomill.straightness import attribution_counts, band_peak_ratio, surface_cross_check
+from robomill.straightness import attribution_counts, band_floor_table, surface_cross_check
 
 prof = open_artefact(profiles)
 pk = pd.read_csv(peaks, keep_default_na=False, na_values=[""])
@@ -191,18 +191,7 @@ psd_figure(d16, 16, float(settings["fmax_store_per_mm"]), "psd_high",
 band = tuple(settings["surface_band_per_mm"])
 fmax_s = float(settings["fmax_store_per_mm"])
 quiet = (fmax_s - (band[1] - band[0]), fmax_s)  # same width, no source planted or expected
-rows = []
-for r, run in runs.iterrows():
-    ds = prof.sel(run=r)
-    ok = np.isfinite(ds.power_um2.values)
-    f, pw = ds.f.values[ok], ds.power_um2.values[ok]
-    rows.append({"direction": run.direction, "feed_mm_s": run.feed_mm_s,
-                 "peak_to_floor_in_band": band_peak_ratio(f, pw, band, (2.0, f.max())),
-                 "peak_to_floor_noise_band": band_peak_ratio(f, pw, quiet, (2.0, f.max())),
-                 "peaks_in_band": int(((pk.direction == run.direction)
-                                       & np.isclose(pk.feed_mm_s, run.feed_mm_s)
-                                       & pk.f_spatial_per_mm.between(*band)).sum())})
-hi = pd.DataFrame(rows)
+hi = band_floor_table(prof, pk, band, quiet)
 fast = hi[hi.feed_mm_s >= 8]
 display(Markdown(
     f"In the band {band[0]:g}–{band[1]:g} mm⁻¹ the runs at 8 and 10 mm/s have "

@@ -30,24 +30,32 @@ peaks: str = None  # results/modal/peak_picking.csv
 stabilization: str = None  # results/modal/stabilization.csv
 shapes: str = None  # results/modal/mode_shapes.csv
 mac: str = None  # results/modal/mac.csv
-forces_peaks: str = None  # results/forces/peaks.csv
-truth: str = None  # results/synthetic/truth.nc (synthetic runs only)
+peak_groups: str = None  # results/modal/peak_groups.csv
+truth_check: str = None  # results/modal/truth_check.csv
+coupling: str = None  # results/modal/coupling.csv
+coupling_pairs: str = None  # results/modal/coupling_pairs.csv
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
-import os
-
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
+from robomill.pipeline.captions import Numbering
 from robomill.io import open_artefact
 from robomill.io.impact import read_frf
-from robomill.modal import TOOLTIP, join_complex, points
+from robomill.modal import (
+    COUPLING_TOLERANCE,
+    THESIS_NATURAL_HZ,
+    TOOLTIP,
+    join_complex,
+    points,
+    synthesis_misfit,
+)
 from robomill.plotting import save_figure
 
-THESIS_HZ = [20.0, 35.0, 60.0, 67.0, 70.0, 72.0]
+THESIS_HZ = list(THESIS_NATURAL_HZ)
 ds = read_frf(frf)
 sy = join_complex(open_artefact(synth))
 tr = open_artefact(traces)
@@ -57,6 +65,10 @@ peak_table = pd.read_csv(peaks)
 stab = pd.read_csv(stabilization)
 shape_table = pd.read_csv(shapes)
 mac_table = pd.read_csv(mac).set_index("mode")
+grouped = pd.read_csv(peak_groups)
+check_table = pd.read_csv(truth_check)
+coupling_table = pd.read_csv(coupling)
+pair_table = pd.read_csv(coupling_pairs)
 f = ds["frequency"].values
 sigma = float(ds.attrs["window_sigma_per_s"])
 outs, ins = points(ds, "output"), points(ds, "input")
@@ -64,6 +76,38 @@ TOOLTIP_LAYOUT = outs == list(TOOLTIP) and ins == list(TOOLTIP)
 measured = [(o, i) for o in ds["output"].values.tolist() for i in ds["input"].values.tolist()
             if np.isfinite(ds["H"].sel(output=o, input=i).values[1:]).any()]
 band_hz = [float(b) for b in np.atleast_1d(sy.attrs["band_hz"])]
+HAS_TRACES = "time" in tr.dims
+
+num = Numbering("3")
+if HAS_TRACES:
+    num.figure("impact_test", "The test: the tool tip, the three hammer directions and the "
+               "accelerometer; force and accelerations of an accepted hit and of every "
+               "rejected one", number=18, stem="fig3_18_impact_test")
+num.figure("frf_grid", "Every measured FRF: |H| measured (black), synthesized from the "
+           "identified modes (red, dashed) and the coherence (blue)", number=19,
+           stem="frf_grid")
+FRF_PAIRS = [(o, i) for o in ("XYZ" if TOOLTIP_LAYOUT else "") for i in "XYZ"]
+for k, (o, i) in enumerate(FRF_PAIRS):
+    num.figure(f"frf_{o}{i}", f"Response {o} / hammer {i}: real part, imaginary part and "
+               "coherence of the receptance, measured (H1) and synthesized; grey verticals: "
+               "the thesis' natural frequencies", number=20 + k, stem=f"fig3_{20 + k}_frf_{o}{i}")
+num.figure("stabilization", "Stabilization chart of the LSCF fit over all measured FRFs, "
+           "on the sum of |H|", number=29, stem="fig3_29_stabilization")
+num.figure("mac_shapes", "MAC matrix of the identified shapes, and the shapes over the "
+           "measured points", number=30, stem="mac_and_shapes")
+num.table("hits", "The recorded hits: accepted or rejected, and why", number=11)
+num.table("peak_groups", "The thesis' peak picking: frequencies meeting both criteria, "
+          "grouped over the FRFs", number=12)
+num.table("modes", "The identified modes: natural frequency, damping, tool-tip shape, modal "
+          "mass and stiffness, sanity flags", number=13)
+if len(check_table):
+    num.table("truth", "Identified against planted modes (synthetic run)", number=14)
+num.table("misfit", "Relative misfit of the synthesized FRFs, ‖H_synth − H‖/‖H‖ [%]",
+          number=15)
+if len(coupling_table):
+    num.table("coupling", f"Modes against the cutting vibration frequency "
+              f"(±{100 * COUPLING_TOLERANCE:.0f} %)", number=16)
+
 display(Markdown(
     f"Layout: **{len(outs)} response point(s)** ({', '.join(ds['output'].values)}) × "
     f"**{len(ins)} reference point(s)** ({', '.join(ds['input'].values)}), "
@@ -77,13 +121,18 @@ if len(hit_table):
         f"per reference point), **{len(rejected)} rejected** automatically; sampling "
         f"{ds.attrs['fs_hz']} Hz, {ds.attrs['record_samples']} samples per record "
         f"(lines every {f[1] - f[0]:.3g} Hz). Exponential window decay σ = {sigma:.3f} 1/s."))
+    display(Markdown(f"{num.ref('hits')} lists every hit and the reason for each rejection."))
+    display(num.caption("hits"))
+    display(hit_table[["direction", "hit", "accepted", "reason", "peak_force_N"]])
 else:
     display(Markdown(f"FRFs imported from a modal test system (UFF 58), lines every "
-                     f"{f[1] - f[0]:.3g} Hz; no hit records to check."))
-hit_table[["direction", "hit", "accepted", "reason", "peak_force_N"]]
+                     f"{f[1] - f[0]:.3g} Hz; no hit records to check ({num.ref('hits')} is "
+                     "empty)."))
+    display(num.caption("hits"))
+    display(hit_table)
 
 # %% [markdown]
-# ## Figure 3.18 — the test: hammer directions, and the recorded signals
+# ## The test: hammer directions, and the recorded signals
 #
 # Left: the tool tip, the three hammer directions (base X, Y, Z) and the triaxial
 # accelerometer. Right: force and accelerations of an accepted hit, and of each rejected one
@@ -133,11 +182,14 @@ def figure_3_18():
     axf.set_xlabel("time [ms]")
     axa.set_xlabel("time [s]")
     fig.tight_layout()
-    save_figure(fig, fig_dir, "fig3_18_impact_test")
+    save_figure(fig, fig_dir, num.file("impact_test"))
     plt.show()
+    display(num.caption("impact_test"))
 
 
-if "time" in tr.dims:
+if HAS_TRACES:
+    display(Markdown(f"{num.ref('impact_test')} draws the test and the signals of the "
+                     "accepted and the rejected hits."))
     figure_3_18()
 else:
     display(Markdown("No hit records (FRFs imported): no signals to show."))
@@ -177,44 +229,50 @@ for ax in axs[-1]:
     ax.set_xlabel("frequency [Hz]", fontsize=8)
 fig.suptitle("|H| [m/N] measured (black), synthesized (red), coherence (blue)", fontsize=9)
 fig.tight_layout()
-save_figure(fig, fig_dir, "frf_grid")
+save_figure(fig, fig_dir, num.file("frf_grid"))
 plt.show()
+display(num.caption("frf_grid"))
+display(Markdown(f"{num.ref('frf_grid')}: the {len(measured)} measured FRFs with the "
+                 "synthesis of the identified modes over them."))
 
 # %% [markdown]
-# ## Figures 3.20–3.28 — the nine FRFs: real part, imaginary part, coherence
+# ## The nine FRFs: real part, imaginary part, coherence
 #
 # (The thesis' 3×3 tool-tip layout.) Receptance H1 (m/N) averaged over the accepted hits of
 # each hammer direction; the dashed line is the FRF synthesized from the identified modes
 # (LSFD). Grey verticals: the thesis' natural frequencies.
 
 # %%
-fig_no = 20
-for o in ("XYZ" if TOOLTIP_LAYOUT else ""):
-    for i in "XYZ":
-        h = ds["H"].sel(output=o, input=i).values
-        hs = sy["H_synth"].sel(output=o, input=i).values
-        coh = ds["coherence"].sel(output=o, input=i).values
-        fig, axs = plt.subplots(3, 1, figsize=(7.5, 6.0), sharex=True)
-        axs[0].plot(f[band], 1e6 * h.real[band], "k", lw=1, label="measured (H1)")
-        axs[0].plot(f[band], 1e6 * hs.real[band], "r--", lw=1, label="synthesized (modes)")
-        axs[1].plot(f[band], 1e6 * h.imag[band], "k", lw=1)
-        axs[1].plot(f[band], 1e6 * hs.imag[band], "r--", lw=1)
-        axs[2].plot(f[band], coh[band], "b", lw=1)
-        axs[2].axhline(0.75, color="tab:orange", ls=":", label="0.75")
-        for ax in axs:
-            for fh in THESIS_HZ:
-                ax.axvline(fh, color="0.8", lw=0.8, zorder=0)
-        axs[0].set_ylabel("Re H [µm/N]")
-        axs[1].set_ylabel("Im H [µm/N]")
-        axs[2].set_ylabel("coherence")
-        axs[2].set_ylim(0, 1.05)
-        axs[2].set_xlabel("frequency [Hz]")
-        axs[0].legend(fontsize=8)
-        axs[2].legend(fontsize=8, loc="lower right")
-        axs[0].set_title(f"Fig 3.{fig_no}: response {o} / hammer {i}")
-        save_figure(fig, fig_dir, f"fig3_{fig_no}_frf_{o}{i}")
-        plt.show()
-        fig_no += 1
+if FRF_PAIRS:
+    display(Markdown(f"{num.ref(f'frf_{FRF_PAIRS[0][0]}{FRF_PAIRS[0][1]}')}–"
+                     f"{num.ref(f'frf_{FRF_PAIRS[-1][0]}{FRF_PAIRS[-1][1]}')} show the "
+                     "nine FRFs of the tool-tip matrix one by one."))
+for o, i in FRF_PAIRS:
+    num.ref(f"frf_{o}{i}")
+    h = ds["H"].sel(output=o, input=i).values
+    hs = sy["H_synth"].sel(output=o, input=i).values
+    coh = ds["coherence"].sel(output=o, input=i).values
+    fig, axs = plt.subplots(3, 1, figsize=(7.5, 6.0), sharex=True)
+    axs[0].plot(f[band], 1e6 * h.real[band], "k", lw=1, label="measured (H1)")
+    axs[0].plot(f[band], 1e6 * hs.real[band], "r--", lw=1, label="synthesized (modes)")
+    axs[1].plot(f[band], 1e6 * h.imag[band], "k", lw=1)
+    axs[1].plot(f[band], 1e6 * hs.imag[band], "r--", lw=1)
+    axs[2].plot(f[band], coh[band], "b", lw=1)
+    axs[2].axhline(0.75, color="tab:orange", ls=":", label="0.75")
+    for ax in axs:
+        for fh in THESIS_HZ:
+            ax.axvline(fh, color="0.8", lw=0.8, zorder=0)
+    axs[0].set_ylabel("Re H [µm/N]")
+    axs[1].set_ylabel("Im H [µm/N]")
+    axs[2].set_ylabel("coherence")
+    axs[2].set_ylim(0, 1.05)
+    axs[2].set_xlabel("frequency [Hz]")
+    axs[0].legend(fontsize=8)
+    axs[2].legend(fontsize=8, loc="lower right")
+    axs[0].set_title(f"response {o} / hammer {i}")
+    save_figure(fig, fig_dir, num.file(f"frf_{o}{i}"))
+    plt.show()
+    display(num.caption(f"frf_{o}{i}"))
 
 # %% [markdown]
 # ## The thesis' peak picking
@@ -223,19 +281,7 @@ for o in ("XYZ" if TOOLTIP_LAYOUT else ""):
 # meets both on at least one FRF.
 
 # %%
-ok = peak_table[peak_table["natural_frequency"].astype(bool)].copy()
-df_line = f[1] - f[0]
-if ok.empty:
-    grouped = pd.DataFrame(columns=["f_hz", "n_frfs", "frfs"])
-else:
-    grouped = (ok.sort_values("f_hz").assign(group=lambda d: (d["f_hz"].diff() > 3 * df_line)
-                                              .cumsum())
-               .groupby("group").agg(f_hz=("f_hz", "median"), n_frfs=("f_hz", "size"),
-                                     frfs=("output", lambda s: ", ".join(
-                                         s + "/" + ok.loc[s.index, "input"]))))
 picked = grouped["f_hz"].to_numpy(float)
-nearest = [min(THESIS_HZ, key=lambda x: abs(x - p)) for p in picked]
-grouped["thesis_hz"] = nearest
 display(Markdown(
     f"{len(peak_table)} Im-extrema candidates on the {len(measured)} FRFs; "
     f"{int(peak_table['real_sign_change'].sum())} pass the real-part criterion, "
@@ -243,9 +289,10 @@ display(Markdown(
     f"{int(peak_table['natural_frequency'].sum())} both. They group into **{len(grouped)} "
     f"frequencies**: {', '.join(f'{x:.2f}' for x in picked)} Hz"
     + (f" (thesis: {', '.join(f'{x:g}' for x in THESIS_HZ)} Hz)" if TOOLTIP_LAYOUT else "")
-    + ". Peak picking cannot separate modes whose half-power bands overlap on the FRF where "
-    "both respond; the LSCF fit below does."
+    + f" ({num.ref('peak_groups')}). Peak picking cannot separate modes whose half-power "
+    "bands overlap on the FRF where both respond; the LSCF fit below does."
 ))
+display(num.caption("peak_groups"))
 grouped.round(2)
 
 # %% [markdown]
@@ -274,8 +321,12 @@ ax.set_xlabel("frequency [Hz]")
 ax.set_ylabel("model order")
 ax.legend(fontsize=8, loc="upper left")
 ax.set_title("Stabilization chart")
-save_figure(fig, fig_dir, "fig3_29_stabilization")
+save_figure(fig, fig_dir, num.file("stabilization"))
 plt.show()
+display(num.caption("stabilization"))
+display(Markdown(f"{num.ref('stabilization')}: {int((stab['status'] == 'stable').sum())} "
+                 f"stable poles over the model orders; the green verticals are the "
+                 f"{len(mode_table)} selected modes."))
 
 # %% [markdown]
 # ## The modes
@@ -295,16 +346,18 @@ display(Markdown(
     + ((" (thesis: " + ", ".join(f"{x:g}" for x in THESIS_HZ) + " Hz; differences "
         + ", ".join(f"{a - min(THESIS_HZ, key=lambda x: abs(x - a)):+.2f}"
                     for a in mode_table.f_n_hz) + " Hz to the nearest thesis value"
-        + (")." if len(mode_table) == len(THESIS_HZ) else ", counts differ)."))
+        + (")" if len(mode_table) == len(THESIS_HZ) else ", counts differ)"))
        if TOOLTIP_LAYOUT else " (not the thesis' tool-tip test: no comparison with its "
-                              "values).")
+                              "values)")
+    + f"; {num.ref('modes')} gives their parameters."
 ))
-flagged = mode_table[mode_table["flags"].fillna("") != ""]
+flagged = mode_table[mode_table["flags"].notna() & (mode_table["flags"].astype(str) != "")]
 display(Markdown(
     "**Sanity flags:** " + ("none: every mode is physical, scaled and well coherent."
                             if flagged.empty else "; ".join(
                                 f"mode {int(m.mode)} ({m.f_n_hz:.2f} Hz): {m.flags}"
                                 for m in flagged.itertuples()))))
+display(num.caption("modes"))
 mode_table.round({"f_n_hz": 3, "zeta": 4, "zeta_windowed": 4, "k_modal_N_m": 0,
                   "m_modal_kg": 3, "shape_x": 3, "shape_y": 3, "shape_z": 3, "rank1": 3,
                   "coherence": 3})
@@ -350,53 +403,38 @@ axs_.set_ylabel("Re φ (unit shape, positive axes)")
 axs_.legend(fontsize=6, ncol=2)
 axs_.set_title("mode shapes over the measured points")
 fig.tight_layout()
-save_figure(fig, fig_dir, "mac_and_shapes")
+save_figure(fig, fig_dir, num.file("mac_shapes"))
 plt.show()
+display(num.caption("mac_shapes"))
+off = mac_table.to_numpy(float)[~np.eye(len(mac_table), dtype=bool)]
+display(Markdown(f"{num.ref('mac_shapes')}: largest off-diagonal MAC "
+                 f"{off.max() if off.size else float('nan'):.2f}."))
 
 # %%
-if truth is not None and TOOLTIP_LAYOUT:
-    import xarray as xr
-
-    tt = xr.open_dataset(truth, engine="h5netcdf")
-    ref = pd.DataFrame({"f_true_hz": tt["mode_f_hz"].values, "zeta_true": tt["mode_zeta"].values,
-                        "k_true_N_m": tt["mode_k_N_m"].values})
-    rows = []
-    for _, r in ref.iterrows():
-        j = int(np.argmin(np.abs(mode_table["f_n_hz"] - r["f_true_hz"])))
-        m = mode_table.iloc[j]
-        shape_true = tt["mode_shape"].values[len(rows)]
-        rows.append({**r.to_dict(), "f_n_hz": m["f_n_hz"], "zeta": m["zeta"],
-                     "f_err_pct": 100 * (m["f_n_hz"] / r["f_true_hz"] - 1),
-                     "zeta_err_pct": 100 * (m["zeta"] / r["zeta_true"] - 1),
-                     "k_err_pct": 100 * (m["k_modal_N_m"] / r["k_true_N_m"] - 1),
-                     "shape_mac": float(np.dot(shape_true, m[["shape_x", "shape_y",
-                                                              "shape_z"]].to_numpy(float))**2)})
-    check = pd.DataFrame(rows)
+if len(check_table):
     display(Markdown(
         "### Against the planted truth (synthetic run)\n\n"
-        f"Largest errors: f_n {check.f_err_pct.abs().max():.3f} %, ζ "
-        f"{check.zeta_err_pct.abs().max():.1f} %, k {check.k_err_pct.abs().max():.1f} %; "
-        f"smallest shape MAC {check.shape_mac.min():.4f}. Without the window correction ζ "
-        f"would be off by up to "
+        f"Largest errors: f_n {check_table.f_err_pct.abs().max():.3f} %, ζ "
+        f"{check_table.zeta_err_pct.abs().max():.1f} %, k "
+        f"{check_table.k_err_pct.abs().max():.1f} %; smallest shape MAC "
+        f"{check_table.shape_mac.min():.4f} ({num.ref('truth')}). Without the window "
+        f"correction ζ would be off by up to "
         f"{100 * (mode_table.zeta_windowed / mode_table.zeta - 1).abs().max():.0f} %."
     ))
-    display(check.round(4))
+    display(num.caption("truth"))
+    display(check_table.round(4))
 
 # %% [markdown]
 # ## Synthesized against measured FRFs
 
 # %%
-inb = band & np.isfinite(sy["H_synth"].values).any(axis=(0, 1))
-with np.errstate(invalid="ignore", divide="ignore"):
-    err = (np.linalg.norm((sy["H_synth"].values - ds["H"].values)[..., inb], axis=-1)
-           / np.linalg.norm(ds["H"].values[..., inb], axis=-1))
-err_table = pd.DataFrame(100 * err, index=[f"out {o}" for o in ds["output"].values],
-                         columns=[f"in {i}" for i in ds["input"].values])
+err_table = synthesis_misfit(ds, sy["H_synth"].values, band_hz)
 display(Markdown(
-    f"Relative misfit ‖H_synth − H‖/‖H‖ over {f[inb].min():.0f}–{f[inb].max():.0f} Hz, "
-    f"per measured FRF [%]: median {np.nanmedian(err_table.values):.2f} %, worst "
-    f"{np.nanmax(err_table.values):.2f} %."
+    f"Relative misfit ‖H_synth − H‖/‖H‖ over {band_hz[0]:.4g}–{band_hz[1]:.4g} Hz, "
+    f"per measured FRF ({num.ref('misfit')}): median {np.nanmedian(err_table.values):.2f} %, "
+    f"worst {np.nanmax(err_table.values):.2f} %."
 ))
+display(num.caption("misfit"))
 err_table.round(2)
 
 # %% [markdown]
@@ -409,29 +447,27 @@ err_table.round(2)
 # "close" when it lies within ±15 % of it.
 
 # %%
-fp = (pd.read_csv(forces_peaks) if forces_peaks and os.path.exists(forces_peaks)
-      else pd.DataFrame())  # a raw folder without force records: no chapter 3.1
 if not TOOLTIP_LAYOUT:
     display(Markdown("Mode coupling at the tool tip needs the tool-tip layout (X, Y, Z at "
                      "node 1, hit and measured): not this test."))
-elif len(fp) and "dominant_hz" in fp:
-    f_vib = float(np.median(fp["dominant_hz"]))
-    close = mode_table[np.abs(mode_table["f_n_hz"] / f_vib - 1) <= 0.15]
-    shapes = close[["shape_x", "shape_y", "shape_z"]].to_numpy(float)
-    pairs = []
-    for a in range(len(close)):
-        for b in range(a + 1, len(close)):
-            ang = np.degrees(np.arccos(min(1.0, abs(float(shapes[a] @ shapes[b])))))
-            pairs.append(f"modes {int(close.iloc[a]['mode'])}–{int(close.iloc[b]['mode'])}: "
-                         f"shapes {ang:.0f}° apart")
+elif len(coupling_table):
+    f_vib = float(coupling_table["vibration_hz"].iloc[0])
+    close = coupling_table[coupling_table["close"].astype(bool)]
+    pairs = [f"modes {int(p.mode_a)}–{int(p.mode_b)}: shapes {p.shape_angle_deg:.0f}° apart"
+             for p in pair_table.itertuples()]
     display(Markdown(
-        f"Dominant vibration frequency while cutting: **{f_vib:.1f} Hz** (median over "
-        f"{len(fp)} cuts, range {fp.dominant_hz.min():.1f}–{fp.dominant_hz.max():.1f} Hz). "
-        f"**{len(close)} modes** lie within ±15 %: "
+        f"Dominant vibration frequency while cutting: **{f_vib:.1f} Hz** (median over the "
+        f"cuts of chapter 3.1). **{len(close)} modes** lie within "
+        f"±{100 * COUPLING_TOLERANCE:.0f} % ({num.ref('coupling')}): "
         + (", ".join(f"{x:.2f} Hz" for x in close.f_n_hz) if len(close) else "none")
         + ". " + ("; ".join(pairs) + ". Modes close in frequency with non-parallel shapes "
                   "can couple into an elliptical tool path (thesis §3.3)." if pairs else "")
     ))
+    display(num.caption("coupling"))
+    display(coupling_table.round(4))
 else:
     display(Markdown("The forces chapter found no dominant vibration frequency in this run "
                      "(or this run has no force records)."))
+
+# %%
+num.check()

@@ -27,6 +27,8 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
+from robomill.pipeline.captions import Numbering
+from robomill.chatter.report import coupling_table, onset_table
 from robomill.io import open_artefact
 from robomill.plotting import save_figure
 
@@ -36,6 +38,35 @@ case_ds = {open_artefact(p).attrs["case_name"]: open_artefact(p) for p in cases}
 sim = open_artefact(simulation)
 th = open_artefact(lobes)
 rec = pd.read_csv(recommendations)
+name = "insperger2004_down005" if "insperger2004_down005" in case_ds else next(iter(case_ds))
+HAS_SLOT = "insperger2004_slot" in case_ds
+
+num = Numbering("4")
+num.figure("benchmark_lobes", f"Stability lobes of case {name}: zero-order and spectral "
+           "element, flip lobes marked", number=1, part="a", stem="fig4_1_benchmark_lobes")
+num.figure("benchmark_error", f"Case {name}: estimated discretization error of the spectral "
+           "element per speed, against chatter.accuracy", number=1, part="b",
+           stem="fig4_1b_benchmark_error")
+if HAS_SLOT:
+    num.figure("slot", "Slotting benchmark (insperger2004_slot): zero-order and spectral "
+               "element agree", number=2, stem="fig4_2_slotting_agreement")
+num.figure("seed_lobes", "Seed 002: lobes of the closed-loop tool point (ZOA and SDM), a* and "
+           "the two operating points", number=3, stem="fig4_3_seed_lobes")
+num.figure("seed_time", "Seed 002: tool vibration x_s over time in the three runs", number=4,
+           stem="fig4_4_seed_time_histories")
+num.figure("seed_spectra", "Seed 002: amplitude spectrum of the resultant horizontal force, "
+           "last window", number=5, stem="fig4_5_seed_spectra")
+num.figure("detection", "Seed 002: chatter indicator per window; red: the adaptations of the "
+           "logic block", number=6, stem="fig4_6_detection")
+num.figure("thesis_lobes", "The thesis robot: lobes per slot direction with the spectral "
+           "element's error band; red: the thesis' depths, dotted: its spindle speed",
+           number=7, stem="fig4_7_thesis_lobes")
+num.table("onset", "Time domain against the lobes just below and above the SDM boundary",
+          number=1)
+num.table("coupling", "Mode coupling and regenerative chatter per slot direction, beside the "
+          "force peaks", number=2)
+num.table("recommendations", "Stability margins of the thesis' cuts and the recommended "
+          "chatter-free depths", number=3)
 
 # %% [markdown]
 # ## 4.1 Lobes for any machine: the published benchmark
@@ -48,7 +79,6 @@ rec = pd.read_csv(recommendations)
 # ≈ 18 400 rpm — lobes the zero-order method cannot produce.
 
 # %%
-name = "insperger2004_down005" if "insperger2004_down005" in case_ds else next(iter(case_ds))
 ds = case_ds[name]
 rpm = ds.spindle_rpm.values
 a_z = ds.a_crit_mm.sel(solver="zoa").values
@@ -66,12 +96,14 @@ ax.set_ylabel("critical axial depth [mm]")
 ax.set_ylim(0, ds.attrs["depth_max_mm"])
 ax.set_title(f"Case {name}")
 ax.legend()
-save_figure(fig, fig_dir, "fig4_1_benchmark_lobes")
+save_figure(fig, fig_dir, num.file("benchmark_lobes"))
 plt.show()
+display(num.caption("benchmark_lobes"))
 fl = rpm[flip]
 i_min = int(np.nanargmin(np.where(flip, a_s, np.nan))) if flip.any() else None
 hopf_min = np.nanmin(np.where(kind == "hopf", a_s, np.nan))
-msg = (f"Spectral element (every depth refined until its estimated error is ≤ "
+msg = (f"{num.ref('benchmark_lobes')}, spectral element (every depth refined until its "
+       f"estimated error is ≤ "
        f"{100 * ds.attrs['accuracy']:.1f} %): smallest Hopf critical depth "
        f"**{hopf_min:.3f} mm**; flip lobes at {flip.sum()} of {rpm.size} speeds")
 if i_min is not None:
@@ -99,13 +131,15 @@ ax.set_xlabel("spindle speed [rpm]")
 ax.set_ylabel("relative error of a_crit [%]")
 ax.set_title(f"Case {name}: discretization error per speed")
 ax.legend()
-save_figure(fig, fig_dir, "fig4_1b_benchmark_error")
+save_figure(fig, fig_dir, num.file("benchmark_error"))
 plt.show()
+display(num.caption("benchmark_error"))
 i_w = int(np.nanargmax(rel))
 checks = [f"{n:.0f} rpm: **{a_s[rpm == n][0]:.4f} ± {err[rpm == n][0]:.4f} mm**"
           for n in (6400.0, 8400.0) if (rpm == n).any()]
 display(Markdown(
-    f"Worst estimated error over the {rpm.size} speeds: **{rel[i_w]:.3f} %** "
+    f"{num.ref('benchmark_error')}: worst estimated error over the {rpm.size} speeds: "
+    f"**{rel[i_w]:.3f} %** "
     f"({err[i_w]:.4f} mm at {rpm[i_w]:.0f} rpm, collocation order "
     f"{int(ds.collocation_order.values[i_w])})."
     + (" At " + "; ".join(checks) + " (the converged first-order semi-discretization: "
@@ -117,7 +151,7 @@ display(Markdown(
 # constant, so the zero-order method is accurate and both methods must agree.
 
 # %%
-if "insperger2004_slot" in case_ds:
+if HAS_SLOT:
     sl = case_ds["insperger2004_slot"]
     az, asd = (sl.a_crit_mm.sel(solver=s).values for s in ("zoa", "sem"))
     dev = np.nanmax(np.abs(asd / az - 1))
@@ -127,9 +161,11 @@ if "insperger2004_slot" in case_ds:
     ax.set_xlabel("spindle speed [rpm]")
     ax.set_ylabel("critical axial depth [mm]")
     ax.legend()
-    save_figure(fig, fig_dir, "fig4_2_slotting_agreement")
+    save_figure(fig, fig_dir, num.file("slot"))
     plt.show()
-    display(Markdown(f"Slotting: minimum ZOA {np.nanmin(az):.4f} mm, spectral element "
+    display(num.caption("slot"))
+    display(Markdown(f"Slotting ({num.ref('slot')}): minimum ZOA {np.nanmin(az):.4f} mm, "
+                     f"spectral element "
                      f"{np.nanmin(asd):.4f} mm; largest relative difference over the grid "
                      f"{100 * dev:.2f} % (worst estimated error of the spectral element "
                      f"{100 * sl.attrs['worst_relative_error']:.2f} %)."))
@@ -157,10 +193,12 @@ ax.plot([n0], [sim.attrs["point2_depth_mm"]], "rs", label="point 2")
 ax.set_xlabel("spindle speed n [rpm]")
 ax.set_ylabel("critical axial depth a_cr [mm]")
 ax.legend()
-save_figure(fig, fig_dir, "fig4_3_seed_lobes")
+save_figure(fig, fig_dir, num.file("seed_lobes"))
 plt.show()
+display(num.caption("seed_lobes"))
 display(Markdown(
-    f"a* = **{sim.attrs['a_star_mm']:.3f} mm**; at n = {n0:.0f} rpm the boundary is "
+    f"{num.ref('seed_lobes')}: a* = **{sim.attrs['a_star_mm']:.3f} mm**; at n = {n0:.0f} rpm "
+    f"the boundary is "
     f"{sim.attrs['a_boundary_at_n_mm']:.4f} mm (a lobe pocket, "
     f"{sim.attrs['a_boundary_at_n_mm'] / sim.attrs['a_star_mm']:.2f}× a*): point 1 = "
     f"{sim.attrs['point1_depth_mm']:.4f} mm, point 2 = {sim.attrs['point2_depth_mm']:.4f} mm. "
@@ -182,8 +220,9 @@ for ax, run in zip(axes, sim.run.values, strict=True):
     ax.set_ylabel("x_s [µm]")
     ax.set_title(str(run))
 axes[-1].set_xlabel("t [s]")
-save_figure(fig, fig_dir, "fig4_4_seed_time_histories")
+save_figure(fig, fig_dir, num.file("seed_time"))
 plt.show()
+display(num.caption("seed_time"))
 
 fig, ax = plt.subplots()
 for run in sim.run.values:
@@ -193,8 +232,9 @@ ax.set_xlabel("frequency [Hz]")
 ax.set_ylabel("amplitude of R [N]")
 ax.set_title("Amplitude spectrum of the resultant horizontal force, last window")
 ax.legend()
-save_figure(fig, fig_dir, "fig4_5_seed_spectra")
+save_figure(fig, fig_dir, num.file("seed_spectra"))
 plt.show()
+display(num.caption("seed_spectra"))
 
 fig, ax = plt.subplots()
 for run in sim.run.values:
@@ -204,8 +244,9 @@ for t_a in np.atleast_1d(sim.attrs["adaptation_times_s"]):
 ax.set_xlabel("end of window [s]")
 ax.set_ylabel("chatter indicator [N]")
 ax.legend()
-save_figure(fig, fig_dir, "fig4_6_detection")
+save_figure(fig, fig_dir, num.file("detection"))
 plt.show()
+display(num.caption("detection"))
 
 # %%
 ind2 = sim.indicator_N.sel(run="point2").values
@@ -214,6 +255,8 @@ det = np.atleast_1d(sim.attrs["detections_adaptive_s"])
 steps = np.atleast_1d(sim.attrs["adaptation_setpoint_fraction"])
 d1 = np.atleast_1d(sim.attrs["detections_point1_s"])
 display(Markdown(
+    f"{num.ref('seed_time')} shows the vibration of the three runs, {num.ref('seed_spectra')} "
+    f"their force spectra and {num.ref('detection')} the chatter indicator. "
     f"Point 1: {'no detection' if d1.size == 0 else f'detections at {d1}'} (seed: stable). "
     f"Point 2: largest non-harmonic (chatter) line at **{f_peak:.0f} Hz** "
     f"(seed: ~200 Hz; our tool-point mode is "
@@ -257,18 +300,10 @@ display(Markdown(
 # (negative σ: how fast a disturbance decays):
 
 # %%
-onset = pd.DataFrame({
-    "spindle_rpm": sim.onset_check_rpm.values,
-    "depth / boundary": sim.onset_depth_fraction.values,
-    "boundary [mm]": sim.onset_a_boundary_mm.values,
-    "time domain unstable": sim.onset_unstable.values,
-    "indicator [N]": sim.onset_indicator_N.values,
-    "σ SDM [1/s]": sim.onset_growth_rate_sdm_1_s.values,
-    "σ simulated [1/s]": sim.onset_growth_rate_simulated_1_s.values,
-})
-onset["σ sim / SDM"] = onset["σ simulated [1/s]"] / onset["σ SDM [1/s]"]
-onset["lobes say unstable"] = onset["depth / boundary"] > 1
-onset["agree"] = onset["lobes say unstable"] == onset["time domain unstable"]
+onset = onset_table(sim)
+display(Markdown(f"{num.ref('onset')}: the time domain and the lobes agree at "
+                 f"{int(onset['agree'].sum())} of {len(onset)} checks."))
+display(num.caption("onset"))
 onset.round(4)
 
 # %% [markdown]
@@ -290,31 +325,25 @@ for ax, d in zip(axes, th.direction.values, strict=True):
     ax.set_xlabel("spindle speed [rpm]")
 axes[0].set_ylabel("critical axial depth [mm]")
 axes[0].legend()
-save_figure(fig, fig_dir, "fig4_7_thesis_lobes")
+save_figure(fig, fig_dir, num.file("thesis_lobes"))
 plt.show()
+display(num.caption("thesis_lobes"))
 
 # %%
 rel_th = (th.a_crit_error_mm / th.a_crit_mm.sel(solver="sem")).values
 iw = np.unravel_index(int(np.nanargmax(rel_th)), rel_th.shape)
 display(Markdown(
-    f"Thesis-robot lobes, every depth within {100 * th.attrs['accuracy']:.1f} %: worst "
+    f"Thesis-robot lobes ({num.ref('thesis_lobes')}), every depth within "
+    f"{100 * th.attrs['accuracy']:.1f} %: worst "
     f"estimated error **{100 * rel_th[iw]:.3f} %** (slot {th.direction.values[iw[0]]}, "
     f"{th.spindle_rpm.values[iw[1]]:.0f} rpm, "
     f"{float(th.a_crit_error_mm.values[iw]):.4f} mm)."))
 
 # %%
-mc = pd.DataFrame({
-    "direction": th.direction.values,
-    "mode-coupling a_mc [mm]": th.mode_coupling_a_mm.values,
-    "coupling frequency [Hz]": th.mode_coupling_hz.values,
-    "coupled pair [Hz]": [" & ".join(f"{f:.1f}" for f in p) for p in th.coupled_mode_hz.values],
-    "regenerative chatter [Hz] (ZOA, 28 000 rpm)": [
-        float(th.chatter_hz.sel(direction=d, solver="zoa")
-              .interp(spindle_rpm=th.attrs["thesis_spindle_rpm"])) for d in th.direction.values],
-    "force peaks [Hz] (min–max)": [f"{a:.0f}–{b:.0f}" for a, b in
-                                   zip(th.force_peak_min_hz.values, th.force_peak_max_hz.values,
-                                       strict=True)],
-})
+mc = coupling_table(th)
+display(Markdown(f"{num.ref('coupling')}: the mode-coupling limit per slot direction and the "
+                 "coupled pair of modes, beside the regenerative chatter frequency."))
+display(num.caption("coupling"))
 mc.round(3)
 
 # %%
@@ -324,7 +353,8 @@ display(Markdown(
     "a_limit = the smaller of the regenerative and the mode-coupling critical depths; "
     "stability_margin_min takes a_limit − a_limit_error, the pessimistic end of its error, "
     "and decides chatter_free; the recommended depth is (1 − safety fraction) × "
-    "(a_limit − a_limit_error)):"))
+    f"(a_limit − a_limit_error)), {num.ref('recommendations')}:"))
+display(num.caption("recommendations"))
 rec.round(3)
 
 # %%
@@ -339,3 +369,6 @@ display(Markdown(
     + ", ".join(f"{r.direction} {r.axial_depth_mm:.2f} mm: {100 * r.stability_margin:.0f} %"
                 for r in ok.itertuples())
     + ". Chatter-free choices on the searched grid:\n" + "\n".join(lines)))
+
+# %%
+num.check()

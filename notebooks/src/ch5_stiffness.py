@@ -38,6 +38,7 @@ from IPython.display import Markdown, display
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.plotting import save_figure
+from robomill.stiffness import slot_stiffness_table, stiffness_spread_pct, waviness_by_direction
 
 # Numbers printed by seed 001 (Yi et al. 2025) and seed 004 (Cai et al. 2015), for comparison.
 SEED_K3D_kNm = [8.36e3, 6.62e3, 4.87e3, 3.32e3, 1.85e3, 8.73e2]  # "8.73×10" in the source
@@ -283,19 +284,14 @@ display(num.caption("beamframe"))
 sl = pd.read_csv(slots)
 tj = pd.read_csv(thesis_joints)
 unobs = tj.loc[~tj["observable"].astype(str).str.lower().isin(["true", "1"]), "joint"].tolist()
-mean_k = (sl.groupby(["model", "direction"])[["k_feed_N_m", "k_normal_N_m", "k_axial_N_m"]]
-          .mean() / 1e6).round(3)
-mean_k.columns = ["k feed N/µm", "k normal N/µm", "k axial N/µm"]
 wav = pd.read_csv(waviness, index_col=0)
-wq = {d: float(np.nanmean(wav[[c for c in wav.columns if c.endswith("_" + d)]].values))
-      for d in ("px", "py", "my")}
-mean_k["waviness RMS µm (Table 2.1, mean)"] = [wq.get(d, np.nan)
-                                                for d in mean_k.index.get_level_values(1)]
+mean_k = slot_stiffness_table(sl, wav)
+wq = waviness_by_direction(wav)
 display(num.caption("slots"))
 display(mean_k)
 comb = mean_k.loc["combined"]
 kn = comb["k normal N/µm"]
-spread = 100 * (kn.get("py", np.nan) - kn.get("my", np.nan)) / kn.get("my", np.nan)
+spread = stiffness_spread_pct(kn)
 display(Markdown(
     f"{num.ref('slots')}, {num.ref('thesis_slots')}: thesis robot joints not observable in its "
     f"load tests: {unobs or 'none'} (treated as "

@@ -845,3 +845,39 @@ def circle_table(circles: pd.DataFrame, ident: Identification) -> pd.DataFrame:
                                  "radial_residual_mm": np.hypot(d @ u, d @ v) - f.radius,
                                  "normal_residual_mm": h}))
     return pd.concat(out, ignore_index=True)
+
+
+def improvement_ratios(accuracy: pd.DataFrame, *, baseline: str = "nominal") -> pd.Series:
+    """How many times smaller each model's RMS positioning error is than ``baseline``'s.
+
+    Parameters
+    ----------
+    accuracy
+        ``results/calibration/accuracy.csv`` indexed by ``model`` (column ``rms_mm``).
+
+    Returns
+    -------
+    pandas.Series
+        Per model ``rms_baseline / rms_model`` (1 for the baseline itself).
+    """
+    rms = accuracy["rms_mm"].astype(float)
+    return float(rms.loc[baseline]) / rms
+
+
+def region_table(regions: pd.DataFrame,
+                 models: Sequence[str] = ("nominal", "geometric", "full")) -> pd.DataFrame:
+    """RMS positioning error [mm] per workspace region (rows) and model (columns), with the
+    number of validation points per region.
+
+    Parameters
+    ----------
+    regions
+        ``results/calibration/accuracy_by_region.csv`` (``region, model, rms_mm,
+        n_points``, long form).
+    models
+        The model columns, in order (models absent from ``regions`` are left out).
+    """
+    tab = regions.pivot_table(index="region", columns="model", values="rms_mm")
+    tab = tab[[m for m in models if m in tab.columns]]
+    tab["n_points"] = regions.groupby("region")["n_points"].first()
+    return tab

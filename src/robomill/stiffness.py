@@ -21,6 +21,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+import pandas as pd
 
 from robomill.kinematics import SerialRobot, ik_batch
 
@@ -506,3 +507,49 @@ def workspace_dataset(robot: SerialRobot, limits_deg, n: int, rng: np.random.Gen
         ds = ds.assign_coords(height_mm=("height_mm", maps["height_mm"].values,
                                          _attrs("mm", "milling height H")))
     return ds
+
+
+def slot_stiffness_table(slots: pd.DataFrame, waviness: pd.DataFrame) -> pd.DataFrame:
+    """Mean directional stiffness per model and slot direction beside the mean waviness.
+
+    Parameters
+    ----------
+    slots
+        ``results/stiffness/slots.csv``-like table: ``model, direction, k_feed_N_m,
+        k_normal_N_m, k_axial_N_m`` per slot pose.
+    waviness
+        Table 2.1 (``results/surface/table_2_1_waviness_rms.csv``, index ``segment``),
+        columns ``s<set>_<direction>`` [µm].
+
+    Returns
+    -------
+    pandas.DataFrame
+        Index ``(model, direction)``; ``k feed N/µm, k normal N/µm, k axial N/µm`` (means,
+        rounded to 3 decimals) and ``waviness RMS µm (Table 2.1, mean)`` (mean over the sets
+        and segments of that direction; NaN when Table 2.1 has none).
+    """
+    mean_k = (slots.groupby(["model", "direction"])[["k_feed_N_m", "k_normal_N_m",
+                                                     "k_axial_N_m"]].mean() / 1e6).round(3)
+    mean_k.columns = ["k feed N/µm", "k normal N/µm", "k axial N/µm"]
+    wq = waviness_by_direction(waviness)
+    mean_k["waviness RMS µm (Table 2.1, mean)"] = [
+        wq.get(d, np.nan) for d in mean_k.index.get_level_values(1)]
+    return mean_k
+
+
+def waviness_by_direction(waviness: pd.DataFrame,
+                          directions: tuple[str, ...] = ("px", "py", "my")) -> dict[str, float]:
+    """Mean of Table 2.1's cells per direction (columns ending ``_<direction>``) [µm];
+    NaN for a direction without columns."""
+    out = {}
+    for d in directions:
+        vals = waviness[[c for c in waviness.columns if c.endswith("_" + d)]].to_numpy(float)
+        out[d] = float(np.nanmean(vals)) if vals.size else float("nan")
+    return out
+
+
+def stiffness_spread_pct(values: pd.Series, a: str = "py", b: str = "my") -> float:
+    """Relative difference ``100 (k_a − k_b)/k_b`` [%] of two slot directions' stiffness
+    (thesis §5: the ±Y slots share their normal direction); NaN if either is missing."""
+    ka, kb = values.get(a, np.nan), values.get(b, np.nan)
+    return float(100 * (ka - kb) / kb)

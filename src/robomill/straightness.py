@@ -785,3 +785,37 @@ def truth_check(peaks: pd.DataFrame | None, truth: xr.Dataset | None,
                               threshold=options["threshold"], tol_bins=options["tol_bins"],
                               fmax_per_mm=options["fmax_per_mm"])
     return ev[TRUTH_CHECK_COLUMNS]
+
+
+def band_floor_table(profiles: xr.Dataset, peaks: pd.DataFrame, band: tuple[float, float],
+                     quiet: tuple[float, float], *,
+                     floor_from_per_mm: float = 2.0) -> pd.DataFrame:
+    """Peak-to-floor ratio of every run's motion spectrum in the surface band and in a quiet
+    band of the same width (thesis §3.2: no motion component near the roughness band).
+
+    For each run of ``profiles`` (``power_um2(run, f)`` with coordinates ``direction,
+    feed_mm_s`` on ``run``), :func:`band_peak_ratio` against the median power from
+    ``floor_from_per_mm`` to the top of the spectrum, in ``band`` and in ``quiet``, and the
+    number of ``peaks`` (``direction, feed_mm_s, f_spatial_per_mm``) of that run in ``band``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``direction, feed_mm_s, peak_to_floor_in_band, peak_to_floor_noise_band,
+        peaks_in_band``, one row per run.
+    """
+    rows = []
+    for r in profiles["run"].values:
+        ds = profiles.sel(run=r)
+        ok = np.isfinite(ds["power_um2"].values)
+        f, pw = ds["f"].values[ok], ds["power_um2"].values[ok]
+        direction, feed = str(ds["direction"].values), float(ds["feed_mm_s"].values)
+        ref = (floor_from_per_mm, float(f.max()))
+        rows.append({"direction": direction, "feed_mm_s": feed,
+                     "peak_to_floor_in_band": band_peak_ratio(f, pw, band, ref),
+                     "peak_to_floor_noise_band": band_peak_ratio(f, pw, quiet, ref),
+                     "peaks_in_band": int(((peaks["direction"] == direction)
+                                           & np.isclose(peaks["feed_mm_s"], feed)
+                                           & peaks["f_spatial_per_mm"].between(*band)).sum())})
+    return pd.DataFrame(rows, columns=["direction", "feed_mm_s", "peak_to_floor_in_band",
+                                       "peak_to_floor_noise_band", "peaks_in_band"])

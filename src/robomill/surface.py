@@ -486,3 +486,61 @@ def gather_surface(per_cut: Sequence[xr.Dataset], cuts: pd.DataFrame,
         profiles[col] = ("cut", plan[col].to_numpy(), {"units": units, "long_name": col})
     out["profiles"] = profiles
     return out
+
+
+def direction_means(metrics: pd.DataFrame) -> pd.DataFrame:
+    """Mean waviness and roughness RMS per cut direction (thesis §2.3: X smallest, +Y
+    largest).
+
+    Parameters
+    ----------
+    metrics
+        ``results/surface/metrics.csv`` (``direction, waviness_rms_um, roughness_rms_um``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Index ``direction``; ``waviness_rms_um, roughness_rms_um`` (means over the cuts of
+        that direction, µm) and ``n_cuts``.
+    """
+    g = metrics.groupby("direction")
+    out = g[["waviness_rms_um", "roughness_rms_um"]].mean()
+    out["n_cuts"] = g.size()
+    return out
+
+
+def feed_correlation(metrics: pd.DataFrame) -> pd.Series:
+    """Pearson correlation of the waviness and roughness RMS with the feed over every cut
+    (thesis §2.3: a higher feed raises the amplitude).
+
+    Returns
+    -------
+    pandas.Series
+        ``waviness`` and ``roughness``: ``r = cov(v, RMS)/(σ_v σ_RMS)``; NaN with fewer than
+        two cuts or no spread in the feed.
+    """
+    def r(col: str) -> float:
+        if len(metrics) < 2 or metrics["feed_mm_s"].nunique() < 2:
+            return float("nan")
+        return float(np.corrcoef(metrics["feed_mm_s"], metrics[col])[0, 1])
+
+    return pd.Series({"waviness": r("waviness_rms_um"), "roughness": r("roughness_rms_um")})
+
+
+def comparison_summary(comparison: pd.DataFrame) -> pd.DataFrame:
+    """How many cells of each thesis table the pipeline reproduces within a factor 1.5.
+
+    Parameters
+    ----------
+    comparison
+        ``results/surface/thesis_comparison.csv`` (``table, ratio, within_1.5x``).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Index ``table``; ``within`` (cells within 1.5×), ``cells`` and ``median_ratio``
+        (median of pipeline/thesis).
+    """
+    g = comparison.groupby("table")
+    return pd.DataFrame({"within": g["within_1.5x"].sum().astype(int),
+                         "cells": g.size(), "median_ratio": g["ratio"].median()})

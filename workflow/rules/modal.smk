@@ -64,18 +64,40 @@ rule modal_identify:
         "../scripts/modal_identify.py"
 
 
+rule modal_report:
+    input:
+        **({"truth": "results/synthetic/truth.nc"} if SYNTHETIC else {}),
+        **({"forces_peaks": "results/forces/peaks.csv"} if has_kind("force") else {}),
+        frf="results/modal/frf.nc",
+        modes="results/modal/modes.csv",
+        peaks="results/modal/peak_picking.csv",
+    output:
+        peak_groups="results/modal/peak_groups.csv",
+        truth_check="results/modal/truth_check.csv",
+        coupling="results/modal/coupling.csv",
+        coupling_pairs="results/modal/coupling_pairs.csv",
+    log:
+        "results/logs/modal/report.log",
+    benchmark:
+        "results/benchmarks/rules/modal/report.tsv"
+    conda:
+        ENV
+    script:
+        "../scripts/modal_report.py"
+
+
 rule modal:
     input:
         "results/modal/frf.nc",
         "results/modal/modes.csv",
         "results/modal/peak_picking.csv",
         "results/modal/modes.uff",
+        "results/modal/peak_groups.csv",
+        "results/modal/coupling.csv",
 
 
 rule ch3_modal:
     input:
-        **({"truth": "results/synthetic/truth.nc"} if SYNTHETIC else {}),
-        **({"forces_peaks": "results/forces/peaks.csv"} if has_kind("force") else {}),
         notebook=notebook("ch3_3_modal.ipynb"),
         frf="results/modal/frf.nc",
         synth="results/modal/frf_synth.nc",
@@ -86,8 +108,11 @@ rule ch3_modal:
         stabilization="results/modal/stabilization.csv",
         shapes="results/modal/mode_shapes.csv",
         mac="results/modal/mac.csv",
+        peak_groups="results/modal/peak_groups.csv",
+        truth_check="results/modal/truth_check.csv",
+        coupling="results/modal/coupling.csv",
+        coupling_pairs="results/modal/coupling_pairs.csv",
         code=code("pipeline.chapters", "plotting"),
-        # the forces chapter's dominant frequencies, when the raw folder has force records
     output:
         ipynb="results/chapters/ch3_3_modal.ipynb",
         html=report(
