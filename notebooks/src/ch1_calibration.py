@@ -29,8 +29,8 @@ import pandas as pd
 from IPython.display import Markdown, display
 
 from robomill.calibration import improvement_ratios, model_from_dataset, region_table
-from robomill.pipeline.captions import Numbering
 from robomill.io import open_artefact
+from robomill.pipeline.captions import Numbering
 from robomill.plotting import save_figure
 
 num = Numbering("1")

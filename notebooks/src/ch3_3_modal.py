@@ -42,7 +42,6 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
-from robomill.pipeline.captions import Numbering
 from robomill.io import open_artefact
 from robomill.io.impact import read_frf
 from robomill.modal import (
@@ -53,6 +52,7 @@ from robomill.modal import (
     points,
     synthesis_misfit,
 )
+from robomill.pipeline.captions import Numbering
 from robomill.plotting import save_figure
 
 THESIS_HZ = list(THESIS_NATURAL_HZ)

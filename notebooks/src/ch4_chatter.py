@@ -27,9 +27,9 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
-from robomill.pipeline.captions import Numbering
 from robomill.chatter.report import coupling_table, onset_table
 from robomill.io import open_artefact
+from robomill.pipeline.captions import Numbering
 from robomill.plotting import save_figure
 
 if isinstance(cases, str):
