@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import re
+import shutil
 import subprocess
 import sys
 import textwrap
@@ -133,6 +134,20 @@ def test_manifest_infers_kind_metadata_rate_and_sha256(tmp_path, capsys):
     assert "experiment.spindle_rpm not inferred" in out
     assert "cuts[0] (s1_g1_px): feed_mm_s not inferred" in out
     assert "impact/hammer.uff: native uff export" in out and "robomill import uff" in out
+
+
+def test_manifest_lists_a_real_uff_in_impact_as_a_contract_file(tmp_path, capsys):
+    """UFF 58 in impact/ is what `robomill import uff` writes: `robomill manifest` must list
+    it (kind impact, its content), not ask for it to be imported again."""
+    raw = make_raw(tmp_path / "raw")
+    real = Path(__file__).parent / "data/real/uff/pyuff_measurement_roving_hammer.uff"
+    shutil.copyfile(real, raw / "impact/beam.uff")
+    assert main(["manifest", str(raw)]) == 0
+    out = capsys.readouterr().out
+    files = {f["path"]: f for f in yaml.safe_load((raw / "manifest.yaml").read_text())["files"]}
+    assert files["impact/beam.uff"]["kind"] == "impact"
+    assert files["impact/beam.uff"]["uff_content"] == "frf"
+    assert "impact/beam.uff: native" not in out
 
 
 def test_manifest_keeps_what_the_user_wrote(tmp_path, capsys):
