@@ -198,6 +198,24 @@ def test_check_passes_a_good_folder(tmp_path, capsys):
     assert "0 problem(s)" in out
 
 
+def test_check_reads_uff_impact_files_with_the_uff_readers(tmp_path, capsys):
+    """A UFF 58 file in impact/ is read as the modal rules read it, not as a hit CSV; a
+    UFF that is no impact data is one problem naming the file and the field."""
+    raw = make_raw(tmp_path / "raw")
+    uff = Path(__file__).parent / "data/real/uff"
+    shutil.copyfile(uff / "pyuff_measurement_roving_hammer.uff", raw / "impact/beam.uff")
+    complete_manifest(raw)
+    capsys.readouterr()
+    assert main(["check", str(raw)]) == 0, capsys.readouterr().out
+    shutil.copyfile(uff / "pyuff_catman_time_history.uff", raw / "impact/beam.uff")
+    assert main(["manifest", str(raw)]) == 0  # the user re-lists (new sha256)
+    capsys.readouterr()
+    assert main(["check", str(raw)]) == 1
+    out = capsys.readouterr().out
+    assert "impact/beam.uff" in out and "column 't_s'" not in out
+    assert "1 problem(s)" in out
+
+
 def test_check_reports_every_planted_problem_one_line_each(tmp_path, capsys):
     raw = make_raw(tmp_path / "raw")
     m = complete_manifest(raw)
