@@ -82,5 +82,7 @@ def test_non_physical_modes_are_left_out_of_the_tool_model():
                           "shape_y": [0.0, 0.5]})
     out = modes_in_slot_frame(modes, "px")
     assert [m.f_hz for m in out] == [50.0]
+    modes.loc[0, "shape_y"] = np.nan  # responses along X only: y not measured
+    assert modes_in_slot_frame(modes, "py")[0].shape == (0.0, -1.0)  # x is py's normal
     with pytest.raises(ValueError, match="positive modal stiffness"):
         modes_in_slot_frame(modes[modes.k_modal_N_m < 0], "px")
