@@ -136,8 +136,8 @@ def test_real_uff_modes_and_band_from_the_data(real_study):
 
 def test_forces_rate_and_decimation_from_the_record(real_study):
     work, _ = real_study
-    log = (work / "results/logs/forces/s1_g1_px.log").read_text()
-    assert "10000" in log or "1e+04" in log
+    log = (work / "results/logs/forces/cut_s1_g1_px.log").read_text()
+    assert "2000 samples at 10000 Hz, decimation 10 (from the rate)" in log
     coef = pd.read_csv(work / "results/forces/cutting_coefficients.csv")
     assert np.isfinite(coef["value"]).all()
 
