@@ -72,3 +72,17 @@ def test_recommend_applies_the_safety_fraction_on_top_of_the_error():
     nan_err = recommend(a, rpm, np.zeros(3), "px", thesis_rpm=28000.0, thesis_depths_m=[1e-4],
                         safety_fraction=0.2, solver="zoa")
     assert all(np.isnan(r["a_crit_error_mm"]) for r in nan_err)
+
+
+def test_non_physical_modes_are_left_out_of_the_tool_model():
+    """A negative modal stiffness (a non-physical mode, e.g. the real pyuff beam's negative
+    modal constants) is no oscillator: left out; none positive is a clear error."""
+    modes = pd.DataFrame({"f_n_hz": [50.0, 140.0], "zeta": [0.02, 0.03],
+                          "k_modal_N_m": [4e5, -5e6], "shape_x": [1.0, 0.5],
+                          "shape_y": [0.0, 0.5]})
+    out = modes_in_slot_frame(modes, "px")
+    assert [m.f_hz for m in out] == [50.0]
+    modes.loc[0, "shape_y"] = np.nan  # responses along X only: y not measured
+    assert modes_in_slot_frame(modes, "py")[0].shape == (0.0, -1.0)  # x is py's normal
+    with pytest.raises(ValueError, match="positive modal stiffness"):
+        modes_in_slot_frame(modes[modes.k_modal_N_m < 0], "px")

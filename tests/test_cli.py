@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import re
+import shutil
 import subprocess
 import sys
 import textwrap
@@ -135,6 +136,20 @@ def test_manifest_infers_kind_metadata_rate_and_sha256(tmp_path, capsys):
     assert "impact/hammer.uff: native uff export" in out and "robomill import uff" in out
 
 
+def test_manifest_lists_a_real_uff_in_impact_as_a_contract_file(tmp_path, capsys):
+    """UFF 58 in impact/ is what `robomill import uff` writes: `robomill manifest` must list
+    it (kind impact, its content), not ask for it to be imported again."""
+    raw = make_raw(tmp_path / "raw")
+    real = Path(__file__).parent / "data/real/uff/pyuff_measurement_roving_hammer.uff"
+    shutil.copyfile(real, raw / "impact/beam.uff")
+    assert main(["manifest", str(raw)]) == 0
+    out = capsys.readouterr().out
+    files = {f["path"]: f for f in yaml.safe_load((raw / "manifest.yaml").read_text())["files"]}
+    assert files["impact/beam.uff"]["kind"] == "impact"
+    assert files["impact/beam.uff"]["uff_content"] == "frf"
+    assert "impact/beam.uff: native" not in out
+
+
 def test_manifest_keeps_what_the_user_wrote(tmp_path, capsys):
     raw = make_raw(tmp_path / "raw")
     complete_manifest(raw)
@@ -181,6 +196,24 @@ def test_check_passes_a_good_folder(tmp_path, capsys):
     assert main(["check", str(raw)]) == 0
     out = capsys.readouterr().out
     assert "0 problem(s)" in out
+
+
+def test_check_reads_uff_impact_files_with_the_uff_readers(tmp_path, capsys):
+    """A UFF 58 file in impact/ is read as the modal rules read it, not as a hit CSV; a
+    UFF that is no impact data is one problem naming the file and the field."""
+    raw = make_raw(tmp_path / "raw")
+    uff = Path(__file__).parent / "data/real/uff"
+    shutil.copyfile(uff / "pyuff_measurement_roving_hammer.uff", raw / "impact/beam.uff")
+    complete_manifest(raw)
+    capsys.readouterr()
+    assert main(["check", str(raw)]) == 0, capsys.readouterr().out
+    shutil.copyfile(uff / "pyuff_catman_time_history.uff", raw / "impact/beam.uff")
+    assert main(["manifest", str(raw)]) == 0  # the user re-lists (new sha256)
+    capsys.readouterr()
+    assert main(["check", str(raw)]) == 1
+    out = capsys.readouterr().out
+    assert "impact/beam.uff" in out and "column 't_s'" not in out
+    assert "1 problem(s)" in out
 
 
 def test_check_reports_every_planted_problem_one_line_each(tmp_path, capsys):

@@ -31,6 +31,15 @@ def test_good_manifest_verifies(tmp_path):
     assert m.cut("s1_g1_px").feed_mm_s == 1.0
 
 
+def test_experiment_modal_band_is_optional_and_kept(tmp_path):
+    raw = _raw_dir(tmp_path)
+    data = yaml.safe_load((raw / "manifest.yaml").read_text())
+    assert load_manifest(raw / "manifest.yaml").experiment.get("modal_band_hz") is None
+    data["experiment"]["modal_band_hz"] = [10, 100.0]
+    (raw / "manifest.yaml").write_text(yaml.safe_dump(data))
+    assert load_manifest(raw / "manifest.yaml").experiment["modal_band_hz"] == [10, 100.0]
+
+
 def test_changed_file_is_named(tmp_path):
     raw = _raw_dir(tmp_path)
     (raw / "profiles" / "s1_g1_px.csv").write_text("x_mm,z_um\n0,0.1\n0.00125,0.3\n")
@@ -57,6 +66,8 @@ def test_unlisted_and_missing_files_are_named(tmp_path):
         (lambda d: d["cuts"].append(dict(d["cuts"][0])), "duplicate cut id"),
         (lambda d: d["cuts"][0].update(id="s1_g2_px"), "disagrees"),
         (lambda d: d.pop("experiment"), "'experiment' is missing"),
+        (lambda d: d["experiment"].update(modal_band_hz=[100, 10]), "modal_band_hz is"),
+        (lambda d: d["experiment"].update(modal_band_hz="10-100"), "modal_band_hz is"),
     ],
 )
 def test_bad_manifest_is_explained(tmp_path, edit, message):

@@ -204,6 +204,44 @@ def test_band_from_the_hammer_spectrum_and_the_coherence():
         modal.band_from_data(ds)
 
 
+def _banded_ds():
+    ds = _analytic([(1, 1)], [(1, 1)], fmax=400.0)
+    f = ds["frequency"].values
+    ds["coherence"] = (("output", "input", "frequency"),
+                       np.where(f < 8.0, 0.3, 0.98)[None, None, :])
+    return ds, 1.0 / (1 + (f / 150.0) ** 6)  # data band ~8-216 Hz
+
+
+def test_band_sources_in_order_config_then_manifest_then_data():
+    ds, spectrum = _banded_ds()
+    data = modal.choose_band(ds, force_spectrum=spectrum)
+    assert data.source == "data" and data.coverage == 1.0 and data.flag == ""
+    assert data.band_hz == pytest.approx(modal.band_from_data(ds, force_spectrum=spectrum))
+    exp = modal.choose_band(ds, experiment_band_hz=[10, 200], force_spectrum=spectrum)
+    assert exp.source == "experiment.modal_band_hz" and exp.band_hz == (10.0, 200.0)
+    assert exp.data_band_hz == data.band_hz and exp.flag == ""  # covers > 90 %
+    cfg = modal.choose_band(ds, band_hz=[20, 60], experiment_band_hz=[10, 200],
+                            force_spectrum=spectrum)
+    assert cfg.source == "modal.band_hz" and cfg.band_hz == (20.0, 60.0)
+
+
+def test_a_set_band_covering_a_small_part_of_the_data_band_is_flagged():
+    ds, spectrum = _banded_ds()
+    lo, hi = modal.band_from_data(ds, force_spectrum=spectrum)
+    c = modal.choose_band(ds, experiment_band_hz=[10, 100], force_spectrum=spectrum)
+    assert c.coverage == pytest.approx((100 - 10) / (hi - lo))  # about 43 %
+    assert c.coverage < modal.BAND_COVERAGE_MIN
+    assert "experiment.modal_band_hz 10-100 Hz covers 43 %" in c.flag
+    assert modal.band_coverage([300, 400], [10, 200]) == 0.0
+    ds["coherence"][:] = 0.1  # the data give no band: a set band is used, and flagged
+    c = modal.choose_band(ds, band_hz=[10, 100])
+    assert c.band_hz == (10.0, 100.0) and np.isnan(c.coverage) and "no band" in c.flag
+    with pytest.raises(ValueError, match="never reaches"):
+        modal.choose_band(ds)
+    with pytest.raises(ValueError, match="is not a band"):
+        modal.choose_band(ds, band_hz=[100, 10])
+
+
 def test_hits_check_per_file_ranges_and_clipping():
     """Ranges from the manifest entry reject a hit reaching them; without ranges a hit is
     rejected only when it is flat-topped (clipped)."""

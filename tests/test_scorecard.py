@@ -28,6 +28,26 @@ def test_locator_reads_cells_aggregates_and_netcdf(tmp_path):
     assert parse_locator("p.csv::c[k=v]@max")["sel"] == {"k": "v"}
 
 
+def test_no_thesis_comparison_for_a_study_that_is_not_the_thesis_design(tmp_path):
+    from robomill.experiment import Cut, is_thesis_study
+
+    pd.DataFrame({"hz": [65.0]}).to_csv(tmp_path / "t.csv", index=False)
+    checks = [{"source": "thesis", "where": "Fig 3.4", "quantity": "dominant", "unit": "Hz",
+               "source_value": 65.0, "tolerance": {"rel": 0.1}, "locator": "t.csv::hz@max"},
+              {"source": "thesis", "where": "Table 9", "quantity": "x", "source_value": 1.0,
+               "locator": None, "reason": "not computed"}]
+    assert len(build_scorecard(tmp_path, checks)) == 2
+    empty = build_scorecard(tmp_path, checks, thesis_study=False)
+    assert empty.empty and list(empty.columns)[:2] == ["source", "where"]
+    cuts = [Cut("s1_g1_px", 1, 1, "px", 1.0, 0.25)]
+    thesis = {"spindle_rpm": 28000, "flutes": 2}
+    assert is_thesis_study(cuts, thesis)
+    assert not is_thesis_study(cuts, {**thesis, "spindle_rpm": 6000})  # thesis ids, not its
+    assert not is_thesis_study(cuts, {**thesis, "flutes": 3})          # process
+    assert not is_thesis_study([Cut("run7", None, None, "px", 1.0, 0.25)], thesis)
+    assert not is_thesis_study([], thesis)
+
+
 @pytest.mark.parametrize(
     ("ours", "source", "tol", "ok"),
     [(0.9, 0.61, {"factor": 1.5}, True), (1.0, 0.61, {"factor": 1.5}, False),

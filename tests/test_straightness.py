@@ -244,3 +244,18 @@ def test_gather_profiles_gears_and_truth_check_without_truth():
     assert gears["f_temporal_hz"].tolist() == [2.0]
     empty = st.truth_check(None, None, None, {})
     assert list(empty.columns) == st.TRUTH_CHECK_COLUMNS and len(empty) == 0
+
+
+def test_end_trim_is_capped_at_a_tenth_of_a_short_path():
+    """A 40 mm run trims the full trim_mm; a 1.8 mm export (a few ms of tracker stream) keeps
+    80 % of its path instead of being refused (TRIM_MAX_FRACTION)."""
+    t = np.arange(1500) / 815.0
+    p = np.column_stack([600 + 1.0 * t, np.zeros_like(t), 200 + 0 * t])
+    prof = st.spatial_profile(t, p, ds_mm=0.01, trim_mm=1.0)
+    path = t[-1] - t[0]
+    assert prof.trim_mm == pytest.approx(st.TRIM_MAX_FRACTION * path)
+    assert prof.length_mm == pytest.approx(0.8 * path, abs=0.011)
+    t, p = _wavy_line()
+    assert st.spatial_profile(t, p, ds_mm=0.01, trim_mm=1.0).trim_mm == 1.0
+    with pytest.raises(ValueError, match="too short"):
+        st.spatial_profile(t[:3], p[:3], ds_mm=0.01, trim_mm=1.0)

@@ -220,3 +220,18 @@ def test_gather_surface_puts_planted_cuts_in_plan_order():
     stray.attrs = {**stray.attrs, "cut": "s9_g9_px"}
     with pytest.raises(ValueError, match="s9_g9_px"):
         sf.gather_surface([*per_cut, stray], cuts, peaks, opts)
+
+
+def test_a_profile_shorter_than_the_thesis_segments_is_one_segment_and_flagged():
+    """A 2.3 mm scan (the real X3P land, 2.58 µm spacing) is shorter than the 2.5 mm waviness
+    segment: analysed as one segment, with a flag; a 40 mm profile is not flagged."""
+    x = np.arange(879) * 2.58e-3
+    z = 0.5 * np.sin(2 * np.pi * x / 0.5)
+    ds = sf.analyse_profile(x, z)
+    assert "waviness_segment_mm 2.5 mm" in ds.attrs["segment_flag"]
+    assert "roughness_segment_mm" not in ds.attrs["segment_flag"]
+    assert np.isfinite(float(ds["waviness_rms_um"]))
+    seg, capped = sf.segment_lengths_mm(x.size * 2.58e-3, sf.settings(None))
+    assert "waviness_segment_mm" in capped and seg["roughness_segment_mm"] == 0.25
+    x = np.arange(32000) * 1.25e-3
+    assert "segment_flag" not in sf.analyse_profile(x, np.sin(2 * np.pi * x / 0.5)).attrs

@@ -21,6 +21,7 @@ modes: str = None  # results/modal/modes.csv (identified modes, chapter 3.3)
 truth: str = None  # results/synthetic/truth.nc (synthetic runs only)
 settings: dict = None  # config section forces
 synthetic: bool = None
+thesis_study: bool = None  # the thesis' design (robomill.experiment.is_thesis_study)
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
@@ -36,6 +37,14 @@ from robomill.forces import nearest_modes
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.plotting import save_figure
+
+THESIS = thesis_study is not False  # compare with the thesis' numbers only for its design
+
+
+def vs_thesis(text: str) -> str:
+    """A remark comparing with the thesis, shown only for a study of the thesis' design."""
+    return text if THESIS else ""
+
 
 sp = open_artefact(spectra)
 pk = pd.read_csv(peaks)
@@ -133,8 +142,9 @@ display(num.caption("full_band_psd"))
 top = f[np.argmax(psd[f > 500]) + np.sum(f <= 500)]
 display(Markdown(
     f"{num.ref('record')} shows the record; in {num.ref('full_band_psd')} the largest full-band "
-    "peak of {c0} is at **{top:.0f} Hz** (thesis Fig 3.4: dominant "
-    f"peaks can lie above 10 kHz). It is tooth-passing harmonic "
+    f"peak of {c0} is at **{top:.0f} Hz**"
+    + vs_thesis(" (thesis Fig 3.4: dominant peaks can lie above 10 kHz)")
+    + f". It is tooth-passing harmonic "
     f"{top / float(d0['tooth_passing_hz']):.1f} amplified by the dynamometer/block resonance."))
 
 # %% [markdown]
@@ -169,15 +179,17 @@ def per_direction(xkey, xmax, name, title, xlabel, vlines=()):
 display(Markdown(
     "Thesis normalized power P(k) = |Z(k)|²/N² of each whole record, summed over the three "
     "axes, against f/v ("
-    + ", ".join(num.ref(f"spatial_{d}") for d in dirs_set) + "). The thesis finds the "
-    "kinematic irregularity near 0.5 mm⁻¹, as on the surface."))
+    + ", ".join(num.ref(f"spatial_{d}") for d in dirs_set) + ")."
+    + vs_thesis(" The thesis finds the kinematic irregularity near 0.5 mm⁻¹, as on the "
+                "surface.")))
 per_direction("f_spatial_low", 1.0, "spatial", "Spatial-frequency power,",
               "spatial frequency f/v [1/mm]", vlines=(0.5,))
 kin = pk.set_index("cut")["kinematic_per_mm"]
 display(Markdown(
     f"Kinematic peak (largest in {settings.get('kinematic_band_per_mm', [0.3, 1.0])} mm⁻¹): "
-    f"median **{kin.median():.2f} mm⁻¹** over all cuts (range {kin.min():.2f}–{kin.max():.2f}; "
-    f"thesis: about 0.5 mm⁻¹). The resolution of a {float(sp['feed_mm_s'][0]):g} mm/s record is "
+    f"median **{kin.median():.2f} mm⁻¹** over all cuts (range {kin.min():.2f}–{kin.max():.2f}"
+    + vs_thesis("; thesis: about 0.5 mm⁻¹")
+    + f"). The resolution of a {float(sp['feed_mm_s'][0]):g} mm/s record is "
     f"1/L = {float(sp['f_spatial_low'].isel(cut=0, lf_bin=1)):.3f} mm⁻¹."))
 # sanity flag: a kinematic peak with too few periods in the record cannot be resolved
 if "kinematic_below_resolution" in pk:
@@ -222,8 +234,9 @@ dom = pk["dominant_hz"]
 inside = ((dom >= 60) & (dom <= 120)).sum()
 text = (f"{num.ref('peaks')}: the dominant low-frequency peak (largest bin of the summed power in "
         f"{settings.get('dominant_band_hz', [15, 250])} Hz) lies between **{dom.min():.1f} and "
-        f"{dom.max():.1f} Hz**; {inside} of {len(dom)} cuts have it in 60–120 Hz (thesis: "
-        "every cut, 60–120 Hz; the robot vibrates at 60–100 Hz). ")
+        f"{dom.max():.1f} Hz**"
+        + vs_thesis(f"; {inside} of {len(dom)} cuts have it in 60–120 Hz (thesis: every cut, "
+                    "60–120 Hz; the robot vibrates at 60–100 Hz)") + ". ")
 if mode_table is not None and len(mode_table):
     off = tab["offset_hz"].abs()
     near = tab.groupby("nearest_mode_hz").size().sort_values(ascending=False)

@@ -113,7 +113,15 @@ display(Markdown(
     f"**{len(ins)} reference point(s)** ({', '.join(ds['input'].values)}), "
     f"{len(measured)} FRFs measured"
     + (" — the thesis' 3×3 tool-tip matrix." if TOOLTIP_LAYOUT else ".")
-    + f" Analysis band {band_hz[0]:.4g}–{band_hz[1]:.4g} Hz."))
+    + f" Analysis band {band_hz[0]:.4g}–{band_hz[1]:.4g} Hz"
+    + {"modal.band_hz": " (set in `config.yaml: modal.band_hz`).",
+       "experiment.modal_band_hz": " (the design's band of interest, the manifest's "
+                                   "`experiment.modal_band_hz`).",
+       "data": " (from the hammer spectrum and the coherence)."}.get(
+           str(sy.attrs.get("band_source", "")), ".")))
+if sy.attrs.get("band_flag"):
+    display(Markdown(f"**Sanity flag (band):** {sy.attrs['band_flag']}: modes outside it are "
+                     "not identified."))
 if len(hit_table):
     rejected = hit_table[~hit_table["accepted"]]
     display(Markdown(

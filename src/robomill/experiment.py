@@ -136,6 +136,21 @@ def is_thesis_design(cuts: Sequence[Cut]) -> bool:
         for c in cuts)
 
 
+THESIS_PROCESS = {"spindle_rpm": 28000.0, "flutes": 2}
+"""The thesis' machining process (§2.1): its numbers are for this spindle speed and tool."""
+
+
+def is_thesis_study(cuts: Sequence[Cut], experiment: Mapping[str, Any]) -> bool:
+    """Whether a study is the thesis' design, so that comparisons with the thesis' numbers
+    (the scorecard, the chapters' "thesis: …" remarks) mean something: the cuts follow the
+    thesis layout (:func:`is_thesis_design`) and the experiment's spindle speed and flutes are
+    the thesis' (:data:`THESIS_PROCESS`). Someone else's data with thesis-style cut ids but
+    another process is not."""
+    return is_thesis_design(cuts) and all(
+        experiment.get(k) is not None and float(experiment[k]) == float(v)
+        for k, v in THESIS_PROCESS.items())
+
+
 def spindle_hz(spindle_rpm: float) -> float:
     """Spindle rotation frequency [Hz]: 28 000 rpm → 466.7 Hz."""
     return spindle_rpm / 60.0

@@ -1074,6 +1074,82 @@ def band_from_data(ds: xr.Dataset, *, force_spectrum: np.ndarray | None = None,
     return lo, hi
 
 
+BAND_COVERAGE_MIN = 0.5
+"""A set band covering less than this share of the band the data support is flagged
+(assumed: half)."""
+
+
+@dataclass
+class BandChoice:
+    """The analysis band and where it came from (:func:`choose_band`)."""
+
+    band_hz: tuple[float, float]
+    source: str
+    """``modal.band_hz``, ``experiment.modal_band_hz`` (the manifest) or ``data``."""
+    data_band_hz: tuple[float, float] | None
+    """The band from the data (:func:`band_from_data`); None where it cannot be found."""
+    coverage: float
+    """Share of ``data_band_hz`` inside ``band_hz`` (1 for a band from the data; NaN when
+    the data band is unknown)."""
+    flag: str
+    """A sanity flag (empty when none): a set band covering a small part of the data band."""
+
+
+def band_coverage(band_hz: Sequence[float], data_band_hz: Sequence[float]) -> float:
+    """Share of the interval ``data_band_hz`` that ``band_hz`` covers:
+    ``|band ∩ data| / |data|`` (0 when disjoint)."""
+    lo, hi = max(band_hz[0], data_band_hz[0]), min(band_hz[1], data_band_hz[1])
+    width = float(data_band_hz[1] - data_band_hz[0])
+    return max(0.0, float(hi - lo)) / width if width > 0 else float("nan")
+
+
+def choose_band(ds: xr.Dataset, *, band_hz: Sequence[float] | None = None,
+                experiment_band_hz: Sequence[float] | None = None,
+                force_spectrum: np.ndarray | None = None, coherence_min: float = 0.75,
+                coverage_min: float = BAND_COVERAGE_MIN) -> BandChoice:
+    """The modal analysis band, in order: ``band_hz`` (``config.yaml: modal.band_hz``) if
+    set, else ``experiment_band_hz`` (the manifest's ``experiment.modal_band_hz``: the band
+    of interest is a choice of the experiment design, e.g. the thesis' 10–100 Hz), else the
+    band from the hammer spectrum and the coherence (:func:`band_from_data`).
+
+    A set band (the first two sources) is compared with the band the data support: when it
+    covers less than ``coverage_min`` of it (:func:`band_coverage`) the choice carries a
+    sanity flag (modes of the measured band may be left out); it is also flagged when the
+    data band cannot be found (the coherence never reaches ``coherence_min``).
+
+    Raises
+    ------
+    ValueError
+        When no band is set and the data give none (see :func:`band_from_data`), or a set
+        band is not two increasing non-negative frequencies.
+    """
+    try:
+        data_band = band_from_data(ds, force_spectrum=force_spectrum,
+                                   coherence_min=coherence_min)
+    except ValueError:
+        if band_hz is None and experiment_band_hz is None:
+            raise
+        data_band = None
+    for given, source in ((band_hz, "modal.band_hz"),
+                          (experiment_band_hz, "experiment.modal_band_hz")):
+        if given is None:
+            continue
+        band = tuple(float(b) for b in given)
+        if len(band) != 2 or not 0 <= band[0] < band[1]:
+            raise ValueError(f"{source} {list(given)!r} is not a band (expected [f_lo_hz, "
+                             "f_hi_hz], 0 <= f_lo_hz < f_hi_hz)")
+        if data_band is None:
+            return BandChoice(band, source, None, float("nan"),
+                              f"{source} {band[0]:.4g}-{band[1]:.4g} Hz: the data give no "
+                              f"band to compare with (coherence below {coherence_min:g})")
+        cov = band_coverage(band, data_band)
+        flag = (f"{source} {band[0]:.4g}-{band[1]:.4g} Hz covers {100 * cov:.0f} % of the "
+                f"band the data support ({data_band[0]:.4g}-{data_band[1]:.4g} Hz)"
+                if cov < coverage_min else "")
+        return BandChoice(band, source, data_band, cov, flag)
+    return BandChoice(data_band, "data", data_band, 1.0, "")
+
+
 @dataclass
 class Identification:
     """Everything :func:`identify` finds."""

@@ -79,6 +79,9 @@ class Profile:
     direction: np.ndarray
     ds_mm: float
     speed_mm_s: float
+    trim_mm: float = 0.0
+    """Length dropped at each end [mm] (``trim_mm`` asked, at most
+    :data:`TRIM_MAX_FRACTION` of the path)."""
 
     @property
     def length_mm(self) -> float:
@@ -135,6 +138,12 @@ def resample_uniform(s: np.ndarray, y: np.ndarray, ds: float,
     return grid, out
 
 
+TRIM_MAX_FRACTION = 0.1
+"""The end trim (speed ramps) takes at most this share of the path at each end (assumed:
+10 %), so that a short record (a tracker export of a few mm) keeps 80 % of its path instead
+of being refused; the 40 mm thesis runs trim the full ``trim_mm``."""
+
+
 def spatial_profile(t_s: np.ndarray, points_mm: np.ndarray, *, ds_mm: float,
                     trim_mm: float = 0.0, detrend_order: int = 1) -> Profile:
     """Re-order a tracker time series in space (thesis §3.2).
@@ -148,7 +157,8 @@ def spatial_profile(t_s: np.ndarray, points_mm: np.ndarray, *, ds_mm: float,
     ds_mm
         Step of the uniform spatial grid [mm].
     trim_mm
-        Length dropped at each end of the path (acceleration/deceleration) [mm].
+        Length dropped at each end of the path (acceleration/deceleration) [mm], at most
+        ``TRIM_MAX_FRACTION`` of the path (a shorter trim is logged by the rule).
     detrend_order
         Degree of the polynomial removed from each resampled component (1: the best line
         only, as the thesis; 3 also removes components with less than about one cycle over
@@ -177,10 +187,11 @@ def spatial_profile(t_s: np.ndarray, points_mm: np.ndarray, *, ds_mm: float,
     dev = ((p - c) @ axes.T).T * 1e3  # (2, n) µm
     order = np.argsort(s, kind="stable")
     s, dev = s[order], dev[:, order]
+    trim_mm = min(float(trim_mm), TRIM_MAX_FRACTION * float(s[-1] - s[0]))
     s0, s1 = s[0] + trim_mm, s[-1] - trim_mm
     if s1 - s0 < 4 * ds_mm:
         raise ValueError(f"path of {s[-1] - s[0]:.3g} mm is too short for the grid step "
-                         f"{ds_mm} mm after trimming {trim_mm} mm at each end")
+                         f"{ds_mm} mm after trimming {trim_mm:.3g} mm at each end")
     keep = (s >= s0 - ds_mm) & (s <= s1 + ds_mm)
     grid, dev_u = resample_uniform(s[keep], dev[:, keep], ds_mm, s0, s1)
     # remove what is left of the line on the trimmed span (and, with detrend_order > 1, the
@@ -191,7 +202,8 @@ def spatial_profile(t_s: np.ndarray, points_mm: np.ndarray, *, ds_mm: float,
     dev_u = dev_u - (V @ coef).T
     speed = _speed(t, (p - c) @ u)
     return Profile(s_mm=grid - grid[0], deviation_um=dev_u, start_mm=c + s0 * u,
-                   end_mm=c + s1 * u, direction=u, ds_mm=float(ds_mm), speed_mm_s=speed)
+                   end_mm=c + s1 * u, direction=u, ds_mm=float(ds_mm), speed_mm_s=speed,
+                   trim_mm=trim_mm)
 
 
 def _speed(t: np.ndarray, s: np.ndarray) -> float:

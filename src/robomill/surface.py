@@ -230,9 +230,10 @@ def analyse_profile(x_mm: np.ndarray, z_um: np.ndarray, options: Mapping[str, An
     w, r = split_profile(zd, dx, lam, end=opts["filter_end"],
                          half_width_cutoffs=float(opts["kernel_half_width_cutoffs"]))
     spec = thesis_spectrum(zd, fs)
-    sw = segment_averaged_spectrum(w, fs, float(opts["waviness_segment_mm"]))
-    sr = segment_averaged_spectrum(r, fs, float(opts["roughness_segment_mm"]))
-    sp = segment_averaged_spectrum(zd, fs, float(opts["roughness_peak_segment_mm"]))
+    seg, capped = segment_lengths_mm(x.size * dx, opts)
+    sw = segment_averaged_spectrum(w, fs, seg["waviness_segment_mm"])
+    sr = segment_averaged_spectrum(r, fs, seg["roughness_segment_mm"])
+    sp = segment_averaged_spectrum(zd, fs, seg["roughness_peak_segment_mm"])
     params = amplitude_parameters(w, r, dx, lam)
     ds = xr.Dataset(
         {
@@ -261,9 +262,9 @@ def analyse_profile(x_mm: np.ndarray, z_um: np.ndarray, options: Mapping[str, An
     )
     scalars = {
         **{k: (v, "um", k.split("_")[0] + " (ISO 4287)") for k, v in params.items()},
-        "waviness_rms_um": (segment_rms(w, fs, float(opts["waviness_segment_mm"])), "um",
+        "waviness_rms_um": (segment_rms(w, fs, seg["waviness_segment_mm"]), "um",
                             "RMS of waviness, segment method (Table 2.1)"),
-        "roughness_rms_um": (segment_rms(r, fs, float(opts["roughness_segment_mm"])), "um",
+        "roughness_rms_um": (segment_rms(r, fs, seg["roughness_segment_mm"]), "um",
                              "RMS of roughness, segment method (Table 2.2)"),
         "parseval_rms_um": (float(np.sqrt(spec.power.sum())), "um",
                             "RMS of the detrended profile by Parseval (eq. 2.6)"),
@@ -274,7 +275,25 @@ def analyse_profile(x_mm: np.ndarray, z_um: np.ndarray, options: Mapping[str, An
     }
     for name, (value, units, long_name) in scalars.items():
         ds[name] = ((), float(value), _attrs(units, long_name))
+    if capped:  # sanity flag: a profile shorter than the thesis' segments
+        ds.attrs["segment_flag"] = (
+            f"profile of {x.size * dx:.3g} mm is shorter than " + ", ".join(
+                f"{k} {float(opts[k]):g} mm" for k in capped)
+            + ": one segment of the whole profile used (not the thesis' segment method)")
     return ds
+
+
+def segment_lengths_mm(length_mm: float, opts: Mapping[str, Any]) -> tuple[dict[str, float],
+                                                                          list[str]]:
+    """The segment lengths of the segment method (``waviness_segment_mm``,
+    ``roughness_segment_mm``, ``roughness_peak_segment_mm``), each at most the profile's
+    ``length_mm`` (a profile shorter than the thesis' 2.5 mm waviness segment, e.g. a
+    microscope scan, is analysed as one segment rather than refused); and the keys that
+    were capped (a sanity flag)."""
+    keys = ("waviness_segment_mm", "roughness_segment_mm", "roughness_peak_segment_mm")
+    asked = {k: float(opts[k]) for k in keys}
+    return ({k: min(v, float(length_mm)) for k, v in asked.items()},
+            [k for k, v in asked.items() if v > length_mm])
 
 
 # ---- across cuts ---------------------------------------------------------------------------

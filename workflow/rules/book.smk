@@ -42,6 +42,7 @@ rule scorecard:
             os.path.dirname(os.path.dirname(output.csv))
         )
         or ".",
+        thesis_study=is_thesis_study(CUTS, EXPERIMENT),
     script:
         "../scripts/scorecard.py"
 

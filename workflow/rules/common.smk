@@ -7,6 +7,7 @@ from pathlib import Path
 from robomill.pipeline.codedeps import code_files, load_cache, save_cache
 from robomill.experiment import (
     cuts_by_set,
+    is_thesis_study,
     missing_data,
     tracker_direction,
     tracker_run_id,

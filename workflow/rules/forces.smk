@@ -112,6 +112,7 @@ rule ch3_forces:
         parameters={
             "settings": config["forces"],
             "synthetic": SYNTHETIC,
+            "thesis_study": is_thesis_study(CUTS, EXPERIMENT),
         },
     script:
         "../scripts/render_chapter.py"

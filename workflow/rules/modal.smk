@@ -60,6 +60,7 @@ rule modal_identify:
         ENV
     params:
         modal=config["modal"],
+        experiment_band_hz=EXPERIMENT.get("modal_band_hz"),
     script:
         "../scripts/modal_identify.py"
 

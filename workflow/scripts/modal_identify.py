@@ -13,17 +13,20 @@ from robomill.pipeline.runlog import setup
 log = setup(snakemake.log[0], "modal_identify")
 cfg = snakemake.params.modal
 ds = read_frf(snakemake.input.frf)
-if cfg["band_hz"] is not None:
-    band = [float(b) for b in cfg["band_hz"]]
-    log.info("band %.4g-%.4g Hz (modal.band_hz)", *band)
-else:
-    spec = ds["force_spectrum"].values if "force_spectrum" in ds else None
-    band = list(modal.band_from_data(ds, force_spectrum=spec,
-                                     coherence_min=cfg["coherence_min"]))
+spec = ds["force_spectrum"].values if "force_spectrum" in ds else None
+choice = modal.choose_band(ds, band_hz=cfg["band_hz"],
+                           experiment_band_hz=snakemake.params.experiment_band_hz,
+                           force_spectrum=spec, coherence_min=cfg["coherence_min"])
+band = list(choice.band_hz)
+if choice.source == "data":
     basis = [w for w, ok in (("the hammer spectrum", spec is not None),
                               ("the coherence", "coherence" in ds)) if ok]
     log.info("band %.4g-%.4g Hz from %s", *band,
              " and ".join(basis) or "the frequency axis (no coherence: from 2 % of its top)")
+else:
+    log.info("band %.4g-%.4g Hz (%s)", *band, choice.source)
+if choice.flag:
+    log.warning("sanity flag: %s", choice.flag)
 peaks = modal.peak_picking(ds, band_hz=band, coherence_min=cfg["coherence_min"],
                            prominence=cfg["peak_prominence"],
                            real_window_hz=cfg["real_window_hz"])
@@ -51,6 +54,10 @@ synth = xr.Dataset(
                                modal.points(ds, "input")),
             "mode": ("mode", modes, {"units": "1", "long_name": "mode number"})})
 synth.attrs["band_hz"] = np.asarray(band, float)
+synth.attrs["band_source"] = choice.source
+synth.attrs["data_band_hz"] = np.asarray(choice.data_band_hz or (np.nan, np.nan), float)
+synth.attrs["band_coverage"] = float(choice.coverage)
+synth.attrs["band_flag"] = choice.flag
 write_artefact(modal.split_complex(synth), snakemake.output.synth, rule="modal_identify",
                inputs=[snakemake.input.frf], config_section=cfg)
 for m in idn.modes.itertuples():

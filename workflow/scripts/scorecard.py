@@ -5,7 +5,11 @@ from robomill.pipeline.runlog import setup
 from robomill.pipeline.scorecard import build_scorecard
 
 log = setup(snakemake.log[0], "scorecard")
-table = build_scorecard(snakemake.params.root)
+thesis = bool(snakemake.params.thesis_study)
+table = build_scorecard(snakemake.params.root, thesis_study=thesis)
+if not thesis:
+    log.info("not the thesis' design (cuts, spindle speed, flutes): no comparison with the "
+             "thesis' numbers")
 write_table(table, snakemake.output.csv)
 counts = table["verdict"].value_counts().to_dict()
 log.info("scorecard: %d numbers, %s", len(table), counts)

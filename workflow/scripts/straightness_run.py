@@ -8,7 +8,7 @@ from robomill.io.cell import read_cell
 from robomill.io.manifest import load_manifest
 from robomill.io.tracker import read_tracker
 from robomill.pipeline.runlog import setup
-from robomill.straightness import analyse_tracker_run, profile_dataset
+from robomill.straightness import TRIM_MAX_FRACTION, analyse_tracker_run, profile_dataset
 
 log = setup(snakemake.log[0], "straightness_run")
 p = snakemake.params
@@ -24,6 +24,10 @@ prof, spec, gears, peaks = analyse_tracker_run(
     trim_mm=opt["trim_mm"], nfft=opt["nfft"], fmin_cycles=opt["fmin_cycles"],
     fmax_per_mm=opt["fmax_per_mm"], threshold=opt["threshold"], n_peaks=opt["n_peaks"],
     tol_bins=opt["tol_bins"], detrend_order=opt["detrend_order"])
+if prof.trim_mm < opt["trim_mm"]:
+    log.warning("path of %.3g mm: trimmed %.3g mm at each end instead of straightness.trim_mm "
+                "%g mm (at most %g %% of the path)", prof.length_mm + 2 * prof.trim_mm,
+                prof.trim_mm, opt["trim_mm"], 100 * TRIM_MAX_FRACTION)
 meta = {"direction": p.direction, "feed_mm_s": float(p.feed_mm_s), "cut": p.cut}
 fmin = opt["fmin_cycles"] * spec.resolution_per_mm
 band = (spec.f_per_mm >= fmin) & (spec.f_per_mm <= opt["fmax_per_mm"])

@@ -21,12 +21,26 @@ DIRECTIONS = {"px": (1.0, 0.0), "py": (0.0, 1.0), "my": (0.0, -1.0)}
 
 def modes_in_slot_frame(modes: pd.DataFrame, direction: str) -> list[ModeXY]:
     """Modes of ``results/modal/modes.csv`` (``f_n_hz, zeta, k_modal_N_m, shape_x, shape_y``)
-    in the (feed, normal) frame of a slot direction."""
+    in the (feed, normal) frame of a slot direction. Modes with a non-positive modal
+    stiffness (flagged non-physical by the modal analysis: a negative modal constant) are
+    left out: a negative spring makes no oscillator of the tool. A shape component the test
+    did not measure (NaN: e.g. responses along X only) counts as 0 (no measured flexibility
+    along it).
+
+    Raises
+    ------
+    ValueError
+        When no mode has a positive modal stiffness.
+    """
     f = np.asarray(DIRECTIONS[direction])
     n = np.array([-f[1], f[0]])
     out = []
-    for _, r in modes.iterrows():
-        phi = np.array([float(r["shape_x"]), float(r["shape_y"])])
+    ok = np.asarray(modes["k_modal_N_m"], float) > 0
+    if not ok.any():
+        raise ValueError("no mode of the impact test has a positive modal stiffness "
+                         "(every mode flagged non-physical in modes.csv): no tool model")
+    for _, r in modes[ok].iterrows():
+        phi = np.nan_to_num(np.array([float(r["shape_x"]), float(r["shape_y"])]))
         out.append(ModeXY(float(r["f_n_hz"]), float(r["zeta"]), float(r["k_modal_N_m"]),
                           (float(phi @ f), float(phi @ n))))
     return out

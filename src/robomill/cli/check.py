@@ -44,8 +44,15 @@ def _check_tracker(path: Path, entry: Mapping[str, Any]) -> None:
 
 
 def _check_impact(path: Path, entry: Mapping[str, Any]) -> None:
+    """A hit CSV with :func:`robomill.io.impact.read_hit`; a UFF 58 file (time histories or
+    FRFs, as the modal rules read it) with the UFF readers."""
     from robomill.io.impact import read_hit
 
+    if path.suffix.lower() in (".uff", ".unv"):
+        from robomill.importers.uff import describe
+
+        describe(path)
+        return
     fs = entry.get("fs_hz")
     read_hit(path, fs_hz=None if fs is None else float(fs))
 

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from robomill.experiment import CUT_ID
+from robomill.io.errors import RawDataError
 
 KIND_FOLDERS: dict[str, str] = {
     "profile": "profiles",
@@ -132,8 +133,10 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
     ``impact/hit<X|Y|Z>_<k>.csv`` gives ``direction`` and ``hit``; ``ctrack/<table>.csv`` the
     table; ``stiffness/<robot>.yaml`` and ``stiffness/load_tests_<robot>.csv`` the robot; the
     sampling rate ``fs_hz`` of force and tracker records comes from the time column (or the
-    HDF5 ``fs_hz`` attribute). Native exports (UFF, TDMS, X3P, SMATS XML) are not contract
-    files: they get a note naming the import command.
+    HDF5 ``fs_hz`` attribute). A UFF 58 file in ``impact/`` is a contract file (kind impact,
+    ``uff_content`` from its data sets, as ``robomill import uff`` writes it); other native
+    exports (UFF elsewhere, TDMS, X3P, SMATS XML) are not contract files: they get a note
+    naming the import command.
     """
     from robomill.io.ctrack import READERS as CTRACK_TABLES
     from robomill.io.manifest import KIND_KEYS
@@ -145,6 +148,16 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
         inf.missing = [k for k in KIND_KEYS["cell"] if k not in inf.entry]
         return inf
     native = NATIVE_SUFFIXES.get(path.suffix.lower())
+    if native == "uff" and Path(rel).parts[0] == KIND_FOLDERS["impact"]:
+        # UFF 58 in impact/ is a contract file (what `robomill import uff` writes there)
+        from robomill.importers.uff import describe
+
+        try:
+            inf.entry = {"path": rel, "kind": "impact",
+                         "uff_content": describe(path)["content"]}
+            return inf
+        except RawDataError:
+            pass  # not readable as impact data: the note below names the import command
     if native:
         detail = uff_summary(path) if native == "uff" else None
         inf.note = (f"native {native} export{f' ({detail})' if detail else ''}: convert it with "

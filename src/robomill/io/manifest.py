@@ -163,6 +163,19 @@ def _check_keys(path: Path, where: str, obj: Any, keys: Mapping[str, tuple[type,
                                expected=" or ".join(t.__name__ for t in types))
 
 
+def _check_modal_band(path: Path, band: Any) -> None:
+    """The optional ``experiment.modal_band_hz``: the modal band of interest of the design
+    (``[f_lo_hz, f_hi_hz]``, 0 <= f_lo_hz < f_hi_hz), or absent/null."""
+    if band is None:
+        return
+    ok = (isinstance(band, list) and len(band) == 2
+          and all(isinstance(b, (int, float)) and not isinstance(b, bool) for b in band)
+          and 0 <= band[0] < band[1])
+    if not ok:
+        raise RawDataError(path, f"modal_band_hz is {band!r}", where="experiment.modal_band_hz",
+                           expected="[f_lo_hz, f_hi_hz] with 0 <= f_lo_hz < f_hi_hz, or null")
+
+
 def _check_tracker_direction(path: Path, where: str, f: Mapping[str, Any]) -> None:
     """A tracker run's feed direction: ``direction`` (px, mx, py, my) or ``direction_deg``
     (base XY plane, 0 = +X), exactly one (the same forms as a cut)."""
@@ -269,6 +282,7 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True) 
             raise RawDataError(path, f"top-level key '{key}' is missing",
                                expected="top-level keys experiment, cuts, files")
     _check_keys(path, "experiment", data["experiment"], EXPERIMENT_KEYS)
+    _check_modal_band(path, data["experiment"].get("modal_band_hz"))
     if not isinstance(data["cuts"], list):
         raise RawDataError(path, "cuts is not a list", where="cuts", expected="a list of cuts")
     cuts: list[Cut] = []

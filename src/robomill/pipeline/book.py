@@ -174,9 +174,14 @@ def build_book(
     if scorecard_csv and Path(scorecard_csv).exists():
         if Path(scorecard_csv).resolve() != (out / "scorecard.csv").resolve():
             shutil.copyfile(scorecard_csv, out / "scorecard.csv")
-        extra.append('<li><a href="scorecard.html">Reproduction scorecard</a></li>')
-        _write_table_page(out / "scorecard.html", "Reproduction scorecard",
-                          pd.read_csv(scorecard_csv), verdict_col="verdict")
+        card = pd.read_csv(scorecard_csv)
+        if len(card):
+            extra.append('<li><a href="scorecard.html">Reproduction scorecard</a></li>')
+        else:  # not the thesis' design: nothing to compare with its numbers
+            extra.append("<li>Reproduction scorecard: none (this study is not the thesis' "
+                         "design)</li>")
+        _write_table_page(out / "scorecard.html", "Reproduction scorecard", card,
+                          verdict_col="verdict")
     if benchmarks_csv and Path(benchmarks_csv).exists():
         extra.append('<li><a href="benchmarks.html">Benchmarks</a></li>')
         _write_table_page(out / "benchmarks.html", "Benchmarks", pd.read_csv(benchmarks_csv))

@@ -129,10 +129,19 @@ def load_checks() -> list[dict[str, Any]]:
     return yaml.safe_load(text)["checks"]
 
 
-def build_scorecard(root: str | Path = ".", checks: list[dict] | None = None) -> pd.DataFrame:
+SCORECARD_COLUMNS = ["source", "where", "quantity", "source_value", "ours", "unit",
+                     "tolerance", "verdict", "reason", "artefact"]
+
+
+def build_scorecard(root: str | Path = ".", checks: list[dict] | None = None, *,
+                    thesis_study: bool = True) -> pd.DataFrame:
     """The scorecard table for the artefacts under ``root``; checks whose artefact does not
-    exist in this run (a chapter not built) are left out."""
+    exist in this run (a chapter not built) are left out. For a study that is not the
+    thesis' design (``thesis_study`` false, :func:`robomill.experiment.is_thesis_study`) the
+    source numbers do not apply: the table is empty (same columns)."""
     rows = []
+    if not thesis_study:
+        return pd.DataFrame(rows, columns=SCORECARD_COLUMNS)
     for c in checks if checks is not None else load_checks():
         sv = c["source_value"]
         if c.get("locator") is None:  # a source number the pipeline does not compute
@@ -158,5 +167,4 @@ def build_scorecard(root: str | Path = ".", checks: list[dict] | None = None) ->
             "reason": c.get("reason", "") if not ok else c.get("note", ""),
             "artefact": c["locator"],
         })
-    return pd.DataFrame(rows, columns=["source", "where", "quantity", "source_value", "ours",
-                                       "unit", "tolerance", "verdict", "reason", "artefact"])
+    return pd.DataFrame(rows, columns=SCORECARD_COLUMNS)

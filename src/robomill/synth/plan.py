@@ -75,7 +75,10 @@ def synthetic_cuts(config: Mapping[str, Any]) -> list[Cut]:
 def experiment_header(config: Mapping[str, Any]) -> dict[str, Any]:
     """The manifest's ``experiment`` mapping from the configuration."""
     exp = config["experiment"]
-    return {k: exp[k] for k in ("spindle_rpm", "flutes", "tool_diameter_mm", "cut_length_mm")}
+    header = {k: exp[k] for k in ("spindle_rpm", "flutes", "tool_diameter_mm", "cut_length_mm")}
+    if exp.get("modal_band_hz") is not None:  # the design's modal band of interest
+        header["modal_band_hz"] = [float(b) for b in exp["modal_band_hz"]]
+    return header
 
 
 def hit_path(direction: str, hit: int) -> str:

@@ -1,0 +1,150 @@
+"""Issue 21, "Done means": a folder of instrument exports becomes chapters with the four
+commands a user types, and the default ``config.yaml`` unedited.
+
+The files: the real UFF 58 FRFs of a roving-hammer test (``tests/data/real/uff``, pyuff), the
+real confocal X3P scan (``tests/data/real/x3p``, x3ptools, one row as the cut's profile) and,
+for formats with no public export (``tests/data/real/*/SOURCE.md``), the constructed FARO
+tracker export (``tests/data/constructed/faro``) and DynoWare force exports: the constructed
+``tests/data/constructed/dynoware/slot_s1_g1_px.txt`` and two copies of it with the forces
+scaled (1.5x, 2x) written here for the cuts at the higher feeds (the mechanistic calibration
+of chapter 3.1 needs three cuts at two or more feeds).
+
+Steps, as in README "Your own measurements": ``robomill init``; ``robomill import`` for each
+export (the console script, in a subprocess); ``robomill manifest``; the keys it lists as not
+inferred written as a user would (spindle speed, flutes, feed and depth of each cut) and the
+tracker frame registered in ``cell.yaml``; ``robomill check`` exits 0; then
+``snakemake -j2 all --config data=<folder>`` with the repository's ``config.yaml``.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+from conftest import REPO, run_snakemake
+
+pytestmark = pytest.mark.pipeline
+
+DATA = REPO / "tests" / "data"
+ROBOMILL = Path(sys.executable).parent / "robomill"
+FEEDS = {"s1_g1_px": 1.0, "s1_g2_px": 2.0, "s1_g3_px": 3.0}  # mm/s at 6000 rpm, 2 teeth
+
+
+def robomill(*args: str) -> subprocess.CompletedProcess:
+    return subprocess.run([str(ROBOMILL), *map(str, args)], capture_output=True, text=True,
+                          timeout=300)
+
+
+def _scaled_dynoware(src: Path, dst: Path, factor: float) -> Path:
+    """A copy of a DynoWare ASCII export with every force sample times ``factor``."""
+    lines = src.read_bytes().decode().split("\r\n")
+    start = lines.index("s\tN\tN\tN") + 1
+    out = lines[:start]
+    for line in lines[start:]:
+        if not line.strip():
+            out.append(line)
+            continue
+        t, *f = line.split("\t")
+        out.append("\t".join([t, *(f"{float(v) * factor:.3f}" for v in f)]))
+    dst.write_bytes("\r\n".join(out).encode())
+    return dst
+
+
+@pytest.fixture(scope="module")
+def real_study(tmp_path_factory):
+    base = tmp_path_factory.mktemp("real_study")
+    raw, exports = base / "raw", base / "exports"
+    exports.mkdir()
+    steps = [("init", raw)]
+    dyno = DATA / "constructed/dynoware/slot_s1_g1_px.txt"
+    for cut, factor in zip(FEEDS, (1.0, 1.5, 2.0), strict=True):
+        src = dyno if factor == 1.0 else _scaled_dynoware(dyno, exports / f"{cut}.txt", factor)
+        steps.append(("import", "dynoware", src, "--to", raw, "--cut", cut))
+    steps += [
+        ("import", "uff", DATA / "real/uff/pyuff_measurement_roving_hammer.uff", "--to", raw),
+        ("import", "x3p", DATA / "real/x3p/sample-land_rows4-7.x3p", "--to", raw,
+         "--cut", "s1_g1_px", "--row", "2", "--dropouts", "longest"),
+        ("import", "faro", DATA / "constructed/faro/px_f1.csv", "--to", raw, "--fs-hz", "815",
+         "--direction", "px", "--feed-mm-s", "1"),
+        ("manifest", raw),
+    ]
+    out = {}
+    for step in steps:
+        proc = robomill(*step)
+        assert proc.returncode == 0, (step, proc.stdout, proc.stderr)
+        out[step[0] if step[0] != "import" else f"import {step[1]}"] = proc.stdout
+    # what `robomill manifest` could not infer, written as a user would
+    todo = out["manifest"]
+    for key in ("spindle_rpm", "flutes", "tool_diameter_mm", "cut_length_mm"):
+        assert f"experiment.{key} not inferred" in todo
+    assert "native" not in todo  # the imported UFF is a contract file, listed as impact
+    text = (raw / "manifest.yaml").read_text()
+    comments = "".join(line for line in text.splitlines(True) if line.startswith("#"))
+    m = yaml.safe_load(text)
+    m["experiment"].update(spindle_rpm=6000, flutes=2, tool_diameter_mm=6.0,
+                           cut_length_mm=40.0)
+    assert sorted(c["id"] for c in m["cuts"]) == sorted(FEEDS)
+    for c in m["cuts"]:
+        c.update(feed_mm_s=FEEDS[c["id"]], depth_mm=0.25)
+    (raw / "manifest.yaml").write_text(comments + yaml.safe_dump(m, sort_keys=False))
+    # the tracker's frame: the export's points sit 1.5 m from the robot base
+    cell = (raw / "cell.yaml").read_text()
+    (raw / "cell.yaml").write_text(cell + "base_from_instrument:\n  tracker: {rotation: "
+                                   "[[1, 0, 0], [0, 1, 0], [0, 0, 1]], translation_mm: "
+                                   "[-250.0, -1200.0, 0.0]}\n")
+    assert "could not infer" not in robomill("manifest", raw).stdout  # sha256 of the edits
+    check = robomill("check", raw)
+    assert check.returncode == 0, check.stdout + check.stderr
+    work = base / "work"
+    work.mkdir()
+    proc = run_snakemake(work, "-j2", "all", "--config", f"data={raw}",
+                         configfile=REPO / "config.yaml")
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-8000:]
+    return work, proc
+
+
+def test_real_exports_become_chapters_with_the_default_config(real_study):
+    work, proc = real_study
+    chapters = sorted(p.stem for p in (work / "results/chapters").glob("*.html"))
+    for ch in ("ch0_experiment", "ch2_surface", "ch3_1_forces", "ch3_2_straightness",
+               "ch3_3_modal"):
+        assert ch in chapters
+    for line in ("chapter 1: no ctrack files in manifest.yaml",
+                 "chapter 5: no robot files and no stiffness files in manifest.yaml"):
+        assert proc.stderr.count(line) == 1, line  # partial study: one line each
+    assert "ch1_calibration" not in chapters and "ch5_stiffness" not in chapters
+
+
+def test_real_uff_modes_and_band_from_the_data(real_study):
+    """The free-free beam of the pyuff export: modes near 51 and 142 Hz (SOURCE.md), band
+    from the data (no band set in config.yaml or in the manifest)."""
+    import xarray as xr
+
+    work, _ = real_study
+    modes = pd.read_csv(work / "results/modal/modes.csv")
+    f = modes["f_n_hz"].to_numpy()
+    for f_beam in (142.0, 279.0):
+        assert np.min(np.abs(f - f_beam)) < 0.03 * f_beam, (f_beam, f)
+    with xr.open_dataset(work / "results/modal/frf_synth.nc", engine="h5netcdf") as s:
+        assert s.attrs["band_source"] == "data" and s.attrs["band_flag"] == ""
+
+
+def test_forces_rate_and_decimation_from_the_record(real_study):
+    work, _ = real_study
+    log = (work / "results/logs/forces/cut_s1_g1_px.log").read_text()
+    assert "2000 samples at 10000 Hz, decimation 10 (from the rate)" in log
+    coef = pd.read_csv(work / "results/forces/cutting_coefficients.csv")
+    assert np.isfinite(coef["value"]).all()
+
+
+def test_x3p_profile_keeps_its_sampling(real_study):
+    """The Sensofar scan's 2.58 µm spacing survives import and the surface chapter's input."""
+    work, _ = real_study
+    raw_profile = pd.read_csv(work.parent / "raw/profiles/s1_g1_px.csv")
+    dx_um = np.diff(raw_profile["x_mm"].to_numpy()) * 1e3
+    assert np.allclose(dx_um, 2.58, atol=0.01)
