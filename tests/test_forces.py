@@ -373,14 +373,17 @@ def test_gather_of_a_free_design_uses_each_cuts_chip_model():
                  ("harmonic_power", ("axis", "harmonic")), ("envelope_min", ("axis", "block")),
                  ("envelope_max", ("axis", "block")), ("envelope_t", ("block",)),
                  ("excerpt", ("axis", "sample")), ("excerpt_t", ("sample",)))},
-             "harmonic_hz": ("harmonic", np.arange(1.0, 4.0))},
+             "harmonic_hz": ("harmonic", (1 + i) * np.arange(1.0, 4.0))},
             coords={"axis": ["Fx", "Fy", "Fz"], "component": ["feed", "cross_feed", "axial"],
                     "frequency": np.arange(3.0), "harmonic": [1, 2, 3]},
             attrs={"cut": cid, "direction": "45 deg", "feed_mm_s": 1.0, "depth_mm": a[i],
                    "feed_per_tooth_mm": c[i], "n_samples": 10, "tooth_passing_hz": 1.0}))
         processes[cid] = {"spindle_rpm": 1.0, "flutes": int(z[i]), "milling": modes[i][0],
                           "radial_immersion": modes[i][1]}
-    _, _, means, _, coeffs = gather_force_study(datasets, flutes=2, processes=processes)
+    _, _, means, harmonics, coeffs = gather_force_study(datasets, flutes=2,
+                                                        processes=processes)
+    h1 = harmonics[harmonics["harmonic"] == 1]
+    assert list(h1["f_hz"]) == [1.0 + i for i in range(c.size)]  # each cut's own line
     assert list(means["cut"]) == list(processes)  # the given order, no set/segment sort
     assert "set" not in means and "segment" not in means
     assert list(means["milling"]) == [m for m, _ in modes]

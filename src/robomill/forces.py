@@ -944,7 +944,12 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
                              cut_datasets[0][name].attrs["units"],
                              cut_datasets[0][name].attrs["long_name"])
     spectra = spectra.assign_coords(cut=_var("cut", ids, "1", "cut id"))
-    spectra["harmonic_hz"] = cut_datasets[0]["harmonic_hz"]
+    if processes is None:
+        spectra["harmonic_hz"] = cut_datasets[0]["harmonic_hz"]
+    else:  # each cut's own tooth passing
+        spectra["harmonic_hz"] = _var(("cut", "harmonic"),
+                                      np.stack([d["harmonic_hz"].values for d in cut_datasets]),
+                                      "Hz", "tooth-passing harmonic frequency of the cut")
     for name in ("block", "sample"):
         spectra = spectra.assign_coords({name: _var(name, np.arange(spectra.sizes[name]), "1",
                                                     f"{name} index")})
@@ -982,9 +987,11 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
     harmonics = pd.DataFrame([{"cut": c, "harmonic": int(k), "f_hz": float(f),
                                **{f"{a}_power_N2": float(hp.sel(cut=c, axis=a, harmonic=k))
                                   for a in AXES}}
-                              for c in ids for k, f in zip(spectra["harmonic"].values,
-                                                           spectra["harmonic_hz"].values,
-                                                           strict=True)])
+                              for i, c in enumerate(ids)
+                              for k, f in zip(spectra["harmonic"].values,
+                                              spectra["harmonic_hz"].values if processes is None
+                                              else spectra["harmonic_hz"].values[i],
+                                              strict=True)])
     coeffs = identify_cutting_coefficients(
         means["feed_per_tooth_mm"].to_numpy(), means["depth_mm"].to_numpy(),
         means[["F_feed_N", "F_cross_feed_N", "F_axial_N"]].to_numpy(),
