@@ -946,10 +946,13 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
     spectra = spectra.assign_coords(cut=_var("cut", ids, "1", "cut id"))
     if processes is None:
         spectra["harmonic_hz"] = cut_datasets[0]["harmonic_hz"]
-    else:  # each cut's own tooth passing
-        spectra["harmonic_hz"] = _var(("cut", "harmonic"),
-                                      np.stack([d["harmonic_hz"].values for d in cut_datasets]),
-                                      "Hz", "tooth-passing harmonic frequency of the cut")
+    else:  # each cut's own tooth passing (NaN past a cut's last harmonic below Nyquist)
+        nh = spectra.sizes["harmonic"]
+        hz = np.full((len(cut_datasets), nh), np.nan)
+        for i, d in enumerate(cut_datasets):
+            hz[i, :d.sizes["harmonic"]] = d["harmonic_hz"].values
+        spectra["harmonic_hz"] = _var(("cut", "harmonic"), hz, "Hz",
+                                      "tooth-passing harmonic frequency of the cut")
     for name in ("block", "sample"):
         spectra = spectra.assign_coords({name: _var(name, np.arange(spectra.sizes[name]), "1",
                                                     f"{name} index")})
@@ -991,7 +994,7 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
                               for k, f in zip(spectra["harmonic"].values,
                                               spectra["harmonic_hz"].values if processes is None
                                               else spectra["harmonic_hz"].values[i],
-                                              strict=True)])
+                                              strict=True) if np.isfinite(f)])
     coeffs = identify_cutting_coefficients(
         means["feed_per_tooth_mm"].to_numpy(), means["depth_mm"].to_numpy(),
         means[["F_feed_N", "F_cross_feed_N", "F_axial_N"]].to_numpy(),
