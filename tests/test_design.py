@@ -36,7 +36,6 @@ def test_an_explicit_design_is_planned_as_given(tiny_config):
 
 
 @pytest.mark.parametrize(("edit", "message"), [
-    ({"radial_immersion": 0.5, "milling": "down"}, r"cut 'n12k_mx' is not a slot"),
     ({"start_mm": None}, r"cut 'n12k_mx' needs start_mm"),
     ({"spindle_rpm": -1}, r"experiment\.cuts': cuts\[0\]\.spindle_rpm: spindle_rpm is -1"),
 ])
@@ -71,3 +70,41 @@ def test_each_simulated_record_carries_its_own_tooth_passing_line(tiny_config, t
 
         assert line(f_tp) > 50 * floor and line(2 * f_tp) > 50 * floor  # its own N n
         assert line(f_tp) > 10 * line(2800 / 3)  # not at the experiment's 933 Hz
+
+
+@pytest.mark.parametrize(("ae", "mode"), [(0.5, "down"), (0.5, "up"), (1.0, "slot")])
+def test_a_partial_immersion_cut_is_simulated_with_its_own_chip_model(tiny_config, tmp_path,
+                                                                        ae, mode):
+    """Known truth: the dynamometer's mean force of a half-immersion down (or up) milling cut
+    is Altintas' eq. 2.25 for its entry/exit angles (and not the slot's), in the cut frame."""
+    from robomill.experiment import cut_process, feed_direction
+    from robomill.forces import (
+        CuttingCoefficients,
+        cut_frame,
+        engagement_angles_rad,
+        mean_milling_forces,
+    )
+    from robomill.io.forces import open_force_record
+    from robomill.synth.cell import cell_from_config
+    from robomill.synth.dynamometer import simulate_file
+
+    cuts = copy.deepcopy(SERIES[:1])
+    cuts[0].update({"radial_immersion": ae, "milling": mode})
+    cfg = _design(tiny_config, cuts)
+    cfg["synth"]["dynamometer"] = {**cfg["synth"]["dynamometer"], "record_length_mm": 2.0,
+                                   "format": "csv"}
+    cut = synthetic_cuts(cfg)[0]
+    cell = cell_from_config(cfg)
+    rec = open_force_record(simulate_file(cfg, cut, tmp_path / "f.csv", cell=cell), 25000.0)
+    force = np.concatenate([f for _, f in rec.chunks(1 << 20)])
+    mean_cut = cut_frame(feed_direction(cut)).T @ force.mean(axis=0)
+    proc = cut_process(cut, cell.experiment)
+    st, ex = engagement_angles_rad(ae, mode)
+    k = CuttingCoefficients.from_mapping(cell.cutting)
+    expected = mean_milling_forces(proc["feed_per_tooth_mm"], cut.depth_mm, k, flutes=3,
+                                   entry_rad=st, exit_rad=ex)
+    slot = mean_milling_forces(proc["feed_per_tooth_mm"], cut.depth_mm, k, flutes=3)
+    scale = np.linalg.norm(expected)
+    assert np.abs(mean_cut - expected).max() < 0.02 * scale
+    if mode != "slot":
+        assert np.abs(mean_cut - slot).max() > 0.2 * scale

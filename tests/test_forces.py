@@ -12,10 +12,14 @@ from robomill.forces import (
     auto_decimation,
     decimate_whole,
     dominant_peak,
+    engagement_angles_rad,
     feed_per_tooth_mm,
     force_cut_dataset,
+    gather_force_study,
     identify_cutting_coefficients,
+    identify_cutting_coefficients_general,
     lowpass_fir,
+    mean_milling_forces,
     mean_slot_forces,
     slot_force_tables,
     slot_forces,
@@ -252,3 +256,140 @@ def test_nearest_modes_of_planted_peaks():
     np.testing.assert_allclose(t["offset_hz"], [1.5, -1.0, 10.0, 12.0])
     empty = nearest_modes(np.array([61.5]), modes.iloc[:0])
     assert np.isnan(empty["offset_hz"].iloc[0]) and empty["nearest_mode"].iloc[0] is None
+
+
+# ---- partial immersion, up/down milling (issue 20, step 5; Altintas 2012 §2.2) ---------------
+@pytest.mark.parametrize(("ae", "mode", "expected_deg"), [
+    (1.0, "slot", (0.0, 180.0)), (0.5, "down", (90.0, 180.0)), (0.5, "up", (0.0, 90.0)),
+    (0.25, "down", (120.0, 180.0)), (0.25, "up", (0.0, 60.0)), (1.0, "down", (0.0, 180.0))])
+def test_engagement_angles_from_immersion_and_mode(ae, mode, expected_deg):
+    st, ex = engagement_angles_rad(ae, mode)
+    assert np.degrees([st, ex]) == pytest.approx(expected_deg, abs=1e-9)
+
+
+@pytest.mark.parametrize(("ae", "mode", "message"), [
+    (0.0, "down", "radial_immersion must be in"), (1.5, "up", "radial_immersion must be in"),
+    (0.5, "slot", "milling 'slot' needs radial_immersion 1"), (0.5, "climb", "milling must be")])
+def test_engagement_angles_refuse_bad_input(ae, mode, message):
+    with pytest.raises(ValueError, match=message):
+        engagement_angles_rad(ae, mode)
+
+
+@pytest.mark.parametrize(("ae", "mode"), [(0.5, "down"), (0.5, "up"), (0.3, "down"),
+                                          (0.7, "up"), (1.0, "slot")])
+@pytest.mark.parametrize("flutes", [2, 3])
+def test_mean_milling_forces_match_the_numerical_mean(ae, mode, flutes):
+    """Closed form (Altintas eq. 2.25) == the mean of eq. 3.1 with the engagement window."""
+    st, ex = engagement_angles_rad(ae, mode)
+    phi = (np.arange(400_000) + 0.5) * 2 * np.pi / 400_000
+    numeric = slot_forces(phi, 0.01, 0.5, K, flutes=flutes, entry_rad=st, exit_rad=ex)
+    closed = mean_milling_forces(0.01, 0.5, K, flutes=flutes, entry_rad=st, exit_rad=ex)
+    np.testing.assert_allclose(numeric.mean(axis=0), closed, rtol=1e-4, atol=1e-3)
+    tables = slot_force_tables(flutes, 60, entry_rad=st, exit_rad=ex)
+    band = slot_forces_band_limited(phi, 0.01, 0.5, K, tables)
+    np.testing.assert_allclose(band.mean(axis=0), closed, rtol=1e-9, atol=1e-9)
+
+
+def test_half_immersion_down_milling_has_its_own_force_direction():
+    """Down milling at a_e/D = 0.5: the cross-feed force dominates and the feed force nearly
+    vanishes; up milling: the feed force dominates (the known signs of Altintas Fig 2.7)."""
+    down = mean_milling_forces(0.02, 1.0, K, flutes=3,
+                               entry_rad=np.pi / 2, exit_rad=np.pi)
+    up = mean_milling_forces(0.02, 1.0, K, flutes=3, entry_rad=0.0, exit_rad=np.pi / 2)
+    assert abs(down[1]) > 10 * abs(down[0])
+    assert abs(up[0]) > 5 * abs(up[1])
+    assert down[2] == pytest.approx(up[2])  # axial: the same chip area either side
+
+
+def test_slot_band_limited_tables_are_unchanged_by_the_window_arguments():
+    a = slot_force_tables(2, 50)
+    b = slot_force_tables(2, 50, entry_rad=0.0, exit_rad=np.pi)
+    np.testing.assert_array_equal(a.table, b.table)
+
+
+def _mixed_design():
+    """Slots with 2 teeth, half-immersion down milling and up milling with 3 teeth, three
+    spindle speeds: per cut c, a, N, φ_st, φ_ex."""
+    rows = []
+    for rpm, z, ae, mode in ((12000, 3, 0.5, "down"), (18000, 3, 0.5, "down"),
+                             (24000, 2, 1.0, "slot"), (18000, 3, 0.3, "up")):
+        for v in (1.0, 2.0, 4.0):
+            st, ex = engagement_angles_rad(ae, mode)
+            rows.append((feed_per_tooth_mm(v, rpm, z), 0.5, z, st, ex))
+    return np.array(rows).T
+
+
+def test_general_identification_recovers_planted_coefficients_of_a_mixed_design():
+    c, a, z, st, ex = _mixed_design()
+    rng = np.random.default_rng(7)
+    F = mean_milling_forces(c, a, K, flutes=z, entry_rad=st, exit_rad=ex)
+    table = identify_cutting_coefficients(c, a, F + rng.normal(0, 0.01, F.shape),
+                                          flutes=z.astype(int), entry_rad=st, exit_rad=ex)
+    planted = K.as_dict()
+    for row in table.itertuples():
+        assert abs(row.value / planted[row.name] - 1) < 0.05, row
+        assert row.ci_low - 3 * (row.ci_high - row.ci_low) < planted[row.name] < (
+            row.ci_high + 3 * (row.ci_high - row.ci_low)), row
+    # the slot-only regression would be wrong for this design (it assumes φ = 0..π)
+    wrong = identify_cutting_coefficients(c, a, F, flutes=3).set_index("name")["value"]
+    assert abs(wrong["Ktc"] / K.Ktc - 1) > 0.05
+
+
+def test_general_identification_of_slots_equals_the_per_axis_regression():
+    c = np.repeat(np.linspace(0.001, 0.0107, 5), 2)
+    a = np.full(c.size, 0.25)
+    F = mean_slot_forces(c, a, K) + np.random.default_rng(1).normal(0, 0.02, (c.size, 3))
+    old = identify_cutting_coefficients(c, a, F)
+    new = identify_cutting_coefficients_general(c, a, F, flutes=2, entry_rad=0.0,
+                                                exit_rad=np.pi)
+    np.testing.assert_allclose(new["value"], old["value"], rtol=1e-9)
+
+
+def test_general_identification_needs_enough_cuts():
+    with pytest.raises(ValueError, match="at least 3 cuts"):
+        identify_cutting_coefficients_general([0.001, 0.002], 0.25, np.zeros((2, 3)),
+                                              flutes=3, entry_rad=0.0, exit_rad=1.0)
+
+
+def test_gather_of_a_free_design_uses_each_cuts_chip_model():
+    """gather_force_study on cuts without set/segment, each with its own speed, flutes and
+    milling mode: per-cut columns and the planted coefficients back."""
+    import xarray as xr
+
+    c, a, z, st, ex = _mixed_design()
+    modes = [("down", 0.5)] * 6 + [("slot", 1.0)] * 3 + [("up", 0.3)] * 3
+    F = mean_milling_forces(c, a, K, flutes=z, entry_rad=st, exit_rad=ex)
+    datasets, processes = [], {}
+    for i in range(c.size):
+        cid = f"cut{i:02d}.{modes[i][0]}"
+        datasets.append(xr.Dataset(
+            {"mean_force_cut": ("component", F[i]), "mean_force": ("axis", F[i]),
+             **{n: ((), 0.0, {"units": "1", "long_name": n})
+                for n in ("dominant_hz", "dominant_power", "kinematic_per_mm",
+                          "kinematic_power")},
+             **{n: (d, np.zeros((3,) * len(d))) for n, d in (
+                 ("psd", ("axis", "frequency")), ("power_low", ("axis", "lf_bin")),
+                 ("f_low", ("lf_bin",)), ("f_spatial_low", ("lf_bin",)),
+                 ("envelope_min", ("axis", "block")),
+                 ("envelope_max", ("axis", "block")), ("envelope_t", ("block",)),
+                 ("excerpt", ("axis", "sample")), ("excerpt_t", ("sample",)))},
+             "harmonic_power": (("axis", "harmonic"), np.zeros((3, 3 - (i % 2)))),
+             "harmonic_hz": ("harmonic", (1 + i) * np.arange(1.0, 4.0 - (i % 2)))},
+            coords={"axis": ["Fx", "Fy", "Fz"], "component": ["feed", "cross_feed", "axial"],
+                    "frequency": np.arange(3.0), "harmonic": [1, 2, 3][:3 - (i % 2)]},
+            attrs={"cut": cid, "direction": "45 deg", "feed_mm_s": 1.0, "depth_mm": a[i],
+                   "feed_per_tooth_mm": c[i], "n_samples": 10, "tooth_passing_hz": 1.0}))
+        processes[cid] = {"spindle_rpm": 1.0, "flutes": int(z[i]), "milling": modes[i][0],
+                          "radial_immersion": modes[i][1]}
+    _, _, means, harmonics, coeffs = gather_force_study(datasets, flutes=2,
+                                                        processes=processes)
+    h1 = harmonics[harmonics["harmonic"] == 1]
+    assert list(h1["f_hz"]) == [1.0 + i for i in range(c.size)]  # each cut's own line
+    assert len(harmonics) == sum(3 - (i % 2) for i in range(c.size))  # no padded rows
+    assert list(means["cut"]) == list(processes)  # the given order, no set/segment sort
+    assert "set" not in means and "segment" not in means
+    assert list(means["milling"]) == [m for m, _ in modes]
+    assert means["entry_deg"].iloc[0] == pytest.approx(90.0)
+    planted = K.as_dict()
+    for row in coeffs.itertuples():
+        assert row.value == pytest.approx(planted[row.name], rel=1e-6), row

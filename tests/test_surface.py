@@ -235,3 +235,47 @@ def test_a_profile_shorter_than_the_thesis_segments_is_one_segment_and_flagged()
     assert "waviness_segment_mm" in capped and seg["roughness_segment_mm"] == 0.25
     x = np.arange(32000) * 1.25e-3
     assert "segment_flag" not in sf.analyse_profile(x, np.sin(2 * np.pi * x / 0.5)).attrs
+
+
+def test_gather_surface_of_a_free_design_groups_by_what_varies():
+    """A spindle-speed series along -X and a 45 deg pair, no sets or segments: no thesis
+    tables, one per-cut table sorted by what varies, the cut's own tooth passing on its
+    peaks, and a planted kinematic (fixed spatial frequency) peak found kinematic among the
+    cuts of the same path direction."""
+    opts = sf.settings(None)
+    x = np.arange(0, 15, 0.002)
+    rng = np.random.default_rng(5)
+    rows = [("n18k_mx_v2", "mx", None, 18000, 2.0), ("n12k_mx_v1", "mx", None, 12000, 1.0),
+            ("n12k_mx_v4", "mx", None, 12000, 4.0), ("d45_v1", None, 45.0, 24000, 1.0),
+            ("d45_v4", None, 45.0, 24000, 4.0)]
+    cuts = pd.DataFrame({"cut": [r[0] for r in rows], "direction": [r[1] for r in rows],
+                         "direction_deg": [r[2] for r in rows],
+                         "feed_mm_s": [r[4] for r in rows], "depth_mm": 0.25})
+    processes = {r[0]: {"spindle_rpm": float(r[3]), "flutes": 3, "tool_diameter_mm": 6.0,
+                        "radial_immersion": 0.5, "milling": "down",
+                        "direction_deg": 180.0 if r[2] is None else r[2],
+                        "feed_per_tooth_mm": r[4] / (3 * r[3] / 60),
+                        "tooth_passing_hz": 3 * r[3] / 60} for r in rows}
+    per_cut, peaks = [], []
+    for cid, *_ in rows:
+        z = 2.0 * np.sin(2 * np.pi * 0.4 * x) + 0.01 * rng.standard_normal(x.size)
+        ds = sf.analyse_profile(x, z, opts)
+        ds.attrs.update({"cut": cid})
+        per_cut.append(ds)
+        pk = sf.profile_peaks(ds, opts)
+        pk.insert(0, "cut", cid)
+        peaks.append(pk)
+    out = sf.gather_surface(per_cut, cuts, peaks, opts, processes=processes)
+    assert "waviness" not in out and "comparison" not in out
+    tab = out["by_design"]
+    assert list(tab.columns[:3]) == ["path_direction", "spindle_rpm", "feed_mm_s"]
+    assert tab["cut"].tolist() == ["d45_v1", "d45_v4", "n12k_mx_v1", "n12k_mx_v4",
+                                   "n18k_mx_v2"]
+    assert "set" not in out["metrics"] and "milling" in out["metrics"]
+    assert out["profiles"]["path_direction"].values.tolist()[3:] == ["45 deg", "45 deg"]
+    wav = out["peaks"][out["peaks"]["band"] == "waviness"].set_index("cut")
+    assert wav.loc["n12k_mx_v1", "f_spatial_per_mm"] == pytest.approx(0.4, rel=0.05)
+    assert set(wav["mechanism"]) == {"kinematic"}
+    assert wav.loc["d45_v4", "tooth_passing_hz"] == pytest.approx(1200.0)
+    assert wav.loc["d45_v4", "tooth_passing_order"] == pytest.approx(0.4 * 4.0 / 1200.0,
+                                                                     rel=0.05)

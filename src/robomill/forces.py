@@ -81,10 +81,56 @@ def cut_frame(direction_vector: Iterable[float]) -> np.ndarray:
     return np.column_stack([x, y, z])
 
 
+MILLING_MODES = ("slot", "up", "down")
+"""Milling modes of :func:`engagement_angles_rad`."""
+
+
+def engagement_angles_rad(radial_immersion: float = 1.0, milling: str = "slot"
+                          ) -> tuple[float, float]:
+    """Entry and exit angles (φ_st, φ_ex) of a tooth [rad] (Altintas 2012, §2.2, Fig 2.6).
+
+    φ is measured clockwise from the cross-feed axis (the tool turning clockwise, the same
+    convention as eq. 3.1). With the radial immersion ``r = a_e / D``:
+
+    - slot (``r = 1``): φ_st = 0, φ_ex = π;
+    - up (conventional) milling: φ_st = 0, φ_ex = arccos(1 − 2 r);
+    - down (climb) milling: φ_st = π − arccos(1 − 2 r), φ_ex = π.
+
+    Parameters
+    ----------
+    radial_immersion
+        a_e / D in (0, 1].
+    milling
+        ``slot``, ``up`` or ``down`` (``slot`` requires ``radial_immersion`` = 1).
+
+    Examples
+    --------
+    >>> [round(float(x), 4) for x in engagement_angles_rad(0.5, "down")]
+    [1.5708, 3.1416]
+    """
+    r = float(radial_immersion)
+    if not 0.0 < r <= 1.0:
+        raise ValueError(f"radial_immersion must be in (0, 1], got {r}")
+    if milling not in MILLING_MODES:
+        raise ValueError(f"milling must be one of {', '.join(MILLING_MODES)}, got {milling!r}")
+    if milling == "slot":
+        if r != 1.0:
+            raise ValueError(f"milling 'slot' needs radial_immersion 1, got {r}")
+        return 0.0, float(np.pi)
+    sweep = float(np.arccos(1.0 - 2.0 * r))
+    return (0.0, sweep) if milling == "up" else (float(np.pi) - sweep, float(np.pi))
+
+
+def _is_slot(entry_rad: float, exit_rad: float) -> bool:
+    return float(entry_rad) == 0.0 and float(exit_rad) == float(np.pi)
+
+
 def slot_forces(phi_rad: np.ndarray, feed_per_tooth_mm: float | np.ndarray, depth_mm: float |
                 np.ndarray, coeffs: CuttingCoefficients, *, flutes: int = 2,
-                cross_feed_mm: float | np.ndarray = 0.0) -> np.ndarray:
-    """Slot-milling forces on the tool in the cut frame (thesis eq. 3.1, h = c sin φ).
+                cross_feed_mm: float | np.ndarray = 0.0, entry_rad: float = 0.0,
+                exit_rad: float = np.pi) -> np.ndarray:
+    """Milling forces on the tool in the cut frame (thesis eq. 3.1, h = c sin φ); a slot by
+    default, any radial immersion through the tooth's engagement window.
 
     Parameters
     ----------
@@ -102,13 +148,16 @@ def slot_forces(phi_rad: np.ndarray, feed_per_tooth_mm: float | np.ndarray, dept
     cross_feed_mm
         Displacement across the feed over one tooth period [mm]: chip thickness
         ``h = c sin φ + c_y cos φ`` (zero for the nominal model).
+    entry_rad, exit_rad
+        Engagement window φ_st ≤ φ < φ_ex of a tooth (:func:`engagement_angles_rad`; Altintas
+        2012, eq. 2.19: a tooth cuts only inside it). Default 0, π: a slot.
 
     Returns
     -------
     numpy.ndarray
         ``(n, 3)``: F_x (feed), F_y (cross-feed), F_z (axial) [N]. Negative chip thickness
         (the tooth leaves the material) is clipped to zero; the edge forces act whenever a
-        tooth is in the slot (0 ≤ φ < π).
+        tooth is engaged (φ_st ≤ φ < φ_ex).
 
     Examples
     --------
@@ -125,7 +174,7 @@ def slot_forces(phi_rad: np.ndarray, feed_per_tooth_mm: float | np.ndarray, dept
     out = np.zeros(phi.shape + (3,))
     for j in range(int(flutes)):
         pj = np.mod(phi - 2 * np.pi * j / flutes, 2 * np.pi)
-        engaged = pj < np.pi
+        engaged = (pj >= entry_rad) & (pj < exit_rad)
         s, co = np.sin(pj), np.cos(pj)
         h = np.maximum(c * s + cy * co, 0.0) * engaged
         ae = a * engaged
@@ -157,16 +206,61 @@ def mean_slot_forces(feed_per_tooth_mm: float | np.ndarray, depth_mm: float | np
                      na * (coeffs.Kac * c / np.pi + coeffs.Kae / 2)], axis=-1)
 
 
+def _window_integrals(entry_rad, exit_rad) -> dict[str, np.ndarray]:
+    """∫ g(φ) dφ over φ_st..φ_ex of the basis g = sin², sin·cos, cos², sin, cos, 1."""
+    a, b = np.asarray(entry_rad, float), np.asarray(exit_rad, float)
+
+    def F(p):
+        return {"S2": (2 * p - np.sin(2 * p)) / 4, "SC": np.sin(p) ** 2 / 2,
+                "C2": (2 * p + np.sin(2 * p)) / 4, "S1": -np.cos(p), "C1": np.sin(p), "E": p}
+
+    fa, fb = F(a), F(b)
+    return {k: fb[k] - fa[k] for k in fa}
+
+
+def mean_milling_forces(feed_per_tooth_mm, depth_mm, coeffs: CuttingCoefficients, *,
+                        flutes=2, entry_rad=0.0, exit_rad=np.pi) -> np.ndarray:
+    """Closed-form mean forces of a cut engaged from φ_st to φ_ex, cut frame, on the tool [N].
+
+    Altintas 2012, eq. 2.25: the force of eq. 3.1 averaged over one revolution,
+
+    .. math::
+        \\bar F_x = \\frac{N a}{2π}\\left[c\\left(-K_{tc} I_{sc} - K_{rc} I_{s^2}\\right)
+                     - K_{te} I_c - K_{re} I_s\\right], \\quad
+        \\bar F_y = \\frac{N a}{2π}\\left[c\\left(K_{tc} I_{s^2} - K_{rc} I_{sc}\\right)
+                     + K_{te} I_s - K_{re} I_c\\right], \\quad
+        \\bar F_z = \\frac{N a}{2π}\\left[K_{ac} c I_s + K_{ae} (φ_{ex} − φ_{st})\\right]
+
+    with I the integrals of sin φ cos φ, sin² φ, cos φ, sin φ over the window. For φ_st = 0,
+    φ_ex = π it equals :func:`mean_slot_forces`. All arguments broadcast (one value per cut).
+
+    Examples
+    --------
+    >>> k = CuttingCoefficients(796, 168, 222, 27.7, 30.8, 6.7)
+    >>> bool(np.allclose(mean_milling_forces(0.005, 0.25, k), mean_slot_forces(0.005, 0.25, k)))
+    True
+    """
+    c = np.asarray(feed_per_tooth_mm, float)
+    na = np.asarray(flutes, float) * np.asarray(depth_mm, float) / (2 * np.pi)
+    Ig = _window_integrals(entry_rad, exit_rad)
+    k = coeffs
+    fx = c * (-k.Ktc * Ig["SC"] - k.Krc * Ig["S2"]) - k.Kte * Ig["C1"] - k.Kre * Ig["S1"]
+    fy = c * (k.Ktc * Ig["S2"] - k.Krc * Ig["SC"]) + k.Kte * Ig["S1"] - k.Kre * Ig["C1"]
+    fz = k.Kac * c * Ig["S1"] + k.Kae * Ig["E"]
+    return np.stack(np.broadcast_arrays(na * fx, na * fy, na * fz), axis=-1)
+
+
 BASIS = ("S2", "SC", "C2", "S1", "C1", "E")
 """Periodic basis of eq. 3.1 summed over the teeth in cut: Σ_j g_j(φ_j) with g = sin², sin·cos,
 cos², sin, cos, 1 on 0 ≤ φ_j < π."""
 
 
-def _basis_exact(phi: np.ndarray, flutes: int) -> np.ndarray:
+def _basis_exact(phi: np.ndarray, flutes: int, entry_rad: float = 0.0,
+                 exit_rad: float = np.pi) -> np.ndarray:
     out = np.zeros((len(BASIS),) + np.shape(phi))
     for j in range(int(flutes)):
         pj = np.mod(phi - 2 * np.pi * j / flutes, 2 * np.pi)
-        e = pj < np.pi
+        e = (pj >= entry_rad) & (pj < exit_rad)
         s, c = np.sin(pj) * e, np.cos(pj) * e
         out += np.stack([s * s, s * c, c * c, s, c, e.astype(float)])
     return out
@@ -189,7 +283,8 @@ class SlotForceTables:
         return self.table[:, i] * (1 - w) + self.table[:, i + 1] * w
 
 
-def slot_force_tables(flutes: int, max_harmonic: int, n_grid: int = 8192) -> SlotForceTables:
+def slot_force_tables(flutes: int, max_harmonic: int, n_grid: int = 8192, *,
+                      entry_rad: float = 0.0, exit_rad: float = np.pi) -> SlotForceTables:
     """The periodic basis of eq. 3.1 band-limited to spindle harmonics ``≤ max_harmonic``.
 
     A sampled record of the slot force aliases: the edge force jumps at tooth entry/exit, so
@@ -197,17 +292,23 @@ def slot_force_tables(flutes: int, max_harmonic: int, n_grid: int = 8192) -> Slo
     samples; this table is that ideal anti-alias filter applied to the force's periodic shape
     (Fourier series truncated; the mean of every basis function is kept exactly). The force
     with slowly varying chip load and depth is then ``F = Σ_i w_i(t) B_i(φ(t))``
-    (:func:`slot_forces_band_limited`).
+    (:func:`slot_forces_band_limited`). ``entry_rad``, ``exit_rad``: the tooth's engagement
+    window (:func:`engagement_angles_rad`; default a slot), the means then those of Altintas
+    2012 eq. 2.25 (:func:`mean_milling_forces`).
     """
     phi_mid = (np.arange(n_grid) + 0.5) * 2 * np.pi / n_grid
-    B = _basis_exact(phi_mid, flutes)
+    B = _basis_exact(phi_mid, flutes, entry_rad, exit_rad)
     spec = np.fft.rfft(B, axis=-1)
     spec[:, max_harmonic + 1:] = 0.0
     # the half-sample shift of the grid: evaluate the truncated series on the closed grid
     k = np.arange(spec.shape[-1])
     spec *= np.exp(-1j * k * np.pi / n_grid)  # shift by half a sample back to φ = 0
-    mean = {"S2": 0.5, "SC": 0.0, "C2": 0.5, "S1": 2 / np.pi, "C1": 0.0, "E": 1.0}
-    spec[:, 0] = [mean[b] * flutes / 2 * n_grid for b in BASIS]
+    if _is_slot(entry_rad, exit_rad):
+        mean = {"S2": 0.5, "SC": 0.0, "C2": 0.5, "S1": 2 / np.pi, "C1": 0.0, "E": 1.0}
+        spec[:, 0] = [mean[b] * flutes / 2 * n_grid for b in BASIS]
+    else:
+        Ig = _window_integrals(entry_rad, exit_rad)
+        spec[:, 0] = [float(Ig[b]) * flutes / (2 * np.pi) * n_grid for b in BASIS]
     table = np.fft.irfft(spec, n=n_grid, axis=-1)
     table = np.concatenate([table, table[:, :1]], axis=-1)
     return SlotForceTables(np.linspace(0, 2 * np.pi, n_grid + 1), table, int(flutes))
@@ -242,8 +343,9 @@ _NAMES = {"y": ("Ktc", "Kte"), "x": ("Krc", "Kre"), "z": ("Kac", "Kae")}
 
 
 def identify_cutting_coefficients(feed_per_tooth_mm: np.ndarray, depth_mm: np.ndarray,
-                                  mean_forces_N: np.ndarray, *, flutes: int = 2,
-                                  confidence: float = 0.95) -> pd.DataFrame:
+                                  mean_forces_N: np.ndarray, *, flutes=2,
+                                  confidence: float = 0.95, entry_rad=None,
+                                  exit_rad=None) -> pd.DataFrame:
     """Shearing and edge coefficients from the mean forces of slots at several feeds.
 
     The standard mechanistic calibration (Altintas 2012, §2.4): the mean force per unit
@@ -260,9 +362,14 @@ def identify_cutting_coefficients(feed_per_tooth_mm: np.ndarray, depth_mm: np.nd
     mean_forces_N
         Mean force on the tool per cut in the cut frame, ``(m, 3)`` (feed, cross-feed, axial).
     flutes
-        Number of teeth N.
+        Number of teeth N (scalar, or one per cut).
     confidence
         Two-sided confidence level of the intervals.
+    entry_rad, exit_rad
+        Per cut (or scalar) engagement window (:func:`engagement_angles_rad`). When given and
+        not every cut is a slot of the same tool, the coefficients come from
+        :func:`identify_cutting_coefficients_general` (partial immersion, up/down milling,
+        several tools).
 
     Returns
     -------
@@ -271,6 +378,17 @@ def identify_cutting_coefficients(feed_per_tooth_mm: np.ndarray, depth_mm: np.nd
         Kae (N/mm).
     """
     from scipy import stats
+
+    if entry_rad is not None or exit_rad is not None or np.ndim(flutes) > 0:
+        m = np.size(feed_per_tooth_mm)
+        st = np.broadcast_to(np.asarray(0.0 if entry_rad is None else entry_rad, float), (m,))
+        ex = np.broadcast_to(np.asarray(np.pi if exit_rad is None else exit_rad, float), (m,))
+        z = np.broadcast_to(np.asarray(flutes), (m,))
+        if not (np.all(st == 0.0) and np.all(ex == np.pi) and np.all(z == z[0])):
+            return identify_cutting_coefficients_general(
+                feed_per_tooth_mm, depth_mm, mean_forces_N, flutes=z, entry_rad=st,
+                exit_rad=ex, confidence=confidence)
+        flutes = int(z[0])
 
     c = np.asarray(feed_per_tooth_mm, float)
     na = int(flutes) * np.asarray(depth_mm, float)
@@ -290,6 +408,70 @@ def identify_cutting_coefficients(feed_per_tooth_mm: np.ndarray, depth_mm: np.nd
             rows[name] = (factor * val, lo, hi)
     return pd.DataFrame([{"name": n, "value": rows[n][0], "ci_low": rows[n][1],
                           "ci_high": rows[n][2], "unit": u} for n, u in COEFFICIENT_UNITS.items()])
+
+
+def identify_cutting_coefficients_general(feed_per_tooth_mm, depth_mm, mean_forces_N, *,
+                                          flutes, entry_rad, exit_rad,
+                                          confidence: float = 0.95) -> pd.DataFrame:
+    """Cutting coefficients from the mean forces of cuts of any immersion and milling mode.
+
+    The mean force of every cut is linear in the six coefficients (Altintas 2012, eq. 2.25;
+    :func:`mean_milling_forces`): the feed and cross-feed means of all cuts together are one
+    linear least-squares problem in (K_tc, K_rc, K_te, K_re) with ``2 m`` equations, the
+    axial means one in (K_ac, K_ae) with ``m``. Intervals are Student-t intervals of the
+    ordinary least-squares estimates (covariance ``s² (AᵀA)⁻¹``, ``n − p`` degrees of
+    freedom). For slots at several feeds it gives the same values as the per-axis
+    regression of :func:`identify_cutting_coefficients`.
+
+    Parameters
+    ----------
+    feed_per_tooth_mm, depth_mm, flutes, entry_rad, exit_rad
+        Per cut, ``(m,)`` (or scalars broadcast to the cuts).
+    mean_forces_N
+        ``(m, 3)`` mean force on the tool per cut, cut frame (feed, cross-feed, axial).
+    confidence
+        Two-sided confidence level.
+
+    Returns
+    -------
+    pandas.DataFrame
+        As :func:`identify_cutting_coefficients`.
+    """
+    from scipy import stats
+
+    F = np.asarray(mean_forces_N, float).reshape(-1, 3)
+    m = F.shape[0]
+    c, a, z, st, ex = (np.broadcast_to(np.asarray(x, float), (m,)) for x in
+                       (feed_per_tooth_mm, depth_mm, flutes, entry_rad, exit_rad))
+    if m < 3 or np.ptp(c) <= 0:
+        raise ValueError("need at least 3 cuts at two or more feeds per tooth to identify "
+                         f"cutting coefficients (got {m} cuts)")
+    w = z * a / (2 * np.pi)
+    Ig = _window_integrals(st, ex)
+    # columns Ktc, Krc, Kte, Kre
+    Ax = np.column_stack([-w * c * Ig["SC"], -w * c * Ig["S2"], -w * Ig["C1"], -w * Ig["S1"]])
+    Ay = np.column_stack([w * c * Ig["S2"], -w * c * Ig["SC"], w * Ig["S1"], -w * Ig["C1"]])
+    Az = np.column_stack([w * c * Ig["S1"], w * Ig["E"]])
+
+    def ols(A, y):
+        theta, *_ = np.linalg.lstsq(A, y, rcond=None)
+        dof = A.shape[0] - A.shape[1]
+        if dof < 1:
+            raise ValueError(f"{A.shape[0]} equations for {A.shape[1]} cutting coefficients: "
+                             "need more cuts")
+        s2 = float(np.sum((y - A @ theta) ** 2)) / dof
+        se = np.sqrt(np.diag(s2 * np.linalg.pinv(A.T @ A)))
+        return theta, se * stats.t.ppf(0.5 + confidence / 2, dof)
+
+    t_xy, h_xy = ols(np.vstack([Ax, Ay]), np.concatenate([F[:, 0], F[:, 1]]))
+    t_z, h_z = ols(Az, F[:, 2])
+    vals = dict(zip(("Ktc", "Krc", "Kte", "Kre", "Kac", "Kae"),
+                    zip(np.concatenate([t_xy, t_z]), np.concatenate([h_xy, h_z]), strict=True),
+                    strict=True))
+    return pd.DataFrame([{"name": n, "value": float(vals[n][0]),
+                          "ci_low": float(vals[n][0] - vals[n][1]),
+                          "ci_high": float(vals[n][0] + vals[n][1]), "unit": u}
+                         for n, u in COEFFICIENT_UNITS.items()])
 
 
 # ---- chunked spectral analysis ------------------------------------------------------------
@@ -702,7 +884,8 @@ def force_cut_dataset(result: Mapping[str, np.ndarray], *, cut: Mapping, fs_hz: 
 
 def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0.95,
                        model_feed_per_tooth_mm: float | None = None,
-                       model_depth_mm: float | None = None):
+                       model_depth_mm: float | None = None,
+                       processes: Mapping[str, Mapping] | None = None):
     """Combine per-cut datasets into the study's artefacts.
 
     Returns ``(spectra, peaks, means, harmonics, coefficients)``: the ``spectra.nc`` dataset
@@ -714,12 +897,22 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
     dominant_below_resolution`` (:func:`force_cut_dataset`). The spectra
     dataset also holds the model force shape of thesis Fig 3.2 over one revolution with the
     identified coefficients (``model_force``).
+
+    ``processes`` (cut id → :func:`robomill.experiment.cut_process`), given for a design that
+    is not the thesis' (free cut ids, per-cut spindle speed, flutes, immersion, milling mode):
+    the cuts keep their given order, ``set``/``segment`` are columns only when every cut has
+    them, ``mean_forces.csv`` gains the columns ``spindle_rpm, flutes, radial_immersion,
+    milling, entry_deg, exit_deg`` and the coefficients come from each cut's own chip model
+    (:func:`identify_cutting_coefficients_general`); the model force is that of the first
+    cut's tool and engagement window.
     """
     import xarray as xr
 
-    cut_datasets = sorted(cut_datasets, key=lambda d: (d.attrs["set"], d.attrs["segment"],
-                                                       "py px my".split().index(
-                                                           d.attrs["direction"])))
+    grouped = all(d.attrs.get("set") is not None and d.attrs.get("segment") is not None
+                  for d in cut_datasets)
+    if processes is None:
+        cut_datasets = sorted(cut_datasets, key=lambda d: (
+            d.attrs["set"], d.attrs["segment"], "py px my".split().index(d.attrs["direction"])))
     ids = [d.attrs["cut"] for d in cut_datasets]
     nlow = max(d.sizes["lf_bin"] for d in cut_datasets)
     per_cut = ("psd", "power_low", "f_low", "f_spatial_low", "harmonic_power", "envelope_min",
@@ -737,6 +930,8 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
                  "segment": ("1", "segment"), "direction": ("1", "cut direction"),
                  "n_samples": ("1", "samples per axis"),
                  "tooth_passing_hz": ("Hz", "tooth-passing frequency")}
+    if not grouped:
+        attr_vars = {k: v for k, v in attr_vars.items() if k not in ("set", "segment")}
     for name, (unit, ln) in attr_vars.items():
         spectra[name] = _var("cut", [d.attrs[name] for d in cut_datasets], unit, ln)
     flags = ("lowband_resolution_hz", "kinematic_resolution_per_mm",
@@ -749,7 +944,15 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
                              cut_datasets[0][name].attrs["units"],
                              cut_datasets[0][name].attrs["long_name"])
     spectra = spectra.assign_coords(cut=_var("cut", ids, "1", "cut id"))
-    spectra["harmonic_hz"] = cut_datasets[0]["harmonic_hz"]
+    if processes is None:
+        spectra["harmonic_hz"] = cut_datasets[0]["harmonic_hz"]
+    else:  # each cut's own tooth passing (NaN past a cut's last harmonic below Nyquist)
+        nh = spectra.sizes["harmonic"]
+        hz = np.full((len(cut_datasets), nh), np.nan)
+        for i, d in enumerate(cut_datasets):
+            hz[i, :d.sizes["harmonic"]] = d["harmonic_hz"].values
+        spectra["harmonic_hz"] = _var(("cut", "harmonic"), hz, "Hz",
+                                      "tooth-passing harmonic frequency of the cut")
     for name in ("block", "sample"):
         spectra = spectra.assign_coords({name: _var(name, np.arange(spectra.sizes[name]), "1",
                                                     f"{name} index")})
@@ -765,7 +968,20 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
             peaks[name] = spectra[name].values
     means = pd.DataFrame({"cut": ids, **{k: spectra[k].values for k in
                                          ("set", "segment", "direction", "feed_mm_s",
-                                          "depth_mm", "feed_per_tooth_mm")}})
+                                          "depth_mm", "feed_per_tooth_mm") if k in spectra}})
+    z = np.full(len(ids), int(flutes))
+    st, ex = np.zeros(len(ids)), np.full(len(ids), np.pi)
+    if processes is not None:
+        procs = [processes[c] for c in ids]
+        z = np.array([int(p["flutes"]) for p in procs])
+        st, ex = np.array([engagement_angles_rad(p["radial_immersion"], p["milling"])
+                           for p in procs]).reshape(-1, 2).T
+        means["spindle_rpm"] = [float(p["spindle_rpm"]) for p in procs]
+        means["flutes"] = z
+        means["radial_immersion"] = [float(p["radial_immersion"]) for p in procs]
+        means["milling"] = [p["milling"] for p in procs]
+        means["entry_deg"] = np.degrees(st)
+        means["exit_deg"] = np.degrees(ex)
     for i, a in enumerate(AXES):
         means[f"{a}_N"] = spectra["mean_force"].values[:, i]
     for i, comp in enumerate(("feed", "cross_feed", "axial")):
@@ -774,18 +990,22 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
     harmonics = pd.DataFrame([{"cut": c, "harmonic": int(k), "f_hz": float(f),
                                **{f"{a}_power_N2": float(hp.sel(cut=c, axis=a, harmonic=k))
                                   for a in AXES}}
-                              for c in ids for k, f in zip(spectra["harmonic"].values,
-                                                           spectra["harmonic_hz"].values,
-                                                           strict=True)])
+                              for i, c in enumerate(ids)
+                              for k, f in zip(spectra["harmonic"].values,
+                                              spectra["harmonic_hz"].values if processes is None
+                                              else spectra["harmonic_hz"].values[i],
+                                              strict=True) if np.isfinite(f)])
     coeffs = identify_cutting_coefficients(
         means["feed_per_tooth_mm"].to_numpy(), means["depth_mm"].to_numpy(),
-        means[["F_feed_N", "F_cross_feed_N", "F_axial_N"]].to_numpy(), flutes=flutes,
-        confidence=confidence)
+        means[["F_feed_N", "F_cross_feed_N", "F_axial_N"]].to_numpy(),
+        flutes=flutes if processes is None else z, confidence=confidence,
+        **({} if processes is None else {"entry_rad": st, "exit_rad": ex}))
     k = CuttingCoefficients(**dict(zip(coeffs["name"], coeffs["value"], strict=True)))
     c_mod = model_feed_per_tooth_mm or float(np.median(means["feed_per_tooth_mm"]))
     a_mod = model_depth_mm or float(np.median(means["depth_mm"]))
     phi = np.linspace(0, 4 * np.pi, 721)
-    F = slot_forces(phi, c_mod, a_mod, k, flutes=flutes)
+    F = slot_forces(phi, c_mod, a_mod, k, flutes=int(z[0]), entry_rad=float(st[0]),
+                    exit_rad=float(ex[0]))
     spectra["model_force"] = _var(("model_angle", "component"), F, "N",
                                   f"eq. 3.1 force on the tool, identified coefficients, "
                                   f"c = {c_mod * 1e3:.2f} um, a = {a_mod:.2f} mm")

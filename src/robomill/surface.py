@@ -298,7 +298,8 @@ def segment_lengths_mm(length_mm: float, opts: Mapping[str, Any]) -> tuple[dict[
 
 # ---- across cuts ---------------------------------------------------------------------------
 def attribute_mechanisms(peaks: pd.DataFrame, cuts: pd.DataFrame, *, tolerance: float = 0.2,
-                         min_feed_ratio: float = 1.5) -> pd.DataFrame:
+                         min_feed_ratio: float = 1.5,
+                         group_by: Sequence[str] = ("set", "direction")) -> pd.DataFrame:
     """Classify each peak as kinematic, dynamic or unclassified, with the evidence.
 
     For a peak at spatial frequency ``f`` in a cut at feed ``v``, every other cut of the same
@@ -315,7 +316,10 @@ def attribute_mechanisms(peaks: pd.DataFrame, cuts: pd.DataFrame, *, tolerance: 
     peaks
         Columns ``cut, band, f_spatial_per_mm, amplitude_um``.
     cuts
-        Columns ``cut, set, direction, feed_mm_s``.
+        Columns ``cut, feed_mm_s`` and those of ``group_by``.
+    group_by
+        The columns a witness shares with the cut (the thesis: same set and direction; a free
+        design: the same path direction, :func:`path_direction`).
 
     Returns
     -------
@@ -331,8 +335,10 @@ def attribute_mechanisms(peaks: pd.DataFrame, cuts: pd.DataFrame, *, tolerance: 
     by_cut = {c: g for c, g in out.groupby("cut")}
     mech, n_w, n_k, n_d = [], [], [], []
     for _, p in out.iterrows():
-        s, d = meta.loc[p["cut"], "set"], meta.loc[p["cut"], "direction"]
-        others = meta[(meta["set"] == s) & (meta["direction"] == d) & (meta.index != p["cut"])]
+        same = np.ones(len(meta), bool)
+        for col in group_by:
+            same &= (meta[col] == meta.loc[p["cut"], col]).to_numpy()
+        others = meta[same & (meta.index != p["cut"])]
         w = k = dyn = 0
         for c2, m2 in others.iterrows():
             ratio = p["feed_mm_s"] / float(m2["feed_mm_s"])
@@ -443,8 +449,40 @@ PEAK_TABLE_COLUMNS = ["cut", "f_spatial_per_mm", "f_temporal_hz", "amplitude_um"
                       "n_dynamic_support", "resolution_per_mm", "below_resolution"]
 
 
+#: design keys of a cut, in the order the per-design table groups by them
+DESIGN_KEYS = ("path_direction", "spindle_rpm", "flutes", "tool_diameter_mm",
+               "radial_immersion", "milling", "depth_mm", "feed_mm_s")
+
+
+def path_direction(direction: str | None, direction_deg: float | None) -> str:
+    """One label per feed direction: the name (``px``, ``mx``, ``py``, ``my``) or
+    ``"<deg> deg"`` for a ``direction_deg`` cut."""
+    if direction_deg is not None and not pd.isna(direction_deg):
+        return f"{float(direction_deg):g} deg"
+    return str(direction)
+
+
+def design_table(metrics: pd.DataFrame,
+                 values: Sequence[str] = ("waviness_rms_um", "roughness_rms_um", "Wq_um",
+                                          "Rq_um")) -> pd.DataFrame:
+    """The per-cut table of a design other than the thesis' (``metrics_by_design.csv``).
+
+    The design keys that vary across the cuts (of :data:`DESIGN_KEYS`) come first, in that
+    order, and the rows are sorted by them (so the cuts of a spindle-speed series at one
+    direction sit together, in increasing speed), then ``cut``, ``feed_per_tooth_mm``,
+    ``tooth_passing_hz`` and ``values``. A key that every cut shares is left out (it is one
+    value of the experiment).
+    """
+    varying = [k for k in DESIGN_KEYS if k in metrics and metrics[k].nunique(dropna=False) > 1]
+    cols = varying + ["cut", "feed_per_tooth_mm", "tooth_passing_hz", *values]
+    tab = metrics[[c for c in cols if c in metrics]]
+    return tab.sort_values(varying + ["cut"] if varying else ["cut"], kind="stable"
+                           ).reset_index(drop=True)
+
+
 def gather_surface(per_cut: Sequence[xr.Dataset], cuts: pd.DataFrame,
-                   peaks: Sequence[pd.DataFrame], options: Mapping[str, Any]
+                   peaks: Sequence[pd.DataFrame], options: Mapping[str, Any], *,
+                   processes: Mapping[str, Mapping[str, Any]] | None = None
                    ) -> dict[str, Any]:
     """Gather the per-cut profile analyses into the chapter-2 artefacts.
 
@@ -459,6 +497,15 @@ def gather_surface(per_cut: Sequence[xr.Dataset], cuts: pd.DataFrame,
         :func:`profile_peaks` tables of the cuts (with a ``cut`` column).
     options
         :func:`settings` (``match_tolerance``, ``min_feed_ratio``).
+    processes
+        For a design other than the thesis' (:func:`robomill.experiment.is_thesis_design`):
+        cut id → :func:`robomill.experiment.cut_process` (the cut's own speed, flutes, feed per
+        tooth, tooth passing, immersion, milling mode, direction). Then there are no thesis
+        tables and no thesis comparison: ``by_design`` (:func:`design_table`) instead;
+        ``metrics`` gains the process columns and ``path_direction``, the peaks are attributed
+        among the cuts of the same path direction and gain ``tooth_passing_hz`` and
+        ``tooth_passing_order`` (f_temporal / the cut's own tooth passing: an integer for
+        feed marks).
 
     Returns
     -------
@@ -478,20 +525,44 @@ def gather_surface(per_cut: Sequence[xr.Dataset], cuts: pd.DataFrame,
     ids = [d.attrs["cut"] for d in per_cut]
     metrics = pd.DataFrame([{"cut": c, **{k: float(d[k]) for k in METRIC_COLUMNS}}
                             for c, d in zip(ids, per_cut, strict=True)])
-    metrics = metrics.merge(cuts[["cut", "set", "segment", "direction", "feed_mm_s",
-                                  "depth_mm"]], on="cut")
-    thesis = load_thesis_tables()
+    grouping = [k for k in ("set", "segment") if k in cuts and cuts[k].notna().all()]
+    if processes is None:
+        metrics = metrics.merge(cuts[["cut", "set", "segment", "direction", "feed_mm_s",
+                                      "depth_mm"]], on="cut")
+    else:
+        cuts = cuts.copy()
+        none = [None] * len(cuts)
+        cuts["path_direction"] = [path_direction(d, g) for d, g in
+                                  zip(cuts.get("direction", none),
+                                      cuts.get("direction_deg", none), strict=True)]
+        proc_cols = ("spindle_rpm", "flutes", "tool_diameter_mm", "radial_immersion",
+                     "milling", "direction_deg", "feed_per_tooth_mm", "tooth_passing_hz")
+        for k in proc_cols:
+            cuts[k] = [processes[c][k] for c in cuts["cut"]]
+        metrics = metrics.merge(cuts[["cut", *grouping, "path_direction", "feed_mm_s",
+                                      "depth_mm", *proc_cols]], on="cut")
     out: dict[str, Any] = {"metrics": metrics}
-    comparisons = []
-    for name, key, value in (("waviness", "table_2_1_waviness_rms_um", "waviness_rms_um"),
-                             ("roughness", "table_2_2_roughness_rms_um", "roughness_rms_um")):
-        out[name] = rms_table(metrics, value)
-        comparisons.append(compare_with_thesis(out[name], thesis[key], key))
-    out["comparison"] = pd.concat(comparisons, ignore_index=True)
+    if processes is None:
+        thesis = load_thesis_tables()
+        comparisons = []
+        for name, key, value in (("waviness", "table_2_1_waviness_rms_um", "waviness_rms_um"),
+                                 ("roughness", "table_2_2_roughness_rms_um",
+                                  "roughness_rms_um")):
+            out[name] = rms_table(metrics, value)
+            comparisons.append(compare_with_thesis(out[name], thesis[key], key))
+        out["comparison"] = pd.concat(comparisons, ignore_index=True)
+    else:
+        out["by_design"] = design_table(metrics)
     found = attribute_mechanisms(pd.concat(list(peaks), ignore_index=True), cuts,
                                  tolerance=float(options["match_tolerance"]),
-                                 min_feed_ratio=float(options["min_feed_ratio"]))
+                                 min_feed_ratio=float(options["min_feed_ratio"]),
+                                 group_by=("set", "direction") if processes is None
+                                 else ("path_direction",))
     out["peaks"] = found[PEAK_TABLE_COLUMNS]
+    if processes is not None:
+        tp = np.array([float(processes[c]["tooth_passing_hz"]) for c in found["cut"]])
+        out["peaks"] = out["peaks"].assign(tooth_passing_hz=tp,
+                                           tooth_passing_order=found["f_temporal_hz"] / tp)
     out["spectra"] = spectra_dataset(per_cut, ids)
     keep = ["z_measured", "z", "waviness", "roughness"]
     profiles = xr.concat([d[keep].astype("float32") for d in per_cut], dim="cut",
@@ -500,8 +571,11 @@ def gather_surface(per_cut: Sequence[xr.Dataset], cuts: pd.DataFrame,
         profiles[k].attrs = per_cut[0][k].attrs
     profiles = profiles.assign_coords(cut=("cut", ids, {"units": "1", "long_name": "cut"}))
     plan = cuts.set_index("cut").loc[ids]
-    for col, units in [("feed_mm_s", "mm/s"), ("set", "1"), ("segment", "1"),
-                       ("direction", "1")]:
+    cols = [("feed_mm_s", "mm/s"), ("set", "1"), ("segment", "1"), ("direction", "1")]
+    if processes is not None:
+        cols = [(c, u) for c, u in cols if c not in ("set", "segment") or c in grouping]
+        cols[-1] = ("path_direction", "1")
+    for col, units in cols:
         profiles[col] = ("cut", plan[col].to_numpy(), {"units": units, "long_name": col})
     out["profiles"] = profiles
     return out

@@ -35,7 +35,9 @@ rule ch0:
         "../scripts/render_chapter.py"
 
 
-add_chapter("0", "results/chapters/ch0_experiment.html", needs=("cuts",))
+add_chapter(
+    "0", "results/chapters/ch0_experiment.html", needs=("cuts",), thesis_design=True
+)
 
 
 rule ch3:

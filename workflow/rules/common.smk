@@ -7,6 +7,7 @@ from pathlib import Path
 from robomill.pipeline.codedeps import code_files, load_cache, save_cache
 from robomill.experiment import (
     cuts_by_set,
+    is_thesis_design,
     is_thesis_study,
     missing_data,
     tracker_direction,
@@ -56,11 +57,24 @@ def has_kind(kind):
     return any(f["kind"] == kind for f in RAW_FILES)
 
 
-def add_chapter(label, html, needs=()):
-    """Build chapter `label` (its .html) in `all` if the raw folder has the kinds it `needs`;
-    otherwise skip it with one line (`chapter 3.3: no impact files in manifest.yaml`).
+# Why a chapter written for the thesis' design (sets x segments x px/py/my, one tool and
+# speed) is left out for any other design; its stage's artefacts are still built.
+NOT_THESIS_DESIGN = (
+    None
+    if is_thesis_design(CUTS)
+    else "the cut design is not the thesis' (sets x segments x px/py/my, one tool and "
+    "speed); its per-cut artefacts are built by the stage's target"
+)
+
+
+def add_chapter(label, html, needs=(), thesis_design=False):
+    """Build chapter `label` (its .html) in `all` if the raw folder has the kinds it `needs`
+    (and, with `thesis_design`, the cuts follow the thesis' design); otherwise skip it with
+    one line (`chapter 3.3: no impact files in manifest.yaml`).
     """
     why = missing_data(RAW_FILES, CUTS, needs)
+    if why is None and thesis_design:
+        why = NOT_THESIS_DESIGN
     if why is None:
         ALL_TARGETS.append(html)
     else:

@@ -118,4 +118,6 @@ rule ch3_forces:
         "../scripts/render_chapter.py"
 
 
-add_chapter("3.1", "results/chapters/ch3_1_forces.html", needs=("force",))
+add_chapter(
+    "3.1", "results/chapters/ch3_1_forces.html", needs=("force",), thesis_design=True
+)

@@ -237,4 +237,9 @@ rule ch5:
         "../scripts/render_chapter.py"
 
 
-add_chapter("5", "results/chapters/ch5_stiffness.html", needs=("robot", "stiffness"))
+add_chapter(
+    "5",
+    "results/chapters/ch5_stiffness.html",
+    needs=("robot", "stiffness"),
+    thesis_design=True,  # compares the thesis' slots with Table 2.1
+)

@@ -136,5 +136,8 @@ rule ch3_straightness:
 
 
 add_chapter(
-    "3.2", "results/chapters/ch3_2_straightness.html", needs=("tracker", "profile")
+    "3.2",
+    "results/chapters/ch3_2_straightness.html",
+    needs=("tracker", "profile"),
+    thesis_design=True,  # its figures are the thesis' +-Y, +X runs
 )

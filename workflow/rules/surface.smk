@@ -3,6 +3,18 @@
 # One simulator job per set, one analysis job per cut, then one gather job.
 SURFACE_FILES = {f["cut"]: f for f in RAW_FILES if f["kind"] == "profile"}
 SURFACE_CUTS = {c.id: c.as_dict() for c in CUTS if c.id in SURFACE_FILES}
+# the thesis design gets Tables 2.1/2.2 and the thesis comparison; any other design one
+# per-cut table grouped by what varies (robomill.surface.design_table)
+SURFACE_THESIS = is_thesis_design([c for c in CUTS if c.id in SURFACE_FILES])
+SURFACE_TABLES = (
+    {
+        "waviness": "results/surface/table_2_1_waviness_rms.csv",
+        "roughness": "results/surface/table_2_2_roughness_rms.csv",
+        "comparison": "results/surface/thesis_comparison.csv",
+    }
+    if SURFACE_THESIS
+    else {"by_design": "results/surface/metrics_by_design.csv"}
+)
 
 
 rule surface_profile:
@@ -31,26 +43,18 @@ rule surface_gather:
     input:
         cuts=expand("results/surface/cuts/{cut}.nc", cut=SURFACE_FILES),
         peaks=expand("results/surface/cuts/{cut}_peaks.csv", cut=SURFACE_FILES),
+        manifest=MANIFEST,
         code=code("surface"),
     output:
-        waviness=report(
-            "results/surface/table_2_1_waviness_rms.csv",
-            caption="../report/ch2.rst",
-            category="Chapter 2",
-            subcategory="Tables",
-        ),
-        roughness=report(
-            "results/surface/table_2_2_roughness_rms.csv",
-            caption="../report/ch2.rst",
-            category="Chapter 2",
-            subcategory="Tables",
-        ),
-        comparison=report(
-            "results/surface/thesis_comparison.csv",
-            caption="../report/ch2.rst",
-            category="Chapter 2",
-            subcategory="Tables",
-        ),
+        **{
+            name: report(
+                path,
+                caption="../report/ch2.rst",
+                category="Chapter 2",
+                subcategory="Tables",
+            )
+            for name, path in SURFACE_TABLES.items()
+        },
         peaks="results/surface/peaks.csv",
         metrics="results/surface/metrics.csv",
         spectra="results/surface/spectra.nc",
@@ -87,9 +91,7 @@ rule surface_recovery:
 
 rule surface:
     input:
-        "results/surface/table_2_1_waviness_rms.csv",
-        "results/surface/table_2_2_roughness_rms.csv",
-        "results/surface/thesis_comparison.csv",
+        list(SURFACE_TABLES.values()),
         "results/surface/peaks.csv",
         "results/surface/metrics.csv",
         "results/surface/spectra.nc",
@@ -141,4 +143,6 @@ rule ch2:
         "../scripts/render_chapter.py"
 
 
-add_chapter("2", "results/chapters/ch2_surface.html", needs=("profile",))
+add_chapter(
+    "2", "results/chapters/ch2_surface.html", needs=("profile",), thesis_design=True
+)

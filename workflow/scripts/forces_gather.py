@@ -5,15 +5,21 @@ from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "forces_gather")
 
+from robomill.experiment import cut_process, is_thesis_design  # noqa: E402
 from robomill.forces import gather_force_study  # noqa: E402
 from robomill.io import open_artefact, write_artefact, write_table  # noqa: E402
 from robomill.io.manifest import load_manifest  # noqa: E402
 
 s = snakemake.params.settings
-exp = load_manifest(snakemake.input.manifest).experiment
+manifest = load_manifest(snakemake.input.manifest)
+exp = manifest.experiment
 datasets = [open_artefact(p) for p in snakemake.input.cuts]
+# a design other than the thesis': each cut's own speed, flutes, immersion and milling mode
+processes = (None if is_thesis_design(manifest.cuts)
+             else {c.id: cut_process(c, exp) for c in manifest.cuts})
 spectra, peaks, means, harmonics, coeffs = gather_force_study(
-    datasets, flutes=int(exp["flutes"]), confidence=float(s["confidence"]))
+    datasets, flutes=int(exp["flutes"]), confidence=float(s["confidence"]),
+    processes=processes)
 out = snakemake.output
 write_artefact(spectra, out.spectra, rule="forces_gather", inputs=snakemake.input.cuts,
                config_section=s)

@@ -1,8 +1,11 @@
 """Kistler dynamometer: ``forces/<cut>.h5`` (or ``.csv``) with ``t_s, Fx_N, Fy_N, Fz_N``.
 
-The simulated record of one cut is the mechanistic slot-milling force (thesis eq. 3.1,
-:func:`robomill.forces.slot_forces`, coefficients ``synth.cutting``) of the virtual cell,
-modulated by the cell itself:
+The simulated record of one cut is the mechanistic milling force (thesis eq. 3.1,
+:func:`robomill.forces.slot_forces`, coefficients ``synth.cutting``) of the virtual cell, with
+the cut's own chip model: a slot, or partial immersion in up or down milling (the teeth engage
+between the entry and exit angles of :func:`robomill.forces.engagement_angles_rad` from the
+cut's ``radial_immersion`` a_e/D and ``milling``; Altintas 2012, §2.2), modulated by the cell
+itself:
 
 - **tool-tip vibration** from the cell's modal model (:meth:`VirtualCell.random_vibration_m`,
   the same modes the impact test sees), driven by the broadband part of the cutting force (a
@@ -119,7 +122,9 @@ def slow_channels(cell, cut, config: Mapping[str, Any], rng: np.random.Generator
     from robomill.forces import (
         CuttingCoefficients,
         cut_frame,
+        engagement_angles_rad,
         feed_per_tooth_mm,
+        mean_milling_forces,
         mean_slot_forces,
         tooth_passing_hz,
     )
@@ -146,7 +151,11 @@ def slow_channels(cell, cut, config: Mapping[str, Any], rng: np.random.Generator
     path = np.column_stack([np.interp(np.clip(v * t_v, 0, L), s_fine, e[:, k])
                             for k in range(3)]) @ R
     # tool-tip vibration of the cell's modes [mm], cut frame
-    f_mean = np.linalg.norm(mean_slot_forces(c0, cut.depth_mm, coeffs, flutes=flutes))
+    st, ex = engagement_angles_rad(proc["radial_immersion"], proc["milling"])
+    f_mean = np.linalg.norm(
+        mean_slot_forces(c0, cut.depth_mm, coeffs, flutes=flutes) if proc["milling"] == "slot"
+        else mean_milling_forces(c0, cut.depth_mm, coeffs, flutes=flutes, entry_rad=st,
+                                 exit_rad=ex))
     vib = cell.random_vibration_m(n_v, fs_v, float(s["excitation_ratio"]) * f_mean, rng)
     vib = (vib * 1e3) @ R
     d = vib + path
@@ -167,6 +176,7 @@ def simulate_blocks(cell, cut, config: Mapping[str, Any]
     from robomill.forces import (
         CuttingCoefficients,
         cut_frame,
+        engagement_angles_rad,
         slot_force_tables,
         slot_forces_band_limited,
     )
@@ -183,7 +193,9 @@ def simulate_blocks(cell, cut, config: Mapping[str, Any]
     R = cut_frame(feed_direction(cut))
     coeffs = CuttingCoefficients.from_mapping(cell.cutting)
     b, a = _dynamometer_filter(float(s["dynamometer_f_n_hz"]), float(s["dynamometer_zeta"]), fs)
-    tables = slot_force_tables(flutes, int(s["anti_alias_fraction"] * fs / spindle_hz))
+    st, ex = engagement_angles_rad(proc["radial_immersion"], proc["milling"])
+    tables = slot_force_tables(flutes, int(s["anti_alias_fraction"] * fs / spindle_hz),
+                               entry_rad=st, exit_rad=ex)
     chunk = int(s["chunk_samples"])
     noise = float(s["noise_N"])
 

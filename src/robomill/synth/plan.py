@@ -44,8 +44,9 @@ def synthetic_cuts(config: Mapping[str, Any]) -> list[Cut]:
     Raises
     ------
     ConfigError
-        A cut the simulators cannot make: not a slot (they model slotting only), or off the
-        thesis layout without ``start_mm``.
+        A cut the simulators cannot make: off the thesis layout without ``start_mm``. Cuts
+        of any radial immersion and milling mode are simulated with their own chip model
+        (:func:`robomill.forces.engagement_angles_rad`).
     """
     exp = config["experiment"]
     if not exp.get("cuts"):
@@ -61,9 +62,6 @@ def synthetic_cuts(config: Mapping[str, Any]) -> list[Cut]:
         raise ConfigError(f"config key 'experiment.cuts': {err.where}: {err.problem}"
                           + (f" (expected {err.expected})" if err.expected else "")) from None
     for i, c in enumerate(cuts):
-        if (c.radial_immersion or 1.0) < 1.0 or (c.milling or "slot") != "slot":
-            raise ConfigError(f"config key 'experiment.cuts[{i}]': cut {c.id!r} is not a slot "
-                              "(the simulators model slotting only: radial_immersion 1)")
         on_layout = c.set is not None and c.segment is not None and c.direction in (
             "px", "py", "my")
         if c.start_mm is None and not on_layout:
