@@ -65,23 +65,16 @@ def test_cache_round_trip_and_a_changed_file_is_parsed_again(planted, tmp_path):
     codedeps.load_cache(tmp_path / "bad.json")
 
 
-#: hand-kept code() entries that the rule's script and notebook do not import
-OVER_DECLARED = {("ch3_forces", "forces")}
-
-
-def _hand_kept(rule_text):
-    m = re.search(r"code=code\(([^)]*)\)", rule_text)
-    return re.findall(r'"([\w.]+)"', m[1]) if m else []
-
-
-def test_every_rule_imports_at_least_what_it_declared_by_hand():
-    """The derived inputs of each rule cover its hand-kept code() list (but OVER_DECLARED),
-    and the drifted ones of issue 24 (stiffness_maps, stiffness_optimal, synth_loadtests_robot, ch1,
-    ch3_modal) are now covered."""
+def test_every_rule_derives_its_code_inputs_and_none_is_hand_kept():
+    """No rule keeps a hand-written list of library modules any more (issue 24: they drifted);
+    the derived inputs cover the modules the drifted rules use (stiffness_maps,
+    stiffness_optimal, synth_loadtests_robot, ch1, ch3_modal)."""
     src = REPO / "src"
-    scripts, extra = {}, []
+    scripts = {}
     for smk in (REPO / "workflow" / "rules").glob("*.smk"):
-        for block in re.split(r"\n(?=rule \w+:)", smk.read_text()):
+        text = smk.read_text()
+        assert "code=code(" not in text and "def code(" not in text, smk.name
+        for block in re.split(r"\n(?=rule \w+:)", text):
             m = re.match(r"rule (\w+):", block)
             s = re.search(r'script:\s*\n\s*"\.\./scripts/([\w.]+)"', block)
             if not (m and s):
@@ -90,15 +83,8 @@ def test_every_rule_imports_at_least_what_it_declared_by_hand():
             sources = [REPO / "workflow" / "scripts" / s[1]]
             if nb:
                 sources.append(REPO / "notebooks" / nb[1])
-            derived = set(codedeps.code_files(sources, src))
-            scripts[m[1]] = derived
-            for module in _hand_kept(block):
-                f = str(src.joinpath("robomill", *module.split(".")).with_suffix(".py"))
-                if f not in derived:
-                    extra.append((m[1], module))
+            scripts[m[1]] = set(codedeps.code_files(sources, src))
     assert len(scripts) > 30
-    # declared by hand but imported by neither script nor notebook (still inputs: harmless)
-    assert set(extra) <= OVER_DECLARED, sorted(set(extra) - OVER_DECLARED)
 
     def has(rule, module):
         return str(src / "robomill" / module) in scripts[rule]

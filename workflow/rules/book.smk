@@ -22,7 +22,6 @@ CHROMIUM = next(
 rule scorecard:
     input:
         chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
-        code=code("pipeline.scorecard"),
         checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
     output:
         csv=report(
@@ -53,7 +52,6 @@ rule book:
         cuts="results/ingest/cuts.csv",
         manifest=MANIFEST,
         scorecard="results/thesis/scorecard.csv",
-        code=code("pipeline.book", "pipeline.provenance"),
     output:
         index=report(
             "results/thesis/index.html", caption="../report/book.rst", category="Book"
@@ -80,7 +78,6 @@ rule book_pdf:
     input:
         index="results/thesis/index.html",
         chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
-        code=code("pipeline.book"),
     output:
         pdf="results/thesis/book.pdf",
         page="results/thesis/book_print.html",

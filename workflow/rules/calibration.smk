@@ -12,7 +12,6 @@ rule calibration_identify:
         base=f"{RAW}/{CTRACK_TABLES.get('base', 'ctrack/base.csv')}",
         loads=f"{RAW}/{CTRACK_TABLES.get('loads', 'ctrack/loads.csv')}",
         cell=CELL,
-        code=code("calibration", "io.ctrack", "io.cell", "kinematics"),
     output:
         model="results/calibration/model.nc",
         joint_errors="results/calibration/joint_errors.csv",
@@ -37,7 +36,6 @@ rule calibration_accuracy:
         manifest=MANIFEST,
         model="results/calibration/model.nc",
         accuracy=f"{RAW}/{CTRACK_TABLES.get('accuracy', 'ctrack/accuracy.csv')}",
-        code=code("calibration", "io.ctrack"),
     output:
         accuracy=report(
             "results/calibration/accuracy.csv",
@@ -76,7 +74,6 @@ rule ch1:
         joint_errors="results/calibration/joint_errors.csv",
         base="results/calibration/base.csv",
         circles="results/calibration/circles.csv",
-        code=code("pipeline.chapters", "plotting"),
     output:
         ipynb="results/chapters/ch1_calibration.ipynb",
         html=report(

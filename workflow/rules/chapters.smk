@@ -7,7 +7,6 @@ rule ch0:
     input:
         notebook=notebook("ch0_experiment.ipynb"),
         cuts="results/ingest/cuts.csv",
-        code=code("pipeline.chapters", "plotting"),
     output:
         ipynb="results/chapters/ch0_experiment.ipynb",
         html=report(

@@ -10,14 +10,6 @@ wildcard_constraints:
 
 
 rule chatter_case:
-    input:
-        code=code(
-            "chatter.model",
-            "chatter.lobes_zoa",
-            "chatter.lobes_sdm",
-            "chatter.lobes_sem",
-            "chatter.study",
-        ),
     output:
         nc="results/chatter/cases/{chatter_case}.nc",
     log:
@@ -35,16 +27,6 @@ rule chatter_case:
 
 
 rule chatter_seed:
-    input:
-        code=code(
-            "chatter.timedomain",
-            "chatter.detection",
-            "chatter.lobes_zoa",
-            "chatter.lobes_sdm",
-            "chatter.lobes_sem",
-            "chatter.model",
-            "chatter.study",
-        ),
     output:
         nc="results/chatter/simulation.nc",
     log:
@@ -65,14 +47,6 @@ rule chatter_thesis:
         modes="results/modal/modes.csv",
         coefficients="results/forces/cutting_coefficients.csv",
         peaks="results/forces/peaks.csv",
-        code=code(
-            "chatter.thesis",
-            "chatter.lobes_zoa",
-            "chatter.lobes_sdm",
-            "chatter.lobes_sem",
-            "chatter.model",
-            "chatter.study",
-        ),
     output:
         lobes="results/chatter/lobes.nc",
         recommendations=report(
@@ -112,7 +86,6 @@ rule ch4:
         simulation="results/chatter/simulation.nc",
         lobes="results/chatter/lobes.nc",
         recommendations="results/chatter/recommendations.csv",
-        code=code("pipeline.chapters", "plotting"),
     output:
         ipynb="results/chapters/ch4_chatter.ipynb",
         html=report(

@@ -101,16 +101,6 @@ def notebook(name):
     return str(REPO / "notebooks" / name)
 
 
-def code(*modules):
-    """Library modules named by hand as inputs of a rule (`io.manifest` →
-    src/robomill/io/manifest.py). Not needed for what the rule's script or notebook imports:
-    derive_code_inputs adds those to every rule."""
-    return [
-        str(REPO.joinpath("src", "robomill", *m.split(".")).with_suffix(".py"))
-        for m in modules
-    ]
-
-
 def derive_code_inputs(rules):
     """Declare, as inputs of every rule with a script, the library files its script and
     notebook import, followed through the import graph (robomill.pipeline.codedeps: ast only,

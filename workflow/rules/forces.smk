@@ -15,7 +15,6 @@ rule forces_cut:
     input:
         raw=lambda w: f"{RAW}/{force_entry(w)['path']}",
         manifest=MANIFEST,
-        code=code("forces", "io.forces", "spectra", "experiment"),
     output:
         "results/forces/cuts/{cut}.nc",
     log:
@@ -36,7 +35,6 @@ rule forces_gather:
     input:
         cuts=expand("results/forces/cuts/{cut}.nc", cut=FORCE_FILES),
         manifest=MANIFEST,
-        code=code("forces"),
     output:
         spectra="results/forces/spectra.nc",
         peaks=report(
@@ -84,7 +82,6 @@ rule ch3_forces:
         coefficients="results/forces/cutting_coefficients.csv",
         means="results/forces/mean_forces.csv",
         harmonics="results/forces/harmonics.csv",
-        code=code("forces", "pipeline.chapters", "plotting"),
         # the impact test's modes, when the raw folder has one (chapter 3.3)
     output:
         ipynb="results/chapters/ch3_1_forces.ipynb",

@@ -9,8 +9,6 @@ wildcard_constraints:
 
 
 rule hexapod_dynamics:
-    input:
-        code=code("hexapod"),
     output:
         trajectory="results/hexapod/trajectory.nc",
         forces="results/hexapod/forces.nc",
@@ -27,8 +25,6 @@ rule hexapod_dynamics:
 
 
 rule hexapod_sensitivity_shard:
-    input:
-        code=code("hexapod"),
     output:
         "results/hexapod/sensitivity/actuator_{actuator}.nc",
     log:
@@ -50,7 +46,6 @@ rule hexapod_sensitivity:
             "results/hexapod/sensitivity/actuator_{actuator}.nc",
             actuator=HEXAPOD_ACTUATORS,
         ),
-        code=code("hexapod"),
     output:
         "results/hexapod/sensitivity.nc",
     log:
@@ -69,7 +64,6 @@ rule hexapod_force_accuracy:
     input:
         sensitivity="results/hexapod/sensitivity.nc",
         forces="results/hexapod/forces.nc",
-        code=code("hexapod"),
     output:
         "results/hexapod/force_accuracy.csv",
     log:
@@ -97,7 +91,6 @@ rule ch6:
         forces="results/hexapod/forces.nc",
         sensitivity="results/hexapod/sensitivity.nc",
         force_accuracy="results/hexapod/force_accuracy.csv",
-        code=code("pipeline.chapters", "plotting"),
     output:
         ipynb="results/chapters/ch6_hexapod.ipynb",
         html=report(

@@ -5,7 +5,6 @@
 rule ingest_manifest:
     input:
         manifest=MANIFEST,
-        code=code("io.manifest", "experiment"),
     output:
         cuts="results/ingest/cuts.csv",
         files="results/ingest/files.csv",

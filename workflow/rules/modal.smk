@@ -16,7 +16,6 @@ rule modal_frf:
     input:
         hits=[f"{RAW}/{f['path']}" for f in MODAL_HITS],
         manifest=MANIFEST,
-        code=code("modal", "io.impact"),
     output:
         frf="results/modal/frf.nc",
         hits="results/modal/hits.csv",
@@ -38,7 +37,6 @@ rule modal_frf:
 rule modal_identify:
     input:
         frf="results/modal/frf.nc",
-        code=code("modal", "io.impact"),
     output:
         modes=report(
             "results/modal/modes.csv",
@@ -113,7 +111,6 @@ rule ch3_modal:
         truth_check="results/modal/truth_check.csv",
         coupling="results/modal/coupling.csv",
         coupling_pairs="results/modal/coupling_pairs.csv",
-        code=code("pipeline.chapters", "plotting"),
     output:
         ipynb="results/chapters/ch3_3_modal.ipynb",
         html=report(

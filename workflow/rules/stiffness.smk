@@ -31,7 +31,6 @@ rule stiffness_identify:
         robot=lambda w: f"{RAW}/{STIFF_REL[('robot', w.robot)]}",
         tests=lambda w: f"{RAW}/{STIFF_REL[('stiffness', w.robot)]}",
         manifest=MANIFEST,
-        code=code("stiffness", "io.robots", "kinematics"),
     output:
         joints="results/stiffness/{robot}/joint_stiffness.csv",
         models="results/stiffness/{robot}/identification.csv",
@@ -60,7 +59,6 @@ rule stiffness_map:
         ),
         joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
         manifest=MANIFEST,
-        code=code("stiffness", "kinematics"),
     output:
         map="results/stiffness/maps/h{height}_r{angle}.nc",
     log:
@@ -131,8 +129,6 @@ rule stiffness_optimal:
 
 
 rule stiffness_beamframe:
-    input:
-        code=code("beamframe", "kinematics"),
     output:
         beamframe="results/stiffness/beamframe.nc",
     log:
@@ -157,7 +153,6 @@ rule stiffness_thesis:
         joints=f"results/stiffness/{THESIS_ROBOT}/joint_stiffness.csv",
         manifest=MANIFEST,
         cell=CELL,
-        code=code("beamframe", "stiffness", "kinematics", "experiment", "io.cell"),
     output:
         slots="results/stiffness/thesis_slots.csv",
     log:
@@ -209,7 +204,6 @@ rule ch5:
         thesis_validation=f"results/stiffness/{THESIS_ROBOT}/validation.csv",
         slots="results/stiffness/thesis_slots.csv",
         waviness="results/surface/table_2_1_waviness_rms.csv",
-        code=code("pipeline.chapters", "plotting"),
     output:
         ipynb="results/chapters/ch5_stiffness.ipynb",
         html=report(

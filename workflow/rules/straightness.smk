@@ -13,7 +13,6 @@ rule straightness_run:
         raw=lambda w: f"{RAW}/{TRACKER_RUNS[w.run]['path']}",
         manifest=MANIFEST,
         cell=CELL,
-        code=code("straightness", "io.tracker", "io.cell", "spectra", "kinematics"),
     output:
         nc="results/straightness/runs/{run}.nc",
         peaks="results/straightness/runs/{run}_peaks.csv",
@@ -43,7 +42,6 @@ rule straightness_gather:
         runs=expand("results/straightness/runs/{run}.nc", run=TRACKER_RUNS),
         peaks=expand("results/straightness/runs/{run}_peaks.csv", run=TRACKER_RUNS),
         gears=expand("results/straightness/runs/{run}_gears.csv", run=TRACKER_RUNS),
-        code=code("straightness"),
     output:
         profiles="results/straightness/profiles.nc",
         peaks=report(
@@ -71,7 +69,6 @@ rule straightness_truth_check:
         peaks="results/straightness/peaks.csv",
         profiles="results/straightness/profiles.nc",
         truth=["results/synthetic/truth.nc"] if SYNTHETIC else [],
-        code=code("straightness"),
     output:
         "results/straightness/truth_check.csv",
     log:
@@ -103,7 +100,6 @@ rule ch3_straightness:
         truth_check="results/straightness/truth_check.csv",
         surface_peaks="results/surface/peaks.csv",
         cuts="results/ingest/cuts.csv",
-        code=code("straightness", "pipeline.chapters", "plotting"),
     output:
         ipynb="results/chapters/ch3_2_straightness.ipynb",
         html=report(

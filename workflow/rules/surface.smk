@@ -21,7 +21,6 @@ rule surface_profile:
     input:
         raw=lambda w: f"{RAW}/{SURFACE_FILES[w.cut]['path']}",
         manifest=MANIFEST,
-        code=code("surface", "io.profiles", "io.tables", "spectra"),
     output:
         nc="results/surface/cuts/{cut}.nc",
         peaks="results/surface/cuts/{cut}_peaks.csv",
@@ -44,7 +43,6 @@ rule surface_gather:
         cuts=expand("results/surface/cuts/{cut}.nc", cut=SURFACE_FILES),
         peaks=expand("results/surface/cuts/{cut}_peaks.csv", cut=SURFACE_FILES),
         manifest=MANIFEST,
-        code=code("surface"),
     output:
         **{
             name: report(
@@ -76,7 +74,6 @@ rule surface_recovery:
     input:
         metrics="results/surface/metrics.csv",
         truth="results/synthetic/truth.nc",
-        code=code("surface"),
     output:
         "results/surface/recovery.csv",
     log:
@@ -111,7 +108,6 @@ rule ch2:
         metrics="results/surface/metrics.csv",
         spectra="results/surface/spectra.nc",
         profiles="results/surface/profiles.nc",
-        code=code("surface", "plotting"),
     output:
         ipynb="results/chapters/ch2_surface.ipynb",
         html=report(

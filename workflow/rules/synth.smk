@@ -36,19 +36,6 @@ rule synth_cell:
 
 
 rule synth_truth:
-    input:
-        code=code(
-            "synth.cell",
-            "synth.truth",
-            "synth.plan",
-            "kinematics",
-            "synth.profilometer",
-            "synth.dynamometer",
-            "synth.tracker",
-            "synth.impact",
-            "synth.ctrack",
-            "synth.loadtests",
-        ),
     output:
         "results/synthetic/truth.nc",
     log:
@@ -72,8 +59,6 @@ for _set_no, _set_cuts in cuts_by_set(
     rule:
         name:
             f"surface_synth_profiles_s{_set_no}"
-        input:
-            code=code("synth.profilometer", "synth.cell", "kinematics", "spectra"),
         output:
             [f"results/synthetic/raw/profiles/{c.id}.csv" for c in _set_cuts],
         log:
@@ -97,10 +82,6 @@ for _set_no, _set_cuts in cuts_by_set(
     rule:
         name:
             f"forces_synth_dynamometer_s{_set_no}"
-        input:
-            code=code(
-                "synth.dynamometer", "synth.cell", "forces", "io.forces", "kinematics"
-            ),
         output:
             [
                 f"results/synthetic/raw/forces/{c.id}.{SYNTH_FORCE_FORMAT}"
@@ -120,8 +101,6 @@ for _set_no, _set_cuts in cuts_by_set(
 
 
 rule straightness_synth_tracker:
-    input:
-        code=code("synth.tracker", "synth.cell", "kinematics"),
     output:
         "results/synthetic/raw/tracker/{run}.csv",
     log:
@@ -142,8 +121,6 @@ rule straightness_synth_tracker:
 
 
 rule synth_impact:
-    input:
-        code=code("synth.impact", "synth.cell"),
     output:
         "results/synthetic/raw/impact/hit{hit_dir}_{hit}.csv",
     log:
@@ -164,8 +141,6 @@ rule synth_impact:
 
 
 rule synth_ctrack:
-    input:
-        code=code("synth.ctrack", "synth.cell", "kinematics"),
     output:
         "results/synthetic/raw/ctrack/{table}.csv",
     log:
@@ -202,8 +177,6 @@ rule synth_loadtests_robot:
 
 
 rule synth_loadtests:
-    input:
-        code=code("synth.loadtests", "stiffness", "kinematics"),
     output:
         tests="results/synthetic/raw/stiffness/load_tests_{robot}.csv",
     log:
@@ -225,7 +198,6 @@ rule synth_manifest:
     input:
         files=[f"results/synthetic/raw/{f['path']}" for f in RAW_FILES],
         truth="results/synthetic/truth.nc",
-        code=code("io.manifest"),
     output:
         "results/synthetic/raw/manifest.yaml",
     log:
