@@ -11,17 +11,22 @@ SYNTH_RULES = REPO / "workflow" / "rules" / "synth.smk"
 READS_SYNTH = re.compile(r"""config\s*(\[\s*["']synth["']\s*\]|\.get\(\s*["']synth["'])""")
 
 
-def _imports_synth(path: Path) -> list[str]:
+def _imports_of(path: Path, package: str) -> list[str]:
+    """The modules of ``robomill.<package>`` that ``path`` imports (any import form)."""
     tree = ast.parse(path.read_text(), filename=str(path))
-    found = []
+    full, found = f"robomill.{package}", []
     for node in ast.walk(tree):
         if isinstance(node, ast.Import):
-            found += [a.name for a in node.names if a.name.startswith("robomill.synth")]
+            found += [a.name for a in node.names if a.name.startswith(full)]
         elif isinstance(node, ast.ImportFrom) and node.module:
-            if node.module.startswith("robomill.synth") or (
-                    node.module == "robomill" and any(a.name == "synth" for a in node.names)):
+            if node.module.startswith(full) or (
+                    node.module == "robomill" and any(a.name == package for a in node.names)):
                 found.append(node.module)
     return found
+
+
+def _imports_synth(path: Path) -> list[str]:
+    return _imports_of(path, "synth")
 
 
 def test_no_rule_outside_synth_smk_reads_the_synth_section():
@@ -91,16 +96,7 @@ def test_planning_the_dag_imports_no_simulator():
 
 
 def _imports_pipeline(path: Path) -> list[str]:
-    tree = ast.parse(path.read_text(), filename=str(path))
-    found = []
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            found += [a.name for a in node.names if a.name.startswith("robomill.pipeline")]
-        elif isinstance(node, ast.ImportFrom) and node.module and (
-                node.module.startswith("robomill.pipeline")
-                or (node.module == "robomill" and any(a.name == "pipeline" for a in node.names))):
-            found.append(node.module)
-    return found
+    return _imports_of(path, "pipeline")
 
 
 def test_the_science_imports_nothing_of_the_pipeline_tooling():
