@@ -151,46 +151,34 @@ def manifest_problems(data: Any, path: Path) -> tuple[list[str], list[dict]]:
                     parse_manifest({"experiment": one, "cuts": [], "files": []}, path)
                 except RawDataError as exc:
                     problems.append(_line(exc))
-    good_cuts: list[dict] = []
-    cuts = data.get("cuts", [])
-    if not isinstance(cuts, list):
-        problems.append(_line(RawDataError(path, "cuts is not a list", where="cuts",
-                                           expected="a list of cuts")))
-        cuts = []
-    seen: dict[str, int] = {}
-    for i, c in enumerate(cuts):
-        try:
-            parse_manifest({"experiment": good_exp, "cuts": [c], "files": []}, path)
-        except RawDataError as exc:
-            problems.append(_line(_reindex(exc, "cuts", i)))
-            continue
-        if c["id"] in seen:
-            problems.append(_line(RawDataError(
-                path, f"duplicate cut id {c['id']!r} (also cuts[{seen[c['id']]}])",
-                where=f"cuts[{i}].id", expected="unique cut ids")))
-            continue
-        seen[c["id"]] = i
-        good_cuts.append(c)
-    files = data.get("files", [])
-    if not isinstance(files, list):
-        problems.append(_line(RawDataError(path, "files is not a list", where="files",
-                                           expected="a list of files")))
-        files = []
-    paths: dict[str, int] = {}
-    good_files: list[dict] = []
-    for i, f in enumerate(files):
-        try:
-            parse_manifest({"experiment": good_exp, "cuts": good_cuts, "files": [f]}, path)
-        except RawDataError as exc:
-            problems.append(_line(_reindex(exc, "files", i)))
-            continue
-        if f["path"] in paths:
-            problems.append(_line(RawDataError(
-                path, f"duplicate path {f['path']!r} (also files[{paths[f['path']]}])",
-                where=f"files[{i}].path", expected="each file listed once")))
-            continue
-        paths[f["path"]] = i
-        good_files.append(f)
+    def entries(section: str, key: str, what: str, context: dict) -> list[dict]:
+        """The valid, unique entries of one list section (cuts or files), each validated on
+        its own with parse_manifest over ``context``; a problem line per bad entry."""
+        items = data.get(section, [])
+        if not isinstance(items, list):
+            problems.append(_line(RawDataError(path, f"{section} is not a list", where=section,
+                                               expected=f"a list of {section}")))
+            return []
+        seen: dict[str, int] = {}
+        good: list[dict] = []
+        for i, item in enumerate(items):
+            try:
+                parse_manifest({"experiment": good_exp, **context, section: [item]}, path)
+            except RawDataError as exc:
+                problems.append(_line(_reindex(exc, section, i)))
+                continue
+            if item[key] in seen:
+                problems.append(_line(RawDataError(
+                    path, f"duplicate {what} {item[key]!r} (also {section}[{seen[item[key]]}])",
+                    where=f"{section}[{i}].{key}",
+                    expected="unique cut ids" if section == "cuts" else "each file listed once")))
+                continue
+            seen[item[key]] = i
+            good.append(item)
+        return good
+
+    good_cuts = entries("cuts", "id", "cut id", {"files": []})
+    good_files = entries("files", "path", "path", {"cuts": good_cuts})
     if not problems:
         try:
             parse_manifest(data, path)
