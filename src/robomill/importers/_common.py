@@ -62,6 +62,27 @@ def to_float(text: str, decimal_comma: bool) -> float:
     return float(t)
 
 
+def row_floats(source: Path, f: Sequence[str], columns: Sequence[int], names: Sequence[str], *,
+               lineno: int, ncol: int, last: bool, decimal_comma: bool, header: str,
+               expected: str) -> list[float]:
+    """The numbers of one data row at ``columns``: a RawDataError naming the line and the column
+    for a short (truncated?) row or a field that is not a number. ``header`` names the row the
+    field count comes from ("header", "channel row"); ``expected`` what a value should be."""
+    if len(f) < ncol:
+        raise RawDataError(source, f"row has {len(f)} fields, the {header} has {ncol}"
+                           + (" (truncated last row?)" if last else ""),
+                           where=f"line {lineno}", expected=f"{ncol} fields")
+    out = []
+    for c in columns:
+        try:
+            out.append(to_float(f[c], decimal_comma))
+        except ValueError:
+            raise RawDataError(source, f"value {f[c]!r} is not a number",
+                               where=f"line {lineno}, column {names[c]}",
+                               expected=expected) from None
+    return out
+
+
 def parse_axes(spec: str, source: Path, option: str = "--axes") -> list[tuple[int, float]]:
     """Parse an axis/sign mapping such as ``-x,-y,-z`` or ``y,-x,z``.
 

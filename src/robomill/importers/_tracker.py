@@ -22,6 +22,7 @@ import numpy as np
 from robomill.importers._common import (
     is_number,
     read_text,
+    row_floats,
     split_fields,
     time_axis,
     to_float,
@@ -129,17 +130,9 @@ def read_points(source: Path, *, fmt: str, what: str,
     pts = np.empty((len(rows), 3))
     times = []
     for r, (lineno, f) in enumerate(rows):
-        if len(f) < ncol:
-            raise RawDataError(source, f"row has {len(f)} fields, the header has {ncol}"
-                               + (" (truncated last row?)" if r == len(rows) - 1 else ""),
-                               where=f"line {lineno}", expected=f"{ncol} fields")
-        for j, c in enumerate(ix):
-            try:
-                pts[r, j] = to_float(f[c], decimal_comma)
-            except ValueError:
-                raise RawDataError(source, f"value {f[c]!r} is not a number",
-                                   where=f"line {lineno}, column {fields[c]}",
-                                   expected="a coordinate") from None
+        pts[r] = row_floats(source, f, ix, fields, lineno=lineno, ncol=ncol,
+                            last=r == len(rows) - 1, decimal_comma=decimal_comma,
+                            header="header", expected="a coordinate")
         if it is not None:
             times.append(f[it])
     if not np.all(np.isfinite(pts)):

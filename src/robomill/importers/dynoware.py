@@ -30,9 +30,9 @@ from robomill.importers._common import (
     map_axes,
     parse_axes,
     read_text,
+    row_floats,
     split_fields,
     time_axis,
-    to_float,
     write_csv,
 )
 from robomill.io.errors import RawDataError
@@ -183,17 +183,9 @@ def read_dynoware(source: Path, *, channels: tuple[str, str, str] = ("Fx", "Fy",
     for k, line in enumerate(rows):
         lineno = data_start + k + 1
         f = split_fields(line, sep)
-        if len(f) < ncol:
-            raise RawDataError(source, f"row has {len(f)} fields, the channel row has {ncol}"
-                               + (" (truncated last row?)" if k == len(rows) - 1 else ""),
-                               where=f"line {lineno}", expected=f"{ncol} fields")
-        for j in range(ncol):
-            try:
-                values[k, j] = to_float(f[j], decimal_comma)
-            except ValueError:
-                raise RawDataError(source, f"value {f[j]!r} is not a number",
-                                   where=f"line {lineno}, column {fields[j]}",
-                                   expected="a number") from None
+        values[k] = row_floats(source, f, range(ncol), fields, lineno=lineno, ncol=ncol,
+                               last=k == len(rows) - 1, decimal_comma=decimal_comma,
+                               header="channel row", expected="a number")
     bad = ~np.isfinite(values)
     if bad.any():
         k, j = np.argwhere(bad)[0]
