@@ -686,7 +686,8 @@ def evaluate_attribution(peaks: pd.DataFrame, planted: pd.DataFrame, runs: pd.Da
         near = mine[np.abs(mine["f_spatial_per_mm"].astype(float) - f) <= tol]
         me = (int(g["joint"]), str(g["stage"]), str(g["order"]))
         if "candidates" in mine:
-            listed = mine[[me in parse_candidates(c) for c in mine["candidates"]]]
+            listed = mine[np.array([me in parse_candidates(c) for c in mine["candidates"]],
+                                   dtype=bool)]
             near = pd.concat([listed, near[~near.index.isin(listed.index)]])
         rows.append({"direction": key[0], "feed_mm_s": key[1], "joint": int(g["joint"]),
                      "stage": g["stage"], "order": g["order"], "f_spatial_per_mm": f,
