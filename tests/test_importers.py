@@ -29,6 +29,7 @@ DATA = Path(__file__).parent / "data"
 REAL = DATA / "real"
 BUILT = DATA / "constructed"
 DYNO = BUILT / "dynoware" / "slot_s1_g1_px.txt"
+DYNO25 = BUILT / "dynoware" / "dynoware25_window.csv"
 TDMS = REAL / "tdms" / "raw1.tdms"
 LAND = REAL / "x3p" / "sample-land_rows4-7.x3p"
 SA = BUILT / "spatialanalyzer" / "py_f2.txt"
@@ -181,6 +182,55 @@ def test_dynoware_bad_inputs(tmp_path):
                                  names=("Fx", "Fy", "Fz"), units=("N", "N", "N")))
     one_error("dynoware", norate, tmp_path,
               match=r"column Time: no time stamps and no sampling rate \(expected --fs-hz")
+
+
+def test_dynoware_25_channel_export_window(tmp_path):
+    """The layout of the real DynoWare 2.5.1.2 CSV export found in public (see
+    tests/data/real/dynoware/SOURCE.md): 18 ``Key:,value`` lines with ``Sampling rate
+    [Hz]:,10000`` and ``Samples per channel:,200001`` (the whole 20 s measurement), then an
+    exported window from 8 s with times printed to 4 decimals."""
+    entries = run("dynoware", [DYNO25], tmp_path, ["--cut", "s1_g1_px"])
+    assert entries[0]["fs_hz"] == 10000.0
+    t, F = read_forces(tmp_path / entries[0]["path"], 10000.0)
+    assert t.size == 1000 and t[0] == 0.0 and t[-1] == pytest.approx(0.0999)
+    # planted tool force 60 + 80 cos, -40 + 90 sin, 55 + 20 cos 2φ (the plate reads minus it)
+    np.testing.assert_allclose(F.mean(axis=0), [60.0, -40.0, 55.0], atol=0.1)
+    assert np.corrcoef(F[:, 1], np.sin(2 * np.pi * 200.0 * t))[0, 1] > 0.999
+    # the header's rate is read from the key's bracket and checked against the time column
+    one_error("dynoware", DYNO25, tmp_path, ["--fs-hz", "5000"],
+              match=r"header: header sampling rate 10000 Hz \(expected --fs-hz 5000")
+
+
+def test_dynoware_25_bad_inputs(tmp_path):
+    lines = DYNO25.read_text().splitlines()
+    # more rows than the measurement has samples
+    long = tmp_path / "long.csv"
+    long.write_text("\n".join(ln.replace("200001", "999") for ln in lines) + "\n")
+    one_error("dynoware", long, tmp_path,
+              match=r"header 'Samples per channel': 1000 samples, the header announces 999")
+    # a window that starts at 0 s and is shorter than the measurement: truncated, unless the
+    # user says it is a window
+    zero = tmp_path / "zero.csv"
+    rows = [ln.split(",", 1) for ln in lines[20:]]
+    zero.write_text("\n".join(lines[:20] + [f"{float(r[0]) - 8:.4f},{r[1]}" for r in rows])
+                    + "\n")
+    one_error("dynoware", zero, tmp_path,
+              match=r"1000 samples, the header announces 200001 \(truncated export\?\) "
+                    r"\(expected 200001 sample rows \(or --window")
+    assert run("dynoware", [zero], tmp_path / "w", ["--window"])[0]["fs_hz"] == 10000.0
+    # DynoWare 3.2 with the Windows list separator and decimal symbol both a comma
+    comma = tmp_path / "comma.csv"
+    comma.write_text("\n".join(lines[:20] + [ln.replace(".", ",") for ln in lines[20:]])
+                     + "\n")
+    one_error("dynoware", comma, tmp_path,
+              match=r"line 21: row has 7 fields, the channel row has 4: a comma as decimal "
+                    r"mark in a comma-separated export is ambiguous")
+    # a rate in a unit that is not a frequency
+    unit = tmp_path / "unit.csv"
+    unit.write_text("\n".join(ln.replace("Sampling rate [Hz]", "Sampling rate [s]")
+                              for ln in lines) + "\n")
+    one_error("dynoware", unit, tmp_path,
+              match=r"header line 11: sampling rate '10000' in 's' is not a rate")
 
 
 # --------------------------------------------------------------------------- TDMS
