@@ -33,6 +33,7 @@ DYNO25 = BUILT / "dynoware" / "dynoware25_window.csv"
 TDMS = REAL / "tdms" / "raw1.tdms"
 LAND = REAL / "x3p" / "sample-land_rows4-7.x3p"
 SA = BUILT / "spatialanalyzer" / "py_f2.txt"
+SA24 = BUILT / "spatialanalyzer" / "px_f2_sa2024.txt"
 FARO = BUILT / "faro" / "px_f1.csv"
 SINE = BUILT / "smats" / "sine.txt"
 SDF = BUILT / "smats" / "two_profiles.sdf"
@@ -473,6 +474,67 @@ def test_spatialanalyzer_coarse_stamps_rebuilt(tmp_path):
     assert np.polyfit(t, p[:, 1], 1)[0] == pytest.approx(2.0, abs=1e-3)
 
 
+SA24_ARGS = ["--direction", "px", "--feed-mm-s", "2", "--fs-hz", "200"]
+
+
+def test_spatialanalyzer_2024_export_without_header_row(tmp_path):
+    """The layout of the real SA 2024.2 stream export found in public (see
+    tests/data/real/spatialanalyzer/SOURCE.md): three ``//`` lines, no header row,
+    ``Collection, Group, Target, X, Y, Z, MM/DD/YY HH:MM:SS`` with stamps to the second."""
+    e = run("spatialanalyzer", [SA24], tmp_path, SA24_ARGS)
+    assert e == [{"path": "tracker/px_f2.csv", "kind": "tracker", "direction": "px",
+                  "feed_mm_s": 2.0, "fs_hz": 200.0}]
+    t, p = read_tracker(tmp_path / e[0]["path"], fs_hz=200.0)
+    np.testing.assert_allclose(t, np.arange(640) / 200.0, atol=1e-9)
+    # planted: x = 1520 + 2 t mm, y, z constant (2 µm noise); the first point as printed
+    assert np.polyfit(t, p[:, 0], 1)[0] == pytest.approx(2.0, abs=1e-3)
+    np.testing.assert_allclose(p[0], [1519.999355, -845.250903, 312.498005])
+    assert p[:, 1].std() < 0.005
+    # inches from the AXES line
+    inch = tmp_path / "inch.txt"
+    inch.write_text(SA24.read_text().replace("Z (mm)", "Z (in)"))
+    e = run("spatialanalyzer", [inch], tmp_path / "in", SA24_ARGS)
+    _, p_in = read_tracker(tmp_path / "in" / e[0]["path"], fs_hz=200.0)
+    np.testing.assert_allclose(p_in[0], 25.4 * p[0], rtol=1e-9)
+
+
+def test_spatialanalyzer_2024_bad_inputs(tmp_path):
+    lines = SA24.read_text().splitlines()
+    # no rate: the stamps (to the second) suggest one
+    one_error("spatialanalyzer", SA24, tmp_path, ["--direction", "px", "--feed-mm-s", "2"],
+              match=r"column Time: time stamps are coarse or uneven \(finest step 1 s\) and no "
+                    r"rate was stated; 640 samples over 3 s of stamps suggest about 160 Hz")
+    # 30 points dropped inside one second: that second's count is not the rate's
+    drop = tmp_path / "drop.txt"
+    drop.write_text("\n".join(lines[:3 + 150] + lines[3 + 180:]) + "\n")
+    one_error("spatialanalyzer", drop, tmp_path, SA24_ARGS,
+              match=r"sample 70, column Time: the stamp at 1 s holds 170 samples, 200 Hz gives "
+                    r"200 \(1 of 2 inner stamps differ")
+    # a second point group in the export, picked with --group
+    two = tmp_path / "two.txt"
+    two.write_text("\n".join(lines + ["pose1,  Satz1,  1,  2296.6,  -2416.2,  -442.8,  "
+                                      "02/12/26 09:25:15"]) + "\n")
+    one_error("spatialanalyzer", two, tmp_path, SA24_ARGS,
+              match=r"line 644: rows of 2 point groups \(stream_px_f2::feed2: 640 rows, "
+                    r"pose1::Satz1: 1 rows\) \(expected one point stream per export, or --group")
+    e = run("spatialanalyzer", [two], tmp_path / "g", SA24_ARGS + ["--group", "feed2"])
+    assert e[0]["fs_hz"] == 200.0
+    one_error("spatialanalyzer", two, tmp_path, SA24_ARGS + ["--group", "nope"],
+              match=r"option --group: no rows of point group 'nope'")
+    # cylindrical coordinates, the wrong number of name fields, a row cut short
+    cyl = tmp_path / "cyl.txt"
+    cyl.write_text(SA24.read_text().replace("CARTESIAN: X,  Y,  Z", "CYLINDRICAL: R,  Theta,  Z"))
+    one_error("spatialanalyzer", cyl, tmp_path, SA24_ARGS,
+              match=r"line 3: coordinates are CYLINDRICAL \(expected a Cartesian export")
+    one_error("spatialanalyzer", SA24, tmp_path, SA24_ARGS + ["--name-fields", "1"],
+              match=r"line 4: no header row naming X, Y, Z, and the first row has no X, Y, Z "
+                    r"after 1 name field\(s\)")
+    trunc = tmp_path / "trunc.txt"
+    trunc.write_text("\n".join(lines[:300] + [lines[300][:40]]) + "\n")
+    one_error("spatialanalyzer", trunc, tmp_path, SA24_ARGS,
+              match=r"line 301: row has 4 fields, the first row has 7 \(truncated last row\?\)")
+
+
 def test_faro_ms_stamps_and_units(tmp_path):
     e = run("faro", [FARO], tmp_path, FARO_ARGS)
     t, p = read_tracker(tmp_path / e[0]["path"], fs_hz=815.0)
@@ -501,7 +563,8 @@ def test_tracker_fine_stamps_give_the_rate(tmp_path):
 def test_tracker_bad_inputs(tmp_path):
     one_error("spatialanalyzer", SA, tmp_path, ["--direction", "py", "--feed-mm-s", "2"],
               match=r"column Timestamp: time stamps are coarse or uneven .* and no rate was "
-                    r"stated \(expected --fs-hz RATE")
+                    r"stated; 1000 samples over 1.22 s of stamps suggest about 81[0-9] Hz "
+                    r"\(expected --fs-hz RATE")
     one_error("spatialanalyzer", SA, tmp_path, ["--direction", "py", "--feed-mm-s", "2",
                                                 "--fs-hz", "400"],
               match=r"column Timestamp: time stamps span 1.2[0-9]* s, 1000 samples at 400 Hz "
