@@ -37,6 +37,8 @@ SA24 = BUILT / "spatialanalyzer" / "px_f2_sa2024.txt"
 FARO = BUILT / "faro" / "px_f1.csv"
 SINE = BUILT / "smats" / "sine.txt"
 SDF = BUILT / "smats" / "two_profiles.sdf"
+MM11_INT = REAL / "smats" / "mm11_iso1_ascii_int32.sdf"
+MM11_F64 = REAL / "smats" / "mm11_iso1_ascii_binary64.sdf"
 
 FORMATS = ("dynoware", "tdms", "spatialanalyzer", "faro", "smats", "x3p")
 
@@ -448,14 +450,72 @@ def test_smats_bad_inputs(tmp_path):
     one_error("smats", nokey, tmp_path, match=r"header: SDF header key Zscale is missing")
     xml = tmp_path / "p.xml"
     xml.write_text('<?xml version="1.0"?><SMATS><Profile/></SMATS>\n')
-    one_error("smats", xml, tmp_path, match=r"line 1: XML profile file: the SMATS XML layout "
-                                            r"is not published")
+    msg = one_error("smats", xml, tmp_path, match=r"line 1: XML profile file: no SMATS XML "
+                                                  r"layout is published")
+    assert "binary SDF and SMATS XML are not read" in msg and "robomill import x3p" in msg
+    x3p_main = tmp_path / "main.xml"
+    with zipfile.ZipFile(REAL / "x3p" / "ISO5436-sample1.x3p") as z:
+        x3p_main.write_bytes(z.read("main.xml"))
+    one_error("smats", x3p_main, tmp_path,
+              match=r"line 1: the main.xml of an X3P \(ISO 25178-72\) file \(expected the "
+                    r".x3p archive itself: robomill import x3p")
     one_error("smats", TDMS, tmp_path, match=r"binary file, not a text export")
     text = tmp_path / "text.txt"
     text.write_text("1.25\n0.1\n0.2\nabc\n0.3\n")
     one_error("smats", text, tmp_path, match=r"line 4: value 'abc' is not a number")
     one_error("smats", SDF, tmp_path, ["--profile", "2"],
               match=r"option --profile: --profile 2 outside the file \(expected 0 … 1\)")
+
+
+@pytest.mark.parametrize("path, zscale", [(MM11_INT, 1e-14), (MM11_F64, 1e-12)])
+def test_smats_real_mountainsmap_sdf_exports(tmp_path, path, zscale):
+    """Real ISO 25178-71 ASCII SDF files exported by Digital Surf MountainsMap 11 (sdfio's
+    interop samples, MIT): 20 profiles × 30 points, heights (30 p + i) nm, 1 µm spacing,
+    several values per line, CRLF, and a 'BAD' point at the end of the first profile."""
+    assert path.stat().st_size < 200_000
+    head = path.read_bytes().split(b"\r\n")
+    assert head[0] == b"aISO-1.0" and head[8].split() == [b"Zscale", b"=",
+                                                          f"{zscale:g}".encode()]
+    # profile 0: its last point is BAD, dropped at the end (30 points are too few for a
+    # contract profile, so the values are checked on the reader)
+    read_smats = module("smats").read_smats
+    x, z = read_smats(path)
+    assert x.size == 29 and x[0] == 0.0
+    np.testing.assert_allclose(np.diff(x), 1e-3)  # 1 µm spacing in mm
+    np.testing.assert_allclose(z, np.arange(29) * 1e-3, atol=1e-8)  # µm
+    # profile 7: complete, (210 + i) nm; the import writes it
+    e = run("smats", [path], tmp_path / "p7", ["--cut", "s1_g1_px", "--profile", "7"])
+    written = np.loadtxt(tmp_path / "p7" / e[0]["path"], delimiter=",", skiprows=1)
+    assert written.shape == (30, 2) and written[-1, 0] == pytest.approx(0.029)
+    np.testing.assert_allclose(written[:, 1], (210 + np.arange(30)) * 1e-3, atol=1e-8)
+    # the BAD point refused where it cannot be dropped
+    one_error("smats", path, tmp_path, ["--no-crop"],
+              match=r"profile 0, point 29: 'BAD' points at the ends of the profile")
+    one_error("smats", path, tmp_path, ["--profile", "20"],
+              match=r"option --profile: --profile 20 outside the file \(expected 0 … 19\)")
+
+
+def test_smats_sdf_bad_points_inside(tmp_path):
+    lines = MM11_INT.read_text().splitlines()
+    # a BAD point in the middle of profile 1 (line 16 holds it)
+    fields = lines[15].split()
+    fields[10] = "BAD"
+    inner = tmp_path / "inner.sdf"
+    inner.write_text("\n".join(lines[:15] + [" ".join(fields)] + lines[16:]) + "\n")
+    one_error("smats", inner, tmp_path, ["--profile", "1"],
+              match=r"profile 1, point 10: 1 'BAD' point\(s\) inside the profile \(expected a "
+                    r"profile without dropouts")
+    x, z = module("smats").read_smats(inner, profile=1, dropouts="longest")
+    assert x.size == 19 and x[0] == 0.0  # points 11 … 29 of (30 + i) nm
+    np.testing.assert_allclose(z, (41 + np.arange(19)) * 1e-3, atol=1e-8)
+    # the spellings of the NIST and NPL pages, and a binary SDF
+    for magic in ("aBC-1.0", "aNPL-V1.0", "aISO-2.0"):
+        other = tmp_path / f"{magic}.sdf"
+        other.write_text("\n".join([magic] + lines[1:]) + "\n")
+        assert run("smats", [other], tmp_path / magic)[0]["kind"] == "profile"
+    binary = tmp_path / "b.sdf"
+    binary.write_text("\n".join(["bISO-1.0"] + lines[1:]) + "\n")
+    one_error("smats", binary, tmp_path, match=r"line 1: binary SDF \(bISO-1.0\)")
 
 
 # --------------------------------------------------------------------------- trackers
