@@ -5,6 +5,7 @@ import pytest
 import scipy.signal
 
 from robomill.forces import (
+    FLAG_COLUMNS,
     CuttingCoefficients,
     ForceAnalysisSettings,
     StreamDecimator,
@@ -166,6 +167,51 @@ def test_identification_intervals_cover_truth_with_noise():
         lo, hi = table.loc[name, ["ci_low", "ci_high"]]
         assert lo < hi
         assert lo - 3 * (hi - lo) < value < hi + 3 * (hi - lo)
+
+
+def test_identified_coefficients_are_flagged_physical_when_planted_positive():
+    c = np.repeat(np.linspace(0.001, 0.0107, 5), 2)
+    a = np.full(c.size, 0.25)
+    F = mean_slot_forces(c, a, K) + np.random.default_rng(5).normal(0, 0.02, (c.size, 3))
+    table = identify_cutting_coefficients(c, a, F)
+    assert list(table.columns[5:]) == list(FLAG_COLUMNS)
+    assert table["physical"].all() and not table["negative"].any()
+    # the 0.02 N noise against a feed effect of 0.07 (radial) to 0.34 N (tangential) rms
+    assert (table["fit_residual_rms_N"] < 0.03).all()
+    assert (table["fit_signal_rms_N"] > 2 * table["fit_residual_rms_N"]).all()
+
+
+@pytest.mark.parametrize("general", [False, True])
+def test_a_planted_negative_edge_coefficient_is_flagged(general):
+    """A record whose radial edge force pulls the tool into the cut (Kre < 0) cannot be
+    physical: the identified Kre is negative and flagged, the other five are not."""
+    bad = CuttingCoefficients(796.0, 168.0, 222.0, 27.7, -30.8, 6.7)
+    c = np.repeat(np.linspace(0.001, 0.0107, 5), 2)
+    a = np.full(c.size, 0.25)
+    F = mean_slot_forces(c, a, bad) + np.random.default_rng(6).normal(0, 0.02, (c.size, 3))
+    table = (identify_cutting_coefficients_general(c, a, F, flutes=2, entry_rad=0.0,
+                                                   exit_rad=np.pi) if general
+             else identify_cutting_coefficients(c, a, F)).set_index("name")
+    assert table.loc["Kre", "value"] == pytest.approx(-30.8, rel=0.01)
+    assert bool(table.loc["Kre", "negative"]) and not bool(table.loc["Kre", "physical"])
+    others = table.drop(index="Kre")
+    assert others["physical"].all() and not others["negative"].any()
+
+
+def test_a_fit_that_explains_less_than_its_scatter_is_flagged():
+    """Mean forces that do not change with the feed (a constant plus 5 N scatter): the axis
+    fits leave a residual larger than the feed effect they find."""
+    rng = np.random.default_rng(7)
+    c = np.repeat(np.linspace(0.001, 0.0107, 6), 2)
+    a = np.full(c.size, 0.25)
+    F = np.array([10.0, 20.0, 5.0]) + rng.normal(0, 5.0, (c.size, 3))
+    table = identify_cutting_coefficients(c, a, F).set_index("name")
+    flagged = table[table["residual_exceeds_signal"]]
+    assert len(flagged) >= 4 and not flagged["physical"].any()
+    for name in flagged.index:
+        assert table.loc[name, "fit_residual_rms_N"] > table.loc[name, "fit_signal_rms_N"]
+    # the residual is the 5 N scatter
+    assert 2.5 < float(table["fit_residual_rms_N"].max()) < 8.0
 
 
 def test_identification_needs_several_feeds():

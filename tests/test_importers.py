@@ -29,12 +29,16 @@ DATA = Path(__file__).parent / "data"
 REAL = DATA / "real"
 BUILT = DATA / "constructed"
 DYNO = BUILT / "dynoware" / "slot_s1_g1_px.txt"
+DYNO25 = BUILT / "dynoware" / "dynoware25_window.csv"
 TDMS = REAL / "tdms" / "raw1.tdms"
 LAND = REAL / "x3p" / "sample-land_rows4-7.x3p"
 SA = BUILT / "spatialanalyzer" / "py_f2.txt"
+SA24 = BUILT / "spatialanalyzer" / "px_f2_sa2024.txt"
 FARO = BUILT / "faro" / "px_f1.csv"
 SINE = BUILT / "smats" / "sine.txt"
 SDF = BUILT / "smats" / "two_profiles.sdf"
+MM11_INT = REAL / "smats" / "mm11_iso1_ascii_int32.sdf"
+MM11_F64 = REAL / "smats" / "mm11_iso1_ascii_binary64.sdf"
 
 FORMATS = ("dynoware", "tdms", "spatialanalyzer", "faro", "smats", "x3p")
 
@@ -181,6 +185,55 @@ def test_dynoware_bad_inputs(tmp_path):
                                  names=("Fx", "Fy", "Fz"), units=("N", "N", "N")))
     one_error("dynoware", norate, tmp_path,
               match=r"column Time: no time stamps and no sampling rate \(expected --fs-hz")
+
+
+def test_dynoware_25_channel_export_window(tmp_path):
+    """The layout of the real DynoWare 2.5.1.2 CSV export found in public (see
+    tests/data/real/dynoware/SOURCE.md): 18 ``Key:,value`` lines with ``Sampling rate
+    [Hz]:,10000`` and ``Samples per channel:,200001`` (the whole 20 s measurement), then an
+    exported window from 8 s with times printed to 4 decimals."""
+    entries = run("dynoware", [DYNO25], tmp_path, ["--cut", "s1_g1_px"])
+    assert entries[0]["fs_hz"] == 10000.0
+    t, F = read_forces(tmp_path / entries[0]["path"], 10000.0)
+    assert t.size == 1000 and t[0] == 0.0 and t[-1] == pytest.approx(0.0999)
+    # planted tool force 60 + 80 cos, -40 + 90 sin, 55 + 20 cos 2φ (the plate reads minus it)
+    np.testing.assert_allclose(F.mean(axis=0), [60.0, -40.0, 55.0], atol=0.1)
+    assert np.corrcoef(F[:, 1], np.sin(2 * np.pi * 200.0 * t))[0, 1] > 0.999
+    # the header's rate is read from the key's bracket and checked against the time column
+    one_error("dynoware", DYNO25, tmp_path, ["--fs-hz", "5000"],
+              match=r"header: header sampling rate 10000 Hz \(expected --fs-hz 5000")
+
+
+def test_dynoware_25_bad_inputs(tmp_path):
+    lines = DYNO25.read_text().splitlines()
+    # more rows than the measurement has samples
+    long = tmp_path / "long.csv"
+    long.write_text("\n".join(ln.replace("200001", "999") for ln in lines) + "\n")
+    one_error("dynoware", long, tmp_path,
+              match=r"header 'Samples per channel': 1000 samples, the header announces 999")
+    # a window that starts at 0 s and is shorter than the measurement: truncated, unless the
+    # user says it is a window
+    zero = tmp_path / "zero.csv"
+    rows = [ln.split(",", 1) for ln in lines[20:]]
+    zero.write_text("\n".join(lines[:20] + [f"{float(r[0]) - 8:.4f},{r[1]}" for r in rows])
+                    + "\n")
+    one_error("dynoware", zero, tmp_path,
+              match=r"1000 samples, the header announces 200001 \(truncated export\?\) "
+                    r"\(expected 200001 sample rows \(or --window")
+    assert run("dynoware", [zero], tmp_path / "w", ["--window"])[0]["fs_hz"] == 10000.0
+    # DynoWare 3.2 with the Windows list separator and decimal symbol both a comma
+    comma = tmp_path / "comma.csv"
+    comma.write_text("\n".join(lines[:20] + [ln.replace(".", ",") for ln in lines[20:]])
+                     + "\n")
+    one_error("dynoware", comma, tmp_path,
+              match=r"line 21: row has 7 fields, the channel row has 4: a comma as decimal "
+                    r"mark in a comma-separated export is ambiguous")
+    # a rate in a unit that is not a frequency
+    unit = tmp_path / "unit.csv"
+    unit.write_text("\n".join(ln.replace("Sampling rate [Hz]", "Sampling rate [s]")
+                              for ln in lines) + "\n")
+    one_error("dynoware", unit, tmp_path,
+              match=r"header line 11: sampling rate '10000' in 's' is not a rate")
 
 
 # --------------------------------------------------------------------------- TDMS
@@ -397,14 +450,72 @@ def test_smats_bad_inputs(tmp_path):
     one_error("smats", nokey, tmp_path, match=r"header: SDF header key Zscale is missing")
     xml = tmp_path / "p.xml"
     xml.write_text('<?xml version="1.0"?><SMATS><Profile/></SMATS>\n')
-    one_error("smats", xml, tmp_path, match=r"line 1: XML profile file: the SMATS XML layout "
-                                            r"is not published")
+    msg = one_error("smats", xml, tmp_path, match=r"line 1: XML profile file: no SMATS XML "
+                                                  r"layout is published")
+    assert "binary SDF and SMATS XML are not read" in msg and "robomill import x3p" in msg
+    x3p_main = tmp_path / "main.xml"
+    with zipfile.ZipFile(REAL / "x3p" / "ISO5436-sample1.x3p") as z:
+        x3p_main.write_bytes(z.read("main.xml"))
+    one_error("smats", x3p_main, tmp_path,
+              match=r"line 1: the main.xml of an X3P \(ISO 25178-72\) file \(expected the "
+                    r".x3p archive itself: robomill import x3p")
     one_error("smats", TDMS, tmp_path, match=r"binary file, not a text export")
     text = tmp_path / "text.txt"
     text.write_text("1.25\n0.1\n0.2\nabc\n0.3\n")
     one_error("smats", text, tmp_path, match=r"line 4: value 'abc' is not a number")
     one_error("smats", SDF, tmp_path, ["--profile", "2"],
               match=r"option --profile: --profile 2 outside the file \(expected 0 … 1\)")
+
+
+@pytest.mark.parametrize("path, zscale", [(MM11_INT, 1e-14), (MM11_F64, 1e-12)])
+def test_smats_real_mountainsmap_sdf_exports(tmp_path, path, zscale):
+    """Real ISO 25178-71 ASCII SDF files exported by Digital Surf MountainsMap 11 (sdfio's
+    interop samples, MIT): 20 profiles × 30 points, heights (30 p + i) nm, 1 µm spacing,
+    several values per line, CRLF, and a 'BAD' point at the end of the first profile."""
+    assert path.stat().st_size < 200_000
+    head = path.read_bytes().split(b"\r\n")
+    assert head[0] == b"aISO-1.0" and head[8].split() == [b"Zscale", b"=",
+                                                          f"{zscale:g}".encode()]
+    # profile 0: its last point is BAD, dropped at the end (30 points are too few for a
+    # contract profile, so the values are checked on the reader)
+    read_smats = module("smats").read_smats
+    x, z = read_smats(path)
+    assert x.size == 29 and x[0] == 0.0
+    np.testing.assert_allclose(np.diff(x), 1e-3)  # 1 µm spacing in mm
+    np.testing.assert_allclose(z, np.arange(29) * 1e-3, atol=1e-8)  # µm
+    # profile 7: complete, (210 + i) nm; the import writes it
+    e = run("smats", [path], tmp_path / "p7", ["--cut", "s1_g1_px", "--profile", "7"])
+    written = np.loadtxt(tmp_path / "p7" / e[0]["path"], delimiter=",", skiprows=1)
+    assert written.shape == (30, 2) and written[-1, 0] == pytest.approx(0.029)
+    np.testing.assert_allclose(written[:, 1], (210 + np.arange(30)) * 1e-3, atol=1e-8)
+    # the BAD point refused where it cannot be dropped
+    one_error("smats", path, tmp_path, ["--no-crop"],
+              match=r"profile 0, point 29: 'BAD' points at the ends of the profile")
+    one_error("smats", path, tmp_path, ["--profile", "20"],
+              match=r"option --profile: --profile 20 outside the file \(expected 0 … 19\)")
+
+
+def test_smats_sdf_bad_points_inside(tmp_path):
+    lines = MM11_INT.read_text().splitlines()
+    # a BAD point in the middle of profile 1 (line 16 holds it)
+    fields = lines[15].split()
+    fields[10] = "BAD"
+    inner = tmp_path / "inner.sdf"
+    inner.write_text("\n".join(lines[:15] + [" ".join(fields)] + lines[16:]) + "\n")
+    one_error("smats", inner, tmp_path, ["--profile", "1"],
+              match=r"profile 1, point 10: 1 'BAD' point\(s\) inside the profile \(expected a "
+                    r"profile without dropouts")
+    x, z = module("smats").read_smats(inner, profile=1, dropouts="longest")
+    assert x.size == 19 and x[0] == 0.0  # points 11 … 29 of (30 + i) nm
+    np.testing.assert_allclose(z, (41 + np.arange(19)) * 1e-3, atol=1e-8)
+    # the spellings of the NIST and NPL pages, and a binary SDF
+    for magic in ("aBC-1.0", "aNPL-V1.0", "aISO-2.0"):
+        other = tmp_path / f"{magic}.sdf"
+        other.write_text("\n".join([magic] + lines[1:]) + "\n")
+        assert run("smats", [other], tmp_path / magic)[0]["kind"] == "profile"
+    binary = tmp_path / "b.sdf"
+    binary.write_text("\n".join(["bISO-1.0"] + lines[1:]) + "\n")
+    one_error("smats", binary, tmp_path, match=r"line 1: binary SDF \(bISO-1.0\)")
 
 
 # --------------------------------------------------------------------------- trackers
@@ -421,6 +532,67 @@ def test_spatialanalyzer_coarse_stamps_rebuilt(tmp_path):
     np.testing.assert_allclose(t, np.arange(1000) / 815.0, atol=1e-9)
     # planted: y = 1200 + 2 t (mm)
     assert np.polyfit(t, p[:, 1], 1)[0] == pytest.approx(2.0, abs=1e-3)
+
+
+SA24_ARGS = ["--direction", "px", "--feed-mm-s", "2", "--fs-hz", "200"]
+
+
+def test_spatialanalyzer_2024_export_without_header_row(tmp_path):
+    """The layout of the real SA 2024.2 stream export found in public (see
+    tests/data/real/spatialanalyzer/SOURCE.md): three ``//`` lines, no header row,
+    ``Collection, Group, Target, X, Y, Z, MM/DD/YY HH:MM:SS`` with stamps to the second."""
+    e = run("spatialanalyzer", [SA24], tmp_path, SA24_ARGS)
+    assert e == [{"path": "tracker/px_f2.csv", "kind": "tracker", "direction": "px",
+                  "feed_mm_s": 2.0, "fs_hz": 200.0}]
+    t, p = read_tracker(tmp_path / e[0]["path"], fs_hz=200.0)
+    np.testing.assert_allclose(t, np.arange(640) / 200.0, atol=1e-9)
+    # planted: x = 1520 + 2 t mm, y, z constant (2 µm noise); the first point as printed
+    assert np.polyfit(t, p[:, 0], 1)[0] == pytest.approx(2.0, abs=1e-3)
+    np.testing.assert_allclose(p[0], [1519.999355, -845.250903, 312.498005])
+    assert p[:, 1].std() < 0.005
+    # inches from the AXES line
+    inch = tmp_path / "inch.txt"
+    inch.write_text(SA24.read_text().replace("Z (mm)", "Z (in)"))
+    e = run("spatialanalyzer", [inch], tmp_path / "in", SA24_ARGS)
+    _, p_in = read_tracker(tmp_path / "in" / e[0]["path"], fs_hz=200.0)
+    np.testing.assert_allclose(p_in[0], 25.4 * p[0], rtol=1e-9)
+
+
+def test_spatialanalyzer_2024_bad_inputs(tmp_path):
+    lines = SA24.read_text().splitlines()
+    # no rate: the stamps (to the second) suggest one
+    one_error("spatialanalyzer", SA24, tmp_path, ["--direction", "px", "--feed-mm-s", "2"],
+              match=r"column Time: time stamps are coarse or uneven \(finest step 1 s\) and no "
+                    r"rate was stated; 640 samples over 3 s of stamps suggest about 160 Hz")
+    # 30 points dropped inside one second: that second's count is not the rate's
+    drop = tmp_path / "drop.txt"
+    drop.write_text("\n".join(lines[:3 + 150] + lines[3 + 180:]) + "\n")
+    one_error("spatialanalyzer", drop, tmp_path, SA24_ARGS,
+              match=r"sample 70, column Time: the stamp at 1 s holds 170 samples, 200 Hz gives "
+                    r"200 \(1 of 2 inner stamps differ")
+    # a second point group in the export, picked with --group
+    two = tmp_path / "two.txt"
+    two.write_text("\n".join(lines + ["pose1,  Satz1,  1,  2296.6,  -2416.2,  -442.8,  "
+                                      "02/12/26 09:25:15"]) + "\n")
+    one_error("spatialanalyzer", two, tmp_path, SA24_ARGS,
+              match=r"line 644: rows of 2 point groups \(stream_px_f2::feed2: 640 rows, "
+                    r"pose1::Satz1: 1 rows\) \(expected one point stream per export, or --group")
+    e = run("spatialanalyzer", [two], tmp_path / "g", SA24_ARGS + ["--group", "feed2"])
+    assert e[0]["fs_hz"] == 200.0
+    one_error("spatialanalyzer", two, tmp_path, SA24_ARGS + ["--group", "nope"],
+              match=r"option --group: no rows of point group 'nope'")
+    # cylindrical coordinates, the wrong number of name fields, a row cut short
+    cyl = tmp_path / "cyl.txt"
+    cyl.write_text(SA24.read_text().replace("CARTESIAN: X,  Y,  Z", "CYLINDRICAL: R,  Theta,  Z"))
+    one_error("spatialanalyzer", cyl, tmp_path, SA24_ARGS,
+              match=r"line 3: coordinates are CYLINDRICAL \(expected a Cartesian export")
+    one_error("spatialanalyzer", SA24, tmp_path, SA24_ARGS + ["--name-fields", "1"],
+              match=r"line 4: no header row naming X, Y, Z, and the first row has no X, Y, Z "
+                    r"after 1 name field\(s\)")
+    trunc = tmp_path / "trunc.txt"
+    trunc.write_text("\n".join(lines[:300] + [lines[300][:40]]) + "\n")
+    one_error("spatialanalyzer", trunc, tmp_path, SA24_ARGS,
+              match=r"line 301: row has 4 fields, the first row has 7 \(truncated last row\?\)")
 
 
 def test_faro_ms_stamps_and_units(tmp_path):
@@ -451,7 +623,8 @@ def test_tracker_fine_stamps_give_the_rate(tmp_path):
 def test_tracker_bad_inputs(tmp_path):
     one_error("spatialanalyzer", SA, tmp_path, ["--direction", "py", "--feed-mm-s", "2"],
               match=r"column Timestamp: time stamps are coarse or uneven .* and no rate was "
-                    r"stated \(expected --fs-hz RATE")
+                    r"stated; 1000 samples over 1.22 s of stamps suggest about 81[0-9] Hz "
+                    r"\(expected --fs-hz RATE")
     one_error("spatialanalyzer", SA, tmp_path, ["--direction", "py", "--feed-mm-s", "2",
                                                 "--fs-hz", "400"],
               match=r"column Timestamp: time stamps span 1.2[0-9]* s, 1000 samples at 400 Hz "

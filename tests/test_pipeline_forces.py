@@ -33,7 +33,11 @@ def test_identified_coefficients_near_planted(tiny_run):
     from robomill.io import open_artefact
 
     coef = pd.read_csv(tiny_run / "results/forces/cutting_coefficients.csv")
-    assert list(coef.columns) == ["name", "value", "ci_low", "ci_high", "unit"]
+    assert list(coef.columns) == ["name", "value", "ci_low", "ci_high", "unit", "negative",
+                                  "fit_residual_rms_N", "fit_signal_rms_N",
+                                  "residual_exceeds_signal", "physical"]
+    # planted positive coefficients, recovered within 5 %: every row physical
+    assert coef["physical"].all() and not coef["negative"].any()
     truth = open_artefact(tiny_run / "results/synthetic/truth.nc")
     for row in coef.itertuples():
         unit = "N_mm2" if row.unit == "N/mm^2" else "N_mm"

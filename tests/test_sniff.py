@@ -36,6 +36,17 @@ def test_sniff_recognises_each_format(fmt):
     assert "--to RAW_DIR" in h
 
 
+@pytest.mark.parametrize("path, fmt", [
+    (DATA / "real" / "smats" / "mm11_iso1_ascii_int32.sdf", "smats"),
+    (DATA / "constructed" / "dynoware" / "dynoware25_window.csv", "dynoware"),
+    (DATA / "constructed" / "spatialanalyzer" / "px_f2_sa2024.txt", "spatialanalyzer"),
+])
+def test_sniff_recognises_the_real_layouts(path, fmt):
+    """A real MountainsMap SDF (CRLF), and the layouts of the real DynoWare 2.5 and SA 2024.2
+    exports (tests/data/real/*/SOURCE.md)."""
+    assert sniff.sniff(path) == fmt
+
+
 def test_sniff_leaves_contract_files_alone():
     for p in (DATA / "bad" / "forces" / "missing_column.csv",
               DATA / "constructed" / "smats" / "sine.txt"):

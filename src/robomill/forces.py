@@ -341,6 +341,63 @@ _SLOPE_FACTOR = {"x": -4.0, "y": 4.0, "z": np.pi}
 _INTERCEPT_FACTOR = {"x": -np.pi, "y": np.pi, "z": 2.0}
 _NAMES = {"y": ("Ktc", "Kte"), "x": ("Krc", "Kre"), "z": ("Kac", "Kae")}
 
+FLAG_COLUMNS = ("negative", "fit_residual_rms_N", "fit_signal_rms_N", "residual_exceeds_signal",
+                "physical")
+"""Sanity columns of ``cutting_coefficients.csv`` after ``name, value, ci_low, ci_high, unit``
+(issue 21 point 5; see :func:`coefficient_flags`)."""
+
+
+def _fit_rms(fitted_N: np.ndarray, measured_N: np.ndarray, groups: np.ndarray
+             ) -> tuple[float, float]:
+    """``(residual_rms_N, signal_rms_N)`` of one least-squares fit of mean forces.
+
+    The residual is ``measured − fitted``; the signal is the part of the fitted mean forces
+    that the fit explains beyond a constant: the fitted values minus their mean within each
+    group of equations (one group per force axis). For ordinary least squares with an
+    intercept (the edge term) the two add up to the spread of the measurements, so the
+    residual exceeds the signal exactly when the coefficient of determination R² < 1/2.
+    """
+    fitted = np.asarray(fitted_N, float)
+    centred = fitted.copy()
+    for g in np.unique(groups):
+        sel = groups == g
+        centred[sel] -= fitted[sel].mean()
+    resid = np.asarray(measured_N, float) - fitted
+    return float(np.sqrt(np.mean(resid ** 2))), float(np.sqrt(np.mean(centred ** 2)))
+
+
+def coefficient_flags(table: pd.DataFrame, fit_rms: Mapping[str, tuple[float, float]]
+                      ) -> pd.DataFrame:
+    """Add the sanity columns :data:`FLAG_COLUMNS` to an identified-coefficient table.
+
+    Mechanistic cutting and edge coefficients are positive (Altintas 2012, §2.4: the
+    tangential, radial and axial forces grow with the chip and the edge rubs against the
+    feed), so a negative identified value cannot be physical. A coefficient whose fit leaves
+    a residual larger than the signal it explains (:func:`_fit_rms`: the scatter of the mean
+    forces about the fit exceeds the change the feed makes) is not resolved by the cuts.
+
+    Parameters
+    ----------
+    table
+        ``name, value, ci_low, ci_high, unit`` (:func:`identify_cutting_coefficients`).
+    fit_rms
+        Coefficient name → ``(residual_rms_N, signal_rms_N)`` of the fit it comes from.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``table`` with ``negative`` (value < 0), ``fit_residual_rms_N``, ``fit_signal_rms_N``
+        [N], ``residual_exceeds_signal`` and ``physical`` (neither flag set).
+    """
+    out = table.copy()
+    out["negative"] = out["value"].to_numpy(float) < 0
+    out["fit_residual_rms_N"] = [fit_rms[n][0] for n in out["name"]]
+    out["fit_signal_rms_N"] = [fit_rms[n][1] for n in out["name"]]
+    out["residual_exceeds_signal"] = (out["fit_residual_rms_N"].to_numpy()
+                                      > out["fit_signal_rms_N"].to_numpy())
+    out["physical"] = ~(out["negative"] | out["residual_exceeds_signal"])
+    return out
+
 
 def identify_cutting_coefficients(feed_per_tooth_mm: np.ndarray, depth_mm: np.ndarray,
                                   mean_forces_N: np.ndarray, *, flutes=2,
@@ -375,7 +432,9 @@ def identify_cutting_coefficients(feed_per_tooth_mm: np.ndarray, depth_mm: np.nd
     -------
     pandas.DataFrame
         Columns ``name, value, ci_low, ci_high, unit``; rows Ktc, Krc, Kac (N/mm²), Kte, Kre,
-        Kae (N/mm).
+        Kae (N/mm); then the sanity columns ``negative, fit_residual_rms_N,
+        fit_signal_rms_N, residual_exceeds_signal, physical`` (:func:`coefficient_flags`; the
+        fit of a coefficient is the regression of its force axis).
     """
     from scipy import stats
 
@@ -398,16 +457,22 @@ def identify_cutting_coefficients(feed_per_tooth_mm: np.ndarray, depth_mm: np.nd
                          f"cutting coefficients (got {c.size} cuts)")
     t = stats.t.ppf(0.5 + confidence / 2, c.size - 2)
     rows = {}
+    rms = {}
     for i, ax in enumerate("xyz"):
         fit = stats.linregress(c, F[:, i] / na)
+        fitted_N = (fit.intercept + fit.slope * c) * na
+        for name in _NAMES[ax]:
+            rms[name] = _fit_rms(fitted_N, F[:, i], np.zeros(c.size))
         for kind, val, se, factor in (("c", fit.slope, fit.stderr, _SLOPE_FACTOR[ax]),
                                       ("e", fit.intercept, fit.intercept_stderr,
                                        _INTERCEPT_FACTOR[ax])):
             name = _NAMES[ax][0 if kind == "c" else 1]
             lo, hi = sorted((factor * (val - t * se), factor * (val + t * se)))
             rows[name] = (factor * val, lo, hi)
-    return pd.DataFrame([{"name": n, "value": rows[n][0], "ci_low": rows[n][1],
-                          "ci_high": rows[n][2], "unit": u} for n, u in COEFFICIENT_UNITS.items()])
+    table = pd.DataFrame([{"name": n, "value": rows[n][0], "ci_low": rows[n][1],
+                           "ci_high": rows[n][2], "unit": u}
+                          for n, u in COEFFICIENT_UNITS.items()])
+    return coefficient_flags(table, rms)
 
 
 def identify_cutting_coefficients_general(feed_per_tooth_mm, depth_mm, mean_forces_N, *,
@@ -435,7 +500,8 @@ def identify_cutting_coefficients_general(feed_per_tooth_mm, depth_mm, mean_forc
     Returns
     -------
     pandas.DataFrame
-        As :func:`identify_cutting_coefficients`.
+        As :func:`identify_cutting_coefficients` (the fit of Ktc, Krc, Kte, Kre is the joint
+        feed/cross-feed problem, that of Kac, Kae the axial one).
     """
     from scipy import stats
 
@@ -463,15 +529,20 @@ def identify_cutting_coefficients_general(feed_per_tooth_mm, depth_mm, mean_forc
         se = np.sqrt(np.diag(s2 * np.linalg.pinv(A.T @ A)))
         return theta, se * stats.t.ppf(0.5 + confidence / 2, dof)
 
-    t_xy, h_xy = ols(np.vstack([Ax, Ay]), np.concatenate([F[:, 0], F[:, 1]]))
+    A_xy, y_xy = np.vstack([Ax, Ay]), np.concatenate([F[:, 0], F[:, 1]])
+    t_xy, h_xy = ols(A_xy, y_xy)
     t_z, h_z = ols(Az, F[:, 2])
+    rms_xy = _fit_rms(A_xy @ t_xy, y_xy, np.repeat([0, 1], m))
+    rms_z = _fit_rms(Az @ t_z, F[:, 2], np.zeros(m))
+    rms = {n: rms_xy for n in ("Ktc", "Krc", "Kte", "Kre")} | {"Kac": rms_z, "Kae": rms_z}
     vals = dict(zip(("Ktc", "Krc", "Kte", "Kre", "Kac", "Kae"),
                     zip(np.concatenate([t_xy, t_z]), np.concatenate([h_xy, h_z]), strict=True),
                     strict=True))
-    return pd.DataFrame([{"name": n, "value": float(vals[n][0]),
-                          "ci_low": float(vals[n][0] - vals[n][1]),
-                          "ci_high": float(vals[n][0] + vals[n][1]), "unit": u}
-                         for n, u in COEFFICIENT_UNITS.items()])
+    table = pd.DataFrame([{"name": n, "value": float(vals[n][0]),
+                           "ci_low": float(vals[n][0] - vals[n][1]),
+                           "ci_high": float(vals[n][0] + vals[n][1]), "unit": u}
+                          for n, u in COEFFICIENT_UNITS.items()])
+    return coefficient_flags(table, rms)
 
 
 # ---- chunked spectral analysis ------------------------------------------------------------
@@ -894,7 +965,9 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
     dominant_power, kinematic_per_mm``), per-cut mean forces, harmonic powers, and the
     identified cutting coefficients (:func:`identify_cutting_coefficients`); ``peaks.csv``
     then carries the sanity flags ``kinematic_resolution_per_mm, kinematic_below_resolution,
-    dominant_below_resolution`` (:func:`force_cut_dataset`). The spectra
+    dominant_below_resolution`` (:func:`force_cut_dataset`) and the coefficients theirs
+    (:func:`coefficient_flags`: ``negative, fit_residual_rms_N, fit_signal_rms_N,
+    residual_exceeds_signal, physical``). The spectra
     dataset also holds the model force shape of thesis Fig 3.2 over one revolution with the
     identified coefficients (``model_force``).
 

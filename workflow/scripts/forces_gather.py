@@ -28,3 +28,7 @@ write_table(coeffs, out.coefficients)
 write_table(means, out.means)
 write_table(harmonics, out.harmonics)
 log.info("coefficients:\n%s", coeffs.to_string(index=False))
+suspect = coeffs.loc[~coeffs["physical"], "name"].tolist()
+if suspect:
+    log.warning("coefficients that cannot be physical (negative, or a fit residual larger "
+                "than the signal): %s", ", ".join(suspect))

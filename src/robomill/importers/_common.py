@@ -140,13 +140,15 @@ def time_axis(source: Path, t: np.ndarray | None, n: int, fs_hz: float | None, *
     * With coarse or repeated time stamps (resolution coarser than the sampling step, as
       tracker software prints them to the millisecond or the second) and a stated ``fs_hz``,
       the axis is rebuilt as ``t0 + k/fs_hz`` provided the stamps span the same duration to
-      within their resolution plus one step.
+      within their resolution plus one step and every inner stamp holds the samples its
+      interval holds at ``fs_hz`` (±1.5; :func:`_check_stamp_counts`).
     * Without time stamps the axis is ``k/fs_hz``.
 
     Raises
     ------
     RawDataError
-        No rate at all, stamps going backwards, a gap, or stamps that disagree with ``fs_hz``.
+        No rate at all, stamps going backwards, a gap, stamps that disagree with ``fs_hz``,
+        or a count per coarse stamp that is not the rate's.
     """
     from robomill.io.tables import fit_time_grid
 
@@ -159,8 +161,9 @@ def time_axis(source: Path, t: np.ndarray | None, n: int, fs_hz: float | None, *
     d = np.diff(t)
     back = np.flatnonzero(d < 0)
     if back.size:
-        raise RawDataError(source, f"time goes backwards ({t[back[0]]!r} then "
-                           f"{t[back[0] + 1]!r})", where=f"sample {back[0] + 1}, column {column}",
+        raise RawDataError(source, f"time goes backwards ({float(t[back[0]]):g} then "
+                           f"{float(t[back[0] + 1]):g})",
+                           where=f"sample {back[0] + 1}, column {column}",
                            expected="non-decreasing time stamps")
     grid = fit_time_grid(t) if np.all(d > 0) else None
     if grid is not None:
@@ -173,8 +176,11 @@ def time_axis(source: Path, t: np.ndarray | None, n: int, fs_hz: float | None, *
     if not fs_hz:
         pos = d[d > 0]
         res = float(pos.min()) if pos.size else 0.0
+        span = float(t[-1] - t[0])
+        hint = (f"; {n} samples over {span:.6g} s of stamps suggest about "
+                f"{n / (span + res):.4g} Hz" if span + res > 0 else "")
         raise RawDataError(source, "time stamps are coarse or uneven "
-                           f"(finest step {res:.3g} s) and no rate was stated",
+                           f"(finest step {res:.3g} s) and no rate was stated" + hint,
                            where=f"column {column}",
                            expected="--fs-hz RATE to rebuild t0 + k/fs")
     pos = d[d > 0]
@@ -192,8 +198,31 @@ def time_axis(source: Path, t: np.ndarray | None, n: int, fs_hz: float | None, *
         raise RawDataError(source, f"time stamps span {span:.6g} s, {n} samples at "
                            f"{fs_hz:g} Hz span {want:.6g} s", where=f"column {column}",
                            expected=f"the stated --fs-hz (stamps resolved to {res:.3g} s)")
+    _check_stamp_counts(source, t, fs_hz, column=column)
     return t[0] + step * np.arange(n), float(fs_hz), float(np.max(np.abs(
         t - (t[0] + step * np.arange(n)))))
+
+
+def _check_stamp_counts(source: Path, t: np.ndarray, fs_hz: float, *, column: str) -> None:
+    """With repeated (coarse) stamps, every stamp between the first and the last must hold
+    the samples its interval holds at ``fs_hz`` (Δt·fs ± 1.5): a stream whose count per stamp
+    drifts (a tracker triggered by distance, not time, or dropping points) has no uniform
+    rate to rebuild."""
+    values, start, counts = np.unique(t, return_index=True, return_counts=True)
+    if values.size < 3 or counts.max() < 2:
+        return
+    expect = np.diff(values)[:-1] * fs_hz  # inner stamps: up to the next stamp
+    got = counts[1:-1]
+    bad = np.flatnonzero(np.abs(got - expect) > 1.5)
+    if bad.size:
+        i = int(bad[0]) + 1
+        raise RawDataError(source, f"the stamp at {values[i] - values[0]:.6g} s holds "
+                           f"{int(counts[i])} samples, {fs_hz:g} Hz gives {expect[i - 1]:.4g} "
+                           f"({bad.size} of {got.size} inner stamps differ: not a uniform "
+                           "stream, or samples dropped)",
+                           where=f"sample {int(start[i])}, column {column}",
+                           expected=f"about {expect[i - 1]:.4g} samples per stamp "
+                                    f"(--fs-hz {fs_hz:g}); a time-triggered export")
 
 
 def write_csv(path: Path, header: Sequence[str], columns: Sequence[np.ndarray],

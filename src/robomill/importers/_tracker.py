@@ -7,7 +7,15 @@ or the second, several points sharing one stamp) or absent; the contract needs `
 the tracker rate, so the axis is rebuilt as ``t0 + k/fs`` from the stated ``--fs-hz``
 (:func:`robomill.importers._common.time_axis`), checked against the stamps where they exist.
 Coordinates are converted to mm from the export's unit (``--units``, or a ``Units`` line /
-a unit in the column names).
+a unit in the column names / SpatialAnalyzer's ``// AXES = CARTESIAN: X, Y, Z (mm)`` line).
+
+SpatialAnalyzer's own "Export Points to ASCII" writes **no header row** (SA User Manual,
+"Exporting ASCII Formatted Points"; a real SA 2024.2 export is described in
+``tests/data/real/spatialanalyzer/SOURCE.md``): ``//`` comment lines (version, frame, axes
+and unit), then per point the name fields chosen in the export dialog (``Collection, Group,
+Target`` by default; ``--name-fields`` 0–3), X, Y, Z and, when selected, a time stamp
+(``02/12/25 16:52:45``: to the second), separated by commas or spaces. Such a file is read
+by position when no header row is found.
 """
 
 from __future__ import annotations
@@ -77,16 +85,76 @@ def _parse_times(source: Path, texts: Sequence[str], start_line: int, column: st
     return (stamps - stamps.iloc[0]).dt.total_seconds().to_numpy(dtype=float)
 
 
+_AXES_LINE = re.compile(r"(?i)^axes\s*=\s*([A-Za-z]+)\s*:(.*?)(?:\(\s*([A-Za-z]+)\s*\))?\s*$")
+_NAME_FIELDS = ("Collection", "Group", "Target")
+
+
+def _headerless(source: Path, lines: list[str], *, name_fields: int | None, what: str
+                ) -> tuple[int, str | None, list[str]]:
+    """Layout of an export without a header row (SpatialAnalyzer's ASCII point export):
+    ``(first data line index, separator, column names)``."""
+    first = next((i for i, ln in enumerate(lines)
+                  if ln.strip() and not ln.lstrip().startswith(("//", "#"))), None)
+    if first is None:
+        raise RawDataError(source, "no point rows after the comment lines", where="file",
+                           expected=what)
+    line = lines[first]
+    sep = "," if "," in line else ("\t" if "\t" in line else None)
+    f = split_fields(line, sep)
+    k = 3 if name_fields is None else name_fields
+    coords = f[k:k + 3]
+    if len(coords) < 3 or not all(is_number(c) for c in coords):
+        raise RawDataError(source, "no header row naming X, Y, Z, and the first row has no "
+                           f"X, Y, Z after {k} name field(s) ({line.strip()[:80]!r})",
+                           where=f"line {first + 1}",
+                           expected=what + "; or, for an export without a header row, "
+                                    "--name-fields N (the name fields before X, Y, Z)")
+    names = list(_NAME_FIELDS[3 - k:]) + ["X", "Y", "Z"]
+    if len(f) > k + 3:
+        names.append("Time")
+    return first, sep, names
+
+
+def _one_group(source: Path, rows: list, nk: int, group: str | None) -> list:
+    """The rows of one point group (``Collection::Group`` from the name fields)."""
+    keys = ["::".join(f[:nk - 1]) for _, f in rows]
+    order = list(dict.fromkeys(keys))
+    if group is not None:
+        keep = [r for r, k in zip(rows, keys, strict=True)
+                if group in (k, k.split("::")[-1])]
+        if not keep:
+            raise RawDataError(source, f"no rows of point group {group!r}",
+                               where="option --group", expected="one of " + ", ".join(order[:8]))
+        return keep
+    if len(order) > 1:
+        counts = {k: keys.count(k) for k in order}
+        first_other = next(r[0] for r, k in zip(rows, keys, strict=True) if k != order[0])
+        raise RawDataError(source, f"rows of {len(order)} point groups ("
+                           + ", ".join(f"{k}: {n} rows" for k, n in list(counts.items())[:5])
+                           + ")", where=f"line {first_other}",
+                           expected="one point stream per export, or --group GROUP")
+    return rows
+
+
 def read_points(source: Path, *, fmt: str, what: str,
-                time_names: Sequence[str], units: str | None, time_unit: str = "s"
-                ) -> tuple[np.ndarray, np.ndarray | None, dict]:
+                time_names: Sequence[str], units: str | None, time_unit: str = "s",
+                headerless: bool = False, name_fields: int | None = None,
+                group: str | None = None) -> tuple[np.ndarray, np.ndarray | None, dict]:
     """Read a point export: ``(points_mm (n, 3), times_s (n,) or None, info)``.
+
+    With ``headerless`` (SpatialAnalyzer), a file without a header row is read by position:
+    ``name_fields`` name fields (default 3), X, Y, Z, then an optional time stamp (the
+    fields after Z joined, so that a space-separated ``date time`` stays one stamp). An SA
+    export can hold several point groups; the stream must be one: ``group`` (``Group`` or
+    ``Collection::Group``) picks it, else a file with rows of several groups is refused.
 
     Raises
     ------
     RawDataError
-        Missing/empty/binary file; no header row with X, Y, Z; an unknown unit; text in a
-        coordinate; a short (truncated) row; unreadable time stamps.
+        Missing/empty/binary file; no header row with X, Y, Z (nor, with ``headerless``, a
+        first row with numbers where X, Y, Z should be); an unknown unit or non-Cartesian
+        axes; text in a coordinate; a short (truncated) row; unreadable time stamps; rows
+        of several point groups without ``group``, or a ``group`` that has no rows.
     """
     text = read_text(source, what)
     lines = text.splitlines()
@@ -99,6 +167,15 @@ def read_points(source: Path, *, fmt: str, what: str,
         if m and m[2].lower() in UNITS_MM:
             file_unit = m[2].lower()
             continue
+        m = _AXES_LINE.match(stripped) if line.lstrip().startswith("//") else None
+        if m:
+            if m[1].lower() != "cartesian":
+                raise RawDataError(source, f"coordinates are {m[1].upper()}",
+                                   where=f"line {i + 1}",
+                                   expected="a Cartesian export (AXES = CARTESIAN: X, Y, Z)")
+            if m[3]:
+                file_unit = m[3].lower()
+            continue
         for s in ("\t", ";", ",", None):
             names = [_base(f) for f in split_fields(stripped, s)]
             if {"x", "y", "z"} <= set(names):
@@ -106,11 +183,16 @@ def read_points(source: Path, *, fmt: str, what: str,
                 break
         if header_i is not None:
             break
-    if header_i is None:
+    if header_i is None and not headerless:
         raise RawDataError(source, "no header row naming X, Y, Z", where="header (first 200 lines)",
                            expected=what)
-    head_line = lines[header_i].strip().lstrip("/").lstrip("#").strip()
-    fields = split_fields(head_line, sep)
+    if header_i is None:
+        data_i, sep, fields = _headerless(source, lines, name_fields=name_fields, what=what)
+        header_i = data_i - 1
+        joined = True
+    else:
+        fields = split_fields(lines[header_i].strip().lstrip("/").lstrip("#").strip(), sep)
+        joined = False
     names = [_base(f) for f in fields]
     col_units = {_unit_in(f) for f in fields if _base(f) in ("x", "y", "z")} - {None}
     unit = units or (col_units.pop() if len(col_units) == 1 else None) or file_unit or "mm"
@@ -123,7 +205,13 @@ def read_points(source: Path, *, fmt: str, what: str,
     for k, line in enumerate(lines[header_i + 1:], start=header_i + 2):
         if not line.strip() or line.lstrip().startswith(("//", "#")):
             continue
-        rows.append((k, split_fields(line, sep)))
+        f = split_fields(line, sep)
+        if joined and len(f) > len(fields):  # "date time" split by a space separator
+            f = f[:len(fields) - 1] + [" ".join(f[len(fields) - 1:])]
+        rows.append((k, f))
+    nk = len(fields) - 3 - (1 if fields[-1] == "Time" else 0) if joined else 0
+    if joined and nk >= 2:
+        rows = _one_group(source, rows, nk, group)
     decimal_comma = sep not in (",", None) and any("," in f[ix[0]] for _, f in rows[:20]
                                                      if len(f) > ix[0])
     ncol = len(fields)
@@ -132,7 +220,7 @@ def read_points(source: Path, *, fmt: str, what: str,
     for r, (lineno, f) in enumerate(rows):
         pts[r] = row_floats(source, f, ix, fields, lineno=lineno, ncol=ncol,
                             last=r == len(rows) - 1, decimal_comma=decimal_comma,
-                            header="header", expected="a coordinate")
+                            header="first row" if joined else "header", expected="a coordinate")
         if it is not None:
             times.append(f[it])
     if not np.all(np.isfinite(pts)):
@@ -149,9 +237,11 @@ def read_points(source: Path, *, fmt: str, what: str,
 
 
 def convert_points(sources: list[Path], staging: Path, args: argparse.Namespace, *, fmt: str,
-                   what: str, time_names: Sequence[str]) -> list[dict]:
+                   what: str, time_names: Sequence[str], headerless: bool = False
+                   ) -> list[dict]:
     """Write ``staging/tracker/<dir>_f<feed>.csv`` per source; return the manifest entries
-    ``{"path", "kind": "tracker", "direction", "feed_mm_s", "fs_hz"}``."""
+    ``{"path", "kind": "tracker", "direction", "feed_mm_s", "fs_hz"}`` (``headerless``: see
+    :func:`read_points`)."""
     entries = []
     direction = getattr(args, "direction", None)
     feed = getattr(args, "feed_mm_s", None)
@@ -168,7 +258,10 @@ def convert_points(sources: list[Path], staging: Path, args: argparse.Namespace,
                                where="sources", expected="one tracker export per import")
         pts, t, info = read_points(src, fmt=fmt, what=what,
                                    time_names=time_names, units=getattr(args, "units", None),
-                                   time_unit=getattr(args, "time_unit", "s"))
+                                   time_unit=getattr(args, "time_unit", "s"),
+                                   headerless=headerless,
+                                   name_fields=getattr(args, "name_fields", None),
+                                   group=getattr(args, "group", None))
         if pts.shape[0] < 2:
             raise RawDataError(src, f"only {pts.shape[0]} points", where="data rows",
                                expected="a point stream")

@@ -3,11 +3,22 @@
 A DynoWare export (Kistler Type 2825A, "Export ASCII") is a text file with
 
 1. a metadata header of ``key<sep>value`` lines — among them the sampling rate
-   (``Sampling rate``/``Sample rate``/``Abtastrate``, in Hz or kHz) and, often, the number of
+   (``Sampling rate``/``Sample rate``/``Abtastrate``, in Hz or kHz, the unit after the number
+   or in brackets in the key: ``Sampling rate [Hz]:,10000``) and, often, the number of
    samples;
 2. a channel row naming the columns (``Time``, ``Fx``, ``Fy``, ``Fz``, maybe ``Mz``…);
 3. a units row (``s``, ``N``, ``N``, ``N``);
 4. one row per sample, tab-, semicolon- or comma-separated, decimal point or decimal comma.
+
+A real DynoWare 2.5 "File → Export → Channel" CSV (see ``tests/data/real/dynoware/SOURCE.md``)
+has 18 ``Key:,value`` lines (``DynoWare,Version 2.5.1.2``, ``Path:``, ``Filename:``, …,
+``Sampling rate [Hz]:,10000``, ``Measuring time [s]:,50``, ``Samples per channel:,500001``,
+``Cycle No:,1``), then ``Time,Fx,Fy,Fz`` and ``s,N,N,N``, and the rows of the exported **time
+window** (there 8 s to 9 s of the 50 s measurement), times printed with at most four decimals.
+``Samples per channel`` is the length of the whole measurement: an export may hold fewer rows
+when its time column starts after 0 (a window; its rows then start the contract's ``t_s = 0``),
+or with ``--window``. When the Windows list separator and the decimal symbol are both a comma,
+the rows are ambiguous and refused.
 
 The dynamometer measures the force on the *plate* (the workpiece) in the plate's axes; the
 contract wants the cutting force **on the tool** in the block frame R0 (Altintas 2012,
@@ -44,7 +55,9 @@ DESCRIPTION = "Kistler DynoWare ASCII/CSV force export"
 WHAT = "a Kistler DynoWare ASCII export (header, channel row Fx Fy Fz, units row, samples)"
 
 _RATE_KEY = re.compile(r"(sampl\w*\s*(rate|frequency)|abtast\w*|sample\s*rate|rate)", re.I)
-_COUNT_KEY = re.compile(r"(number\s+of\s+samples|samples|anzahl\s+werte|messwerte)", re.I)
+_COUNT_KEY = re.compile(r"(number\s+of\s+samples|samples(\s+per\s+channel)?|anzahl\s+werte|"
+                        r"messwerte)", re.I)
+_KEY_UNIT = re.compile(r"^(.*?)\s*[\[\(]\s*([A-Za-z]+)\s*[\]\)]\s*$")
 _TIME_NAMES = {"time", "t", "zeit", "time [s]"}
 _UNIT_N = {"n": 1.0, "kn": 1e3}
 _UNIT_S = {"s": 1.0, "ms": 1e-3}
@@ -61,6 +74,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--fs-hz", type=float, default=None,
                         help="sampling rate [Hz] when the header has none (checked against "
                              "the header and the time column otherwise)")
+    parser.add_argument("--window", action="store_true",
+                        help="the export is a time window of the measurement: do not compare "
+                             "its rows with the header's number of samples (implied when the "
+                             "time column starts after 0)")
 
 
 def _name(field: str) -> tuple[str, str | None]:
@@ -77,35 +94,50 @@ def _key_value(line: str) -> tuple[str, str]:
     return (m[1], m[2]) if m else (line.strip(), "")
 
 
+def _split_key_unit(key: str) -> tuple[str, str | None]:
+    """``'Sampling rate [Hz]'`` → ``('Sampling rate', 'hz')``; no bracket → ``(key, None)``."""
+    m = _KEY_UNIT.match(key)
+    return (m[1], m[2].lower()) if m else (key, None)
+
+
 def _rate_from_header(source: Path, lines: list[str]) -> float | None:
     for i, line in enumerate(lines, start=1):
         key, rest = _key_value(line)
-        if not rest.strip() or not _RATE_KEY.fullmatch(key):
+        key, key_unit = _split_key_unit(key)
+        rest = rest.strip().lstrip(",;\t").strip()
+        if not rest or not _RATE_KEY.fullmatch(key):
             continue
         m = re.search(r"([0-9]+(?:[.,][0-9]+)?(?:[eE][+-]?[0-9]+)?)\s*(k?hz)?", rest, re.I)
-        if not m:
-            raise RawDataError(source, f"sampling rate {rest.strip()!r} is not a number",
-                               where=f"header line {i}", expected="e.g. 'Sampling rate: 10000 Hz'")
+        unit = ((m[2] if m else None) or key_unit or "hz").lower()
+        if not m or unit not in ("hz", "khz"):
+            raise RawDataError(source, f"sampling rate {rest!r}"
+                               + (f" in {key_unit!r}" if key_unit else "") + " is not a rate",
+                               where=f"header line {i}",
+                               expected="e.g. 'Sampling rate: 10000 Hz' or "
+                                        "'Sampling rate [Hz]:,10000'")
         value = float(m[1].replace(",", "."))
-        unit = (m[2] or "hz").lower()
         return value * (1e3 if unit == "khz" else 1.0)
     return None
 
 
-def _count_from_header(lines: list[str]) -> int | None:
+def _count_from_header(lines: list[str]) -> tuple[int, str] | None:
+    """The announced number of samples and the header key that announces it."""
     for line in lines:
         key, rest = _key_value(line)
-        if _COUNT_KEY.fullmatch(key) and re.fullmatch(r"\s*\d+\s*", rest):
-            return int(rest)
+        rest = rest.strip().lstrip(",;\t").strip()
+        if _COUNT_KEY.fullmatch(key.strip()) and re.fullmatch(r"\d+", rest):
+            return int(rest), key.strip()
     return None
 
 
 def read_dynoware(source: Path, *, channels: tuple[str, str, str] = ("Fx", "Fy", "Fz"),
-                  fs_hz: float | None = None) -> tuple[np.ndarray, np.ndarray, float, float]:
+                  fs_hz: float | None = None, window: bool = False
+                  ) -> tuple[np.ndarray, np.ndarray, float, float]:
     """Read a DynoWare export: ``(t_s (n,), plate_force_N (n, 3), fs_hz, jitter_s)``.
 
     The forces are the plate's channels named ``channels`` (x, y, z), in N (``kN`` columns
-    are converted), not yet mapped to the tool (see :func:`convert`).
+    are converted), not yet mapped to the tool (see :func:`convert`). ``t_s`` starts at 0
+    (an exported window's first row).
 
     Raises
     ------
@@ -113,7 +145,10 @@ def read_dynoware(source: Path, *, channels: tuple[str, str, str] = ("Fx", "Fy",
         Missing/empty/binary file; no channel row naming the three channels (the message
         lists the columns found); a unit other than N/kN (s/ms for time); no sampling rate
         (header or ``fs_hz``) nor time column; a rate that disagrees; text in a sample row; a
-        short (truncated) row; fewer samples than the header announces; fewer than 2 samples.
+        short (truncated) row; a row with more fields than the channel row (a comma both as
+        separator and as decimal mark); more samples than the header announces, or fewer
+        when the time column starts at 0 and ``window`` is false (truncated export); fewer
+        than 2 samples.
     """
     text = read_text(source, WHAT)
     lines = text.splitlines()
@@ -183,6 +218,13 @@ def read_dynoware(source: Path, *, channels: tuple[str, str, str] = ("Fx", "Fy",
     for k, line in enumerate(rows):
         lineno = data_start + k + 1
         f = split_fields(line, sep)
+        if len(f) > ncol and any(x for x in f[ncol:]):
+            raise RawDataError(source, f"row has {len(f)} fields, the channel row has {ncol}"
+                               + (": a comma as decimal mark in a comma-separated export is "
+                                  "ambiguous" if sep == "," else ""),
+                               where=f"line {lineno}",
+                               expected=f"{ncol} fields (export again with the value delimiter "
+                                        "tab or semicolon, or with a decimal point)")
         values[k] = row_floats(source, f, range(ncol), fields, lineno=lineno, ncol=ncol,
                                last=k == len(rows) - 1, decimal_comma=decimal_comma,
                                header="channel row", expected="a number")
@@ -196,12 +238,17 @@ def read_dynoware(source: Path, *, channels: tuple[str, str, str] = ("Fx", "Fy",
     if n < 2:
         raise RawDataError(source, f"only {n} samples", where=f"line {data_start + 1}",
                            expected="at least 2 samples after the units row")
-    announced = _count_from_header(lines[:head_row])
-    if announced is not None and announced != n:
-        raise RawDataError(source, f"{n} samples, the header announces {announced}"
-                           + (" (truncated export?)" if n < announced else ""),
-                           where="samples / header 'Number of samples'",
-                           expected=f"{announced} sample rows")
+    counted = _count_from_header(lines[:head_row])
+    starts_late = t_idx is not None and values[0, t_idx] * t_scale > 0
+    if counted is not None:
+        announced, count_key = counted
+        if n > announced or (n < announced and not (window or starts_late)):
+            raise RawDataError(source, f"{n} samples, the header announces {announced}"
+                               + (" (truncated export?)" if n < announced else ""),
+                               where=f"samples / header {count_key!r}",
+                               expected=f"{announced} sample rows" + (
+                                   " (or --window for an exported time window)"
+                                   if n < announced else ""))
     rate = _rate_from_header(source, lines[:head_row])
     if rate is not None and fs_hz is not None and abs(rate - fs_hz) > 1e-3 * fs_hz:
         raise RawDataError(source, f"header sampling rate {rate:g} Hz", where="header",
@@ -226,7 +273,8 @@ def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> lis
             raise RawDataError(src, f"--channels {','.join(chans)!r} names {len(chans)} channels",
                                where="option --channels", expected="three names, e.g. Fx,Fy,Fz")
         t, plate, fs, _jitter = read_dynoware(src, channels=chans,
-                                              fs_hz=getattr(args, "fs_hz", None))
+                                              fs_hz=getattr(args, "fs_hz", None),
+                                              window=getattr(args, "window", False))
         tool = map_axes(plate, mapping)
         cut = cut_id(args, src, len(sources))
         rel = f"forces/{cut}.csv"

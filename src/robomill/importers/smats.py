@@ -6,16 +6,25 @@ documented on its "Data Format" page:
 
 * **ASCII**: whitespace- or line-separated numbers; the *first* value is the sampling
   spacing in x and the remaining values are the heights z, all in micrometres.
-* **SDF** (Surface Data File, ISO 25178-71 / EUNA 15178, ASCII variants ``aBCR-1.0``,
-  ``aISO-1.0``, ``aNIST-1.0``): a
-  header of ``Key = value`` lines (``NumPoints``, ``NumProfiles``, ``Xscale``, ``Yscale``,
-  ``Zscale`` in metres per unit, ``Zresolution``, ``Compression``, ``DataType``,
-  ``CheckType``) closed by a line ``*``, then the heights (z = value·Zscale), closed by
-  ``*``.
+* **SDF** (Surface Data File, ISO 25178-71 / EUNA 15178, ASCII variants ``aISO-1.0``,
+  ``aISO-2.0``, ``aBCR-1.0``, ``aNIST-1.0``, and the ``aBC-1.0``/``aNPL-V1.0`` spellings of
+  the NIST and NPL pages): a header of ``Key = value`` lines (``NumPoints``,
+  ``NumProfiles``, ``Xscale``, ``Yscale``, ``Zscale`` in metres per unit, ``Zresolution``,
+  ``Compression``, ``DataType``, ``CheckType``) closed by a line ``*``, then the heights
+  (z = value·Zscale) in file order, any number per line, closed by ``*`` (an optional
+  trailer follows). A non-measured point is the word ``BAD`` (ISO 25178-71; real exports of
+  Digital Surf MountainsMap write it, ``tests/data/real/smats/``): invalid points at the ends
+  of the chosen profile are dropped, inside it they are refused unless ``--dropouts
+  longest`` keeps the longest valid run (as the X3P importer does).
 
-For an SDF with several profiles ``--profile`` picks one (default 0). x is written from 0 in
-mm, z in µm. The SMATS XML exchange format named in issue 21 could not be found published
-(see ``tests/data/real/smats/SOURCE.md``); such a file is refused with a message saying so.
+For an SDF with several profiles ``--profile`` picks one (default 0, the first in the file).
+x is written from 0 in mm, z in µm.
+
+Not supported, and refused with a message that says so: binary SDF (``bISO-…``,
+``bBCR-…``: export ASCII), and an **SMATS XML** file: NIST's "Data Format" page names only
+ASCII and SDF and no publication of an XML profile layout was found
+(``tests/data/real/smats/SOURCE.md``); an X3P ``main.xml`` handed over alone is told to be
+passed as its ``.x3p`` archive.
 """
 
 from __future__ import annotations
@@ -31,20 +40,59 @@ from robomill.io.errors import RawDataError
 
 FORMAT = "smats"
 KIND = "profile"
-DESCRIPTION = "NIST SMATS profile (ASCII: spacing then heights in µm; or SDF aBCR-1.0)"
+DESCRIPTION = "NIST SMATS profile (ASCII: spacing then heights in µm; or ASCII SDF, aISO/aBCR)"
 
 WHAT = ("a NIST SMATS profile: ASCII (first value the x spacing, then heights, all in µm) "
-        "or SDF (aBCR-1.0 header, '*', heights, '*')")
+        "or ASCII SDF (aISO-1.0/aBCR-1.0 header, '*', heights, '*')")
+SUPPORTED = ("SMATS ASCII (the x spacing, then the heights, in µm), ASCII SDF (aISO-1.0, "
+             "aISO-2.0, aBCR-1.0, aNIST-1.0; BAD points), or an X3P file (robomill import "
+             "x3p); binary SDF and SMATS XML are not read")
+_SDF_MAGIC = re.compile(r"^([ab])([A-Za-z]+)-V?\d")
 _SDF_KEYS = ("NumPoints", "NumProfiles", "Xscale", "Zscale")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--profile``."""
+    """``--profile``, ``--dropouts``, ``--no-crop``."""
     parser.add_argument("--profile", type=int, default=0,
-                        help="SDF with several profiles: which one (default 0)")
+                        help="SDF with several profiles: which one (default 0, the first in "
+                             "the file)")
+    parser.add_argument("--dropouts", choices=("refuse", "longest"), default="refuse",
+                        help="SDF 'BAD' points inside the profile: refuse (default) or keep "
+                             "the longest run of valid points")
+    parser.add_argument("--no-crop", dest="crop", action="store_false",
+                        help="refuse 'BAD' points at the ends instead of dropping them")
 
 
-def _read_sdf(source: Path, lines: list[str], profile: int) -> tuple[np.ndarray, np.ndarray]:
+def _valid_run(source: Path, z: np.ndarray, *, profile: int, crop: bool, dropouts: str
+               ) -> slice:
+    """The slice of ``z`` to keep: without NaN ('BAD') points (see the module docstring)."""
+    ok = np.isfinite(z)
+    idx = np.flatnonzero(ok)
+    if idx.size < 2:
+        raise RawDataError(source, f"profile {profile} has {idx.size} valid points",
+                           where=f"data section, profile {profile}",
+                           expected="a profile of measured points (choose another --profile)")
+    i0, i1 = int(idx[0]), int(idx[-1]) + 1
+    if not crop and (i0 > 0 or i1 < z.size):
+        raise RawDataError(source, "'BAD' points at the ends of the profile",
+                           where=f"profile {profile}, point {0 if i0 > 0 else i1}",
+                           expected="measured points only (or drop --no-crop)")
+    inner = np.flatnonzero(~ok[i0:i1])
+    if inner.size and dropouts == "longest":
+        edges = np.flatnonzero(np.diff(np.r_[0, ok.astype(np.int8), 0]))
+        starts, stops = edges[::2], edges[1::2]
+        j = int(np.argmax(stops - starts))
+        return slice(int(starts[j]), int(stops[j]))
+    if inner.size:
+        raise RawDataError(source, f"{inner.size} 'BAD' point(s) inside the profile",
+                           where=f"profile {profile}, point {i0 + int(inner[0])}",
+                           expected="a profile without dropouts (choose another --profile, or "
+                                    "--dropouts longest)")
+    return slice(i0, i1)
+
+
+def _read_sdf(source: Path, lines: list[str], profile: int, *, crop: bool = True,
+              dropouts: str = "refuse") -> tuple[np.ndarray, np.ndarray]:
     header: dict[str, str] = {}
     end = None
     for i, line in enumerate(lines[1:], start=1):
@@ -84,46 +132,57 @@ def _read_sdf(source: Path, lines: list[str], profile: int) -> tuple[np.ndarray,
             closed = True
             break
         for tok in line.split():
+            if tok.upper() == "BAD":
+                body.append(np.nan)
+                continue
             try:
                 body.append(float(tok))
             except ValueError:
                 raise RawDataError(source, f"value {tok!r} is not a number", where=f"line {i}",
-                                   expected="height values") from None
+                                   expected="height values (or BAD)") from None
     want = npts * nprof
     if len(body) != want:
         raise RawDataError(source, f"{len(body)} height values, the header announces "
                            f"{npts}×{nprof} = {want}" + ("" if closed else " (truncated?)"),
                            where="data section", expected=f"{want} values closed by '*'")
     z = np.asarray(body).reshape(nprof, npts)[profile] * zscale * 1e6
-    x = np.arange(npts) * xscale * 1e3
-    return x, z
+    keep = _valid_run(source, z, profile=profile, crop=crop, dropouts=dropouts)
+    x = np.arange(npts)[keep] * xscale * 1e3
+    return x - x[0], z[keep]
 
 
-def read_smats(source: Path, *, profile: int = 0) -> tuple[np.ndarray, np.ndarray]:
-    """Read one profile: ``(x_mm (n,), z_um (n,))``.
+def read_smats(source: Path, *, profile: int = 0, crop: bool = True,
+               dropouts: str = "refuse") -> tuple[np.ndarray, np.ndarray]:
+    """Read one profile: ``(x_mm (n,), z_um (n,))``, x from 0.
 
     Raises
     ------
     RawDataError
-        Missing/empty/binary file; an XML file (format not published); text in the data; a
-        spacing ≤ 0; fewer than 2 heights; for SDF, a missing header key, an unclosed header,
-        a value count different from ``NumPoints × NumProfiles`` (truncated), ``--profile``
-        out of range.
+        Missing/empty/binary file; an XML file (no SMATS XML layout is published; an X3P
+        ``main.xml`` is named as such); a binary SDF; text in the data; a spacing ≤ 0; fewer
+        than 2 heights; for SDF, a missing header key, an unclosed header, a value count
+        different from ``NumPoints × NumProfiles`` (truncated), ``--profile`` out of range,
+        'BAD' points inside the profile (unless ``dropouts="longest"``) or at its ends with
+        ``crop=False``.
     """
     source = Path(source)
     text = read_text(source, WHAT)
     lines = text.splitlines()
     first = lines[0].strip() if lines else ""
     if first.startswith("<"):
-        raise RawDataError(source, "XML profile file: the SMATS XML layout is not published, "
-                           "so it cannot be read reliably", where="line 1",
-                           expected="SMATS ASCII or SDF (export the profile as SDF or ASCII),"
-                                    " or an X3P file (robomill import x3p)")
-    if re.match(r"^[ab](BCR|ISO|NIST)-\d", first):
-        if first.startswith("b"):
-            raise RawDataError(source, f"binary SDF ({first[:8]})", where="line 1",
-                               expected="an ASCII SDF (aBCR-1.0, aISO-1.0, aNIST-1.0)")
-        x, z = _read_sdf(source, lines, profile)
+        if "ISO5436_2" in text[:4096]:
+            raise RawDataError(source, "the main.xml of an X3P (ISO 25178-72) file",
+                               where="line 1",
+                               expected="the .x3p archive itself: robomill import x3p FILE.x3p")
+        raise RawDataError(source, "XML profile file: no SMATS XML layout is published, so "
+                           "it cannot be read reliably", where="line 1",
+                           expected=SUPPORTED + " (export the profile as ASCII or SDF)")
+    magic = _SDF_MAGIC.match(first)
+    if magic:
+        if magic[1] == "b":
+            raise RawDataError(source, f"binary SDF ({first[:9]})", where="line 1",
+                               expected="an ASCII SDF (aISO-1.0, aBCR-1.0, …): " + SUPPORTED)
+        x, z = _read_sdf(source, lines, profile, crop=crop, dropouts=dropouts)
     else:
         values = []
         for i, line in enumerate(lines, start=1):
@@ -154,7 +213,9 @@ def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> lis
     entries = []
     for src in sources:
         src = Path(src)
-        x_mm, z_um = read_smats(src, profile=getattr(args, "profile", 0))
+        x_mm, z_um = read_smats(src, profile=getattr(args, "profile", 0),
+                                crop=getattr(args, "crop", True),
+                                dropouts=getattr(args, "dropouts", "refuse"))
         cut = cut_id(args, src, len(sources))
         rel = f"profiles/{cut}.csv"
         write_csv(staging / rel, ("x_mm", "z_um"), (x_mm, z_um), ("%.9g", "%.6g"))

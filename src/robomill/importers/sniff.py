@@ -47,7 +47,8 @@ def sniff(path: str | Path) -> str | None:
     """The importer format a file looks like (``"dynoware"``, ``"tdms"``, …), or None.
 
     Evidence, in order: the TDMS lead-in tag ``TDSm``; a zip archive holding ``main.xml``
-    (X3P); an SDF first line ``aBCR-``/``aISO-``/``aNIST-`` or an XML file naming SMATS; the
+    (X3P); an SDF first line (``aISO-1.0``, ``aBCR-1.0``, … with ``NumPoints``) or an XML file
+    naming SMATS; the
     words Kistler/DynoWare; SpatialAnalyzer/``::`` point names with ``//`` comments; FARO; a
     UFF data set (``-1`` delimiter line then a set number such as 58).
     """
@@ -60,7 +61,7 @@ def sniff(path: str | Path) -> str | None:
         return "x3p" if b"main.xml" in head else None
     text = head.decode("utf-8", errors="replace")
     lower = text.lower()
-    if re.match(r"^\s*a(BCR|ISO|NIST)-\d", text):
+    if re.match(r"^\s*[ab][A-Za-z]+-V?\d", text) and "numpoints" in lower:
         return "smats"
     if text.lstrip().startswith("<") and "smats" in lower:
         return "smats"
