@@ -119,6 +119,13 @@ def test_experiment_defaults_fill_missing_process_keys():
     assert slot.loc[0, "radial_immersion"] == 1.0 and slot.loc[0, "milling"] == "slot"
 
 
+def test_artefact_path_directions_are_labelled():
+    assert direction_label("45 deg") == "45°" and direction_label("mx") == "−X"
+    t = with_design(pd.DataFrame({"cut": ["a", "b"], "direction": ["45 deg", "mx"],
+                                  "feed_mm_s": [2.0, 2.0]}))
+    assert list(t["direction"]) == ["45°", "−X"] and list(t["direction_deg"]) == [45.0, 180.0]
+
+
 def test_bad_inputs():
     with pytest.raises(ValueError, match="neither a direction name"):
         direction_label(None, None)
@@ -155,3 +162,4 @@ def test_span():
     assert span([1.667, 6.667]) == "1.67–6.67"
     assert span([600, 1200], ".0f") == "600–1200"
     assert span([]) == "none"
+    assert span([-0.88, -0.66]) == "-0.88 to -0.66"

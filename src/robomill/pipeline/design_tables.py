@@ -41,12 +41,15 @@ FACTOR_NAMES = {"set": ("set", "sets"), "segment": ("segment", "segments"),
 
 def direction_label(direction: Any, direction_deg: Any = None) -> str:
     """The feed direction of a cut as printed: ``+X``, ``−Y`` … for a named direction (thesis
-    §2.1), ``45°`` for one given as ``direction_deg`` (0 = +X, counter-clockwise)."""
+    §2.1), ``45°`` for one given as ``direction_deg`` (0 = +X, counter-clockwise) or as the
+    artefacts' path direction ``"45 deg"``."""
     if isinstance(direction, str) and direction in DIRECTION_LABELS:
         return DIRECTION_LABELS[direction]
     if isinstance(direction, str) and (direction in DIRECTION_LABELS.values()
                                        or direction.endswith("°")):
         return direction  # already a label
+    if isinstance(direction, str) and direction.endswith(" deg"):  # an artefact's path
+        return f"{float(direction[:-4]):g}°"  # direction (robomill.surface.path_direction)
     if direction_deg is not None and not pd.isna(direction_deg):
         return f"{float(direction_deg):g}°"
     raise ValueError(f"direction_label: a cut has neither a direction name ({direction!r}) "
@@ -98,10 +101,12 @@ def with_design(cuts: pd.DataFrame, experiment: Mapping[str, Any] | None = None
         degs = out["direction_deg"] if "direction_deg" in out else \
             pd.Series(np.nan, index=out.index)
         by_label = {lab: DIRECTION_DEG[n] for n, lab in DIRECTION_LABELS.items()}
-        out["direction_deg"] = [float(g) if not pd.isna(g) else
-                                DIRECTION_DEG.get(n, by_label.get(n, np.nan))
-                                for n, g in zip(names, degs, strict=True)]
         out["direction"] = [direction_label(n, g) for n, g in zip(names, degs, strict=True)]
+        out["direction_deg"] = [float(g) if not pd.isna(g) else
+                                DIRECTION_DEG.get(n, by_label.get(lab, np.nan))
+                                if lab[-1] != "°" else float(lab[:-1])
+                                for n, g, lab in zip(names, degs, out["direction"],
+                                                     strict=True)]
     return out
 
 
@@ -319,9 +324,12 @@ def dominant_wavelengths(peaks: pd.DataFrame, *, by: str = "band",
 
 
 def span(values: Sequence[float] | pd.Series, fmt: str = ".2f") -> str:
-    """``"1.67–6.67"`` for a range of values, ``"3.33"`` when they are all one value."""
+    """``"1.67–6.67"`` for a range of values (``"-0.88 to -0.66"`` below zero), ``"3.33"``
+    when they are all one value."""
     v = pd.Series(values, dtype=float).dropna()
     if not len(v):
         return "none"
     lo, hi = v.min(), v.max()
-    return f"{lo:{fmt}}" if f"{lo:{fmt}}" == f"{hi:{fmt}}" else f"{lo:{fmt}}–{hi:{fmt}}"
+    if f"{lo:{fmt}}" == f"{hi:{fmt}}":
+        return f"{lo:{fmt}}"
+    return f"{lo:{fmt}}{' to ' if lo < 0 else '–'}{hi:{fmt}}"
