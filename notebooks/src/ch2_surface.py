@@ -95,7 +95,8 @@ for i, d in enumerate(directions):
                    "every feed (offset 15 µm per feed)", number=13 + ["px", "py", "my"].index(d))
     else:
         num.figure(f"profiles_{d}", f"Profiles of the cuts along {labels[d]} (offset 15 µm "
-                   "per cut)", number=13 + i)
+                   "per cut)", number=13,
+                   part="abcdefghijklmnopqrstuvwxyz"[i] if len(directions) > 1 else "")
 num.figure("spectrum", "Normalized amplitude spectrum A(k) of one profile, waviness and "
            "roughness ranges (eq. 2.1)", number=16)
 for i, s in enumerate(sets):
