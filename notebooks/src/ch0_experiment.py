@@ -17,6 +17,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
+from matplotlib.patches import Patch
 
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import (
@@ -114,9 +115,8 @@ else:
     axs[0].set_yticks(y, label)
     axs[0].invert_yaxis()
     if first:
-        for v, c in colour.items():
-            axs[1].bar(0, 0, color=c, label=format_factor(first, v))
-        axs[1].legend(fontsize=8, title=first)
+        axs[1].legend(handles=[Patch(color=c, label=format_factor(first, v))
+                               for v, c in colour.items()], fontsize=8, title=first)
     fig.suptitle("Feed per tooth c = v / (N n) and tooth passing N n / 60, per cut")
     fig.tight_layout()
 save_figure(fig, fig_dir, num.file("feed_per_tooth"))
