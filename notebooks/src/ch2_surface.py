@@ -1,12 +1,12 @@
 # %% [markdown]
 # # Chapter 2 — Surface irregularities
 #
-# A stylus profilometer traced the floor of every slot along the feed direction (thesis §2.2).
+# A stylus profilometer traced the floor of every cut along the feed direction (thesis §2.2).
 # Each profile is detrended (stylus tilt), split by the ISO 16610-21 Gaussian filter into
 # waviness and roughness, and analysed with the thesis' spectra (eqs. 2.1–2.3: normalized
 # amplitude A(k) and power P(k), one-sided, frequency k·fs/N in mm⁻¹) and its RMS by
-# Parseval (eq. 2.6) on equal segments — 2.5 mm for waviness (Table 2.1), 0.25 mm for
-# roughness (Table 2.2). Dominant peaks are classified across feeds: constant *spatial*
+# Parseval (eq. 2.6) on equal segments — 2.5 mm for waviness, 0.25 mm for roughness (the
+# thesis' Tables 2.1 and 2.2 for its design; per cut for any other). Dominant peaks are classified across feeds: constant *spatial*
 # frequency → kinematic (joint positions, gears); constant *temporal* frequency → dynamic
 # (vibration modes, tooth passing).
 

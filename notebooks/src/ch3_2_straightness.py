@@ -2,7 +2,7 @@
 # # Chapter 3.2 — Path straightness and the gear-mesh frequencies
 #
 # A laser tracker followed a target on the robot flange while the robot moved, without
-# cutting, along the cut paths at the cut feeds (thesis §3.2; FARO tracker, 815 Hz). The
+# cutting, along the cut paths at the cut feeds (thesis §3.2, with a FARO tracker). The
 # time series is re-ordered in space: distance along the best straight line, deviation
 # perpendicular to it (a horizontal *lateral* and a *vertical* component), resampled on a
 # uniform grid. Its spectrum in mm⁻¹ is compared with the spatial frequencies of every gear
