@@ -53,8 +53,8 @@ if THESIS_LAYOUT:
         "dynamometer with a 2-flute end mill (thesis §2.1). Three sets of five U-shaped "
         "segments; each segment is three straight cuts, **+Y, +X, −Y**."
         if vs_thesis.shown else
-        "The cuts follow the thesis' layout (sets of U-shaped segments, each three straight "
-        "cuts +Y, +X, −Y) with this study's own process."))
+        "The cuts follow the thesis' layout (ids `s{set}_g{segment}_{dir}`: sets of U-shaped "
+        "segments, directions px, py, my) with this study's own process."))
 display(Markdown(f"**Design:** {describe_design(table, experiment)}."))
 spindle_hz = table["spindle_hz"]
 tooth_hz = table["tooth_passing_hz"]
