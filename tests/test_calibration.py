@@ -94,11 +94,18 @@ def _cell_orders(cfg):
     return parse_cell(cell_mapping(cfg["cell"]), "cell.yaml").fourier_orders()
 
 
-def _identify(cfg, cell, noise):
+def _cell_masses(cfg):
+    """The gravity model from the cell file's mass_model (as the pipeline reads it)."""
+    from robomill.io.cell import cell_mapping, parse_cell
+
+    return cal.mass_model_from_cell(parse_cell(cell_mapping(cfg["cell"]), "cell.yaml"))
+
+
+def _identify(cfg, cell, noise, masses="cell"):
     tabs = {t: sc.simulate_table(cfg, cell, t, noise_mm=noise) for t in sc.TABLES}
     c = cfg["calibration"]
     ident = cal.identify(tabs["circles"], tabs["home"], tabs["steps"], tabs["loads"],
-                         tabs["base"], masses=cal.mass_model_from_config(c["mass_model"]),
+                         tabs["base"], masses=_cell_masses(cfg) if masses == "cell" else masses,
                          fixture_offset_mm=c["fixture_offset_mm"],
                          orders={i + 1: o for i, o in enumerate(_cell_orders(cfg))})
     return tabs, ident
@@ -157,4 +164,57 @@ def test_model_roundtrip_through_dataset(study, tmp_path):
     p = write_artefact(cal.model_to_dataset(ident), tmp_path / "model.nc", rule="test")
     back = cal.model_from_dataset(open_artefact(p))
     q = np.deg2rad(np.random.default_rng(0).uniform(-30, 30, (20, 6)))
+    assert np.allclose(back.tcp(q), ident.model.tcp(q), atol=1e-9)
+
+
+def test_simulator_truth_is_the_cells_mass_model_unless_a_deviation_is_planted(study):
+    cfg, cell = copy.deepcopy(study[0]), study[1]
+    documented = _cell_masses(cfg)
+    tr = sc.true_robot(cfg, cell)
+    assert cfg["synth"]["ctrack"]["true_mass_model"] is None
+    np.testing.assert_array_equal(tr.masses.link, documented.link)
+    np.testing.assert_array_equal(tr.masses.mass_kg, documented.mass_kg)
+    np.testing.assert_array_equal(tr.masses.com_mm, documented.com_mm)
+    # a planted deviation: the tool is 1 kg heavier than documented
+    planted = copy.deepcopy(cfg["cell"]["mass_model"])
+    planted["tool"]["mass_kg"] += 1.0
+    cfg["synth"]["ctrack"]["true_mass_model"] = planted
+    assert sc.true_robot(cfg, cell).masses.mass_kg[-1] == documented.mass_kg[-1] + 1.0
+    cfg["synth"]["ctrack"]["true_mass_model"] = None
+    cfg["cell"]["mass_model"] = None
+    with pytest.raises(ValueError, match=r"needs the robot's true masses: set cell\.mass_model"):
+        sc.true_robot(cfg, cell)
+
+
+def test_without_a_mass_model_the_identification_leaves_gravity_out(study, tmp_path):
+    """A cell file without mass_model: compliance from the load discs alone, no self-weight
+    terms, base compliance not identified, and the artefact says so."""
+    cfg, cell = copy.deepcopy(study[0]), study[1]
+    cfg["synth"]["ctrack"]["base_pivot_mm"] = [150.0, 486.5]
+    tabs, with_g = _identify(cfg, cell, 0.0)
+    _, ident = _identify(cfg, cell, 0.0, masses=None)
+    assert with_g.gravity and not ident.gravity
+    assert np.isnan(ident.base_compliance) and np.isnan(ident.base_r2)
+    assert ident.base["tau2_Nm"].isna().all()
+    np.testing.assert_array_equal(ident.model.tau_home_Nm, 0.0)
+    # the load discs' weight is known: the joint compliances are still identified
+    tr = sc.true_robot(cfg, cell)
+    c_true = tr.compliance.copy()
+    c_true[1] += tr.base_compliance
+    assert ident.model.compliance[1:] == pytest.approx(c_true[1:], rel=0.05)
+    # the full model (joint errors + load compliance) still beats the nominal one by far, but
+    # misses the self-weight deflection that the gravity term would have removed
+    pts = cal.accuracy_points(tabs["accuracy"], ident.model)
+    pts_g = cal.accuracy_points(tabs["accuracy"], with_g.model)
+    assert pts["err_nominal_mm"].mean() > 10 * pts["err_full_mm"].mean()
+    assert pts["err_full_mm"].mean() > 2 * pts_g["err_full_mm"].mean()
+    from robomill.io import open_artefact, write_artefact
+
+    ds = cal.model_to_dataset(ident)
+    assert ds.attrs["gravity_model"].startswith("none: the cell file states no mass_model")
+    assert cal.model_to_dataset(with_g).attrs["gravity_model"] == "cell mass_model"
+    assert ds.sizes["mass"] == 0
+    back = cal.model_from_dataset(open_artefact(write_artefact(ds, tmp_path / "m.nc",
+                                                               rule="test")))
+    q = np.deg2rad(np.random.default_rng(1).uniform(-30, 30, (10, 6)))
     assert np.allclose(back.tcp(q), ident.model.tcp(q), atol=1e-9)

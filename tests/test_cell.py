@@ -198,7 +198,7 @@ def test_manifest_lists_at_most_one_cell_file():
 def test_written_cell_is_plain_yaml(cell_cfg, tmp_path):
     path = write_cell(cell_cfg, tmp_path / "cell.yaml")
     data = yaml.safe_load(path.read_text())
-    assert list(data) == ["robot", "q_home_deg", "tool_rotation", "transmissions"]
+    assert list(data) == ["robot", "q_home_deg", "tool_rotation", "transmissions", "mass_model"]
     assert all(set(t) == {"joint", "stage", "rev_per_joint_rev", "teeth"}
                for t in data["transmissions"])
 
@@ -227,3 +227,80 @@ def test_the_readme_non_thesis_example_is_valid():
         T[:, :3, 3] = [a, b]
         q = cell.joint_path_rad(T, data_file=c.id, instrument="tracker")
         np.testing.assert_allclose(cell.robot.fk(q)[:, :3, 3], [a, b], atol=1e-6)
+
+
+def test_mass_model_is_read_from_the_cell_file(cell_cfg, tmp_path):
+    cell = read_cell(write_cell(cell_cfg, tmp_path / "cell.yaml"))
+    mm = cell.mass_model
+    assert [m.link for m in mm.links] == [1, 2, 3, 4, 5, 6]
+    assert mm.links[1].mass_kg == 35.0 and mm.links[1].com_mm == (170.0, 0.0, 840.0)
+    assert mm.tool.link == 6 and mm.tool.mass_kg == 5.0
+    assert mm.as_dict() == _good(cell_cfg)["mass_model"]
+    # optional: a cell file without one reads as None (the calibration then leaves gravity out)
+    data = _good(cell_cfg)
+    del data["mass_model"]
+    assert parse_cell(data, "cell.yaml").mass_model is None
+    data["mass_model"] = {"links": [{"link": 2, "mass_kg": 1.0, "com_mm": [0, 0, 0]}]}
+    assert parse_cell(data, "cell.yaml").mass_model.tool is None
+
+
+LINK = {"link": 1, "mass_kg": 60.0, "com_mm": [40.0, 0.0, 300.0]}
+MASS_BAD = [  # (mass_model value, message): missing keys, wrong types, wrong shapes, range
+    ([LINK], r"mass_model: mass_model is list \(expected a mapping \{links: "),
+    ({"tool": {"mass_kg": 5.0, "com_mm": [0, 0, 0]}}, r"mass_model: key 'links' is missing"),
+    ({"links": [LINK], "payload": 1}, r"mass_model: unknown key\(s\) payload"),
+    ({"links": LINK}, r"mass_model\.links: links is \{"),
+    ({"links": []}, r"mass_model\.links: links is an empty list"),
+    ({"links": [[1, 60.0, [0, 0, 0]]]}, r"mass_model\.links\[0\]: list found"),
+    ({"links": [{"link": 1, "com_mm": [0, 0, 0]}]},
+     r"mass_model\.links\[0\]: key 'mass_kg' is missing"),
+    ({"links": [{"mass_kg": 1.0, "com_mm": [0, 0, 0]}]},
+     r"mass_model\.links\[0\]: key 'link' is missing"),
+    ({"links": [{"link": 1, "mass_kg": 1.0}]}, r"mass_model\.links\[0\]: key 'com_mm' is missing"),
+    ({"links": [{**LINK, "inertia": 1}]}, r"mass_model\.links\[0\]: unknown key\(s\) inertia"),
+    ({"links": [{**LINK, "mass_kg": "heavy"}]},
+     r"mass_model\.links\[0\]\.mass_kg: mass_kg is 'heavy' \(expected a number of kilograms"),
+    ({"links": [{**LINK, "mass_kg": -1.0}]}, r"mass_model\.links\[0\]\.mass_kg: mass_kg is -1\.0"),
+    ({"links": [{**LINK, "com_mm": [40.0, 0.0]}]},
+     r"mass_model\.links\[0\]\.com_mm: .*com_mm is \[40\.0, 0\.0\] \(expected \[x, y, z\] in mm"),
+    ({"links": [{**LINK, "com_mm": "centre"}]}, r"mass_model\.links\[0\]\.com_mm: "),
+    ({"links": [{**LINK, "link": 7}]},
+     r"mass_model\.links\[0\]\.link: link is 7 \(expected an integer link number 1\.\.6"),
+    ({"links": [{**LINK, "link": 0}]}, r"mass_model\.links\[0\]\.link: link is 0"),
+    ({"links": [{**LINK, "link": 1.5}]}, r"mass_model\.links\[0\]\.link: link is 1\.5"),
+    ({"links": [LINK], "tool": [5.0, [0, 0, 0]]}, r"mass_model\.tool: list found"),
+    ({"links": [LINK], "tool": {"mass_kg": 5.0}}, r"mass_model\.tool: key 'com_mm' is missing"),
+    ({"links": [LINK], "tool": {"mass_kg": 5.0, "com_mm": [0, 0, 0, 0]}},
+     r"mass_model\.tool\.com_mm: .*com_mm is \[0, 0, 0, 0\]"),
+    ({"links": [LINK], "tool": {**LINK}}, r"mass_model\.tool: unknown key\(s\) link"),
+]
+
+
+@pytest.mark.parametrize(("value", "message"), MASS_BAD)
+def test_bad_mass_model_is_named(cell_cfg, value, message):
+    data = _good(cell_cfg)
+    data["mass_model"] = copy.deepcopy(value)
+    with pytest.raises(RawDataError, match=r"^cell\.yaml: " + message):
+        parse_cell(data, "cell.yaml")
+
+
+def test_old_configurations_setting_the_moved_mass_model_are_refused_with_the_fix():
+    from robomill.io.errors import ConfigError
+    from robomill.pipeline.config import validate_config
+
+    cfg = yaml.safe_load((REPO / "config.yaml").read_text())
+    old = copy.deepcopy(cfg)
+    old["calibration"]["mass_model"] = cfg["cell"]["mass_model"]
+    with pytest.raises(ConfigError, match=r"config key 'calibration\.mass_model' was moved: .*"
+                       r"move the mapping \{links, tool\} from calibration: to cell: as "
+                       r"cell\.mass_model"):
+        validate_config(old, REPO / "workflow/schemas/config.schema.yaml")
+    old = copy.deepcopy(cfg)
+    old["synth"]["ctrack"]["mass_model"] = cfg["cell"]["mass_model"]
+    with pytest.raises(ConfigError, match=r"'synth\.ctrack\.mass_model' was moved: .*"
+                       r"synth\.ctrack\.true_mass_model"):
+        validate_config(old, REPO / "workflow/schemas/config.schema.yaml")
+    # the cell's mass model is optional (null removes it in an overlay)
+    cfg["cell"]["mass_model"] = None
+    assert validate_config(cfg, REPO / "workflow/schemas/config.schema.yaml")["cell"][
+        "mass_model"] is None

@@ -259,3 +259,101 @@ def test_end_trim_is_capped_at_a_tenth_of_a_short_path():
     assert st.spatial_profile(t, p, ds_mm=0.01, trim_mm=1.0).trim_mm == 1.0
     with pytest.raises(ValueError, match="too short"):
         st.spatial_profile(t[:3], p[:3], ds_mm=0.01, trim_mm=1.0)
+
+
+def test_gear_lines_closer_than_the_resolution_are_listed_as_candidates_and_merged():
+    L = 40.0
+    gears = pd.DataFrame({"joint": [2, 3, 1, 4], "stage": ["motor"] * 4,
+                          "order": ["mesh", "mesh", "mesh", "runout"],
+                          "f_spatial_per_mm": [0.500, 0.500 + 1.5 / L, 0.200, 0.800]})
+    # a peak next to joint 2's line; joint 3's line is 1.5 bins away (beyond the 0.5-bin match
+    # tolerance of the peak, within the 2-bin resolution); an isolated line; no line
+    peaks = pd.DataFrame({"f_spatial_per_mm": [0.500 + 0.2 / L, 0.201, 0.65]})
+    out = st.match_peaks_to_gears(peaks, gears, tolerance_per_mm=0.5 / L,
+                                  resolution_per_mm=2.0 / L)
+    assert out["joint"].iloc[0] == 2 and out["candidates"].iloc[0] == "2:motor:mesh;3:motor:mesh"
+    assert list(out["merged"]) == [True, False, False]
+    assert list(out["candidates"])[1:] == ["1:motor:mesh", ""]
+    assert list(out["n_candidates"]) == [1, 1, 0]   # within the tolerance of the peak only
+    assert st.parse_candidates(out["candidates"].iloc[0]) == [(2, "motor", "mesh"),
+                                                              (3, "motor", "mesh")]
+    # one bin resolution: the two lines are resolved, nothing merged
+    one_bin = st.match_peaks_to_gears(peaks, gears, tolerance_per_mm=0.5 / L,
+                                      resolution_per_mm=1.0 / L)
+    assert not one_bin["merged"].any()
+    # a peak classified temporal is attributed to no gear: no candidates
+    peaks2 = out.assign(direction="px", feed_mm_s=[2.0, 2.0, 2.0])
+    res = {("px", 2.0): 1 / L}
+    cls = st.classify_peaks(peaks2, res)
+    assert list(cls["mechanism"]) == ["gear", "gear", "unclassified"]
+    assert cls["merged"].iloc[0]
+
+
+def _puma_cell(teeth3):
+    """The examples/other_cell PUMA 560 with ``teeth3`` pinion teeth on joint 3."""
+    import yaml
+
+    from robomill.io.cell import cell_mapping, parse_cell
+
+    root = __import__("pathlib").Path(__file__).resolve().parents[1]
+    c = yaml.safe_load((root / "examples/other_cell/config.yaml").read_text())["cell"]
+    c["transmissions"][2]["teeth"] = teeth3
+    return parse_cell(cell_mapping(c), "cell.yaml")
+
+
+def _planted_run(cell, amp_um, start=(600.0, -170.0, -200.0), length_mm=30.0, feed=2.0):
+    """A -X tracker run of the example's n18k_mx_v2 cut with planted lateral sinusoids at the
+    mesh lines of the joints in ``amp_um`` ({joint: amplitude}) and 0.05 µm noise."""
+    start, u = np.asarray(start), np.array([-1.0, 0.0, 0.0])
+    q, s = st.joint_path_for_line(cell.robot, start + u, start + (length_mm - 1) * u,
+                                  cell.tool_rotation, cell.q_home_rad, 41)
+    lines = st.gear_spatial_frequencies(q, s, cell.transmissions)
+    mesh = lines[lines["order"] == "mesh"].set_index("joint")["f_spatial_per_mm"]
+    t, sp = tracker.motion_law(length_mm, feed, 100.0, 815.0)
+    dev = sum(a * np.sin(2 * np.pi * mesh[j] * sp + j) for j, a in amp_um.items())
+    rng = np.random.default_rng(7)
+    lat = st.perpendicular_axes(u)[0]
+    p = (start + np.outer(sp, u) + 1e-3 * np.outer(dev, lat)
+         + 0.05e-3 * rng.standard_normal((sp.size, 3)))
+    planted = pd.DataFrame({"direction": "mx", "feed_mm_s": feed, "joint": list(amp_um),
+                            "stage": "motor", "order": "mesh",
+                            "f_spatial_per_mm": [mesh[j] for j in amp_um],
+                            "amplitude_um": list(amp_um.values())})
+    return t, p, planted
+
+
+@pytest.mark.parametrize("teeth3", [16, 22])
+def test_two_joints_mesh_lines_within_a_bin_are_flagged_merged_not_missed(teeth3):
+    """The example's PUMA: with 16 pinion teeth on joint 3, the joint-2 and joint-3 mesh lines
+    of a 28 mm run are 1.03 bins apart and make one peak; the analysis lists both candidates
+    and flags the peak merged, and the truth check counts joint 3 merged (not missed). With
+    the example's 22 teeth (5.5 bins apart) both are found."""
+    cell = _puma_cell(teeth3)
+    t, p, planted = _planted_run(cell, {2: 2.0, 3: 1.5})
+    prof, spec, _, peaks = st.analyse_tracker_run(t, p, cell, data_file="mx_f2.csv", **ANALYSIS)
+    gap = np.diff(planted["f_spatial_per_mm"].to_numpy())[0] / spec.resolution_per_mm
+    peaks = peaks.assign(direction="mx", feed_mm_s=2.0, mechanism="gear")
+    peaks = peaks[peaks["joint"].isin([2, 3])]
+    runs = pd.DataFrame({"direction": ["mx"], "feed_mm_s": [2.0],
+                         "resolution_per_mm": [spec.resolution_per_mm], "fmin_per_mm": [0.05],
+                         "floor_um2": [float(np.median(spec.power_um2[spec.f_per_mm > 0.05]))]})
+    ev = st.evaluate_attribution(peaks, planted, runs, threshold=25, tol_bins=0.5,
+                                 fmax_per_mm=20).set_index("joint")
+    counts = st.attribution_counts(ev.reset_index())
+    assert counts["above_noise"] == 2 and counts["missed"] == 0
+    if teeth3 == 16:
+        assert gap == pytest.approx(1.03, abs=0.01)
+        assert len(peaks) == 1
+        row = peaks.iloc[0]
+        assert row["merged"] and row["joint"] == 2
+        assert set(row["candidates"].split(";")) == {"2:motor:mesh", "3:motor:mesh"}
+        assert ev.loc[2, "found"] and not ev.loc[3, "found"] and ev.loc[3, "merged"]
+        assert ev.loc[3, "merged_into"] == "2:motor:mesh"
+        assert counts["found"] == 1 and counts["merged"] == 1
+    else:
+        assert gap > 5
+        assert len(peaks) == 2 and not peaks["merged"].any()
+        assert list(peaks["candidates"]) == ["2:motor:mesh", "3:motor:mesh"]
+        assert ev["found"].all() and not ev["merged"].any()
+        assert counts["found"] == 2 and counts["merged"] == 0
+        np.testing.assert_allclose(peaks["amplitude_um"], [2.0, 1.5], rtol=0.05)

@@ -177,22 +177,32 @@ display(Markdown(
 # %%
 c_base = float(ds["base_compliance_rad_per_Nm"])
 r2 = float(ds["base_fit_r2"])
-fig, axs = plt.subplots(1, 2, figsize=(10, 4))
+# the cell file may state no mass model: then the calibration ran without the gravity term
+GRAVITY = not str(ds.attrs.get("gravity_model", "")).startswith("none")
+fig, axs = plt.subplots(1, 2 if GRAVITY else 1, figsize=(10 if GRAVITY else 5, 4), squeeze=False)
+axs = axs[0]
 axs[0].plot(np.rad2deg(bd["q2_rad"]), bd["deflection_rad"] / ARCSEC, "o")
 axs[0].set_xlabel("joint-2 angle, arm stretched [deg]")
 axs[0].set_ylabel("base deflection δθ_base [arcsec]")
-axs[1].plot(bd["tau2_Nm"], bd["deflection_rad"] / ARCSEC, "o", label="eq. 1.6")
-x = np.linspace(bd["tau2_Nm"].min(), bd["tau2_Nm"].max(), 10)
-axs[1].plot(x, c_base * x / ARCSEC, "-", label=f"linear fit, R² = {r2:.3f}")
-axs[1].set_xlabel("joint-2 gravity torque change [N·m]")
-axs[1].set_ylabel("base deflection [arcsec]")
-axs[1].legend()
+if GRAVITY:
+    axs[1].plot(bd["tau2_Nm"], bd["deflection_rad"] / ARCSEC, "o", label="eq. 1.6")
+    x = np.linspace(bd["tau2_Nm"].min(), bd["tau2_Nm"].max(), 10)
+    axs[1].plot(x, c_base * x / ARCSEC, "-", label=f"linear fit, R² = {r2:.3f}")
+    axs[1].set_xlabel("joint-2 gravity torque change [N·m]")
+    axs[1].set_ylabel("base deflection [arcsec]")
+    axs[1].legend()
 fig.suptitle("Base deflection while joint 2 turns the stretched arm")
 save_figure(fig, fig_dir, num.file("base_deflection"))
 plt.show()
 display(num.caption("base_deflection"))
 c = ds["compliance_rad_per_Nm"].values
 display(Markdown(
+    f"**No gravity model.** {ds.attrs['gravity_model']} The compliances of "
+    f"{num.ref('compliance')} come from the load discs alone (their weight is known); the "
+    "self-weight torques are taken as zero, so the base deflection of "
+    f"{num.ref('base_deflection')} cannot be related to the joint-2 torque (eq. 1.6) and the "
+    "full model corrects no self-weight deflection. Add `mass_model` to the cell file "
+    "(docs/data-contract.md, *The cell*) to identify it.") if not GRAVITY else Markdown(
     f"In {num.ref('base_deflection')} the base turns by {c_base * 1e9:.0f} nrad per N·m of "
     "joint-2 torque (linear fit, "
     f"R² = {r2:.3f}; thesis Fig. 1.8: linear in the torque). That is {100 * c_base / c[1]:.0f} % "
@@ -238,8 +248,9 @@ display(Markdown(
     f"identified geometry alone brings the RMS to {acc.loc['geometric', 'rms_mm']:.3f} mm "
     f"(×{ratio_geo:.1f}); adding the joint-error regression and the compliance brings it to "
     f"{acc.loc['full', 'rms_mm']:.3f} mm (p95 {acc.loc['full', 'p95_mm']:.3f}, max "
-    f"{acc.loc['full', 'max_mm']:.3f} mm), an improvement of ×{ratio:.0f} in RMS. Most of what "
-    "the geometric model leaves is elastic deflection under the arm's own weight. The thesis "
+    f"{acc.loc['full', 'max_mm']:.3f} mm), an improvement of ×{ratio:.0f} in RMS."
+    + (" Most of what the geometric model leaves is elastic deflection under the arm's own "
+       "weight." if GRAVITY else "") + " The thesis "
     "prints no accuracy figure; it concludes that the hybrid calibration improves accuracy a "
     f"lot, but not enough for offline programming of machining: the "
     f"{acc.loc['full', 'max_mm']:.2f} mm worst case left here is large against machining "

@@ -260,17 +260,37 @@ def gravity_torques_Nm(model: VectorModel, masses: MassModel, theta: np.ndarray)
     return tau
 
 
-def mass_model_from_config(spec: Mapping) -> MassModel:
-    """``{links: [{link, mass_kg, com_mm}], tool: {mass_kg, com_mm}}`` → :class:`MassModel`
-    (the tool rides on the last link)."""
+def mass_model_from_mapping(spec: Mapping, n_links: int | None = None) -> MassModel:
+    """``{links: [{link, mass_kg, com_mm}], tool: {mass_kg, com_mm}}`` → :class:`MassModel`.
+
+    The tool (spindle and tool, optional) rides on the last link: ``n_links`` when given,
+    else the highest link listed.
+    """
     links = list(spec["links"])
-    n = max(int(x["link"]) for x in links)
+    n = n_links or max(int(x["link"]) for x in links)
     mm = MassModel([int(x["link"]) for x in links], [float(x["mass_kg"]) for x in links],
                    np.array([x["com_mm"] for x in links], float))
     tool = spec.get("tool")
     if tool:
         mm = mm.plus(n, float(tool["mass_kg"]), np.asarray(tool["com_mm"], float))
     return mm
+
+
+def mass_model_from_cell(cell) -> MassModel | None:
+    """The gravity model of a :class:`robomill.io.cell.Cell`: its ``mass_model`` (links, then
+    the tool on the last link) as a :class:`MassModel`, or None when the cell file states no
+    mass model (the identification then runs without the gravity term, :func:`identify`)."""
+    spec = cell.mass_model
+    if spec is None:
+        return None
+    points = spec.point_masses()
+    return MassModel([m.link for m in points], [m.mass_kg for m in points],
+                     np.array([m.com_mm for m in points], float))
+
+
+def no_masses() -> MassModel:
+    """An empty :class:`MassModel` (gravity torques identically zero)."""
+    return MassModel(np.zeros(0, int), np.zeros(0), np.zeros((0, 3)))
 
 
 # ---- 3. joint angles (eq. 1.5) and the joint-error regression ---------------------------------
@@ -594,10 +614,17 @@ class Identification:
     base_r2: float
     compliance_identifiable: np.ndarray
     backlash_rad: np.ndarray
+    gravity: bool = True
+
+
+GRAVITY_NONE = ("none: the cell file states no mass_model, so the identification ran without "
+                "the gravity term (no self-weight compliance corrections, tau = 0, base "
+                "compliance not identified; compliance from the load discs alone)")
+"""The ``gravity_model`` attribute of ``model.nc`` when the cell states no mass model."""
 
 
 def identify(circles: pd.DataFrame, home: pd.DataFrame, steps: pd.DataFrame,
-             loads: pd.DataFrame, base: pd.DataFrame, *, masses: MassModel,
+             loads: pd.DataFrame, base: pd.DataFrame, *, masses: MassModel | None,
              fixture_offset_mm: np.ndarray, orders: Mapping[int, Sequence[float]],
              max_degree: int = 3, holdout_every: int = 4, iterations: int = 3
              ) -> Identification:
@@ -609,7 +636,16 @@ def identify(circles: pd.DataFrame, home: pd.DataFrame, steps: pd.DataFrame,
     base deflection (eq. 1.6) against the joint-2 torque. The base deflection is reported but
     not added: it is proportional to the joint-2 torque and rotates the arm about an axis
     parallel to joint 2, so the load tests already include it in c_2 (lumped, thesis §1.4.1).
+
+    ``masses`` None (the cell file states no mass model): the gravity term is left out. The
+    joint compliances are still identified from the load tests (the discs' weight is known),
+    but the robot's self-weight torques are taken as zero: no compliance corrections of the
+    circles and steps, ``tau_home_Nm`` = 0, the full model adds no self-weight deflection, and
+    the base compliance and its R² are NaN (its regressor, the joint-2 torque, is unknown);
+    ``Identification.gravity`` is False.
     """
+    gravity = masses is not None
+    masses = masses if gravity else no_masses()
     xyz = ["x_mm", "y_mm", "z_mm"]
     tcp_home = home[xyz].to_numpy().mean(axis=0)
     n = int(circles["joint"].max())
@@ -638,9 +674,13 @@ def identify(circles: pd.DataFrame, home: pd.DataFrame, steps: pd.DataFrame,
         backlash[int(j) - 1] = float(g["backlash_rad"].mean())
     tau_home = gravity_torques_Nm(model, masses, np.zeros(n))
     bd = base_deflection(base, model, masses)
-    _, c_base, r2 = linear_fit(bd["tau2_Nm"].to_numpy(), bd["deflection_rad"].to_numpy())
+    if gravity:
+        _, c_base, r2 = linear_fit(bd["tau2_Nm"].to_numpy(), bd["deflection_rad"].to_numpy())
+    else:
+        bd["tau2_Nm"] = np.nan
+        c_base = r2 = float("nan")
     cal = CalibratedModel(model, fits_err, compliance, masses, tau_home)
-    return Identification(cal, fits, errs, bd, c_base, r2, ident, backlash)
+    return Identification(cal, fits, errs, bd, c_base, r2, ident, backlash, gravity)
 
 
 # ---- 5. accuracy ----------------------------------------------------------------------------
@@ -718,7 +758,8 @@ def accuracy_by_region(points: pd.DataFrame, regions: pd.Series) -> pd.DataFrame
 
 def model_to_dataset(ident: Identification) -> xr.Dataset:
     """``results/calibration/model.nc``: axes, centres, a'_i vectors, joint-error model
-    coefficients, compliances, base compliance, backlash, and the mass model used."""
+    coefficients, compliances, base compliance, backlash, and the mass model used (the cell
+    file's ``mass_model``; none, and attribute ``gravity_model`` saying so, without one)."""
     cal = ident.model
     geo = cal.geometry
     n = geo.n_joints
@@ -795,7 +836,8 @@ def model_to_dataset(ident: Identification) -> xr.Dataset:
                                                                 "long_name": "point mass"}),
         },
         attrs={"base_lumped_into_joint": 2,
-               "model": "eq. 1.4 with theta = q + f(q) + c (tau - tau_home)"},
+               "model": "eq. 1.4 with theta = q + f(q) + c (tau - tau_home)",
+               "gravity_model": "cell mass_model" if ident.gravity else GRAVITY_NONE},
     )
 
 

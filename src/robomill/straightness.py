@@ -390,17 +390,47 @@ PEAK_COLUMNS = ["direction", "feed_mm_s", "f_spatial_per_mm", "amplitude_um", "m
 """peaks.csv columns: the contract's first seven, then supporting detail."""
 
 
+def element_label(joint: Any, stage: Any, order: Any) -> str:
+    """``joint:stage:order`` of a gear element (``2:motor:mesh``), as listed in ``candidates``."""
+    return f"{int(joint)}:{stage}:{order}"
+
+
+def parse_candidates(text: Any) -> list[tuple[int, str, str]]:
+    """The ``(joint, stage, order)`` elements of a ``candidates`` cell (``;``-separated
+    :func:`element_label` s; empty or NaN → none)."""
+    if not isinstance(text, str) or not text:
+        return []
+    out = []
+    for item in text.split(";"):
+        joint, stage, order = item.split(":")
+        out.append((int(joint), stage, order))
+    return out
+
+
 def match_peaks_to_gears(peaks: pd.DataFrame, gears: pd.DataFrame, *,
-                         tolerance_per_mm: float) -> pd.DataFrame:
+                         tolerance_per_mm: float,
+                         resolution_per_mm: float | None = None) -> pd.DataFrame:
     """Attribute each peak to the gear element whose spatial frequency is nearest, if
     within ``tolerance_per_mm`` (tie it to the resolution: a fraction of 1/L).
 
-    Adds ``joint`` (nullable int), ``stage``, ``order``, ``gear_f_spatial_per_mm`` and
-    ``n_candidates`` (gear elements within tolerance; > 1 means the attribution is to the
-    nearest of several unresolvable ones).
+    Two gear lines closer than the spectral resolution ``resolution_per_mm`` (default
+    ``tolerance_per_mm``), or both within the match tolerance of the peak, make one peak: the
+    run cannot tell them apart. With the Hann window of :func:`profile_spectrum` that
+    resolution is the main lobe's −6 dB width, 2/L (Harris 1978, Table 1: two equal lines
+    closer than that show one maximum), so :func:`analyse_run` passes ``merge_bins/L`` with
+    ``merge_bins`` = 2. Such a peak is attributed to the nearest element as before, and
+    lists every element that may have made it.
+
+    Adds ``joint`` (nullable int), ``stage``, ``order``, ``gear_f_spatial_per_mm``,
+    ``n_candidates`` (gear elements within the match tolerance of the peak), ``candidates``
+    (the attributed element first, then every element within the tolerance of the peak or
+    closer than ``max(tolerance, resolution)`` to the attributed element's line, by distance
+    from the peak, as ``;``-separated :func:`element_label` s; empty when not attributed)
+    and ``merged`` (True when ``candidates`` lists more than one element: merged gear lines).
     """
     out = peaks.copy()
-    joint, stage, order, fg, ncand = [], [], [], [], []
+    sep = max(tolerance_per_mm, resolution_per_mm or 0.0)
+    joint, stage, order, fg, ncand, cands, merged = [], [], [], [], [], [], []
     gf = gears["f_spatial_per_mm"].to_numpy(float)
     for f in out["f_spatial_per_mm"].to_numpy(float):
         d = np.abs(gf - f)
@@ -412,16 +442,25 @@ def match_peaks_to_gears(peaks: pd.DataFrame, gears: pd.DataFrame, *,
             stage.append(str(gears["stage"].iloc[k]))
             order.append(str(gears["order"].iloc[k]))
             fg.append(float(gf[k]))
+            near = set(within.tolist()) | set(np.flatnonzero(np.abs(gf - gf[k]) <= sep).tolist())
+            near = [k] + sorted(near - {k}, key=lambda i: (d[i], i))
+            cands.append(";".join(element_label(gears["joint"].iloc[i], gears["stage"].iloc[i],
+                                                gears["order"].iloc[i]) for i in near))
+            merged.append(len(near) > 1)
         else:
             joint.append(pd.NA)
             stage.append("")
             order.append("")
             fg.append(np.nan)
+            cands.append("")
+            merged.append(False)
     out["joint"] = pd.array(joint, dtype="Int64")
     out["stage"] = stage
     out["order"] = order
     out["gear_f_spatial_per_mm"] = fg
     out["n_candidates"] = ncand
+    out["candidates"] = cands
+    out["merged"] = np.array(merged, bool)
     return out
 
 
@@ -479,6 +518,9 @@ def classify_peaks(peaks: pd.DataFrame, resolution_per_mm: Mapping[tuple[str, fl
     out.loc[temporal, "joint"] = pd.NA
     out.loc[temporal, ["stage", "order"]] = ""
     out.loc[temporal, "gear_f_spatial_per_mm"] = np.nan
+    if "candidates" in out:  # a temporal peak is attributed to no gear
+        out.loc[temporal, "candidates"] = ""
+        out.loc[temporal, "merged"] = False
     return out
 
 
@@ -489,7 +531,7 @@ def analyse_run(t_s: np.ndarray, points_mm: np.ndarray, *, robot: SerialRobot,
                 gears: Sequence[Any], tool_rotation: np.ndarray, q0_rad: np.ndarray,
                 ds_mm: float, trim_mm: float, nfft: int, fmin_cycles: float,
                 fmax_per_mm: float, threshold: float, n_peaks: int, tol_bins: float,
-                detrend_order: int = 1, ik_points: int = 41
+                detrend_order: int = 1, ik_points: int = 41, merge_bins: float = 2.0
                 ) -> tuple[Profile, ProfileSpectrum, pd.DataFrame, pd.DataFrame]:
     """Profile, spectrum, gear frequencies and gear-matched peaks of one tracker run.
 
@@ -497,7 +539,9 @@ def analyse_run(t_s: np.ndarray, points_mm: np.ndarray, *, robot: SerialRobot,
     (tracker coordinates are those of the robot base frame) through inverse kinematics at
     the tool orientation ``tool_rotation``. Peaks are searched from ``fmin_cycles/L``
     (fewer cycles than that in the record are indistinguishable from the removed line) up to
-    ``fmax_per_mm``; the match tolerance is ``tol_bins/L``.
+    ``fmax_per_mm``; the match tolerance is ``tol_bins/L``, and gear lines closer than
+    ``merge_bins/L`` (the Hann window's resolution, 2 bins) are merged: the peak lists every
+    candidate (:func:`match_peaks_to_gears`).
     """
     prof = spatial_profile(t_s, points_mm, ds_mm=ds_mm, trim_mm=trim_mm,
                            detrend_order=detrend_order)
@@ -508,7 +552,8 @@ def analyse_run(t_s: np.ndarray, points_mm: np.ndarray, *, robot: SerialRobot,
     peaks = spectrum_peaks(spec, fmin_per_mm=fmin_cycles * spec.resolution_per_mm,
                            fmax_per_mm=fmax_per_mm, threshold=threshold, n_peaks=n_peaks)
     peaks = match_peaks_to_gears(peaks, gears_df,
-                                 tolerance_per_mm=tol_bins * spec.resolution_per_mm)
+                                 tolerance_per_mm=tol_bins * spec.resolution_per_mm,
+                                 resolution_per_mm=merge_bins * spec.resolution_per_mm)
     return prof, spec, gears_df, peaks
 
 
@@ -607,8 +652,10 @@ def evaluate_attribution(peaks: pd.DataFrame, planted: pd.DataFrame, runs: pd.Da
     * ``marginal`` — in between (either outcome is acceptable).
 
     ``found`` is true when a ``gear`` peak of the run is attributed to exactly this element;
-    ``merged`` when it is not, but a gear peak lies within the match tolerance of its
-    frequency (two elements closer than the resolution). ``false_attribution`` marks
+    ``merged`` when it is not, but a gear peak of the run lists it among its ``candidates``
+    (:func:`match_peaks_to_gears`: merged gear lines, closer than the resolution) or lies
+    within the match tolerance of its frequency; ``merged_into`` then names the element that
+    peak was attributed to (``joint:stage:order``). ``false_attribution`` marks
     attributed elements that are ``below_noise`` or ``out_of_band`` (the attribution then
     names a gear that did not make the peak).
     """
@@ -637,11 +684,19 @@ def evaluate_attribution(peaks: pd.DataFrame, planted: pd.DataFrame, runs: pd.Da
                      & (mine["stage"] == g["stage"]) & (mine["order"] == g["order"])]
         tol = tol_bins * float(run["resolution_per_mm"])
         near = mine[np.abs(mine["f_spatial_per_mm"].astype(float) - f) <= tol]
+        me = (int(g["joint"]), str(g["stage"]), str(g["order"]))
+        if "candidates" in mine:
+            listed = mine[np.array([me in parse_candidates(c) for c in mine["candidates"]],
+                                   dtype=bool)]
+            near = pd.concat([listed, near[~near.index.isin(listed.index)]])
         rows.append({"direction": key[0], "feed_mm_s": key[1], "joint": int(g["joint"]),
                      "stage": g["stage"], "order": g["order"], "f_spatial_per_mm": f,
                      "amplitude_um": float(g["amplitude_um"]),
                      "snr_expected": power / floor, "class": cls,
                      "found": not exact.empty, "merged": exact.empty and not near.empty,
+                     "merged_into": (element_label(near["joint"].iloc[0], near["stage"].iloc[0],
+                                                   near["order"].iloc[0])
+                                     if exact.empty and not near.empty else ""),
                      "found_amplitude_um": (float(exact["amplitude_um"].iloc[0])
                                             if not exact.empty else np.nan),
                      "false_attribution": (not exact.empty)
@@ -744,23 +799,26 @@ def gather_peaks(per_run: Sequence[pd.DataFrame], profiles: xr.Dataset, *,
                  tol_bins: float) -> pd.DataFrame:
     """All runs' peaks, classified across feeds (:func:`classify_peaks`) with each run's
     resolution from ``profiles`` (:func:`gather_profiles`); columns :data:`PEAK_COLUMNS`
-    (plus ``n_candidates`` when present)."""
+    (plus ``n_candidates``, ``candidates``, ``merged`` when present)."""
     peaks = pd.concat(list(per_run), ignore_index=True)
     peaks["joint"] = peaks["joint"].astype("Int64")
     peaks[["stage", "order"]] = peaks[["stage", "order"]].fillna("")
+    if "candidates" in peaks:
+        peaks["candidates"] = peaks["candidates"].fillna("")
+        peaks["merged"] = peaks["merged"].astype(bool)
     res = {(d, float(v)): float(x) for d, v, x in zip(profiles["direction"].values,
                                                       profiles["feed_mm_s"].values,
                                                       profiles["resolution_per_mm"].values,
                                                       strict=True)}
     peaks = classify_peaks(peaks, res, tol_bins=tol_bins)
-    extra = [c for c in ("n_candidates",) if c in peaks]
+    extra = [c for c in ("n_candidates", "candidates", "merged") if c in peaks]
     return peaks[PEAK_COLUMNS + extra]
 
 
 #: results/straightness/truth_check.csv columns
 TRUTH_CHECK_COLUMNS = ["direction", "feed_mm_s", "joint", "stage", "order", "f_spatial_per_mm",
                        "amplitude_um", "snr_expected", "class", "found", "merged",
-                       "found_amplitude_um", "false_attribution"]
+                       "found_amplitude_um", "false_attribution", "merged_into"]
 
 
 def planted_gear_elements(truth: xr.Dataset) -> pd.DataFrame:
@@ -790,6 +848,8 @@ def truth_check(peaks: pd.DataFrame | None, truth: xr.Dataset | None,
         return pd.DataFrame(columns=TRUTH_CHECK_COLUMNS)
     peaks = peaks.copy()
     peaks[["stage", "order"]] = peaks[["stage", "order"]].fillna("")
+    if "candidates" in peaks:
+        peaks["candidates"] = peaks["candidates"].fillna("")
     runs = pd.DataFrame({k: profiles[k].values for k in ("direction", "feed_mm_s",
                                                           "resolution_per_mm", "fmin_per_mm",
                                                           "floor_um2")})

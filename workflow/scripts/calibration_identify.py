@@ -22,18 +22,23 @@ c = dict(p.calibration)
 # Fourier orders of the joint errors: the cell's gear trains (r and r·z of every element),
 # unless the configuration lists them explicitly
 em = dict(c["error_model"])
+cell = read_cell(inp.cell)
 if em.get("orders") is None:
-    em["orders"] = read_cell(inp.cell).fourier_orders()
+    em["orders"] = cell.fourier_orders()
 c["error_model"] = em
+# the gravity model: the cell's mass model (manufacturer data / CAD), if it states one
+masses = cal.mass_model_from_cell(cell)
+if masses is None:
+    log.warning("%s states no mass_model: gravity model %s", inp.cell, cal.GRAVITY_NONE)
 ident = cal.identify(
     tables["circles"], tables["home"], tables["steps"], tables["loads"], tables["base"],
-    masses=cal.mass_model_from_config(c["mass_model"]),
+    masses=masses,
     fixture_offset_mm=np.asarray(c["fixture_offset_mm"], float),
     orders={i + 1: o for i, o in enumerate(em["orders"])},
     max_degree=int(em["max_degree"]), holdout_every=int(em["holdout_every"]),
     iterations=int(c["iterations"]),
 )
-inputs = [inp[k] for k in p.relpaths]
+inputs = [inp[k] for k in p.relpaths] + [inp.cell]
 write_artefact(cal.model_to_dataset(ident), snakemake.output.model, rule="calibration_identify",
                inputs=inputs, config_section=c)
 write_table(cal.joint_error_table(ident, int(em["holdout_every"])), snakemake.output.joint_errors)

@@ -66,6 +66,13 @@ transmissions:              # gear stages per joint (straightness vs gear mesh, 
 # base_from_instrument:
 #   tracker: {rotation: [[1, 0, 0], [0, 1, 0], [0, 0, 1]], translation_mm: [0.0, 0.0, 0.0]}
 #   ctrack: {rotation: [[1, 0, 0], [0, 1, 0], [0, 0, 1]], translation_mm: [0.0, 0.0, 0.0]}
+# Optional: point masses of the links and of the spindle and tool (manufacturer data / CAD;
+# centres of mass at the zero configuration, base frame): the gravity model of the
+# calibration (chapter 1). Without it the calibration runs without the gravity term.
+# mass_model:
+#   links:
+#     - {link: 2, mass_kg: 35.0, com_mm: [170.0, 0.0, 840.0]}
+#   tool: {mass_kg: 5.0, com_mm: [880.0, 10.0, 1186.5]}
 """
 
 

@@ -13,11 +13,18 @@ simulators (``docs/data-contract.md``, section *The cell*)::
       - {joint: 1, stage: motor, rev_per_joint_rev: 120.0, teeth: 17}
     base_from_instrument:                      # optional, per instrument (tracker, ctrack)
       tracker: {rotation: [[1, 0, 0], [0, 1, 0], [0, 0, 1]], translation_mm: [0, 0, 0]}
+    mass_model:                                # optional: point masses (manufacturer data / CAD)
+      links: [{link: 1, mass_kg: 60.0, com_mm: [40.0, 0.0, 300.0]}, ...]
+      tool: {mass_kg: 5.0, com_mm: [880.0, 10.0, 1186.5]}
 
 ``robot`` follows the robot-file schema of the stiffness section
 (:func:`robomill.io.robots.parse_robot`). ``base_from_instrument[k]`` registers instrument k's
 frame to the robot base: ``p_base = rotation · p_instrument + translation_mm``; an absent entry
-means the instrument already measures in the base frame. Every problem raises one
+means the instrument already measures in the base frame. ``mass_model`` places point masses
+on the links (``link`` 1..n, centre of mass ``com_mm`` at the zero configuration in the base
+frame) and the spindle and tool on the last link: the gravity model of the calibration's
+compliance terms (chapter 1); a cell without one is calibrated without the gravity term
+(``docs/data-contract.md``). Every problem raises one
 :class:`~robomill.io.errors.RawDataError` naming the file and the key.
 """
 
@@ -35,8 +42,12 @@ from robomill.io.errors import RawDataError
 from robomill.io.robots import parse_robot
 from robomill.kinematics import SerialRobot, robot_from_mapping
 
-CELL_KEYS = ("robot", "q_home_deg", "tool_rotation", "transmissions", "base_from_instrument")
-"""Top-level keys of ``cell.yaml`` (``base_from_instrument`` optional)."""
+CELL_KEYS = ("robot", "q_home_deg", "tool_rotation", "transmissions", "base_from_instrument",
+             "mass_model")
+"""Top-level keys of ``cell.yaml`` (``base_from_instrument`` and ``mass_model`` optional)."""
+
+MASS_KEYS = ("link", "mass_kg", "com_mm")
+"""Keys of one ``mass_model.links`` entry (``mass_model.tool`` has ``mass_kg, com_mm``)."""
 
 TRANSMISSION_KEYS = ("joint", "stage", "rev_per_joint_rev", "teeth")
 """Keys of one ``transmissions`` entry."""
@@ -79,9 +90,40 @@ class Registration:
         return np.asarray(points_mm, float) @ self.rotation.T + self.translation_mm
 
 
+@dataclass(frozen=True)
+class PointMass:
+    """A point mass riding on link ``link`` (1..n): ``mass_kg`` at ``com_mm``, its position at
+    the zero configuration in the robot base frame [mm]."""
+
+    link: int
+    mass_kg: float
+    com_mm: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class CellMassModel:
+    """The cell's mass model: point masses of the links and of the spindle and tool (on the
+    last link), e.g. from the manufacturer's data or CAD."""
+
+    links: tuple[PointMass, ...]
+    tool: PointMass | None = None
+
+    def point_masses(self) -> list[PointMass]:
+        """Every point mass, links first, then the tool."""
+        return [*self.links, *([self.tool] if self.tool is not None else [])]
+
+    def as_dict(self) -> dict[str, Any]:
+        """The ``cell.yaml`` mapping ``{links: [{link, mass_kg, com_mm}], tool: {…}}``."""
+        out: dict[str, Any] = {"links": [{"link": m.link, "mass_kg": m.mass_kg,
+                                          "com_mm": list(m.com_mm)} for m in self.links]}
+        if self.tool is not None:
+            out["tool"] = {"mass_kg": self.tool.mass_kg, "com_mm": list(self.tool.com_mm)}
+        return out
+
+
 @dataclass
 class Cell:
-    """A validated cell file."""
+    """A validated cell file (``mass_model`` None when the file states none)."""
 
     path: Path
     robot: SerialRobot
@@ -90,6 +132,7 @@ class Cell:
     tool_rotation: np.ndarray
     transmissions: list[Transmission]
     base_from_instrument: dict[str, Registration] = field(default_factory=dict)
+    mass_model: CellMassModel | None = None
 
     @property
     def q_home_rad(self) -> np.ndarray:
@@ -174,6 +217,70 @@ def _require(path: Path, data: Mapping, key: str, where: str, expected: str) -> 
     return data[key]
 
 
+MASS_EXPECTED = ("a mapping {links: [{link, mass_kg, com_mm}, ...], tool: {mass_kg, com_mm}} "
+                 "(tool optional)")
+
+
+def _mass(path: Path, where: str, value: Any, keys: Sequence[str]) -> tuple[float, np.ndarray]:
+    """``mass_kg`` (≥ 0) and ``com_mm`` (3 numbers) of one point-mass mapping."""
+    expected = "a mapping with keys " + ", ".join(keys)
+    if not isinstance(value, Mapping):
+        raise RawDataError(path, f"{type(value).__name__} found", where=where, expected=expected)
+    extra = sorted(set(value) - set(keys), key=str)
+    if extra:
+        raise RawDataError(path, f"unknown key(s) {', '.join(map(str, extra))}", where=where,
+                           expected="keys " + ", ".join(keys))
+    for key in keys:
+        _require(path, value, key, where, "keys " + ", ".join(keys))
+    m = value["mass_kg"]
+    if (isinstance(m, bool) or not isinstance(m, int | float) or not np.isfinite(m) or m < 0):
+        raise RawDataError(path, f"mass_kg is {m!r}", where=f"{where}.mass_kg",
+                           expected="a number of kilograms >= 0")
+    com = _matrix(path, f"{where}.com_mm", value["com_mm"], (3,),
+                  "[x, y, z] in mm (the centre of mass at the zero configuration, base frame)")
+    return float(m), com
+
+
+def parse_mass_model(value: Any, path: str | Path, n_links: int) -> CellMassModel:
+    """Validate ``cell.yaml: mass_model`` for a robot of ``n_links`` links.
+
+    Raises
+    ------
+    RawDataError
+        Naming the file and the key (``mass_model.links[2].link``, ``mass_model.tool.com_mm``
+        …): not a mapping, a missing or unknown key, a mass that is not a number ≥ 0, a centre
+        of mass that is not 3 numbers, a link outside 1..``n_links``.
+    """
+    path = Path(path)
+    if not isinstance(value, Mapping):
+        raise RawDataError(path, f"mass_model is {type(value).__name__}", where="mass_model",
+                           expected=MASS_EXPECTED)
+    extra = sorted(set(value) - {"links", "tool"}, key=str)
+    if extra:
+        raise RawDataError(path, f"unknown key(s) {', '.join(map(str, extra))}",
+                           where="mass_model", expected=MASS_EXPECTED)
+    links = _require(path, value, "links", "mass_model", MASS_EXPECTED)
+    if not isinstance(links, list) or not links:
+        raise RawDataError(path, f"links is {links!r}" if not isinstance(links, list)
+                           else "links is an empty list", where="mass_model.links",
+                           expected="a non-empty list of {link, mass_kg, com_mm}")
+    out = []
+    for i, entry in enumerate(links):
+        where = f"mass_model.links[{i}]"
+        m, com = _mass(path, where, entry, MASS_KEYS)
+        link = entry["link"]
+        if isinstance(link, bool) or not isinstance(link, int) or not 1 <= link <= n_links:
+            raise RawDataError(path, f"link is {link!r}", where=f"{where}.link",
+                               expected=f"an integer link number 1..{n_links} (the link the "
+                                        "mass rides on)")
+        out.append(PointMass(link, m, tuple(float(x) for x in com)))
+    tool = None
+    if value.get("tool") is not None:
+        m, com = _mass(path, "mass_model.tool", value["tool"], MASS_KEYS[1:])
+        tool = PointMass(n_links, m, tuple(float(x) for x in com))
+    return CellMassModel(tuple(out), tool)
+
+
 def parse_cell(data: Any, path: str | Path) -> Cell:
     """Validate a cell mapping (as loaded from ``cell.yaml``) and return a :class:`Cell`.
 
@@ -184,7 +291,8 @@ def parse_cell(data: Any, path: str | Path) -> Cell:
         ``transmissions[3].teeth``, ``base_from_instrument.tracker.rotation`` …).
     """
     path = Path(path)
-    top = "keys robot, q_home_deg, tool_rotation, transmissions (base_from_instrument optional)"
+    top = ("keys robot, q_home_deg, tool_rotation, transmissions (base_from_instrument, "
+           "mass_model optional)")
     if not isinstance(data, Mapping):
         raise RawDataError(path, "not a YAML mapping", expected=top)
     unknown = sorted(set(data) - set(CELL_KEYS))
@@ -275,8 +383,11 @@ def parse_cell(data: Any, path: str | Path) -> Cell:
                                  "keys rotation, translation_mm"),
                         (3,), "[x, y, z] in mm")
             regs[str(inst)] = Registration(R, t)
+    masses = data.get("mass_model")
+    masses = None if masses is None else parse_mass_model(masses, path, n)
     return Cell(path=path, robot=robot, robot_spec=spec, q_home_deg=q_home,
-                tool_rotation=R_tool, transmissions=transmissions, base_from_instrument=regs)
+                tool_rotation=R_tool, transmissions=transmissions, base_from_instrument=regs,
+                mass_model=masses)
 
 
 def read_cell(path: str | Path) -> Cell:
@@ -298,6 +409,8 @@ def cell_mapping(cell: Mapping[str, Any]) -> dict[str, Any]:
     out["transmissions"] = [{k: t[k] for k in TRANSMISSION_KEYS} for t in cell["transmissions"]]
     if cell.get("base_from_instrument"):
         out["base_from_instrument"] = dict(cell["base_from_instrument"])
+    if cell.get("mass_model") is not None:
+        out["mass_model"] = dict(cell["mass_model"])
     return _plain(out)
 
 

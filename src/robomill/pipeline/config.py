@@ -198,12 +198,44 @@ def normalize_data(config: dict[str, Any]) -> None:
                           else {"source": "raw", "raw_dir": data})
 
 
+MOVED_KEYS: dict[tuple[str, ...], str] = {
+    ("calibration", "mass_model"):
+        "the link and tool masses are facts of the cell (written into cell.yaml): move the "
+        "mapping {links, tool} from calibration: to cell: as cell.mass_model",
+    ("synth", "ctrack", "mass_model"):
+        "the documented masses are cell.mass_model (a fact of the cell); the virtual robot's "
+        "true masses equal them unless synth.ctrack.true_mass_model plants a deviation: move "
+        "the mapping to cell.mass_model (or to synth.ctrack.true_mass_model if it differs on "
+        "purpose)",
+}
+"""Keys that older configurations set and that moved, with the exact fix
+(:func:`refuse_moved_keys`)."""
+
+
+def refuse_moved_keys(config: Mapping[str, Any]) -> None:
+    """Refuse a configuration that sets a key listed in :data:`MOVED_KEYS`.
+
+    Raises
+    ------
+    ConfigError
+        ``config key 'calibration.mass_model' was moved: …`` with the fix.
+    """
+    for keys, fix in MOVED_KEYS.items():
+        node: Any = config
+        for k in keys:
+            node = node.get(k) if isinstance(node, Mapping) else None
+        if node is not None:
+            raise ConfigError(f"config key '{'.'.join(keys)}' was moved: {fix}")
+
+
 def prepare_config(config: dict[str, Any], schema_path: str | Path) -> list[str]:
-    """Before validation, in place: the ``data`` shorthand (:func:`normalize_data`), then
+    """Before validation, in place: a key that moved is refused with its fix
+    (:func:`refuse_moved_keys`), the ``data`` shorthand (:func:`normalize_data`), then
     text values converted where the schema wants numbers (:func:`coerce_numbers`) at the top
     level and in every present section. The Snakefile calls this on Snakemake's ``config``
     before ``validate``; :func:`validate_config` calls it on its copy."""
     schema_path = Path(schema_path)
+    refuse_moved_keys(config)
     normalize_data(config)
     done = coerce_numbers(config, schema_path)
     for keys, name in SECTIONS:

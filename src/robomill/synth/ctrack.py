@@ -9,7 +9,9 @@ errors planted in ``config.yaml: synth.ctrack``:
 * the cell's gear-train periodic errors (``VirtualCell.joint_error_rad``, the same gears the
   straightness chapter sees);
 * backlash: ±b/2 on a joint, by the direction it last moved;
-* joint compliance: δθ_j = c_j τ_j, τ from gravity on the links, the tool and any load discs;
+* joint compliance: δθ_j = c_j τ_j, τ from gravity on the links, the tool and any load discs
+  (the true masses: the cell's documented ``cell.mass_model`` unless
+  ``synth.ctrack.true_mass_model`` plants a deviation from it);
 * base compliance: the base turns by c_base τ_2 about an axis parallel to joint 2 through a
   pivot on axis 1 (the joint-1 bearing), carrying the arm and the base targets.
 
@@ -44,7 +46,7 @@ from robomill.calibration import (
     MassModel,
     VectorModel,
     gravity_torques_Nm,
-    mass_model_from_config,
+    mass_model_from_mapping,
     vector_model_from_serial,
 )
 from robomill.io.atomic import atomic_path
@@ -155,9 +157,29 @@ def true_robot(config: Mapping[str, Any], cell) -> TrueRobot:
         compliance=np.asarray(sc["compliance_rad_per_Nm"], float),
         base_compliance=float(sc["base_compliance_rad_per_Nm"]),
         base_pivot_mm=np.asarray(sc["base_pivot_mm"], float),
-        masses=mass_model_from_config(sc["mass_model"]),
+        masses=true_masses(config, cell.robot.n_joints),
         gear_error=cell.joint_error_rad,
     )
+
+
+def true_masses(config: Mapping[str, Any], n_links: int) -> MassModel:
+    """The virtual robot's true point masses: ``synth.ctrack.true_mass_model`` when it plants a
+    deviation from the documented masses, else the cell's ``cell.mass_model`` (the cell file's
+    values are then exact).
+
+    Raises
+    ------
+    ValueError
+        When neither states a mass model: the simulated robot needs true masses.
+    """
+    spec = config["synth"]["ctrack"].get("true_mass_model")
+    if spec is None:
+        spec = config["cell"].get("mass_model")
+    if spec is None:
+        raise ValueError("the C-Track simulator needs the robot's true masses: set "
+                         "cell.mass_model (the documented masses, written into cell.yaml) or "
+                         "synth.ctrack.true_mass_model (planted truth the analysis is not told)")
+    return mass_model_from_mapping(spec, n_links)
 
 
 def _rng(cell, table: str) -> np.random.Generator:
