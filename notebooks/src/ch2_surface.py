@@ -6,9 +6,9 @@
 # waviness and roughness, and analysed with the thesis' spectra (eqs. 2.1–2.3: normalized
 # amplitude A(k) and power P(k), one-sided, frequency k·fs/N in mm⁻¹) and its RMS by
 # Parseval (eq. 2.6) on equal segments — 2.5 mm for waviness, 0.25 mm for roughness (the
-# thesis' Tables 2.1 and 2.2 for its design; per cut for any other). Dominant peaks are classified across feeds: constant *spatial*
-# frequency → kinematic (joint positions, gears); constant *temporal* frequency → dynamic
-# (vibration modes, tooth passing).
+# thesis' Tables 2.1 and 2.2 for its design; per cut for any other). Dominant peaks are
+# classified across feeds: constant *spatial* frequency → kinematic (joint positions, gears);
+# constant *temporal* frequency → dynamic (vibration modes, tooth passing).
 
 # %% tags=["parameters"]
 waviness: str = None  # results/surface/table_2_1_waviness_rms.csv (thesis design)
