@@ -88,3 +88,21 @@ def tiny_run(tmp_path_factory) -> Path:
         pytest.fail(f"snakemake -j2 all failed on the tiny config:\n{proc.stdout[-4000:]}"
                     f"\n{proc.stderr[-6000:]}")
     return workdir
+
+
+def chapter_outputs(workdir, name):
+    """What a reader sees of an executed chapter: its markdown and text outputs (the code
+    cells, with their gated "thesis: ..." strings, are left out)."""
+    import json
+
+    nb = json.loads((workdir / "results" / "chapters" / f"{name}.ipynb").read_text())
+    parts = []
+    for cell in nb["cells"]:
+        for out in cell.get("outputs", []):
+            data = out.get("data", {})
+            for kind in ("text/markdown", "text/plain"):
+                if kind in data:
+                    parts.append("".join(data[kind]))
+            if out.get("output_type") == "stream":
+                parts.append("".join(out["text"]))
+    return "\n".join(parts)

@@ -3,7 +3,7 @@
 import time
 
 import pytest
-from conftest import run_snakemake
+from conftest import chapter_outputs, run_snakemake
 
 pytestmark = pytest.mark.pipeline
 
@@ -14,6 +14,23 @@ def test_all_builds_every_chapter(tiny_run):
     assert any((tiny_run / "results/figures/ch0").glob("*.png"))
     text = html.read_text()
     assert "Traceback" not in text and "6 cuts" in text
+
+
+def test_the_thesis_design_keeps_its_tables_and_thesis_remarks(tiny_run):
+    """The tiny config is the thesis' study: Tables 2.1/2.2 beside the thesis', the U-segment
+    plan and the "thesis: ..." remarks stay (issue 20: per-cut tables only for other designs)."""
+    ch0 = chapter_outputs(tiny_run, "ch0_experiment")
+    assert "Three sets of five U-shaped segments" in ch0 and "+Y, +X, −Y" in ch0
+    assert "(thesis: 1.07 µm at 1 mm/s, 10.7 µm at 10 mm/s)" in ch0
+    assert "The cut plan: the cuts of every segment" in ch0 and "grouped by what" not in ch0
+    ch2 = chapter_outputs(tiny_run, "ch2_surface")
+    assert "beside the thesis' Table 2.1" in ch2 and "beside the thesis' Table 2.2" in ch2
+    assert "thesis: X smallest, +Y largest" in ch2 and "within a factor 1.5" in ch2
+    assert "grouped by what varies" not in ch2
+    assert "thesis:" in chapter_outputs(tiny_run, "ch3_1_forces")
+    assert "thesis:" in chapter_outputs(tiny_run, "ch3_2_straightness")
+    ch5 = chapter_outputs(tiny_run, "ch5_stiffness")
+    assert "stiffness along the slot directions beside the mean waviness of Table 2.1" in ch5
 
 
 def test_second_run_is_a_fast_noop(tiny_run):

@@ -4,11 +4,12 @@
 # The Kistler dynamometer under the block recorded Fx, Fy, Fz during every cut (thesis §3.1).
 # The mechanistic model for a small axial depth (thesis eq. 3.1) gives each tooth's forces
 # F_t = K_tc a h(φ) + K_te a, F_r = K_rc a h(φ) + K_re a, F_a = K_ac a h(φ) + K_ae a with
-# h(φ) = c sin φ; for a 2-flute slot (entry 0, exit π) the force is periodic at the tooth-passing
-# frequency. Measured forces are periodic but not harmonic: the robot vibrates. This chapter
-# shows the model shape (Fig 3.2), a record (Fig 3.3) and its full-band spectrum (Fig 3.4), the
-# spectra in spatial frequency (Figs 3.5–3.7) and in time frequency 0–250 Hz (Figs 3.8–3.10),
-# the per-cut peak table, and the cutting coefficients identified from the mean forces.
+# h(φ) = c sin φ between each tooth's entry and exit angles (0 and π in a slot); the force is
+# periodic at the tooth-passing frequency of each cut's own spindle speed and flutes. Measured
+# forces are periodic but not harmonic: the robot vibrates. This chapter shows the model shape
+# (Fig 3.2), a record (Fig 3.3) and its full-band spectrum (Fig 3.4), the spectra in spatial
+# frequency (Figs 3.5–) and in time frequency 0–250 Hz (Figs 3.8–), the per-cut peak table,
+# and the cutting coefficients identified from the mean forces.
 # Forces are on the tool, in the block axes (docs/data-contract.md).
 
 # %% tags=["parameters"]
@@ -17,11 +18,14 @@ peaks: str = None  # results/forces/peaks.csv
 coefficients: str = None  # results/forces/cutting_coefficients.csv
 means: str = None  # results/forces/mean_forces.csv
 harmonics: str = None  # results/forces/harmonics.csv
+cuts: str = None  # results/ingest/cuts.csv
 modes: str = None  # results/modal/modes.csv (identified modes, chapter 3.3)
 truth: str = None  # results/synthetic/truth.nc (synthetic runs only)
 settings: dict = None  # config section forces
 synthetic: bool = None
-thesis_study: bool = None  # the thesis' design (robomill.experiment.is_thesis_study)
+experiment: dict = None  # the manifest's experiment defaults (spindle_rpm, flutes, ...)
+thesis_design: bool = None  # the thesis' design (robomill.experiment.is_thesis_design)
+thesis_study: bool = None  # the thesis' study (robomill.experiment.is_thesis_study)
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
@@ -36,65 +40,102 @@ from robomill.experiment import DIRECTION_LABELS
 from robomill.forces import nearest_modes
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
+from robomill.pipeline.design_tables import (
+    describe_design,
+    design_factors,
+    direction_label,
+    per_cut_table,
+    span,
+    thesis_gate,
+    with_design,
+)
 from robomill.plotting import save_figure
 
-THESIS = thesis_study is not False  # compare with the thesis' numbers only for its design
-
-
-def vs_thesis(text: str) -> str:
-    """A remark comparing with the thesis, shown only for a study of the thesis' design."""
-    return text if THESIS else ""
-
-
+vs_thesis = thesis_gate(thesis_study)  # thesis remarks only for a study of its design
 sp = open_artefact(spectra)
+# the thesis' figures show one set (+Y, +X, -Y); any other design shows every cut
+THESIS_LAYOUT = thesis_design is not False and "set" in sp
 pk = pd.read_csv(peaks)
 coef = pd.read_csv(coefficients)
 mf = pd.read_csv(means)
 hm = pd.read_csv(harmonics)
 settings = settings or {}
-fig_set = int(settings.get("figure_set", 3))
-if fig_set not in set(sp["set"].values.tolist()):
-    fig_set = int(sp["set"].values.max())
+plan = pd.read_csv(cuts) if cuts else mf
+process = with_design(mf, experiment)  # each cut's own flutes, immersion, milling mode
 mode_table = pd.read_csv(modes) if modes and os.path.exists(modes) else None
-cuts_set = [str(c) for c in sp.cut.values if int(sp["set"].sel(cut=c)) == fig_set]
-dirs_set = [d for d in ("py", "px", "my")
-            if any(str(sp["direction"].sel(cut=c).item()) == d for c in cuts_set)]
+if THESIS_LAYOUT:
+    fig_set = int(settings.get("figure_set", 3))
+    if fig_set not in set(sp["set"].values.tolist()):
+        fig_set = int(sp["set"].values.max())
+    cuts_set = [str(c) for c in sp.cut.values if int(sp["set"].sel(cut=c)) == fig_set]
+    dirs_set = [d for d in ("py", "px", "my")
+                if any(str(sp["direction"].sel(cut=c).item()) == d for c in cuts_set)]
+    which = f"set {fig_set}"
+else:
+    cuts_set = [str(c) for c in sp.cut.values]
+    dirs_set = list(dict.fromkeys(str(v) for v in sp["direction"].values))
+    which = "every cut"
+    design = design_factors(plan[plan["cut"].isin(cuts_set)], experiment)
+
+
+def dir_label(d: str) -> str:
+    """+X, −Y … for a named direction, 45° for a path direction ``"45 deg"``."""
+    return (DIRECTION_LABELS[d] if d in DIRECTION_LABELS
+            else direction_label(None, float(d.split()[0])))
+
+
+first_cut = process.set_index("cut").loc[str(sp.cut.values[0])]
+shape = (f"{int(first_cut['flutes'])}-flute "
+         + ("slot" if first_cut["milling"] == "slot" else
+            f"{first_cut['milling']}-milling cut at a_e/D {first_cut['radial_immersion']:g}")
+         if "flutes" in first_cut else "slot")
 
 # thesis numbers (Figs 3.2–3.11, Table 3.1); the extra tables are Tables 3.3 and 3.4 (Table
 # 3.2 is in the straightness chapter)
 num = Numbering("3")
-num.figure("model_force_shape", "The model's force shape over two revolutions of a 2-flute "
-           "slot, with the coefficients identified below (eq. 3.1)", number=2)
+num.figure("model_force_shape", f"The model's force shape over two revolutions of a {shape}, "
+           "with the coefficients identified below (eq. 3.1)", number=2)
 num.figure("record", "A measured force record: (a) the whole record as a min–max envelope, "
            "(b) a zoom in its middle", number=3)
 num.figure("full_band_psd", "Welch PSD of that record over the full band, sum of the axes",
            number=4)
+PARTS = "abcdefghijklmnopqrstuvwxyz"
+for k, d in enumerate(dirs_set):  # thesis Figs 3.5-3.7; any other design Fig 3.5a, b, ...
+    slug = d.replace(" ", "")
+    num.figure(f"spatial_{d}", f"Spatial-frequency power of the cuts of {which} along "
+               f"{dir_label(d)} (kinematic peak near 0.5 mm⁻¹ dotted)",
+               number=5 + k if THESIS_LAYOUT else 5,
+               part="" if THESIS_LAYOUT or len(dirs_set) == 1 else PARTS[k],
+               stem=f"fig3_5_7_spatial_{slug}")
 for k, d in enumerate(dirs_set):
-    num.figure(f"spatial_{d}", f"Spatial-frequency power of the cuts of set {fig_set} along "
-               f"{DIRECTION_LABELS[d]} (kinematic peak near 0.5 mm⁻¹ dotted)", number=5 + k,
-               stem=f"fig3_5_7_spatial_{d}")
-for k, d in enumerate(dirs_set):
-    num.figure(f"time_{d}", f"Time-frequency power 0–250 Hz of the cuts of set {fig_set} along "
-               f"{DIRECTION_LABELS[d]} (identified modes dotted)", number=8 + k,
-               stem=f"fig3_8_10_time_{d}")
+    slug = d.replace(" ", "")
+    num.figure(f"time_{d}", f"Time-frequency power 0–250 Hz of the cuts of {which} along "
+               f"{dir_label(d)} (identified modes dotted)",
+               number=8 + k if THESIS_LAYOUT else 8,
+               part="" if THESIS_LAYOUT or len(dirs_set) == 1 else PARTS[k],
+               stem=f"fig3_8_10_time_{slug}")
 num.table("peaks", "Per-cut peaks: dominant low-frequency and kinematic peak, and the nearest "
-          "identified mode", number=1)
-num.table("harmonics", "Tooth-passing harmonics: median frequency and power over the cuts",
-          number=3)
+          "identified mode" + ("" if THESIS_LAYOUT else "; the mean force levels in the cut "
+                               "frame; grouped by what varies"), number=1)
+num.table("harmonics", "Tooth-passing harmonics: median frequency and power over the cuts"
+          " (of each tooth-passing frequency)", number=3)
 num.figure("mean_forces_vs_feed", "Mean forces per cut, divided by N·a, against the feed per tooth",
            number=11)
 num.table("coefficients", "Identified cutting coefficients with 95 % intervals", number=4)
 display(Markdown(
     f"{sp.sizes['cut']} cuts analysed, {int(sp['n_samples'].sum()):,} samples per axis in "
-    f"total; tooth passing {float(sp['tooth_passing_hz'][0]):.1f} Hz."))
+    f"total; tooth passing {span(sp['tooth_passing_hz'].values, '.1f')} Hz."
+    + ("" if THESIS_LAYOUT else
+       f" Design: {describe_design(plan[plan['cut'].isin(cuts_set)], experiment)}.")))
 
 # %% [markdown]
 # ## The model's force shape (eq. 3.1)
 
 # %%
 display(Markdown(
-    f"{num.ref('model_force_shape')}: two revolutions of a 2-flute slot with the coefficients "
-    "identified below; the thesis plots the Z shape only, \"independent of its amplitude\"."))
+    f"{num.ref('model_force_shape')}: two revolutions of a {shape} with the coefficients "
+    "identified below" + vs_thesis("; the thesis plots the Z shape only, \"independent of its "
+                                   "amplitude\"") + "."))
 ang = sp["model_angle"].values
 fig, ax = plt.subplots()
 for i, lab in enumerate(["F_x (feed)", "F_y (cross-feed)", "F_z (axial)"]):
@@ -153,7 +194,7 @@ display(Markdown(
 
 # %%
 def per_direction(xkey, xmax, name, title, xlabel, vlines=()):
-    for direction in ("py", "px", "my"):
+    for direction in dirs_set:
         cs = [c for c in cuts_set if str(sp["direction"].sel(cut=c).item()) == direction]
         if not cs:
             continue
@@ -168,16 +209,17 @@ def per_direction(xkey, xmax, name, title, xlabel, vlines=()):
             for v in vlines:
                 axx.axvline(v, color="0.6", ls=":", lw=0.8)
             axx.set_ylabel("P [N²]")
-            axx.set_title(f"{c}: {float(d['feed_mm_s']):g} mm/s", fontsize=9)
+            axx.set_title(f"{c}: {float(d['feed_mm_s']):g} mm/s, tooth passing "
+                          f"{float(d['tooth_passing_hz']):.0f} Hz", fontsize=9)
         axs[-1, 0].set_xlabel(xlabel)
-        fig.suptitle(f"{title} {DIRECTION_LABELS[direction]}, set {fig_set}")
+        fig.suptitle(f"{title} {dir_label(direction)}, {which}")
         save_figure(fig, fig_dir, num.file(f"{name}_{direction}"))
         plt.show()
         display(num.caption(f"{name}_{direction}"))
 
 
 display(Markdown(
-    "Thesis normalized power P(k) = |Z(k)|²/N² of each whole record, summed over the three "
+    "The thesis' normalized power P(k) = |Z(k)|²/N² of each whole record, summed over the three "
     "axes, against f/v ("
     + ", ".join(num.ref(f"spatial_{d}") for d in dirs_set) + ")."
     + vs_thesis(" The thesis finds the kinematic irregularity near 0.5 mm⁻¹, as on the "
@@ -227,7 +269,19 @@ tab = pk.merge(mf[["cut", "feed_mm_s", "depth_mm", "direction"]], on="cut")
 if mode_table is not None and len(mode_table):
     tab = tab.join(nearest_modes(tab["dominant_hz"], mode_table))
 display(num.caption("peaks"))
-display(tab.round(4))
+if THESIS_LAYOUT:
+    display(tab.round(4))
+else:  # grouped by what varies, with the force levels
+    forces_cols = ["F_feed_N", "F_cross_feed_N", "F_axial_N"]
+    values = ["dominant_hz", "kinematic_per_mm", *forces_cols] + [
+        c for c in ("nearest_mode_hz", "offset_hz") if c in tab]
+    per_cut = tab.drop(columns=["feed_mm_s", "depth_mm", "direction"]).merge(
+        mf[["cut", *forces_cols]], on="cut")
+    display(per_cut_table(per_cut[["cut", *values]], values, plan, experiment).round(4))
+    display(Markdown(
+        f"{num.ref('peaks')}, grouped by {', '.join(design.grouping) or 'cut'}: mean force in "
+        f"the cut frame: feed {span(mf.F_feed_N)} N, cross-feed {span(mf.F_cross_feed_N)} N, "
+        f"axial {span(mf.F_axial_N)} N."))
 
 # %%
 dom = pk["dominant_hz"]
@@ -265,25 +319,35 @@ hsum = hm.assign(power_N2=hm[["Fx_power_N2", "Fy_power_N2", "Fz_power_N2"]].sum(
 display(Markdown(f"{num.ref('harmonics')} lists the harmonics of the tooth-passing "
                  "frequency in the dynamometer records."))
 display(num.caption("harmonics"))
-display(hsum.pivot_table(index="harmonic", values=["f_hz", "power_N2"], aggfunc="median")
-        .round(4))
+# medians over the cuts of one tooth-passing frequency (one spindle speed and tool)
+by_tp = hsum.merge(plan[["cut", "tooth_passing_hz"]].rename(
+    columns={"tooth_passing_hz": "tooth_hz"}), on="cut")
+display(by_tp.pivot_table(index=(["harmonic"] if by_tp["tooth_hz"].nunique() == 1
+                                 else ["tooth_hz", "harmonic"]),
+                          values=["f_hz", "power_N2"], aggfunc="median").round(4))
 
 # %% [markdown]
 # ## Cutting-coefficient identification
 
 # %%
+slot = "milling" not in process or (process["milling"] == "slot").all()
 display(Markdown(
     f"Mean forces per cut in the cut frame, divided by N·a, are linear in the feed per tooth c "
-    f"({num.ref('mean_forces_vs_feed')}): F̄_y/(Na) = K_tc c/4 + K_te/π, "
-    "F̄_x/(Na) = −(K_rc c/4 + K_re/π), F̄_z/(Na) = K_ac c/π + K_ae/2."))
+    f"({num.ref('mean_forces_vs_feed')})"
+    + (": F̄_y/(Na) = K_tc c/4 + K_te/π, F̄_x/(Na) = −(K_rc c/4 + K_re/π), "
+       "F̄_z/(Na) = K_ac c/π + K_ae/2." if slot else
+       ", with slopes and intercepts set by each cut's entry and exit angles (the average of "
+       "eq. 3.1 over the engaged arc: " + ", ".join(sorted(
+           {f"{r.milling} milling, a_e/D {r.radial_immersion:g}"
+            for r in process.itertuples()})) + ").")))
 fig, axs = plt.subplots(1, 3, figsize=(12, 3.6))
-na = 2 * mf["depth_mm"]
+n_teeth = process["flutes"] if "flutes" in process else pd.Series(2, index=mf.index)
 for axx, comp, lab in zip(axs, ["F_cross_feed_N", "F_feed_N", "F_axial_N"],
                           ["F̄_y/(Na) (tangential)", "F̄_x/(Na) (radial)", "F̄_z/(Na) (axial)"],
                           strict=True):
     for depth, g in mf.groupby("depth_mm"):
-        axx.plot(g["feed_per_tooth_mm"] * 1e3, g[comp] / (2 * depth), "o", ms=4,
-                 label=f"a = {depth:g} mm")
+        axx.plot(g["feed_per_tooth_mm"] * 1e3, g[comp] / (n_teeth[g.index] * depth), "o",
+                 ms=4, label=f"a = {depth:g} mm")
     axx.set_xlabel("feed per tooth c [µm]")
     axx.set_title(lab, fontsize=10)
 axs[0].set_ylabel("N/mm")
@@ -309,7 +373,8 @@ msg = (f"Identified coefficients with 95 % intervals ({num.ref('coefficients')})
 if worst is not None:
     msg += (f"Against the planted values of the virtual cell the largest error is "
             f"{worst['error_pct']:+.2f} % ({worst['name']}). ")
-msg += ("The thesis assumes typical aluminium values (Altintas 2012) and does not identify "
-        "them; these are the values the chatter chapter uses.")
+msg += (vs_thesis("The thesis assumes typical aluminium values (Altintas 2012) and does not "
+                  "identify them; these are the values the chatter chapter uses.")
+        or "These are the values the chatter chapter uses.")
 display(Markdown(msg))
 num.check()

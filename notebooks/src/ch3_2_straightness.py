@@ -2,13 +2,13 @@
 # # Chapter 3.2 — Path straightness and the gear-mesh frequencies
 #
 # A laser tracker followed a target on the robot flange while the robot moved, without
-# cutting, along the cut paths at the cut feeds (thesis §3.2; FARO tracker, 815 Hz). The
+# cutting, along the cut paths at the cut feeds (thesis §3.2, with a FARO tracker). The
 # time series is re-ordered in space: distance along the best straight line, deviation
 # perpendicular to it (a horizontal *lateral* and a *vertical* component), resampled on a
 # uniform grid. Its spectrum in mm⁻¹ is compared with the spatial frequencies of every gear
 # of every joint during that run (revolutions per mm of path, from the joint rates along the
-# path), and peaks at a constant *temporal* frequency (the 13 Hz servo ripple) are told apart
-# from constant-*spatial*-frequency ones by comparing the feeds.
+# path), and peaks at a constant *temporal* frequency (a servo ripple) are told apart from
+# constant-*spatial*-frequency ones by comparing the feeds.
 
 # %% tags=["parameters"]
 peaks: str = None  # results/straightness/peaks.csv
@@ -19,6 +19,9 @@ surface_peaks: str = None  # results/surface/peaks.csv (chapter 2)
 cuts: str = None  # results/ingest/cuts.csv
 settings: dict = None  # config straightness section
 synthetic: bool = None  # data source is the virtual cell
+experiment: dict = None  # the manifest's experiment defaults (spindle_rpm, flutes, ...)
+thesis_design: bool = None  # the thesis' design (robomill.experiment.is_thesis_design)
+thesis_study: bool = None  # the thesis' study (robomill.experiment.is_thesis_study)
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
@@ -30,6 +33,12 @@ from IPython.display import Markdown, display
 from robomill.experiment import DIRECTION_LABELS
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
+from robomill.pipeline.design_tables import (
+    direction_label,
+    per_cut_table,
+    span,
+    thesis_gate,
+)
 from robomill.plotting import save_figure
 from robomill.straightness import attribution_counts, band_floor_table, surface_cross_check
 
@@ -42,7 +51,13 @@ runs = pd.DataFrame({k: prof[k].values for k in ("direction", "feed_mm_s", "cut"
                                                   "resolution_per_mm", "length_mm",
                                                   "speed_mm_s", "floor_um2")},
                     index=prof["run"].values)
-directions = [d for d in ("py", "my", "px") if d in set(runs["direction"])]
+vs_thesis = thesis_gate(thesis_study)
+THESIS_LAYOUT = thesis_design is not False  # the thesis' figures: +-Y runs, then +X
+present = list(dict.fromkeys(str(d) for d in runs["direction"]))
+directions = ([d for d in ("py", "my", "px") if d in present] if THESIS_LAYOUT
+              else sorted(present))
+LABELS = {d: DIRECTION_LABELS.get(d) or direction_label(None, float(d.lstrip("d").split()[0]))
+          for d in present}
 gear_pk = pk[pk["mechanism"] == "gear"]
 temporal = pk[pk["mechanism"] == "temporal"]
 d16 = "my" if "my" in directions else directions[0]
@@ -50,17 +65,28 @@ d16 = "my" if "my" in directions else directions[0]
 # thesis numbers for ±Y (Figs 3.12–3.17, Table 3.2); the +X runs and the extra tables are
 # numbered after them (Tables 3.1, 3.3 and 3.4 are in the forces chapter)
 num = Numbering("3")
-for d, (n_dev, n_psd) in {"py": (12, 13), "my": (14, 15), "px": (18, 19)}.items():
-    if d in directions:
-        x = "x" if d == "px" else ""
+if THESIS_LAYOUT:
+    for d, (n_dev, n_psd) in {"py": (12, 13), "my": (14, 15), "px": (18, 19)}.items():
+        if d in directions:
+            x = "x" if d == "px" else ""
+            num.figure(f"deviation_{d}", f"Deviation from the best line along the path "
+                       f"{LABELS[d]}, every feed (0.1 mm running mean in bold)",
+                       number=n_dev, stem=f"fig3_{n_dev - 6 if x else n_dev}{x}_deviation_{d}")
+            num.figure(f"psd_{d}", f"Power spectrum of the motion along {LABELS[d]} "
+                       "(▼ gear peak, ● other peak)", number=n_psd,
+                       stem=f"fig3_{n_psd - 6 if x else n_psd}{x}_psd_{d}")
+else:  # any design: Figs 3.12 and 3.13, one part per path direction
+    part = {d: "abcdefghijklmnopqrstuvwxyz"[i] if len(directions) > 1 else ""
+            for i, d in enumerate(directions)}
+    for d in directions:
         num.figure(f"deviation_{d}", f"Deviation from the best line along the path "
-                   f"{DIRECTION_LABELS[d]}, every feed (0.1 mm running mean in bold)",
-                   number=n_dev, stem=f"fig3_{n_dev - 6 if x else n_dev}{x}_deviation_{d}")
-        num.figure(f"psd_{d}", f"Power spectrum of the motion along {DIRECTION_LABELS[d]} "
-                   "(▼ gear peak, ● other peak)", number=n_psd,
-                   stem=f"fig3_{n_psd - 6 if x else n_psd}{x}_psd_{d}")
-num.figure("psd_high", f"Motion spectrum along {DIRECTION_LABELS[d16]} up to the roughness "
-           "band", number=16, stem=f"fig3_16_psd_high_{d16}")
+                   f"{LABELS[d]}, every feed (0.1 mm running mean in bold)", number=12,
+                   part=part[d], stem=f"fig3_12{part[d]}_deviation_{d.replace(' ', '')}")
+        num.figure(f"psd_{d}", f"Power spectrum of the motion along {LABELS[d]} "
+                   "(▼ gear peak, ● other peak)", number=13, part=part[d],
+                   stem=f"fig3_13{part[d]}_psd_{d.replace(' ', '')}")
+num.figure("psd_high", f"Motion spectrum along {LABELS[d16]} up to the roughness "
+           "band", number=16, stem=f"fig3_16_psd_high_{d16.replace(' ', '')}")
 num.table("band_floor", "Peak-to-floor ratio of the motion spectrum in the surface band and "
           "in an equally wide band where nothing is expected", number=5)
 num.figure("temporal_vs_spatial", "Peaks by mechanism: spatial and temporal frequency against "
@@ -68,12 +94,16 @@ num.figure("temporal_vs_spatial", "Peaks by mechanism: spatial and temporal freq
 num.table("mesh", "Mesh spatial frequencies [mm⁻¹] of every gear stage, per direction",
           number=6)
 num.table("attribution", "Peak → gear attribution, and presence on the surface", number=2)
+if not THESIS_LAYOUT:
+    num.table("runs_by_design", "Per tracker run, grouped by direction and feed: RMS "
+              "deviation from the best line per component, the largest peak and its "
+              "wavelength, and the peaks by mechanism", number=8)
 tc = pd.read_csv(truth_check)
 if synthetic and len(tc):
     num.table("truth", "Attribution against the planted gear elements (synthetic data)",
               number=7)
 display(Markdown(
-    f"**{len(runs)} tracker runs** ({', '.join(DIRECTION_LABELS[d] for d in directions)}; "
+    f"**{len(runs)} tracker runs** ({', '.join(LABELS[d] for d in directions)}; "
     f"feeds {', '.join(f'{v:g}' for v in sorted(runs.feed_mm_s.unique()))} mm/s), analysed "
     f"length {runs.length_mm.mean():.1f} mm, so the frequency resolution is "
     f"1/L = {runs.resolution_per_mm.mean():.4f} mm⁻¹. Measured speeds agree with the "
@@ -108,7 +138,7 @@ def deviation_figure(direction, number, key):
     axes[0, 0].legend(ncol=2, fontsize=8, loc="upper right")
     axes[-1, 0].set_xlabel("distance along the path s [mm]")
     fig.suptitle(f"Fig 3.{number} — deviation from the best line, path "
-                 f"{DIRECTION_LABELS[direction]}")
+                 f"{LABELS[direction]}")
     save_figure(fig, fig_dir, num.file(key))
     plt.show()
     display(num.caption(key))
@@ -132,7 +162,7 @@ def psd_figure(direction, number, fmax, key, title):
     ax.set_xlim(0, fmax)
     ax.set_ylim(bottom=max(1e-6, float(prof.floor_um2.min()) / 10))
     ax.legend(fontsize=8, ncol=2)
-    ax.set_title(f"Fig 3.{number} — {title}, path {DIRECTION_LABELS[direction]} "
+    ax.set_title(f"Fig 3.{number} — {title}, path {LABELS[direction]} "
                  "(▼ gear, ● other peak)")
     save_figure(fig, fig_dir, num.file(key))
     plt.show()
@@ -140,22 +170,24 @@ def psd_figure(direction, number, fmax, key, title):
 
 
 # %% [markdown]
-# ## Deviation profiles and their spectra along ±Y
+# ## Deviation profiles and their spectra
 
 # %%
-ys = [d for d in ("py", "my") if d in directions]
+ys = [d for d in ("py", "my") if d in directions] if THESIS_LAYOUT else directions
 display(Markdown(
-    "The deviation of the path from its best line at 2–10 mm/s ("
+    f"The deviation of the path from its best line at {span(runs.feed_mm_s, 'g')} mm/s ("
     + ", ".join(num.ref(f"deviation_{d}") for d in ys) + ") and its power spectrum ("
-    + ", ".join(num.ref(f"psd_{d}") for d in ys) + "), as in thesis Figs 3.12–3.15: dominant "
-    "peaks below 0.5 mm⁻¹ (wavelengths above 2 mm)."))
-numbers = {"py": (12, 13), "my": (14, 15)}
+    + ", ".join(num.ref(f"psd_{d}") for d in ys) + ")"
+    + vs_thesis(", as in thesis Figs 3.12–3.15: dominant peaks below 0.5 mm⁻¹ (wavelengths "
+                "above 2 mm)") + "."))
+numbers = ({"py": (12, 13), "my": (14, 15)} if THESIS_LAYOUT else
+           {d: (f"12{part[d]}", f"13{part[d]}") for d in directions})
 for d in ys:
     deviation_figure(d, numbers[d][0], f"deviation_{d}")
     psd_figure(d, numbers[d][1], 1.0, f"psd_{d}", "power spectrum of the motion")
 
 # %%
-if "px" in directions:
+if THESIS_LAYOUT and "px" in directions:
     display(Markdown(
         f"The +X runs (not in the thesis figures) are analysed the same way: "
         f"{num.ref('deviation_px')} and {num.ref('psd_px')}."))
@@ -169,11 +201,10 @@ if len(main):
     wl = 1 / main.f_spatial_per_mm
     display(Markdown(
         f"Gear-attributed peaks lie between {gear_pk.f_spatial_per_mm.min():.3f} and "
-        f"{gear_pk.f_spatial_per_mm.max():.3f} mm⁻¹ (thesis: below 0.5 mm⁻¹). The mesh peaks "
-        f"near 0.5 mm⁻¹ have wavelengths "
-        f"{(1 / low[low.f_spatial_per_mm > 0.3].f_spatial_per_mm).min():.2f}–"
-        f"{(1 / low[low.f_spatial_per_mm > 0.3].f_spatial_per_mm).max():.2f} mm "
-        "(thesis: about 2 mm; surface waviness about 2.5 mm)."
+        f"{gear_pk.f_spatial_per_mm.max():.3f} mm⁻¹" + vs_thesis(" (thesis: below 0.5 mm⁻¹)")
+        + ". The mesh peaks near 0.5 mm⁻¹ have wavelengths "
+        f"{span(1 / low[low.f_spatial_per_mm > 0.3].f_spatial_per_mm)} mm"
+        + vs_thesis(" (thesis: about 2 mm; surface waviness about 2.5 mm)") + "."
         if (low.f_spatial_per_mm > 0.3).any() else
         f"The largest gear peak per run has a wavelength of {wl.min():.1f}–{wl.max():.1f} mm."))
 
@@ -182,10 +213,12 @@ if len(main):
 
 # %%
 display(Markdown(
-    "The thesis finds small irregularities near 8 mm⁻¹ on the surfaces cut at 8 and 10 mm/s "
-    "(≈ 64 and 80 Hz) and no peak there in the motion: they come from vibration, not from the "
-    f"robot's path. {num.ref('psd_high')} shows the motion spectrum up to that band; the "
-    "13 Hz servo ripple appears at 13/v mm⁻¹."))
+    vs_thesis("The thesis finds small irregularities near 8 mm⁻¹ on the surfaces cut at 8 and "
+              "10 mm/s (≈ 64 and 80 Hz) and no peak there in the motion: they come from "
+              "vibration, not from the robot's path. ")
+    + f"{num.ref('psd_high')} shows the motion spectrum up to the surface's roughness band "
+    f"({settings['surface_band_per_mm'][0]:g}–{settings['surface_band_per_mm'][1]:g} mm⁻¹); "
+    "a servo ripple at f Hz appears at f/v mm⁻¹."))
 psd_figure(d16, 16, float(settings["fmax_store_per_mm"]), "psd_high",
            "motion spectrum up to the roughness band")
 band = tuple(settings["surface_band_per_mm"])
@@ -199,8 +232,9 @@ display(Markdown(
     f"{fast.peak_to_floor_in_band.max():.1f}× the noise floor, against "
     f"{hi.peak_to_floor_noise_band.min():.1f}–{hi.peak_to_floor_noise_band.max():.1f}× in the "
     f"equally wide band {quiet[0]:g}–{quiet[1]:g} mm⁻¹ where nothing is expected (a peak needs "
-    f"{settings['threshold']:g}×; {num.ref('band_floor')}): the motion has no component near "
-    "8 mm⁻¹, as the thesis concludes." if len(fast) else
+    f"{settings['threshold']:g}×; {num.ref('band_floor')})"
+    + (": the motion has no component there" + vs_thesis(", as the thesis concludes") + "."
+       if fast.peaks_in_band.sum() == 0 else ".") if len(fast) else
     f"No run at 8 or 10 mm/s in this data set ({num.ref('band_floor')})."))
 display(num.caption("band_floor"))
 display(hi.round(2))
@@ -211,7 +245,8 @@ display(hi.round(2))
 # %%
 display(Markdown(
     "A peak whose wavelength grows with the feed has a constant temporal frequency (a servo "
-    "ripple; thesis: 13 Hz); a gear peak keeps its spatial frequency at every feed "
+    "ripple" + vs_thesis("; thesis: 13 Hz") + "); a gear peak keeps its spatial frequency at "
+    "every feed "
     f"({num.ref('temporal_vs_spatial')})."))
 fig, axes = plt.subplots(1, 2, figsize=(9, 3.8))
 for mech, mk in (("gear", "v"), ("temporal", "o"), ("spatial", "s"), ("unclassified", "x")):
@@ -231,14 +266,15 @@ axes[1].set_xlabel("feed [mm/s]")
 axes[1].set_ylabel("temporal frequency [Hz]")
 axes[0].legend(fontsize=8)
 fig.suptitle("Fig 3.17 — peaks by mechanism: spatial and temporal frequency vs feed")
+fig.tight_layout()
 save_figure(fig, fig_dir, num.file("temporal_vs_spatial"))
 plt.show()
 display(num.caption("temporal_vs_spatial"))
 if len(temporal):
     display(Markdown(
         f"{len(temporal)} peaks have a constant temporal frequency of "
-        f"{temporal.f_temporal_hz.mean():.2f} ± {temporal.f_temporal_hz.std(ddof=0):.2f} Hz "
-        f"(thesis: 13 Hz), i.e. wavelengths from "
+        f"{temporal.f_temporal_hz.mean():.2f} ± {temporal.f_temporal_hz.std(ddof=0):.2f} Hz"
+        + vs_thesis(" (thesis: 13 Hz)") + ", i.e. wavelengths from "
         f"{(1 / temporal.f_spatial_per_mm).min():.2f} mm to "
         f"{(1 / temporal.f_spatial_per_mm).max():.2f} mm depending on the feed, amplitude "
         f"{temporal.amplitude_um.min():.2f}–{temporal.amplitude_um.max():.2f} µm."))
@@ -252,7 +288,8 @@ display(Markdown(
     "revolution; mesh: teeth per revolution) during each run's cut path; independent of the "
     "feed on a given path."))
 tab = (gr[gr.order == "mesh"].pivot_table(index=["joint", "stage"], columns="direction",
-                                           values="f_spatial_per_mm", aggfunc="mean"))
+                                           values="f_spatial_per_mm", aggfunc="mean")
+       .rename(columns=LABELS))
 display(num.caption("mesh"))
 display(tab.round(4))
 
@@ -267,20 +304,53 @@ sp = pd.read_csv(surface_peaks)
 cut_table = pd.read_csv(cuts)
 tol = float(settings["tol_bins"]) * max(
     float(runs.resolution_per_mm.max()),
-    1.0 / 15.0)  # surface profiles: 15 mm (thesis f0 = 0.067 1/mm)
+    1.0 / 15.0)  # surface profiles of 15 mm or more: 1/15 mm⁻¹ (the thesis' f0)
 xc = surface_cross_check(gear_pk, sp, cut_table, tolerance_per_mm=tol)
-table = xc.assign(direction=xc.direction.map(DIRECTION_LABELS),
+table = xc.assign(direction=xc.direction.map(lambda d: LABELS.get(d, d)),
                   on_surface=xc.on_surface.map({True: "yes", False: "no"}))[
     ["direction", "feed_mm_s", "joint", "stage", "order", "f_spatial_per_mm", "amplitude_um",
      "on_surface", "surface_f_per_mm"]]
 display(Markdown(
     f"{num.ref('attribution')}: {int(xc.on_surface.sum())} of {len(xc)} gear peaks are also "
     "surface-waviness peaks "
-    f"(tolerance {tol:.3f} mm⁻¹; the surface table has {len(sp)} peaks). The thesis finds that "
-    "the spatial frequency of the main surface irregularities agrees with some of the gear "
-    "spatial frequencies."))
+    f"(tolerance {tol:.3f} mm⁻¹; the surface table has {len(sp)} peaks)."
+    + vs_thesis(" The thesis finds that the spatial frequency of the main surface "
+                "irregularities agrees with some of the gear spatial frequencies.")))
 display(num.caption("attribution"))
 display(table.round(4))
+
+# %% [markdown]
+# ## Per run, grouped by what varies
+
+# %%
+if not THESIS_LAYOUT:
+    per_run = runs.rename_axis("run").reset_index()
+    for comp in prof.component.values:
+        dev = prof.deviation_um.sel(component=comp)
+        per_run[f"rms_{comp}_um"] = np.sqrt((dev ** 2).mean("s", skipna=True)).values
+    top = pk.loc[pk.groupby(["direction", "feed_mm_s"]).amplitude_um.idxmax()]
+    top = top.assign(run=[run_of(d, v) for d, v in zip(top.direction, top.feed_mm_s,
+                                                       strict=True)])
+    per_run = per_run.merge(top[["run", "amplitude_um", "f_spatial_per_mm", "mechanism"]]
+                            .rename(columns={"amplitude_um": "largest_peak_um",
+                                             "mechanism": "largest_peak_mechanism"}),
+                            on="run", how="left")
+    per_run["largest_peak_wavelength_mm"] = 1 / per_run.pop("f_spatial_per_mm")
+    counts = pk.assign(run=[run_of(d, v) for d, v in zip(pk.direction, pk.feed_mm_s,
+                                                        strict=True)]
+                       ).groupby(["run", "mechanism"]).size().unstack(fill_value=0)
+    counts.columns = [f"{c}_peaks" for c in counts.columns]
+    per_run = per_run.merge(counts.reset_index(), on="run", how="left")
+    values = [c for c in per_run.columns if c.startswith("rms_")] + [
+        "largest_peak_um", "largest_peak_wavelength_mm", "largest_peak_mechanism",
+        *counts.columns]
+    display(num.caption("runs_by_design"))
+    display(per_cut_table(per_run[["run", "direction", "feed_mm_s", *values]], values,
+                          key="run").round(4))
+    display(Markdown(
+        f"{num.ref('runs_by_design')}: RMS deviation from the best line per run and component "
+        + ", ".join(f"{c.removeprefix('rms_').removesuffix('_um')} {span(per_run[c])} µm"
+                    for c in values if c.startswith("rms_")) + "."))
 
 # %% [markdown]
 # ## Check against the planted truth (synthetic data)

@@ -24,9 +24,12 @@ map_models: str = None  # results/stiffness/<map robot>/identification.csv
 map_validation: str = None  # results/stiffness/<map robot>/validation.csv
 thesis_joints: str = None  # results/stiffness/<thesis robot>/joint_stiffness.csv
 thesis_validation: str = None  # results/stiffness/<thesis robot>/validation.csv
-slots: str = None  # results/stiffness/thesis_slots.csv
-waviness: str = None  # results/surface/table_2_1_waviness_rms.csv
+slots: str = None  # results/stiffness/thesis_slots.csv (thesis design only)
+waviness: str = None  # results/surface/table_2_1_waviness_rms.csv (thesis design only)
 truth: str = None  # results/synthetic/truth.nc (synthetic runs only)
+experiment: dict = None  # the manifest's experiment defaults (spindle_rpm, flutes, ...)
+thesis_design: bool = None  # the thesis' design (robomill.experiment.is_thesis_design)
+thesis_study: bool = None  # the thesis' study (robomill.experiment.is_thesis_study)
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
@@ -37,6 +40,7 @@ from IPython.display import Markdown, display
 
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
+from robomill.pipeline.design_tables import thesis_gate
 from robomill.plotting import save_figure
 from robomill.stiffness import slot_stiffness_table, stiffness_spread_pct, waviness_by_direction
 
@@ -58,6 +62,9 @@ models = pd.read_csv(map_models)
 val = pd.read_csv(map_validation)
 robot_name = mp.attrs.get("robot", "robot")
 heights = mp["height_mm"].values
+vs_thesis = thesis_gate(thesis_study)
+# 5.6 compares the thesis robot at the thesis' slots with Table 2.1: its design only
+SLOTS = thesis_design is not False and slots is not None and waviness is not None
 
 num = Numbering("5")
 num.table("workspace_ranges", "Workspace ranges: seed 001 against our Monte-Carlo workspace")
@@ -79,10 +86,11 @@ num.figure("optimal_poses", "Deformation under the end load, optimal against ran
            "(dashed: the seed's optimum)")
 num.figure("beamframe", "Beam-frame model: nodes at t = 0, and the tool displacement with the "
            "predicted σ(t) (seed 004, eq. 17)")
-num.table("slots", "Thesis robot: mean stiffness along the slot directions beside the mean "
-          "waviness of Table 2.1")
-num.figure("thesis_slots", "Thesis robot: stiffness per slot direction against the waviness "
-           "RMS of Table 2.1")
+if SLOTS:
+    num.table("slots", "Thesis robot: mean stiffness along the slot directions beside the "
+              "mean waviness of Table 2.1")
+    num.figure("thesis_slots", "Thesis robot: stiffness per slot direction against the "
+               "waviness RMS of Table 2.1")
 
 # %% [markdown]
 # ## 5.1 Workspace (seed 001 §2)
@@ -274,53 +282,63 @@ plt.show()
 display(num.caption("beamframe"))
 
 # %% [markdown]
-# ## 5.6 The thesis robot: stiffness along the slot directions vs Table 2.1
+# ## 5.6 Stiffness along the cuts
 #
-# Both models at the middle of every thesis cut: stiffness along the feed, the in-plane
-# normal to the feed (the slot wall) and the tool axis (the slot floor, which the
-# profilometer measures), beside the RMS waviness of Table 2.1.
+# For the thesis' design: both models of the thesis robot at the middle of every thesis cut:
+# stiffness along the feed, the in-plane normal to the feed (the slot wall) and the tool axis
+# (the slot floor, which the profilometer measures), beside the RMS waviness of Table 2.1.
 
 # %%
-sl = pd.read_csv(slots)
-tj = pd.read_csv(thesis_joints)
-unobs = tj.loc[~tj["observable"].astype(str).str.lower().isin(["true", "1"]), "joint"].tolist()
-wav = pd.read_csv(waviness, index_col=0)
-mean_k = slot_stiffness_table(sl, wav)
-wq = waviness_by_direction(wav)
-display(num.caption("slots"))
-display(mean_k)
-comb = mean_k.loc["combined"]
-kn = comb["k normal N/µm"]
-spread = stiffness_spread_pct(kn)
-display(Markdown(
-    f"{num.ref('slots')}, {num.ref('thesis_slots')}: thesis robot joints not observable in its "
-    f"load tests: {unobs or 'none'} (treated as "
-    "rigid; a tool on the flange axis gives no torque about joint 6). Both models in series: "
-    + ", ".join(f"{d} slots k_normal {kn[d]:.3f}, k_feed {comb.loc[d, 'k feed N/µm']:.3f} N/µm"
-                for d in kn.index)
-    + f". The +Y and −Y slots share their normal direction (±X), and their normal stiffness "
-    f"differs by {spread:+.1f} %, while their mean waviness is {wq['py']:.2f} vs "
-    f"{wq['my']:.2f} µm (+X: {wq['px']:.2f} µm). The weak ±X direction is the normal of "
-    "both Y slots and the feed of the X slots: static stiffness explains why the Y slots are "
-    "worse than the X slots only in part, and cannot explain why +Y is so much rougher than "
-    "−Y — that asymmetry points to the direction of travel (gear errors, up- vs down-milling "
-    "side of the wall). (On synthetic data the waviness comes from the planted gear errors.)"))
+if not SLOTS:
+    display(Markdown(
+        "This study's cuts are not the thesis' slots (chapter 0 describes the design), so the "
+        "comparison of the thesis robot's stiffness along the slot directions with Table 2.1 "
+        "does not apply. A per-cut table of the stiffness along each cut's feed needs the "
+        "joint stiffness of this cell's own robot (a `stiffness` file for the robot of "
+        f"`cell.yaml`); the load tests of this run are for the seed robot ({robot_name}) and the "
+        "thesis robot only, so there is none."))
 
 # %%
-fig, ax = plt.subplots()
-c = sl[sl["model"] == "combined"].groupby("direction")[["k_feed_N_m", "k_normal_N_m",
-                                                         "k_axial_N_m"]].mean() / 1e6
-x = np.arange(len(c))
-for i, col in enumerate(c.columns):
-    ax.bar(x + (i - 1) * 0.25, c[col], 0.25, label=col.replace("_N_m", "").replace("k_", ""))
-ax.set_xticks(x, c.index)
-ax.set_ylabel("stiffness [N/µm]")
-ax2 = ax.twinx()
-ax2.plot(x, [wq.get(d, np.nan) for d in c.index], "kD--", label="waviness RMS")
-ax2.set_ylabel("waviness RMS [µm]")
-ax.set_title("Thesis robot: stiffness per slot direction vs Table 2.1")
-ax.legend(loc="upper left")
-save_figure(fig, fig_dir, num.file("thesis_slots"))
-plt.show()
-display(num.caption("thesis_slots"))
+if SLOTS:
+    sl = pd.read_csv(slots)
+    tj = pd.read_csv(thesis_joints)
+    unobs = tj.loc[~tj["observable"].astype(str).str.lower().isin(["true", "1"]), "joint"].tolist()
+    wav = pd.read_csv(waviness, index_col=0)
+    mean_k = slot_stiffness_table(sl, wav)
+    wq = waviness_by_direction(wav)
+    display(num.caption("slots"))
+    display(mean_k)
+    comb = mean_k.loc["combined"]
+    kn = comb["k normal N/µm"]
+    spread = stiffness_spread_pct(kn)
+    display(Markdown(
+        f"{num.ref('slots')}, {num.ref('thesis_slots')}: thesis robot joints not observable in its "
+        f"load tests: {unobs or 'none'} (treated as "
+        "rigid; a tool on the flange axis gives no torque about joint 6). Both models in series: "
+        + ", ".join(f"{d} slots k_normal {kn[d]:.3f}, k_feed {comb.loc[d, 'k feed N/µm']:.3f} N/µm"
+                    for d in kn.index)
+        + f". The +Y and −Y slots share their normal direction (±X), and their normal stiffness "
+        f"differs by {spread:+.1f} %, while their mean waviness is {wq['py']:.2f} vs "
+        f"{wq['my']:.2f} µm (+X: {wq['px']:.2f} µm). The weak ±X direction is the normal of "
+        "both Y slots and the feed of the X slots: static stiffness explains why the Y slots are "
+        "worse than the X slots only in part, and cannot explain why +Y is so much rougher than "
+        "−Y — that asymmetry points to the direction of travel (gear errors, up- vs down-milling "
+        "side of the wall). (On synthetic data the waviness comes from the planted gear errors.)"))
+
+    fig, ax = plt.subplots()
+    c = sl[sl["model"] == "combined"].groupby("direction")[["k_feed_N_m", "k_normal_N_m",
+                                                             "k_axial_N_m"]].mean() / 1e6
+    x = np.arange(len(c))
+    for i, col in enumerate(c.columns):
+        ax.bar(x + (i - 1) * 0.25, c[col], 0.25, label=col.replace("_N_m", "").replace("k_", ""))
+    ax.set_xticks(x, c.index)
+    ax.set_ylabel("stiffness [N/µm]")
+    ax2 = ax.twinx()
+    ax2.plot(x, [wq.get(d, np.nan) for d in c.index], "kD--", label="waviness RMS")
+    ax2.set_ylabel("waviness RMS [µm]")
+    ax.set_title("Thesis robot: stiffness per slot direction vs Table 2.1")
+    ax.legend(loc="upper left")
+    save_figure(fig, fig_dir, num.file("thesis_slots"))
+    plt.show()
+    display(num.caption("thesis_slots"))
 num.check()

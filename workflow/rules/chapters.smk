@@ -30,13 +30,12 @@ rule ch0:
     params:
         options=config["chapters"],
         failed_copy="results/logs/chapters/ch0.failed.ipynb",
+        parameters=DESIGN_PARAMS,
     script:
         "../scripts/render_chapter.py"
 
 
-add_chapter(
-    "0", "results/chapters/ch0_experiment.html", needs=("cuts",), thesis_design=True
-)
+add_chapter("0", "results/chapters/ch0_experiment.html", needs=("cuts",))
 
 
 rule ch3:

@@ -57,24 +57,24 @@ def has_kind(kind):
     return any(f["kind"] == kind for f in RAW_FILES)
 
 
-# Why a chapter written for the thesis' design (sets x segments x px/py/my, one tool and
-# speed) is left out for any other design; its stage's artefacts are still built.
-NOT_THESIS_DESIGN = (
-    None
-    if is_thesis_design(CUTS)
-    else "the cut design is not the thesis' (sets x segments x px/py/my, one tool and "
-    "speed); its per-cut artefacts are built by the stage's target"
-)
+# The thesis' design (Tables 2.1/2.2, the thesis-layout figures) and the thesis' study (its
+# process too: the chapters' "thesis: ..." remarks and the scorecard); any other design gets
+# per-cut tables grouped by what varies (robomill.pipeline.design_tables).
+THESIS_DESIGN = is_thesis_design(CUTS)
+THESIS_STUDY = is_thesis_study(CUTS, EXPERIMENT)
+# what the chapters need to describe any design: the experiment defaults and the thesis gate
+DESIGN_PARAMS = {
+    "experiment": dict(EXPERIMENT),
+    "thesis_design": THESIS_DESIGN,
+    "thesis_study": THESIS_STUDY,
+}
 
 
-def add_chapter(label, html, needs=(), thesis_design=False):
-    """Build chapter `label` (its .html) in `all` if the raw folder has the kinds it `needs`
-    (and, with `thesis_design`, the cuts follow the thesis' design); otherwise skip it with
-    one line (`chapter 3.3: no impact files in manifest.yaml`).
+def add_chapter(label, html, needs=()):
+    """Build chapter `label` (its .html) in `all` if the raw folder has the kinds it `needs`;
+    otherwise skip it with one line (`chapter 3.3: no impact files in manifest.yaml`).
     """
     why = missing_data(RAW_FILES, CUTS, needs)
-    if why is None and thesis_design:
-        why = NOT_THESIS_DESIGN
     if why is None:
         ALL_TARGETS.append(html)
     else:

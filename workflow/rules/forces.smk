@@ -82,6 +82,7 @@ rule ch3_forces:
         coefficients="results/forces/cutting_coefficients.csv",
         means="results/forces/mean_forces.csv",
         harmonics="results/forces/harmonics.csv",
+        cuts="results/ingest/cuts.csv",
         # the impact test's modes, when the raw folder has one (chapter 3.3)
     output:
         ipynb="results/chapters/ch3_1_forces.ipynb",
@@ -109,12 +110,10 @@ rule ch3_forces:
         parameters={
             "settings": config["forces"],
             "synthetic": SYNTHETIC,
-            "thesis_study": is_thesis_study(CUTS, EXPERIMENT),
+            **DESIGN_PARAMS,
         },
     script:
         "../scripts/render_chapter.py"
 
 
-add_chapter(
-    "3.1", "results/chapters/ch3_1_forces.html", needs=("force",), thesis_design=True
-)
+add_chapter("3.1", "results/chapters/ch3_1_forces.html", needs=("force",))

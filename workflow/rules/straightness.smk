@@ -126,14 +126,12 @@ rule ch3_straightness:
         parameters={
             "settings": config["straightness"],
             "synthetic": SYNTHETIC,
+            **DESIGN_PARAMS,
         },
     script:
         "../scripts/render_chapter.py"
 
 
 add_chapter(
-    "3.2",
-    "results/chapters/ch3_2_straightness.html",
-    needs=("tracker", "profile"),
-    thesis_design=True,  # its figures are the thesis' +-Y, +X runs
+    "3.2", "results/chapters/ch3_2_straightness.html", needs=("tracker", "profile")
 )

@@ -100,10 +100,9 @@ rule ch2:
         unpack(
             lambda w: {"recovery": "results/surface/recovery.csv"} if SYNTHETIC else {}
         ),
+        **SURFACE_TABLES,
         notebook=notebook("ch2_surface.ipynb"),
-        waviness="results/surface/table_2_1_waviness_rms.csv",
-        roughness="results/surface/table_2_2_roughness_rms.csv",
-        comparison="results/surface/thesis_comparison.csv",
+        cuts="results/ingest/cuts.csv",
         peaks="results/surface/peaks.csv",
         metrics="results/surface/metrics.csv",
         spectra="results/surface/spectra.nc",
@@ -134,11 +133,11 @@ rule ch2:
         parameters={
             "settings": config["surface"],
             "synthetic": SYNTHETIC,
+            **DESIGN_PARAMS,
+            "thesis_design": SURFACE_THESIS,  # of the profiled cuts
         },
     script:
         "../scripts/render_chapter.py"
 
 
-add_chapter(
-    "2", "results/chapters/ch2_surface.html", needs=("profile",), thesis_design=True
-)
+add_chapter("2", "results/chapters/ch2_surface.html", needs=("profile",))
