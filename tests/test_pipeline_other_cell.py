@@ -79,8 +79,41 @@ def test_per_cut_tables_grouped_by_what_varies(other_cell_run):
     assert "grouped by direction and feed" in ch32
     assert "rms_lateral_um" in ch32 and "mx_f2" in ch32 and "mx_f6" in ch32
     ch5 = chapter_outputs(workdir, "ch5_stiffness")
-    assert "not the thesis' slots" in ch5
     assert "stiffness along the slot directions beside the mean waviness" not in ch5
+    assert "stiffness along each cut's feed, in-plane normal and tool axis" in ch5
+    for col in ("k feed N/µm", "k normal N/µm", "k axial N/µm", *_cuts()):
+        assert col in ch5, col
+
+
+def test_stiffness_at_every_cut_planted_vs_recovered(other_cell_run):
+    """Chapter 5 for another design: the PUMA's joint stiffness identified from its own
+    (simulated) load tests gives the stiffness along each cut's feed, normal and tool axis
+    within 5 % of the same table with the planted joint stiffnesses."""
+    workdir, _ = other_cell_run
+    from robomill.experiment import Cut, cut_joint_path_rad
+    from robomill.io.cell import read_cell
+    from robomill.stiffness import cut_stiffness_table
+
+    got = pd.read_csv(workdir / "results/stiffness/cut_stiffness.csv").set_index("cut")
+    assert sorted(got.index) == sorted(_cuts())
+    overlay = yaml.safe_load(OVERLAY.read_text())
+    planted = next(r for r in overlay["synth"]["loadtests"]["robots"]
+                   if r["name"] == "puma560")["k_Nm_rad"]
+    cell = read_cell(workdir / "results/synthetic/raw/cell.yaml")
+    experiment = {**yaml.safe_load((REPO / ".test" / "config.yaml").read_text())["experiment"],
+                  **overlay["experiment"]}
+    cuts = [Cut(id=i, set=None, segment=None, direction=c.get("direction"),
+                feed_mm_s=c["feed_mm_s"], depth_mm=c["depth_mm"],
+                direction_deg=c.get("direction_deg"), start_mm=tuple(c["start_mm"]))
+            for i, c in _cuts().items()]
+    L = float(experiment["cut_length_mm"])
+    q = np.array([cut_joint_path_rad(cell.robot, c, experiment, np.array([L / 2]),
+                                     tool_rotation=cell.tool_rotation,
+                                     q0_rad=cell.q_home_rad)[0] for c in cuts])
+    truth = cut_stiffness_table(cell.robot, 1.0 / np.asarray(planted), cuts, q).set_index("cut")
+    for col in ("k_feed_N_m", "k_normal_N_m", "k_axial_N_m"):
+        rel = (got.loc[truth.index, col] / truth[col] - 1).abs()
+        assert (rel < 0.05).all(), (col, rel.to_dict())
 
 
 def test_the_cell_file_is_the_puma(other_cell_run):

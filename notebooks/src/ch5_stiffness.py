@@ -26,6 +26,8 @@ thesis_joints: str = None  # results/stiffness/<thesis robot>/joint_stiffness.cs
 thesis_validation: str = None  # results/stiffness/<thesis robot>/validation.csv
 slots: str = None  # results/stiffness/thesis_slots.csv (thesis design only)
 waviness: str = None  # results/surface/table_2_1_waviness_rms.csv (thesis design only)
+cut_stiffness: str = None  # results/stiffness/cut_stiffness.csv (other designs; cell robot tested)
+cuts: str = None  # results/ingest/cuts.csv (with cut_stiffness)
 truth: str = None  # results/synthetic/truth.nc (synthetic runs only)
 experiment: dict = None  # the manifest's experiment defaults (spindle_rpm, flutes, ...)
 thesis_design: bool = None  # the thesis' design (robomill.experiment.is_thesis_design)
@@ -40,7 +42,7 @@ from IPython.display import Markdown, display
 
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
-from robomill.pipeline.design_tables import thesis_gate
+from robomill.pipeline.design_tables import per_cut_table, span, thesis_gate
 from robomill.plotting import save_figure
 from robomill.stiffness import slot_stiffness_table, stiffness_spread_pct, waviness_by_direction
 
@@ -65,6 +67,8 @@ heights = mp["height_mm"].values
 vs_thesis = thesis_gate(thesis_study)
 # 5.6 compares the thesis robot at the thesis' slots with Table 2.1: its design only
 SLOTS = thesis_design is not False and slots is not None and waviness is not None
+# any other design: the cell's own robot at every cut, when it has load tests
+CUTS_K = not SLOTS and cut_stiffness is not None
 
 num = Numbering("5")
 num.table("workspace_ranges", "Workspace ranges: seed 001 against our Monte-Carlo workspace")
@@ -86,6 +90,10 @@ num.figure("optimal_poses", "Deformation under the end load, optimal against ran
            "(dashed: the seed's optimum)")
 num.figure("beamframe", "Beam-frame model: nodes at t = 0, and the tool displacement with the "
            "predicted σ(t) (seed 004, eq. 17)")
+if CUTS_K:
+    num.table("cut_stiffness", "The cell's robot (joint model): stiffness along each cut's "
+              "feed, in-plane normal and tool axis at the middle of the cut, grouped by what "
+              "varies")
 if SLOTS:
     num.table("slots", "Thesis robot: mean stiffness along the slot directions beside the "
               "mean waviness of Table 2.1")
@@ -287,9 +295,28 @@ display(num.caption("beamframe"))
 # For the thesis' design: both models of the thesis robot at the middle of every thesis cut:
 # stiffness along the feed, the in-plane normal to the feed (the slot wall) and the tool axis
 # (the slot floor, which the profilometer measures), beside the RMS waviness of Table 2.1.
+# For any other design: the joint model of the cell's own robot (when the data hold its load
+# tests) at the middle of every cut, along the cut's feed, in-plane normal and tool axis.
 
 # %%
-if not SLOTS:
+if CUTS_K:
+    ck = pd.read_csv(cut_stiffness)
+    kcols = {"k_feed_N_m": "k feed N/µm", "k_normal_N_m": "k normal N/µm",
+             "k_axial_N_m": "k axial N/µm"}
+    ck_um = ck.assign(**{v: ck[k] / 1e6 for k, v in kcols.items()})
+    display(num.caption("cut_stiffness"))
+    display(per_cut_table(ck_um, list(kcols.values()), pd.read_csv(cuts), experiment).round(3))
+    weakest = ck.loc[ck[list(kcols)].min(axis=1).idxmin()]
+    display(Markdown(
+        f"{num.ref('cut_stiffness')}: the joint stiffness identified from this cell's own load "
+        "tests, at the middle of every cut (elastic joints, rigid links: C = J diag(c) Jᵀ). "
+        f"Along the feed {span(ck.k_feed_N_m / 1e6, '.3f')} N/µm, normal to it "
+        f"{span(ck.k_normal_N_m / 1e6, '.3f')} N/µm, along the tool axis "
+        f"{span(ck.k_axial_N_m / 1e6, '.3f')} N/µm; the weakest direction of any cut is the "
+        f"{min(kcols, key=lambda k: weakest[k]).split('_')[1]} direction of cut "
+        f"`{weakest['cut']}` ({weakest[list(kcols)].min() / 1e6:.3f} N/µm). Chapter 2's "
+        "per-cut surface tables are the measured side of the same cuts."))
+elif not SLOTS:
     display(Markdown(
         "This study's cuts are not the thesis' slots (chapter 0 describes the design), so the "
         "comparison of the thesis robot's stiffness along the slot directions with Table 2.1 "

@@ -291,7 +291,7 @@ def slot_stiffness_table(robot: SerialRobot, compliance: np.ndarray, sections: S
     """
     import pandas as pd
 
-    from robomill.experiment import DIRECTION_VECTORS
+    from robomill.experiment import cut_axes
     from robomill.stiffness import (
         directional_stiffness_N_m,
         jacobian_m,
@@ -299,10 +299,8 @@ def slot_stiffness_table(robot: SerialRobot, compliance: np.ndarray, sections: S
     )
 
     rows = []
-    z = np.array([0.0, 0.0, 1.0])
     for cut, q in zip(cuts, q_mid_rad, strict=True):
-        u = np.asarray(DIRECTION_VECTORS[cut.direction], float)
-        U = np.stack([u, np.cross(z, u), z], axis=1)
+        U = cut_axes(cut)
         Cj = translational_compliance_m_N(jacobian_m(robot, q), compliance)
         K = global_stiffness(link_polyline_mm(robot, q) * 1e-3, sections)
         Cb = tool_compliance_m_N(K)

@@ -128,6 +128,14 @@ def feed_direction(cut: Cut) -> np.ndarray:
     return np.array([np.cos(a), np.sin(a), 0.0])
 
 
+def cut_axes(cut: Cut) -> np.ndarray:
+    """The cut's frame as columns ``[u, z × u, z]``: feed direction u (:func:`feed_direction`),
+    the in-plane normal to the feed (the slot wall) and the vertical tool axis (the floor)."""
+    u = feed_direction(cut)
+    z = np.array([0.0, 0.0, 1.0])
+    return np.stack([u, np.cross(z, u), z], axis=1)
+
+
 def is_thesis_design(cuts: Sequence[Cut]) -> bool:
     """Whether the cuts follow the thesis design (ids ``s{set}_g{segment}_{dir}``, directions
     px/py/my, no per-cut process overrides): the thesis-layout tables and comparisons apply."""

@@ -509,6 +509,43 @@ def workspace_dataset(robot: SerialRobot, limits_deg, n: int, rng: np.random.Gen
     return ds
 
 
+def cut_stiffness_table(robot: SerialRobot, compliance: np.ndarray, cuts,
+                        q_mid_rad: np.ndarray) -> pd.DataFrame:
+    """Joint-model stiffness of the cell's robot at the middle of every cut, along the cut's
+    feed, its in-plane normal and the tool axis (:func:`robomill.experiment.cut_axes`).
+
+    The translational compliance C = J diag(c) Jᵀ (seed 001, eq. 3; only the joints' elastic
+    deflection) gives the stiffness along a unit direction u as 1 / (uᵀ C u)
+    (:func:`directional_stiffness_N_m`). Any design: the direction comes from ``direction``
+    or ``direction_deg``.
+
+    Parameters
+    ----------
+    robot
+        The cell's robot (``cell.yaml: robot``).
+    compliance
+        Joint compliances c_i [rad/(N·m)] (:func:`compliance_from_table`).
+    cuts
+        :class:`robomill.experiment.Cut` objects.
+    q_mid_rad
+        ``(len(cuts), n)`` posture at each cut's middle.
+
+    Returns
+    -------
+    pandas.DataFrame
+        One row per cut: ``cut``, ``k_feed_N_m``, ``k_normal_N_m``, ``k_axial_N_m``.
+    """
+    from robomill.experiment import cut_axes
+
+    rows = []
+    for cut, q in zip(cuts, np.asarray(q_mid_rad, float), strict=True):
+        C = translational_compliance_m_N(jacobian_m(robot, q), compliance)
+        k = directional_stiffness_N_m(C, cut_axes(cut))
+        rows.append({"cut": cut.id, "k_feed_N_m": k[0], "k_normal_N_m": k[1],
+                     "k_axial_N_m": k[2]})
+    return pd.DataFrame(rows, columns=["cut", "k_feed_N_m", "k_normal_N_m", "k_axial_N_m"])
+
+
 def slot_stiffness_table(slots: pd.DataFrame, waviness: pd.DataFrame) -> pd.DataFrame:
     """Mean directional stiffness per model and slot direction beside the mean waviness.
 

@@ -13,6 +13,7 @@ from robomill.experiment import (
     tracker_direction,
     tracker_run_id,
 )
+from robomill.io.cell import peek_robot_name
 from robomill.io.manifest import load_manifest, parse_manifest
 from robomill.synth.plan import synthetic_manifest
 

@@ -171,6 +171,39 @@ rule stiffness_thesis:
         "../scripts/stiffness_thesis.py"
 
 
+# the cell's own robot at every cut (any design other than the thesis'): needs load tests of
+# the robot named in cell.yaml
+CELL_ROBOT = (
+    config["cell"]["robot"].get("name") if SYNTHETIC else peek_robot_name(CELL)
+)
+CUT_STIFFNESS = (
+    {"cut_stiffness": "results/stiffness/cut_stiffness.csv"}
+    if CELL_ROBOT in STIFF_ROBOTS and not THESIS_DESIGN
+    else {}
+)
+
+
+rule stiffness_cuts:
+    input:
+        joints=f"results/stiffness/{CELL_ROBOT}/joint_stiffness.csv",
+        manifest=MANIFEST,
+        cell=CELL,
+    output:
+        cuts="results/stiffness/cut_stiffness.csv",
+    log:
+        "results/logs/stiffness/cuts.log",
+    benchmark:
+        "results/benchmarks/rules/stiffness/cuts.tsv"
+    conda:
+        ENV
+    params:
+        cell_relpath=CELL_RELPATH,
+        experiment={**config["experiment"], **EXPERIMENT},
+        cuts=[c.as_dict() for c in CUTS],
+    script:
+        "../scripts/stiffness_cuts.py"
+
+
 STIFF_OUTPUTS = [
     f"results/stiffness/{r}/{name}.csv"
     for r in STIFF_ROBOTS
@@ -191,6 +224,7 @@ THESIS_SLOTS = (
     else {}
 )
 STIFF_OUTPUTS += [THESIS_SLOTS["slots"]] if THESIS_SLOTS else []
+STIFF_OUTPUTS += list(CUT_STIFFNESS.values())
 
 
 rule stiffness:
@@ -202,6 +236,8 @@ rule ch5:
     input:
         **({"truth": "results/synthetic/truth.nc"} if SYNTHETIC else {}),
         **THESIS_SLOTS,
+        **CUT_STIFFNESS,
+        **({"cuts": "results/ingest/cuts.csv"} if CUT_STIFFNESS else {}),
         notebook=notebook("ch5_stiffness.ipynb"),
         maps="results/stiffness/maps.nc",
         optimal="results/stiffness/optimal_poses.csv",

@@ -433,3 +433,15 @@ def write_cell(cell: Mapping[str, Any], path: str | Path) -> Path:
     with atomic_path(path) as tmp:
         tmp.write_text(yaml.safe_dump(data, sort_keys=False, width=100))
     return Path(path)
+
+
+def peek_robot_name(path: str | Path) -> str | None:
+    """The name of the cell's robot (``robot: name``) for planning the workflow, without
+    validating the file (:func:`read_cell` does that when a rule reads it); None when the file
+    is missing or has no such key, so that a bad cell file fails its own rules, not the plan."""
+    try:
+        data = yaml.safe_load(Path(path).read_text())
+        name = data["robot"]["name"]
+    except (OSError, yaml.YAMLError, TypeError, KeyError):
+        return None
+    return name if isinstance(name, str) else None

@@ -1,0 +1,27 @@
+"""Joint-model stiffness of the cell's robot at the middle of every cut (any design)."""
+
+import numpy as np
+import pandas as pd
+
+from robomill.experiment import Cut, cut_joint_path_rad
+from robomill.io import write_table
+from robomill.io.cell import read_cell
+from robomill.io.manifest import load_manifest
+from robomill.pipeline.runlog import setup
+from robomill.stiffness import compliance_from_table, cut_stiffness_table
+
+log = setup(snakemake.log[0], "stiffness")
+p = snakemake.params
+manifest = load_manifest(snakemake.input.manifest)
+if p.cell_relpath:
+    manifest.verify_file(p.cell_relpath)
+cell = read_cell(snakemake.input.cell)
+c = compliance_from_table(pd.read_csv(snakemake.input.joints))
+cuts = [Cut(**d) for d in p.cuts]
+L = float(p.experiment["cut_length_mm"])
+q = np.array([cut_joint_path_rad(cell.robot, cut, p.experiment, np.array([L / 2]),
+                                 tool_rotation=cell.tool_rotation, q0_rad=cell.q_home_rad)[0]
+              for cut in cuts])
+table = cut_stiffness_table(cell.robot, c, cuts, q)
+write_table(table, snakemake.output.cuts)
+log.info("%s", table.to_string())
