@@ -20,6 +20,7 @@ simulation: str = None  # results/chatter/simulation.nc
 lobes: str = None  # results/chatter/lobes.nc
 recommendations: str = None  # results/chatter/recommendations.csv
 fig_dir: str = None  # folder for this chapter's figures
+thesis_study: bool = None  # the thesis' study (robomill.experiment.is_thesis_study)
 
 # %%
 import matplotlib.pyplot as plt
@@ -30,6 +31,7 @@ from IPython.display import Markdown, display
 from robomill.chatter.report import coupling_table, onset_table
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
+from robomill.pipeline.design_tables import thesis_gate
 from robomill.plotting import save_figure
 
 if isinstance(cases, str):
@@ -38,6 +40,7 @@ case_ds = {open_artefact(p).attrs["case_name"]: open_artefact(p) for p in cases}
 sim = open_artefact(simulation)
 th = open_artefact(lobes)
 rec = pd.read_csv(recommendations)
+vs_thesis = thesis_gate(thesis_study)  # the thesis' force peaks: only for the thesis' study
 name = "insperger2004_down005" if "insperger2004_down005" in case_ds else next(iter(case_ds))
 HAS_SLOT = "insperger2004_slot" in case_ds
 
@@ -348,8 +351,9 @@ mc.round(3)
 
 # %%
 display(Markdown(
-    "The 60–120 Hz force peaks of every cut (thesis §3.1) sit beside the predicted chatter "
-    "and coupling frequencies above. Recommendations (stability margin = a_limit/a − 1, "
+    vs_thesis("The 60–120 Hz force peaks of every cut (thesis §3.1) sit beside the predicted "
+              "chatter and coupling frequencies above. ")
+    + "Recommendations (stability margin = a_limit/a − 1, "
     "a_limit = the smaller of the regenerative and the mode-coupling critical depths; "
     "stability_margin_min takes a_limit − a_limit_error, the pessimistic end of its error, "
     "and decides chatter_free; the recommended depth is (1 − safety fraction) × "
