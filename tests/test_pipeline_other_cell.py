@@ -67,7 +67,9 @@ def test_no_thesis_comparison_in_the_calibration_modal_and_chatter_chapters(othe
                                  "accuracy figure")),
             ("ch3_3_modal", ("The thesis finds", "Grey verticals", "grey verticals",
                              "nearest thesis value", "not the thesis' tool-tip test")),
-            ("ch4_chatter", ("60–120 Hz force peaks",))):
+            ("ch4_chatter", ("60–120 Hz force peaks", "The thesis robot", "Thesis-robot",
+                             "What should the thesis have cut at?", "the thesis' cuts",
+                             "the thesis' depths"))):
         if not (workdir / "results" / "chapters" / f"{name}.ipynb").exists():
             assert name == "ch4_chatter", name
             continue
@@ -77,6 +79,8 @@ def test_no_thesis_comparison_in_the_calibration_modal_and_chatter_chapters(othe
             assert remark not in text, (name, remark)
     assert "an improvement of ×" in chapter_outputs(workdir, "ch1_calibration")
     assert "modes** identified" in chapter_outputs(workdir, "ch3_3_modal")
+    assert "**Chatter-free choices.** The configured depths at" in chapter_outputs(
+        workdir, "ch4_chatter")
 
 
 def test_flags_shown_in_forces_and_straightness(other_cell_run):

@@ -322,7 +322,7 @@ table = xc.assign(direction=xc.direction.map(lambda d: LABELS.get(d, d)),
      "on_surface", "surface_f_per_mm", *(("merged", "candidates") if HAS_MERGED else ())]]
 if HAS_MERGED:
     table["merged"] = table["merged"].astype(bool).map({True: "yes", False: "no"})
-    table["candidates"] = table["candidates"].fillna("")
+    table["candidates"] = table["candidates"].astype(object).fillna("")
 merged_pk = xc[xc["merged"].astype(bool)] if HAS_MERGED else xc.iloc[:0]
 display(Markdown(
     f"{num.ref('attribution')}: {int(xc.on_surface.sum())} of {len(xc)} gear peaks are also "
@@ -394,7 +394,7 @@ if synthetic and len(tc):
     shown = tc[tc["class"] != "out_of_band"].assign(
         direction=lambda t: t.direction.map(lambda d: LABELS.get(d) or direction_label(d)))
     if "merged_into" in shown:
-        shown = shown.assign(merged_into=shown["merged_into"].fillna(""))
+        shown = shown.assign(merged_into=shown["merged_into"].astype(object).fillna(""))
         into = shown[shown["merged"].astype(bool)]
         if len(into):
             display(Markdown("Merged elements, with the element their peak was attributed to: "
