@@ -330,7 +330,8 @@ display(Markdown(
     f"(tolerance {tol:.3f} mm⁻¹; the surface table has {len(sp)} peaks)."
     + vs_thesis(" The thesis finds that the spatial frequency of the main surface "
                 "irregularities agrees with some of the gear spatial frequencies.")
-    + ((f" {len(merged_pk)} of them are **merged**: their candidate gear lines lie closer "
+    + ((f" {len(merged_pk)} of them {'is' if len(merged_pk) == 1 else 'are'} **merged**: "
+        "their candidate gear lines lie closer "
         "than the run's resolution, so the joint named is only the nearest ("
         + "; ".join(f"{LABELS.get(r.direction, r.direction)} at {r.feed_mm_s:g} mm/s, "
                     f"{r.f_spatial_per_mm:.3f} mm⁻¹: {str(r.candidates).replace(';', ', ')}"
