@@ -31,6 +31,15 @@ def test_the_thesis_design_keeps_its_tables_and_thesis_remarks(tiny_run):
     assert "thesis:" in chapter_outputs(tiny_run, "ch3_2_straightness")
     ch5 = chapter_outputs(tiny_run, "ch5_stiffness")
     assert "stiffness along the slot directions beside the mean waviness of Table 2.1" in ch5
+    ch1 = chapter_outputs(tiny_run, "ch1_calibration")
+    assert "the thesis says it 'can be a few millimetres'" in ch1
+    assert "The thesis prints no accuracy figure" in ch1
+    ch33 = chapter_outputs(tiny_run, "ch3_3_modal")
+    assert "(thesis: 20, 35, 60, 67, 70, 72 Hz" in ch33 and "The thesis finds" in ch33
+    assert "to the nearest thesis value" in ch33
+    ch4 = chapter_outputs(tiny_run, "ch4_chatter")
+    assert "## 4.3 The thesis robot at 28 000 rpm" in ch4
+    assert "**What should the thesis have cut at?**" in ch4 and "60–120 Hz force peaks" in ch4
 
 
 def test_second_run_is_a_fast_noop(tiny_run):

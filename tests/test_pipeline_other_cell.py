@@ -58,6 +58,53 @@ def test_no_thesis_remark_and_no_thesis_table_in_another_design(other_cell_run):
             assert thesis_only not in text, (label, thesis_only)
 
 
+def test_no_thesis_comparison_in_the_calibration_modal_and_chatter_chapters(other_cell_run):
+    """Issue 21 point 5: chapters 1, 3.3 (and 4) compare with the thesis' numbers only for the
+    thesis' study; the PUMA cell's chapters state their own results."""
+    workdir, _ = other_cell_run
+    for name, remarks in (
+            ("ch1_calibration", ("thesis Fig. 1.8", "the thesis says", "The thesis prints no "
+                                 "accuracy figure")),
+            ("ch3_3_modal", ("The thesis finds", "Grey verticals", "grey verticals",
+                             "nearest thesis value", "not the thesis' tool-tip test")),
+            ("ch4_chatter", ("60–120 Hz force peaks", "The thesis robot", "Thesis-robot",
+                             "What should the thesis have cut at?", "the thesis' cuts",
+                             "the thesis' depths"))):
+        if not (workdir / "results" / "chapters" / f"{name}.ipynb").exists():
+            assert name == "ch4_chatter", name
+            continue
+        text = chapter_outputs(workdir, name)
+        assert "thesis:" not in text, (name, text[text.find("thesis:") - 200:][:400])
+        for remark in remarks:
+            assert remark not in text, (name, remark)
+    assert "an improvement of ×" in chapter_outputs(workdir, "ch1_calibration")
+    assert "modes** identified" in chapter_outputs(workdir, "ch3_3_modal")
+    assert "**Chatter-free choices.** The configured depths at" in chapter_outputs(
+        workdir, "ch4_chatter")
+
+
+def test_flags_shown_in_forces_and_straightness(other_cell_run):
+    """Cutting-coefficient sanity flags in chapter 3.1; direction labels, merged peaks and
+    their candidates in chapter 3.2 (issue 21 point 5)."""
+    workdir, _ = other_cell_run
+    ch31 = chapter_outputs(workdir, "ch3_1_forces")
+    coef = pd.read_csv(workdir / "results/forces/cutting_coefficients.csv")
+    if coef["physical"].all():
+        assert f"All {len(coef)} coefficients are physical" in ch31
+    else:
+        assert "Not physical:" in ch31
+        for name in coef.loc[~coef["physical"], "name"]:
+            assert f"{name} is " in ch31, name
+    for col in ("residual_exceeds_signal", "fit_residual_rms_N", "physical"):
+        assert col in ch31, col
+    ch32 = chapter_outputs(workdir, "ch3_2_straightness")
+    assert "No run at 8 or 10 mm/s" not in ch32 and "runs at 8 and 10 mm/s" not in ch32
+    assert "candidates" in ch32 and "merged" in ch32
+    peaks = pd.read_csv(workdir / "results/straightness/peaks.csv")
+    for cands in peaks.loc[peaks["merged"].astype(bool), "candidates"]:
+        assert str(cands).replace(";", ", ") in ch32, cands
+
+
 def test_per_cut_tables_grouped_by_what_varies(other_cell_run):
     workdir, _ = other_cell_run
     ch0 = chapter_outputs(workdir, "ch0_experiment")

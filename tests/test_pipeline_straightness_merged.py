@@ -6,7 +6,7 @@ truth check counts joint 3 merged, not missed."""
 import pandas as pd
 import pytest
 import yaml
-from conftest import REPO, SNAKEMAKE
+from conftest import REPO, SNAKEMAKE, chapter_outputs
 
 pytestmark = pytest.mark.pipeline
 
@@ -23,7 +23,8 @@ def test_coinciding_mesh_lines_of_the_example_are_flagged_merged(tmp_path):
     sixteen.write_text(yaml.safe_dump({"cell": {"transmissions": trans}}))
     cmd = [SNAKEMAKE, "-s", str(REPO / "Snakefile"), "--directory", str(tmp_path),
            "--configfile", str(REPO / ".test" / "config.yaml"), str(overlay), str(sixteen),
-           "-j2", "results/straightness/truth_check.csv"]
+           "-j2", "results/straightness/truth_check.csv",
+           "results/chapters/ch3_2_straightness.html"]
     proc = subprocess.run(cmd, cwd=tmp_path, capture_output=True, text=True, timeout=900,
                           env={**os.environ, "PYTHONHASHSEED": "0"})
     assert proc.returncode == 0, proc.stderr[-6000:]
@@ -38,6 +39,11 @@ def test_coinciding_mesh_lines_of_the_example_are_flagged_merged(tmp_path):
     j3 = tc[(tc["joint"] == 3) & (tc["order"] == "mesh")]
     assert (j3["class"] == "above_noise").all() and len(j3) == 2
     assert j3["merged"].all() and not j3["found"].any()
+    # chapter 3.2 shows the merged peak with its candidates, and where joint 3 went (issue 21)
+    text = chapter_outputs(tmp_path, "ch3_2_straightness")
+    assert "2 of them are **merged**" in text
+    assert text.count("mm⁻¹: 2:motor:mesh, 3:motor:mesh") == 2
+    assert "3:motor:mesh (−X, 2 mm/s) → 2:motor:mesh" in text
     assert set(j3["merged_into"]) == {"2:motor:mesh"}
     above = tc[tc["class"] == "above_noise"]
     assert (above["found"] | above["merged"]).all()  # nothing above the noise is missed

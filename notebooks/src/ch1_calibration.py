@@ -20,6 +20,7 @@ points: str = None  # results/calibration/accuracy_points.csv
 joint_errors: str = None  # results/calibration/joint_errors.csv
 base: str = None  # results/calibration/base.csv
 circles: str = None  # results/calibration/circles.csv
+thesis_study: bool = None  # the thesis' study (robomill.experiment.is_thesis_study)
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
@@ -31,8 +32,10 @@ from IPython.display import Markdown, display
 from robomill.calibration import improvement_ratios, model_from_dataset, region_table
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
+from robomill.pipeline.design_tables import thesis_gate
 from robomill.plotting import save_figure
 
+vs_thesis = thesis_gate(thesis_study)  # thesis remarks only for the thesis' study
 num = Numbering("1")
 num.figure("joint_circle", "Single-joint method: the circle of joint 2 in its plane and the "
            "distance of every joint's targets from their fitted circle", number=4)
@@ -205,7 +208,8 @@ display(Markdown(
     "(docs/data-contract.md, *The cell*) to identify it.") if not GRAVITY else Markdown(
     f"In {num.ref('base_deflection')} the base turns by {c_base * 1e9:.0f} nrad per N·m of "
     "joint-2 torque (linear fit, "
-    f"R² = {r2:.3f}; thesis Fig. 1.8: linear in the torque). That is {100 * c_base / c[1]:.0f} % "
+    f"R² = {r2:.3f}{vs_thesis('; thesis Fig. 1.8: linear in the torque')}). "
+    f"That is {100 * c_base / c[1]:.0f} % "
     f"of the joint-2 compliance identified from the load discs ({c[1] * 1e6:.2f} µrad/N·m, "
     f"{num.ref('compliance')}), "
     "which already contains it: the same arm weight loads both, about parallel axes, so the "
@@ -243,19 +247,20 @@ display(Markdown(
     f"{num.ref('accuracy_histograms')} and {num.ref('accuracy')}: on "
     f"{int(acc.loc['nominal', 'n_points'])} points the nominal model misses by "
     f"{acc.loc['nominal', 'mean_mm']:.2f} mm on average (RMS {acc.loc['nominal', 'rms_mm']:.2f},"
-    f" max {acc.loc['nominal', 'max_mm']:.2f} mm; the thesis says it 'can be a few "
-    "millimetres'). The "
+    f" max {acc.loc['nominal', 'max_mm']:.2f} mm"
+    + vs_thesis("; the thesis says it 'can be a few millimetres'") + "). The "
     f"identified geometry alone brings the RMS to {acc.loc['geometric', 'rms_mm']:.3f} mm "
     f"(×{ratio_geo:.1f}); adding the joint-error regression and the compliance brings it to "
     f"{acc.loc['full', 'rms_mm']:.3f} mm (p95 {acc.loc['full', 'p95_mm']:.3f}, max "
     f"{acc.loc['full', 'max_mm']:.3f} mm), an improvement of ×{ratio:.0f} in RMS."
     + (" Most of what the geometric model leaves is elastic deflection under the arm's own "
-       "weight." if GRAVITY else "") + " The thesis "
-    "prints no accuracy figure; it concludes that the hybrid calibration improves accuracy a "
-    f"lot, but not enough for offline programming of machining: the "
-    f"{acc.loc['full', 'max_mm']:.2f} mm worst case left here is large against machining "
-    "tolerances, and cutting forces (not modelled here) deflect the robot far more than "
-    f"gravity does. {num.ref('regions')} splits the RMS by workspace region."))
+       "weight." if GRAVITY else "")
+    + vs_thesis(" The thesis prints no accuracy figure; it concludes that the hybrid "
+                "calibration improves accuracy a lot, but not enough for offline programming "
+                f"of machining: the {acc.loc['full', 'max_mm']:.2f} mm worst case left here is "
+                "large against machining tolerances, and cutting forces (not modelled here) "
+                "deflect the robot far more than gravity does.")
+    + f" {num.ref('regions')} splits the RMS by workspace region."))
 
 # %%
 tab = region_table(reg)

@@ -37,7 +37,7 @@ import pandas as pd
 from IPython.display import Markdown, display
 
 from robomill.experiment import DIRECTION_LABELS
-from robomill.forces import nearest_modes
+from robomill.forces import coefficient_flag_sentence, nearest_modes
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import (
@@ -121,7 +121,8 @@ num.table("harmonics", "Tooth-passing harmonics: median frequency and power over
           " (of each tooth-passing frequency)", number=3)
 num.figure("mean_forces_vs_feed", "Mean forces per cut, divided by N·a, against the feed per tooth",
            number=11)
-num.table("coefficients", "Identified cutting coefficients with 95 % intervals", number=4)
+num.table("coefficients", "Identified cutting coefficients with 95 % intervals and their "
+          "sanity flags (negative value, fit residual against signal, physical)", number=4)
 display(Markdown(
     f"{sp.sizes['cut']} cuts analysed, {int(sp['n_samples'].sum()):,} samples per axis in "
     f"total; tooth passing {span(sp['tooth_passing_hz'].values, '.1f')} Hz."
@@ -363,7 +364,7 @@ if truth and os.path.exists(truth):
     table["planted"] = table["name"].map(planted)
     table["error_pct"] = 100 * (table["value"] / table["planted"] - 1)
 display(num.caption("coefficients"))
-display(table.round(3))
+display(table.set_index("name").round(3))
 
 # %%
 worst = table.loc[table["error_pct"].abs().idxmax()] if "error_pct" in table else None
@@ -373,6 +374,7 @@ msg = (f"Identified coefficients with 95 % intervals ({num.ref('coefficients')})
 if worst is not None:
     msg += (f"Against the planted values of the virtual cell the largest error is "
             f"{worst['error_pct']:+.2f} % ({worst['name']}). ")
+msg += coefficient_flag_sentence(coef) + " "
 msg += (vs_thesis("The thesis assumes typical aluminium values (Altintas 2012) and does not "
                   "identify them; these are the values the chatter chapter uses.")
         or "These are the values the chatter chapter uses.")

@@ -226,7 +226,15 @@ fmax_s = float(settings["fmax_store_per_mm"])
 quiet = (fmax_s - (band[1] - band[0]), fmax_s)  # same width, no source planted or expected
 hi = band_floor_table(prof, pk, band, quiet)
 fast = hi[hi.feed_mm_s >= 8]
+n_peaks = int(hi.peaks_in_band.sum())
 display(Markdown(
+    (f"In the band {band[0]:g}–{band[1]:g} mm⁻¹ the {len(hi)} runs have {n_peaks} peaks; the "
+     f"largest power there is {hi.peak_to_floor_in_band.max():.1f}× the noise floor, against "
+     f"{hi.peak_to_floor_noise_band.min():.1f}–{hi.peak_to_floor_noise_band.max():.1f}× in "
+     f"the equally wide band {quiet[0]:g}–{quiet[1]:g} mm⁻¹ where nothing is expected (a "
+     f"peak needs {settings['threshold']:g}×; {num.ref('band_floor')})"
+     + (": the motion has no component there." if n_peaks == 0 else "."))
+    if not vs_thesis.shown else
     f"In the band {band[0]:g}–{band[1]:g} mm⁻¹ the runs at 8 and 10 mm/s have "
     f"{int(fast.peaks_in_band.sum())} peaks; the largest power there is "
     f"{fast.peak_to_floor_in_band.max():.1f}× the noise floor, against "
@@ -237,7 +245,8 @@ display(Markdown(
        if fast.peaks_in_band.sum() == 0 else ".") if len(fast) else
     f"No run at 8 or 10 mm/s in this data set ({num.ref('band_floor')})."))
 display(num.caption("band_floor"))
-display(hi.round(2))
+display(hi.assign(direction=hi.direction.map(lambda d: LABELS.get(d) or direction_label(d)))
+        .round(2))
 
 # %% [markdown]
 # ## Constant temporal vs constant spatial frequency
@@ -306,16 +315,28 @@ tol = float(settings["tol_bins"]) * max(
     float(runs.resolution_per_mm.max()),
     1.0 / 15.0)  # surface profiles of 15 mm or more: 1/15 mm⁻¹ (the thesis' f0)
 xc = surface_cross_check(gear_pk, sp, cut_table, tolerance_per_mm=tol)
+HAS_MERGED = {"candidates", "merged"} <= set(xc.columns)  # peaks.csv since issue 21
 table = xc.assign(direction=xc.direction.map(lambda d: LABELS.get(d, d)),
                   on_surface=xc.on_surface.map({True: "yes", False: "no"}))[
     ["direction", "feed_mm_s", "joint", "stage", "order", "f_spatial_per_mm", "amplitude_um",
-     "on_surface", "surface_f_per_mm"]]
+     "on_surface", "surface_f_per_mm", *(("merged", "candidates") if HAS_MERGED else ())]]
+if HAS_MERGED:
+    table["merged"] = table["merged"].astype(bool).map({True: "yes", False: "no"})
+    table["candidates"] = table["candidates"].astype(object).fillna("")
+merged_pk = xc[xc["merged"].astype(bool)] if HAS_MERGED else xc.iloc[:0]
 display(Markdown(
     f"{num.ref('attribution')}: {int(xc.on_surface.sum())} of {len(xc)} gear peaks are also "
     "surface-waviness peaks "
     f"(tolerance {tol:.3f} mm⁻¹; the surface table has {len(sp)} peaks)."
     + vs_thesis(" The thesis finds that the spatial frequency of the main surface "
-                "irregularities agrees with some of the gear spatial frequencies.")))
+                "irregularities agrees with some of the gear spatial frequencies.")
+    + ((f" {len(merged_pk)} of them {'is' if len(merged_pk) == 1 else 'are'} **merged**: "
+        "their candidate gear lines lie closer "
+        "than the run's resolution, so the joint named is only the nearest ("
+        + "; ".join(f"{LABELS.get(r.direction, r.direction)} at {r.feed_mm_s:g} mm/s, "
+                    f"{r.f_spatial_per_mm:.3f} mm⁻¹: {str(r.candidates).replace(';', ', ')}"
+                    for r in merged_pk.itertuples()) + ").") if len(merged_pk) else
+       (" No peak merges gear lines closer than the resolution." if HAS_MERGED else ""))))
 display(num.caption("attribution"))
 display(table.round(4))
 
@@ -371,7 +392,16 @@ if synthetic and len(tc):
         f"{counts['merged']}, missed **{counts['missed']}**; marginal {counts['marginal']} "
         f"(found {counts['marginal_found']}). Attributions to a gear that was not planted "
         f"above the noise: **{counts['false_attributions']}** ({num.ref('truth')})."))
-    shown = tc[tc["class"] != "out_of_band"]
+    shown = tc[tc["class"] != "out_of_band"].assign(
+        direction=lambda t: t.direction.map(lambda d: LABELS.get(d) or direction_label(d)))
+    if "merged_into" in shown:
+        shown = shown.assign(merged_into=shown["merged_into"].astype(object).fillna(""))
+        into = shown[shown["merged"].astype(bool)]
+        if len(into):
+            display(Markdown("Merged elements, with the element their peak was attributed to: "
+                             + "; ".join(f"{r.joint}:{r.stage}:{r.order} ({r.direction}, "
+                                         f"{r.feed_mm_s:g} mm/s) → {r.merged_into}"
+                                         for r in into.itertuples()) + "."))
     display(num.caption("truth"))
     display(shown.round(4))
 else:

@@ -5,7 +5,7 @@
 # triaxial accelerometer beside the tip records the response. Each of the nine FRFs
 # H[output, input] is averaged over the accepted hits (thesis: 5), and a natural frequency is
 # where the real part changes sign between a maximum and a minimum, the imaginary part has an
-# extremum and the coherence exceeds 0.75. The thesis finds **20, 35, 60, 67, 70, 72 Hz**.
+# extremum and the coherence exceeds 0.75.
 #
 # This pipeline goes further: double hits and overloads are rejected automatically, force and
 # exponential windows are applied (and the damping the exponential window adds is removed),
@@ -35,6 +35,7 @@ truth_check: str = None  # results/modal/truth_check.csv
 coupling: str = None  # results/modal/coupling.csv
 coupling_pairs: str = None  # results/modal/coupling_pairs.csv
 fig_dir: str = None  # folder for this chapter's figures
+thesis_study: bool = None  # the thesis' study (robomill.experiment.is_thesis_study)
 
 # %%
 import matplotlib.pyplot as plt
@@ -53,9 +54,11 @@ from robomill.modal import (
     synthesis_misfit,
 )
 from robomill.pipeline.captions import Numbering
+from robomill.pipeline.design_tables import thesis_gate
 from robomill.plotting import save_figure
 
 THESIS_HZ = list(THESIS_NATURAL_HZ)
+vs_thesis = thesis_gate(thesis_study)  # thesis remarks only for the thesis' study
 ds = read_frf(frf)
 sy = join_complex(open_artefact(synth))
 tr = open_artefact(traces)
@@ -73,6 +76,7 @@ f = ds["frequency"].values
 sigma = float(ds.attrs["window_sigma_per_s"])
 outs, ins = points(ds, "output"), points(ds, "input")
 TOOLTIP_LAYOUT = outs == list(TOOLTIP) and ins == list(TOOLTIP)
+VS_THESIS_HZ = TOOLTIP_LAYOUT and vs_thesis.shown  # the thesis' frequencies mean something
 measured = [(o, i) for o in ds["output"].values.tolist() for i in ds["input"].values.tolist()
             if np.isfinite(ds["H"].sel(output=o, input=i).values[1:]).any()]
 band_hz = [float(b) for b in np.atleast_1d(sy.attrs["band_hz"])]
@@ -89,8 +93,9 @@ num.figure("frf_grid", "Every measured FRF: |H| measured (black), synthesized fr
 FRF_PAIRS = [(o, i) for o in ("XYZ" if TOOLTIP_LAYOUT else "") for i in "XYZ"]
 for k, (o, i) in enumerate(FRF_PAIRS):
     num.figure(f"frf_{o}{i}", f"Response {o} / hammer {i}: real part, imaginary part and "
-               "coherence of the receptance, measured (H1) and synthesized; grey verticals: "
-               "the thesis' natural frequencies", number=20 + k, stem=f"fig3_{20 + k}_frf_{o}{i}")
+               "coherence of the receptance, measured (H1) and synthesized"
+               + vs_thesis("; grey verticals: the thesis' natural frequencies"),
+               number=20 + k, stem=f"fig3_{20 + k}_frf_{o}{i}")
 num.figure("stabilization", "Stabilization chart of the LSCF fit over all measured FRFs, "
            "on the sum of |H|", number=29, stem="fig3_29_stabilization")
 num.figure("mac_shapes", "MAC matrix of the identified shapes, and the shapes over the "
@@ -108,6 +113,8 @@ if len(coupling_table):
     num.table("coupling", f"Modes against the cutting vibration frequency "
               f"(±{100 * COUPLING_TOLERANCE:.0f} %)", number=16)
 
+if VS_THESIS_HZ:
+    display(Markdown("The thesis finds **20, 35, 60, 67, 70, 72 Hz**."))
 display(Markdown(
     f"Layout: **{len(outs)} response point(s)** ({', '.join(ds['output'].values)}) × "
     f"**{len(ins)} reference point(s)** ({', '.join(ds['input'].values)}), "
@@ -248,9 +255,11 @@ display(Markdown(f"{num.ref('frf_grid')}: the {len(measured)} measured FRFs with
 #
 # (The thesis' 3×3 tool-tip layout.) Receptance H1 (m/N) averaged over the accepted hits of
 # each hammer direction; the dashed line is the FRF synthesized from the identified modes
-# (LSFD). Grey verticals: the thesis' natural frequencies.
+# (LSFD).
 
 # %%
+if VS_THESIS_HZ:
+    display(Markdown("Grey verticals: the thesis' natural frequencies."))
 if FRF_PAIRS:
     display(Markdown(f"{num.ref(f'frf_{FRF_PAIRS[0][0]}{FRF_PAIRS[0][1]}')}–"
                      f"{num.ref(f'frf_{FRF_PAIRS[-1][0]}{FRF_PAIRS[-1][1]}')} show the "
@@ -267,7 +276,7 @@ for o, i in FRF_PAIRS:
     axs[1].plot(f[band], 1e6 * hs.imag[band], "r--", lw=1)
     axs[2].plot(f[band], coh[band], "b", lw=1)
     axs[2].axhline(0.75, color="tab:orange", ls=":", label="0.75")
-    for ax in axs:
+    for ax in axs if VS_THESIS_HZ else ():
         for fh in THESIS_HZ:
             ax.axvline(fh, color="0.8", lw=0.8, zorder=0)
     axs[0].set_ylabel("Re H [µm/N]")
@@ -296,7 +305,7 @@ display(Markdown(
     f"{int(peak_table['coherence_ok'].sum())} the coherence criterion, "
     f"{int(peak_table['natural_frequency'].sum())} both. They group into **{len(grouped)} "
     f"frequencies**: {', '.join(f'{x:.2f}' for x in picked)} Hz"
-    + (f" (thesis: {', '.join(f'{x:g}' for x in THESIS_HZ)} Hz)" if TOOLTIP_LAYOUT else "")
+    + (f" (thesis: {', '.join(f'{x:g}' for x in THESIS_HZ)} Hz)" if VS_THESIS_HZ else "")
     + f" ({num.ref('peak_groups')}). Peak picking cannot separate modes whose half-power "
     "bands overlap on the FRF where both respond; the LSCF fit below does."
 ))
@@ -355,8 +364,8 @@ display(Markdown(
         + ", ".join(f"{a - min(THESIS_HZ, key=lambda x: abs(x - a)):+.2f}"
                     for a in mode_table.f_n_hz) + " Hz to the nearest thesis value"
         + (")" if len(mode_table) == len(THESIS_HZ) else ", counts differ)"))
-       if TOOLTIP_LAYOUT else " (not the thesis' tool-tip test: no comparison with its "
-                              "values)")
+       if VS_THESIS_HZ else vs_thesis(" (not the thesis' tool-tip test: no comparison with "
+                                      "its values)"))
     + f"; {num.ref('modes')} gives their parameters."
 ))
 flagged = mode_table[mode_table["flags"].notna() & (mode_table["flags"].astype(str) != "")]

@@ -20,6 +20,7 @@ simulation: str = None  # results/chatter/simulation.nc
 lobes: str = None  # results/chatter/lobes.nc
 recommendations: str = None  # results/chatter/recommendations.csv
 fig_dir: str = None  # folder for this chapter's figures
+thesis_study: bool = None  # the thesis' study (robomill.experiment.is_thesis_study)
 
 # %%
 import matplotlib.pyplot as plt
@@ -30,6 +31,7 @@ from IPython.display import Markdown, display
 from robomill.chatter.report import coupling_table, onset_table
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
+from robomill.pipeline.design_tables import thesis_gate
 from robomill.plotting import save_figure
 
 if isinstance(cases, str):
@@ -38,6 +40,10 @@ case_ds = {open_artefact(p).attrs["case_name"]: open_artefact(p) for p in cases}
 sim = open_artefact(simulation)
 th = open_artefact(lobes)
 rec = pd.read_csv(recommendations)
+vs_thesis = thesis_gate(thesis_study)  # the thesis' force peaks: only for the thesis' study
+# 4.3: the thesis robot for the thesis' study; any other study's identified robot and cuts
+RPM = f"{float(th.attrs['thesis_spindle_rpm']):,.0f}".replace(",", " ")
+ROBOT = "The thesis robot" if vs_thesis.shown else "The identified robot"
 name = "insperger2004_down005" if "insperger2004_down005" in case_ds else next(iter(case_ds))
 HAS_SLOT = "insperger2004_slot" in case_ds
 
@@ -58,14 +64,16 @@ num.figure("seed_spectra", "Seed 002: amplitude spectrum of the resultant horizo
            "last window", number=5, stem="fig4_5_seed_spectra")
 num.figure("detection", "Seed 002: chatter indicator per window; red: the adaptations of the "
            "logic block", number=6, stem="fig4_6_detection")
-num.figure("thesis_lobes", "The thesis robot: lobes per slot direction with the spectral "
-           "element's error band; red: the thesis' depths, dotted: its spindle speed",
-           number=7, stem="fig4_7_thesis_lobes")
+num.figure("thesis_lobes", f"{ROBOT}: lobes per slot direction with the spectral "
+           "element's error band; red: "
+           + ("the thesis' depths" if vs_thesis.shown else "the configured depths")
+           + ", dotted: its spindle speed", number=7, stem="fig4_7_thesis_lobes")
 num.table("onset", "Time domain against the lobes just below and above the SDM boundary",
           number=1)
 num.table("coupling", "Mode coupling and regenerative chatter per slot direction, beside the "
           "force peaks", number=2)
-num.table("recommendations", "Stability margins of the thesis' cuts and the recommended "
+num.table("recommendations", "Stability margins of the "
+          + ("thesis'" if vs_thesis.shown else "configured") + " cuts and the recommended "
           "chatter-free depths", number=3)
 
 # %% [markdown]
@@ -306,10 +314,8 @@ display(Markdown(f"{num.ref('onset')}: the time domain and the lobes agree at "
 display(num.caption("onset"))
 onset.round(4)
 
-# %% [markdown]
-# ## 4.3 The thesis robot at 28 000 rpm
-
 # %%
+display(Markdown(f"## 4.3 {ROBOT} at {RPM} rpm"))
 fig, axes = plt.subplots(1, 3, figsize=(11, 3.8), sharey=True)
 for ax, d in zip(axes, th.direction.values, strict=True):
     ax.plot(th.spindle_rpm, th.a_crit_mm.sel(direction=d, solver="zoa"), "-", label="zoa")
@@ -333,7 +339,8 @@ display(num.caption("thesis_lobes"))
 rel_th = (th.a_crit_error_mm / th.a_crit_mm.sel(solver="sem")).values
 iw = np.unravel_index(int(np.nanargmax(rel_th)), rel_th.shape)
 display(Markdown(
-    f"Thesis-robot lobes ({num.ref('thesis_lobes')}), every depth within "
+    ("Thesis-robot lobes" if vs_thesis.shown else "Lobes")
+    + f" ({num.ref('thesis_lobes')}), every depth within "
     f"{100 * th.attrs['accuracy']:.1f} %: worst "
     f"estimated error **{100 * rel_th[iw]:.3f} %** (slot {th.direction.values[iw[0]]}, "
     f"{th.spindle_rpm.values[iw[1]]:.0f} rpm, "
@@ -348,8 +355,9 @@ mc.round(3)
 
 # %%
 display(Markdown(
-    "The 60–120 Hz force peaks of every cut (thesis §3.1) sit beside the predicted chatter "
-    "and coupling frequencies above. Recommendations (stability margin = a_limit/a − 1, "
+    vs_thesis("The 60–120 Hz force peaks of every cut (thesis §3.1) sit beside the predicted "
+              "chatter and coupling frequencies above. ")
+    + "Recommendations (stability margin = a_limit/a − 1, "
     "a_limit = the smaller of the regenerative and the mode-coupling critical depths; "
     "stability_margin_min takes a_limit − a_limit_error, the pessimistic end of its error, "
     "and decides chatter_free; the recommended depth is (1 − safety fraction) × "
@@ -365,7 +373,9 @@ lines = [f"- slot **{r.direction}**: at {r.spindle_rpm:.0f} rpm, a ≤ {r.axial_
          f"the pessimistic end of the error, limited by {r.limited_by})"
          for r in best.itertuples()]
 display(Markdown(
-    "**What should the thesis have cut at?** Its own depths at 28 000 rpm have margins "
+    ("**What should the thesis have cut at?** Its own depths at 28 000 rpm have margins "
+     if vs_thesis.shown else f"**Chatter-free choices.** The configured depths at {RPM} rpm "
+     "have margins ")
     + ", ".join(f"{r.direction} {r.axial_depth_mm:.2f} mm: {100 * r.stability_margin:.0f} %"
                 for r in ok.itertuples())
     + ". Chatter-free choices on the searched grid:\n" + "\n".join(lines)))

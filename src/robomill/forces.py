@@ -399,6 +399,42 @@ def coefficient_flags(table: pd.DataFrame, fit_rms: Mapping[str, tuple[float, fl
     return out
 
 
+def coefficient_flag_sentence(table: pd.DataFrame) -> str:
+    """What the sanity flags of :func:`coefficient_flags` say, in one sentence for a chapter.
+
+    Parameters
+    ----------
+    table
+        ``cutting_coefficients.csv``: ``name, value, unit`` and the columns
+        :data:`FLAG_COLUMNS`.
+
+    Returns
+    -------
+    str
+        ``"All N coefficients are physical (positive, resolved by their fit)."`` when every
+        row is ``physical``; otherwise ``"Not physical: …"`` naming each coefficient that is
+        not and why (negative value; fit residual rms larger than the signal rms, i.e.
+        R² < 1/2, Altintas 2012 §2.4 assumes both away). A table without the flag columns
+        (an artefact from before issue 21) gives ``""``.
+    """
+    if not set(FLAG_COLUMNS) <= set(table.columns):
+        return ""
+    physical = table["physical"].astype(bool)
+    if physical.all():
+        return f"All {len(table)} coefficients are physical (positive, resolved by their fit)."
+    parts = []
+    for r in table[~physical].itertuples():
+        why = []
+        if bool(r.negative):
+            why.append(f"negative ({r.value:.3g} {r.unit}): a mechanistic cutting or edge "
+                       "coefficient cannot be below zero")
+        if bool(r.residual_exceeds_signal):
+            why.append(f"not resolved: its fit leaves {r.fit_residual_rms_N:.3g} N rms of "
+                       f"residual against {r.fit_signal_rms_N:.3g} N rms of signal (R² < 1/2)")
+        parts.append(f"{r.name} is " + ", and ".join(why))
+    return "**Not physical:** " + "; ".join(parts) + "."
+
+
 def identify_cutting_coefficients(feed_per_tooth_mm: np.ndarray, depth_mm: np.ndarray,
                                   mean_forces_N: np.ndarray, *, flutes=2,
                                   confidence: float = 0.95, entry_rad=None,

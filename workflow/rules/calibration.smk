@@ -97,6 +97,7 @@ rule ch1:
     params:
         options=config["chapters"],
         failed_copy="results/logs/chapters/ch1.failed.ipynb",
+        parameters={"thesis_study": THESIS_STUDY},
     script:
         "../scripts/render_chapter.py"
 

@@ -109,6 +109,7 @@ rule ch4:
     params:
         options=config["chapters"],
         failed_copy="results/logs/chapters/ch4.failed.ipynb",
+        parameters={"thesis_study": THESIS_STUDY},
     script:
         "../scripts/render_chapter.py"
 

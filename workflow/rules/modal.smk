@@ -134,6 +134,7 @@ rule ch3_modal:
     params:
         options=config["chapters"],
         failed_copy="results/logs/chapters/ch3_modal.failed.ipynb",
+        parameters={"thesis_study": THESIS_STUDY},
     script:
         "../scripts/render_chapter.py"
 
