@@ -173,9 +173,7 @@ rule stiffness_thesis:
 
 # the cell's own robot at every cut (any design other than the thesis'): needs load tests of
 # the robot named in cell.yaml
-CELL_ROBOT = (
-    config["cell"]["robot"].get("name") if SYNTHETIC else peek_robot_name(CELL)
-)
+CELL_ROBOT = config["cell"]["robot"].get("name") if SYNTHETIC else peek_robot_name(CELL)
 CUT_STIFFNESS = (
     {"cut_stiffness": "results/stiffness/cut_stiffness.csv"}
     if CELL_ROBOT in STIFF_ROBOTS and not THESIS_DESIGN
