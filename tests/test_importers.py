@@ -490,7 +490,7 @@ def test_smats_real_mountainsmap_sdf_exports(tmp_path, path, zscale):
     np.testing.assert_allclose(written[:, 1], (210 + np.arange(30)) * 1e-3, atol=1e-8)
     # the BAD point refused where it cannot be dropped
     one_error("smats", path, tmp_path, ["--no-crop"],
-              match=r"profile 0, point 29: 'BAD' points at the ends of the profile")
+              match=r"profile 0, points 29…29: 'BAD' points at the ends of the profile")
     one_error("smats", path, tmp_path, ["--profile", "20"],
               match=r"option --profile: --profile 20 outside the file \(expected 0 … 19\)")
 

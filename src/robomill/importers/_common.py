@@ -234,3 +234,42 @@ def write_csv(path: Path, header: Sequence[str], columns: Sequence[np.ndarray],
         fh.write(",".join(header) + "\n")
         np.savetxt(fh, data, fmt=list(fmts), delimiter=",")
     return path
+
+
+def valid_run(source: Path, ok: np.ndarray, *, where: str, bad: str, option: str,
+              crop: bool, dropouts: str, empty_where: str | None = None) -> slice:
+    """The points of a profile to keep, given its validity mask ``ok`` (profile importers).
+
+    Invalid points at the ends are dropped (refused with ``crop`` false); invalid points
+    inside are refused, or with ``dropouts == "longest"`` the longest run of valid points is
+    kept. ``where`` names the profile in messages (``profile 1``, ``row 2``), ``bad`` what an
+    invalid point is called (``'BAD'``, ``invalid``), ``option`` the option that picks another
+    profile (``--profile``, ``--row``); ``empty_where`` the place named when fewer than two
+    points are valid (default ``where``).
+    """
+    ok = np.asarray(ok, bool)
+    idx = np.flatnonzero(ok)
+    if idx.size < 2:
+        raise RawDataError(source, f"{where} has {idx.size} valid points",
+                           where=empty_where or where,
+                           expected=f"a profile of valid points (choose another {option})")
+    i0, i1 = int(idx[0]), int(idx[-1]) + 1
+    n = ok.size
+    if not crop and (i0 > 0 or i1 < n):
+        ends = ([f"points 0…{i0 - 1}"] if i0 > 0 else []) + (
+            [f"points {i1}…{n - 1}"] if i1 < n else [])
+        raise RawDataError(source, f"{bad} points at the ends of the profile",
+                           where=f"{where}, " + " and ".join(ends),
+                           expected="valid points only (or drop --no-crop)")
+    inner = np.flatnonzero(~ok[i0:i1])
+    if inner.size and dropouts == "longest":
+        edges = np.flatnonzero(np.diff(np.r_[0, ok.astype(np.int8), 0]))
+        starts, stops = edges[::2], edges[1::2]
+        j = int(np.argmax(stops - starts))
+        return slice(int(starts[j]), int(stops[j]))
+    if inner.size:
+        raise RawDataError(source, f"{inner.size} {bad} point(s) inside the profile",
+                           where=f"{where}, point {i0 + int(inner[0])}",
+                           expected=f"a profile without dropouts (choose another {option}, or "
+                                    "--dropouts longest)")
+    return slice(i0, i1)

@@ -35,7 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from robomill.importers._common import cut_id, read_text, write_csv
+from robomill.importers._common import cut_id, read_text, valid_run, write_csv
 from robomill.io.errors import RawDataError
 
 FORMAT = "smats"
@@ -61,34 +61,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "the longest run of valid points")
     parser.add_argument("--no-crop", dest="crop", action="store_false",
                         help="refuse 'BAD' points at the ends instead of dropping them")
-
-
-def _valid_run(source: Path, z: np.ndarray, *, profile: int, crop: bool, dropouts: str
-               ) -> slice:
-    """The slice of ``z`` to keep: without NaN ('BAD') points (see the module docstring)."""
-    ok = np.isfinite(z)
-    idx = np.flatnonzero(ok)
-    if idx.size < 2:
-        raise RawDataError(source, f"profile {profile} has {idx.size} valid points",
-                           where=f"data section, profile {profile}",
-                           expected="a profile of measured points (choose another --profile)")
-    i0, i1 = int(idx[0]), int(idx[-1]) + 1
-    if not crop and (i0 > 0 or i1 < z.size):
-        raise RawDataError(source, "'BAD' points at the ends of the profile",
-                           where=f"profile {profile}, point {0 if i0 > 0 else i1}",
-                           expected="measured points only (or drop --no-crop)")
-    inner = np.flatnonzero(~ok[i0:i1])
-    if inner.size and dropouts == "longest":
-        edges = np.flatnonzero(np.diff(np.r_[0, ok.astype(np.int8), 0]))
-        starts, stops = edges[::2], edges[1::2]
-        j = int(np.argmax(stops - starts))
-        return slice(int(starts[j]), int(stops[j]))
-    if inner.size:
-        raise RawDataError(source, f"{inner.size} 'BAD' point(s) inside the profile",
-                           where=f"profile {profile}, point {i0 + int(inner[0])}",
-                           expected="a profile without dropouts (choose another --profile, or "
-                                    "--dropouts longest)")
-    return slice(i0, i1)
 
 
 def _read_sdf(source: Path, lines: list[str], profile: int, *, crop: bool = True,
@@ -146,7 +118,9 @@ def _read_sdf(source: Path, lines: list[str], profile: int, *, crop: bool = True
                            f"{npts}×{nprof} = {want}" + ("" if closed else " (truncated?)"),
                            where="data section", expected=f"{want} values closed by '*'")
     z = np.asarray(body).reshape(nprof, npts)[profile] * zscale * 1e6
-    keep = _valid_run(source, z, profile=profile, crop=crop, dropouts=dropouts)
+    keep = valid_run(source, np.isfinite(z), where=f"profile {profile}", bad="'BAD'",
+                     option="--profile", crop=crop, dropouts=dropouts,
+                     empty_where=f"data section, profile {profile}")
     x = np.arange(npts)[keep] * xscale * 1e3
     return x - x[0], z[keep]
 

@@ -29,7 +29,7 @@ from xml.etree import ElementTree
 
 import numpy as np
 
-from robomill.importers._common import cut_id, write_csv
+from robomill.importers._common import cut_id, valid_run, write_csv
 from robomill.io.errors import RawDataError
 
 FORMAT = "x3p"
@@ -216,31 +216,9 @@ def read_x3p(source: Path, *, row: int | None = None, crop: bool = True,
     else:
         r = 0
     z = grid[r]
-    ok = vgrid[r]
-    idx = np.flatnonzero(ok)
-    if idx.size < 2:
-        raise RawDataError(source, f"row {r} has {idx.size} valid points",
-                           where=f"main.xml: Record3, row {r}",
-                           expected="a profile of valid points (choose another --row)")
-    i0, i1 = int(idx[0]), int(idx[-1]) + 1
-    if not crop and (i0 > 0 or i1 < nx):
-        ends = ([f"points 0…{i0 - 1}"] if i0 > 0 else []) + (
-            [f"points {i1}…{nx - 1}"] if i1 < nx else [])
-        raise RawDataError(source, "invalid points at the ends of the profile",
-                           where=f"row {r}, " + " and ".join(ends),
-                           expected="valid points only (or drop --no-crop)")
-    inner = np.flatnonzero(~ok[i0:i1])
-    if inner.size and dropouts == "longest":
-        edges = np.flatnonzero(np.diff(np.r_[0, ok.astype(np.int8), 0]))
-        starts, stops = edges[::2], edges[1::2]
-        j = int(np.argmax(stops - starts))
-        i0, i1 = int(starts[j]), int(stops[j])
-        inner = inner[:0]
-    if inner.size:
-        raise RawDataError(source, f"{inner.size} invalid point(s) inside the profile",
-                           where=f"row {r}, point {i0 + int(inner[0])}",
-                           expected="a profile without dropouts (choose another --row, or "
-                                    "--dropouts longest)")
+    keep = valid_run(source, vgrid[r], where=f"row {r}", bad="invalid", option="--row",
+                     crop=crop, dropouts=dropouts, empty_where=f"main.xml: Record3, row {r}")
+    i0, i1 = keep.start, keep.stop
     x_mm = (x0_m + dx_m * np.arange(i0, i1)) * 1e3
     z_um = z[i0:i1] * 1e6
     info = {"feature": feature, "row": r, "size": (nx, ny), "cropped": (i0, nx - i1),
