@@ -100,20 +100,17 @@ num.figure("record", "A measured force record: (a) the whole record as a min–m
 num.figure("full_band_psd", "Welch PSD of that record over the full band, sum of the axes",
            number=4)
 PARTS = "abcdefghijklmnopqrstuvwxyz"
-for k, d in enumerate(dirs_set):  # thesis Figs 3.5-3.7; any other design Fig 3.5a, b, ...
-    slug = d.replace(" ", "")
-    num.figure(f"spatial_{d}", f"Spatial-frequency power of the cuts of {which} along "
-               f"{dir_label(d)} (kinematic peak near 0.5 mm⁻¹ dotted)",
-               number=5 + k if THESIS_LAYOUT else 5,
-               part="" if THESIS_LAYOUT or len(dirs_set) == 1 else PARTS[k],
-               stem=f"fig3_5_7_spatial_{slug}")
-for k, d in enumerate(dirs_set):
-    slug = d.replace(" ", "")
-    num.figure(f"time_{d}", f"Time-frequency power 0–250 Hz of the cuts of {which} along "
-               f"{dir_label(d)} (identified modes dotted)",
-               number=8 + k if THESIS_LAYOUT else 8,
-               part="" if THESIS_LAYOUT or len(dirs_set) == 1 else PARTS[k],
-               stem=f"fig3_8_10_time_{slug}")
+# thesis Figs 3.5-3.7 and 3.8-3.10; any other design Figs 3.5a, b, ... and 3.8a, b, ...
+for kind, first, stem, what in (
+        ("spatial", 5, "fig3_5_7_spatial", "Spatial-frequency power of the cuts of {} along {} "
+         "(kinematic peak near 0.5 mm⁻¹ dotted)"),
+        ("time", 8, "fig3_8_10_time", "Time-frequency power 0–250 Hz of the cuts of {} along {} "
+         "(identified modes dotted)")):
+    for k, d in enumerate(dirs_set):
+        num.figure(f"{kind}_{d}", what.format(which, dir_label(d)),
+                   number=first + k if THESIS_LAYOUT else first,
+                   part="" if THESIS_LAYOUT or len(dirs_set) == 1 else PARTS[k],
+                   stem=f"{stem}_{d.replace(' ', '')}")
 num.table("peaks", "Per-cut peaks: dominant low-frequency and kinematic peak, and the nearest "
           "identified mode" + ("" if THESIS_LAYOUT else "; the mean force levels in the cut "
                                "frame; grouped by what varies"), number=1)
