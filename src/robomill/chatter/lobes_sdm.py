@@ -128,6 +128,19 @@ def multiplier_frequency_hz(mu: complex, tau_s: float, f_ref_hz: float) -> float
     return float(cand[np.argmin(np.abs(cand - f_ref_hz))])
 
 
+def reference_frequencies_hz(tool: LinearTool, n_speeds: int,
+                             f_ref_hz: np.ndarray | None = None) -> np.ndarray:
+    """Reference frequency per speed for naming a multiplier's chatter frequency
+    (:func:`multiplier_frequency_hz`): ``f_ref_hz`` where finite, else the tool's lowest
+    natural frequency; without ``f_ref_hz`` the most flexible natural frequency (largest summed
+    |H| at resonance) at every speed."""
+    fn = tool.natural_frequencies_hz()
+    if f_ref_hz is None:
+        mag = np.abs(tool.frf(fn)).sum(axis=(0, 1))
+        return np.full(n_speeds, fn[np.argmax(mag)])
+    return np.where(np.isfinite(f_ref_hz), f_ref_hz, fn[0])
+
+
 def critical_depth(tool: LinearTool, cut: CuttingModel, spindle_rpm: float, *,
                    depth_max_m: float, m: int = STEPS_PER_PERIOD, n_scan: int = 16,
                    rtol: float = 0.005, depth_min_m: float | None = None
@@ -187,12 +200,7 @@ def sdm_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray, *,
     a_crit_m, chatter_hz, kind : arrays over the speeds (kind: fold, flip, hopf or '').
     """
     n_t = np.atleast_1d(np.asarray(spindle_rpm, float))
-    if f_ref_hz is None:
-        fn = tool.natural_frequencies_hz()
-        mag = np.abs(tool.frf(fn)).sum(axis=(0, 1))
-        f_ref = np.full(n_t.shape, fn[np.argmax(mag)])
-    else:
-        f_ref = np.where(np.isfinite(f_ref_hz), f_ref_hz, tool.natural_frequencies_hz()[0])
+    f_ref = reference_frequencies_hz(tool, n_t.size, f_ref_hz)
     a_out = np.full(n_t.shape, np.nan)
     f_out = np.full(n_t.shape, np.nan)
     kind = np.full(n_t.shape, "", dtype=object)

@@ -48,7 +48,11 @@ from functools import lru_cache
 import numpy as np
 import scipy.linalg
 
-from robomill.chatter.lobes_sdm import classify_multiplier, multiplier_frequency_hz
+from robomill.chatter.lobes_sdm import (
+    classify_multiplier,
+    multiplier_frequency_hz,
+    reference_frequencies_hz,
+)
 from robomill.chatter.model import CuttingModel, LinearTool
 
 NODES = 8
@@ -405,12 +409,7 @@ def sem_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray, *,
     ``chatter_hz``, ``kind`` (fold, flip, hopf or ''), ``p`` (collocation order used).
     """
     n_t = np.atleast_1d(np.asarray(spindle_rpm, float))
-    if f_ref_hz is None:
-        fn = tool.natural_frequencies_hz()
-        mag = np.abs(tool.frf(fn)).sum(axis=(0, 1))
-        f_ref = np.full(n_t.shape, fn[np.argmax(mag)])
-    else:
-        f_ref = np.where(np.isfinite(f_ref_hz), f_ref_hz, tool.natural_frequencies_hz()[0])
+    f_ref = reference_frequencies_hz(tool, n_t.size, f_ref_hz)
     out = {"a_crit_m": np.full(n_t.shape, np.nan), "error_m": np.full(n_t.shape, np.nan),
            "chatter_hz": np.full(n_t.shape, np.nan), "kind": np.full(n_t.shape, "", object),
            "p": np.zeros(n_t.shape, int)}
