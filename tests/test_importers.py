@@ -524,12 +524,22 @@ SA_ARGS = ["--direction", "py", "--feed-mm-s", "2", "--fs-hz", "815"]
 FARO_ARGS = ["--direction", "px", "--feed-mm-s", "1", "--fs-hz", "815"]
 
 
+def imported_run(fmt, src, tmp_path, args, *, n):
+    """Import one tracker export with ``args`` (direction, feed, rate); check the manifest
+    entry it adds and that the stamps are rebuilt as t0 + k/fs for ``n`` points; return the
+    contract file's (t, points)."""
+    direction, feed, fs = (args[args.index(k) + 1] for k in ("--direction", "--feed-mm-s",
+                                                              "--fs-hz"))
+    e = run(fmt, [src], tmp_path, args)
+    assert e == [{"path": f"tracker/{direction}_f{feed}.csv", "kind": "tracker",
+                  "direction": direction, "feed_mm_s": float(feed), "fs_hz": float(fs)}]
+    t, p = read_tracker(tmp_path / e[0]["path"], fs_hz=float(fs))
+    np.testing.assert_allclose(t, np.arange(n) / float(fs), atol=1e-9)
+    return t, p
+
+
 def test_spatialanalyzer_coarse_stamps_rebuilt(tmp_path):
-    e = run("spatialanalyzer", [SA], tmp_path, SA_ARGS)
-    assert e == [{"path": "tracker/py_f2.csv", "kind": "tracker", "direction": "py",
-                  "feed_mm_s": 2.0, "fs_hz": 815.0}]
-    t, p = read_tracker(tmp_path / e[0]["path"], fs_hz=815.0)
-    np.testing.assert_allclose(t, np.arange(1000) / 815.0, atol=1e-9)
+    t, p = imported_run("spatialanalyzer", SA, tmp_path, SA_ARGS, n=1000)
     # planted: y = 1200 + 2 t (mm)
     assert np.polyfit(t, p[:, 1], 1)[0] == pytest.approx(2.0, abs=1e-3)
 
@@ -541,11 +551,7 @@ def test_spatialanalyzer_2024_export_without_header_row(tmp_path):
     """The layout of the real SA 2024.2 stream export found in public (see
     tests/data/real/spatialanalyzer/SOURCE.md): three ``//`` lines, no header row,
     ``Collection, Group, Target, X, Y, Z, MM/DD/YY HH:MM:SS`` with stamps to the second."""
-    e = run("spatialanalyzer", [SA24], tmp_path, SA24_ARGS)
-    assert e == [{"path": "tracker/px_f2.csv", "kind": "tracker", "direction": "px",
-                  "feed_mm_s": 2.0, "fs_hz": 200.0}]
-    t, p = read_tracker(tmp_path / e[0]["path"], fs_hz=200.0)
-    np.testing.assert_allclose(t, np.arange(640) / 200.0, atol=1e-9)
+    t, p = imported_run("spatialanalyzer", SA24, tmp_path, SA24_ARGS, n=640)
     # planted: x = 1520 + 2 t mm, y, z constant (2 µm noise); the first point as printed
     assert np.polyfit(t, p[:, 0], 1)[0] == pytest.approx(2.0, abs=1e-3)
     np.testing.assert_allclose(p[0], [1519.999355, -845.250903, 312.498005])
