@@ -357,3 +357,35 @@ def test_two_joints_mesh_lines_within_a_bin_are_flagged_merged_not_missed(teeth3
         assert ev["found"].all() and not ev["merged"].any()
         assert counts["found"] == 2 and counts["merged"] == 0
         np.testing.assert_allclose(peaks["amplitude_um"], [2.0, 1.5], rtol=0.05)
+
+
+def test_run_summary_table_rms_largest_peak_and_counts():
+    """Planted: run a has a sine of amplitude 3 µm (RMS 3/√2) laterally and 1 µm vertically;
+    run b is flat with one NaN sample and no peaks."""
+    import xarray as xr
+
+    from robomill.straightness import run_summary_table
+
+    s = np.arange(400) * 0.05
+    a = np.stack([3 * np.sin(2 * np.pi * s / 2.0), np.sin(2 * np.pi * s / 5.0)])
+    b = np.zeros_like(a)
+    b[0, 7] = np.nan
+    prof = xr.Dataset({"deviation_um": (("run", "component", "s"), np.stack([a, b]))},
+                      coords={"run": ["mx_f2", "d45_f6"], "component": ["lateral", "vertical"],
+                              "s": s, "direction": ("run", ["mx", "d45"]),
+                              "feed_mm_s": ("run", [2.0, 6.0])})
+    peaks = pd.DataFrame({"direction": ["mx", "mx", "mx", "py"],
+                          "feed_mm_s": [2.0, 2.0, 2.0, 2.0],
+                          "amplitude_um": [3.0, 1.0, 0.2, 9.0],
+                          "f_spatial_per_mm": [0.5, 0.2, 1.0, 0.1],
+                          "mechanism": ["gear", "gear", "temporal", "gear"]})
+    t = run_summary_table(prof, peaks).set_index("run")
+    assert t.loc["mx_f2", "rms_lateral_um"] == pytest.approx(3 / np.sqrt(2), rel=1e-3)
+    assert t.loc["mx_f2", "rms_vertical_um"] == pytest.approx(1 / np.sqrt(2), rel=1e-2)
+    assert t.loc["d45_f6", "rms_lateral_um"] == 0.0  # the NaN sample skipped
+    assert t.loc["mx_f2", "largest_peak_um"] == 3.0
+    assert t.loc["mx_f2", "largest_peak_wavelength_mm"] == pytest.approx(2.0)
+    assert t.loc["mx_f2", "largest_peak_mechanism"] == "gear"
+    assert (t.loc["mx_f2", "gear_peaks"], t.loc["mx_f2", "temporal_peaks"]) == (2, 1)
+    assert np.isnan(t.loc["d45_f6", "largest_peak_um"])  # the py peak belongs to no run
+    assert (t.loc["d45_f6", "gear_peaks"], t.loc["d45_f6", "temporal_peaks"]) == (0, 0)

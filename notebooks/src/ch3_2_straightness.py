@@ -40,7 +40,12 @@ from robomill.pipeline.design_tables import (
     thesis_gate,
 )
 from robomill.plotting import save_figure
-from robomill.straightness import attribution_counts, band_floor_table, surface_cross_check
+from robomill.straightness import (
+    attribution_counts,
+    band_floor_table,
+    run_summary_table,
+    surface_cross_check,
+)
 
 prof = open_artefact(profiles)
 pk = pd.read_csv(peaks, keep_default_na=False, na_values=[""])
@@ -345,26 +350,10 @@ display(table.round(4))
 
 # %%
 if not THESIS_LAYOUT:
-    per_run = runs.rename_axis("run").reset_index()
-    for comp in prof.component.values:
-        dev = prof.deviation_um.sel(component=comp)
-        per_run[f"rms_{comp}_um"] = np.sqrt((dev ** 2).mean("s", skipna=True)).values
-    top = pk.loc[pk.groupby(["direction", "feed_mm_s"]).amplitude_um.idxmax()]
-    top = top.assign(run=[run_of(d, v) for d, v in zip(top.direction, top.feed_mm_s,
-                                                       strict=True)])
-    per_run = per_run.merge(top[["run", "amplitude_um", "f_spatial_per_mm", "mechanism"]]
-                            .rename(columns={"amplitude_um": "largest_peak_um",
-                                             "mechanism": "largest_peak_mechanism"}),
-                            on="run", how="left")
-    per_run["largest_peak_wavelength_mm"] = 1 / per_run.pop("f_spatial_per_mm")
-    counts = pk.assign(run=[run_of(d, v) for d, v in zip(pk.direction, pk.feed_mm_s,
-                                                        strict=True)]
-                       ).groupby(["run", "mechanism"]).size().unstack(fill_value=0)
-    counts.columns = [f"{c}_peaks" for c in counts.columns]
-    per_run = per_run.merge(counts.reset_index(), on="run", how="left")
+    per_run = run_summary_table(prof, pk)
     values = [c for c in per_run.columns if c.startswith("rms_")] + [
         "largest_peak_um", "largest_peak_wavelength_mm", "largest_peak_mechanism",
-        *counts.columns]
+        *[c for c in per_run.columns if c.endswith("_peaks")]]
     display(num.caption("runs_by_design"))
     display(per_cut_table(per_run[["run", "direction", "feed_mm_s", *values]], values,
                           key="run").round(4))

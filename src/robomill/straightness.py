@@ -891,3 +891,48 @@ def band_floor_table(profiles: xr.Dataset, peaks: pd.DataFrame, band: tuple[floa
                                            & peaks["f_spatial_per_mm"].between(*band)).sum())})
     return pd.DataFrame(rows, columns=["direction", "feed_mm_s", "peak_to_floor_in_band",
                                        "peak_to_floor_noise_band", "peaks_in_band"])
+
+
+def run_summary_table(profiles: xr.Dataset, peaks: pd.DataFrame) -> pd.DataFrame:
+    """One row per tracker run: the RMS deviation from the best line per component, the largest
+    peak (amplitude, wavelength 1/f, mechanism) and the number of peaks per mechanism.
+
+    Parameters
+    ----------
+    profiles
+        ``results/straightness/profiles.nc`` (:func:`gather_profiles`): ``deviation_um`` over
+        (run, component, s) and the run coordinates ``direction``, ``feed_mm_s``.
+    peaks
+        ``results/straightness/peaks.csv`` (:func:`gather_peaks`), with ``direction``,
+        ``feed_mm_s``, ``amplitude_um``, ``f_spatial_per_mm``, ``mechanism``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``run, direction, feed_mm_s``, ``rms_<component>_um`` (RMS over s, NaN
+        skipped), ``largest_peak_um``, ``largest_peak_wavelength_mm``,
+        ``largest_peak_mechanism`` and ``<mechanism>_peaks``; a run without peaks has NaN
+        there and 0 counts.
+    """
+    table = pd.DataFrame({"run": profiles["run"].values,
+                          "direction": profiles["direction"].values,
+                          "feed_mm_s": profiles["feed_mm_s"].values.astype(float)})
+    dev = profiles["deviation_um"]
+    for comp in profiles["component"].values:
+        rms = np.sqrt((dev.sel(component=comp) ** 2).mean("s", skipna=True))
+        table[f"rms_{comp}_um"] = rms.values
+    key = {(str(d), round(float(v), 9)): r for r, d, v in
+           zip(table.run, table.direction, table.feed_mm_s, strict=True)}
+    pk = peaks.assign(run=[key.get((str(d), round(float(v), 9))) for d, v in
+                           zip(peaks.direction, peaks.feed_mm_s, strict=True)])
+    pk = pk[pk["run"].notna()]
+    top = pk.loc[pk.groupby("run").amplitude_um.idxmax()] if len(pk) else pk
+    table = table.merge(pd.DataFrame({
+        "run": top["run"], "largest_peak_um": top["amplitude_um"],
+        "largest_peak_wavelength_mm": 1.0 / top["f_spatial_per_mm"].astype(float),
+        "largest_peak_mechanism": top["mechanism"]}), on="run", how="left")
+    counts = pk.groupby(["run", "mechanism"]).size().unstack(fill_value=0)
+    counts.columns = [f"{c}_peaks" for c in counts.columns]
+    table = table.merge(counts.reset_index(), on="run", how="left")
+    table[list(counts.columns)] = table[list(counts.columns)].fillna(0).astype(int)
+    return table
