@@ -28,11 +28,14 @@ $(STAMP): environment.lock pyproject.toml
 
 kernel: $(STAMP)
 
+# Unit tests first, in parallel (pytest-xdist, one worker per job slot); then the slow
+# end-to-end pipeline, browser and cluster tests. The same tests and assertions as one run.
 test: $(STAMP)
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster"
+	$(BIN)/python -m pytest -q -m "pipeline or browser or cluster"
 
 test-fast: $(STAMP)
-	$(BIN)/python -m pytest -q -m "not pipeline and not browser and not cluster"
+	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster"
 
 test-cluster: $(STAMP)
 	$(BIN)/python -m pytest -q -m cluster
