@@ -45,14 +45,10 @@ from IPython.display import Markdown, display
 
 from robomill.io import open_artefact
 from robomill.io.impact import read_frf
-from robomill.modal import (
-    COUPLING_TOLERANCE,
-    THESIS_NATURAL_HZ,
-    TOOLTIP,
-    join_complex,
-    points,
-    synthesis_misfit,
-)
+from robomill.modal.checks import COUPLING_TOLERANCE, synthesis_misfit
+from robomill.modal.layout import TOOLTIP, points
+from robomill.modal.ncio import join_complex
+from robomill.modal.peaks import THESIS_NATURAL_HZ
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import thesis_gate
 from robomill.plotting import save_figure
