@@ -34,7 +34,7 @@ else:
 if choice.flag:
     log.warning("sanity flag: %s", choice.flag)
 peaks = peak_picking(ds, band_hz=band, coherence_min=cfg["coherence_min"],
-                     prominence=cfg["peak_prominence"],
+                     prominence=cfg["peak_prominence"], floor_db=cfg["peak_floor_db"],
                      real_window_hz=cfg["real_window_hz"])
 write_table(peaks, snakemake.output.peaks)
 idn = identify(ds, band_hz=band, max_order=cfg["max_order"], tol_f=cfg["tol_f"],
