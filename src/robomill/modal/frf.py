@@ -172,7 +172,7 @@ def combine_frfs(datasets: Sequence[xr.Dataset]) -> xr.Dataset:
 
 def force_spectrum(groups: Sequence[HitGroup], ds: xr.Dataset) -> np.ndarray:
     """Mean one-sided auto-spectrum [N²/Hz] of the windowed hammer force over every accepted
-    hit, on the FRF lines of ``ds`` (the input of :func:`band_from_data`)."""
+    hit, on the FRF lines of ``ds`` (the input of :func:`robomill.modal.band.band_from_data`)."""
     fs = float(ds.attrs["fs_hz"])
     acc = []
     for g in groups:

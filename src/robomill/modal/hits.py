@@ -165,7 +165,7 @@ def check_and_group(hits: Sequence, *, trigger_fraction: float = 0.05,
                     force_range_N: float | None = None,
                     accel_range_ms2: float | None = None) -> tuple[pd.DataFrame, list[HitGroup]]:
     """Check every hit (:func:`check_hit`) and group the accepted ones by reference point and
-    response points (:class:`HitGroup`, input of :func:`frf_from_groups`).
+    response points (:class:`HitGroup`, input of :func:`robomill.modal.frf.frf_from_groups`).
 
     Parameters
     ----------
