@@ -92,4 +92,4 @@ def test_every_rule_derives_its_code_inputs_and_none_is_hand_kept():
     assert has("stiffness_maps", "stiffness.py") and has("stiffness_optimal", "stiffness.py")
     assert has("synth_loadtests_robot", "stiffness.py")
     assert has("ch1", "calibration.py")
-    assert has("ch3_modal", "modal.py") and has("ch3_modal", "io/impact.py")
+    assert has("ch3_modal", "modal/ncio.py") and has("ch3_modal", "io/impact.py")

@@ -11,6 +11,7 @@ import xarray as xr
 
 from robomill import modal
 from robomill.io.impact import HitRecord
+from robomill.modal.layout import _point_key
 from robomill.synth import impact as synth_impact
 from robomill.synth.cell import Mode
 
@@ -121,7 +122,7 @@ def test_triaxial_responses_with_a_negative_axis():
     assert ds.sizes["output"] == 12
     assert "3-Y" in ds["output"].values.tolist()
     assert int(ds["output_dir"].sel(output="3-Y")) == -2
-    points = sorted([p for n in NODES for p in resp_by_node[n]], key=modal._point_key)
+    points = sorted([p for n in NODES for p in resp_by_node[n]], key=_point_key)
     _check_modes(idn, points)
     assert (idn.modes["driving_point"] == "2Z").all() and idn.modes["physical"].all()
 

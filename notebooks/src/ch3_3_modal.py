@@ -45,14 +45,10 @@ from IPython.display import Markdown, display
 
 from robomill.io import open_artefact
 from robomill.io.impact import read_frf
-from robomill.modal import (
-    COUPLING_TOLERANCE,
-    THESIS_NATURAL_HZ,
-    TOOLTIP,
-    join_complex,
-    points,
-    synthesis_misfit,
-)
+from robomill.modal.checks import COUPLING_TOLERANCE, synthesis_misfit
+from robomill.modal.layout import TOOLTIP, points
+from robomill.modal.ncio import join_complex
+from robomill.modal.peaks import THESIS_NATURAL_HZ
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import thesis_gate
 from robomill.plotting import save_figure
@@ -294,8 +290,10 @@ for o, i in FRF_PAIRS:
 # %% [markdown]
 # ## The thesis' peak picking
 #
-# Every extremum of Im H, with the two criteria checked separately. A frequency counts when it
-# meets both on at least one FRF.
+# Every extremum of Im H that stands out of its neighbourhood (it rises at least
+# `modal.peak_floor_db` above its local floor: a shoulder or a ripple on a stronger peak's
+# skirt is none), its frequency interpolated between the FRF lines, with the two criteria
+# checked separately. A frequency counts when it meets both on at least one FRF.
 
 # %%
 picked = grouped["f_hz"].to_numpy(float)
@@ -303,8 +301,10 @@ display(Markdown(
     f"{len(peak_table)} Im-extrema candidates on the {len(measured)} FRFs; "
     f"{int(peak_table['real_sign_change'].sum())} pass the real-part criterion, "
     f"{int(peak_table['coherence_ok'].sum())} the coherence criterion, "
-    f"{int(peak_table['natural_frequency'].sum())} both. They group into **{len(grouped)} "
-    f"frequencies**: {', '.join(f'{x:.2f}' for x in picked)} Hz"
+    f"{int(peak_table['natural_frequency'].sum())} both. "
+    + (f"They group into **{len(grouped)} frequencies**: "
+       f"{', '.join(f'{x:.2f}' for x in picked)} Hz" if len(grouped)
+       else "**No frequency meets both criteria**: peak picking finds no natural frequency")
     + (f" (thesis: {', '.join(f'{x:g}' for x in THESIS_HZ)} Hz)" if VS_THESIS_HZ else "")
     + f" ({num.ref('peak_groups')}). Peak picking cannot separate modes whose half-power "
     "bands overlap on the FRF where both respond; the LSCF fit below does."

@@ -2,10 +2,13 @@
 H(response point, reference point) of whatever layout was measured (H1, H2, coherence), the
 hammer's force spectrum, UFF 58 export with node numbers."""
 
-from robomill import modal
 from robomill.io import write_artefact, write_table
-from robomill.io.impact import load_impact_test, write_frf_uff
+from robomill.io.impact import load_impact_test
 from robomill.io.manifest import load_manifest
+from robomill.modal.frf import combine_frfs, force_spectrum, frf_from_groups
+from robomill.modal.hits import check_and_group, empty_traces, hit_table_empty, hit_traces
+from robomill.modal.ncio import split_complex
+from robomill.modal.uff import write_frf_uff
 from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "modal_frf")
@@ -15,7 +18,7 @@ test = load_impact_test(manifest, snakemake.params.files)
 if test.hits and test.frfs:
     raise ValueError("the impact files mix hit records and FRFs: give one or the other")
 if test.hits:
-    hits, groups = modal.check_and_group(
+    hits, groups = check_and_group(
         test.hits, trigger_fraction=cfg["trigger_fraction"],
         double_hit_fraction=cfg["double_hit_fraction"],
         overload_samples=cfg["overload_samples"], force_range_N=cfg["force_range_N"],
@@ -24,25 +27,25 @@ if test.hits:
         log.info("hit %s_%s (%s -> %s): %s", row.direction, row.hit, row.reference,
                  row.responses, row.reason)
     fs = test.hits[0][0].fs_hz
-    ds = modal.frf_from_groups(groups, int(round(fs)), force_window_s=cfg["force_window_s"],
-                               exponential_end=cfg["exponential_end"])
-    ds["force_spectrum"] = (("frequency",), modal.force_spectrum(groups, ds),
+    ds = frf_from_groups(groups, int(round(fs)), force_window_s=cfg["force_window_s"],
+                         exponential_end=cfg["exponential_end"])
+    ds["force_spectrum"] = (("frequency",), force_spectrum(groups, ds),
                             {"units": "N^2/Hz", "long_name": "mean hammer force auto-spectrum "
                                                              "of the accepted, windowed hits"})
-    traces = modal.hit_traces(test.hits, hits, fs)
+    traces = hit_traces(test.hits, hits, fs)
 else:
-    ds = modal.combine_frfs(test.frfs)
+    ds = combine_frfs(test.frfs)
     ds.attrs["window_sigma_per_s"] = 0.0
-    hits, traces = modal.hit_table_empty(), None
+    hits, traces = hit_table_empty(), None
     log.info("FRFs read from %d UFF file(s): %d responses x %d references", len(test.frfs),
              ds.sizes["output"], ds.sizes["input"])
 inputs = [str(p) for p in snakemake.input.hits]
-write_artefact(modal.split_complex(ds), snakemake.output.frf, rule="modal_frf", inputs=inputs,
+write_artefact(split_complex(ds), snakemake.output.frf, rule="modal_frf", inputs=inputs,
                config_section=cfg)
 write_frf_uff(ds, snakemake.output.uff)
 write_table(hits, snakemake.output.hits)
 if traces is None:
-    traces = modal.empty_traces()
+    traces = empty_traces()
 write_artefact(traces, snakemake.output.traces, rule="modal_frf", inputs=inputs,
                config_section=cfg)
 if len(hits):

@@ -1,5 +1,6 @@
-"""Impact-test files: hammer + accelerometer hits (CSV or UFF 58 time histories), FRFs (UFF 58),
-mode shapes out (UFF 55 + UFF 15).
+"""Impact-test files read: hammer + accelerometer hits (CSV or UFF 58 time histories), FRFs
+(UFF 58), and the FRF artefact. (The UFF writers of the modal results live in
+:mod:`robomill.modal.uff`; ``write_frf_uff`` and ``write_modes_uff`` stay importable here.)
 
 ``impact/<name>.csv`` (``docs/data-contract.md``): columns ``t_s, force_N`` and any non-empty
 subset of ``ax_ms2, ay_ms2, az_ms2``; uniform, strictly increasing time; at least 64 rows.
@@ -81,7 +82,7 @@ def entry_metadata(manifest_path: str | Path, entry: Mapping[str, Any],
         is not ±X/±Y/±Z, a hit that is not an integer, a node that is not a positive
         integer, a range that is not a positive number.
     """
-    from robomill.modal import parse_direction
+    from robomill.modal.layout import parse_direction
 
     where = f"files[{index}]" if index is not None else f"file {entry.get('path')}"
     path = str(entry.get("path", ""))
@@ -258,7 +259,7 @@ def read_hits_uff(path: str | Path) -> list[HitRecord]:
         hit without responses, an ordinate code other than 13 or 12, a direction code not
         ±1…3, unequal steps or lengths, truncated data, unknown units.
     """
-    from robomill.modal import point_label
+    from robomill.modal.layout import point_label
 
     path = Path(path)
     sets = [(n, s) for n, s in enumerate(read_uff58(path)) if int(s.get("func_type", 0)) == 1]
@@ -321,7 +322,8 @@ def read_frf_uff(path: str | Path) -> xr.Dataset:
         says, an FRF's unit codes are not those of :data:`FRF_FORMS` (the codes are named),
         an FRF pair appears twice, or a coherence has no FRF.
     """
-    from robomill.modal import _point_key, frf_coords, point_label, to_receptance
+    from robomill.modal.frf import to_receptance
+    from robomill.modal.layout import _point_key, frf_coords, point_label
 
     path = Path(path)
     sets = read_uff58(path)
@@ -389,100 +391,9 @@ def read_frf_uff(path: str | Path) -> xr.Dataset:
 def read_frf(path: str | Path) -> xr.Dataset:
     """Open ``results/modal/frf.nc`` with its complex variables (``H``, ``H2``) restored."""
     from robomill.io.artefacts import open_artefact
-    from robomill.modal import join_complex
+    from robomill.modal.ncio import join_complex
 
     return join_complex(open_artefact(path))
-
-
-# ---- UFF out ---------------------------------------------------------------------------------
-def write_frf_uff(ds: xr.Dataset, path: str | Path) -> Path:
-    """Write ``H`` (complex, m/N; receptance codes 8/13) and ``coherence`` of an FRF dataset
-    as UFF 58 sets with the node numbers and direction codes of every point; pairs the layout
-    did not measure are left out.
-
-    Frequency lines must be uniform; the DC line is written as 0 where it is NaN.
-    """
-    import pyuff
-
-    from robomill.io.atomic import atomic_path
-    from robomill.modal import points
-
-    f = ds["frequency"].values
-    df = float(f[1] - f[0])
-    outs, ins = points(ds, "output"), points(ds, "input")
-    sets = []
-    for a, o in enumerate(ds["output"].values):
-        for b, i in enumerate(ds["input"].values):
-            h = ds["H"].sel(output=o, input=i).values
-            if not np.isfinite(h[f > 0]).any():
-                continue
-            h = np.nan_to_num(h)
-            common = dict(rsp_node=outs[a][0], rsp_dir=outs[a][1], ref_node=ins[b][0],
-                          ref_dir=ins[b][1], abscissa_spacing=1, abscissa_min=float(f[0]),
-                          abscissa_inc=df, abscissa_spec_data_type=18, x=f, id2="robomill",
-                          id3="", id4="", id5="", rsp_ent_name="tooltip", ref_ent_name="tooltip")
-            sets.append(pyuff.prepare_58(func_type=4, id1=f"H {o}/{i} receptance m/N",
-                                         ordinate_spec_data_type=8,
-                                         orddenom_spec_data_type=13, data=h.astype(complex),
-                                         **common))
-            if "coherence" in ds:
-                coh = np.nan_to_num(ds["coherence"].sel(output=o, input=i).values)
-                sets.append(pyuff.prepare_58(func_type=6, id1=f"coherence {o}/{i}",
-                                             ordinate_spec_data_type=0,
-                                             orddenom_spec_data_type=0,
-                                             data=coh.astype(float), **common))
-    with atomic_path(path) as tmp:
-        pyuff.UFF(str(tmp)).write_sets(sets, mode="overwrite")
-    return Path(path)
-
-
-def write_modes_uff(modes, shapes, path: str | Path, *,
-                    node_xyz_m: Mapping[int, Sequence[float]] | None = None) -> Path:
-    """Write the identified modes as UFF 15 (nodes) + UFF 55 (one complex mode shape per
-    mode, translations r1…r3 = X, Y, Z at each node) that pyuff reads back.
-
-    Parameters
-    ----------
-    modes
-        The mode table (:data:`robomill.modal.MODE_COLUMNS`: ``f_n_hz``, ``zeta``,
-        ``m_modal_kg``).
-    shapes
-        :class:`robomill.modal.ModeShapes`; a component measured along a negative axis is
-        stored with its sign turned to the positive axis; axes not measured are 0.
-    node_xyz_m
-        Node coordinates; without them node k sits at x = (k − 1) × 0.1 m (the test
-        gave no geometry: the UFF 15 set then only names the nodes).
-    """
-    import pyuff
-
-    from robomill.io.atomic import atomic_path
-
-    nodes = sorted({n for n, _ in shapes.points})
-    xyz = np.array([node_xyz_m[n] if node_xyz_m and n in node_xyz_m
-                    else ((n - 1) * 0.1, 0.0, 0.0) for n in nodes], float)
-    ids = np.array(nodes, int)
-    sets = [pyuff.prepare_15(node_nums=ids, def_cs=np.zeros(len(nodes), int),
-                             disp_cs=np.zeros(len(nodes), int), color=np.ones(len(nodes), int),
-                             x=xyz[:, 0], y=xyz[:, 1], z=xyz[:, 2])]
-    for r, row in enumerate(modes.itertuples(index=False)):
-        comp = np.zeros((len(nodes), 3), complex)
-        for k, (n, d) in enumerate(shapes.points):
-            v = shapes.shapes[r, k]
-            comp[nodes.index(n), abs(d) - 1] = np.sign(d) * (0 if not np.isfinite(v) else v)
-        f, z = float(row.f_n_hz), float(row.zeta)
-        wn = 2 * np.pi * f
-        eig = complex(-z * wn, wn * np.sqrt(max(0.0, 1 - z * z)))
-        m = float(row.m_modal_kg) if np.isfinite(row.m_modal_kg) else 0.0
-        sets.append(pyuff.prepare_55(
-            id1=f"mode {int(row.mode)}: {f:.4f} Hz, zeta {z:.5f}", id2="robomill",
-            id3="complex unit shape over the measured points", id4="", id5="",
-            model_type=1, analysis_type=3, data_ch=2, spec_data_type=8, data_type=5,
-            n_data_per_node=3, r1=comp[:, 0], r2=comp[:, 1], r3=comp[:, 2], load_case=1,
-            mode_n=int(row.mode), eig=eig, modal_a=complex(m, 0.0), modal_b=0j,
-            node_nums=ids))
-    with atomic_path(path) as tmp:
-        pyuff.UFF(str(tmp)).write_sets(sets, mode="overwrite")
-    return Path(path)
 
 
 # ---- a whole impact test from the manifest ----------------------------------------------------
@@ -533,3 +444,13 @@ def load_impact_test(manifest, entries: Sequence[Mapping[str, Any]]) -> ImpactTe
         fs = fs or rec.fs_hz
         hits.append((rec, {**meta, "path": f["path"], "hit": meta["hit"]}))
     return ImpactTest(hits, frfs, paths)
+
+
+def __getattr__(name: str):
+    """``write_frf_uff`` and ``write_modes_uff``, moved to :mod:`robomill.modal.uff`, loaded
+    from there on first use (PEP 562) so that importing this reader does not load them."""
+    if name in ("write_frf_uff", "write_modes_uff"):
+        from robomill.modal import uff
+
+        return getattr(uff, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
