@@ -717,7 +717,8 @@ def test_tracker_bad_inputs(tmp_path):
               match=r"header \(first 200 lines\): no header row naming X, Y, Z")
     one_error("faro", TDMS, tmp_path, FARO_ARGS, match=r"binary file, not a text export")
     one_error("faro", FARO, tmp_path, ["--feed-mm-s", "1"],
-              match=r"option --direction: no cut direction")
+              match=r"option --direction: no feed direction \(expected --direction px, mx, py or "
+                    r"my, or --direction-deg DEG\)")
     text = tmp_path / "text.csv"
     fields = lines[10].split(",")
     fields[2] = "abc"

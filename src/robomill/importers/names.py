@@ -19,7 +19,9 @@ group                                   manifest key (conversion)
 ``milling``                             ``milling`` (``slot``, ``up``, ``down``)
 ======================================  ==========================================
 
-Keys the pattern does not give stay ``null`` in ``cuts:`` and ``robomill manifest`` lists
+``--design KEY=VALUE`` (repeatable, the same names) gives a key the names do not carry for
+every cut of the import (``--design direction=px --design flutes=2``). Keys neither gives
+stay ``null`` in ``cuts:`` and ``robomill manifest`` lists
 them. Every problem is one :class:`~robomill.io.errors.RawDataError` naming the file (or the
 option) and the group.
 """
@@ -91,7 +93,7 @@ def compile_pattern(pattern: str, source: Path | str = "--cut-pattern") -> re.Pa
     try:
         rx = re.compile(pattern)
     except re.error as exc:
-        raise RawDataError(source, f"--cut-pattern {pattern!r} is not a regular expression "
+        raise RawDataError(source, f"--cut-pattern '{pattern}' is not a regular expression "
                            f"({exc})", where=where,
                            expected="a Python regular expression with named groups "
                                     "(?P<name>...)") from None
@@ -128,7 +130,7 @@ def design_from_name(rx: re.Pattern, source: Path) -> tuple[str | None, dict[str
     m = rx.search(stem)
     if m is None:
         raise RawDataError(source, f"file name {stem!r} does not match --cut-pattern "
-                           f"{rx.pattern!r}", where="option --cut-pattern",
+                           f"'{rx.pattern}'", where="option --cut-pattern",
                            expected="a pattern matching every source's name (without its "
                                     "extension), or the file imported on its own")
     design: dict[str, Any] = {}
@@ -146,3 +148,34 @@ def design_from_name(rx: re.Pattern, source: Path) -> tuple[str | None, dict[str
         raise RawDataError(source, f"group cut matched {cut!r}", where="option --cut-pattern",
                            expected="a cut id of letters, digits, '_', '.', '-'")
     return cut, design
+
+
+def design_from_options(items: list[str] | None) -> dict[str, Any]:
+    """``--design KEY=VALUE`` items → ``{manifest key: value}`` (the group names and
+    conversions of :data:`GROUPS`).
+
+    Raises
+    ------
+    RawDataError
+        An item without ``=``, an unknown key, a value that does not parse, two items for
+        one key.
+    """
+    design: dict[str, Any] = {}
+    for item in items or []:
+        name, eq, text = item.partition("=")
+        name, text = name.strip(), text.strip()
+        if not eq or name not in GROUPS:
+            raise RawDataError("--design", f"--design {item!r} is not KEY=VALUE with a known "
+                               "key", where="option --design",
+                               expected="keys among " + ", ".join(GROUPS))
+        key, parse, what = GROUPS[name]
+        try:
+            value = parse(text)
+        except ValueError:
+            raise RawDataError("--design", f"--design {name}={text!r}", where="option --design",
+                               expected=what) from None
+        if key in design:
+            raise RawDataError("--design", f"--design gives {key} twice",
+                               where="option --design", expected="one value per key")
+        design[key] = value
+    return design
