@@ -46,6 +46,7 @@ report: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/python benchmarks/run.py --out results/benchmarks
+	$(BIN)/python benchmarks/performance_md.py results/benchmarks/summary.csv docs/performance.md
 
 # Regenerate the pinned, hashed lock from pyproject.toml (needs network access to PyPI).
 UV ?= $(shell command -v uv || echo $(BIN)/uv)

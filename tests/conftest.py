@@ -19,7 +19,8 @@ def missing_system_package(why: str) -> None:
     (`.ci/run` installs the packages of `.ci/apt-packages.txt`)."""
     if os.environ.get("CI", "").lower() in ("true", "1"):
         pytest.fail(f"{why} (CI=true: a missing system package fails, it does not skip; "
-                    "install .ci/apt-packages.txt, see README, Tests)", pytrace=False)
+                    "install .ci/apt-packages.txt, see docs/usage.md, System packages)",
+                    pytrace=False)
     pytest.skip(why)
 
 

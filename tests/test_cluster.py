@@ -7,7 +7,7 @@ from the tiny run's raw files (as a raw data set): every job of that stage, the 
 papermill kernel included, goes through sbatch/srun on a single-node cluster brought up from
 Debian's packages. The whole tiny `all` (76 jobs, synthetic) on Slurm is the same test on every
 artefact; it is opt-in (`ROBOMILL_SLURM_ALL=1 make test-cluster`) because on 2 cores it takes
-about 9 min (547 s on 2026-12-01; README, Clusters), mostly the two nested Snakemake
+about 9 min (547 s on 2026-12-01; docs/usage.md, Clusters), mostly the two nested Snakemake
 start-ups the plugin runs inside every job and its status polling. Without root or the
 packages the tests are skipped, saying why — except under `CI=true`, where they fail.
 """

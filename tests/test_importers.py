@@ -39,6 +39,7 @@ SINE = BUILT / "smats" / "sine.txt"
 SDF = BUILT / "smats" / "two_profiles.sdf"
 MM11_INT = REAL / "smats" / "mm11_iso1_ascii_int32.sdf"
 MM11_F64 = REAL / "smats" / "mm11_iso1_ascii_binary64.sdf"
+SMATS_XML = BUILT / "smats" / "milled_profile.xml"
 
 FORMATS = ("dynoware", "tdms", "spatialanalyzer", "faro", "smats", "x3p")
 
@@ -450,9 +451,8 @@ def test_smats_bad_inputs(tmp_path):
     one_error("smats", nokey, tmp_path, match=r"header: SDF header key Zscale is missing")
     xml = tmp_path / "p.xml"
     xml.write_text('<?xml version="1.0"?><SMATS><Profile/></SMATS>\n')
-    msg = one_error("smats", xml, tmp_path, match=r"line 1: XML profile file: no SMATS XML "
-                                                  r"layout is published")
-    assert "binary SDF and SMATS XML are not read" in msg and "robomill import x3p" in msg
+    msg = one_error("smats", xml, tmp_path, match=r"line 1: XML root <SMATS> is not <DATA>")
+    assert "binary SDF is not read" in msg and "robomill import x3p" in msg
     x3p_main = tmp_path / "main.xml"
     with zipfile.ZipFile(REAL / "x3p" / "ISO5436-sample1.x3p") as z:
         x3p_main.write_bytes(z.read("main.xml"))
@@ -465,6 +465,77 @@ def test_smats_bad_inputs(tmp_path):
     one_error("smats", text, tmp_path, match=r"line 4: value 'abc' is not a number")
     one_error("smats", SDF, tmp_path, ["--profile", "2"],
               match=r"option --profile: --profile 2 outside the file \(expected 0 … 1\)")
+
+
+def test_smats_xml_constructed_pq(tmp_path):
+    """SMATS XML (constructed, tests/data/constructed/smats/make_smats_xml.py): µm converted
+    to the contract's x_mm/z_um, the part name kept in the entry, and Pq of the surface
+    analysis within 1 % of sqrt(0.8²/2 + 0.12²/2) µm, the RMS of the two planted cosines."""
+    from robomill.surface import analyse_profile
+
+    e = run("smats", [SMATS_XML], tmp_path, ["--cut", "s1_g1_px"])
+    assert e == [{"path": "profiles/s1_g1_px.csv", "kind": "profile", "cut": "s1_g1_px",
+                  "part": "RM-constructed-001", "process": "end milled (constructed profile)",
+                  "measurement": "stylus profile, 1 mm",
+                  "source_filename": "milled_profile.smd"}]
+    x, z, fs = read_profile(tmp_path / e[0]["path"])
+    assert x.size == 4000 and x[-1] == pytest.approx(3999 * 0.25e-3)
+    assert fs == pytest.approx(4000.0)  # 0.25 µm spacing = 4000 points per mm
+    pq_truth = np.sqrt(0.8**2 / 2 + 0.12**2 / 2)
+    pq = float(analyse_profile(x, z)["parseval_rms_um"])
+    assert pq == pytest.approx(pq_truth, rel=0.01)
+    # the same profile written in nm (spacing 250 nm) reads the same in µm
+    text = SMATS_XML.read_text()
+    head, values, tail = re.split(r"</?DATA_POINT_VALUES>", text)
+    nm = tmp_path / "nm.xml"
+    nm.write_text(head.replace("<UNITS>um", "<UNITS>nm").replace("<SPACING>0.25", "<SPACING>250")
+                  + "<DATA_POINT_VALUES>\n"
+                  + "\n".join(f"{float(v) * 1e3:.2f}" for v in values.split())
+                  + "\n</DATA_POINT_VALUES>" + tail)
+    x_nm, z_nm = module("smats").read_smats(nm)
+    np.testing.assert_allclose(x_nm, x, rtol=1e-9)
+    np.testing.assert_allclose(z_nm, z, atol=1e-5)
+
+
+def _smats_xml_variant(tmp_path, name, old, new):
+    text = SMATS_XML.read_text()
+    assert old in text
+    path = tmp_path / name
+    path.write_text(text.replace(old, new))
+    return path
+
+
+@pytest.mark.parametrize("name, old, new, match", [
+    ("count.xml", "<NUMPOINTS>4000", "<NUMPOINTS>4001",
+     r"DATA/DATAFILE/NUMPOINTS: 4000 values in DATA_POINT_VALUES, NUMPOINTS says 4001 "
+     r"\(truncated\?\) \(expected 4001 heights, one per line\)"),
+    ("unit.xml", "<UNITS>um", "<UNITS>furlong",
+     r"DATA/DATAFILE/UNITS: unit 'furlong' is unknown \(expected one of um, "),
+    ("3d.xml", "<DATA_TYPE>2D", "<DATA_TYPE>3D",
+     r"DATA/DATAFILE/DATA_TYPE: DATA_TYPE is '3D' \(not a profile\) \(expected 2D"),
+    ("nospacing.xml", "<SPACING>0.25</SPACING>", "",
+     r"DATA/DATAFILE/SPACING: element SPACING is missing \(expected a SMATS XML profile"),
+    ("nopart.xml", "<PART>RM-constructed-001</PART>", "",
+     r"DATA/PART: element PART is missing"),
+    ("kcal.xml", "<KCAL>1<", "<KCAL>0.98<",
+     r"DATA/DATAFILE/KCAL: KCAL is 0.98: whether the heights are to be scaled by it is not "
+     r"stated in the file \(expected KCAL 1, or --kcal apply"),
+    ("text.xml", "3.92000\n", "3.92000\nabc\n",
+     r"DATA/DATAFILE/DATA_POINT_VALUES, value 1: value 'abc' is not a number"),
+    ("broken.xml", "</DATA>", "</DAT>", r"file: XML cannot be parsed"),
+])
+def test_smats_xml_bad_inputs(tmp_path, name, old, new, match):
+    one_error("smats", _smats_xml_variant(tmp_path, name, old, new), tmp_path, match=match)
+
+
+def test_smats_xml_kcal_options(tmp_path):
+    path = _smats_xml_variant(tmp_path, "kcal.xml", "<KCAL>1<", "<KCAL>0.5<")
+    read = module("smats").read_smats
+    _, z_ref = read(SMATS_XML)
+    _, z_apply = read(path, kcal="apply")
+    _, z_ignore = read(path, kcal="ignore")
+    np.testing.assert_allclose(z_apply, 0.5 * z_ref)
+    np.testing.assert_allclose(z_ignore, z_ref)
 
 
 @pytest.mark.parametrize("path, zscale", [(MM11_INT, 1e-14), (MM11_F64, 1e-12)])
@@ -646,7 +717,8 @@ def test_tracker_bad_inputs(tmp_path):
               match=r"header \(first 200 lines\): no header row naming X, Y, Z")
     one_error("faro", TDMS, tmp_path, FARO_ARGS, match=r"binary file, not a text export")
     one_error("faro", FARO, tmp_path, ["--feed-mm-s", "1"],
-              match=r"option --direction: no cut direction")
+              match=r"option --direction: no feed direction \(expected --direction px, mx, py or "
+                    r"my, or --direction-deg DEG\)")
     text = tmp_path / "text.csv"
     fields = lines[10].split(",")
     fields[2] = "abc"

@@ -9,7 +9,7 @@ tracker export (``tests/data/constructed/faro``) and DynoWare force exports: the
 scaled (1.5x, 2x) written here for the cuts at the higher feeds (the mechanistic calibration
 of chapter 3.1 needs three cuts at two or more feeds).
 
-Steps, as in README "Your own measurements": ``robomill init``; ``robomill import`` for each
+Steps, as in docs/own-data.md "The four commands": ``robomill init``; ``robomill import`` for each
 export (the console script, in a subprocess); ``robomill manifest``; the keys it lists as not
 inferred written as a user would (spindle speed, flutes, feed and depth of each cut) and the
 tracker frame registered in ``cell.yaml``; ``robomill check`` exits 0; then

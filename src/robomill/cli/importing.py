@@ -59,22 +59,116 @@ def _check_entries(entries: Any, staging: Path, module: str) -> list[dict[str, A
     return out
 
 
-def _with_cut_stubs(cuts: Any, entries: list[dict[str, Any]]) -> Any:
-    """``cuts`` plus a stub (:func:`robomill.cli.layout.cut_stub`: feed and depth ``null``,
-    to fill in) for each well-formed cut id of ``entries`` not listed yet."""
-    from robomill.cli.layout import cut_stub
-    from robomill.experiment import CUT_ID
+def _with_cut_stubs(cuts: Any, entries: list[dict[str, Any]],
+                    designs: Mapping[str, Mapping[str, Any]] | None = None, *,
+                    overwrite: bool = False, mpath: Path | None = None
+                    ) -> tuple[Any, list[str]]:
+    """``cuts`` plus an entry for each cut id of ``entries`` not listed yet
+    (:func:`robomill.cli.layout.cut_stub`: the keys the id cannot give ``null``, to fill in),
+    with the design keys ``designs[id]`` read from the file names; and one line per cut added
+    or completed.
 
+    A design key the manifest already has with another value is a clash (an
+    :class:`ImportFailed` line) unless ``overwrite``; an empty (``null``) one is filled.
+    """
+    from robomill.cli.layout import cut_stub
+    from robomill.experiment import FREE_CUT_ID
+
+    designs = designs or {}
     if not isinstance(cuts, list):
-        return cuts
-    known = {c.get("id") for c in cuts if isinstance(c, Mapping)}
-    out = list(cuts)
+        return cuts, []
+    out = [dict(c) if isinstance(c, Mapping) else c for c in cuts]
+    index = {c.get("id"): i for i, c in enumerate(out) if isinstance(c, Mapping)}
+    lines, clashes = [], []
     for e in entries:
         cid = e.get("cut")
-        if isinstance(cid, str) and CUT_ID.match(cid) and cid not in known:
-            out.append(cut_stub(cid))
-            known.add(cid)
-    return out
+        if not (isinstance(cid, str) and FREE_CUT_ID.match(cid)):
+            continue
+        design = dict(designs.get(cid) or {})
+        if cid not in index:
+            stub = cut_stub(cid)
+            if "direction_deg" in design and stub.get("direction") is None:
+                stub.pop("direction", None)
+            stub.update(design)
+            out.append(stub)
+            index[cid] = len(out) - 1
+            lines.append(f"cut {cid} added" + (" (" + ", ".join(
+                f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}"
+                for k, v in design.items()) + ")" if design else " (design keys null: "
+                "fill them in, robomill manifest lists them)"))
+            continue
+        c = out[index[cid]]
+        filled = []
+        for key, value in design.items():
+            if c.get(key) is None or overwrite:
+                if c.get(key) != value:
+                    filled.append(key)
+                c[key] = value
+                if key == "direction_deg" and c.get("direction") is None:
+                    c.pop("direction", None)
+            elif c[key] != value:
+                clashes.append(f"{mpath}: cuts[{index[cid]}] ({cid}) has {key} {c[key]!r}, the "
+                               f"file name gives {value!r} (expected the same; pass "
+                               "--overwrite to replace it)")
+        if filled:
+            lines.append(f"cut {cid}: {', '.join(filled)} filled from the file name")
+    if clashes:
+        raise ImportFailed(clashes)
+    return out, lines
+
+
+def _designs_from_names(args: argparse.Namespace, sources: list[Path]
+                        ) -> dict[str, dict[str, Any]]:
+    """With ``--cut-pattern`` or ``--design``: each source's cut id (``args.cut_ids``, read by
+    the importers' :func:`robomill.importers._common.cut_id`) and the design keys its name
+    and ``--design`` give, by cut id. Without either: ``{}``.
+
+    Raises
+    ------
+    ImportFailed
+        A bad pattern or ``--design``, a name the pattern does not match, a value that does
+        not parse, a key given both by the name and by ``--design``, ``--cut``
+        with a pattern that names the cut, or two sources of one cut that disagree.
+    """
+    from robomill.importers.names import compile_pattern, design_from_name, design_from_options
+
+    pattern = getattr(args, "cut_pattern", None)
+    try:
+        common = design_from_options(getattr(args, "design", None))
+        if pattern is None and not common:
+            return {}
+        rx = compile_pattern(pattern if pattern is not None else "")
+    except RawDataError as exc:
+        raise ImportFailed([" ".join(str(exc).split())]) from None
+    problems: list[str] = []
+    if "cut" in rx.groupindex and getattr(args, "cut", None):
+        raise ImportFailed([f"--cut {args.cut} given with a --cut-pattern that names the cut "
+                            "(expected one of them)"])
+    args.cut_ids = {}
+    designs: dict[str, dict[str, Any]] = {}
+    seen: dict[str, Path] = {}
+    for src in sources:
+        src = Path(src)
+        try:
+            cid, design = design_from_name(rx, src)
+        except RawDataError as exc:
+            problems.append(" ".join(str(exc).split()))
+            continue
+        if cid is None:
+            cid = getattr(args, "cut", None) or src.stem
+        args.cut_ids[src] = cid
+        both = sorted(set(common) & set(design))
+        if both:
+            problems.append(f"{src}: option --design: {', '.join(both)} given both by "
+                            "--design and by the file name (expected one of them)")
+        design = {**design, **common}
+        if cid in designs and designs[cid] != design:
+            problems.append(f"{src}: option --cut-pattern: cut {cid} gets {design}, "
+                            f"{seen[cid]} gave it {designs[cid]} (expected one design per cut)")
+        designs[cid], seen[cid] = design, src
+    if problems:
+        raise ImportFailed(problems)
+    return designs
 
 
 def import_files(module, sources: list[Path], raw_dir: Path, args: argparse.Namespace, *,
@@ -102,6 +196,7 @@ def import_files(module, sources: list[Path], raw_dir: Path, args: argparse.Name
         data, header = read_manifest_text(mpath)
     except RawDataError as exc:
         raise ImportFailed([" ".join(str(exc).split())]) from None
+    designs = _designs_from_names(args, [Path(s) for s in sources])
     staging = Path(tempfile.mkdtemp(prefix="robomill-import-"))
     placed: list[tuple[Path, Path | None]] = []  # (file placed, backup of what it replaced)
     try:
@@ -123,6 +218,13 @@ def import_files(module, sources: list[Path], raw_dir: Path, args: argparse.Name
                                "(expected a new entry; pass --overwrite to replace it)")
         if clashes:
             raise ImportFailed(clashes)
+        if designs and not any(isinstance(e.get("cut"), str) for e in entries):
+            raise ImportFailed([f"option --cut-pattern: the {entries[0]['kind']} records "
+                                "written belong to no cut (expected a format whose records are "
+                                "cuts: forces or profiles)"])
+        cuts, cut_lines = _with_cut_stubs(
+            (data.get("cuts") if data else None) or [], entries, designs,
+            overwrite=overwrite, mpath=mpath)
         for e in entries:
             e["sha256"] = sha256_file(staging / e["path"])
         # move: each file beside its target first, then renamed over it; undone on failure
@@ -145,7 +247,7 @@ def import_files(module, sources: list[Path], raw_dir: Path, args: argparse.Name
             kept = [f for f in files if not (isinstance(f, Mapping)
                                              and f.get("path") in {e["path"] for e in entries})]
             new["files"] = kept + entries
-            new["cuts"] = _with_cut_stubs(new.get("cuts"), entries)
+            new["cuts"] = cuts
             write_manifest_text(new, mpath, header)
         except OSError as exc:
             for target, backup in reversed(placed):
@@ -160,6 +262,7 @@ def import_files(module, sources: list[Path], raw_dir: Path, args: argparse.Name
         for _, backup in placed:
             if backup is not None:
                 backup.unlink(missing_ok=True)
+        args.cut_lines = cut_lines
         return entries
     finally:
         shutil.rmtree(staging, ignore_errors=True)
@@ -171,26 +274,51 @@ def _format_help() -> str:
     return "formats:\n" + "\n".join(f"  {f:<16} {d}" for f, d in describe())
 
 
+DESIGN_HELP = (
+    "Cut ids are free ([A-Za-z0-9_.-]+; the thesis' s{set}_g{segment}_{dir} is one layout): "
+    "every new cut id is added to the manifest's cuts: with the keys the import cannot give "
+    "left null (robomill manifest lists them). A cut's design keys are feed_mm_s, depth_mm, "
+    "the feed direction (direction px, mx, py, my, or direction_deg, 0 = +X) and, per cut "
+    "where they differ from experiment:, spindle_rpm, flutes, tool_diameter_mm, "
+    "radial_immersion (a_e/D) and milling (slot, up, down). --cut-pattern reads them from "
+    "the file names, --design gives those common to the files.")
+
+
 def format_parser(fmt: str, module) -> argparse.ArgumentParser:
     """The parser of ``robomill import FMT``: the common options and the importer's own."""
+    from robomill.importers.names import ACCEPTED
+
     p = argparse.ArgumentParser(prog=f"robomill import {fmt}",
                                 description=f"{module.DESCRIPTION}. Converts SRC files into "
                                 "the data contract and adds them to DIR/manifest.yaml; on any "
-                                "failure nothing is written into DIR.")
+                                "failure nothing is written into DIR. " + DESIGN_HELP)
     p.add_argument("sources", nargs="+", type=Path, metavar="SRC", help="native export(s)")
     p.add_argument("--to", required=True, type=Path, metavar="DIR", dest="to",
                    help="the raw folder (its manifest.yaml is updated)")
     p.add_argument("--cut", default=None, metavar="ID",
-                   help="cut id s{set}_g{segment}_{dir} the record belongs to")
+                   help="cut id the record belongs to (one source; any [A-Za-z0-9_.-]+, e.g. "
+                        "s1_g1_px or n6000_slot3); default: the source's file name")
+    p.add_argument("--cut-pattern", default=None, metavar="REGEX",
+                   help="regular expression searched in each source's file name (without "
+                        "extension) whose named groups give the cut id and design: "
+                        + ", ".join(ACCEPTED) + " (feed_mm_min is converted to feed_mm_s, "
+                        "width_pct to radial_immersion). E.g. for 6-n6000f300ap3ae25: "
+                        r"'(?P<cut>\d+)-n(?P<spindle_rpm>\d+)f(?P<feed_mm_min>\d+)"
+                        r"ap(?P<depth_mm>[\d.]+)ae(?P<width_pct>\d+)'")
+    p.add_argument("--design", action="append", default=None, metavar="KEY=VALUE",
+                   help="a design key the file names do not carry, for every cut of this "
+                        "import (repeatable; the --cut-pattern names: --design direction=px "
+                        "--design flutes=2)")
     p.add_argument("--overwrite", action="store_true",
-                   help="replace files and manifest entries that exist already")
+                   help="replace files, manifest entries and cut design keys that exist "
+                        "already")
     module.add_arguments(p)
     return p
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("import", help=HELP, description=HELP + ". `robomill import FORMAT "
-                       "--help` shows a format's options.", add_help=False)
+                       "--help` shows a format's options. " + DESIGN_HELP, add_help=False)
     p.add_argument("-h", "--help", action="store_true", dest="import_help",
                    help="show this help (with FORMAT: that format's options)")
     p.add_argument("format", nargs="?", metavar="FORMAT", help="the export's format")
@@ -226,6 +354,8 @@ def run(args: argparse.Namespace) -> int:
     for e in entries:
         meta = ", ".join(f"{k}={v}" for k, v in e.items() if k not in ("path", "sha256"))
         print(f"{fargs.to / e['path']}: imported ({meta})")
+    for line in getattr(fargs, "cut_lines", []):
+        print(f"{fargs.to / 'manifest.yaml'}: {line}")
     print(f"{fargs.to / 'manifest.yaml'}: {len(entries)} entr{'y' if len(entries) == 1 else 'ies'}"
           f" added; next: robomill manifest {fargs.to} (cuts), robomill check {fargs.to}")
     return 0

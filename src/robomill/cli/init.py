@@ -15,15 +15,27 @@ MANIFEST_TEMPLATE = """\
 # every file with its kind, metadata and sha256 and keeps what you wrote here. Fill in what it
 # reports it could not infer, then run `robomill check .`.
 #
-# experiment: the machining conditions shared by all cuts
+# experiment: the machining conditions shared by all cuts (a cut may override them)
 #   spindle_rpm (number), flutes (integer), tool_diameter_mm, cut_length_mm
-# cuts: one entry per cut, id s{set}_g{segment}_{dir} with dir px (+X), py (+Y), my (-Y)
+# cuts: one entry per cut, any id ([A-Za-z0-9_.-]+; the thesis names s{set}_g{segment}_{dir}).
+#   Each cut: feed_mm_s, depth_mm and its feed direction: direction px (+X), mx (-X), py (+Y),
+#   my (-Y), or direction_deg (base XY plane, 0 = +X, counter-clockwise). Where a cut differs
+#   from experiment: spindle_rpm, flutes, tool_diameter_mm, radial_immersion (a_e/D, 1 = slot),
+#   milling (slot, up, down), start_mm ([x, y, z] of the path start); set/segment to group.
 #   - {id: s1_g1_px, set: 1, segment: 1, direction: px, feed_mm_s: 1.0, depth_mm: 0.25}
+#   - {id: n6000_ae25, direction: mx, feed_mm_s: 5.0, depth_mm: 3.0, spindle_rpm: 6000,
+#      radial_immersion: 0.25, milling: down}
+#   - {id: diag45, direction_deg: 45.0, feed_mm_s: 2.0, depth_mm: 0.5}
+#   `robomill import` adds every new cut id with the keys it cannot give left null;
+#   `--cut-pattern REGEX` reads the design from the file names (named groups cut, spindle_rpm,
+#   feed_mm_s or feed_mm_min, depth_mm, width_pct, direction, ...: robomill import FORMAT --help),
+#   `--design KEY=VALUE` what the names do not carry (--design direction=px).
 # files: path (relative to this file), kind, sha256, and the keys of the kind:
 #   profile  (profiles/<cut>.csv: x_mm, z_um)            cut
 #   force    (forces/<cut>.csv or .h5: t_s, Fx_N, ...)   cut, fs_hz
-#   tracker  (tracker/<dir>_f<feed>.csv: t_s, x_mm, ...) direction, feed_mm_s, fs_hz
-#   impact   (impact/hit<X|Y|Z>_<k>.csv)                 direction, hit
+#   tracker  (tracker/<dir>_f<feed>.csv: t_s, x_mm, ...) direction (or direction_deg),
+#                                                        feed_mm_s, fs_hz
+#   impact   (impact/hit<X|Y|Z>_<k>.csv or UFF 58)       direction, hit (CSV)
 #   ctrack   (ctrack/<table>.csv)                        table
 #   robot    (stiffness/<robot>.yaml)                    robot
 #   stiffness (stiffness/load_tests_<robot>.csv)         robot

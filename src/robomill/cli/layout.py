@@ -32,7 +32,8 @@ IGNORED_NAMES = ("manifest.yaml", "cell.yaml", "README.md", ".gitkeep")
 """Files of a raw folder that are not data files listed under ``files``."""
 
 CUT_IN_NAME = re.compile(r"s(?P<set>\d+)_g(?P<segment>\d+)_(?P<direction>px|py|my)(?![a-z])")
-TRACKER_NAME = re.compile(r"^(?P<direction>px|py|my)_f(?P<feed>\d+(?:\.\d+)?)$")
+TRACKER_NAME = re.compile(r"^(?:(?P<direction>px|mx|py|my)|d(?P<deg>-?\d+(?:\.\d+)?))"
+                          r"_f(?P<feed>\d+(?:\.\d+)?)$")
 HIT_NAME = re.compile(r"^hit(?P<direction>[XYZ])_(?P<hit>\d+)$")
 LOAD_TESTS_NAME = re.compile(r"^load_tests_(?P<robot>.+)$")
 NATIVE_SUFFIXES = {".uff": "uff", ".unv": "uff", ".tdms": "tdms", ".x3p": "x3p",
@@ -129,7 +130,8 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
     """Kind and metadata of ``path`` (inside ``raw_dir``) from its folder, name and contents.
 
     Rules (``docs/data-contract.md``): the top folder gives the kind; a cut id in the name gives
-    ``cut``; ``tracker/<dir>_f<feed>.csv`` gives ``direction`` and ``feed_mm_s``;
+    ``cut``; ``tracker/<dir>_f<feed>.csv`` gives ``direction`` (``d<deg>``: ``direction_deg``)
+    and ``feed_mm_s``;
     ``impact/hit<X|Y|Z>_<k>.csv`` gives ``direction`` and ``hit``; ``ctrack/<table>.csv`` the
     table; ``stiffness/<robot>.yaml`` and ``stiffness/load_tests_<robot>.csv`` the robot; the
     sampling rate ``fs_hz`` of force and tracker records comes from the time column (or the
@@ -180,8 +182,11 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
     cut = cut_from_name(stem)
     if kind == "tracker":
         m = TRACKER_NAME.match(stem)
-        if m:
+        if m and m["direction"]:
             entry["direction"] = m["direction"]
+        elif m:
+            entry["direction_deg"] = float(m["deg"])
+        if m:
             entry["feed_mm_s"] = float(m["feed"])
     elif kind == "impact":
         m = HIT_NAME.match(stem)
@@ -222,9 +227,13 @@ def data_files(raw_dir: Path) -> list[Path]:
 
 
 def cut_stub(cut_id: str) -> dict[str, Any]:
-    """A ``cuts`` entry for a cut id seen in file names: set, segment and direction from the
-    id; ``feed_mm_s`` and ``depth_mm`` left empty (``null``) for the user to fill."""
+    """A ``cuts`` entry for a cut id seen in file names: for the thesis layout
+    ``s{set}_g{segment}_{dir}`` set, segment and direction from the id; for any other id the
+    direction left empty; ``feed_mm_s`` and ``depth_mm`` left empty (``null``) for the user
+    (or ``robomill import --cut-pattern``) to fill."""
     m = CUT_ID.match(cut_id)
+    if m is None:
+        return {"id": cut_id, "direction": None, "feed_mm_s": None, "depth_mm": None}
     return {"id": cut_id, "set": int(m["set"]), "segment": int(m["segment"]),
             "direction": m["direction"], "feed_mm_s": None, "depth_mm": None}
 

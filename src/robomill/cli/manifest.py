@@ -134,14 +134,18 @@ def update_manifest(raw_dir: str | Path) -> tuple[dict[str, Any], list[str], lis
             except TypeError:
                 continue
             known.add(cid)
-            changes.append(f"manifest.yaml: cut {cid} added (set, segment, direction from "
-                           "the id)")
+            changes.append(f"manifest.yaml: cut {cid} added" + (
+                " (set, segment, direction from the id)" if "set" in cuts[-1] else ""))
     for i, c in enumerate(cuts):
         for key in ("feed_mm_s", "depth_mm"):
             if c.get(key) is None:
                 c[key] = None
                 todo.append(f"manifest.yaml: cuts[{i}] ({c.get('id')}): {key} not inferred "
                             "(write it)")
+        if c.get("direction") is None and c.get("direction_deg") is None:
+            c.setdefault("direction", None)
+            todo.append(f"manifest.yaml: cuts[{i}] ({c.get('id')}): direction not inferred "
+                        "(write direction px, mx, py or my, or direction_deg)")
     out = {"experiment": experiment, "cuts": cuts, "files": files}
     out.update({k: v for k, v in old.items() if k not in out})
     return out, changes, todo

@@ -115,7 +115,12 @@ def map_axes(readings: np.ndarray, mapping: list[tuple[int, float]]) -> np.ndarr
 
 
 def cut_id(args, source: Path, n_sources: int) -> str:
-    """The cut id: ``--cut`` (one source only), else the source's file stem."""
+    """The cut id: the one ``--cut-pattern`` read from the source's name (``args.cut_ids``,
+    filled by :mod:`robomill.cli.importing`), else ``--cut`` (one source only), else the
+    source's file stem."""
+    named = (getattr(args, "cut_ids", None) or {}).get(Path(source))
+    if named:
+        return named
     cut = getattr(args, "cut", None)
     if cut and n_sources > 1:
         raise RawDataError(source, f"--cut {cut} given for {n_sources} source files",

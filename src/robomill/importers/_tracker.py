@@ -40,7 +40,8 @@ from robomill.io.errors import RawDataError
 
 UNITS_MM = {"mm": 1.0, "millimeters": 1.0, "millimetres": 1.0, "m": 1e3, "meters": 1e3,
             "metres": 1e3, "in": 25.4, "inch": 25.4, "inches": 25.4, "um": 1e-3}
-DIRECTIONS = ("px", "py", "my")
+DIRECTIONS = ("px", "mx", "py", "my")
+"""Named feed directions of a run (+X, −X, +Y, −Y); any other is ``--direction-deg``."""
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -49,7 +50,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="tracker rate [Hz]; required when the time stamps are coarse or "
                              "absent (they are then rebuilt as t0 + k/fs)")
     parser.add_argument("--direction", choices=DIRECTIONS, default=None,
-                        help="cut direction of the record (manifest key direction)")
+                        help="feed direction of the run: px (+X), mx (-X), py (+Y), my (-Y) "
+                             "(manifest key direction); or --direction-deg")
+    parser.add_argument("--direction-deg", type=float, default=None,
+                        help="feed direction of the run in the base XY plane [deg], 0 = +X, "
+                             "counter-clockwise (manifest key direction_deg; file "
+                             "tracker/d<deg>_f<feed>.csv)")
     parser.add_argument("--feed-mm-s", type=float, default=None,
                         help="feed of the record [mm/s] (manifest key feed_mm_s)")
     parser.add_argument("--units", choices=sorted(UNITS_MM), default=None,
@@ -239,17 +245,23 @@ def read_points(source: Path, *, fmt: str, what: str,
 def convert_points(sources: list[Path], staging: Path, args: argparse.Namespace, *, fmt: str,
                    what: str, time_names: Sequence[str], headerless: bool = False
                    ) -> list[dict]:
-    """Write ``staging/tracker/<dir>_f<feed>.csv`` per source; return the manifest entries
-    ``{"path", "kind": "tracker", "direction", "feed_mm_s", "fs_hz"}`` (``headerless``: see
+    """Write ``staging/tracker/<dir>_f<feed>.csv`` per source (``d<deg>_f<feed>.csv`` with
+    ``--direction-deg``); return the manifest entries ``{"path", "kind": "tracker",
+    "direction" or "direction_deg", "feed_mm_s", "fs_hz"}`` (``headerless``: see
     :func:`read_points`)."""
+    from robomill.experiment import tracker_direction
+
     entries = []
     direction = getattr(args, "direction", None)
+    deg = getattr(args, "direction_deg", None)
     feed = getattr(args, "feed_mm_s", None)
     for src in sources:
         src = Path(src)
-        if direction not in DIRECTIONS:
-            raise RawDataError(src, "no cut direction", where="option --direction",
-                               expected="--direction px, py or my")
+        if (direction is None) == (deg is None):
+            raise RawDataError(src, "no feed direction" if direction is None else
+                               "both --direction and --direction-deg",
+                               where="option --direction",
+                               expected="--direction px, mx, py or my, or --direction-deg DEG")
         if not feed or feed <= 0:
             raise RawDataError(src, "no feed", where="option --feed-mm-s",
                                expected="--feed-mm-s FEED (> 0)")
@@ -267,9 +279,10 @@ def convert_points(sources: list[Path], staging: Path, args: argparse.Namespace,
                                expected="a point stream")
         t_s, fs, _jitter = time_axis(src, t, pts.shape[0], getattr(args, "fs_hz", None),
                                      column=info["time_column"] or "time")
-        rel = f"tracker/{direction}_f{float(feed):g}.csv"
+        where = {"direction": direction} if deg is None else {"direction_deg": float(deg)}
+        rel = f"tracker/{tracker_direction(where)}_f{float(feed):g}.csv"
         write_csv(staging / rel, ("t_s", "x_mm", "y_mm", "z_mm"), (t_s - t_s[0], *pts.T),
                   ("%.9f", "%.6f", "%.6f", "%.6f"))
-        entries.append({"path": rel, "kind": "tracker", "direction": direction,
+        entries.append({"path": rel, "kind": "tracker", **where,
                         "feed_mm_s": float(feed), "fs_hz": fs})
     return entries

@@ -24,7 +24,8 @@ TIME_NAMES = ("time", "time stamp", "timestamp", "time (s)", "elapsed time", "t"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--fs-hz``, ``--direction``, ``--feed-mm-s``, ``--units``, ``--time-unit``."""
+    """``--fs-hz``, ``--direction`` (or ``--direction-deg``), ``--feed-mm-s``, ``--units``,
+    ``--time-unit``."""
     _tracker.add_arguments(parser)
 
 

@@ -17,14 +17,26 @@ documented on its "Data Format" page:
   of the chosen profile are dropped, inside it they are refused unless ``--dropouts
   longest`` keeps the longest valid run (as the X3P importer does).
 
-For an SDF with several profiles ``--profile`` picks one (default 0, the first in the file).
-x is written from 0 in mm, z in µm.
+* **SMATS XML** (the layout of the profiles NIST distributes with its surface metrology
+  services): a root ``<DATA>`` holding ``<PART>`` (the part's name), ``<PROCESS>``,
+  ``<MEASUREMENT>`` and one ``<DATAFILE>`` per profile with ``<FILENAME>``, ``<UNITS>`` (the
+  unit of the spacing and of the heights: ``um``, ``nm``, ``mm``, ``m``, ``in``, ``uin``),
+  ``<NUMPOINTS>``, ``<SPACING>`` (in that unit), ``<KCAL>``, ``<DATA_TYPE>`` (``2D``: a
+  profile; ``3D`` surfaces are refused) and ``<DATA_POINT_VALUES>`` (one height per line).
+  The point count must equal ``NUMPOINTS``; the part name (and the process, measurement and
+  file names when given) are kept in the manifest entry (``part``, ``process``,
+  ``measurement``, ``source_filename``). ``KCAL``, a calibration constant whose application
+  the layout does not state, must be 1 unless ``--kcal apply`` (heights × KCAL) or ``--kcal
+  ignore`` says what it means for the file.
+
+For an SDF with several profiles ``--profile`` picks one (default 0, the first in the file);
+for an SMATS XML file with several ``<DATAFILE>`` the same option picks the data file.
+x is written from 0 in mm, z in µm. Read with the standard library (``xml.etree``; the file
+is parsed without entity expansion by ``defusedxml`` where installed).
 
 Not supported, and refused with a message that says so: binary SDF (``bISO-…``,
-``bBCR-…``: export ASCII), and an **SMATS XML** file: NIST's "Data Format" page names only
-ASCII and SDF and no publication of an XML profile layout was found
-(``tests/data/real/smats/SOURCE.md``); an X3P ``main.xml`` handed over alone is told to be
-passed as its ``.x3p`` archive.
+``bBCR-…``: export ASCII), and an XML file of another layout (an X3P ``main.xml`` handed
+over alone is told to be passed as its ``.x3p`` archive).
 """
 
 from __future__ import annotations
@@ -40,19 +52,21 @@ from robomill.io.errors import RawDataError
 
 FORMAT = "smats"
 KIND = "profile"
-DESCRIPTION = "NIST SMATS profile (ASCII: spacing then heights in µm; or ASCII SDF, aISO/aBCR)"
+DESCRIPTION = ("NIST SMATS profile (ASCII: spacing then heights in µm; ASCII SDF, aISO/aBCR; "
+               "or SMATS XML, <DATA>/<DATAFILE>)")
 
-WHAT = ("a NIST SMATS profile: ASCII (first value the x spacing, then heights, all in µm) "
-        "or ASCII SDF (aISO-1.0/aBCR-1.0 header, '*', heights, '*')")
+WHAT = ("a NIST SMATS profile: ASCII (first value the x spacing, then heights, all in µm), "
+        "ASCII SDF (aISO-1.0/aBCR-1.0 header, '*', heights, '*') or SMATS XML (<DATA> with "
+        "<DATAFILE>)")
 SUPPORTED = ("SMATS ASCII (the x spacing, then the heights, in µm), ASCII SDF (aISO-1.0, "
-             "aISO-2.0, aBCR-1.0, aNIST-1.0; BAD points), or an X3P file (robomill import "
-             "x3p); binary SDF and SMATS XML are not read")
+             "aISO-2.0, aBCR-1.0, aNIST-1.0; BAD points), SMATS XML (<DATA> with <DATAFILE>, "
+             "DATA_TYPE 2D), or an X3P file (robomill import x3p); binary SDF is not read")
 _SDF_MAGIC = re.compile(r"^([ab])([A-Za-z]+)-V?\d")
 _SDF_KEYS = ("NumPoints", "NumProfiles", "Xscale", "Zscale")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--profile``, ``--dropouts``, ``--no-crop``."""
+    """``--profile``, ``--dropouts``, ``--no-crop``, ``--kcal``."""
     parser.add_argument("--profile", type=int, default=0,
                         help="SDF with several profiles: which one (default 0, the first in "
                              "the file)")
@@ -61,6 +75,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                              "the longest run of valid points")
     parser.add_argument("--no-crop", dest="crop", action="store_false",
                         help="refuse 'BAD' points at the ends instead of dropping them")
+    parser.add_argument("--kcal", choices=("refuse", "apply", "ignore"), default="refuse",
+                        help="SMATS XML with a KCAL other than 1: refuse (default), apply "
+                             "(heights × KCAL) or ignore (the heights are calibrated already)")
 
 
 def _read_sdf(source: Path, lines: list[str], profile: int, *, crop: bool = True,
@@ -125,34 +142,180 @@ def _read_sdf(source: Path, lines: list[str], profile: int, *, crop: bool = True
     return x - x[0], z[keep]
 
 
-def read_smats(source: Path, *, profile: int = 0, crop: bool = True,
-               dropouts: str = "refuse") -> tuple[np.ndarray, np.ndarray]:
-    """Read one profile: ``(x_mm (n,), z_um (n,))``, x from 0.
+XML_UNITS_UM = {"um": 1.0, "µm": 1.0, "μm": 1.0, "micron": 1.0, "microns": 1.0,
+                "micrometer": 1.0, "micrometre": 1.0, "nm": 1e-3, "mm": 1e3, "m": 1e6,
+                "in": 25.4e3, "inch": 25.4e3, "uin": 25.4e-3, "µin": 25.4e-3}
+"""SMATS XML ``<UNITS>`` (of the spacing and the heights) → µm per unit."""
+_XML_WHAT = ("a SMATS XML profile: <DATA> with <DATAFILE> holding FILENAME, UNITS, NUMPOINTS, "
+             "SPACING, KCAL, DATA_TYPE 2D, DATA_POINT_VALUES")
+_XML_META = (("PART", "part"), ("PROCESS", "process"), ("MEASUREMENT", "measurement"))
+
+
+def _xml_root(source: Path, text: str):
+    try:
+        from defusedxml.ElementTree import fromstring
+    except ImportError:  # defusedxml is in environment.lock; the stdlib parser otherwise
+        from xml.etree.ElementTree import fromstring
+    from xml.etree.ElementTree import ParseError
+
+    try:
+        root = fromstring(text.encode("utf-8"))
+    except ParseError as exc:
+        raise RawDataError(source, f"XML cannot be parsed ({exc})", where="file",
+                           expected=_XML_WHAT) from None
+    except Exception as exc:  # noqa: BLE001 - defusedxml's refusals (entities, DTDs)
+        raise RawDataError(source, f"XML refused ({type(exc).__name__}: {exc})",
+                           where="file", expected=_XML_WHAT) from None
+    for el in root.iter():
+        if isinstance(el.tag, str) and "}" in el.tag:
+            el.tag = el.tag.split("}", 1)[1]
+    return root
+
+
+def _xml_label(el) -> str | None:
+    """The text of ``<PART>`` (or of its first child with text: ``<PART><NAME>…``)."""
+    if el is None:
+        return None
+    if el.text and el.text.strip():
+        return " ".join(el.text.split())
+    for child in el.iter():
+        if child is not el and child.text and child.text.strip():
+            return " ".join(child.text.split())
+    return None
+
+
+def _xml_field(source: Path, datafile, where: str, tag: str) -> str:
+    el = datafile.find(tag)
+    if el is None or el.text is None or not el.text.strip():
+        raise RawDataError(source, f"element {tag} is missing", where=f"{where}/{tag}",
+                           expected=_XML_WHAT)
+    return el.text.strip()
+
+
+def _xml_number(source: Path, datafile, where: str, tag: str) -> float:
+    text = _xml_field(source, datafile, where, tag)
+    try:
+        return float(text)
+    except ValueError:
+        raise RawDataError(source, f"{tag} {text!r} is not a number", where=f"{where}/{tag}",
+                           expected="a number") from None
+
+
+def read_smats_xml(source: Path, text: str, *, profile: int = 0, kcal: str = "refuse"
+                   ) -> tuple[np.ndarray, np.ndarray, dict[str, str]]:
+    """Read one profile of a SMATS XML file: ``(x_mm (n,), z_um (n,), metadata)``.
+
+    ``metadata`` has ``part`` and, when present, ``process``, ``measurement`` and
+    ``source_filename`` (the ``<FILENAME>``). x = k·SPACING, z = value (× KCAL with
+    ``kcal="apply"``), both converted from ``<UNITS>`` to mm and µm.
 
     Raises
     ------
     RawDataError
-        Missing/empty/binary file; an XML file (no SMATS XML layout is published; an X3P
-        ``main.xml`` is named as such); a binary SDF; text in the data; a spacing ≤ 0; fewer
-        than 2 heights; for SDF, a missing header key, an unclosed header, a value count
-        different from ``NumPoints × NumProfiles`` (truncated), ``--profile`` out of range,
-        'BAD' points inside the profile (unless ``dropouts="longest"``) or at its ends with
-        ``crop=False``.
+        Unparsable XML; a root other than ``<DATA>`` or no ``<DATAFILE>``; ``profile`` out
+        of range; a missing element; an unknown unit; a DATA_TYPE other than 2D; NUMPOINTS
+        not a positive integer or different from the number of values; a spacing ≤ 0; a value
+        that is not a number; a KCAL other than 1 with ``kcal="refuse"``.
+    """
+    root = _xml_root(source, text)
+    if root.tag != "DATA" or root.find("DATAFILE") is None:
+        raise RawDataError(source, f"XML root <{root.tag}> "
+                           + ("has no <DATAFILE>" if root.tag == "DATA" else "is not <DATA>"),
+                           where="line 1", expected=_XML_WHAT + "; or " + SUPPORTED)
+    files = root.findall("DATAFILE")
+    if not 0 <= profile < len(files):
+        raise RawDataError(source, f"--profile {profile} outside the file",
+                           where="option --profile", expected=f"0 … {len(files) - 1} "
+                           f"(the file has {len(files)} DATAFILE elements)")
+    df = files[profile]
+    where = "DATA/DATAFILE" + (f"[{profile}]" if len(files) > 1 else "")
+    unit = _xml_field(source, df, where, "UNITS")
+    if unit.lower() not in XML_UNITS_UM:
+        raise RawDataError(source, f"unit {unit!r} is unknown", where=f"{where}/UNITS",
+                           expected="one of " + ", ".join(dict.fromkeys(XML_UNITS_UM)))
+    um = XML_UNITS_UM[unit.lower()]
+    dtype = _xml_field(source, df, where, "DATA_TYPE")
+    if dtype.upper() != "2D":
+        raise RawDataError(source, f"DATA_TYPE is {dtype!r} (not a profile)",
+                           where=f"{where}/DATA_TYPE",
+                           expected="2D (a profile; export one profile of a 3D surface)")
+    npts_text = _xml_field(source, df, where, "NUMPOINTS")
+    if not npts_text.isdigit() or int(npts_text) < 2:
+        raise RawDataError(source, f"NUMPOINTS {npts_text!r}", where=f"{where}/NUMPOINTS",
+                           expected="an integer ≥ 2")
+    npts = int(npts_text)
+    spacing = _xml_number(source, df, where, "SPACING")
+    if not spacing > 0:
+        raise RawDataError(source, f"SPACING {spacing:g} {unit}", where=f"{where}/SPACING",
+                           expected="a positive x spacing")
+    k = _xml_number(source, df, where, "KCAL")
+    if k != 1.0 and kcal == "refuse":
+        raise RawDataError(source, f"KCAL is {k:g}: whether the heights are to be scaled by it "
+                           "is not stated in the file", where=f"{where}/KCAL",
+                           expected="KCAL 1, or --kcal apply (heights × KCAL) or --kcal ignore "
+                                    "(heights already calibrated)")
+    values = _xml_field(source, df, where, "DATA_POINT_VALUES").split()
+    z = np.empty(len(values))
+    for i, tok in enumerate(values):
+        try:
+            z[i] = float(tok)
+        except ValueError:
+            raise RawDataError(source, f"value {tok!r} is not a number",
+                               where=f"{where}/DATA_POINT_VALUES, value {i}",
+                               expected="one height per line") from None
+    if z.size != npts:
+        raise RawDataError(source, f"{z.size} values in DATA_POINT_VALUES, NUMPOINTS says "
+                           f"{npts}" + (" (truncated?)" if z.size < npts else ""),
+                           where=f"{where}/NUMPOINTS",
+                           expected=f"{npts} heights, one per line")
+    z = z * um * (k if kcal == "apply" else 1.0)
+    x = np.arange(npts) * spacing * um * 1e-3
+    meta = {key: label for tag, key in _XML_META
+            if (label := _xml_label(root.find(tag))) is not None}
+    if "part" not in meta:
+        raise RawDataError(source, "element PART is missing", where="DATA/PART",
+                           expected=_XML_WHAT + " (the part's name)")
+    name = df.find("FILENAME")
+    if name is not None and name.text and name.text.strip():
+        meta["source_filename"] = name.text.strip()
+    return x, z, meta
+
+
+def read_smats(source: Path, *, profile: int = 0, crop: bool = True,
+               dropouts: str = "refuse", kcal: str = "refuse") -> tuple[np.ndarray, np.ndarray]:
+    """Read one profile: ``(x_mm (n,), z_um (n,))``, x from 0 (see :func:`read_smats_file`)."""
+    x, z, _ = read_smats_file(source, profile=profile, crop=crop, dropouts=dropouts, kcal=kcal)
+    return x, z
+
+
+def read_smats_file(source: Path, *, profile: int = 0, crop: bool = True,
+                    dropouts: str = "refuse", kcal: str = "refuse"
+                    ) -> tuple[np.ndarray, np.ndarray, dict[str, str]]:
+    """Read one profile: ``(x_mm (n,), z_um (n,), metadata)``, x from 0; ``metadata`` is
+    empty except for SMATS XML (:func:`read_smats_xml`).
+
+    Raises
+    ------
+    RawDataError
+        Missing/empty/binary file; an XML file that is not SMATS XML (an X3P ``main.xml``
+        is named as such) or a bad SMATS XML (:func:`read_smats_xml`); a binary SDF; text in
+        the data; a spacing ≤ 0; fewer than 2 heights; for SDF, a missing header key, an
+        unclosed header, a value count different from ``NumPoints × NumProfiles``
+        (truncated), ``--profile`` out of range, 'BAD' points inside the profile (unless
+        ``dropouts="longest"``) or at its ends with ``crop=False``.
     """
     source = Path(source)
     text = read_text(source, WHAT)
     lines = text.splitlines()
     first = lines[0].strip() if lines else ""
+    meta: dict[str, str] = {}
     if first.startswith("<"):
         if "ISO5436_2" in text[:4096]:
             raise RawDataError(source, "the main.xml of an X3P (ISO 25178-72) file",
                                where="line 1",
                                expected="the .x3p archive itself: robomill import x3p FILE.x3p")
-        raise RawDataError(source, "XML profile file: no SMATS XML layout is published, so "
-                           "it cannot be read reliably", where="line 1",
-                           expected=SUPPORTED + " (export the profile as ASCII or SDF)")
-    magic = _SDF_MAGIC.match(first)
-    if magic:
+        x, z, meta = read_smats_xml(source, text, profile=profile, kcal=kcal)
+    elif magic := _SDF_MAGIC.match(first):
         if magic[1] == "b":
             raise RawDataError(source, f"binary SDF ({first[:9]})", where="line 1",
                                expected="an ASCII SDF (aISO-1.0, aBCR-1.0, …): " + SUPPORTED)
@@ -179,19 +342,21 @@ def read_smats(source: Path, *, profile: int = 0, crop: bool = True,
         raise RawDataError(source, "height is not finite",
                            where=f"height {int(np.argmax(~np.isfinite(z)))}",
                            expected="finite heights")
-    return x, z
+    return x, z, meta
 
 
 def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> list[dict]:
-    """Write ``staging/profiles/<cut>.csv`` per source; return the manifest entries."""
+    """Write ``staging/profiles/<cut>.csv`` per source; return the manifest entries (for
+    SMATS XML with the part name and the other labels of :func:`read_smats_xml`)."""
     entries = []
     for src in sources:
         src = Path(src)
-        x_mm, z_um = read_smats(src, profile=getattr(args, "profile", 0),
-                                crop=getattr(args, "crop", True),
-                                dropouts=getattr(args, "dropouts", "refuse"))
+        x_mm, z_um, meta = read_smats_file(src, profile=getattr(args, "profile", 0),
+                                           crop=getattr(args, "crop", True),
+                                           dropouts=getattr(args, "dropouts", "refuse"),
+                                           kcal=getattr(args, "kcal", "refuse"))
         cut = cut_id(args, src, len(sources))
         rel = f"profiles/{cut}.csv"
         write_csv(staging / rel, ("x_mm", "z_um"), (x_mm, z_um), ("%.9g", "%.6g"))
-        entries.append({"path": rel, "kind": KIND, "cut": cut})
+        entries.append({"path": rel, "kind": KIND, "cut": cut, **meta})
     return entries

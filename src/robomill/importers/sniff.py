@@ -48,7 +48,7 @@ def sniff(path: str | Path) -> str | None:
 
     Evidence, in order: the TDMS lead-in tag ``TDSm``; a zip archive holding ``main.xml``
     (X3P); an SDF first line (``aISO-1.0``, ``aBCR-1.0``, … with ``NumPoints``) or an XML file
-    naming SMATS; the
+    naming SMATS or holding a ``<DATAFILE>`` (SMATS XML); the
     words Kistler/DynoWare; SpatialAnalyzer/``::`` point names with ``//`` comments; FARO; a
     UFF data set (``-1`` delimiter line then a set number such as 58).
     """
@@ -63,7 +63,7 @@ def sniff(path: str | Path) -> str | None:
     lower = text.lower()
     if re.match(r"^\s*[ab][A-Za-z]+-V?\d", text) and "numpoints" in lower:
         return "smats"
-    if text.lstrip().startswith("<") and "smats" in lower:
+    if text.lstrip().startswith("<") and ("smats" in lower or "<datafile>" in lower):
         return "smats"
     if "dynoware" in lower or "kistler" in lower:
         return "dynoware"

@@ -28,8 +28,8 @@ TIME_NAMES = ("time", "timestamp", "time stamp", "timestamps", "t")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--fs-hz``, ``--direction``, ``--feed-mm-s``, ``--units``, ``--time-unit``,
-    ``--name-fields``, ``--group``."""
+    """``--fs-hz``, ``--direction`` (or ``--direction-deg``), ``--feed-mm-s``, ``--units``,
+    ``--time-unit``, ``--name-fields``, ``--group``."""
     _tracker.add_arguments(parser)
     parser.add_argument("--name-fields", type=int, choices=(0, 1, 2, 3), default=None,
                         help="export without a header row (SA's own ASCII export): how many "
