@@ -81,7 +81,8 @@ def mass_model_from_mapping(spec: Mapping, n_links: int | None = None) -> MassMo
 def mass_model_from_cell(cell) -> MassModel | None:
     """The gravity model of a :class:`robomill.io.cell.Cell`: its ``mass_model`` (links, then
     the tool on the last link) as a :class:`MassModel`, or None when the cell file states no
-    mass model (the identification then runs without the gravity term, :func:`identify`)."""
+    mass model (the identification then runs without the gravity term,
+    :func:`~robomill.calibration.identification.identify`)."""
     spec = cell.mass_model
     if spec is None:
         return None

@@ -55,6 +55,7 @@ def vertical_from_config(section: Mapping[str, Any]) -> Programme:
 
 
 def solver_options(section: Mapping[str, Any]) -> dict[str, Any]:
-    """``rtol``, ``atol`` and ``method`` for :func:`run_programme` from the config."""
+    """``rtol``, ``atol`` and ``method`` for :func:`~robomill.hexapod.motion.run_programme`
+    from the config."""
     s = section["solver"]
     return {"rtol": float(s["rtol"]), "atol": float(s["atol"]), "method": s["method"]}

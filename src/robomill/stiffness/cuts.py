@@ -31,7 +31,8 @@ def cut_stiffness_table(robot: SerialRobot, compliance: np.ndarray, cuts,
     robot
         The cell's robot (``cell.yaml: robot``).
     compliance
-        Joint compliances c_i [rad/(N·m)] (:func:`compliance_from_table`).
+        Joint compliances c_i [rad/(N·m)]
+        (:func:`~robomill.stiffness.model.compliance_from_table`).
     cuts
         :class:`robomill.experiment.Cut` objects.
     q_mid_rad
