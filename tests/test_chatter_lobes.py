@@ -99,3 +99,18 @@ def test_published_benchmark_insperger2004_down005():
     assert a_s[2] < 0.4 * a_z[2]
     f_tooth = 2 * 18000.0 / 60
     assert f_s[2] == pytest.approx(1.5 * f_tooth, rel=1e-6)
+
+
+def test_lobe_solvers_share_one_parameter_block_expanded_in_their_docstrings():
+    """The numpydoc entries the three solvers share are written once (chatter.model) and
+    expanded in place: no placeholder left, each entry with its description."""
+    from robomill.chatter import sdm_lobes, sem_lobes, zoa_lobes
+
+    for f in (sdm_lobes, sem_lobes, zoa_lobes):
+        assert "{lobe:" not in f.__doc__
+        assert "    tool, cut\n        Tool model and cutting model.\n" in f.__doc__
+        assert "    spindle_rpm\n        Speeds [rpm].\n" in f.__doc__
+    for f in (sdm_lobes, sem_lobes):
+        assert "    depth_max_m\n        Largest depth searched" in f.__doc__
+        assert "        (default: the tool's most flexible natural frequency).\n" in f.__doc__
+    assert "depth_max_m" not in zoa_lobes.__doc__

@@ -89,7 +89,13 @@ def test_every_rule_derives_its_code_inputs_and_none_is_hand_kept():
     def has(rule, module):
         return str(src / "robomill" / module) in scripts[rule]
 
-    assert has("stiffness_maps", "stiffness.py") and has("stiffness_optimal", "stiffness.py")
-    assert has("synth_loadtests_robot", "stiffness.py")
-    assert has("ch1", "calibration.py")
+    assert has("stiffness_maps", "stiffness/maps.py")
+    assert has("stiffness_optimal", "stiffness/poses.py")
+    assert has("synth_loadtests_robot", "stiffness/model.py")
+    assert has("ch1", "calibration/accuracy.py")
+    # a subpackage's rule depends on the submodules it uses, not on its siblings (issue 31)
+    assert has("hexapod_sensitivity", "hexapod/sensitivity.py")
+    assert not has("hexapod_sensitivity", "hexapod/motion.py")
+    assert not has("stiffness_identify", "stiffness/maps.py")
+    assert not has("stiffness_identify", "stiffness/cuts.py")
     assert has("ch3_modal", "modal/ncio.py") and has("ch3_modal", "io/impact.py")

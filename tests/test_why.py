@@ -63,7 +63,7 @@ def test_edits_rerun_only_what_uses_them(tiny_run, tmp_path):
 def test_editing_any_module_a_rule_imports_makes_why_list_it(tiny_run, tmp_path):
     """Every library file that ch0's script (render_chapter.py) and notebook import, through
     the import graph (robomill.pipeline.codedeps), is an input of ch0: editing any one of them makes
-    `make why` list ch0 ("input changed"). Likewise stiffness.py for stiffness_optimal, whose
+    `make why` list ch0 ("input changed"). Likewise stiffness/poses.py for stiffness_optimal, whose
     hand-kept code() list was empty. (Content edits: Snakemake ignores a newer mtime when the
     checksum of a small input is unchanged.)"""
     import os
@@ -101,4 +101,4 @@ def test_editing_any_module_a_rule_imports_makes_why_list_it(tiny_run, tmp_path)
     assert proc.returncode == 0, proc.stderr[-3000:]
     block = (proc.stdout + proc.stderr).split("rule stiffness_optimal:", 1)[1]
     inputs = block.split("input:", 1)[1].split("\n", 1)[0].split(", ")
-    assert str(repo / "src" / "robomill" / "stiffness.py") in [i.strip() for i in inputs]
+    assert str(repo / "src" / "robomill" / "stiffness" / "poses.py") in [i.strip() for i in inputs]

@@ -29,7 +29,8 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
-from robomill.calibration import improvement_ratios, model_from_dataset, region_table
+from robomill.calibration.accuracy import improvement_ratios, region_table
+from robomill.calibration.dataset import model_from_dataset
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import thesis_gate

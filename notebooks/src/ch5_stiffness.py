@@ -44,7 +44,11 @@ from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import per_cut_table, span, thesis_gate
 from robomill.plotting import save_figure
-from robomill.stiffness import slot_stiffness_table, stiffness_spread_pct, waviness_by_direction
+from robomill.stiffness.cuts import (
+    slot_stiffness_table,
+    stiffness_spread_pct,
+    waviness_by_direction,
+)
 
 # Numbers printed by seed 001 (Yi et al. 2025) and seed 004 (Cai et al. 2015), for comparison.
 SEED_K3D_kNm = [8.36e3, 6.62e3, 4.87e3, 3.32e3, 1.85e3, 8.73e2]  # "8.73×10" in the source

@@ -31,7 +31,7 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
-from robomill.hexapod import drift_antisymmetry
+from robomill.hexapod.sensitivity import drift_antisymmetry
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.plotting import save_figure

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from robomill.kinematics import SerialRobot
+from robomill.xrvars import attrs
 
 
 @dataclass(frozen=True)
@@ -181,10 +182,6 @@ def precession_tool_rotation(tilt_rad: float, phase_rad: np.ndarray) -> np.ndarr
 
 # ---- pipeline helpers (pure) -----------------------------------------------------------------
 
-def _attrs(units: str, long_name: str) -> dict[str, str]:
-    return {"units": units, "long_name": long_name}
-
-
 def sections_from_config(items, E_Pa: float, G_Pa: float) -> list[Section]:
     """Tube sections from ``[{D_mm, t_mm}]`` configuration items."""
     return [Section.tube(float(s["D_mm"]), float(s["t_mm"]), E_Pa, G_Pa) for s in items]
@@ -212,7 +209,7 @@ def precession_dataset(robot: SerialRobot, sections: Sequence[Section], *, q_see
     """
     import xarray as xr
 
-    from robomill.stiffness import solve_poses
+    from robomill.stiffness.poses import solve_poses
 
     t = np.arange(0.0, duration_s + 1e-9, dt_s)
     phase = 2 * np.pi * t / float(wheel["precession_period_s"])
@@ -243,36 +240,36 @@ def precession_dataset(robot: SerialRobot, sections: Sequence[Section], *, q_see
     secs = [sections[min(e, len(sections) - 1)] for e in range(len(L))]
     dof = np.arange(1, K0.shape[0] + 1)
     return xr.Dataset(
-        {"q_deg": (("time", "joint"), np.rad2deg(q), _attrs("deg", "joint angles")),
-         "force_N": (("time", "axis"), forces, _attrs("N", "wheel force on the tool node")),
+        {"q_deg": (("time", "joint"), np.rad2deg(q), attrs("deg", "joint angles")),
+         "force_N": (("time", "axis"), forces, attrs("N", "wheel force on the tool node")),
          "delta_m": (("time", "component"), delta,
-                     _attrs("m or rad", "tool-node displacement (3 linear, 3 angular)")),
+                     attrs("m or rad", "tool-node displacement (3 linear, 3 angular)")),
          "delta_sum_um": ("time", dsum * 1e6,
-                          _attrs("um", "delta_sum: linear displacement of the tool node")),
-         "sigma_pred": ("time", sig, _attrs("1", "predicted vibration standard deviation "
+                          attrs("um", "delta_sum: linear displacement of the tool node")),
+         "sigma_pred": ("time", sig, attrs("1", "predicted vibration standard deviation "
                                                  "(seed 004 eq. 17, accelerometer units)")),
-         "node_m": (("node", "axis"), nodes0, _attrs("m", "beam node positions at t = 0")),
-         "element_length_m": ("element", L, _attrs("m", "beam element length")),
-         "element_A_m2": ("element", [s.A_m2 for s in secs], _attrs("m2", "section area")),
+         "node_m": (("node", "axis"), nodes0, attrs("m", "beam node positions at t = 0")),
+         "element_length_m": ("element", L, attrs("m", "beam element length")),
+         "element_A_m2": ("element", [s.A_m2 for s in secs], attrs("m2", "section area")),
          "element_I_m4": ("element", [s.I_m4 for s in secs],
-                          _attrs("m4", "section second moment of area")),
+                          attrs("m4", "section second moment of area")),
          "element_J_m4": ("element", [s.J_m4 for s in secs],
-                          _attrs("m4", "section torsion constant")),
-         "K0": (("dof", "dof2"), K0, _attrs("SI", "global stiffness at t = 0, node 1 fixed")),
-         "F_n_N": ((), Fn, _attrs("N", "normal force from the wheel compression")),
-         "F_v_N": ((), Fn * float(wheel["mu"]), _attrs("N", "tangential force mu F_n")),
-         "cantilever_tip_m": ((), tip, _attrs("m", "beam-frame tip deflection of a "
+                          attrs("m4", "section torsion constant")),
+         "K0": (("dof", "dof2"), K0, attrs("SI", "global stiffness at t = 0, node 1 fixed")),
+         "F_n_N": ((), Fn, attrs("N", "normal force from the wheel compression")),
+         "F_v_N": ((), Fn * float(wheel["mu"]), attrs("N", "tangential force mu F_n")),
+         "cantilever_tip_m": ((), tip, attrs("m", "beam-frame tip deflection of a "
                                                     "cantilever (check)")),
-         "cantilever_closed_form_m": ((), closed, _attrs("m", "closed form F L^3 / (3 E I)"))},
-        coords={"time": ("time", t, _attrs("s", "time")),
-                "joint": ("joint", np.arange(1, robot.n_joints + 1), _attrs("1", "joint")),
-                "axis": ("axis", ["X", "Y", "Z"], _attrs("1", "base axis")),
+         "cantilever_closed_form_m": ((), closed, attrs("m", "closed form F L^3 / (3 E I)"))},
+        coords={"time": ("time", t, attrs("s", "time")),
+                "joint": ("joint", np.arange(1, robot.n_joints + 1), attrs("1", "joint")),
+                "axis": ("axis", ["X", "Y", "Z"], attrs("1", "base axis")),
                 "component": ("component", ["dx", "dy", "dz", "rx", "ry", "rz"],
-                              _attrs("1", "displacement component")),
-                "node": ("node", np.arange(1, len(nodes0) + 1), _attrs("1", "node number")),
-                "element": ("element", np.arange(1, len(L) + 1), _attrs("1", "element")),
-                "dof": ("dof", dof, _attrs("1", "global DOF (node 2 onwards)")),
-                "dof2": ("dof2", dof, _attrs("1", "global DOF (node 2 onwards)"))},
+                              attrs("1", "displacement component")),
+                "node": ("node", np.arange(1, len(nodes0) + 1), attrs("1", "node number")),
+                "element": ("element", np.arange(1, len(L) + 1), attrs("1", "element")),
+                "dof": ("dof", dof, attrs("1", "global DOF (node 2 onwards)")),
+                "dof2": ("dof2", dof, attrs("1", "global DOF (node 2 onwards)"))},
         attrs={"robot": robot.name})
 
 
@@ -292,7 +289,7 @@ def slot_stiffness_table(robot: SerialRobot, compliance: np.ndarray, sections: S
     import pandas as pd
 
     from robomill.experiment import cut_axes
-    from robomill.stiffness import (
+    from robomill.stiffness.model import (
         directional_stiffness_N_m,
         jacobian_m,
         translational_compliance_m_N,

@@ -1,6 +1,12 @@
 """Positioning accuracy before and after calibration on the accuracy points (thesis ch. 1)."""
 
-from robomill import calibration as cal
+from robomill.calibration.accuracy import (
+    accuracy_by_region,
+    accuracy_points,
+    accuracy_table,
+    workspace_regions,
+)
+from robomill.calibration.dataset import model_from_dataset
 from robomill.io import open_artefact, write_table
 from robomill.io.ctrack import read_accuracy
 from robomill.io.manifest import load_manifest
@@ -9,12 +15,12 @@ from robomill.pipeline.runlog import setup
 log = setup(snakemake.log[0], "calibration_accuracy")
 inp, p = snakemake.input, snakemake.params
 load_manifest(inp.manifest).verify_file(p.relpath)
-model = cal.model_from_dataset(open_artefact(inp.model))
-points = cal.accuracy_points(read_accuracy(inp.accuracy), model)
-points["region"] = cal.workspace_regions(points, p.regions["reach_edges_mm"],
+model = model_from_dataset(open_artefact(inp.model))
+points = accuracy_points(read_accuracy(inp.accuracy), model)
+points["region"] = workspace_regions(points, p.regions["reach_edges_mm"],
                                          p.regions["height_edges_mm"])
-table = cal.accuracy_table(points)
+table = accuracy_table(points)
 write_table(table, snakemake.output.accuracy)
-write_table(cal.accuracy_by_region(points, points["region"]), snakemake.output.regions)
+write_table(accuracy_by_region(points, points["region"]), snakemake.output.regions)
 write_table(points, snakemake.output.points)
 log.info("accuracy:\n%s", table.to_string())

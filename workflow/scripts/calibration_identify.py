@@ -2,7 +2,9 @@
 
 import numpy as np
 
-from robomill import calibration as cal
+from robomill.calibration.dataset import circle_table, joint_error_table, model_to_dataset
+from robomill.calibration.gravity import mass_model_from_cell
+from robomill.calibration.identification import GRAVITY_NONE, identify
 from robomill.io import write_artefact, write_table
 from robomill.io.cell import read_cell
 from robomill.io.ctrack import READERS
@@ -27,10 +29,10 @@ if em.get("orders") is None:
     em["orders"] = cell.fourier_orders()
 c["error_model"] = em
 # the gravity model: the cell's mass model (manufacturer data / CAD), if it states one
-masses = cal.mass_model_from_cell(cell)
+masses = mass_model_from_cell(cell)
 if masses is None:
-    log.warning("%s states no mass_model: gravity model %s", inp.cell, cal.GRAVITY_NONE)
-ident = cal.identify(
+    log.warning("%s states no mass_model: gravity model %s", inp.cell, GRAVITY_NONE)
+ident = identify(
     tables["circles"], tables["home"], tables["steps"], tables["loads"], tables["base"],
     masses=masses,
     fixture_offset_mm=np.asarray(c["fixture_offset_mm"], float),
@@ -39,10 +41,10 @@ ident = cal.identify(
     iterations=int(c["iterations"]),
 )
 inputs = [inp[k] for k in p.relpaths] + [inp.cell]
-write_artefact(cal.model_to_dataset(ident), snakemake.output.model, rule="calibration_identify",
+write_artefact(model_to_dataset(ident), snakemake.output.model, rule="calibration_identify",
                inputs=inputs, config_section=c)
-write_table(cal.joint_error_table(ident, int(em["holdout_every"])), snakemake.output.joint_errors)
+write_table(joint_error_table(ident, int(em["holdout_every"])), snakemake.output.joint_errors)
 write_table(ident.base, snakemake.output.base)
-write_table(cal.circle_table(tables["circles"], ident), snakemake.output.circles)
+write_table(circle_table(tables["circles"], ident), snakemake.output.circles)
 log.info("compliance %s rad/Nm; base %.3g rad/Nm (R2 %.3f)", ident.model.compliance,
          ident.base_compliance, ident.base_r2)

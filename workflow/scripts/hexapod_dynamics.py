@@ -1,7 +1,7 @@
 """Seed 003: the programme's inverse dynamics and replay, and the vertical move with a force
 error → trajectory.nc and forces.nc."""
 
-from robomill.hexapod import dynamics_datasets
+from robomill.hexapod.study import dynamics_datasets
 from robomill.io import write_artefact
 from robomill.pipeline.runlog import setup
 

@@ -1,7 +1,7 @@
 """The force accuracy each position tolerance needs: results/hexapod/force_accuracy.csv
-(see robomill.hexapod.force_accuracy_requirement)."""
+(see robomill.hexapod.sensitivity.force_accuracy_requirement)."""
 
-from robomill.hexapod import force_accuracy_requirement
+from robomill.hexapod.sensitivity import force_accuracy_requirement
 from robomill.io import open_artefact
 from robomill.pipeline.runlog import setup
 

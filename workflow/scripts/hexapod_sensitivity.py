@@ -1,6 +1,6 @@
 """Gather the sensitivity shards into results/hexapod/sensitivity.nc."""
 
-from robomill.hexapod import gather_sensitivity
+from robomill.hexapod.sensitivity import gather_sensitivity
 from robomill.io import open_artefact, write_artefact
 from robomill.pipeline.runlog import setup
 

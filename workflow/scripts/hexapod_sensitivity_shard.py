@@ -1,6 +1,6 @@
 """One shard of the sensitivity study: one actuator in error, every error size."""
 
-from robomill.hexapod import sensitivity_shard
+from robomill.hexapod.study import sensitivity_shard
 from robomill.io import write_artefact
 from robomill.pipeline.runlog import Progress, setup
 

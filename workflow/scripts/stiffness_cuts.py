@@ -8,7 +8,8 @@ from robomill.io import write_table
 from robomill.io.cell import read_cell
 from robomill.io.manifest import load_manifest
 from robomill.pipeline.runlog import setup
-from robomill.stiffness import compliance_from_table, cut_stiffness_table
+from robomill.stiffness.cuts import cut_stiffness_table
+from robomill.stiffness.model import compliance_from_table
 
 log = setup(snakemake.log[0], "stiffness")
 p = snakemake.params

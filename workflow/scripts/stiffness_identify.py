@@ -4,7 +4,7 @@ from robomill.io import write_table
 from robomill.io.manifest import load_manifest
 from robomill.io.robots import read_load_tests, read_robot_file
 from robomill.pipeline.runlog import setup
-from robomill.stiffness import identify_from_tests
+from robomill.stiffness.identify import identify_from_tests
 
 log = setup(snakemake.log[0], "stiffness")
 manifest = load_manifest(snakemake.input.manifest)

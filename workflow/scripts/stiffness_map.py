@@ -6,7 +6,8 @@ from robomill.io import write_artefact
 from robomill.io.manifest import load_manifest
 from robomill.io.robots import read_robot_file
 from robomill.pipeline.runlog import setup
-from robomill.stiffness import compliance_from_table, map_dataset
+from robomill.stiffness.maps import map_dataset
+from robomill.stiffness.model import compliance_from_table
 
 log = setup(snakemake.log[0], "stiffness")
 load_manifest(snakemake.input.manifest).verify_file(snakemake.params.robot_rel)

@@ -6,7 +6,7 @@ import xarray as xr
 from robomill.io import open_artefact, write_artefact
 from robomill.io.robots import read_robot_file
 from robomill.pipeline.runlog import setup
-from robomill.stiffness import workspace_dataset
+from robomill.stiffness.maps import workspace_dataset
 
 log = setup(snakemake.log[0], "stiffness")
 parts = [open_artefact(p) for p in snakemake.input.maps]

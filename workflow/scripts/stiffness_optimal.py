@@ -6,7 +6,8 @@ import pandas as pd
 from robomill.io import open_artefact, write_table
 from robomill.io.robots import read_robot_file
 from robomill.pipeline.runlog import setup
-from robomill.stiffness import compliance_from_table, optimal_poses
+from robomill.stiffness.model import compliance_from_table
+from robomill.stiffness.poses import optimal_poses
 
 log = setup(snakemake.log[0], "stiffness")
 robot, _ = read_robot_file(snakemake.input.robot)

@@ -10,7 +10,7 @@ from robomill.io.cell import read_cell
 from robomill.io.manifest import load_manifest
 from robomill.io.robots import read_robot_file
 from robomill.pipeline.runlog import setup
-from robomill.stiffness import compliance_from_table
+from robomill.stiffness.model import compliance_from_table
 
 log = setup(snakemake.log[0], "stiffness")
 p = snakemake.params

@@ -20,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 import scipy.linalg
 
-from robomill.chatter.model import CuttingModel, LinearTool
+from robomill.chatter.model import CuttingModel, LinearTool, lobe_parameters
 
 STEPS_PER_PERIOD = 40
 """Default steps per tooth period (the value of Insperger & Stépán 2004 and Ding et al. 2010).
@@ -173,6 +173,7 @@ def critical_depth(tool: LinearTool, cut: CuttingModel, spindle_rpm: float, *,
     return 0.5 * (lo + hi), mu_hi
 
 
+@lobe_parameters
 def sdm_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray, *,
               depth_max_m: float, m: int = STEPS_PER_PERIOD, n_scan: int = 16,
               rtol: float = 0.005, f_ref_hz: np.ndarray | None = None,
@@ -181,19 +182,12 @@ def sdm_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray, *,
 
     Parameters
     ----------
-    tool, cut
-        Tool model and cutting model.
-    spindle_rpm
-        Speeds [rpm].
-    depth_max_m
-        Largest depth searched; speeds stable up to it get ``nan``.
+    {lobe: tool, cut; spindle_rpm; depth_max_m}
     m
         Steps per tooth period (see :data:`STEPS_PER_PERIOD`).
     rtol
         Relative resolution of the critical depth (0.005 = 0.5 %).
-    f_ref_hz
-        Reference frequency per speed for naming the chatter frequency of a multiplier
-        (default: the tool's most flexible natural frequency).
+    {lobe: f_ref_hz}
 
     Returns
     -------

@@ -53,7 +53,7 @@ from robomill.chatter.lobes_sdm import (
     multiplier_frequency_hz,
     reference_frequencies_hz,
 )
-from robomill.chatter.model import CuttingModel, LinearTool
+from robomill.chatter.model import CuttingModel, LinearTool, lobe_parameters
 
 NODES = 8
 """Starting collocation order p per element (p + 1 Chebyshev–Gauss–Lobatto nodes)."""
@@ -379,6 +379,7 @@ def critical_depth(tool: LinearTool, cut: CuttingModel, spindle_rpm: float, *,
         p, op, a_lo = p + P_STEP, op_hi, a_hi
 
 
+@lobe_parameters
 def sem_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray, *,
               depth_max_m: float, accuracy: float = ACCURACY, p0: int = NODES,
               n_scan: int = N_SCAN, f_ref_hz: np.ndarray | None = None, progress=None,
@@ -387,19 +388,12 @@ def sem_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray, *,
 
     Parameters
     ----------
-    tool, cut
-        Tool model and cutting model.
-    spindle_rpm
-        Speeds [rpm].
-    depth_max_m
-        Largest depth searched; speeds stable up to it get ``nan``.
+    {lobe: tool, cut; spindle_rpm; depth_max_m}
     accuracy
         Target relative error per speed (refinement of p until it is met).
     p0, n_scan
         Starting order and scan size (:func:`critical_depth`).
-    f_ref_hz
-        Reference frequency per speed for naming the chatter frequency of a multiplier
-        (default: the tool's most flexible natural frequency).
+    {lobe: f_ref_hz}
     warm_start
         Start each speed's search from the neighbouring speed's depth.
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from robomill.chatter.model import CuttingModel, LinearTool
+from robomill.chatter.model import CuttingModel, LinearTool, lobe_parameters
 
 
 def _track(lam: np.ndarray) -> np.ndarray:
@@ -66,6 +66,7 @@ def default_frequency_grid(tool: LinearTool, n: int = 3000) -> np.ndarray:
     return np.unique(np.concatenate(grids))
 
 
+@lobe_parameters
 def zoa_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray,
               f_hz: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Critical axial depth and chatter frequency on a spindle-speed grid (zero-order method).
@@ -76,10 +77,7 @@ def zoa_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray,
 
     Parameters
     ----------
-    tool, cut
-        Tool model and cutting model.
-    spindle_rpm
-        Speeds [rpm].
+    {lobe: tool, cut; spindle_rpm}
     f_hz
         Chatter-frequency grid (default :func:`default_frequency_grid`).
 

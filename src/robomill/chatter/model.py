@@ -178,3 +178,32 @@ class CuttingModel:
             g = (p > self.phi_st) & (p < self.phi_ex)
             out += np.where(g[..., None, None], self.w(p), 0.0)
         return out
+
+
+LOBE_PARAMETERS = {
+    "tool, cut": "Tool model and cutting model.",
+    "spindle_rpm": "Speeds [rpm].",
+    "depth_max_m": "Largest depth searched; speeds stable up to it get ``nan``.",
+    "f_ref_hz": "Reference frequency per speed for naming the chatter frequency of a multiplier\n"
+                "(default: the tool's most flexible natural frequency).",
+}
+"""The numpydoc entries the lobe solvers (ZOA, SDM, SEM) share, written once."""
+
+
+def lobe_parameters(func):
+    """Decorator: expand each line ``{lobe: name; name…}`` of ``func``'s docstring into the
+    numpydoc entries :data:`LOBE_PARAMETERS` of those names, at that line's indentation."""
+    if not func.__doc__:
+        return func
+    lines = []
+    for line in func.__doc__.split("\n"):
+        text = line.strip()
+        if text.startswith("{lobe:") and text.endswith("}"):
+            indent = line[: len(line) - len(line.lstrip())]
+            for name in (n.strip() for n in text[6:-1].split(";")):
+                lines.append(indent + name)
+                lines += [f"{indent}    {d}" for d in LOBE_PARAMETERS[name].split("\n")]
+        else:
+            lines.append(line)
+    func.__doc__ = "\n".join(lines)
+    return func

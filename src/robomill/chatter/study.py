@@ -24,6 +24,7 @@ from robomill.chatter.thesis import (
     recommend,
 )
 from robomill.chatter.timedomain import SeedParams, SeedSimulation, horizontal_tool
+from robomill.xrvars import coord
 
 SOLVERS = ("zoa", "sem")
 MODE_COUPLING_RTOL = 0.005
@@ -32,10 +33,6 @@ GROWTH_WINDOW_TEETH = 20
 """Window of the indicator used for the growth rate, in tooth periods: short against the
 e-folding time of chatter near the boundary (0.3 s at 1 % above it in the seed), long enough
 to resolve the chatter line between two tooth-passing harmonics (bins of f_tooth/20)."""
-
-
-def _coord(values, units, long_name):
-    return ("spindle_rpm", np.asarray(values, float), {"units": units, "long_name": long_name})
 
 
 def speed_grid(spec: dict) -> np.ndarray:
@@ -62,7 +59,7 @@ def sdm_lobes_dataset(tool, cut: CuttingModel, rpm: np.ndarray, *, depth_max_m: 
         coords={"solver": ("solver", ["zoa", "sdm"], {"units": "1", "long_name":
                                                       "zoa: zero-order analytical; sdm: "
                                                       "semi-discretization"}),
-                "spindle_rpm": _coord(rpm, "rpm", "spindle speed")},
+                "spindle_rpm": coord("spindle_rpm", rpm, "rpm", "spindle speed")},
         attrs={"sdm_steps_per_period": int(m), "sdm_rtol": float(rtol),
                "depth_max_mm": depth_max_m * 1e3})
 
@@ -97,7 +94,7 @@ def lobes_dataset(tool, cut: CuttingModel, rpm: np.ndarray, *, depth_max_m: floa
                                                      "zoa: zero-order analytical; sem: "
                                                      "spectral element (Chebyshev "
                                                      "collocation)"}),
-                "spindle_rpm": _coord(rpm, "rpm", "spindle speed")},
+                "spindle_rpm": coord("spindle_rpm", rpm, "rpm", "spindle speed")},
         attrs={"accuracy": float(accuracy), "depth_max_mm": depth_max_m * 1e3,
                "worst_relative_error": float(np.nanmax(r["error_m"] / r["a_crit_m"]))
                if np.isfinite(r["a_crit_m"]).any() else float("nan")})

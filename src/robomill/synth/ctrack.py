@@ -42,13 +42,8 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill.calibration import (
-    MassModel,
-    VectorModel,
-    gravity_torques_Nm,
-    mass_model_from_mapping,
-    vector_model_from_serial,
-)
+from robomill.calibration.geometry import VectorModel, vector_model_from_serial
+from robomill.calibration.gravity import MassModel, gravity_torques_Nm, mass_model_from_mapping
 from robomill.io.atomic import atomic_path
 from robomill.kinematics import rodrigues
 from robomill.synth.plan import CTRACK_TABLES

@@ -27,13 +27,8 @@ import yaml
 
 from robomill.io.atomic import atomic_path
 from robomill.kinematics import robot_from_mapping
-from robomill.stiffness import (
-    GRAVITY_M_S2,
-    jacobian_m,
-    predict_deflection_m,
-    solve_poses,
-    tool_rotation_redundancy,
-)
+from robomill.stiffness.model import GRAVITY_M_S2, jacobian_m, predict_deflection_m
+from robomill.stiffness.poses import solve_poses, tool_rotation_redundancy
 
 INSTRUMENT = 10
 TOOL_DOWN = np.array([[1.0, 0, 0], [0, -1.0, 0], [0, 0, -1.0]])

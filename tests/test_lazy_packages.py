@@ -1,0 +1,49 @@
+"""The science subpackages split by issue 31 import nothing on ``import`` (their public names
+are loaded from the submodules on first use, :mod:`robomill.lazy`), and every name the former
+single modules offered is still importable from the package."""
+
+import subprocess
+import sys
+
+import pytest
+
+PACKAGES = {
+    "robomill.calibration": ["fit_circle", "VectorModel", "MassModel", "gravity_torques_Nm",
+                             "joint_angle_eq15", "fit_joint_error", "fit_compliance",
+                             "base_deflection_eq16", "CalibratedModel", "identify",
+                             "GRAVITY_NONE", "accuracy_table", "model_to_dataset",
+                             "model_from_dataset", "improvement_ratios", "region_table"],
+    "robomill.hexapod": ["Hexapod", "Leg", "inverse_kinematics", "inverse_dynamics",
+                         "forward_acceleration", "run_programme", "force_error_drift",
+                         "instability_rates", "hexapod_from_config", "programme_from_config",
+                         "dynamics_datasets", "sensitivity_shard", "gather_sensitivity",
+                         "force_accuracy_requirement", "drift_antisymmetry", "G0_M_S2"],
+    "robomill.stiffness": ["jacobian_m", "identify_joint_stiffness", "identify_from_tests",
+                           "compliance_from_table", "solve_poses", "optimal_poses",
+                           "map_dataset", "workspace_dataset", "cut_stiffness_table",
+                           "slot_stiffness_table", "GRAVITY_M_S2"],
+}
+
+
+@pytest.mark.parametrize("package", sorted(PACKAGES))
+def test_importing_the_package_loads_none_of_its_submodules(package):
+    code = (f"import sys, {package}\n"
+            f"print(sorted(m for m in sys.modules if m.startswith('{package}.')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    assert out == "[]"
+
+
+@pytest.mark.parametrize("package", sorted(PACKAGES))
+def test_public_names_resolve_from_their_submodule(package):
+    import importlib
+
+    pkg = importlib.import_module(package)
+    for name in PACKAGES[package]:
+        value = getattr(pkg, name)
+        assert name in pkg.__all__ and name in dir(pkg)
+        owner = getattr(value, "__module__", None)
+        if owner is not None and callable(value):
+            assert owner.startswith(package + "."), (name, owner)
+    with pytest.raises(AttributeError, match="no attribute 'not_a_name'"):
+        pkg.not_a_name  # noqa: B018
