@@ -66,7 +66,7 @@ SYNTH_PER_SET = {
         "forces_synth_dynamometer",
         "forces",
         "../scripts/forces_synth_dynamometer.py",
-        "results/synthetic/raw/forces/{cut}." + SYNTH_FORCE_FORMAT,
+        f"results/synthetic/raw/forces/{{cut}}.{SYNTH_FORCE_FORMAT}",
     ),
 }
 for _kind, (_name, _stage, _script, _pattern) in SYNTH_PER_SET.items():
