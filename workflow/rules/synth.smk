@@ -50,46 +50,54 @@ rule synth_truth:
         "../scripts/synth_truth.py"
 
 
-# Stylus profiles and dynamometer records: one simulator job per set (a machining session;
-# its cuts simulated one after the other in one process, so that Python and the library start
-# once per set). One rule per (instrument, set), from this table: a set's job writes a list
-# of files that no wildcard pattern can name, so the rule is defined once per set here.
-# instrument kind: (rule name prefix, stage of its log and benchmark, script, output pattern)
-SYNTH_PER_SET = {
-    "profile": (
-        "surface_synth_profiles",
-        "surface",
-        "../scripts/surface_synth_profile.py",
-        "results/synthetic/raw/profiles/{cut}.csv",
-    ),
-    "force": (
-        "forces_synth_dynamometer",
-        "forces",
-        "../scripts/forces_synth_dynamometer.py",
-        f"results/synthetic/raw/forces/{{cut}}.{SYNTH_FORCE_FORMAT}",
-    ),
-}
-for _kind, (_name, _stage, _script, _pattern) in SYNTH_PER_SET.items():
-    for _set_no, _set_cuts in cuts_by_set(
-        c for c in CUTS if c.id in {f["cut"] for f in SYNTH_FILES.get(_kind, [])}
-    ).items():
+# Stylus profiles: one simulator job per set (a machining session; its cuts simulated one
+# after the other in one process, so that Python and the library start once per set).
+for _set_no, _set_cuts in cuts_by_set(
+    c for c in CUTS if c.id in {f["cut"] for f in SYNTH_FILES.get("profile", [])}
+).items():
 
-        rule:
-            name:
-                f"{_name}_s{_set_no}"
-            output:
-                [_pattern.format(cut=c.id) for c in _set_cuts],
-            log:
-                f"results/logs/{_stage}/synth_s{_set_no}.log",
-            benchmark:
-                f"results/benchmarks/rules/{_stage}/synth_s{_set_no}.tsv"
-            conda:
-                ENV
-            params:
-                cfg=SYNTH_CFG,
-                cuts=[c.as_dict() for c in _set_cuts],
-            script:
-                _script
+    rule:
+        name:
+            f"surface_synth_profiles_s{_set_no}"
+        output:
+            [f"results/synthetic/raw/profiles/{c.id}.csv" for c in _set_cuts],
+        log:
+            f"results/logs/surface/synth_s{_set_no}.log",
+        benchmark:
+            f"results/benchmarks/rules/surface/synth_s{_set_no}.tsv"
+        conda:
+            ENV
+        params:
+            cfg=SYNTH_CFG,
+            cuts=[c.as_dict() for c in _set_cuts],
+        script:
+            "../scripts/surface_synth_profile.py"
+
+
+# Dynamometer records: one simulator job per set.
+for _set_no, _set_cuts in cuts_by_set(
+    c for c in CUTS if c.id in {f["cut"] for f in SYNTH_FILES.get("force", [])}
+).items():
+
+    rule:
+        name:
+            f"forces_synth_dynamometer_s{_set_no}"
+        output:
+            [
+                f"results/synthetic/raw/forces/{c.id}.{SYNTH_FORCE_FORMAT}"
+                for c in _set_cuts
+            ],
+        log:
+            f"results/logs/forces/synth_s{_set_no}.log",
+        benchmark:
+            f"results/benchmarks/rules/forces/synth_s{_set_no}.tsv"
+        conda:
+            ENV
+        params:
+            cfg=SYNTH_CFG,
+            cuts=[c.as_dict() for c in _set_cuts],
+        script:
+            "../scripts/forces_synth_dynamometer.py"
 
 
 rule straightness_synth_tracker:
