@@ -7,8 +7,8 @@
 
 
 # The template itself builds nothing that `all` asks for: its outputs (by target name,
-# results/chapters/ch2.html) are never requested; the `use rule` copies, without wildcards,
-# are the rules Snakemake picks for the chapter files.
+# results/chapters/ch2.html) are never requested, and where its figure folder matches a
+# copy's (results/figures/ch2) Snakemake picks the copy, a rule without wildcards.
 rule chapter:
     input:
         notebook=lambda w: notebook(f"{CHAPTERS[w.target][0]}.ipynb"),
