@@ -101,8 +101,8 @@ def _imports_pipeline(path: Path) -> list[str]:
 
 def test_the_science_imports_nothing_of_the_pipeline_tooling():
     """Two halves (issue 24): the science modules (calibration, surface, …, io, synth,
-    importers) never import robomill.pipeline; only the package's top level (which re-exports
-    list_artefacts), the command line and the tooling itself may."""
+    importers) never import robomill.pipeline; only the package's top level (which looks up
+    list_artefacts on first use), the command line and the tooling itself may."""
     pkg = REPO / "src" / "robomill"
     tooling = {pkg / "pipeline", pkg / "cli"}
     entry = {pkg / "__init__.py", pkg / "__main__.py"}
@@ -126,3 +126,180 @@ def test_the_pipeline_checker_finds_an_offender(tmp_path):
                    "from robomill import pipeline\nimport robomill.pipeline.book\n")
     assert _imports_pipeline(bad) == ["robomill.pipeline.config", "robomill",
                                       "robomill.pipeline.book"]
+
+
+# --- the layers of issue 31: science, readers, tooling; errors; an inert package import ---
+
+PKG = REPO / "src" / "robomill"
+#: the packages outside the science: the pipeline's tooling, the command line, the importers
+#: of native exports, the simulators and the readers/writers
+NOT_SCIENCE = ("pipeline", "cli", "importers", "synth", "io")
+#: the readers a science module may import (raw-file formats it reads or writes itself; each
+#: loads neither the artefact writer nor the manifest: robomill.io's names are lazy)
+SCIENCE_MAY_READ = {"robomill.io.forces", "robomill.io.impact", "robomill.io.cell",
+                    "robomill.io.robots", "robomill.io.tables", "robomill.io.profiles",
+                    "robomill.io.tracker", "robomill.io.ctrack"}
+ERROR_TYPES = {"RawDataError", "ConfigError"}
+
+
+def _module_name(path: Path) -> str:
+    parts = list(path.relative_to(PKG.parent).with_suffix("").parts)
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def _imports(path: Path, *, top_level_only: bool = False, text: str | None = None
+             ) -> list[tuple[str, list[str]]]:
+    """(module, names) of every import in ``path`` (inside functions too, unless
+    ``top_level_only``), relative imports resolved: ``import a.b`` gives ``("a.b", [])``,
+    ``from a import b, c`` gives ``("a", ["b", "c"])``; ``text`` stands in for the file's."""
+    tree = ast.parse(path.read_text() if text is None else text, filename=str(path))
+    package = _module_name(path).split(".")
+    if path.name != "__init__.py":
+        package = package[:-1]
+    nodes = tree.body if top_level_only else ast.walk(tree)
+    found = []
+    for node in nodes:
+        if isinstance(node, ast.Import):
+            found += [(a.name, []) for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                up = package[: len(package) - (node.level - 1)]
+                base = ".".join(up + ([base] if base else []))
+            found.append((base, [a.name for a in node.names]))
+    return found
+
+
+def _robomill_modules(path: Path, text: str | None = None) -> set[str]:
+    """The ``robomill`` modules (and package attributes) ``path`` imports, as dotted names:
+    ``from robomill import io`` gives ``robomill.io``."""
+    out = set()
+    for module, names in _imports(path, text=text):
+        if module == "robomill" or module.startswith("robomill."):
+            out.add(module)
+            out.update(f"{module}.{n}" for n in names if n != "*")
+    return out
+
+
+def _science_files() -> list[Path]:
+    skip = {PKG / d for d in NOT_SCIENCE}
+    entry = {PKG / "__init__.py", PKG / "__main__.py"}
+    return [p for p in sorted(PKG.rglob("*.py")) if p not in entry and not skip & set(p.parents)]
+
+
+def _layer_offences(path: Path, text: str | None = None) -> list[str]:
+    bad = []
+    for name in sorted(_robomill_modules(path, text)):
+        top = name.split(".")[:2]
+        if top in (["robomill", "pipeline"], ["robomill", "cli"]):
+            bad.append(name)
+        elif top == ["robomill", "io"] and not any(
+                name == r or name.startswith(r + ".") for r in SCIENCE_MAY_READ):
+            bad.append(name)
+    return bad
+
+
+def test_science_imports_no_tooling_and_only_the_readers_it_is_allowed():
+    files = _science_files()
+    assert len(files) > 25 and PKG / "spectra.py" in files and PKG / "_imports.py" in files
+    offenders = {str(p.relative_to(REPO)): _layer_offences(p) for p in files}
+    assert {k: v for k, v in offenders.items() if v} == {}
+
+
+def test_nobody_imports_error_types_from_io():
+    allowed = {PKG / "io" / "errors.py"}  # the re-export for older code
+    offenders = {}
+    for p in sorted(PKG.rglob("*.py")):
+        if p in allowed:
+            continue
+        bad = [f"{m}: {', '.join(n)}" for m, n in _imports(p)
+               if m == "robomill.io.errors"
+               or (m == "robomill.io" and (ERROR_TYPES & set(n) or "errors" in n))]
+        if bad:
+            offenders[str(p.relative_to(REPO))] = bad
+    assert offenders == {}
+    assert (PKG / "errors.py").exists()
+
+
+def test_the_package_top_level_imports_no_submodule():
+    found = [m for m, _ in _imports(PKG / "__init__.py", top_level_only=True)]
+    assert all(m in {"importlib", "__future__"} for m in found), found
+
+
+def test_no_import_cycle_within_synth():
+    synth = PKG / "synth"
+    files = {_module_name(p): p for p in sorted(synth.rglob("*.py"))}
+    graph = {}
+    for name, path in files.items():
+        graph[name] = {m for m in _robomill_modules(path) if m in files and m != name}
+    cycles, state = [], {}
+
+    def visit(node, stack):
+        state[node] = "open"
+        for nxt in sorted(graph[node]):
+            if state.get(nxt) == "open":
+                cycles.append(stack[stack.index(nxt):] + [nxt])
+            elif nxt not in state:
+                visit(nxt, stack + [nxt])
+        state[node] = "done"
+
+    for node in sorted(graph):
+        if node not in state:
+            visit(node, [node])
+    assert "robomill.synth.plan" in graph and graph["robomill.synth.truth"]
+    assert cycles == []
+
+
+def test_the_layer_checkers_find_offenders():
+    text = ("from robomill.pipeline.runlog import setup\nfrom ..io import write_artefact\n"
+            "from robomill.io.forces import open_force_record\nfrom robomill import cli\n"
+            "def f():\n    from robomill.io.errors import RawDataError\n"
+            "    from ..io.manifest import load_manifest\n    from .hits import check_hits\n")
+    frf = PKG / "modal" / "frf.py"  # a module of a subpackage: `..io` is robomill.io
+    assert _layer_offences(frf, text) == [
+        "robomill.cli", "robomill.io", "robomill.io.errors", "robomill.io.errors.RawDataError",
+        "robomill.io.manifest", "robomill.io.manifest.load_manifest",
+        "robomill.io.write_artefact", "robomill.pipeline.runlog",
+        "robomill.pipeline.runlog.setup"]  # the reader io.forces and .hits pass
+    assert "robomill.modal.hits.check_hits" in _robomill_modules(frf, text)
+    assert ("robomill.io.errors", ["RawDataError"]) in _imports(frf, text=text)
+
+
+INERT_CHECK = """
+import sys
+import robomill
+heavy = ("scipy", "xarray", "jsonschema", "snakemake", "pandas", "robomill.io",
+         "robomill.pipeline")
+print(sorted(m for m in heavy if m in sys.modules) or "none")
+print(robomill.open_artefact.__module__, robomill.list_artefacts.__module__)
+"""
+
+SCIENCE_CHECK = """
+import importlib, sys
+for name in {names!r}:
+    importlib.import_module(name)
+tooling = ("snakemake", "jsonschema", "papermill", "nbformat", "robomill.pipeline",
+           "robomill.cli", "robomill.io.artefacts", "robomill.io.manifest")
+print(sorted(m for m in tooling if m in sys.modules) or "none")
+"""
+
+
+def _python(code: str) -> list[str]:
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=300)
+    assert out.returncode == 0, out.stderr
+    return out.stdout.splitlines()
+
+
+def test_import_robomill_loads_nothing_heavy_and_still_offers_the_artefact_functions():
+    loaded, modules = _python(INERT_CHECK)[:2]
+    assert loaded == "none"
+    assert modules == "robomill.io.artefacts robomill.pipeline.catalog"
+
+
+def test_importing_every_science_module_loads_no_tooling():
+    names = sorted({_module_name(p) for p in _science_files()} - {"robomill._imports"})
+    assert _python(SCIENCE_CHECK.format(names=names))[0] == "none"

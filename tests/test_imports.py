@@ -1,10 +1,12 @@
-"""robomill keeps jsonschema's slow optional IRI checker out, and validation still works."""
+"""The pipeline's entry points keep jsonschema's slow optional IRI checker out (validation
+still works) and SciPy's docstring re-parsing skipped; ``import robomill`` alone changes
+nothing (robomill._imports)."""
 
 import subprocess
 import sys
 
 CHECK = """
-import robomill, jsonschema, sys
+import robomill.pipeline, jsonschema, sys
 assert sys.modules["rfc3987_syntax"] is None, "rfc3987_syntax was imported"
 schema = {"type": "object", "properties": {"n": {"type": "integer", "minimum": 1}},
           "required": ["n"]}
@@ -16,7 +18,7 @@ except jsonschema.ValidationError as exc:
 """
 
 
-def test_importing_robomill_first_skips_the_iri_checker_and_still_validates():
+def test_importing_the_pipeline_first_skips_the_iri_checker_and_still_validates():
     out = subprocess.run([sys.executable, "-c", CHECK], capture_output=True, text=True,
                          timeout=120)
     assert out.returncode == 0, out.stderr
@@ -33,7 +35,7 @@ def test_skip_is_a_no_op_once_jsonschema_is_loaded():
 
 
 SCIPY_CHECK = """
-import robomill
+import robomill.pipeline
 import numpy as np
 import scipy.signal as ss
 from scipy._lib import _array_api
@@ -54,7 +56,7 @@ def _run(code: str) -> list[str]:
     return out.stdout.split("\n")
 
 
-def test_scipy_keeps_its_docstrings_unparsed_and_works_after_importing_robomill():
+def test_scipy_keeps_its_docstrings_unparsed_and_works_after_importing_the_pipeline():
     module, peak_hz, note, own_doc, recorded = _run(SCIPY_CHECK)[:5]
     assert module == "robomill._imports"
     assert float(peak_hz) == 50.0  # a planted 50 Hz sine, 1 Hz bins
@@ -75,3 +77,26 @@ def test_scipy_hook_is_a_no_op_once_scipy_is_loaded():
                "from scipy._lib import _array_api\n"
                "print(skip_scipy_capability_notes(), _array_api.FunctionDoc.__module__)")
     assert out[0].split() == ["False", "scipy._lib._docscrape"]
+
+
+def test_the_cli_and_the_chapter_kernels_apply_the_patches_too():
+    out = _run("import sys\nfrom robomill.cli import main\n"
+               "try:\n    main(['--help'])\nexcept SystemExit:\n    pass\n"
+               "print(sys.modules.get('rfc3987_syntax', 'absent'))")
+    assert out[-2] == "None"  # blocked by main() before any verb ran
+    from robomill._imports import KERNEL_STARTUP_ARGUMENT
+    from robomill.pipeline.chapters import private_kernel_manager
+
+    code = KERNEL_STARTUP_ARGUMENT.split("=", 1)[1]
+    out = _run(f"{code}\nimport scipy.signal\nfrom scipy._lib import _array_api\n"
+               "print(_array_api.FunctionDoc.__module__)")
+    assert out[0] == "robomill._imports"
+    manager = private_kernel_manager("python3", __import__("pathlib").Path("/tmp"))()
+    assert manager.format_kernel_cmd()[-1] == KERNEL_STARTUP_ARGUMENT
+
+
+def test_importing_robomill_alone_patches_nothing():
+    out = _run("import sys, robomill\nimport scipy.signal as ss\n"
+               "print('rfc3987_syntax' in sys.modules and sys.modules['rfc3987_syntax'] is None)\n"
+               "print('Array API Standard Support' in ss.welch.__doc__)")
+    assert out[:2] == ["False", "True"]

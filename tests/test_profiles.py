@@ -29,6 +29,14 @@ def test_default_profile_adds_to_the_slurm_profile(tmp_path):
     assert args.executor == "slurm" and args.scheduler == "greedy"
 
 
+def test_one_profiles_folder_found_through_the_link_next_to_the_snakefile(tmp_path):
+    link = REPO / "profiles"
+    assert link.is_symlink() and link.resolve() == (REPO / "workflow" / "profiles").resolve()
+    assert sorted(p.name for p in (REPO / "workflow" / "profiles").iterdir()) == [
+        "default", "local", "slurm"]
+    assert _args(tmp_path, "--profile", str(link / "local")).cores == 2
+
+
 def test_command_line_still_wins(tmp_path):
     args = _args(tmp_path, "--scheduler", "ilp", "--max-jobs-per-timespan", "100/1s")
     assert args.scheduler == "ilp" and args.max_jobs_per_timespan.timespan == 1.0

@@ -17,6 +17,13 @@ import hook that, once ``scipy._lib._array_api`` has been executed, gives the de
 stand-in that leaves each docstring as it was. Nothing else changes: the decorator still
 records the capabilities table, and the functions are the same objects. It costs nothing in a
 process that never imports SciPy.
+
+:func:`apply_startup_patches` applies both. The pipeline's entry points call it, not
+``import robomill`` (which stays inert): :mod:`robomill.pipeline` on import (the Snakefile,
+``workflow/rules/common.smk`` and every rule script's first line, ``from
+robomill.pipeline.runlog import setup``), the ``robomill`` command (:func:`robomill.cli.main`)
+and each chapter's kernel (:data:`KERNEL_STARTUP_ARGUMENT`, given to the kernel by
+:func:`robomill.pipeline.chapters.private_kernel_manager`).
 """
 
 from __future__ import annotations
@@ -80,3 +87,15 @@ def skip_scipy_capability_notes() -> bool:
     if not any(isinstance(f, _CapabilityNotesHook) for f in sys.meta_path):
         sys.meta_path.insert(0, _CapabilityNotesHook())
     return True
+
+
+def apply_startup_patches() -> None:
+    """Both patches, for a process that is about to use jsonschema or SciPy."""
+    skip_iri_format_checks()  # before anything imports jsonschema
+    skip_scipy_capability_notes()  # before anything imports scipy.signal/stats
+
+
+KERNEL_STARTUP_ARGUMENT = ("--IPKernelApp.exec_lines=__import__('robomill._imports')"
+                           "._imports.apply_startup_patches()")
+"""The kernel command-line option that applies the patches before a notebook's first cell
+(IPython runs ``exec_lines`` at start-up without counting them as executed cells)."""

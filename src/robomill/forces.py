@@ -726,7 +726,7 @@ class ForceSpectrumAccumulator:
     """
 
     def __init__(self, fs_hz: float, n_samples: int, settings: ForceAnalysisSettings):
-        from robomill.io.errors import ConfigError
+        from robomill.errors import ConfigError
         from robomill.spectra import WelchAccumulator
 
         self.fs, self.n, self.s = float(fs_hz), int(n_samples), settings

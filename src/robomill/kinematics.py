@@ -4,7 +4,8 @@
 * Denavit–Hartenberg (``dh``: T_i = Rz(θ_i+offset) Tz(d) Tx(a) Rx(α)) and Craig's modified
   D-H (``mdh``: T_i = Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ_i+offset) Tz(d_i)) forward kinematics;
 * the geometric Jacobian by the vector-product method (seed 001), and
-* numerical inverse kinematics (damped least squares) for any posture.
+* numerical inverse kinematics (damped least squares) for any posture, and along a measured
+  path with an error that names the data file when the path is out of reach.
 
 Lengths are in millimetres and angles in radians inside this module; :func:`robot_from_mapping`
 converts the documented robot file (``docs/data-contract.md``, kind ``robot``).
@@ -14,9 +15,12 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from robomill.errors import RawDataError
 
 
 def skew(v: np.ndarray) -> np.ndarray:
@@ -294,3 +298,44 @@ def ik_batch(robot: SerialRobot, targets: np.ndarray, q0: np.ndarray, *, tol_mm:
         step *= np.minimum(1.0, max_step_rad / np.maximum(norm, 1e-300))
         q[act] += step
     return q, done
+
+
+def reach_mm(robot: SerialRobot) -> float:
+    """Upper bound of the TCP distance from the base origin [mm] (sum of link lengths)."""
+    total = sum(abs(float(a)) + abs(float(d)) for a, d in zip(robot.a_mm, robot.d_mm, strict=True))
+    return total + float(np.linalg.norm(robot.tool_mm))
+
+
+def reachable_joint_path_rad(robot: SerialRobot, targets: np.ndarray, q0_rad: np.ndarray, *,
+                             data_file: str | Path, instrument: str,
+                             cell_file: str | Path) -> np.ndarray:
+    """Inverse kinematics along measured TCP poses ``(m, 4, 4)`` [mm] in the base frame, each
+    solution seeding the next (:meth:`SerialRobot.ik_path`, from ``q0_rad``).
+
+    Parameters
+    ----------
+    data_file, instrument
+        The file the poses were measured in and its instrument (``"tracker"``): named by the
+        error when a pose is out of reach.
+    cell_file
+        The cell file that describes ``robot`` (where the instrument's frame is registered).
+
+    Raises
+    ------
+    RawDataError
+        Naming ``data_file`` when a pose is out of the robot's reach (:func:`reach_mm`): the
+        points are then not in this robot's base frame, and the cell file's
+        ``base_from_instrument`` must register them.
+    """
+    try:
+        return robot.ik_path(targets, q0_rad)
+    except RuntimeError:
+        p = np.asarray(targets, float)[:, :3, 3]
+        far = float(np.max(np.linalg.norm(p, axis=1)))
+        raise RawDataError(
+            data_file, f"points are not reachable by robot '{robot.name}' of "
+            f"{cell_file} (up to {far:.0f} mm from its base, reach about {reach_mm(robot):.0f} mm)",
+            where=f"{instrument} points in the robot base frame",
+            expected=f"points in the base frame of this robot: register the {instrument} "
+                     f"frame with base_from_instrument.{instrument} "
+                     "{rotation, translation_mm} in cell.yaml") from None

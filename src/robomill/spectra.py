@@ -20,8 +20,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.fft
-import scipy.signal
 
 
 @dataclass(frozen=True)
@@ -38,6 +36,8 @@ class Spectrum:
 
 def thesis_dft(z: np.ndarray, fs: float, *, axis: int = -1) -> tuple[np.ndarray, np.ndarray]:
     """Two-sided DFT Z(k) (thesis eq. 2.1) and the bin frequencies k·fs/N (``fftfreq``)."""
+    import scipy.fft  # here, as below: `import robomill.spectra` stays free of SciPy
+
     z = np.asarray(z, dtype=float)
     n = z.shape[axis]
     return scipy.fft.fft(z, axis=axis), scipy.fft.fftfreq(n, d=1.0 / fs)
@@ -57,6 +57,8 @@ def thesis_spectrum(z: np.ndarray, fs: float, *, axis: int = -1) -> Spectrum:
     >>> float(s.f[np.argmax(s.amplitude)]), round(float(s.amplitude.max()), 12)
     (50.0, 3.0)
     """
+    import scipy.fft
+
     z = np.moveaxis(np.asarray(z, dtype=float), axis, -1)
     n = z.shape[-1]
     Z = scipy.fft.rfft(z, axis=-1)
@@ -73,6 +75,8 @@ def thesis_spectrum(z: np.ndarray, fs: float, *, axis: int = -1) -> Spectrum:
 
 def parseval_rms(z: np.ndarray, *, axis: int = -1) -> np.ndarray:
     """RMS from the normalized power spectrum, sqrt(Σ_k P(k)) (thesis eq. 2.6)."""
+    import scipy.fft
+
     z = np.asarray(z, dtype=float)
     Z = scipy.fft.fft(z, axis=axis)
     n = z.shape[axis]
@@ -101,6 +105,8 @@ def segment_averaged_spectrum(z: np.ndarray, fs: float, segment_length: float, *
     n_seg = int(round(segment_length * fs))
     segs = segment_signal(z, n_seg)
     if detrend:
+        import scipy.signal
+
         segs = scipy.signal.detrend(segs, axis=-1, type=detrend)
     s = thesis_spectrum(segs, fs)
     power = s.power.mean(axis=0)
@@ -120,6 +126,8 @@ def welch_psd(x: np.ndarray, fs: float, *, nperseg: int, axis: int = -1,
               window: str = "hann", detrend: str | bool = "constant") -> tuple[np.ndarray,
                                                                              np.ndarray]:
     """One-sided power spectral density (units²/Hz or units²·mm) by Welch's method."""
+    import scipy.signal
+
     return scipy.signal.welch(x, fs=fs, nperseg=nperseg, axis=axis, window=window,
                               detrend=detrend, scaling="density")
 
@@ -133,6 +141,8 @@ class WelchAccumulator:
     """
 
     def __init__(self, fs: float, nperseg: int, n_channels: int = 1, window: str = "hann"):
+        import scipy.signal
+
         self.fs, self.nperseg, self.step = fs, nperseg, nperseg // 2
         self.win = scipy.signal.get_window(window, nperseg)
         self.scale = 1.0 / (fs * np.sum(self.win**2))
@@ -142,6 +152,8 @@ class WelchAccumulator:
 
     def add(self, chunk: np.ndarray) -> None:
         """Add samples ``(n_channels, n)`` (or ``(n,)`` for one channel)."""
+        import scipy.fft
+
         chunk = np.atleast_2d(np.asarray(chunk, dtype=float))
         buf = np.concatenate([self.tail, chunk], axis=1)
         n_seg = 0 if buf.shape[1] < self.nperseg else 1 + (buf.shape[1] - self.nperseg) // self.step
@@ -156,6 +168,8 @@ class WelchAccumulator:
 
     def result(self) -> tuple[np.ndarray, np.ndarray]:
         """(f, psd ``(n_channels, nfreq)``) — one-sided density."""
+        import scipy.fft
+
         if self.count == 0:
             raise ValueError("fewer samples than one Welch segment")
         psd = self.sum / self.count * self.scale
@@ -179,6 +193,8 @@ def find_peaks_spectrum(f: np.ndarray, power: np.ndarray, *, fmin: float = 0.0,
     fb, pb = f[sel], power[sel]
     if pb.size < 3:
         return []
+    import scipy.signal
+
     floor = np.median(pb)
     idx, _ = scipy.signal.find_peaks(pb, height=prominence_ratio * floor)
     idx = idx[np.argsort(pb[idx])[::-1][:n]]

@@ -733,7 +733,7 @@ def analyse_tracker_run(t_s: np.ndarray, points_mm: np.ndarray, cell: Any, *,
     :class:`~robomill.io.errors.RawDataError` naming ``data_file`` and pointing at
     ``base_from_instrument`` (not the inverse kinematics' ``RuntimeError``).
     """
-    from robomill.io.errors import RawDataError
+    from robomill.errors import RawDataError
 
     base = cell.to_base_mm("tracker", points_mm)
     try:

@@ -64,7 +64,10 @@ rule calibration:
         "results/calibration/accuracy.csv",
 
 
-rule ch1:
+CHAPTER_PARAMETERS["ch1"] = {"thesis_study": THESIS_STUDY}
+
+
+use rule chapter as ch1 with:
     input:
         notebook=notebook("ch1_calibration.ipynb"),
         model="results/calibration/model.nc",
@@ -75,31 +78,11 @@ rule ch1:
         base="results/calibration/base.csv",
         circles="results/calibration/circles.csv",
     output:
-        ipynb="results/chapters/ch1_calibration.ipynb",
-        html=report(
-            "results/chapters/ch1_calibration.html",
-            caption="../report/ch1.rst",
-            category="Chapter 1",
-        ),
-        figures=report(
-            directory("results/figures/ch1"),
-            patterns=["{name}.png"],
-            caption="../report/ch1.rst",
-            category="Chapter 1",
-            subcategory="Figures",
-        ),
+        **chapter_outputs("ch1"),
     log:
-        "results/logs/chapters/ch1.log",
+        chapter_log("ch1"),
     benchmark:
-        "results/benchmarks/rules/chapters/ch1.tsv"
-    conda:
-        ENV
-    params:
-        options=config["chapters"],
-        failed_copy="results/logs/chapters/ch1.failed.ipynb",
-        parameters={"thesis_study": THESIS_STUDY},
-    script:
-        "../scripts/render_chapter.py"
+        chapter_benchmark("ch1")
 
 
 add_chapter("1", "results/chapters/ch1_calibration.html", needs=("ctrack",))

@@ -1,38 +1,20 @@
-# Chapter 0 (the experiment) and the pattern every chapter rule follows: the notebook is an
-# input, the executed .ipynb, the .html and the figure folder are outputs. Each chapter's own
-# rule lives with its stage file; `chN` targets are rule names.
+# Chapter 0 (the experiment) and the chapter 3 target. Every chapter is the one rule of
+# chapter.smk used under its target's name; each chapter's lives with its stage file.
 
 
-rule ch0:
+CHAPTER_PARAMETERS["ch0"] = DESIGN_PARAMS
+
+
+use rule chapter as ch0 with:
     input:
         notebook=notebook("ch0_experiment.ipynb"),
         cuts="results/ingest/cuts.csv",
     output:
-        ipynb="results/chapters/ch0_experiment.ipynb",
-        html=report(
-            "results/chapters/ch0_experiment.html",
-            caption="../report/ch0.rst",
-            category="Chapter 0",
-        ),
-        figures=report(
-            directory("results/figures/ch0"),
-            patterns=["{name}.png"],
-            caption="../report/ch0.rst",
-            category="Chapter 0",
-            subcategory="Figures",
-        ),
+        **chapter_outputs("ch0"),
     log:
-        "results/logs/chapters/ch0.log",
+        chapter_log("ch0"),
     benchmark:
-        "results/benchmarks/rules/chapters/ch0.tsv"
-    conda:
-        ENV
-    params:
-        options=config["chapters"],
-        failed_copy="results/logs/chapters/ch0.failed.ipynb",
-        parameters=DESIGN_PARAMS,
-    script:
-        "../scripts/render_chapter.py"
+        chapter_benchmark("ch0")
 
 
 add_chapter("0", "results/chapters/ch0_experiment.html", needs=("cuts",))

@@ -79,7 +79,10 @@ rule chatter:
         "results/chatter/recommendations.csv",
 
 
-rule ch4:
+CHAPTER_PARAMETERS["ch4"] = {"thesis_study": THESIS_STUDY}
+
+
+use rule chapter as ch4 with:
     input:
         notebook=notebook("ch4_chatter.ipynb"),
         cases=expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
@@ -87,31 +90,11 @@ rule ch4:
         lobes="results/chatter/lobes.nc",
         recommendations="results/chatter/recommendations.csv",
     output:
-        ipynb="results/chapters/ch4_chatter.ipynb",
-        html=report(
-            "results/chapters/ch4_chatter.html",
-            caption="../report/ch4.rst",
-            category="Chapter 4",
-        ),
-        figures=report(
-            directory("results/figures/ch4"),
-            patterns=["{name}.png"],
-            caption="../report/ch4.rst",
-            category="Chapter 4",
-            subcategory="Figures",
-        ),
+        **chapter_outputs("ch4"),
     log:
-        "results/logs/chapters/ch4.log",
+        chapter_log("ch4"),
     benchmark:
-        "results/benchmarks/rules/chapters/ch4.tsv"
-    conda:
-        ENV
-    params:
-        options=config["chapters"],
-        failed_copy="results/logs/chapters/ch4.failed.ipynb",
-        parameters={"thesis_study": THESIS_STUDY},
-    script:
-        "../scripts/render_chapter.py"
+        chapter_benchmark("ch4")
 
 
 add_chapter("4", "results/chapters/ch4_chatter.html", needs=("impact", "force"))

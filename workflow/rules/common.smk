@@ -122,3 +122,67 @@ def derive_code_inputs(rules):
                 r.input_modifier = workflow.modifier.path_modifier
             r.set_input(*new)
     save_cache(cache)
+
+
+# The chapters (the one chapter rule, chapter.smk, is used under each target's name).
+# target: (notebook and page stem, figure folder under results/figures/, report caption
+# under workflow/report/, report category)
+CHAPTERS = {
+    "ch0": ("ch0_experiment", "ch0", "ch0", "Chapter 0"),
+    "ch1": ("ch1_calibration", "ch1", "ch1", "Chapter 1"),
+    "ch2": ("ch2_surface", "ch2", "ch2", "Chapter 2"),
+    "ch3_forces": ("ch3_1_forces", "ch3/forces", "ch3_1_forces", "Chapter 3"),
+    "ch3_straightness": (
+        "ch3_2_straightness",
+        "ch3/straightness",
+        "ch3_2_straightness",
+        "Chapter 3",
+    ),
+    "ch3_modal": ("ch3_3_modal", "ch3/modal", "ch3_3_modal", "Chapter 3"),
+    "ch4": ("ch4_chatter", "ch4", "ch4", "Chapter 4"),
+    "ch5": ("ch5_stiffness", "ch5", "ch5", "Chapter 5"),
+    "ch6": ("ch6_hexapod", "ch6", "ch6", "Chapter 6"),
+}
+# target: notebook parameters besides the inputs (each stage file sets its chapter's)
+CHAPTER_PARAMETERS = {}
+# the target of each chapter page (the rule's params are looked up by its output)
+CHAPTER_OF_PAGE = {f"results/chapters/{v[0]}.html": k for k, v in CHAPTERS.items()}
+
+
+def chapter_outputs(target):
+    """The outputs of chapter `target`: executed notebook, page and figure folder."""
+    stem, figures, caption, category = CHAPTERS[target]
+    rst = f"../report/{caption}.rst"
+    return {
+        "ipynb": f"results/chapters/{stem}.ipynb",
+        "html": report(f"results/chapters/{stem}.html", caption=rst, category=category),
+        "figures": report(
+            directory(f"results/figures/{figures}"),
+            patterns=["{name}.png"],
+            caption=rst,
+            category=category,
+            subcategory="Figures",
+        ),
+    }
+
+
+def chapter_log(target):
+    return f"results/logs/chapters/{target}.log"
+
+
+def chapter_benchmark(target):
+    return f"results/benchmarks/rules/chapters/{target}.tsv"
+
+
+def chapter_target(wildcards, output):
+    """The target whose job this is (the template's own jobs: its wildcard)."""
+    return CHAPTER_OF_PAGE.get(output.html) or wildcards.target
+
+
+def chapter_parameters(wildcards, output):
+    return CHAPTER_PARAMETERS.get(chapter_target(wildcards, output), {})
+
+
+def chapter_failed_copy(wildcards, output):
+    """Where a failing chapter's executed notebook is kept (beside its log)."""
+    return f"results/logs/chapters/{chapter_target(wildcards, output)}.failed.ipynb"

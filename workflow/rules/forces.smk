@@ -72,7 +72,14 @@ rule forces:
         "results/forces/harmonics.csv",
 
 
-rule ch3_forces:
+CHAPTER_PARAMETERS["ch3_forces"] = {
+    "settings": config["forces"],
+    "synthetic": SYNTHETIC,
+    **DESIGN_PARAMS,
+}
+
+
+use rule chapter as ch3_forces with:
     input:
         unpack(forces_truth_input),
         **({"modes": "results/modal/modes.csv"} if has_kind("impact") else {}),
@@ -85,35 +92,11 @@ rule ch3_forces:
         cuts="results/ingest/cuts.csv",
         # the impact test's modes, when the raw folder has one (chapter 3.3)
     output:
-        ipynb="results/chapters/ch3_1_forces.ipynb",
-        html=report(
-            "results/chapters/ch3_1_forces.html",
-            caption="../report/ch3_1_forces.rst",
-            category="Chapter 3",
-        ),
-        figures=report(
-            directory("results/figures/ch3/forces"),
-            patterns=["{name}.png"],
-            caption="../report/ch3_1_forces.rst",
-            category="Chapter 3",
-            subcategory="Figures",
-        ),
+        **chapter_outputs("ch3_forces"),
     log:
-        "results/logs/chapters/ch3_forces.log",
+        chapter_log("ch3_forces"),
     benchmark:
-        "results/benchmarks/rules/chapters/ch3_forces.tsv"
-    conda:
-        ENV
-    params:
-        options=config["chapters"],
-        failed_copy="results/logs/chapters/ch3_forces.failed.ipynb",
-        parameters={
-            "settings": config["forces"],
-            "synthetic": SYNTHETIC,
-            **DESIGN_PARAMS,
-        },
-    script:
-        "../scripts/render_chapter.py"
+        chapter_benchmark("ch3_forces")
 
 
 add_chapter("3.1", "results/chapters/ch3_1_forces.html", needs=("force",))

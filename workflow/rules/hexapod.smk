@@ -84,7 +84,7 @@ rule hexapod:
         "results/hexapod/sensitivity.nc",
 
 
-rule ch6:
+use rule chapter as ch6 with:
     input:
         notebook=notebook("ch6_hexapod.ipynb"),
         trajectory="results/hexapod/trajectory.nc",
@@ -92,30 +92,11 @@ rule ch6:
         sensitivity="results/hexapod/sensitivity.nc",
         force_accuracy="results/hexapod/force_accuracy.csv",
     output:
-        ipynb="results/chapters/ch6_hexapod.ipynb",
-        html=report(
-            "results/chapters/ch6_hexapod.html",
-            caption="../report/ch6.rst",
-            category="Chapter 6",
-        ),
-        figures=report(
-            directory("results/figures/ch6"),
-            patterns=["{name}.png"],
-            caption="../report/ch6.rst",
-            category="Chapter 6",
-            subcategory="Figures",
-        ),
+        **chapter_outputs("ch6"),
     log:
-        "results/logs/chapters/ch6.log",
+        chapter_log("ch6"),
     benchmark:
-        "results/benchmarks/rules/chapters/ch6.tsv"
-    conda:
-        ENV
-    params:
-        options=config["chapters"],
-        failed_copy="results/logs/chapters/ch6.failed.ipynb",
-    script:
-        "../scripts/render_chapter.py"
+        chapter_benchmark("ch6")
 
 
 add_chapter("6", "results/chapters/ch6_hexapod.html")

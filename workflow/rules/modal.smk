@@ -95,7 +95,10 @@ rule modal:
         "results/modal/coupling.csv",
 
 
-rule ch3_modal:
+CHAPTER_PARAMETERS["ch3_modal"] = {"thesis_study": THESIS_STUDY}
+
+
+use rule chapter as ch3_modal with:
     input:
         notebook=notebook("ch3_3_modal.ipynb"),
         frf="results/modal/frf.nc",
@@ -112,31 +115,11 @@ rule ch3_modal:
         coupling="results/modal/coupling.csv",
         coupling_pairs="results/modal/coupling_pairs.csv",
     output:
-        ipynb="results/chapters/ch3_3_modal.ipynb",
-        html=report(
-            "results/chapters/ch3_3_modal.html",
-            caption="../report/ch3_3_modal.rst",
-            category="Chapter 3",
-        ),
-        figures=report(
-            directory("results/figures/ch3/modal"),
-            patterns=["{name}.png"],
-            caption="../report/ch3_3_modal.rst",
-            category="Chapter 3",
-            subcategory="Figures",
-        ),
+        **chapter_outputs("ch3_modal"),
     log:
-        "results/logs/chapters/ch3_modal.log",
+        chapter_log("ch3_modal"),
     benchmark:
-        "results/benchmarks/rules/chapters/ch3_modal.tsv"
-    conda:
-        ENV
-    params:
-        options=config["chapters"],
-        failed_copy="results/logs/chapters/ch3_modal.failed.ipynb",
-        parameters={"thesis_study": THESIS_STUDY},
-    script:
-        "../scripts/render_chapter.py"
+        chapter_benchmark("ch3_modal")
 
 
 add_chapter("3.3", "results/chapters/ch3_3_modal.html", needs=("impact",))

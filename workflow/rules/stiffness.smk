@@ -230,7 +230,10 @@ rule stiffness:
         STIFF_OUTPUTS,
 
 
-rule ch5:
+CHAPTER_PARAMETERS["ch5"] = DESIGN_PARAMS
+
+
+use rule chapter as ch5 with:
     input:
         **({"truth": "results/synthetic/truth.nc"} if SYNTHETIC else {}),
         **THESIS_SLOTS,
@@ -246,31 +249,11 @@ rule ch5:
         thesis_joints=f"results/stiffness/{THESIS_ROBOT}/joint_stiffness.csv",
         thesis_validation=f"results/stiffness/{THESIS_ROBOT}/validation.csv",
     output:
-        ipynb="results/chapters/ch5_stiffness.ipynb",
-        html=report(
-            "results/chapters/ch5_stiffness.html",
-            caption="../report/ch5.rst",
-            category="Chapter 5",
-        ),
-        figures=report(
-            directory("results/figures/ch5"),
-            patterns=["{name}.png"],
-            caption="../report/ch5.rst",
-            category="Chapter 5",
-            subcategory="Figures",
-        ),
+        **chapter_outputs("ch5"),
     log:
-        "results/logs/chapters/ch5.log",
+        chapter_log("ch5"),
     benchmark:
-        "results/benchmarks/rules/chapters/ch5.tsv"
-    conda:
-        ENV
-    params:
-        options=config["chapters"],
-        failed_copy="results/logs/chapters/ch5.failed.ipynb",
-        parameters=DESIGN_PARAMS,
-    script:
-        "../scripts/render_chapter.py"
+        chapter_benchmark("ch5")
 
 
 add_chapter("5", "results/chapters/ch5_stiffness.html", needs=("robot", "stiffness"))

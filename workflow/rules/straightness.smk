@@ -91,7 +91,14 @@ rule straightness:
         "results/straightness/truth_check.csv",
 
 
-rule ch3_straightness:
+CHAPTER_PARAMETERS["ch3_straightness"] = {
+    "settings": config["straightness"],
+    "synthetic": SYNTHETIC,
+    **DESIGN_PARAMS,
+}
+
+
+use rule chapter as ch3_straightness with:
     input:
         notebook=notebook("ch3_2_straightness.ipynb"),
         peaks="results/straightness/peaks.csv",
@@ -101,35 +108,11 @@ rule ch3_straightness:
         surface_peaks="results/surface/peaks.csv",
         cuts="results/ingest/cuts.csv",
     output:
-        ipynb="results/chapters/ch3_2_straightness.ipynb",
-        html=report(
-            "results/chapters/ch3_2_straightness.html",
-            caption="../report/ch3_2_straightness.rst",
-            category="Chapter 3",
-        ),
-        figures=report(
-            directory("results/figures/ch3/straightness"),
-            patterns=["{name}.png"],
-            caption="../report/ch3_2_straightness.rst",
-            category="Chapter 3",
-            subcategory="Figures",
-        ),
+        **chapter_outputs("ch3_straightness"),
     log:
-        "results/logs/chapters/ch3_straightness.log",
+        chapter_log("ch3_straightness"),
     benchmark:
-        "results/benchmarks/rules/chapters/ch3_straightness.tsv"
-    conda:
-        ENV
-    params:
-        options=config["chapters"],
-        failed_copy="results/logs/chapters/ch3_straightness.failed.ipynb",
-        parameters={
-            "settings": config["straightness"],
-            "synthetic": SYNTHETIC,
-            **DESIGN_PARAMS,
-        },
-    script:
-        "../scripts/render_chapter.py"
+        chapter_benchmark("ch3_straightness")
 
 
 add_chapter(

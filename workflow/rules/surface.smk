@@ -95,7 +95,15 @@ rule surface:
         ["results/surface/recovery.csv"] if SYNTHETIC else [],
 
 
-rule ch2:
+CHAPTER_PARAMETERS["ch2"] = {
+    "settings": config["surface"],
+    "synthetic": SYNTHETIC,
+    **DESIGN_PARAMS,
+    "thesis_design": SURFACE_THESIS,  # of the profiled cuts
+}
+
+
+use rule chapter as ch2 with:
     input:
         unpack(
             lambda w: {"recovery": "results/surface/recovery.csv"} if SYNTHETIC else {}
@@ -108,36 +116,11 @@ rule ch2:
         spectra="results/surface/spectra.nc",
         profiles="results/surface/profiles.nc",
     output:
-        ipynb="results/chapters/ch2_surface.ipynb",
-        html=report(
-            "results/chapters/ch2_surface.html",
-            caption="../report/ch2.rst",
-            category="Chapter 2",
-        ),
-        figures=report(
-            directory("results/figures/ch2"),
-            patterns=["{name}.png"],
-            caption="../report/ch2.rst",
-            category="Chapter 2",
-            subcategory="Figures",
-        ),
+        **chapter_outputs("ch2"),
     log:
-        "results/logs/chapters/ch2.log",
+        chapter_log("ch2"),
     benchmark:
-        "results/benchmarks/rules/chapters/ch2.tsv"
-    conda:
-        ENV
-    params:
-        options=config["chapters"],
-        failed_copy="results/logs/chapters/ch2.failed.ipynb",
-        parameters={
-            "settings": config["surface"],
-            "synthetic": SYNTHETIC,
-            **DESIGN_PARAMS,
-            "thesis_design": SURFACE_THESIS,  # of the profiled cuts
-        },
-    script:
-        "../scripts/render_chapter.py"
+        chapter_benchmark("ch2")
 
 
 add_chapter("2", "results/chapters/ch2_surface.html", needs=("profile",))

@@ -5,11 +5,13 @@ import os
 for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_v] = "1"  # many small eigenproblems: threads only add overhead
 
-from robomill.chatter.study import run_case  # noqa: E402
-from robomill.io import write_artefact  # noqa: E402
 from robomill.pipeline.runlog import Progress, setup  # noqa: E402
 
 log = setup(snakemake.log[0], "chatter")
+
+from robomill.chatter.study import run_case  # noqa: E402
+from robomill.io import write_artefact  # noqa: E402
+
 p = snakemake.params
 case = dict(p.case)
 progress = Progress(log, 1.0, f"lobe map {case['name']}")

@@ -1,10 +1,12 @@
 """One shard of the sensitivity study: one actuator in error, every error size."""
 
-from robomill.hexapod.study import sensitivity_shard
-from robomill.io import write_artefact
 from robomill.pipeline.runlog import Progress, setup
 
 log = setup(snakemake.log[0], "hexapod")
+
+from robomill.hexapod.study import sensitivity_shard  # noqa: E402
+from robomill.io import write_artefact  # noqa: E402
+
 section = snakemake.params.hexapod
 progress = Progress(log, 1.0, f"sensitivity of actuator {snakemake.params.actuator}")
 ds = sensitivity_shard(section, int(snakemake.params.actuator), progress=progress.update)

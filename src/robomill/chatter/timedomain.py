@@ -79,7 +79,7 @@ class SeedParams:
         names = set(cls.__dataclass_fields__)
         unknown = sorted(set(section) - names)
         if unknown:
-            from robomill.io import ConfigError
+            from robomill.errors import ConfigError
 
             raise ConfigError(f"chatter.seed.params: unknown key(s) {unknown}; expected some "
                               f"of {sorted(names)}")

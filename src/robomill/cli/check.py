@@ -17,7 +17,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 
 HELP = ("validate a raw folder (manifest, cell file, every data file with the pipeline's "
         "readers); one line per problem, exit status 1 if any")

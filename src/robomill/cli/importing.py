@@ -16,7 +16,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 
 HELP = "convert native instrument exports into the data contract and add them to the manifest"
 
@@ -181,7 +181,7 @@ def import_files(module, sources: list[Path], raw_dir: Path, args: argparse.Name
     ------
     ImportFailed
         A source is missing or does not convert (the importer's
-        :class:`~robomill.io.errors.RawDataError`), the importer returned bad entries, a file
+        :class:`~robomill.errors.RawDataError`), the importer returned bad entries, a file
         or manifest entry would be replaced without ``overwrite``, or the manifest cannot be
         read. Nothing has been written into ``raw_dir`` then.
     """

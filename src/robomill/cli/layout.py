@@ -14,8 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from robomill.errors import RawDataError
 from robomill.experiment import CUT_ID
-from robomill.io.errors import RawDataError
 
 KIND_FOLDERS: dict[str, str] = {
     "profile": "profiles",

@@ -13,7 +13,7 @@ from typing import Any
 import yaml
 
 from robomill.cli.layout import cut_stub, data_files, infer_file, merge_entry
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 
 HELP = "scan a raw folder and write or update its manifest.yaml (kinds, metadata, sha256)"
 

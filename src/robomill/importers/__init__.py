@@ -8,7 +8,7 @@ heavy libraries such as npTDMS). A module exposes
 - ``convert(sources, staging, args) -> list[dict]``: writes contract files under
   ``staging/<kind folder>/`` and returns their manifest entries ``{"path": rel, "kind": ...,
   **metadata}`` (no sha256: the caller adds it). Bad input raises
-  :class:`robomill.io.errors.RawDataError` naming the source file and field.
+  :class:`robomill.errors.RawDataError` naming the source file and field.
 
 ``args`` always carries ``cut`` (``--cut ID`` or ``None``). The command
 (:mod:`robomill.cli.importing`) gives each run a fresh staging folder and moves the files into

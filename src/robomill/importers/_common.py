@@ -1,7 +1,7 @@
 """Shared pieces of the importers: reading text exports, the axis/sign mapping, the rebuilt time
 axis, and writing contract CSV files.
 
-Every importer raises :class:`robomill.io.errors.RawDataError` naming the *source* file, where
+Every importer raises :class:`robomill.errors.RawDataError` naming the *source* file, where
 in it the problem is and what was expected; nothing is written for a source that fails.
 """
 
@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 
 AXES = ("x", "y", "z")
 

@@ -27,6 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
+from robomill.errors import RawDataError
 from robomill.importers._common import (
     is_number,
     read_text,
@@ -36,7 +37,6 @@ from robomill.importers._common import (
     to_float,
     write_csv,
 )
-from robomill.io.errors import RawDataError
 
 UNITS_MM = {"mm": 1.0, "millimeters": 1.0, "millimetres": 1.0, "m": 1e3, "meters": 1e3,
             "metres": 1e3, "in": 25.4, "inch": 25.4, "inches": 25.4, "um": 1e-3}

@@ -35,6 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
+from robomill.errors import RawDataError
 from robomill.importers._common import (
     cut_id,
     is_number,
@@ -46,7 +47,6 @@ from robomill.importers._common import (
     time_axis,
     write_csv,
 )
-from robomill.io.errors import RawDataError
 
 FORMAT = "dynoware"
 KIND = "force"

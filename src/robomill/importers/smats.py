@@ -47,8 +47,8 @@ from pathlib import Path
 
 import numpy as np
 
+from robomill.errors import RawDataError
 from robomill.importers._common import cut_id, read_text, valid_run, write_csv
-from robomill.io.errors import RawDataError
 
 FORMAT = "smats"
 KIND = "profile"

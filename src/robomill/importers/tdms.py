@@ -21,8 +21,8 @@ from pathlib import Path
 
 import numpy as np
 
+from robomill.errors import RawDataError
 from robomill.importers._common import cut_id, map_axes, nice_rate, parse_axes, write_csv
-from robomill.io.errors import RawDataError
 
 FORMAT = "tdms"
 KIND = "force"

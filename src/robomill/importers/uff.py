@@ -17,7 +17,7 @@ import re
 import shutil
 from pathlib import Path
 
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 
 FORMAT = "uff"
 KIND = "impact"

@@ -29,8 +29,8 @@ from xml.etree import ElementTree
 
 import numpy as np
 
+from robomill.errors import RawDataError
 from robomill.importers._common import cut_id, valid_run, write_csv
-from robomill.io.errors import RawDataError
 
 FORMAT = "x3p"
 KIND = "profile"

@@ -25,7 +25,7 @@ on the links (``link`` 1..n, centre of mass ``com_mm`` at the zero configuration
 frame) and the spindle and tool on the last link: the gravity model of the calibration's
 compliance terms (chapter 1); a cell without one is calibrated without the gravity term
 (``docs/data-contract.md``). Every problem raises one
-:class:`~robomill.io.errors.RawDataError` naming the file and the key.
+:class:`~robomill.errors.RawDataError` naming the file and the key.
 """
 
 from __future__ import annotations
@@ -38,9 +38,9 @@ from typing import Any
 import numpy as np
 import yaml
 
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 from robomill.io.robots import parse_robot
-from robomill.kinematics import SerialRobot, robot_from_mapping
+from robomill.kinematics import SerialRobot, reachable_joint_path_rad, robot_from_mapping
 
 CELL_KEYS = ("robot", "q_home_deg", "tool_rotation", "transmissions", "base_from_instrument",
              "mass_model")
@@ -159,35 +159,12 @@ class Cell:
 
     def joint_path_rad(self, targets: np.ndarray, q0_rad: np.ndarray | None = None, *,
                        data_file: str | Path, instrument: str) -> np.ndarray:
-        """Inverse kinematics along TCP poses ``(m, 4, 4)`` in the base frame, each solution
-        seeding the next (from ``q_home_deg``).
-
-        Raises
-        ------
-        RawDataError
-            Naming ``data_file`` when a pose is out of the robot's reach: the points are then
-            not in this robot's base frame, and ``base_from_instrument`` must register them.
-        """
+        """Inverse kinematics along TCP poses ``(m, 4, 4)`` in the base frame, from
+        ``q_home_deg`` (:func:`robomill.kinematics.reachable_joint_path_rad` with this cell's
+        robot; a pose out of reach raises :class:`RawDataError` naming ``data_file``)."""
         q0 = self.q_home_rad if q0_rad is None else q0_rad
-        try:
-            return self.robot.ik_path(targets, q0)
-        except RuntimeError:
-            reach = _reach_mm(self.robot)
-            p = np.asarray(targets, float)[:, :3, 3]
-            far = float(np.max(np.linalg.norm(p, axis=1)))
-            raise RawDataError(
-                data_file, f"points are not reachable by robot '{self.robot.name}' of "
-                f"{self.path} (up to {far:.0f} mm from its base, reach about {reach:.0f} mm)",
-                where=f"{instrument} points in the robot base frame",
-                expected=f"points in the base frame of this robot: register the {instrument} "
-                         f"frame with base_from_instrument.{instrument} "
-                         "{rotation, translation_mm} in cell.yaml") from None
-
-
-def _reach_mm(robot: SerialRobot) -> float:
-    """Upper bound of the TCP distance from the base origin [mm] (sum of link lengths)."""
-    total = sum(abs(float(a)) + abs(float(d)) for a, d in zip(robot.a_mm, robot.d_mm, strict=True))
-    return total + float(np.linalg.norm(robot.tool_mm))
+        return reachable_joint_path_rad(self.robot, targets, q0, data_file=data_file,
+                                        instrument=instrument, cell_file=self.path)
 
 
 def _matrix(path: Path, where: str, value: Any, shape: tuple[int, ...], what: str

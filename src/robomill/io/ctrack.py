@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 from robomill.io.tables import read_numeric_csv
 
 XYZ = ["x_mm", "y_mm", "z_mm"]

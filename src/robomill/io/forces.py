@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 
 COLUMNS = ("t_s", "Fx_N", "Fy_N", "Fz_N")
 """Required columns (CSV) or datasets (HDF5), in this order."""

@@ -34,7 +34,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 from robomill.io.tables import check_uniform, read_numeric_csv
 
 ACCEL_COLUMNS = ("ax_ms2", "ay_ms2", "az_ms2")

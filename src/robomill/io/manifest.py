@@ -20,8 +20,8 @@ from typing import Any
 
 import yaml
 
+from robomill.errors import RawDataError
 from robomill.experiment import CUT_ID, DIRECTION_VECTORS, FREE_CUT_ID, MILLING, Cut
-from robomill.io.errors import RawDataError
 from robomill.io.hashing import sha256_file
 
 # the same safe constructor over the C parser when PyYAML was built with libyaml

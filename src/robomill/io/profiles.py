@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 from robomill.io.tables import check_uniform, read_numeric_csv
 
 MIN_SAMPLES = 64

@@ -20,7 +20,7 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 from robomill.io.tables import read_numeric_csv
 from robomill.kinematics import SerialRobot, robot_from_mapping
 

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 
 _log = logging.getLogger("robomill.io")
 

@@ -146,8 +146,14 @@ def private_kernel_manager(kernel: str, socket_dir: Path):
     IPC sockets in a folder private to the job cannot collide. A class, not an instance, is
     handed to papermill (``kernel_manager_class``) so that nbclient owns the manager and
     shuts the kernel down when the notebook is done.
+
+    The kernel also applies :mod:`robomill._imports`' start-up patches before the first cell
+    (:data:`~robomill._imports.KERNEL_STARTUP_ARGUMENT`), as the pipeline's other entry points
+    do.
     """
     from jupyter_client.manager import AsyncKernelManager
+
+    from robomill._imports import KERNEL_STARTUP_ARGUMENT
 
     prefix = str(Path(socket_dir) / "kernel")
 
@@ -155,6 +161,10 @@ def private_kernel_manager(kernel: str, socket_dir: Path):
         def __init__(self, **kwargs):
             kwargs.setdefault("kernel_name", kernel)
             super().__init__(transport="ipc", ip=prefix, **kwargs)
+
+        def format_kernel_cmd(self, extra_arguments=None):
+            return super().format_kernel_cmd([*(extra_arguments or []),
+                                              KERNEL_STARTUP_ARGUMENT])
 
     return PrivateSocketKernelManager
 

@@ -15,7 +15,7 @@ from typing import Any
 
 import yaml
 
-from robomill.io.errors import ConfigError
+from robomill.errors import ConfigError
 
 
 def _load_yaml(path: Path) -> Any:

@@ -251,7 +251,7 @@ def _gears_from_config(transmissions: Sequence[Mapping], errors: Sequence[Mappin
     """The planted gear stages: the cell's nominal ``transmissions`` (``config.yaml: cell``)
     with the error amplitudes of ``synth.gears`` matched by (joint, stage); a transmission
     without an entry has no error. Phases are drawn in the order of the transmissions."""
-    from robomill.io.errors import ConfigError
+    from robomill.errors import ConfigError
 
     planted = {(int(g["joint"]), str(g["stage"])): g for g in errors}
     known = {(int(t["joint"]), str(t["stage"])) for t in transmissions}

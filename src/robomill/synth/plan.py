@@ -2,14 +2,16 @@
 manifest (without sha256), computed from the configuration alone.
 
 Snakemake plans its DAG from here at every start (``workflow/rules/common.smk``), so this
-module imports no simulator: each instrument's ``plan(config)`` delegates to the functions
-below, and the plan goes through the same parser as a real folder's ``manifest.yaml``
+module imports no simulator (the simulators import it; :mod:`robomill.synth.truth` imports
+them): each instrument's ``plan(config)`` delegates to the functions below, and the plan goes
+through the same parser as a real folder's ``manifest.yaml``
 (:func:`robomill.io.manifest.parse_manifest` with ``require_sha256=False``): cuts and files
 come from one place in both modes.
 """
 
 from __future__ import annotations
 
+import importlib
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -51,7 +53,7 @@ def synthetic_cuts(config: Mapping[str, Any]) -> list[Cut]:
     exp = config["experiment"]
     if not exp.get("cuts"):
         return plan_cuts(exp["sets"], int(config["synth"]["sets"]), exp["directions"])
-    from robomill.io.errors import ConfigError, RawDataError
+    from robomill.errors import ConfigError, RawDataError
     from robomill.io.manifest import parse_manifest
 
     header = experiment_header(config)
@@ -166,10 +168,10 @@ def synthetic_manifest(config: Mapping[str, Any]) -> dict[str, Any]:
             "files": planned_files(config)}
 
 
-def instruments() -> dict[str, Any]:
-    """The simulator module of each raw-data kind (imports them: for the truth, not planning;
-    plain imports, so that the rules' code inputs, derived from the import graph, see them)."""
-    from robomill.synth import ctrack, dynamometer, impact, loadtests, profilometer, tracker
-
-    return {"profile": profilometer, "force": dynamometer, "tracker": tracker,
-            "impact": impact, "ctrack": ctrack, "stiffness": loadtests}
+def __getattr__(name: str) -> Any:
+    """``instruments`` (now :func:`robomill.synth.truth.instruments`, its one user), looked up
+    on first use: importing it here would import every simulator, and each imports this module
+    (a cycle)."""
+    if name == "instruments":
+        return importlib.import_module("robomill.synth.truth").instruments
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,4 +1,8 @@
-"""The planted truth of the virtual study: the cell's own plus each instrument's."""
+"""The planted truth of the virtual study: the cell's own plus each instrument's.
+
+The one module that imports every simulator (the simulators import the plan,
+:mod:`robomill.synth.plan`, which imports none of them).
+"""
 
 from __future__ import annotations
 
@@ -7,8 +11,14 @@ from typing import Any
 
 import xarray as xr
 
+from robomill.synth import ctrack, dynamometer, impact, loadtests, profilometer, tracker
 from robomill.synth.cell import cell_from_config
-from robomill.synth.plan import instruments
+
+
+def instruments() -> dict[str, Any]:
+    """The simulator module of each raw-data kind."""
+    return {"profile": profilometer, "force": dynamometer, "tracker": tracker,
+            "impact": impact, "ctrack": ctrack, "stiffness": loadtests}
 
 
 def cell_truth(config: Mapping[str, Any]) -> xr.Dataset:

@@ -1,0 +1,32 @@
+# The one chapter rule. Every chapter is this rule used under its target's name
+# (`use rule chapter as ch2 with:`), so that `snakemake -j2 ch2` keeps working: its stage file
+# gives only the chapter's inputs (each named input is a notebook parameter) and its other
+# notebook parameters (CHAPTER_PARAMETERS); outputs, log and benchmark come from the table
+# CHAPTERS (common.smk).
+# The notebook is an input; the executed .ipynb, the .html and the figure folder are outputs.
+
+
+# The template itself builds nothing that `all` asks for: its outputs (by target name,
+# results/chapters/ch2.html) are never requested, and where its figure folder matches a
+# copy's (results/figures/ch2) Snakemake picks the copy, a rule without wildcards.
+rule chapter:
+    input:
+        notebook=lambda w: notebook(f"{CHAPTERS[w.target][0]}.ipynb"),
+    output:
+        ipynb="results/chapters/{target}.ipynb",
+        html="results/chapters/{target}.html",
+        figures=directory("results/figures/{target}"),
+    log:
+        "results/logs/chapters/{target}.log",
+    benchmark:
+        "results/benchmarks/rules/chapters/{target}.tsv"
+    wildcard_constraints:
+        target="|".join(CHAPTERS),
+    conda:
+        ENV
+    params:
+        options=config["chapters"],
+        failed_copy=chapter_failed_copy,
+        parameters=chapter_parameters,
+    script:
+        "../scripts/render_chapter.py"
