@@ -138,7 +138,9 @@ NOT_SCIENCE = ("pipeline", "cli", "importers", "synth", "io")
 #: loads neither the artefact writer nor the manifest: robomill.io's names are lazy)
 SCIENCE_MAY_READ = {"robomill.io.forces", "robomill.io.impact", "robomill.io.cell",
                     "robomill.io.robots", "robomill.io.tables", "robomill.io.profiles",
-                    "robomill.io.tracker", "robomill.io.ctrack"}
+                    "robomill.io.tracker", "robomill.io.ctrack",
+                    # the atomic file write (temporary file, then rename) of the UFF writers
+                    "robomill.io.atomic"}
 ERROR_TYPES = {"RawDataError", "ConfigError"}
 
 

@@ -22,7 +22,7 @@ group                                   manifest key (conversion)
 ``--design KEY=VALUE`` (repeatable, the same names) gives a key the names do not carry for
 every cut of the import (``--design direction=px --design flutes=2``). Keys neither gives
 stay ``null`` in ``cuts:`` and ``robomill manifest`` lists
-them. Every problem is one :class:`~robomill.io.errors.RawDataError` naming the file (or the
+them. Every problem is one :class:`~robomill.errors.RawDataError` naming the file (or the
 option) and the group.
 """
 
@@ -34,7 +34,7 @@ from pathlib import Path
 from typing import Any
 
 from robomill.experiment import DIRECTION_VECTORS, FREE_CUT_ID, MILLING
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 
 
 def _number(text: str) -> float | int:
