@@ -34,6 +34,8 @@ FRF convention (as in sdypy-EMA): ``H(ω) = Σ_r A_r/(jω − p_r) + A_r*/(jω �
 
 from __future__ import annotations
 
+from robomill.lazy import lazy_exports
+
 _NAMES = {
     "band": ("BAND_COVERAGE_MIN", "BandChoice", "band_coverage", "band_from_data",
              "choose_band"),
@@ -57,22 +59,4 @@ _NAMES = {
 }
 """Submodule → the public names it defines (the lazy import table)."""
 
-_WHERE = {name: module for module, names in _NAMES.items() for name in names}
-
-__all__ = sorted(_WHERE)
-
-
-def __getattr__(name: str):
-    """Load a public name from its submodule on first use (PEP 562)."""
-    module = _WHERE.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    import importlib
-
-    value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__, __all__ = lazy_exports(__name__, _NAMES)
