@@ -33,8 +33,8 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from robomill.experiment import DIRECTION_VECTORS, FREE_CUT_ID, MILLING
 from robomill.errors import RawDataError
+from robomill.experiment import DIRECTION_VECTORS, FREE_CUT_ID, MILLING
 
 
 def _number(text: str) -> float | int:
