@@ -94,8 +94,17 @@ class Findings:
         return self.items[key]
 
     def values(self) -> dict[str, Any]:
-        """Every finding's value by key (the fields a sentence template uses)."""
-        return {k: f.value for k, f in self.items.items()}
+        """The fields a sentence template uses: every finding's value by key, and for a
+        verdict ``verdict_<key>`` and ``threshold_<key>``; ``n_comparisons`` and
+        ``n_comparisons_pass`` count the comparison rows."""
+        out = {k: f.value for k, f in self.items.items()}
+        for k, f in self.items.items():
+            if f.verdict is not None:
+                out[f"verdict_{k}"] = f.verdict
+                out[f"threshold_{k}"] = f.threshold
+        out["n_comparisons"] = len(self.comparisons)
+        out["n_comparisons_pass"] = sum(c.get("verdict") == "pass" for c in self.comparisons)
+        return out
 
     def as_dict(self) -> dict[str, Any]:
         return {"version": FINDINGS_VERSION, "stage": self.stage,

@@ -9,11 +9,13 @@ template is a string, or a mapping with
 * ``text``: the sentence;
 * ``absent``: what to say when a field it needs is missing (or ``None``) or the finding is
   absent (default: nothing) — never a Python error;
-* ``when``: a finding whose truthy value selects ``text`` (``absent`` otherwise);
+* ``when`` / ``unless``: a finding (or a list of them) whose values must all be truthy /
+  all falsy for ``text`` (``absent`` otherwise);
 * ``cases``: ``{<text id>: sentence}`` chosen by the value of the finding named ``by``
   (``absent`` for an id not listed).
 
-A list value formats element-wise and joins with ", " (``{modes_hz:.2f}`` → "20.01, 35.20"); a
+A list value formats element-wise and joins with ", " (``{modes_hz:.2f}`` → "20.01, 35.20"), or
+with the separator after a ``|`` (``{flagged:|; }``); a
 ``[low, high]`` range is indexed (``{band_hz[0]}``). Fields may also come from ``extra`` (a
 figure or table reference of the notebook's numbering).
 """
@@ -53,7 +55,8 @@ class _Formatter(string.Formatter):
 
     def format_field(self, value, format_spec):
         if isinstance(value, list | tuple):
-            return ", ".join(self.format_field(v, format_spec) for v in value)
+            spec, _, sep = format_spec.partition("|")
+            return (sep or ", ").join(self.format_field(v, spec) for v in value)
         if isinstance(value, bool) and format_spec:
             value = int(value)
         try:
@@ -88,7 +91,9 @@ def render(template: str | Mapping[str, Any], findings: Findings | Mapping[str, 
     absent = template.get("absent", "")
     absent_text = fill(absent, fields) if absent else ""
     absent_text = absent_text if absent_text is not None else ""
-    if "when" in template and not fields.get(template["when"]):
+    when, unless = template.get("when", []), template.get("unless", [])
+    if (not all(fields.get(k) for k in ([when] if isinstance(when, str) else when))
+            or any(fields.get(k) for k in ([unless] if isinstance(unless, str) else unless))):
         return absent_text
     if "cases" in template:
         chosen = template["cases"].get(str(fields.get(template.get("by", ""), "")))
@@ -109,6 +114,18 @@ def load_templates(chapter: str, directory: str | Path | None = None) -> dict[st
     if not isinstance(data, Mapping):
         raise ValueError(f"{path}: expected a mapping of template name → template")
     return dict(data)
+
+
+COMPARISON_COLUMNS = ["quantity", "ours", "source_value", "unit", "tolerance", "verdict",
+                      "reason", "citation"]
+
+
+def comparison_table(findings: Findings):
+    """The comparison rows of a findings artefact as a table (the "Against the thesis"
+    section of a chapter): ours, the source's value, the verdict, the reason of any miss."""
+    import pandas as pd
+
+    return pd.DataFrame(findings.comparisons, columns=COMPARISON_COLUMNS)
 
 
 class Prose:

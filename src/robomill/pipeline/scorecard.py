@@ -2,7 +2,8 @@
 
 The checks live in ``robomill/data/scorecard.yaml``. Each names the source number by its key
 in ``robomill/data/references.yaml`` (value, unit and citation live there once, read by
-:mod:`robomill.references`) and a *locator* of our value in an artefact, ``<path>::<column or variable>[<key>=<value>,…]@<agg>``:
+:mod:`robomill.references`) and a *locator* of our value in an artefact,
+``<path>::<column or variable>[<key>=<value>,…]@<agg>``:
 
 * ``results/modal/modes.csv::f_n_hz[mode=3]`` — one cell of a table;
 * ``results/forces/peaks.csv::dominant_hz@median`` — an aggregate over a column
@@ -185,3 +186,20 @@ def build_scorecard(root: str | Path = ".", checks: list[dict] | None = None, *,
             "artefact": c["locator"],
         })
     return pd.DataFrame(rows, columns=SCORECARD_COLUMNS)
+
+
+def stage_checks(stage: str) -> list[dict[str, Any]]:
+    """The checks whose artefact lies under ``results/<stage>/``."""
+    return [c for c in load_checks()
+            if (c.get("locator") or "").startswith(f"results/{stage}/")]
+
+
+def stage_comparisons(stage: str, root: str | Path = ".", *,
+                      thesis_study: bool = True) -> list[dict[str, Any]]:
+    """The scorecard rows of one stage as a findings artefact's ``comparisons`` (the rows of
+    a chapter's "Against the thesis" section, :func:`robomill.findings.comparison_rows`);
+    empty for a study that is not the thesis' design."""
+    from robomill.findings import comparison_rows
+
+    card = build_scorecard(root, stage_checks(stage), thesis_study=thesis_study)
+    return comparison_rows(card.to_dict("records"))
