@@ -154,12 +154,16 @@ def _refs(templates):
 def test_chapter_3_3_prose_follows_its_findings():
     ds, synth, tables = _modal_inputs(misfit=0.37)
     tables["modes"]["f_n_hz"] = [21.5, 47.25]
-    found = modal_findings(ds, synth, tables, coherence_min=0.6, coupling_tolerance=0.25)
+    found = modal_findings(ds, synth, tables, coherence_min=0.6, coupling_tolerance=0.25,
+                           stability={"tol_f": 0.02, "tol_zeta": 0.07, "mac_min": 0.9})
     say = Prose(load_templates("ch3_3"), found)
     text = say(*say.templates, **_refs(say.templates))
     assert "21.50, 47.25 Hz" in text and "**2 modes**" in text
     assert "coherence > 0.6" in text and "±25 %" in text
     assert "median 37.00 %" in text
+    joined = " ".join(text.split())
+    assert "within 2 % in frequency" in joined and "7 % in damping" in joined
+    assert "MAC ≥ 0.9 " in joined
     assert "**6 hits**" in text and "**2 rejected**" in " ".join(text.split())
     assert "from the hammer spectrum" in text
     assert "{" not in text  # every field filled or its sentence left out
@@ -171,6 +175,9 @@ def test_chapter_3_3_prose_follows_its_findings():
     thesis.comparisons = [{"verdict": "pass"}, {"verdict": "miss"}]
     assert "1 of 2" in Prose(load_templates("ch3_3"), thesis)("against")
     assert "not compared" in Prose(load_templates("ch3_3"), Findings("modal"))("against")
+    found.comparisons = [{"verdict": "miss"}]
+    joined = " ".join(Prose(load_templates("ch3_3"), found)("thesis_test", "against").split())
+    assert "averages 5 accepted hits" in joined and "0 of 1 reproduced" in joined
 
 
 def test_chapter_4_prose_follows_its_findings():

@@ -3,9 +3,9 @@
 #
 # Thesis §3.3: an impact hammer (with a force sensor) hits the tool tip along X, Y and Z; a
 # triaxial accelerometer beside the tip records the response. Each of the nine FRFs
-# H[output, input] is averaged over the accepted hits (thesis: 5), and a natural frequency is
-# where the real part changes sign between a maximum and a minimum, the imaginary part has an
-# extremum and the coherence exceeds 0.75.
+# H[output, input] is averaged over the accepted hits, and a natural frequency is where the
+# real part changes sign between a maximum and a minimum, the imaginary part has an extremum
+# and the coherence exceeds a threshold (the thesis' numbers: "Against the thesis" below).
 #
 # This pipeline goes further: double hits and overloads are rejected automatically, force and
 # exponential windows are applied (and the damping the exponential window adds is removed),
@@ -275,9 +275,9 @@ grouped.round(2)
 # %% [markdown]
 # ### Stabilization chart (LSCF, sdypy-EMA)
 #
-# Poles of every model order; a pole is stable when the previous order has one within 1 % in
-# frequency, 5 % in damping and with a residue vector of MAC ≥ 0.95 (the configured
-# tolerances). The background curve is the sum of |H| over all measured FRFs.
+# Poles of every model order; a pole is stable when the previous order has one within the
+# configured tolerances in frequency and damping and with a residue vector of high MAC (below).
+# The background curve is the sum of |H| over all measured FRFs.
 
 # %%
 fig, ax = plt.subplots(figsize=(9, 5))
@@ -301,7 +301,8 @@ ax.set_title("Stabilization chart")
 save_figure(fig, fig_dir, num.file("stabilization"))
 plt.show()
 display(num.caption("stabilization"))
-display(Markdown(say("stabilization", ref_stabilization=num.ref("stabilization"))))
+display(Markdown(say("stability_tolerances", "stabilization",
+                     ref_stabilization=num.ref("stabilization"))))
 
 # %% [markdown]
 # ### The modes
@@ -404,7 +405,7 @@ if len(coupling_table):
 # ## Against the thesis
 
 # %%
-display(Markdown(say("against")))
+display(Markdown(say("thesis_test", "against")))
 comparison_table(found) if found.comparisons else None
 
 # %%

@@ -112,6 +112,7 @@ rule modal_findings:
     params:
         coherence_min=config["modal"]["coherence_min"],
         coupling_tolerance=config["modal"]["coupling_tolerance"],
+        stability={k: config["modal"][k] for k in ("tol_f", "tol_zeta", "mac_min")},
         thesis_study=THESIS_STUDY,
     script:
         "../scripts/modal_findings.py"

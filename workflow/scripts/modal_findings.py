@@ -15,7 +15,8 @@ found = modal_findings(read_frf(snakemake.input.frf),
                        join_complex(open_artefact(snakemake.input.synth)),
                        read_tables(snakemake.input),
                        coherence_min=snakemake.params.coherence_min,
-                       coupling_tolerance=snakemake.params.coupling_tolerance)
+                       coupling_tolerance=snakemake.params.coupling_tolerance,
+                       stability=snakemake.params.stability)
 found.comparisons = stage_comparisons("modal", thesis_study=bool(snakemake.params.thesis_study))
 write_findings(found, snakemake.output.findings)
 log.info("%d findings, %d comparison rows", len(found.items), len(found.comparisons))

@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from robomill import references
 from robomill.findings import Findings
 from robomill.modal.checks import synthesis_misfit
 from robomill.modal.layout import TOOLTIP, points
@@ -150,14 +151,34 @@ def _coupling(f: Findings, coupling: pd.DataFrame, pairs: pd.DataFrame,
           what="rows")
 
 
+def _stability(f: Findings, settings: Mapping[str, float]) -> None:
+    """The stabilization tolerances the chart used (``config.yaml: modal``)."""
+    for key, name, scale in (("stab_tol_f_pct", "tol_f", 100), ("stab_tol_zeta_pct", "tol_zeta",
+                                                                   100),
+                             ("stab_mac_min", "mac_min", 1)):
+        if name in settings:
+            f.add(key, scale * float(settings[name]), "%" if scale == 100 else "",
+                  artefact="config.yaml", what=f"modal.{name}", config_key=f"modal.{name}")
+
+
+def _sources(f: Findings) -> None:
+    """The thesis' test numbers the chapter names (``robomill/data/references.yaml``)."""
+    for key, ref in (("ref_hits_per_direction", "thesis.modal.hits_per_direction"),
+                     ("ref_coherence_min", "thesis.modal.coherence_min")):
+        f.add(key, references.value(ref), artefact="src/robomill/data/references.yaml",
+              what=ref)
+
+
 def modal_findings(ds: xr.Dataset, synth: xr.Dataset, tables: Mapping[str, pd.DataFrame], *,
-                   coherence_min: float, coupling_tolerance: float) -> Findings:
+                   coherence_min: float, coupling_tolerance: float,
+                   stability: Mapping[str, float] | None = None) -> Findings:
     """The findings of chapter 3.3.
 
     ``ds``: the FRF dataset (:func:`robomill.io.impact.read_frf`); ``synth``: the synthesized
     FRFs with complex ``H_synth`` (:func:`robomill.modal.ncio.join_complex`); ``tables``: the
     stage's tables by name: ``hits``, ``modes``, ``peaks``, ``stabilization``, ``mac``,
-    ``peak_groups``, ``truth_check``, ``coupling``, ``coupling_pairs``.
+    ``peak_groups``, ``truth_check``, ``coupling``, ``coupling_pairs``; ``stability``: the
+    stabilization tolerances ``tol_f``, ``tol_zeta``, ``mac_min`` of ``config.yaml: modal``.
     """
     f = Findings("modal")
     _layout(f, ds, synth)
@@ -167,6 +188,8 @@ def modal_findings(ds: xr.Dataset, synth: xr.Dataset, tables: Mapping[str, pd.Da
     _truth(f, tables["truth_check"], tables["modes"])
     _misfit(f, ds, synth)
     _coupling(f, tables["coupling"], tables["coupling_pairs"], coupling_tolerance)
+    _stability(f, stability or {})
+    _sources(f)
     return f
 
 
