@@ -73,7 +73,11 @@ def _chatter_inputs():
          "bifurcation": ("spindle_rpm", ["hopf", "hopf", "flip"]),
          "collocation_order": ("spindle_rpm", [8, 10, 12])},
         coords={"solver": ["zoa", "sem"], "spindle_rpm": rpm},
-        attrs={"accuracy": 0.005, "case_name": "insperger2004_down005"})
+        attrs={"accuracy": 0.005, "case_name": "insperger2004_down005", "case_teeth": 2,
+               "case_Kt_N_m2": 6e8, "case_Kr": 0.3, "case_milling": "down",
+               "case_radial_immersion": 0.05, "depth_max_mm": 10.0,
+               "case_spindle_rpm": '{"start": 5000, "stop": 25000, "num": 3}',
+               "case_modes": '{"x": [], "y": []}'})
     n = np.array([1000.0, 1260.0])
     runs = ["point1", "point2", "point2_adaptive"]
     sim = xr.Dataset(
@@ -102,7 +106,10 @@ def _chatter_inputs():
                "Kt_noise_fraction": 0.005, "detections_point1_s": np.array([]),
                "detections_adaptive_s": np.array([1.5, 2.5]),
                "adaptation_setpoint_fraction": np.array([0.99, 0.98]),
-               "adaptation_lowered_fraction": 0.02})
+               "adaptation_lowered_fraction": 0.02,
+               "seed_params": '{"m_kg": 2.0, "m_s_kg": 0.2, "c_s_N_m": 220000.0, "teeth": 4, '
+                              '"Kt_N_m2": 9e8, "Kr": 0.6, "phi_ex_rad": 1.5707963, '
+                              '"feed_m_s": 0.01, "force_setpoint_N": 40.0}'})
     lobes = xr.Dataset(
         {"a_crit_mm": (("direction", "solver", "spindle_rpm"), np.ones((2, 2, 2))),
          "a_crit_error_mm": (("direction", "spindle_rpm"), [[0.001, 0.002], [0.004, 0.001]])},
@@ -141,6 +148,15 @@ def test_chatter_findings_from_planted_artefacts():
     assert v["robot_worst_rpm"] == 27000.0
     assert (v["n_cuts"], v["n_cuts_chatter_free"]) == (2, 1) and v["safety_pct"] == 20.0
     assert v["ref_sdm_converged_6400_mm"] == 1.6392
+
+
+def test_chatter_findings_flip_speed_of_a_one_mode_case():
+    cases, sim, lobes, rec = _chatter_inputs()
+    cases["insperger2004_down005"].attrs["case_modes"] = (
+        '{"x": [{"f_hz": 900.0, "zeta": 0.01, "k_N_m": 1e6}], "y": []}')
+    v = chatter_findings(cases, sim, lobes, rec, safety_fraction=0.2).values()
+    assert v["bench_flip_speed_rpm"] == pytest.approx(18000.0)  # 60 * 2 * 900 / (3 * 2)
+    assert v["bench_Kn_N_m2"] == pytest.approx(1.8e8) and v["bench_fn_hz"] == 900.0
 
 
 def _refs(templates):
@@ -194,4 +210,7 @@ def test_chapter_4_prose_follows_its_findings():
     assert "at 28000 rpm" in text and "(1 of 2 cuts chatter-free)" in text
     assert "No slotting case configured." in text
     assert "+3.1 %" in text and "1.6392 mm" in text  # from references.yaml
+    assert "≈ 18440 rpm" not in text  # the planted case lists no modes: no flip-speed sentence
+    assert "Case `insperger2004_down005` (`config.yaml: chatter.cases`)." in text
+    assert "tool partial frequency 167 Hz" in text and "K_t = 900 MPa" in text
     assert "{" not in text

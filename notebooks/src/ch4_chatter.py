@@ -79,13 +79,10 @@ num.table("recommendations", "Stability margins of the configured cuts and the "
 # ## 4.1 Lobes for any machine: the published benchmark
 #
 # Case `insperger2004_down005` is the 1-DOF benchmark of Insperger & Stépán (2004), also
-# computed by Ding et al. (2010): N = 2, K_t = 6·10⁸ N/m², K_n = 2·10⁸ N/m², f_n = 922 Hz,
-# ζ = 0.011, k = 1.34·10⁶ N/m, down-milling a_e/D = 0.05. The published diagram (their Fig. for
-# a/D = 0.05, 5 000–25 000 rpm, 0–10 mm) shows Hopf lobes with minima near 1.7–1.8 mm and,
-# between them, flip (period-doubling) lobes that dip deepest just below Ω ≈ 60·2f_n/(3N)
-# ≈ 18 400 rpm — lobes the zero-order method cannot produce.
+# computed by Ding et al. (2010).
 
 # %%
+display(Markdown(say("bench_case")))
 ds = case_ds[name]
 rpm = ds.spindle_rpm.values
 a_z = ds.a_crit_mm.sel(solver="zoa").values
@@ -154,15 +151,14 @@ display(Markdown(say("slot", ref_slot=num.ref("slot") if HAS_SLOT else "")))
 # %% [markdown]
 # ## 4.2 Seed 002: robot–tool–surface in the time domain
 #
-# Arm m = 2 kg and tool m_s = 0.2 kg on the suspension c_s = 2.2·10⁵ N/m (tool partial
-# frequency 167 Hz), vertical position–force PID cascade, horizontal velocity PID, N = 4,
-# K_t = 1000 MPa, K_r = 0.6, φ from 0 to π/2, feed 0.01 m/s, F_sy^d = 40 N, n = 1260 rpm.
-# The lobes below use the closed-loop horizontal tool-point dynamics (arm + velocity PID +
-# suspension); the seed drew its diagram by D-partition, which is the frequency-domain
-# (zero-order) boundary. This diagram, the seed's boundary at n and the onset checks use the
-# first-order semi-discretization (SDM) with `chatter.seed.sdm_steps_per_period` steps.
+# The seed's model (its parameters below, from `chatter.seed`). The lobes below use the
+# closed-loop horizontal tool-point dynamics (arm + velocity PID + suspension); the seed drew
+# its diagram by D-partition, which is the frequency-domain (zero-order) boundary. This
+# diagram, the seed's boundary at n and the onset checks use the first-order
+# semi-discretization (SDM) with `chatter.seed.sdm_steps_per_period` steps.
 
 # %%
+display(Markdown(say("seed_model")))
 sp = sim.spindle_rpm.values
 fig, ax = plt.subplots()
 ax.plot(sp, sim.seed_a_crit_mm.sel(solver="zoa"), color="0.5", label="ZOA (D-partition)")

@@ -11,6 +11,7 @@ below the limit; the lobes are converged to ``chatter.accuracy``.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Mapping
 from typing import Any
 
@@ -40,6 +41,7 @@ def _case(f: Findings, name: str, ds: xr.Dataset) -> None:
     kind = ds["bifurcation"].values.astype(str)
     flip = kind == "flip"
     f.add("bench_case", name, artefact=art, what="attrs.case_name")
+    _case_setup(f, art, ds.attrs)
     f.add("bench_accuracy_pct", 100 * float(ds.attrs["accuracy"]), "%", artefact=art,
           what="attrs.accuracy", config_key="chatter.accuracy")
     f.add("bench_hopf_min_mm", float(np.nanmin(np.where(kind == "hopf", a_s, np.nan))), "mm",
@@ -76,6 +78,53 @@ def _case(f: Findings, name: str, ds: xr.Dataset) -> None:
               what=f"a_crit_error_mm[spindle_rpm={n}]")
 
 
+def _case_setup(f: Findings, art: str, attrs: Mapping[str, Any]) -> None:
+    """The configured case as the chapter describes it (``config.yaml: chatter.cases``, kept
+    in the case's attributes); the speed of the deepest flip lobe of a one-mode tool,
+    Ω ≈ 60·2 f_n / (3 N) rpm (Insperger & Stépán 2004)."""
+    teeth = int(attrs["case_teeth"])
+    f.add("bench_teeth", teeth, artefact=art, what="attrs.case_teeth")
+    f.add("bench_Kt_N_m2", float(attrs["case_Kt_N_m2"]), "N/m²", artefact=art,
+          what="attrs.case_Kt_N_m2")
+    f.add("bench_Kn_N_m2", float(attrs["case_Kt_N_m2"]) * float(attrs["case_Kr"]), "N/m²",
+          artefact=art, what="attrs.case_Kt_N_m2 × attrs.case_Kr")
+    f.add("bench_milling", str(attrs["case_milling"]), artefact=art, what="attrs.case_milling")
+    f.add("bench_immersion", float(attrs["case_radial_immersion"]), artefact=art,
+          what="attrs.case_radial_immersion")
+    rng = json.loads(attrs["case_spindle_rpm"])
+    f.add("bench_rpm_range", [float(rng["start"]), float(rng["stop"])], "rpm", artefact=art,
+          what="attrs.case_spindle_rpm")
+    f.add("bench_depth_max_mm", float(attrs["depth_max_mm"]), "mm", artefact=art,
+          what="attrs.depth_max_mm")
+    modes = [m for axis in json.loads(attrs["case_modes"]).values() for m in axis]
+    f.add("bench_one_mode", len(modes) == 1, artefact=art, what="attrs.case_modes")
+    if len(modes) == 1:
+        m = modes[0]
+        f.add("bench_fn_hz", float(m["f_hz"]), "Hz", artefact=art, what="attrs.case_modes")
+        f.add("bench_zeta", float(m["zeta"]), artefact=art, what="attrs.case_modes")
+        f.add("bench_k_N_m", float(m["k_N_m"]), "N/m", artefact=art, what="attrs.case_modes")
+        f.add("bench_flip_speed_rpm", 60 * 2 * float(m["f_hz"]) / (3 * teeth), "rpm",
+              artefact=art, what="60·2 f_n / (3 N)")
+
+
+def _seed_setup(f: Findings, sim: xr.Dataset) -> None:
+    """The seed-002 model's parameters (``attrs.seed_params``) and its tool's partial
+    frequency on the suspension, √(c_s/m_s)/2π."""
+    p = json.loads(sim.attrs["seed_params"])
+    for key, name, unit, scale in (("seed_m_kg", "m_kg", "kg", 1), ("seed_m_s_kg", "m_s_kg",
+                                                                    "kg", 1),
+                                   ("seed_c_s_N_m", "c_s_N_m", "N/m", 1),
+                                   ("seed_teeth", "teeth", "", 1),
+                                   ("seed_Kt_MPa", "Kt_N_m2", "MPa", 1e-6),
+                                   ("seed_Kr", "Kr", "", 1),
+                                   ("seed_phi_ex_deg", "phi_ex_rad", "°", 180 / np.pi),
+                                   ("seed_feed_m_s", "feed_m_s", "m/s", 1),
+                                   ("seed_force_N", "force_setpoint_N", "N", 1)):
+        f.add(key, scale * p[name], unit, artefact=SIM, what=f"attrs.seed_params.{name}")
+    f.add("seed_tool_hz", float(np.sqrt(p["c_s_N_m"] / p["m_s_kg"]) / (2 * np.pi)), "Hz",
+          artefact=SIM, what="sqrt(c_s / m_s) / 2π")
+
+
 def _slot(f: Findings, ds: xr.Dataset | None) -> None:
     f.add("has_slot", ds is not None, artefact=f"results/chatter/cases/{SLOT}.nc",
           what="file")
@@ -95,6 +144,8 @@ def _slot(f: Findings, ds: xr.Dataset | None) -> None:
 
 def _seed(f: Findings, sim: xr.Dataset) -> None:
     a = sim.attrs
+    if "seed_params" in a:
+        _seed_setup(f, sim)
     for key, attr, unit in (("seed_a_star_mm", "a_star_mm", "mm"),
                             ("seed_n_rpm", "spindle_rpm_seed", "rpm"),
                             ("seed_boundary_mm", "a_boundary_at_n_mm", "mm"),
@@ -203,7 +254,8 @@ def _sources(f: Findings) -> None:
                                          "solver_sem_spindle_rpm_6400_0"),
                      ("ref_sdm_8400_mm", "insperger2004.chatter.insperger2004_down005.a_crit_mm."
                                          "solver_sem_spindle_rpm_8400_0"),
-                     ("ref_force_band_hz", "thesis.forces.peak_band_hz")):
+                     ("ref_force_band_hz", "thesis.forces.peak_band_hz"),
+                     ("ref_hopf_minima_mm", "insperger2004.hopf_minima_mm")):
         r = references.reference(ref)
         f.add(key, r["value"], r["unit"], artefact="src/robomill/data/references.yaml",
               what=ref)
