@@ -3,9 +3,9 @@
 #
 # Thesis §3.3: an impact hammer (with a force sensor) hits the tool tip along X, Y and Z; a
 # triaxial accelerometer beside the tip records the response. Each of the nine FRFs
-# H[output, input] is averaged over the accepted hits (thesis: 5), and a natural frequency is
-# where the real part changes sign between a maximum and a minimum, the imaginary part has an
-# extremum and the coherence exceeds 0.75.
+# H[output, input] is averaged over the accepted hits, and a natural frequency is where the
+# real part changes sign between a maximum and a minimum, the imaginary part has an extremum
+# and the coherence exceeds a threshold (the thesis' numbers: "Against the thesis" below).
 #
 # This pipeline goes further: double hits and overloads are rejected automatically, force and
 # exponential windows are applied (and the damping the exponential window adds is removed),
@@ -34,8 +34,9 @@ peak_groups: str = None  # results/modal/peak_groups.csv
 truth_check: str = None  # results/modal/truth_check.csv
 coupling: str = None  # results/modal/coupling.csv
 coupling_pairs: str = None  # results/modal/coupling_pairs.csv
+findings: str = None  # results/modal/findings.yaml: every number and verdict stated here
 fig_dir: str = None  # folder for this chapter's figures
-thesis_study: bool = None  # the thesis' study (robomill.experiment.is_thesis_study)
+thesis_study: bool = None  # unused: the comparison rows come with the findings
 
 # %%
 import matplotlib.pyplot as plt
@@ -43,18 +44,19 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
+from robomill.findings import read_findings
 from robomill.io import open_artefact
 from robomill.io.impact import read_frf
-from robomill.modal.checks import COUPLING_TOLERANCE, synthesis_misfit
-from robomill.modal.layout import TOOLTIP, points
+from robomill.modal.checks import synthesis_misfit
+from robomill.modal.layout import points
 from robomill.modal.ncio import join_complex
-from robomill.modal.peaks import THESIS_NATURAL_HZ
 from robomill.pipeline.captions import Numbering
-from robomill.pipeline.design_tables import thesis_gate
+from robomill.pipeline.prose import Prose, comparison_table, load_templates
 from robomill.plotting import save_figure
 
-THESIS_HZ = list(THESIS_NATURAL_HZ)
-vs_thesis = thesis_gate(thesis_study)  # thesis remarks only for the thesis' study
+found = read_findings(findings)
+F = found.values()
+say = Prose(load_templates("ch3_3"), found)
 ds = read_frf(frf)
 sy = join_complex(open_artefact(synth))
 tr = open_artefact(traces)
@@ -69,13 +71,11 @@ check_table = pd.read_csv(truth_check)
 coupling_table = pd.read_csv(coupling)
 pair_table = pd.read_csv(coupling_pairs)
 f = ds["frequency"].values
-sigma = float(ds.attrs["window_sigma_per_s"])
 outs, ins = points(ds, "output"), points(ds, "input")
-TOOLTIP_LAYOUT = outs == list(TOOLTIP) and ins == list(TOOLTIP)
-VS_THESIS_HZ = TOOLTIP_LAYOUT and vs_thesis.shown  # the thesis' frequencies mean something
+TOOLTIP_LAYOUT = bool(F["tooltip_layout"])
 measured = [(o, i) for o in ds["output"].values.tolist() for i in ds["input"].values.tolist()
             if np.isfinite(ds["H"].sel(output=o, input=i).values[1:]).any()]
-band_hz = [float(b) for b in np.atleast_1d(sy.attrs["band_hz"])]
+band_hz = F["band_hz"]
 HAS_TRACES = "time" in tr.dims
 
 num = Numbering("3")
@@ -89,8 +89,7 @@ num.figure("frf_grid", "Every measured FRF: |H| measured (black), synthesized fr
 FRF_PAIRS = [(o, i) for o in ("XYZ" if TOOLTIP_LAYOUT else "") for i in "XYZ"]
 for k, (o, i) in enumerate(FRF_PAIRS):
     num.figure(f"frf_{o}{i}", f"Response {o} / hammer {i}: real part, imaginary part and "
-               "coherence of the receptance, measured (H1) and synthesized"
-               + vs_thesis("; grey verticals: the thesis' natural frequencies"),
+               "coherence of the receptance, measured (H1) and synthesized",
                number=20 + k, stem=f"fig3_{20 + k}_frf_{o}{i}")
 num.figure("stabilization", "Stabilization chart of the LSCF fit over all measured FRFs, "
            "on the sum of |H|", number=29, stem="fig3_29_stabilization")
@@ -106,41 +105,17 @@ if len(check_table):
 num.table("misfit", "Relative misfit of the synthesized FRFs, ‖H_synth − H‖/‖H‖ [%]",
           number=15)
 if len(coupling_table):
-    num.table("coupling", f"Modes against the cutting vibration frequency "
-              f"(±{100 * COUPLING_TOLERANCE:.0f} %)", number=16)
+    num.table("coupling", "Modes against the cutting vibration frequency", number=16)
 
-if VS_THESIS_HZ:
-    display(Markdown("The thesis finds **20, 35, 60, 67, 70, 72 Hz**."))
-display(Markdown(
-    f"Layout: **{len(outs)} response point(s)** ({', '.join(ds['output'].values)}) × "
-    f"**{len(ins)} reference point(s)** ({', '.join(ds['input'].values)}), "
-    f"{len(measured)} FRFs measured"
-    + (" — the thesis' 3×3 tool-tip matrix." if TOOLTIP_LAYOUT else ".")
-    + f" Analysis band {band_hz[0]:.4g}–{band_hz[1]:.4g} Hz"
-    + {"modal.band_hz": " (set in `config.yaml: modal.band_hz`).",
-       "experiment.modal_band_hz": " (the design's band of interest, the manifest's "
-                                   "`experiment.modal_band_hz`).",
-       "data": " (from the hammer spectrum and the coherence)."}.get(
-           str(sy.attrs.get("band_source", "")), ".")))
-if sy.attrs.get("band_flag"):
-    display(Markdown(f"**Sanity flag (band):** {sy.attrs['band_flag']}: modes outside it are "
-                     "not identified."))
-if len(hit_table):
-    rejected = hit_table[~hit_table["accepted"]]
-    display(Markdown(
-        f"**{len(hit_table)} hits** recorded ({hit_table.groupby('reference').size().to_dict()} "
-        f"per reference point), **{len(rejected)} rejected** automatically; sampling "
-        f"{ds.attrs['fs_hz']} Hz, {ds.attrs['record_samples']} samples per record "
-        f"(lines every {f[1] - f[0]:.3g} Hz). Exponential window decay σ = {sigma:.3f} 1/s."))
-    display(Markdown(f"{num.ref('hits')} lists every hit and the reason for each rejection."))
-    display(num.caption("hits"))
-    display(hit_table[["direction", "hit", "accepted", "reason", "peak_force_N"]])
-else:
-    display(Markdown(f"FRFs imported from a modal test system (UFF 58), lines every "
-                     f"{f[1] - f[0]:.3g} Hz; no hit records to check ({num.ref('hits')} is "
-                     "empty)."))
-    display(num.caption("hits"))
-    display(hit_table)
+# %% [markdown]
+# ## What was measured
+
+# %%
+display(Markdown(say("layout", "tooltip", "band", "band_flag", "hits",
+                     ref_hits=num.ref("hits"))))
+display(num.caption("hits"))
+display(hit_table[["direction", "hit", "accepted", "reason", "peak_force_N"]]
+        if len(hit_table) else hit_table)
 
 # %% [markdown]
 # ## The test: hammer directions, and the recorded signals
@@ -198,12 +173,9 @@ def figure_3_18():
     display(num.caption("impact_test"))
 
 
+display(Markdown(say("signals", ref_impact_test=num.ref("impact_test") if HAS_TRACES else "")))
 if HAS_TRACES:
-    display(Markdown(f"{num.ref('impact_test')} draws the test and the signals of the "
-                     "accepted and the rejected hits."))
     figure_3_18()
-else:
-    display(Markdown("No hit records (FRFs imported): no signals to show."))
 
 # %% [markdown]
 # ## The FRF grid: every measured FRF
@@ -243,23 +215,23 @@ fig.tight_layout()
 save_figure(fig, fig_dir, num.file("frf_grid"))
 plt.show()
 display(num.caption("frf_grid"))
-display(Markdown(f"{num.ref('frf_grid')}: the {len(measured)} measured FRFs with the "
-                 "synthesis of the identified modes over them."))
+display(Markdown(say("frf_grid", ref_frf_grid=num.ref("frf_grid"))))
 
 # %% [markdown]
-# ## The nine FRFs: real part, imaginary part, coherence
+# ## What was found
+#
+# ### The nine FRFs: real part, imaginary part, coherence
 #
 # (The thesis' 3×3 tool-tip layout.) Receptance H1 (m/N) averaged over the accepted hits of
 # each hammer direction; the dashed line is the FRF synthesized from the identified modes
 # (LSFD).
 
 # %%
-if VS_THESIS_HZ:
-    display(Markdown("Grey verticals: the thesis' natural frequencies."))
-if FRF_PAIRS:
-    display(Markdown(f"{num.ref(f'frf_{FRF_PAIRS[0][0]}{FRF_PAIRS[0][1]}')}–"
-                     f"{num.ref(f'frf_{FRF_PAIRS[-1][0]}{FRF_PAIRS[-1][1]}')} show the "
-                     "nine FRFs of the tool-tip matrix one by one."))
+display(Markdown(say("frf_nine", **({"ref_frf_first": num.ref(f"frf_{FRF_PAIRS[0][0]}"
+                                                               f"{FRF_PAIRS[0][1]}"),
+                                     "ref_frf_last": num.ref(f"frf_{FRF_PAIRS[-1][0]}"
+                                                              f"{FRF_PAIRS[-1][1]}")}
+                                    if FRF_PAIRS else {}))))
 for o, i in FRF_PAIRS:
     num.ref(f"frf_{o}{i}")
     h = ds["H"].sel(output=o, input=i).values
@@ -271,10 +243,8 @@ for o, i in FRF_PAIRS:
     axs[1].plot(f[band], 1e6 * h.imag[band], "k", lw=1)
     axs[1].plot(f[band], 1e6 * hs.imag[band], "r--", lw=1)
     axs[2].plot(f[band], coh[band], "b", lw=1)
-    axs[2].axhline(0.75, color="tab:orange", ls=":", label="0.75")
-    for ax in axs if VS_THESIS_HZ else ():
-        for fh in THESIS_HZ:
-            ax.axvline(fh, color="0.8", lw=0.8, zorder=0)
+    c_min = F["threshold_n_coherence_ok"]
+    axs[2].axhline(c_min, color="tab:orange", ls=":", label=f"modal.coherence_min = {c_min:g}")
     axs[0].set_ylabel("Re H [µm/N]")
     axs[1].set_ylabel("Im H [µm/N]")
     axs[2].set_ylabel("coherence")
@@ -288,7 +258,7 @@ for o, i in FRF_PAIRS:
     display(num.caption(f"frf_{o}{i}"))
 
 # %% [markdown]
-# ## The thesis' peak picking
+# ### Peak picking (the thesis' criteria)
 #
 # Every extremum of Im H that stands out of its neighbourhood (it rises at least
 # `modal.peak_floor_db` above its local floor: a shoulder or a ripple on a stronger peak's
@@ -296,28 +266,18 @@ for o, i in FRF_PAIRS:
 # checked separately. A frequency counts when it meets both on at least one FRF.
 
 # %%
-picked = grouped["f_hz"].to_numpy(float)
-display(Markdown(
-    f"{len(peak_table)} Im-extrema candidates on the {len(measured)} FRFs; "
-    f"{int(peak_table['real_sign_change'].sum())} pass the real-part criterion, "
-    f"{int(peak_table['coherence_ok'].sum())} the coherence criterion, "
-    f"{int(peak_table['natural_frequency'].sum())} both. "
-    + (f"They group into **{len(grouped)} frequencies**: "
-       f"{', '.join(f'{x:.2f}' for x in picked)} Hz" if len(grouped)
-       else "**No frequency meets both criteria**: peak picking finds no natural frequency")
-    + (f" (thesis: {', '.join(f'{x:g}' for x in THESIS_HZ)} Hz)" if VS_THESIS_HZ else "")
-    + f" ({num.ref('peak_groups')}). Peak picking cannot separate modes whose half-power "
-    "bands overlap on the FRF where both respond; the LSCF fit below does."
-))
+display(Markdown(say("peaks", "peak_groups", ref_peak_groups=num.ref("peak_groups"))
+                 + " Peak picking cannot separate modes whose half-power bands overlap on the "
+                 "FRF where both respond; the LSCF fit below does."))
 display(num.caption("peak_groups"))
 grouped.round(2)
 
 # %% [markdown]
-# ## Stabilization chart (LSCF, sdypy-EMA)
+# ### Stabilization chart (LSCF, sdypy-EMA)
 #
-# Poles of every model order; a pole is stable when the previous order has one within 1 % in
-# frequency, 5 % in damping and with a residue vector of MAC ≥ 0.95 (the configured
-# tolerances). The background curve is the sum of |H| over all measured FRFs.
+# Poles of every model order; a pole is stable when the previous order has one within the
+# configured tolerances in frequency and damping and with a residue vector of high MAC (below).
+# The background curve is the sum of |H| over all measured FRFs.
 
 # %%
 fig, ax = plt.subplots(figsize=(9, 5))
@@ -341,12 +301,11 @@ ax.set_title("Stabilization chart")
 save_figure(fig, fig_dir, num.file("stabilization"))
 plt.show()
 display(num.caption("stabilization"))
-display(Markdown(f"{num.ref('stabilization')}: {int((stab['status'] == 'stable').sum())} "
-                 f"stable poles over the model orders; the green verticals are the "
-                 f"{len(mode_table)} selected modes."))
+display(Markdown(say("stability_tolerances", "stabilization",
+                     ref_stabilization=num.ref("stabilization"))))
 
 # %% [markdown]
-# ## The modes
+# ### The modes
 #
 # Natural frequency, damping (exponential-window damping removed: ζ = ζ_windowed − σ/ω_n to
 # first order, exactly by shifting the poles by σ), shape, modal mass and stiffness of the
@@ -356,31 +315,15 @@ display(Markdown(f"{num.ref('stabilization')}: {int((stab['status'] == 'stable')
 # not be scaled (no driving point) and which modes have a mean coherence below the threshold.
 
 # %%
-display(Markdown(
-    f"**{len(mode_table)} modes** identified between {mode_table.f_n_hz.min():.2f} and "
-    f"{mode_table.f_n_hz.max():.2f} Hz: "
-    + ", ".join(f"{x:.2f}" for x in mode_table.f_n_hz) + " Hz"
-    + ((" (thesis: " + ", ".join(f"{x:g}" for x in THESIS_HZ) + " Hz; differences "
-        + ", ".join(f"{a - min(THESIS_HZ, key=lambda x: abs(x - a)):+.2f}"
-                    for a in mode_table.f_n_hz) + " Hz to the nearest thesis value"
-        + (")" if len(mode_table) == len(THESIS_HZ) else ", counts differ)"))
-       if VS_THESIS_HZ else vs_thesis(" (not the thesis' tool-tip test: no comparison with "
-                                      "its values)"))
-    + f"; {num.ref('modes')} gives their parameters."
-))
-flagged = mode_table[mode_table["flags"].notna() & (mode_table["flags"].astype(str) != "")]
-display(Markdown(
-    "**Sanity flags:** " + ("none: every mode is physical, scaled and well coherent."
-                            if flagged.empty else "; ".join(
-                                f"mode {int(m.mode)} ({m.f_n_hz:.2f} Hz): {m.flags}"
-                                for m in flagged.itertuples()))))
+display(Markdown(say("modes", ref_modes=num.ref("modes"))))
+display(Markdown(say("flags")))
 display(num.caption("modes"))
 mode_table.round({"f_n_hz": 3, "zeta": 4, "zeta_windowed": 4, "k_modal_N_m": 0,
                   "m_modal_kg": 3, "shape_x": 3, "shape_y": 3, "shape_z": 3, "rank1": 3,
                   "coherence": 3})
 
 # %% [markdown]
-# ## MAC matrix and the shapes along the nodes
+# ### MAC matrix and the shapes along the nodes
 #
 # The modal assurance criterion between every pair of identified shapes (1 on the diagonal;
 # off-diagonal values near 1 mean the measured points cannot tell two modes apart), and the
@@ -423,68 +366,47 @@ fig.tight_layout()
 save_figure(fig, fig_dir, num.file("mac_shapes"))
 plt.show()
 display(num.caption("mac_shapes"))
-off = mac_table.to_numpy(float)[~np.eye(len(mac_table), dtype=bool)]
-display(Markdown(f"{num.ref('mac_shapes')}: largest off-diagonal MAC "
-                 f"{off.max() if off.size else float('nan'):.2f}."))
+display(Markdown(say("mac", ref_mac_shapes=num.ref("mac_shapes"))))
+
+# %% [markdown]
+# ### Against the planted truth (synthetic run)
 
 # %%
+display(Markdown(say("truth", ref_truth=num.ref("truth") if len(check_table) else "")))
 if len(check_table):
-    display(Markdown(
-        "### Against the planted truth (synthetic run)\n\n"
-        f"Largest errors: f_n {check_table.f_err_pct.abs().max():.3f} %, ζ "
-        f"{check_table.zeta_err_pct.abs().max():.1f} %, k "
-        f"{check_table.k_err_pct.abs().max():.1f} %; smallest shape MAC "
-        f"{check_table.shape_mac.min():.4f} ({num.ref('truth')}). Without the window "
-        f"correction ζ would be off by up to "
-        f"{100 * (mode_table.zeta_windowed / mode_table.zeta - 1).abs().max():.0f} %."
-    ))
     display(num.caption("truth"))
     display(check_table.round(4))
 
 # %% [markdown]
-# ## Synthesized against measured FRFs
+# ### Synthesized against measured FRFs
 
 # %%
 err_table = synthesis_misfit(ds, sy["H_synth"].values, band_hz)
-display(Markdown(
-    f"Relative misfit ‖H_synth − H‖/‖H‖ over {band_hz[0]:.4g}–{band_hz[1]:.4g} Hz, "
-    f"per measured FRF ({num.ref('misfit')}): median {np.nanmedian(err_table.values):.2f} %, "
-    f"worst {np.nanmax(err_table.values):.2f} %."
-))
+display(Markdown(say("misfit", ref_misfit=num.ref("misfit"))))
 display(num.caption("misfit"))
 err_table.round(2)
 
 # %% [markdown]
-# ## Mode coupling: which modes lie near the vibration frequency?
+# ## What it means: which modes lie near the vibration frequency?
 #
-# The thesis observes that two modes lie close to the vibration frequency seen while cutting,
-# and concludes that mode coupling (two modes excited together, an elliptical tool path that
-# pumps energy in) drives the chatter of robotic milling. Here the vibration frequency is the
-# dominant force-spectrum frequency found by chapter 3.1 (median over the cuts); a mode is
-# "close" when it lies within ±15 % of it.
+# The vibration frequency is the dominant force-spectrum frequency found by chapter 3.1
+# (median over the cuts); a mode is "close" when it lies within `modal.coupling_tolerance` of
+# it. Close modes are the candidates for mode coupling.
 
 # %%
-if not TOOLTIP_LAYOUT:
-    display(Markdown("Mode coupling at the tool tip needs the tool-tip layout (X, Y, Z at "
-                     "node 1, hit and measured): not this test."))
-elif len(coupling_table):
-    f_vib = float(coupling_table["vibration_hz"].iloc[0])
-    close = coupling_table[coupling_table["close"].astype(bool)]
-    pairs = [f"modes {int(p.mode_a)}–{int(p.mode_b)}: shapes {p.shape_angle_deg:.0f}° apart"
-             for p in pair_table.itertuples()]
-    display(Markdown(
-        f"Dominant vibration frequency while cutting: **{f_vib:.1f} Hz** (median over the "
-        f"cuts of chapter 3.1). **{len(close)} modes** lie within "
-        f"±{100 * COUPLING_TOLERANCE:.0f} % ({num.ref('coupling')}): "
-        + (", ".join(f"{x:.2f} Hz" for x in close.f_n_hz) if len(close) else "none")
-        + ". " + ("; ".join(pairs) + ". Modes close in frequency with non-parallel shapes "
-                  "can couple into an elliptical tool path (thesis §3.3)." if pairs else "")
-    ))
+display(Markdown(say("coupling_layout", "coupling", "close_list", "coupling_pairs",
+                     "coupling_none",
+                     ref_coupling=num.ref("coupling") if len(coupling_table) else "")))
+if len(coupling_table):
     display(num.caption("coupling"))
     display(coupling_table.round(4))
-else:
-    display(Markdown("The forces chapter found no dominant vibration frequency in this run "
-                     "(or this run has no force records)."))
+
+# %% [markdown]
+# ## Against the thesis
+
+# %%
+display(Markdown(say("thesis_test", "against")))
+comparison_table(found) if found.comparisons else None
 
 # %%
 num.check()

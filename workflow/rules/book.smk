@@ -23,6 +23,7 @@ rule scorecard:
     input:
         chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
         checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
     output:
         csv=report(
             "results/thesis/scorecard.csv",

@@ -71,12 +71,35 @@ rule chatter_thesis:
         "../scripts/chatter_thesis.py"
 
 
+rule chatter_findings:
+    input:
+        cases=expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
+        simulation="results/chatter/simulation.nc",
+        lobes="results/chatter/lobes.nc",
+        recommendations="results/chatter/recommendations.csv",
+        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+    output:
+        findings="results/chatter/findings.yaml",
+    log:
+        "results/logs/chatter/findings.log",
+    benchmark:
+        "results/benchmarks/rules/chatter/findings.tsv"
+    conda:
+        ENV
+    params:
+        safety_fraction=config["chatter"]["thesis"]["safety_fraction"],
+        thesis_study=THESIS_STUDY,
+    script:
+        "../scripts/chatter_findings.py"
+
+
 rule chatter:
     input:
         expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
         "results/chatter/simulation.nc",
         "results/chatter/lobes.nc",
         "results/chatter/recommendations.csv",
+        "results/chatter/findings.yaml",
 
 
 CHAPTER_PARAMETERS["ch4"] = {"thesis_study": THESIS_STUDY}
@@ -89,6 +112,7 @@ use rule chapter as ch4 with:
         simulation="results/chatter/simulation.nc",
         lobes="results/chatter/lobes.nc",
         recommendations="results/chatter/recommendations.csv",
+        findings="results/chatter/findings.yaml",
     output:
         **chapter_outputs("ch4"),
     log:

@@ -81,8 +81,41 @@ rule modal_report:
         "results/benchmarks/rules/modal/report.tsv"
     conda:
         ENV
+    params:
+        coupling_tolerance=config["modal"]["coupling_tolerance"],
     script:
         "../scripts/modal_report.py"
+
+
+rule modal_findings:
+    input:
+        frf="results/modal/frf.nc",
+        synth="results/modal/frf_synth.nc",
+        hits="results/modal/hits.csv",
+        modes="results/modal/modes.csv",
+        peaks="results/modal/peak_picking.csv",
+        stabilization="results/modal/stabilization.csv",
+        mac="results/modal/mac.csv",
+        peak_groups="results/modal/peak_groups.csv",
+        truth_check="results/modal/truth_check.csv",
+        coupling="results/modal/coupling.csv",
+        coupling_pairs="results/modal/coupling_pairs.csv",
+        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+    output:
+        findings="results/modal/findings.yaml",
+    log:
+        "results/logs/modal/findings.log",
+    benchmark:
+        "results/benchmarks/rules/modal/findings.tsv"
+    conda:
+        ENV
+    params:
+        coherence_min=config["modal"]["coherence_min"],
+        coupling_tolerance=config["modal"]["coupling_tolerance"],
+        stability={k: config["modal"][k] for k in ("tol_f", "tol_zeta", "mac_min")},
+        thesis_study=THESIS_STUDY,
+    script:
+        "../scripts/modal_findings.py"
 
 
 rule modal:
@@ -93,6 +126,7 @@ rule modal:
         "results/modal/modes.uff",
         "results/modal/peak_groups.csv",
         "results/modal/coupling.csv",
+        "results/modal/findings.yaml",
 
 
 CHAPTER_PARAMETERS["ch3_modal"] = {"thesis_study": THESIS_STUDY}
@@ -114,6 +148,7 @@ use rule chapter as ch3_modal with:
         truth_check="results/modal/truth_check.csv",
         coupling="results/modal/coupling.csv",
         coupling_pairs="results/modal/coupling_pairs.csv",
+        findings="results/modal/findings.yaml",
     output:
         **chapter_outputs("ch3_modal"),
     log:

@@ -27,6 +27,7 @@ Modules
 :mod:`~robomill.chatter.timedomain` seed-002 robot–tool–surface simulation (numba)
 :mod:`~robomill.chatter.detection`  sliding-window FFT detection, adaptive depth logic
 :mod:`~robomill.chatter.thesis`     thesis robot: slot frames, mode coupling, recommendations
+:mod:`~robomill.chatter.findings`   chapter 4's findings from the stage's artefacts
 """
 
 from robomill.chatter.lobes_sdm import sdm_lobes, sdm_spectral_radius

@@ -22,6 +22,7 @@ The chain, each step a pure function on arrays:
 8. :mod:`~robomill.modal.checks` — planted-truth check, synthesis misfit, mode coupling;
    :mod:`~robomill.modal.ncio` — complex variables in netCDF; :mod:`~robomill.modal.uff` —
    FRFs and modes written as UFF 58/55.
+9. :mod:`~robomill.modal.findings` — chapter 3.3's findings from the stage's artefacts.
 
 Importing this package imports none of them: every public name is loaded from its
 submodule on first use (PEP 562 ``__getattr__``), so ``from robomill.modal import identify``
@@ -40,6 +41,7 @@ _NAMES = {
     "band": ("BAND_COVERAGE_MIN", "BandChoice", "band_coverage", "band_from_data",
              "choose_band"),
     "checks": ("COUPLING_TOLERANCE", "mode_coupling", "synthesis_misfit", "truth_check"),
+    "findings": ("modal_findings",),
     "frf": ("combine_frfs", "force_spectrum", "frf_from_groups", "frf_matrix",
             "to_receptance"),
     "hits": ("CHANNELS", "HIT_COLUMNS", "HitCheck", "HitGroup", "check_and_group", "check_hit",

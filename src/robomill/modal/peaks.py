@@ -10,6 +10,8 @@ import pandas as pd
 import scipy.signal
 import xarray as xr
 
+from robomill import references
+
 PEAK_COLUMNS = ["output", "input", "f_hz", "f_line_hz", "prominence_db", "imag_extremum_m_N",
                 "real_below_m_N", "real_above_m_N", "coherence", "real_sign_change",
                 "coherence_ok", "natural_frequency"]
@@ -111,8 +113,10 @@ def peak_picking(ds: xr.Dataset, *, band_hz: Sequence[float], coherence_min: flo
     return out
 
 
-THESIS_NATURAL_HZ = (20.0, 35.0, 60.0, 67.0, 70.0, 72.0)
-"""The natural frequencies the thesis finds at the tool tip (§3.3) [Hz]."""
+THESIS_NATURAL_HZ = tuple(float(v) for v in
+                          references.values("thesis.modal.modes.f_n_hz.mode_").values())
+"""The natural frequencies the thesis finds at the tool tip (§3.3, Figs 3.20-3.28) [Hz]:
+the entries ``thesis.modal.modes.f_n_hz.mode_<n>`` of ``robomill/data/references.yaml``."""
 
 
 def group_peaks(peaks: pd.DataFrame, line_hz: float, *,

@@ -1,7 +1,9 @@
 """The reproduction scorecard: every number the source documents print, beside ours.
 
-The checks live in ``robomill/data/scorecard.yaml``. Each names the source number and a
-*locator* of our value in an artefact, ``<path>::<column or variable>[<key>=<value>,…]@<agg>``:
+The checks live in ``robomill/data/scorecard.yaml``. Each names the source number by its key
+in ``robomill/data/references.yaml`` (value, unit and citation live there once, read by
+:mod:`robomill.references`) and a *locator* of our value in an artefact,
+``<path>::<column or variable>[<key>=<value>,…]@<agg>``:
 
 * ``results/modal/modes.csv::f_n_hz[mode=3]`` — one cell of a table;
 * ``results/forces/peaks.csv::dominant_hz@median`` — an aggregate over a column
@@ -25,6 +27,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 import yaml
+
+from robomill import references
 
 _LOC = re.compile(r"^(?P<path>[^:]+)::(?P<field>[\w.]+)(?:\[(?P<sel>[^\]]*)\])?"
                   r"(?:@(?P<agg>\w+)(?:\((?P<args>[^)]*)\))?)?$")
@@ -124,9 +128,22 @@ def _tolerance_text(tol: Mapping[str, float] | None, source_value: Any) -> str:
     return {"rel": f"± {100 * v:g} %", "abs": f"± {v:g}", "factor": f"factor {v:g}"}[k]
 
 
+def resolve_reference(check: Mapping[str, Any]) -> dict[str, Any]:
+    """A check with its source number filled in from references.yaml: ``reference: <key>``
+    brings ``source``, ``where``, ``quantity``, ``unit`` and ``source_value``; fields the check
+    states itself are kept (a check written in full needs no reference)."""
+    out = dict(check)
+    if "reference" in check:
+        ref = references.reference(check["reference"])
+        for field in ("source", "where", "quantity", "unit"):
+            out.setdefault(field, ref[field])
+        out.setdefault("source_value", ref["value"])
+    return out
+
+
 def load_checks() -> list[dict[str, Any]]:
     text = resources.files("robomill.data").joinpath("scorecard.yaml").read_text()
-    return yaml.safe_load(text)["checks"]
+    return [resolve_reference(c) for c in yaml.safe_load(text)["checks"]]
 
 
 SCORECARD_COLUMNS = ["source", "where", "quantity", "source_value", "ours", "unit",
@@ -143,6 +160,7 @@ def build_scorecard(root: str | Path = ".", checks: list[dict] | None = None, *,
     if not thesis_study:
         return pd.DataFrame(rows, columns=SCORECARD_COLUMNS)
     for c in checks if checks is not None else load_checks():
+        c = resolve_reference(c)
         sv = c["source_value"]
         if c.get("locator") is None:  # a source number the pipeline does not compute
             rows.append({"source": c["source"], "where": c["where"], "quantity": c["quantity"],
@@ -168,3 +186,20 @@ def build_scorecard(root: str | Path = ".", checks: list[dict] | None = None, *,
             "artefact": c["locator"],
         })
     return pd.DataFrame(rows, columns=SCORECARD_COLUMNS)
+
+
+def stage_checks(stage: str) -> list[dict[str, Any]]:
+    """The checks whose artefact lies under ``results/<stage>/``."""
+    return [c for c in load_checks()
+            if (c.get("locator") or "").startswith(f"results/{stage}/")]
+
+
+def stage_comparisons(stage: str, root: str | Path = ".", *,
+                      thesis_study: bool = True) -> list[dict[str, Any]]:
+    """The scorecard rows of one stage as a findings artefact's ``comparisons`` (the rows of
+    a chapter's "Against the thesis" section, :func:`robomill.findings.comparison_rows`);
+    empty for a study that is not the thesis' design."""
+    from robomill.findings import comparison_rows
+
+    card = build_scorecard(root, stage_checks(stage), thesis_study=thesis_study)
+    return comparison_rows(card.to_dict("records"))

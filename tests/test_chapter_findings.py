@@ -1,0 +1,216 @@
+"""Chapters 3.3 and 4: their findings from planted artefacts (robomill.modal.findings,
+robomill.chatter.findings), and their prose rendered from findings with altered values
+(the templates of notebooks/templates through robomill.pipeline.prose: no kernel)."""
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+
+from robomill.chatter.findings import chatter_findings
+from robomill.findings import Findings
+from robomill.modal.findings import modal_findings
+from robomill.modal.layout import frf_coords
+from robomill.pipeline.prose import Prose, load_templates
+
+F = np.arange(0.0, 101.0)
+
+
+def _modal_inputs(misfit=0.1):
+    H = (1.0 + 1j) * np.ones((3, 3, F.size))
+    ds = xr.Dataset({"H": (("output", "input", "frequency"), H)}, coords=frf_coords(F),
+                    attrs={"fs_hz": 2048, "record_samples": 8192, "window_sigma_per_s": 0.5})
+    synth = xr.Dataset({"H_synth": (("output", "input", "frequency"), H * (1 + misfit))},
+                       coords=frf_coords(F), attrs={"band_hz": [10.0, 90.0],
+                                                    "band_source": "data"})
+    tables = {
+        "hits": pd.DataFrame({"reference": list("XXYYZZ"),
+                              "accepted": [True, False, True, True, False, True]}),
+        "modes": pd.DataFrame({"mode": [1, 2], "f_n_hz": [20.0, 40.0], "zeta": [0.02, 0.04],
+                               "zeta_windowed": [0.025, 0.044],
+                               "flags": [np.nan, "negative modal mass"]}),
+        "peaks": pd.DataFrame({"real_sign_change": [True, True, False],
+                               "coherence_ok": [True, False, True],
+                               "natural_frequency": [True, False, False]}),
+        "stabilization": pd.DataFrame({"status": ["stable", "new", "stable", "f"]}),
+        "mac": pd.DataFrame({"mode": [1, 2], "mode_1": [1.0, 0.3], "mode_2": [0.3, 1.0]}),
+        "peak_groups": pd.DataFrame({"f_hz": [20.0]}),
+        "truth_check": pd.DataFrame({"f_err_pct": [0.1, -0.4], "zeta_err_pct": [1.0, 2.0],
+                                     "k_err_pct": [-3.0, 1.0], "shape_mac": [0.99, 0.98]}),
+        "coupling": pd.DataFrame({"f_n_hz": [20.0, 40.0], "vibration_hz": [38.0, 38.0],
+                                  "close": [False, True]}),
+        "coupling_pairs": pd.DataFrame(columns=["mode_a", "mode_b", "shape_angle_deg"]),
+    }
+    return ds, synth, tables
+
+
+def test_modal_findings_from_planted_artefacts():
+    ds, synth, tables = _modal_inputs()
+    v = modal_findings(ds, synth, tables, coherence_min=0.8, coupling_tolerance=0.1).values()
+    assert v["tooltip_layout"] and v["n_frf_measured"] == 9 and v["n_outputs"] == 3
+    assert v["n_hits"] == 6 and v["n_rejected"] == 2
+    assert v["hits_per_reference"] == ["X: 2", "Y: 2", "Z: 2"]
+    assert (v["n_peak_candidates"], v["n_real_sign_change"], v["n_coherence_ok"],
+            v["n_natural"]) == (3, 2, 2, 1)
+    assert v["threshold_n_coherence_ok"] == 0.8
+    assert v["n_stable_poles"] == 2 and v["n_modes"] == 2 and v["modes_hz"] == [20.0, 40.0]
+    assert v["n_flagged"] == 1 and "negative modal mass" in v["flagged"][0]
+    assert v["mac_offdiag_max"] == pytest.approx(0.3)
+    assert v["truth_f_err_pct_max"] == pytest.approx(0.4)
+    assert v["truth_k_err_pct_max"] == pytest.approx(3.0)
+    assert v["window_zeta_bias_pct_max"] == pytest.approx(25.0)  # 0.025/0.02 - 1
+    assert v["misfit_median_pct"] == pytest.approx(10.0)
+    assert v["n_close"] == 1 and v["close_hz"] == [40.0] and v["vibration_hz"] == 38.0
+    assert v["verdict_n_close"] == "not_possible"  # no pair of close modes
+    assert v["threshold_n_close"] == 0.1
+
+
+def _chatter_inputs():
+    rpm = np.array([6400.0, 8400.0, 10000.0])
+    case = xr.Dataset(
+        {"a_crit_mm": (("solver", "spindle_rpm"), [[2.0, 2.0, 3.0], [1.6, 1.7, 1.0]]),
+         "a_crit_error_mm": ("spindle_rpm", [0.0016, 0.0034, 0.001]),
+         "bifurcation": ("spindle_rpm", ["hopf", "hopf", "flip"]),
+         "collocation_order": ("spindle_rpm", [8, 10, 12])},
+        coords={"solver": ["zoa", "sem"], "spindle_rpm": rpm},
+        attrs={"accuracy": 0.005, "case_name": "insperger2004_down005", "case_teeth": 2,
+               "case_Kt_N_m2": 6e8, "case_Kr": 0.3, "case_milling": "down",
+               "case_radial_immersion": 0.05, "depth_max_mm": 10.0,
+               "case_spindle_rpm": '{"start": 5000, "stop": 25000, "num": 3}',
+               "case_modes": '{"x": [], "y": []}'})
+    n = np.array([1000.0, 1260.0])
+    runs = ["point1", "point2", "point2_adaptive"]
+    sim = xr.Dataset(
+        {"seed_a_crit_mm": (("solver", "spindle_rpm"), [[0.2, 0.3], [0.1, 0.2]]),
+         "seed_a_crit_error_mm": ("spindle_rpm", [0.001, 0.004]),
+         "seed_a_crit_sem_mm": ("spindle_rpm", [0.099, 0.198]),
+         "indicator_N": (("run", "window_end"), np.ones((3, 2)) * [[0, 0], [1, 5], [0, 0]]),
+         "indicator_hz": (("run", "window_end"), np.full((3, 2), 205.0)),
+         "onset_check_rpm": ("onset", [1260.0, 1260.0]),
+         "onset_depth_fraction": ("onset", [0.9, 1.1]),
+         "onset_a_boundary_mm": ("onset", [0.2, 0.2]),
+         "onset_unstable": ("onset", [False, False]),
+         "onset_indicator_N": ("onset", [0.1, 0.2]),
+         "onset_growth_rate_sdm_1_s": ("onset", [-1.0, 1.0]),
+         "onset_growth_rate_simulated_1_s": ("onset", [-1.0, 0.9])},
+        coords={"solver": ["zoa", "sdm"], "spindle_rpm": n, "run": runs,
+                "window_end": [1.0, 2.0]},
+        attrs={"a_star_mm": 0.1, "spindle_rpm_seed": 1260.0, "a_boundary_at_n_mm": 0.2,
+               "point1_depth_mm": 0.19, "point2_depth_mm": 0.21, "chatter_hz_zoa_at_n": 204.0,
+               "sdm_steps_per_period": 60, "sdm_chatter_hz_at_n": 210.0,
+               "sdm_bifurcation_at_n": "flip", "tooth_hz": 84.0,
+               "growth_rate_sdm_point2_1_s": 3.0, "growth_rate_simulated_point2_1_s": 5.0,
+               "growth_window_teeth": 20, "detector_window_s": 1.0, "adapted_depth_mm": 0.18,
+               "growth_rate_sdm_adapted_1_s": -2.0, "indicator_final_point1_N": 0.05,
+               "indicator_final_point2_N": 4.0, "indicator_final_point2_adaptive_N": 1.0,
+               "Kt_noise_fraction": 0.005, "detections_point1_s": np.array([]),
+               "detections_adaptive_s": np.array([1.5, 2.5]),
+               "adaptation_setpoint_fraction": np.array([0.99, 0.98]),
+               "adaptation_lowered_fraction": 0.02,
+               "seed_params": '{"m_kg": 2.0, "m_s_kg": 0.2, "c_s_N_m": 220000.0, "teeth": 4, '
+                              '"Kt_N_m2": 9e8, "Kr": 0.6, "phi_ex_rad": 1.5707963, '
+                              '"feed_m_s": 0.01, "force_setpoint_N": 40.0}'})
+    lobes = xr.Dataset(
+        {"a_crit_mm": (("direction", "solver", "spindle_rpm"), np.ones((2, 2, 2))),
+         "a_crit_error_mm": (("direction", "spindle_rpm"), [[0.001, 0.002], [0.004, 0.001]])},
+        coords={"direction": ["px", "py"], "solver": ["zoa", "sem"],
+                "spindle_rpm": [27000.0, 28000.0]},
+        attrs={"thesis_spindle_rpm": 28000.0, "accuracy": 0.005})
+    rec = pd.DataFrame({"direction": ["px", "px", "px"], "kind": ["thesis", "thesis",
+                                                                  "recommended"],
+                        "solver": ["sem"] * 3, "spindle_rpm": [28000.0, 28000.0, 30000.0],
+                        "axial_depth_mm": [0.25, 0.5, 0.22],
+                        "stability_margin": [0.1, -0.45, 0.25],
+                        "stability_margin_min": [0.09, -0.46, 0.25],
+                        "chatter_free": [True, False, True],
+                        "limited_by": ["mode_coupling"] * 3})
+    return {"insperger2004_down005": case}, sim, lobes, rec
+
+
+def test_chatter_findings_from_planted_artefacts():
+    cases, sim, lobes, rec = _chatter_inputs()
+    v = chatter_findings(cases, sim, lobes, rec, safety_fraction=0.2).values()
+    assert v["bench_hopf_min_mm"] == 1.6 and v["bench_n_flip"] == 1
+    assert v["bench_flip_rpm"] == [10000.0, 10000.0] and v["bench_flip_zoa_mm"] == 3.0
+    assert v["bench_worst_err_pct"] == pytest.approx(0.2)  # 0.0034 / 1.7
+    assert v["bench_worst_rpm"] == 8400.0 and v["bench_worst_order"] == 10
+    assert v["verdict_bench_worst_err_pct"] == "pass" and v["bench_has_checks"]
+    assert v["bench_a_6400rpm_mm"] == 1.6 and not v["has_slot"]
+    assert v["seed_boundary_ratio"] == pytest.approx(2.0)
+    assert v["seed_sdm_worst_err_pct"] == pytest.approx(2.0)  # 0.004 / 0.2
+    assert v["seed_a_star_sem_mm"] == 0.099 and v["seed_point2_chatter_hz"] == 205.0
+    assert v["seed_point1_stable"] and v["seed_first_detection_s"] == 1.5
+    assert v["seed_setpoint_pct"] == [99.0, 98.0] and v["seed_lowered_pct"] == 2.0
+    assert v["seed_efold_s"] == 0.5 and v["seed_adapted_below_pct"] == pytest.approx(10.0)
+    assert v["seed_adaptive_share"] == 0.25
+    assert (v["onset_agree"], v["onset_n"]) == (1, 2)  # 1.1 x boundary but stable: disagree
+    assert v["robot_worst_err_pct"] == pytest.approx(0.4) and v["robot_worst_direction"] == "py"
+    assert v["robot_worst_rpm"] == 27000.0
+    assert (v["n_cuts"], v["n_cuts_chatter_free"]) == (2, 1) and v["safety_pct"] == 20.0
+    assert v["ref_sdm_converged_6400_mm"] == 1.6392
+
+
+def test_chatter_findings_flip_speed_of_a_one_mode_case():
+    cases, sim, lobes, rec = _chatter_inputs()
+    cases["insperger2004_down005"].attrs["case_modes"] = (
+        '{"x": [{"f_hz": 900.0, "zeta": 0.01, "k_N_m": 1e6}], "y": []}')
+    v = chatter_findings(cases, sim, lobes, rec, safety_fraction=0.2).values()
+    assert v["bench_flip_speed_rpm"] == pytest.approx(18000.0)  # 60 * 2 * 900 / (3 * 2)
+    assert v["bench_Kn_N_m2"] == pytest.approx(1.8e8) and v["bench_fn_hz"] == 900.0
+
+
+def _refs(templates):
+    return {f"ref_{k}": f"[{k}]" for k in (
+        "hits", "impact_test", "frf_grid", "frf_first", "frf_last", "peak_groups",
+        "stabilization", "modes", "mac_shapes", "truth", "misfit", "coupling",
+        "benchmark_lobes", "benchmark_error", "slot", "seed_lobes", "seed_time",
+        "seed_spectra", "detection", "onset", "thesis_lobes", "recommendations")}
+
+
+def test_chapter_3_3_prose_follows_its_findings():
+    ds, synth, tables = _modal_inputs(misfit=0.37)
+    tables["modes"]["f_n_hz"] = [21.5, 47.25]
+    found = modal_findings(ds, synth, tables, coherence_min=0.6, coupling_tolerance=0.25,
+                           stability={"tol_f": 0.02, "tol_zeta": 0.07, "mac_min": 0.9})
+    say = Prose(load_templates("ch3_3"), found)
+    text = say(*say.templates, **_refs(say.templates))
+    assert "21.50, 47.25 Hz" in text and "**2 modes**" in text
+    assert "coherence > 0.6" in text and "±25 %" in text
+    assert "median 37.00 %" in text
+    joined = " ".join(text.split())
+    assert "within 2 % in frequency" in joined and "7 % in damping" in joined
+    assert "MAC ≥ 0.9 " in joined
+    assert "**6 hits**" in text and "**2 rejected**" in " ".join(text.split())
+    assert "from the hammer spectrum" in text
+    assert "{" not in text  # every field filled or its sentence left out
+    found.items["n_modes"].value = 0
+    assert "**No mode**" in Prose(load_templates("ch3_3"), found)("modes", ref_modes="[t]")
+    del found.items["mac_offdiag_max"]
+    assert "a single mode" in say("mac", ref_mac_shapes="[f]")
+    thesis = Findings("modal")
+    thesis.comparisons = [{"verdict": "pass"}, {"verdict": "miss"}]
+    assert "1 of 2" in Prose(load_templates("ch3_3"), thesis)("against")
+    assert "not compared" in Prose(load_templates("ch3_3"), Findings("modal"))("against")
+    found.comparisons = [{"verdict": "miss"}]
+    joined = " ".join(Prose(load_templates("ch3_3"), found)("thesis_test", "against").split())
+    assert "averages 5 accepted hits" in joined and "0 of 1 reproduced" in joined
+
+
+def test_chapter_4_prose_follows_its_findings():
+    cases, sim, lobes, rec = _chatter_inputs()
+    sim.attrs["sdm_bifurcation_at_n"] = "hopf"
+    sim.attrs["a_star_mm"] = 0.0777
+    found = chatter_findings(cases, sim, lobes, rec, safety_fraction=0.3)
+    say = Prose(load_templates("ch4"), found)
+    text = " ".join(say(*say.templates, **_refs(say.templates)).split())
+    assert "a* = **0.078 mm**" in text and "of **Hopf** type" in text
+    assert "30 % (`chatter.thesis.safety_fraction`)" in text
+    assert "t = 1.5 s" in text and "99, 98 %" in text
+    assert "agree at 1 of 2 checks" in text
+    assert "at 28000 rpm" in text and "(1 of 2 cuts chatter-free)" in text
+    assert "No slotting case configured." in text
+    assert "+3.1 %" in text and "1.6392 mm" in text  # from references.yaml
+    assert "≈ 18440 rpm" not in text  # the planted case lists no modes: no flip-speed sentence
+    assert "Case `insperger2004_down005` (`config.yaml: chatter.cases`)." in text
+    assert "tool partial frequency 167 Hz" in text and "K_t = 900 MPa" in text
+    assert "{" not in text
