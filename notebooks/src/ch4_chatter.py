@@ -19,6 +19,7 @@ cases: list = None  # results/chatter/cases/<name>.nc
 simulation: str = None  # results/chatter/simulation.nc
 lobes: str = None  # results/chatter/lobes.nc
 recommendations: str = None  # results/chatter/recommendations.csv
+templates: str = None  # notebooks/templates/ch4.yaml: the sentences of this chapter
 findings: str = None  # results/chatter/findings.yaml: every number and verdict stated here
 fig_dir: str = None  # folder for this chapter's figures
 thesis_study: bool = None  # unused: the comparison rows come with the findings
@@ -37,7 +38,7 @@ from robomill.pipeline.prose import Prose, comparison_table, load_templates
 from robomill.plotting import save_figure
 
 found = read_findings(findings)
-say = Prose(load_templates("ch4"), found)
+say = Prose(load_templates("ch4", templates), found)
 
 if isinstance(cases, str):
     cases = [cases]

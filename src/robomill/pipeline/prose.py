@@ -108,8 +108,12 @@ def render(template: str | Mapping[str, Any], findings: Findings | Mapping[str, 
 
 def load_templates(chapter: str, directory: str | Path | None = None) -> dict[str, Any]:
     """The templates of one chapter: ``<directory>/<chapter>.yaml`` (default
-    ``notebooks/templates``), a mapping name → template."""
-    path = Path(directory or TEMPLATES_DIR) / f"{chapter}.yaml"
+    ``notebooks/templates``), or ``directory`` itself when it names a ``.yaml`` file (the
+    chapter rule's ``templates`` input), a mapping name → template."""
+    if directory is not None and str(directory).endswith(".yaml"):
+        path = Path(directory)
+    else:
+        path = Path(directory or TEMPLATES_DIR) / f"{chapter}.yaml"
     data = yaml.safe_load(path.read_text())
     if not isinstance(data, Mapping):
         raise ValueError(f"{path}: expected a mapping of template name → template")
