@@ -99,3 +99,31 @@ def test_published_benchmark_insperger2004_down005():
     assert a_s[2] < 0.4 * a_z[2]
     f_tooth = 2 * 18000.0 / 60
     assert f_s[2] == pytest.approx(1.5 * f_tooth, rel=1e-6)
+
+
+def test_sdm_scan_stops_at_the_first_unstable_depth_and_reuses_nothing_but_exact_bits():
+    """The lazy scan (lowest depths first, stopping at the first unstable one) and the kept
+    scan eigen-decompositions must give what a full scan gives: every scan depth below the
+    bracket stable, the upper end unstable, and the same radii whether or not the batch's
+    decomposition was kept from another speed."""
+    from robomill.chatter import lobes_sdm
+
+    tool = tool_from_modes([ModeXY(**MODE, shape=(1.0, 0.0)), ModeXY(**MODE, shape=(0.0, 1.0))])
+    cut = CuttingModel.from_immersion(**BENCH, radial_immersion=0.05, milling="down")
+    dmax, n_scan, rtol = 2e-2, 16, 0.01
+    scan = np.geomspace(dmax / 300.0, dmax, n_scan)
+    for rpm in (5000.0, 9000.0):
+        lobes_sdm._EIGEN_CACHE.clear()
+        rho_full, _ = sdm_spectral_radius(tool, cut, rpm, scan, m=20)  # all 16 at once
+        a, _ = critical_depth(tool, cut, rpm, depth_max_m=dmax, m=20, n_scan=n_scan, rtol=rtol)
+        first = int(np.nonzero(rho_full >= 1.0)[0][0])
+        assert first > 0
+        assert scan[first - 1] <= a <= scan[first]  # bracketed by the first unstable depth
+        assert (rho_full[:first] < 1.0).all()
+    pair = scan[:2]
+    lobes_sdm._EIGEN_CACHE.clear()
+    fresh = sdm_spectral_radius(tool, cut, 7000.0, pair, m=20)
+    sdm_spectral_radius(tool, cut, 6000.0, pair, m=20)  # keeps the pair's decomposition
+    kept = sdm_spectral_radius(tool, cut, 7000.0, pair, m=20)
+    assert len(lobes_sdm._EIGEN_CACHE) >= 1
+    np.testing.assert_array_equal(fresh[1], kept[1])

@@ -36,7 +36,7 @@ SCAN_CHUNK = 2
 """Depths of the scan evaluated per batch, lowest first: the scan stops at the first unstable
 one (the depths above it are not needed), so a boundary in the lower half of the scan costs
 half the eigenvalue problems. Each depth's numbers do not depend on the batch it is in."""
-_EIGEN_CACHE: OrderedDict[bytes, tuple] = OrderedDict()
+_EIGEN_CACHE: OrderedDict[tuple, tuple] = OrderedDict()
 _EIGEN_CACHE_SIZE = 16
 
 
@@ -45,9 +45,9 @@ def _eigen_parts(Ai: np.ndarray):
 
     A_i = A + a B W̄_i C does not depend on the speed (only h = τ/m does), and every speed of a
     lobe diagram scans the same depths: a scan batch's decomposition is kept
-    (:data:`_EIGEN_CACHE`, keyed by the bytes of the stack, so a hit returns exactly what the
-    decomposition would) and each further speed only rescales the eigenvalues by its h."""
-    key = Ai.tobytes() if Ai.shape[0] > 1 else None  # bisection depths do not recur
+    (:data:`_EIGEN_CACHE`, keyed by the shape and bytes of the stack, so a hit returns exactly
+    what the decomposition would) and each further speed only rescales the eigenvalues by h."""
+    key = (Ai.shape, Ai.tobytes()) if Ai.shape[0] > 1 else None  # bisections never recur
     if key is not None and key in _EIGEN_CACHE:
         _EIGEN_CACHE.move_to_end(key)
         return _EIGEN_CACHE[key]
