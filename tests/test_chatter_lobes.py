@@ -49,8 +49,7 @@ def test_zoa_equals_closed_form_single_symmetric_mode():
 
 
 def test_damped_system_without_cutting_is_stable():
-    tool = tool_from_modes([ModeXY(**MODE, shape=(1.0, 0.0)), ModeXY(500.0, 0.02, 5e6,
-                                                                   (0.3, 1.0))])
+    tool = tool_from_modes([ModeXY(**MODE, shape=(1.0, 0.0)), ModeXY(500.0, 0.02, 5e6, (0.3, 1.0))])
     cut = CuttingModel.from_immersion(2, 6e8, 0.3, 0.5, "up")
     rho, _ = sdm_spectral_radius(tool, cut, 10000.0, [0.0, 1e-12])
     assert (rho < 1).all()
@@ -114,3 +113,31 @@ def test_lobe_solvers_share_one_parameter_block_expanded_in_their_docstrings():
         assert "    depth_max_m\n        Largest depth searched" in f.__doc__
         assert "        (default: the tool's most flexible natural frequency).\n" in f.__doc__
     assert "depth_max_m" not in zoa_lobes.__doc__
+
+
+def test_sdm_scan_stops_at_the_first_unstable_depth_and_reuses_nothing_but_exact_bits():
+    """The lazy scan (lowest depths first, stopping at the first unstable one) and the kept
+    scan eigen-decompositions must give what a full scan gives: every scan depth below the
+    bracket stable, the upper end unstable, and the same radii whether or not the batch's
+    decomposition was kept from another speed."""
+    from robomill.chatter import lobes_sdm
+
+    tool = tool_from_modes([ModeXY(**MODE, shape=(1.0, 0.0)), ModeXY(**MODE, shape=(0.0, 1.0))])
+    cut = CuttingModel.from_immersion(**BENCH, radial_immersion=0.05, milling="down")
+    dmax, n_scan, rtol = 2e-2, 16, 0.01
+    scan = np.geomspace(dmax / 300.0, dmax, n_scan)
+    for rpm in (5000.0, 9000.0):
+        lobes_sdm._EIGEN_CACHE.clear()
+        rho_full, _ = sdm_spectral_radius(tool, cut, rpm, scan, m=20)  # all 16 at once
+        a, _ = critical_depth(tool, cut, rpm, depth_max_m=dmax, m=20, n_scan=n_scan, rtol=rtol)
+        first = int(np.nonzero(rho_full >= 1.0)[0][0])
+        assert first > 0
+        assert scan[first - 1] <= a <= scan[first]  # bracketed by the first unstable depth
+        assert (rho_full[:first] < 1.0).all()
+    pair = scan[:2]
+    lobes_sdm._EIGEN_CACHE.clear()
+    fresh = sdm_spectral_radius(tool, cut, 7000.0, pair, m=20)
+    sdm_spectral_radius(tool, cut, 6000.0, pair, m=20)  # keeps the pair's decomposition
+    kept = sdm_spectral_radius(tool, cut, 7000.0, pair, m=20)
+    assert len(lobes_sdm._EIGEN_CACHE) >= 1
+    np.testing.assert_array_equal(fresh[1], kept[1])

@@ -49,17 +49,23 @@ def rodrigues(axis: np.ndarray, theta: np.ndarray | float) -> np.ndarray:
 
 
 def _rot_z(t):
+    # filled in place (not nested np.stack): the same entries, a fraction of the overhead
+    # in the per-pose inverse-kinematics loop
+    t = np.asarray(t, dtype=float)
     c, s = np.cos(t), np.sin(t)
-    o, z = np.ones_like(t), np.zeros_like(t)
-    return np.stack([np.stack([c, -s, z], -1), np.stack([s, c, z], -1),
-                     np.stack([z, z, o], -1)], -2)
+    R = np.zeros(t.shape + (3, 3))
+    R[..., 0, 0], R[..., 0, 1], R[..., 1, 0], R[..., 1, 1] = c, -s, s, c
+    R[..., 2, 2] = 1.0
+    return R
 
 
 def _rot_x(t):
+    t = np.asarray(t, dtype=float)
     c, s = np.cos(t), np.sin(t)
-    o, z = np.ones_like(t), np.zeros_like(t)
-    return np.stack([np.stack([o, z, z], -1), np.stack([z, c, -s], -1),
-                     np.stack([z, s, c], -1)], -2)
+    R = np.zeros(t.shape + (3, 3))
+    R[..., 0, 0] = 1.0
+    R[..., 1, 1], R[..., 1, 2], R[..., 2, 1], R[..., 2, 2] = c, -s, s, c
+    return R
 
 
 def _homog(R, p):
@@ -141,16 +147,20 @@ class SerialRobot:
 
     def fk(self, q: np.ndarray) -> np.ndarray:
         """TCP pose ``(..., 4, 4)`` in the world frame [mm]."""
-        F = self.frames(q)[..., -1, :, :]
-        tool = _homog(np.eye(3), self.tool_mm)
-        return F @ tool
+        return self._tcp(self.frames(q))
+
+    def _tcp(self, F: np.ndarray) -> np.ndarray:
+        """TCP pose from the frames of :meth:`frames`."""
+        return F[..., -1, :, :] @ _homog(np.eye(3), self.tool_mm)
 
     def joint_axes(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Joint axis directions and points ``(..., n, 3)`` in the world frame.
 
         For ``dh`` joint i rotates about z of frame i−1; for ``mdh`` about z of frame i.
         """
-        F = self.frames(q)
+        return self._axes(self.frames(q))
+
+    def _axes(self, F: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         sel = F[..., :-1, :, :] if self.convention == "dh" else F[..., 1:, :, :]
         return sel[..., :3, 2], sel[..., :3, 3]
 
@@ -160,9 +170,17 @@ class SerialRobot:
         Rows 0–2: linear velocity [mm/rad]; rows 3–5: angular velocity [1]. Column i is
         ``[z_i × (p − o_i); z_i]`` (seed 001, eq. for revolute joints).
         """
-        z, o = self.joint_axes(q)
-        p = self.fk(q)[..., :3, 3]
-        Jv = np.cross(z, p[..., None, :] - o)
+        F = self.frames(q)
+        return self._jacobian(F, self._tcp(F))
+
+    def _jacobian(self, F: np.ndarray, T: np.ndarray) -> np.ndarray:
+        """Jacobian from the frames F and the TCP pose T (one forward pass serves both)."""
+        z, o = self._axes(F)
+        r = T[..., None, :3, 3] - o
+        Jv = np.empty(np.broadcast_shapes(z.shape, r.shape))  # z × r, as np.cross computes it
+        Jv[..., 0] = z[..., 1] * r[..., 2] - z[..., 2] * r[..., 1]
+        Jv[..., 1] = z[..., 2] * r[..., 0] - z[..., 0] * r[..., 2]
+        Jv[..., 2] = z[..., 0] * r[..., 1] - z[..., 1] * r[..., 0]
         return np.concatenate([np.swapaxes(Jv, -1, -2), np.swapaxes(z, -1, -2)], axis=-2)
 
     def ik(self, target: np.ndarray, q0: np.ndarray, *, tol_mm: float = 1e-9,
@@ -175,14 +193,15 @@ class SerialRobot:
         q = np.array(q0, dtype=float)
         target = np.asarray(target, dtype=float)
         for _ in range(max_iter):
-            T = self.fk(q)
+            F = self.frames(q)
+            T = self._tcp(F)
             dp = target[:3, 3] - T[:3, 3]
             Rerr = target[:3, :3] @ T[:3, :3].T
             dw = 0.5 * np.array([Rerr[2, 1] - Rerr[1, 2], Rerr[0, 2] - Rerr[2, 0],
                                  Rerr[1, 0] - Rerr[0, 1]])
             if np.linalg.norm(dp) < tol_mm and np.linalg.norm(dw) < tol_rad:
                 return q
-            J = self.jacobian(q)
+            J = self._jacobian(F, T)
             err = np.concatenate([dp, dw])
             JJt = J @ J.T + damping * np.eye(6)
             q = q + J.T @ np.linalg.solve(JJt, err)

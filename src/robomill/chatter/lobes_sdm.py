@@ -17,6 +17,9 @@ multiplier μ = +1 is a fold, μ = −1 a flip (period doubling), complex μ a s
 
 from __future__ import annotations
 
+from collections import OrderedDict
+from functools import lru_cache
+
 import numpy as np
 import scipy.linalg
 
@@ -29,23 +32,52 @@ the converged depth, m = 80 +0.75 %, m = 160 +0.18 % (tests/test_chatter_sem.py)
 lobes come from :mod:`robomill.chatter.lobes_sem`."""
 
 
+SCAN_CHUNK = 2
+"""Depths of the scan evaluated per batch, lowest first: the scan stops at the first unstable
+one (the depths above it are not needed), so a boundary in the lower half of the scan costs
+half the eigenvalue problems. Each depth's numbers do not depend on the batch it is in."""
+_EIGEN_CACHE: OrderedDict[tuple, tuple] = OrderedDict()
+_EIGEN_CACHE_SIZE = 16
+
+
+def _eigen_parts(Ai: np.ndarray):
+    """Eigenvalues λ, eigenvectors V, V⁻¹ and the well-conditioned mask of a stack of A_i.
+
+    A_i = A + a B W̄_i C does not depend on the speed (only h = τ/m does), and every speed of a
+    lobe diagram scans the same depths: a scan batch's decomposition is kept
+    (:data:`_EIGEN_CACHE`, keyed by the shape and bytes of the stack, so a hit returns exactly
+    what the decomposition would) and each further speed only rescales the eigenvalues by h."""
+    key = (Ai.shape, Ai.tobytes()) if Ai.shape[0] > 1 else None  # bisections never recur
+    if key is not None and key in _EIGEN_CACHE:
+        _EIGEN_CACHE.move_to_end(key)
+        return _EIGEN_CACHE[key]
+    lam, V = np.linalg.eig(Ai)
+    cond = np.linalg.cond(V)
+    ok = np.isfinite(cond) & (cond < 1e8)
+    Vinv = np.linalg.inv(np.where(ok[..., None, None], V, np.eye(V.shape[-1])))
+    parts = (lam, V, Vinv, ok)
+    if key is not None:
+        _EIGEN_CACHE[key] = parts
+        while len(_EIGEN_CACHE) > _EIGEN_CACHE_SIZE:
+            _EIGEN_CACHE.popitem(last=False)
+    return parts
+
+
 def _exp_integrals(Ai: np.ndarray, h: float):
     """e^{A h}, J0 = ∫₀ʰ e^{Au} du and J1 = ∫₀ʰ e^{A(h−s)} s/h ds for a stack of matrices.
 
     Through the eigen-decomposition A = V Λ V⁻¹ (φ-functions of the eigenvalues, with series
-    near λh = 0); matrices whose eigenvector basis is ill-conditioned (near-defective) fall back
-    to the block exponential expm([[A, I, 0], [0, 0, I], [0, 0, 0]] h) (Van Loan 1978).
+    near λh = 0; :func:`_eigen_parts`); matrices whose eigenvector basis is ill-conditioned
+    (near-defective) fall back to the block exponential
+    expm([[A, I, 0], [0, 0, I], [0, 0, 0]] h) (Van Loan 1978).
     """
-    lam, V = np.linalg.eig(Ai)
+    lam, V, Vinv, ok = _eigen_parts(Ai)
     z = lam * h
     small = np.abs(z) < 1e-5
     zs = np.where(small, 1.0, z)
     e = np.exp(z)
     f0 = np.where(small, h * (1 + z / 2 + z**2 / 6), (e - 1) / zs * h)
     f1 = np.where(small, h * (0.5 + z / 6 + z**2 / 24), (e - 1 - zs) / zs**2 * h)
-    cond = np.linalg.cond(V)
-    ok = np.isfinite(cond) & (cond < 1e8)
-    Vinv = np.linalg.inv(np.where(ok[..., None, None], V, np.eye(V.shape[-1])))
 
     def back(d):
         return ((V * d[..., None, :]) @ Vinv).real
@@ -61,6 +93,15 @@ def _exp_integrals(Ai: np.ndarray, h: float):
         E = scipy.linalg.expm(M)
         P[bad], J0[bad], J1[bad] = E[..., :n, :n], E[..., :n, n:2 * n], E[..., :n, 2 * n:] / h
     return P, J0, J1
+
+
+@lru_cache(maxsize=32)
+def _interval_means(cut: CuttingModel, m: int) -> np.ndarray:
+    """:meth:`CuttingModel.interval_means`, once per cutting model and m (it depends on
+    neither the speed nor the depth); read-only, as it is shared."""
+    Wm = cut.interval_means(m)
+    Wm.setflags(write=False)
+    return Wm
 
 
 def _step_matrices(tool: LinearTool, Wm: np.ndarray, depths_m: np.ndarray, h: float):
@@ -84,7 +125,7 @@ def monodromy(tool: LinearTool, cut: CuttingModel, spindle_rpm: float, depths_m:
         raise ValueError("the semi-discretization needs m >= 2 steps per period")
     depths = np.atleast_1d(np.asarray(depths_m, float))
     tau = 60.0 / (cut.teeth * float(spindle_rpm))
-    P, R0, R1 = _step_matrices(tool, cut.interval_means(m), depths, tau / m)
+    P, R0, R1 = _step_matrices(tool, _interval_means(cut, m), depths, tau / m)
     n = tool.n_states
     dim = n + 2 * m
     eye = np.broadcast_to(np.eye(dim), (depths.size, dim, dim))
@@ -156,12 +197,15 @@ def critical_depth(tool: LinearTool, cut: CuttingModel, spindle_rpm: float, *,
     """
     lo_scan = depth_min_m if depth_min_m is not None else depth_max_m / 300.0
     scan = np.geomspace(lo_scan, depth_max_m, n_scan)
-    rho, mu = sdm_spectral_radius(tool, cut, spindle_rpm, scan, m)
-    bad = np.nonzero(rho >= 1.0)[0]
+    for start in range(0, n_scan, SCAN_CHUNK):  # lowest depths first, up to the first unstable
+        rho, mu = sdm_spectral_radius(tool, cut, spindle_rpm, scan[start:start + SCAN_CHUNK], m)
+        bad = np.nonzero(rho >= 1.0)[0]
+        if bad.size:
+            break
     if bad.size == 0:
         return float("nan"), complex(mu[-1])
-    j = int(bad[0])
-    hi, mu_hi = scan[j], complex(mu[j])
+    j = start + int(bad[0])
+    hi, mu_hi = scan[j], complex(mu[bad[0]])
     lo = scan[j - 1] if j > 0 else 0.0
     while hi - lo > rtol * hi:
         mid = 0.5 * (lo + hi)

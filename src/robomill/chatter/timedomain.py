@@ -198,6 +198,14 @@ def _integrate(s, k0, n_steps, dt, msteps, hist_x, hist_z, a_gain, fd, vd, pr, k
     a, F_sy) every ``every`` steps into ``rec``; returns the number of records."""
     R = np.zeros(3)
     nrec = 0
+    # the stage states as element loops over preallocated arrays, not array expressions: the
+    # same operations in the same order (the same bits), half the first compile of a fresh
+    # checkout (numba's array-expression and slice-assignment machinery is not built)
+    s2 = np.empty(N_STATE)
+    s3 = np.empty(N_STATE)
+    s4 = np.empty(N_STATE)
+    half = 0.5 * dt
+    sixth = dt / 6.0
     for i in range(n_steps):
         k = k0 + i
         t = k * dt
@@ -215,16 +223,20 @@ def _integrate(s, k0, n_steps, dt, msteps, hist_x, hist_z, a_gain, fd, vd, pr, k
             rec[nrec, 5] = R[2]
             rec[nrec, 6] = pr[4] * s[Y]
             nrec += 1
-        s2 = s + 0.5 * dt * k1
+        for q in range(N_STATE):
+            s2[q] = s[q] + half * k1[q]
         k2 = _rhs(s2, t + 0.5 * dt, dxh, dzh, a_gain, fd, vd, pr, kt_pass, R)
-        s3 = s + 0.5 * dt * k2
+        for q in range(N_STATE):
+            s3[q] = s[q] + half * k2[q]
         k3 = _rhs(s3, t + 0.5 * dt, dxh, dzh, a_gain, fd, vd, pr, kt_pass, R)
-        s4 = s + dt * k3
+        for q in range(N_STATE):
+            s4[q] = s[q] + dt * k3[q]
         # delayed value at t + dt; current value estimated by the Euler predictor
         dx1 = (s4[XS] - vd * (t + dt)) - hist_x[k + 1]
         dz1 = s4[ZS] - hist_z[k + 1]
         k4 = _rhs(s4, t + dt, dx1, dz1, a_gain, fd, vd, pr, kt_pass, R)
-        s[:] = s + dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+        for q in range(N_STATE):
+            s[q] = s[q] + sixth * (k1[q] + 2.0 * k2[q] + 2.0 * k3[q] + k4[q])
         hist_x[k + 1 + msteps] = s[XS] - vd * (t + dt)
         hist_z[k + 1 + msteps] = s[ZS]
     return nrec
