@@ -37,7 +37,8 @@ import pandas as pd
 from IPython.display import Markdown, display
 
 from robomill.experiment import DIRECTION_LABELS
-from robomill.forces import coefficient_flag_sentence, nearest_modes
+from robomill.forces.coefficients import coefficient_flag_sentence
+from robomill.forces.peaks import nearest_modes
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import (
