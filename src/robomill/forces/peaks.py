@@ -130,7 +130,7 @@ def nearest_modes(peaks_hz: np.ndarray, modes: pd.DataFrame) -> pd.DataFrame:
     -------
     DataFrame
         One row per peak: ``nearest_mode``, ``nearest_mode_hz`` and ``offset_hz`` (peak −
-        mode); empty columns when there is no mode.
+        mode); empty where there is no mode or no peak (NaN).
     """
     f = np.asarray(peaks_hz, float)
     f_n = np.asarray(modes["f_n_hz"], float) if len(modes) else np.array([])
@@ -138,6 +138,9 @@ def nearest_modes(peaks_hz: np.ndarray, modes: pd.DataFrame) -> pd.DataFrame:
         return pd.DataFrame({"nearest_mode": pd.Series([None] * f.size, dtype=object),
                              "nearest_mode_hz": np.full(f.size, np.nan),
                              "offset_hz": np.full(f.size, np.nan)})
-    idx = np.abs(f[:, None] - f_n[None, :]).argmin(axis=1)
-    return pd.DataFrame({"nearest_mode": modes["mode"].to_numpy()[idx],
-                         "nearest_mode_hz": f_n[idx], "offset_hz": f - f_n[idx]})
+    idx = np.abs(np.nan_to_num(f)[:, None] - f_n[None, :]).argmin(axis=1)
+    none = np.isnan(f)  # no peak: no nearest mode
+    return pd.DataFrame({"nearest_mode": pd.Series(np.where(none, None, modes["mode"].to_numpy(
+                             )[idx]), dtype=object),
+                         "nearest_mode_hz": np.where(none, np.nan, f_n[idx]),
+                         "offset_hz": f - f_n[idx]})
