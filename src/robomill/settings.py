@@ -29,3 +29,13 @@ def dataclass_from_mapping(cls: type[T], section: Mapping[str, Any], *,
             raise ConfigError(f"{strict}: unknown key(s) {unknown}; expected some of "
                               f"{sorted(names)}")
     return cls(**{k: section[k] for k in names if k in section})
+
+
+class FromMapping:
+    """Mixin of a settings dataclass read from a config section whose other keys it ignores:
+    ``Settings.from_mapping(config["section"])`` (:func:`dataclass_from_mapping`)."""
+
+    @classmethod
+    def from_mapping(cls, section: Mapping[str, Any]):
+        """From a config section (keys that are not fields ignored)."""
+        return dataclass_from_mapping(cls, section)

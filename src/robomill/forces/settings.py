@@ -4,14 +4,13 @@ spectra's parameters and those of the peak search.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
 
-from robomill.settings import dataclass_from_mapping
+from robomill.settings import FromMapping
 
 
 @dataclass
-class ForceAnalysisSettings:
+class ForceAnalysisSettings(FromMapping):
     """Parameters of the per-cut force analysis (config section ``forces``).
 
     ``decimation`` ``None`` (the default): derived from each record's rate
@@ -27,14 +26,9 @@ class ForceAnalysisSettings:
     excerpt_samples: int = 1000
     lowband_max_s: float = 300.0
 
-    @classmethod
-    def from_mapping(cls, m: Mapping) -> ForceAnalysisSettings:
-        """From the ``forces`` section (its other keys ignored)."""
-        return dataclass_from_mapping(cls, m)
-
 
 @dataclass
-class ForcePeakSettings:
+class ForcePeakSettings(FromMapping):
     """How the dominant and kinematic peaks of a cut are searched (config section
     ``forces``; :func:`robomill.forces.peaks.cut_peaks`).
 
@@ -50,8 +44,3 @@ class ForcePeakSettings:
     kinematic_prominence_db: float = 10.0
     kinematic_floor_halfwidth_per_mm: float = 0.25
     min_peak_cycles: float = 10.0
-
-    @classmethod
-    def from_mapping(cls, m: Mapping) -> ForcePeakSettings:
-        """From the ``forces`` section (its other keys ignored)."""
-        return dataclass_from_mapping(cls, m)
