@@ -295,7 +295,7 @@ else:  # grouped by what varies, with the force levels
 # %%
 dom = pk["dominant_hz"]
 inside = ((dom >= 60) & (dom <= 120)).sum()
-dom_db = settings.get("dominant_prominence_db", 15.0)
+dom_db = settings.get("dominant_prominence_db", 12.0)
 where = (f"lies between **{dom.min():.1f} and {dom.max():.1f} Hz**" if dom.notna().any()
          else "is **none** in every cut")
 text = (f"{num.ref('peaks')}: the dominant low-frequency peak (the strongest local maximum of "

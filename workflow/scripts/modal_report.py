@@ -31,8 +31,8 @@ write_table(check, snakemake.output.truth_check)
 
 forces_peaks = snakemake.input.get("forces_peaks")
 fp = pd.read_csv(forces_peaks) if forces_peaks else pd.DataFrame()
-if tooltip and len(fp) and "dominant_hz" in fp and len(modes):
-    f_vib = float(np.median(fp["dominant_hz"]))
+if tooltip and len(fp) and "dominant_hz" in fp and fp["dominant_hz"].notna().any() and len(modes):
+    f_vib = float(fp["dominant_hz"].median())  # of the cuts that have a dominant peak
     per_mode, pairs = modal.mode_coupling(modes, f_vib)
     log.info("vibration %.2f Hz (median of %d cuts): %d modes within +-15 %%", f_vib, len(fp),
              int(per_mode["close"].sum()))

@@ -22,7 +22,7 @@ from robomill.spectra import peak_offset_bins, prominent_peaks
 
 def dominant_peak(f_hz: np.ndarray, power: np.ndarray, band_hz: tuple[float, float], *,
                   exclude_hz: Iterable[float] = (), exclude_width_hz: float = 0.0,
-                  prominence_db: float = 15.0, floor_halfwidth_hz: float = 25.0
+                  prominence_db: float = 12.0, floor_halfwidth_hz: float = 25.0
                   ) -> tuple[float, float]:
     """Frequency and power of the strongest peak of ``power`` within ``band_hz`` (inclusive).
 

@@ -39,7 +39,7 @@ class ForcePeakSettings(FromMapping):
 
     dominant_band_hz: tuple[float, float] = (15.0, 250.0)
     kinematic_band_per_mm: tuple[float, float] = (0.3, 1.0)
-    dominant_prominence_db: float = 15.0
+    dominant_prominence_db: float = 12.0
     dominant_floor_halfwidth_hz: float = 25.0
     kinematic_prominence_db: float = 10.0
     kinematic_floor_halfwidth_per_mm: float = 0.25
