@@ -81,11 +81,16 @@ def test_ripple_on_a_skirt_is_not_prominent():
     """A skirt falling from a strong line with a ripple (a local maximum) on it, 1 Hz bins."""
     f = np.arange(0.0, 251.0)
     P = 1.0 + 1e4 / (1.0 + ((f - 200.0) / 0.8) ** 2)
-    P[204] *= 1.3  # a ripple: a local maximum of the skirt, 30 % above its neighbours
+    P[206] *= 1.5  # a ripple: a local maximum of the skirt, far above the floor
+    assert P[205] < P[206] > P[207]
     P[137] = 300.0  # a real line on the floor
     idx = prominent_peaks(f, P, (15, 250), prominence_db=15.0, floor_half_width=25.0,
                           exclude=[200.0], exclude_width=2.5)
     assert f[idx].tolist() == [137.0]
+    # it is the prominence over the floor that leaves the ripple out: with none required it
+    # is a peak
+    assert 206.0 in f[prominent_peaks(f, P, (15, 250), prominence_db=0.0, floor_half_width=25.0,
+                                      exclude=[200.0], exclude_width=2.5)]
     assert np.isnan(dominant_peak(f, np.where(f == 137, 1.0, P), (15, 250),
                                   exclude_hz=[200.0], exclude_width_hz=2.5)[0])
 
