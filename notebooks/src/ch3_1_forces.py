@@ -37,7 +37,8 @@ import pandas as pd
 from IPython.display import Markdown, display
 
 from robomill.experiment import DIRECTION_LABELS
-from robomill.forces import coefficient_flag_sentence, nearest_modes
+from robomill.forces.coefficients import coefficient_flag_sentence
+from robomill.forces.peaks import nearest_modes
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import (
@@ -225,15 +226,21 @@ display(Markdown(
 per_direction("f_spatial_low", 1.0, "spatial", "Spatial-frequency power,",
               "spatial frequency f/v [1/mm]", vlines=(0.5,))
 kin = pk.set_index("cut")["kinematic_per_mm"]
+kin_db = settings.get("kinematic_prominence_db", 10.0)
+kin_none = (f"; in {kin.isna().sum()} of {len(kin)} cuts no peak rises {kin_db:g} dB above "
+            "its local floor ('none' in the table)" if kin.isna().any() else "")
+kin_text = (f"median **{kin.median():.2f} mm⁻¹** over the cuts that have one (range "
+            f"{kin.min():.2f}–{kin.max():.2f}" + vs_thesis("; thesis: about 0.5 mm⁻¹")
+            + kin_none + ")" if kin.notna().any()
+            else f"none: in no cut does a peak rise {kin_db:g} dB above its local floor")
 display(Markdown(
-    f"Kinematic peak (largest in {settings.get('kinematic_band_per_mm', [0.3, 1.0])} mm⁻¹): "
-    f"median **{kin.median():.2f} mm⁻¹** over all cuts (range {kin.min():.2f}–{kin.max():.2f}"
-    + vs_thesis("; thesis: about 0.5 mm⁻¹")
-    + f"). The resolution of a {float(sp['feed_mm_s'][0]):g} mm/s record is "
+    f"Kinematic peak (strongest local maximum in "
+    f"{settings.get('kinematic_band_per_mm', [0.3, 1.0])} mm⁻¹, interpolated within its bin): "
+    + kin_text + f". The resolution of a {float(sp['feed_mm_s'][0]):g} mm/s record is "
     f"1/L = {float(sp['f_spatial_low'].isel(cut=0, lf_bin=1)):.3f} mm⁻¹."))
 # sanity flag: a kinematic peak with too few periods in the record cannot be resolved
 if "kinematic_below_resolution" in pk:
-    flagged = pk[pk["kinematic_below_resolution"].astype(bool)]
+    flagged = pk[pk["kinematic_below_resolution"].astype(bool) & pk["kinematic_per_mm"].notna()]
     cycles = settings.get("min_peak_cycles", 10.0)
     if len(flagged):
         display(Markdown(
@@ -246,8 +253,9 @@ if "kinematic_below_resolution" in pk:
               "half a bin) is not evidence of a kinematic irregularity: record longer cuts "
               f"(at least {cycles:g} periods, {cycles / 0.5:g} mm for a 0.5 mm⁻¹ peak)."))
     else:
-        display(Markdown(f"Every kinematic peak has at least {cycles:g} periods in its record "
-                         "(resolved; sanity flag `kinematic_below_resolution` in peaks.csv)."))
+        display(Markdown(f"Every kinematic peak found has at least {cycles:g} periods in its "
+                         "record (resolved; sanity flag `kinematic_below_resolution` in "
+                         "peaks.csv)."))
 
 # %% [markdown]
 # ## Spectra in time frequency, 0–250 Hz (dominant peak)
@@ -267,15 +275,18 @@ tab = pk.merge(mf[["cut", "feed_mm_s", "depth_mm", "direction"]], on="cut")
 if mode_table is not None and len(mode_table):
     tab = tab.join(nearest_modes(tab["dominant_hz"], mode_table))
 display(num.caption("peaks"))
+NONE = {"dominant_hz": "none", "kinematic_per_mm": "none"}  # no peak stands out of its floor
 if THESIS_LAYOUT:
-    display(tab.round(4))
+    display(tab.round(4).astype({k: object for k in NONE}).fillna(NONE))
 else:  # grouped by what varies, with the force levels
     forces_cols = ["F_feed_N", "F_cross_feed_N", "F_axial_N"]
     values = ["dominant_hz", "kinematic_per_mm", *forces_cols] + [
         c for c in ("nearest_mode_hz", "offset_hz") if c in tab]
     per_cut = tab.drop(columns=["feed_mm_s", "depth_mm", "direction"]).merge(
         mf[["cut", *forces_cols]], on="cut")
-    display(per_cut_table(per_cut[["cut", *values]], values, plan, experiment).round(4))
+    shown = per_cut_table(per_cut[["cut", *values]], values, plan, experiment).round(4)
+    display(shown.astype({k: object for k in NONE if k in shown}).fillna(
+        {k: v for k, v in NONE.items() if k in shown}))
     display(Markdown(
         f"{num.ref('peaks')}, grouped by {', '.join(design.grouping) or 'cut'}: mean force in "
         f"the cut frame: feed {span(mf.F_feed_N)} N, cross-feed {span(mf.F_cross_feed_N)} N, "
@@ -284,12 +295,18 @@ else:  # grouped by what varies, with the force levels
 # %%
 dom = pk["dominant_hz"]
 inside = ((dom >= 60) & (dom <= 120)).sum()
-text = (f"{num.ref('peaks')}: the dominant low-frequency peak (largest bin of the summed power in "
-        f"{settings.get('dominant_band_hz', [15, 250])} Hz) lies between **{dom.min():.1f} and "
-        f"{dom.max():.1f} Hz**"
+dom_db = settings.get("dominant_prominence_db", 12.0)
+where = (f"lies between **{dom.min():.1f} and {dom.max():.1f} Hz**" if dom.notna().any()
+         else "is **none** in every cut")
+text = (f"{num.ref('peaks')}: the dominant low-frequency peak (the strongest local maximum of "
+        f"the summed power in {settings.get('dominant_band_hz', [15, 250])} Hz that rises "
+        f"{dom_db:g} dB above its local floor, the spindle's harmonics left out; interpolated "
+        f"within its bin) {where}"
+        + (f"; in {dom.isna().sum()} of {len(dom)} cuts none stands out ('none')"
+           if dom.isna().any() and dom.notna().any() else "")
         + vs_thesis(f"; {inside} of {len(dom)} cuts have it in 60–120 Hz (thesis: every cut, "
                     "60–120 Hz; the robot vibrates at 60–100 Hz)") + ". ")
-if mode_table is not None and len(mode_table):
+if mode_table is not None and len(mode_table) and dom.notna().any():
     off = tab["offset_hz"].abs()
     near = tab.groupby("nearest_mode_hz").size().sort_values(ascending=False)
     text += (f"Against the modes identified by the impact test (chapter 3.3: "
@@ -304,6 +321,8 @@ if mode_table is not None and len(mode_table):
     else:
         text += (f"Some peaks lie more than 3 Hz from any identified mode (up to "
                  f"{off.max():.1f} Hz): they are not explained by a mode alone.")
+elif mode_table is not None and len(mode_table):
+    text += "With no dominant peak, none is matched to the identified modes."
 else:
     text += ("The identified modes (results/modal/modes.csv) are not available in this run, "
              "so the peaks are not matched to modes here.")

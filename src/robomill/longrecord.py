@@ -57,7 +57,8 @@ def analyse_record(path: str | Path, fs_hz: float = FS_HZ, settings: dict | None
                    chunk_samples: int = BLOCK) -> dict:
     """Run the ``forces_cut`` analysis over a record; returns the sample count, the number of
     low-band segments, the wall time [s], this process's peak RSS [MiB] and the mean forces."""
-    from robomill.forces import ForceAnalysisSettings, ForceSpectrumAccumulator
+    from robomill.forces.settings import ForceAnalysisSettings
+    from robomill.forces.stream import ForceSpectrumAccumulator
     from robomill.io.forces import open_force_record
 
     t0 = time.perf_counter()

@@ -6,11 +6,9 @@ from robomill.pipeline.runlog import setup
 log = setup(snakemake.log[0], "forces_cut")
 
 from robomill.experiment import cut_process  # noqa: E402
-from robomill.forces import (  # noqa: E402
-    ForceAnalysisSettings,
-    ForceSpectrumAccumulator,
-    force_cut_dataset,
-)
+from robomill.forces.settings import ForceAnalysisSettings, ForcePeakSettings  # noqa: E402
+from robomill.forces.stream import ForceSpectrumAccumulator  # noqa: E402
+from robomill.forces.study import force_cut_dataset  # noqa: E402
 from robomill.io import write_artefact  # noqa: E402
 from robomill.io.forces import open_force_record  # noqa: E402
 from robomill.io.manifest import load_manifest  # noqa: E402
@@ -29,13 +27,12 @@ for t, force in record.chunks(int(s["chunk_samples"])):
 proc = cut_process(cut, manifest.experiment)  # the cut's own speed and flutes (else the
 ds = force_cut_dataset(acc.result(), cut=cut.as_dict(), fs_hz=record.fs_hz,  # experiment's)
                        n_samples=record.n_samples, spindle_rpm=proc["spindle_rpm"],
-                       flutes=proc["flutes"], dominant_band_hz=s["dominant_band_hz"],
-                       kinematic_band_per_mm=s["kinematic_band_per_mm"],
-                       n_harmonics=s["n_harmonics"],
-                       min_peak_cycles=float(s["min_peak_cycles"]))
+                       flutes=proc["flutes"], n_harmonics=s["n_harmonics"],
+                       peaks=ForcePeakSettings.from_mapping(s))
 write_artefact(ds, snakemake.output[0], rule="forces_cut", inputs=[snakemake.input.raw],
                config_section=s)
-log.info("%s: %d samples at %g Hz, decimation %d (%s), dominant %.2f Hz, kinematic %.3f 1/mm",
+log.info("%s: %d samples at %g Hz, decimation %d (%s), dominant %.2f Hz, kinematic %.3f 1/mm "
+         "(nan: no peak stands out of its floor)",
          p.cut, record.n_samples, record.fs_hz, acc.D,
          "from the rate" if s["decimation"] is None else "forces.decimation",
          float(ds["dominant_hz"]), float(ds["kinematic_per_mm"]))

@@ -1,12 +1,12 @@
 """Gather the per-cut force analyses: spectra.nc, peaks.csv, mean forces, harmonics and the
-identified cutting coefficients (robomill.forces.gather_force_study)."""
+identified cutting coefficients (robomill.forces.study.gather_force_study)."""
 
 from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "forces_gather")
 
 from robomill.experiment import cut_process, is_thesis_design  # noqa: E402
-from robomill.forces import gather_force_study  # noqa: E402
+from robomill.forces.study import gather_force_study  # noqa: E402
 from robomill.io import open_artefact, write_artefact, write_table  # noqa: E402
 from robomill.io.manifest import load_manifest  # noqa: E402
 

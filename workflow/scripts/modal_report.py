@@ -33,13 +33,12 @@ write_table(check, snakemake.output.truth_check)
 
 forces_peaks = snakemake.input.get("forces_peaks")
 fp = pd.read_csv(forces_peaks) if forces_peaks else pd.DataFrame()
-if tooltip and len(fp) and "dominant_hz" in fp and len(modes):
-    f_vib = float(np.median(fp["dominant_hz"]))
+if tooltip and len(fp) and "dominant_hz" in fp and fp["dominant_hz"].notna().any() and len(modes):
+    f_vib = float(fp["dominant_hz"].median())  # of the cuts that have a dominant peak
     per_mode, pairs = mode_coupling(modes, f_vib,
                                     tolerance=snakemake.params.coupling_tolerance)
     log.info("vibration %.2f Hz (median of %d cuts): %d modes within +-%g %%", f_vib, len(fp),
-             100 * snakemake.params.coupling_tolerance,
-             int(per_mode["close"].sum()))
+             int(per_mode["close"].sum()), 100 * snakemake.params.coupling_tolerance)
 else:
     per_mode, pairs = (df.iloc[:0] for df in mode_coupling(modes.iloc[:0], 1.0))
     log.info("no mode-coupling test: %s", "not the tool-tip layout" if not tooltip

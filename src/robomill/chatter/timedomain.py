@@ -76,14 +76,10 @@ class SeedParams:
 
     @classmethod
     def from_config(cls, section: dict) -> SeedParams:
-        names = set(cls.__dataclass_fields__)
-        unknown = sorted(set(section) - names)
-        if unknown:
-            from robomill.errors import ConfigError
+        """From ``chatter.seed.params`` (an unknown key is a ConfigError naming it)."""
+        from robomill.settings import dataclass_from_mapping
 
-            raise ConfigError(f"chatter.seed.params: unknown key(s) {unknown}; expected some "
-                              f"of {sorted(names)}")
-        return cls(**section)
+        return dataclass_from_mapping(cls, section, strict="chatter.seed.params")
 
     def as_dict(self) -> dict:
         return asdict(self)

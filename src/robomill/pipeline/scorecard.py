@@ -7,7 +7,8 @@ in ``robomill/data/references.yaml`` (value, unit and citation live there once, 
 
 * ``results/modal/modes.csv::f_n_hz[mode=3]`` — one cell of a table;
 * ``results/forces/peaks.csv::dominant_hz@median`` — an aggregate over a column
-  (``min, max, mean, median, count, frac_in(a,b)``);
+  (``min, max, mean, median`` of the values present, an empty (NaN) one left out; ``count``
+  and ``frac_in(a,b)`` of all rows);
 * ``results/hexapod/sensitivity.nc::drift_mm[actuator=1,force_error_pct=1.0]`` — a netCDF
   variable at a selection.
 
@@ -63,6 +64,10 @@ def _aggregate(values: np.ndarray, agg: str | None, args: list[float]) -> float:
     if agg == "frac_in":
         lo, hi = args
         return float(np.mean((values >= lo) & (values <= hi)))
+    if agg in ("min", "max", "mean", "median"):  # an empty value (no peak) is not a value
+        values = values[~np.isnan(values)]
+        if values.size == 0:
+            return float("nan")
     funcs = {"min": np.min, "max": np.max, "mean": np.mean, "median": np.median,
              "count": np.size}
     return float(funcs[agg](values))

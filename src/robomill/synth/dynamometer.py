@@ -1,9 +1,9 @@
 """Kistler dynamometer: ``forces/<cut>.h5`` (or ``.csv``) with ``t_s, Fx_N, Fy_N, Fz_N``.
 
 The simulated record of one cut is the mechanistic milling force (thesis eq. 3.1,
-:func:`robomill.forces.slot_forces`, coefficients ``synth.cutting``) of the virtual cell, with
+:func:`robomill.forces.model.slot_forces`, coefficients ``synth.cutting``) of the virtual cell, with
 the cut's own chip model: a slot, or partial immersion in up or down milling (the teeth engage
-between the entry and exit angles of :func:`robomill.forces.engagement_angles_rad` from the
+between the entry and exit angles of :func:`robomill.forces.model.engagement_angles_rad` from the
 cut's ``radial_immersion`` a_e/D and ``milling``; Altintas 2012, §2.2), modulated by the cell
 itself:
 
@@ -22,7 +22,7 @@ itself:
   the tooth-passing harmonics near it dominate the full-band spectrum above 10 kHz as in thesis
   Fig 3.4; a Kistler 9255B alone is stiffer, the block and clamping lower it);
 - **acquisition anti-alias filter**: the force's periodic shape is band-limited to spindle
-  harmonics below ``anti_alias_fraction`` × fs (:func:`robomill.forces.slot_force_tables`);
+  harmonics below ``anti_alias_fraction`` × fs (:func:`robomill.forces.model.slot_force_tables`);
   without it the edge-force jumps alias tooth-passing harmonics into the 0–250 Hz band;
 - **noise**: white, ``noise_N`` standard deviation per axis (charge amplifier, *assumed*).
 
@@ -118,15 +118,18 @@ def slow_channels(cell, cut, config: Mapping[str, Any], rng: np.random.Generator
     """
     from scipy.interpolate import CubicSpline
 
-    from robomill.experiment import cut_process, feed_direction
-    from robomill.forces import (
+    from robomill.experiment import (
+        cut_process,
+        feed_direction,
+        feed_per_tooth_mm,
+        tooth_passing_hz,
+    )
+    from robomill.forces.model import (
         CuttingCoefficients,
         cut_frame,
         engagement_angles_rad,
-        feed_per_tooth_mm,
         mean_milling_forces,
         mean_slot_forces,
-        tooth_passing_hz,
     )
 
     s = settings(config)
@@ -173,7 +176,7 @@ def simulate_blocks(cell, cut, config: Mapping[str, Any]
     import scipy.signal
 
     from robomill.experiment import cut_process, feed_direction
-    from robomill.forces import (
+    from robomill.forces.model import (
         CuttingCoefficients,
         cut_frame,
         engagement_angles_rad,

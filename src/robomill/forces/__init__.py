@@ -1,0 +1,54 @@
+"""Cutting forces of robotic slot milling (thesis §3.1), one subject per module:
+
+- :mod:`~robomill.forces.model`: the mechanistic force model (eq. 3.1), engagement window,
+  mean and band-limited forces;
+- :mod:`~robomill.forces.coefficients`: cutting-coefficient identification and its sanity
+  flags;
+- :mod:`~robomill.forces.stream`: the chunked analysis of one record (mean, Welch PSD,
+  low-band thesis power, envelope);
+- :mod:`~robomill.forces.peaks`: dominant, kinematic and harmonic peaks, nearest modes;
+- :mod:`~robomill.forces.study`: the per-cut dataset and the gathered study;
+- :mod:`~robomill.forces.settings`: the ``forces`` config section's dataclasses.
+
+Decimation and FIR design live in :mod:`robomill.spectra`, feed per tooth and tooth passing
+in :mod:`robomill.experiment`. Importing this package imports none of them: each public name
+is loaded from its module on first use (PEP 562). Rule scripts and notebooks import from the
+modules themselves, so that the workflow ties a rule only to the modules it uses.
+"""
+
+from __future__ import annotations
+
+import importlib
+
+_WHERE = {
+    "model": ("AXES", "BASIS", "COEFFICIENT_UNITS", "MILLING_MODES", "CuttingCoefficients",
+              "SlotForceTables", "cut_frame", "engagement_angles_rad", "mean_milling_forces",
+              "mean_slot_forces", "slot_force_tables", "slot_forces",
+              "slot_forces_band_limited"),
+    "coefficients": ("FLAG_COLUMNS", "coefficient_flag_sentence", "coefficient_flags",
+                     "identify_cutting_coefficients", "identify_cutting_coefficients_general"),
+    "stream": ("ForceSpectrumAccumulator", "analyse_force_record"),
+    "peaks": ("cut_peaks", "dominant_peak", "harmonic_powers", "nearest_modes"),
+    "study": ("force_cut_dataset", "gather_force_study"),
+    "settings": ("ForceAnalysisSettings", "ForcePeakSettings"),
+    "robomill.spectra": ("LOWBAND_OVERSAMPLING", "StreamDecimator", "auto_decimation",
+                         "decimate_whole", "lowpass_fir"),
+    "robomill.experiment": ("feed_per_tooth_mm", "tooth_passing_hz"),
+}
+_MODULE = {name: mod for mod, names in _WHERE.items() for name in names}
+
+__all__ = sorted(_MODULE)
+
+
+def __getattr__(name: str):
+    mod = _MODULE.get(name)
+    if mod is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    full = mod if mod.startswith("robomill.") else f"{__name__}.{mod}"
+    value = getattr(importlib.import_module(full), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -1,0 +1,257 @@
+"""Cutting-coefficient identification from mean forces (thesis §3.1, Altintas 2012 §2.4),
+with the sanity flags of each identified coefficient (negative value, fit residual larger
+than the signal it explains) and the chapter's sentence about them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+import pandas as pd
+
+from robomill.forces.model import COEFFICIENT_UNITS, _window_integrals
+
+_SLOPE_FACTOR = {"x": -4.0, "y": 4.0, "z": np.pi}
+_INTERCEPT_FACTOR = {"x": -np.pi, "y": np.pi, "z": 2.0}
+_NAMES = {"y": ("Ktc", "Kte"), "x": ("Krc", "Kre"), "z": ("Kac", "Kae")}
+
+FLAG_COLUMNS = ("negative", "fit_residual_rms_N", "fit_signal_rms_N", "residual_exceeds_signal",
+                "physical")
+"""Sanity columns of ``cutting_coefficients.csv`` after ``name, value, ci_low, ci_high, unit``
+(issue 21 point 5; see :func:`coefficient_flags`)."""
+
+
+def _fit_rms(fitted_N: np.ndarray, measured_N: np.ndarray, groups: np.ndarray
+             ) -> tuple[float, float]:
+    """``(residual_rms_N, signal_rms_N)`` of one least-squares fit of mean forces.
+
+    The residual is ``measured − fitted``; the signal is the part of the fitted mean forces
+    that the fit explains beyond a constant: the fitted values minus their mean within each
+    group of equations (one group per force axis). For ordinary least squares with an
+    intercept (the edge term) the two add up to the spread of the measurements, so the
+    residual exceeds the signal exactly when the coefficient of determination R² < 1/2.
+    """
+    fitted = np.asarray(fitted_N, float)
+    centred = fitted.copy()
+    for g in np.unique(groups):
+        sel = groups == g
+        centred[sel] -= fitted[sel].mean()
+    resid = np.asarray(measured_N, float) - fitted
+    return float(np.sqrt(np.mean(resid ** 2))), float(np.sqrt(np.mean(centred ** 2)))
+
+
+def coefficient_flags(table: pd.DataFrame, fit_rms: Mapping[str, tuple[float, float]]
+                      ) -> pd.DataFrame:
+    """Add the sanity columns :data:`FLAG_COLUMNS` to an identified-coefficient table.
+
+    Mechanistic cutting and edge coefficients are positive (Altintas 2012, §2.4: the
+    tangential, radial and axial forces grow with the chip and the edge rubs against the
+    feed), so a negative identified value cannot be physical. A coefficient whose fit leaves
+    a residual larger than the signal it explains (:func:`_fit_rms`: the scatter of the mean
+    forces about the fit exceeds the change the feed makes) is not resolved by the cuts.
+
+    Parameters
+    ----------
+    table
+        ``name, value, ci_low, ci_high, unit`` (:func:`identify_cutting_coefficients`).
+    fit_rms
+        Coefficient name → ``(residual_rms_N, signal_rms_N)`` of the fit it comes from.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``table`` with ``negative`` (value < 0), ``fit_residual_rms_N``, ``fit_signal_rms_N``
+        [N], ``residual_exceeds_signal`` and ``physical`` (neither flag set).
+    """
+    out = table.copy()
+    out["negative"] = out["value"].to_numpy(float) < 0
+    out["fit_residual_rms_N"] = [fit_rms[n][0] for n in out["name"]]
+    out["fit_signal_rms_N"] = [fit_rms[n][1] for n in out["name"]]
+    out["residual_exceeds_signal"] = (out["fit_residual_rms_N"].to_numpy()
+                                      > out["fit_signal_rms_N"].to_numpy())
+    out["physical"] = ~(out["negative"] | out["residual_exceeds_signal"])
+    return out
+
+
+def coefficient_flag_sentence(table: pd.DataFrame) -> str:
+    """What the sanity flags of :func:`coefficient_flags` say, in one sentence for a chapter.
+
+    Parameters
+    ----------
+    table
+        ``cutting_coefficients.csv``: ``name, value, unit`` and the columns
+        :data:`FLAG_COLUMNS`.
+
+    Returns
+    -------
+    str
+        ``"All N coefficients are physical (positive, resolved by their fit)."`` when every
+        row is ``physical``; otherwise ``"Not physical: …"`` naming each coefficient that is
+        not and why (negative value; fit residual rms larger than the signal rms, i.e.
+        R² < 1/2, Altintas 2012 §2.4 assumes both away). A table without the flag columns
+        (an artefact from before issue 21) gives ``""``.
+    """
+    if not set(FLAG_COLUMNS) <= set(table.columns):
+        return ""
+    physical = table["physical"].astype(bool)
+    if physical.all():
+        return f"All {len(table)} coefficients are physical (positive, resolved by their fit)."
+    parts = []
+    for r in table[~physical].itertuples():
+        why = []
+        if bool(r.negative):
+            why.append(f"negative ({r.value:.3g} {r.unit}): a mechanistic cutting or edge "
+                       "coefficient cannot be below zero")
+        if bool(r.residual_exceeds_signal):
+            why.append(f"not resolved: its fit leaves {r.fit_residual_rms_N:.3g} N rms of "
+                       f"residual against {r.fit_signal_rms_N:.3g} N rms of signal (R² < 1/2)")
+        parts.append(f"{r.name} is " + ", and ".join(why))
+    return "**Not physical:** " + "; ".join(parts) + "."
+
+
+def identify_cutting_coefficients(feed_per_tooth_mm: np.ndarray, depth_mm: np.ndarray,
+                                  mean_forces_N: np.ndarray, *, flutes=2,
+                                  confidence: float = 0.95, entry_rad=None,
+                                  exit_rad=None) -> pd.DataFrame:
+    """Shearing and edge coefficients from the mean forces of slots at several feeds.
+
+    The standard mechanistic calibration (Altintas 2012, §2.4): the mean force per unit
+    ``N a`` is linear in the feed per tooth, ``F̄/(N a) = s c + e`` (see
+    :func:`mean_slot_forces`); ordinary least squares over all cuts gives slope s and intercept
+    e per axis, then ``K_tc = 4 s_y``, ``K_te = π e_y``, ``K_rc = −4 s_x``, ``K_re = −π e_x``,
+    ``K_ac = π s_z``, ``K_ae = 2 e_z``. Confidence intervals are Student-t intervals of the
+    regression coefficients (``n − 2`` degrees of freedom) scaled the same way.
+
+    Parameters
+    ----------
+    feed_per_tooth_mm, depth_mm
+        Per cut, ``(m,)`` [mm].
+    mean_forces_N
+        Mean force on the tool per cut in the cut frame, ``(m, 3)`` (feed, cross-feed, axial).
+    flutes
+        Number of teeth N (scalar, or one per cut).
+    confidence
+        Two-sided confidence level of the intervals.
+    entry_rad, exit_rad
+        Per cut (or scalar) engagement window (:func:`engagement_angles_rad`). When given and
+        not every cut is a slot of the same tool, the coefficients come from
+        :func:`identify_cutting_coefficients_general` (partial immersion, up/down milling,
+        several tools).
+
+    Returns
+    -------
+    pandas.DataFrame
+        Columns ``name, value, ci_low, ci_high, unit``; rows Ktc, Krc, Kac (N/mm²), Kte, Kre,
+        Kae (N/mm); then the sanity columns ``negative, fit_residual_rms_N,
+        fit_signal_rms_N, residual_exceeds_signal, physical`` (:func:`coefficient_flags`; the
+        fit of a coefficient is the regression of its force axis).
+    """
+    from scipy import stats
+
+    if entry_rad is not None or exit_rad is not None or np.ndim(flutes) > 0:
+        m = np.size(feed_per_tooth_mm)
+        st = np.broadcast_to(np.asarray(0.0 if entry_rad is None else entry_rad, float), (m,))
+        ex = np.broadcast_to(np.asarray(np.pi if exit_rad is None else exit_rad, float), (m,))
+        z = np.broadcast_to(np.asarray(flutes), (m,))
+        if not (np.all(st == 0.0) and np.all(ex == np.pi) and np.all(z == z[0])):
+            return identify_cutting_coefficients_general(
+                feed_per_tooth_mm, depth_mm, mean_forces_N, flutes=z, entry_rad=st,
+                exit_rad=ex, confidence=confidence)
+        flutes = int(z[0])
+
+    c = np.asarray(feed_per_tooth_mm, float)
+    na = int(flutes) * np.asarray(depth_mm, float)
+    F = np.asarray(mean_forces_N, float)
+    if c.size < 3 or np.ptp(c) <= 0:
+        raise ValueError("need at least 3 cuts at two or more feeds per tooth to identify "
+                         f"cutting coefficients (got {c.size} cuts)")
+    t = stats.t.ppf(0.5 + confidence / 2, c.size - 2)
+    rows = {}
+    rms = {}
+    for i, ax in enumerate("xyz"):
+        fit = stats.linregress(c, F[:, i] / na)
+        fitted_N = (fit.intercept + fit.slope * c) * na
+        for name in _NAMES[ax]:
+            rms[name] = _fit_rms(fitted_N, F[:, i], np.zeros(c.size))
+        for kind, val, se, factor in (("c", fit.slope, fit.stderr, _SLOPE_FACTOR[ax]),
+                                      ("e", fit.intercept, fit.intercept_stderr,
+                                       _INTERCEPT_FACTOR[ax])):
+            name = _NAMES[ax][0 if kind == "c" else 1]
+            lo, hi = sorted((factor * (val - t * se), factor * (val + t * se)))
+            rows[name] = (factor * val, lo, hi)
+    table = pd.DataFrame([{"name": n, "value": rows[n][0], "ci_low": rows[n][1],
+                           "ci_high": rows[n][2], "unit": u}
+                          for n, u in COEFFICIENT_UNITS.items()])
+    return coefficient_flags(table, rms)
+
+
+def identify_cutting_coefficients_general(feed_per_tooth_mm, depth_mm, mean_forces_N, *,
+                                          flutes, entry_rad, exit_rad,
+                                          confidence: float = 0.95) -> pd.DataFrame:
+    """Cutting coefficients from the mean forces of cuts of any immersion and milling mode.
+
+    The mean force of every cut is linear in the six coefficients (Altintas 2012, eq. 2.25;
+    :func:`mean_milling_forces`): the feed and cross-feed means of all cuts together are one
+    linear least-squares problem in (K_tc, K_rc, K_te, K_re) with ``2 m`` equations, the
+    axial means one in (K_ac, K_ae) with ``m``. Intervals are Student-t intervals of the
+    ordinary least-squares estimates (covariance ``s² (AᵀA)⁻¹``, ``n − p`` degrees of
+    freedom). For slots at several feeds it gives the same values as the per-axis
+    regression of :func:`identify_cutting_coefficients`.
+
+    Parameters
+    ----------
+    feed_per_tooth_mm, depth_mm, flutes, entry_rad, exit_rad
+        Per cut, ``(m,)`` (or scalars broadcast to the cuts).
+    mean_forces_N
+        ``(m, 3)`` mean force on the tool per cut, cut frame (feed, cross-feed, axial).
+    confidence
+        Two-sided confidence level.
+
+    Returns
+    -------
+    pandas.DataFrame
+        As :func:`identify_cutting_coefficients` (the fit of Ktc, Krc, Kte, Kre is the joint
+        feed/cross-feed problem, that of Kac, Kae the axial one).
+    """
+    from scipy import stats
+
+    F = np.asarray(mean_forces_N, float).reshape(-1, 3)
+    m = F.shape[0]
+    c, a, z, st, ex = (np.broadcast_to(np.asarray(x, float), (m,)) for x in
+                       (feed_per_tooth_mm, depth_mm, flutes, entry_rad, exit_rad))
+    if m < 3 or np.ptp(c) <= 0:
+        raise ValueError("need at least 3 cuts at two or more feeds per tooth to identify "
+                         f"cutting coefficients (got {m} cuts)")
+    w = z * a / (2 * np.pi)
+    Ig = _window_integrals(st, ex)
+    # columns Ktc, Krc, Kte, Kre
+    Ax = np.column_stack([-w * c * Ig["SC"], -w * c * Ig["S2"], -w * Ig["C1"], -w * Ig["S1"]])
+    Ay = np.column_stack([w * c * Ig["S2"], -w * c * Ig["SC"], w * Ig["S1"], -w * Ig["C1"]])
+    Az = np.column_stack([w * c * Ig["S1"], w * Ig["E"]])
+
+    def ols(A, y):
+        theta, *_ = np.linalg.lstsq(A, y, rcond=None)
+        dof = A.shape[0] - A.shape[1]
+        if dof < 1:
+            raise ValueError(f"{A.shape[0]} equations for {A.shape[1]} cutting coefficients: "
+                             "need more cuts")
+        s2 = float(np.sum((y - A @ theta) ** 2)) / dof
+        se = np.sqrt(np.diag(s2 * np.linalg.pinv(A.T @ A)))
+        return theta, se * stats.t.ppf(0.5 + confidence / 2, dof)
+
+    A_xy, y_xy = np.vstack([Ax, Ay]), np.concatenate([F[:, 0], F[:, 1]])
+    t_xy, h_xy = ols(A_xy, y_xy)
+    t_z, h_z = ols(Az, F[:, 2])
+    rms_xy = _fit_rms(A_xy @ t_xy, y_xy, np.repeat([0, 1], m))
+    rms_z = _fit_rms(Az @ t_z, F[:, 2], np.zeros(m))
+    rms = {n: rms_xy for n in ("Ktc", "Krc", "Kte", "Kre")} | {"Kac": rms_z, "Kae": rms_z}
+    vals = dict(zip(("Ktc", "Krc", "Kte", "Kre", "Kac", "Kae"),
+                    zip(np.concatenate([t_xy, t_z]), np.concatenate([h_xy, h_z]), strict=True),
+                    strict=True))
+    table = pd.DataFrame([{"name": n, "value": float(vals[n][0]),
+                           "ci_low": float(vals[n][0] - vals[n][1]),
+                           "ci_high": float(vals[n][0] + vals[n][1]), "unit": u}
+                          for n, u in COEFFICIENT_UNITS.items()])
+    return coefficient_flags(table, rms)
+
