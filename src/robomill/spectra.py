@@ -229,6 +229,7 @@ def lowpass_fir(fs_hz: float, pass_hz: float, stop_hz: float, atten_db: float = 
     and attenuating ``atten_db`` from ``stop_hz`` on (:func:`scipy.signal.kaiserord`)."""
     if not 0 < pass_hz < stop_hz <= fs_hz / 2:
         raise ValueError(f"need 0 < pass ({pass_hz}) < stop ({stop_hz}) <= fs/2 ({fs_hz / 2})")
+    import scipy.signal
     numtaps, beta = scipy.signal.kaiserord(atten_db, (stop_hz - pass_hz) / (fs_hz / 2))
     h = scipy.signal.firwin(numtaps | 1, (pass_hz + stop_hz) / 2, window=("kaiser", beta),
                             fs=fs_hz)
@@ -263,6 +264,7 @@ class StreamDecimator:
         m0 = -(-self.n_in // self.D)  # first output index with D m >= n_in
         m1 = -(-end // self.D)  # outputs with D m < end
         if m1 > m0:
+            import scipy.signal
             y = scipy.signal.upfirdn(self.h, buf, 1, self.D, axis=-1)
             i0 = m0 - self.buf_start // self.D
             self.out.append(y[:, i0:i0 + (m1 - m0)])
@@ -288,6 +290,7 @@ class StreamDecimator:
 def decimate_whole(x: np.ndarray, h: np.ndarray, factor: int) -> np.ndarray:
     """Reference (unchunked) version of :class:`StreamDecimator` on a whole record ``(c, n)``."""
     x = np.atleast_2d(np.asarray(x, float))
+    import scipy.signal
     return scipy.signal.upfirdn(h, x, 1, factor, axis=-1)[:, :-(-x.shape[1] // factor)]
 
 
@@ -416,6 +419,7 @@ def prominent_peaks(f: np.ndarray, power: np.ndarray, band: tuple[float, float],
     df = float(f[1] - f[0])
     floor = local_floor(p, int(round(floor_half_width / df)))
     r = 10.0 ** (float(prominence_db) / 10.0)
+    import scipy.signal
     idx, _ = scipy.signal.find_peaks(p, height=r * floor, prominence=(r - 1.0) * floor)
     ok = (f[idx] >= band[0]) & (f[idx] <= band[1])
     for fx in np.atleast_1d(np.asarray(exclude, float)):
