@@ -74,7 +74,7 @@ def optional_input(present, *path, **named):
 
 
 def kind_input(stage, *kinds, **meta):
-    """An input function for the rule that reads a stage's raw files: no input when the raw
+    """An input function of the job that reads a stage's raw files. No input when the raw
     folder has files of every kind in `kinds` (and `meta`: e.g. robot=name); otherwise one
     line naming what is missing and the folder, and the run stops while the DAG is built,
     before any job (SystemExit: Snakemake prints no stack). Any target built from these
@@ -107,6 +107,33 @@ DESIGN_PARAMS = {
     "thesis_design": THESIS_DESIGN,
     "thesis_study": THESIS_STUDY,
 }
+
+
+# The robots (chapter 5): the cell's own robot, and those the folder holds (a robot file),
+# the cell's first.
+CELL_ROBOT = config["cell"]["robot"].get("name") if SYNTHETIC else peek_robot_name(CELL)
+FOLDER_ROBOTS = sorted(
+    {f["robot"] for f in RAW_FILES if f["kind"] == "robot"},
+    key=lambda r: (r != CELL_ROBOT, r),
+)
+
+
+def folder_robot(configured):
+    """The robot the configuration names (stiffness.map_robot, thesis_robot) where the folder
+    holds it, else the folder's robots, the cell's first; the configured name when the folder
+    has none (its targets then stop with one line: kind_input)."""
+    return (
+        configured
+        if configured in FOLDER_ROBOTS or not FOLDER_ROBOTS
+        else FOLDER_ROBOTS[0]
+    )
+
+
+def robot_file(name, kind="robot"):
+    """The robot file (or the load tests: kind stiffness) of robot `name`: an input only
+    where the folder holds it."""
+    paths = raw_files(kind, robot=name)
+    return optional_input(bool(paths), paths[0] if paths else "")
 
 
 # The study's experiment as the analyses read it: the manifest's keys (synthetic mode: the

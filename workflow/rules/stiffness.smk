@@ -14,36 +14,10 @@ STIFF_REL = {
     for f in RAW_FILES
     if f["kind"] in ("robot", "stiffness")
 }
-# the cell's own robot (chapter 5 tables its stiffness at every cut)
-CELL_ROBOT = config["cell"]["robot"].get("name") if SYNTHETIC else peek_robot_name(CELL)
-# the robots the folder holds, the cell's robot first
-STIFF_ROBOTS = sorted(
-    {f["robot"] for f in RAW_FILES if f["kind"] == "robot"},
-    key=lambda r: (r != CELL_ROBOT, r),
-)
+STIFF_ROBOTS = FOLDER_ROBOTS  # the robots the folder holds, the cell's first
 STIFF_CFG = config.get("stiffness", {})
-
-
-def stiffness_robot(configured):
-    """The robot the configuration names (stiffness.map_robot, thesis_robot) where the folder
-    holds it, else the folder's robots, the cell's first; the configured name when the folder
-    has none (its targets then stop with one line: kind_input)."""
-    return (
-        configured
-        if configured in STIFF_ROBOTS or not STIFF_ROBOTS
-        else STIFF_ROBOTS[0]
-    )
-
-
-def robot_file(name, kind="robot"):
-    """The robot file (or the load tests: kind stiffness) of robot `name`: an input only
-    where the folder holds it."""
-    rel = STIFF_REL.get((kind, name))
-    return optional_input(rel is not None, f"{RAW}/{rel}")
-
-
-MAP_ROBOT = stiffness_robot(STIFF_CFG.get("map_robot", "kr360"))
-THESIS_ROBOT = stiffness_robot(STIFF_CFG.get("thesis_robot", "irb1600"))
+MAP_ROBOT = folder_robot(STIFF_CFG.get("map_robot", "kr360"))
+THESIS_ROBOT = folder_robot(STIFF_CFG.get("thesis_robot", "irb1600"))
 MAP_JOBS = [
     (int(round(h)), int(round(a)))
     for h in STIFF_CFG.get("map", {}).get("heights_mm", [])
