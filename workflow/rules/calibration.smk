@@ -5,6 +5,7 @@ CTRACK_TABLES = {f["table"]: f["path"] for f in RAW_FILES if f["kind"] == "ctrac
 
 rule calibration_identify:
     input:
+        data=kind_input("calibration", "ctrack"),
         manifest=MANIFEST,
         circles=f"{RAW}/{CTRACK_TABLES.get('circles', 'ctrack/circles.csv')}",
         home=f"{RAW}/{CTRACK_TABLES.get('home', 'ctrack/home.csv')}",

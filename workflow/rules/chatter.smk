@@ -44,6 +44,7 @@ rule chatter_seed:
 
 rule chatter_thesis:
     input:
+        data=kind_input("chatter", "impact", "force"),
         modes="results/modal/modes.csv",
         coefficients="results/forces/cutting_coefficients.csv",
         peaks="results/forces/peaks.csv",
@@ -64,9 +65,9 @@ rule chatter_thesis:
     params:
         thesis=config["chatter"]["thesis"],
         accuracy=config["chatter"]["accuracy"],
-        spindle_rpm=config["experiment"]["spindle_rpm"],
-        flutes=config["experiment"]["flutes"],
-        depths_mm=sorted({s["depth_mm"] for s in config["experiment"]["sets"]}),
+        spindle_rpm=STUDY_EXPERIMENT.get("spindle_rpm"),
+        flutes=STUDY_EXPERIMENT.get("flutes"),
+        depths_mm=STUDY_DEPTHS_MM,
     script:
         "../scripts/chatter_thesis.py"
 

@@ -14,6 +14,7 @@ from robomill.experiment import (
     tracker_run_id,
 )
 from robomill.io.cell import peek_robot_name
+from robomill.io.errors import RawDataError
 from robomill.io.manifest import load_manifest, parse_manifest
 from robomill.synth.plan import synthetic_manifest
 
@@ -26,11 +27,17 @@ ENV = "../envs/robomill.yaml"
 # The study plan, one parser in both modes: the raw folder's manifest.yaml, or for synthetic
 # data the manifest the simulators will write (planned from the configuration without
 # importing a simulator; robomill.synth.plan).
-PLAN = (
-    parse_manifest(synthetic_manifest(config), MANIFEST, require_sha256=False)
-    if SYNTHETIC
-    else load_manifest(MANIFEST)
-)
+# A bad manifest stops the run with its one line (file: where: problem (expected ...)),
+# not a Python stack.
+try:
+    PLAN = (
+        parse_manifest(synthetic_manifest(config), MANIFEST, require_sha256=False)
+        if SYNTHETIC
+        else load_manifest(MANIFEST)
+    )
+except RawDataError as exc:
+    print(exc, file=sys.stderr)
+    sys.exit(1)
 CUTS = PLAN.cuts
 RAW_FILES = PLAN.files
 EXPERIMENT = PLAN.experiment
@@ -58,6 +65,37 @@ def has_kind(kind):
     return any(f["kind"] == kind for f in RAW_FILES)
 
 
+def optional_input(present, *path, **named):
+    """An input only some raw folders have: `path` (one positional input) or the `named`
+    inputs (spread with `**`) when `present`, else nothing ([] or {})."""
+    if named:
+        return named if present else {}
+    return path[0] if present else []
+
+
+def kind_input(stage, *kinds, **meta):
+    """An input function of the job that reads a stage's raw files. No input when the raw
+    folder has files of every kind in `kinds` (and `meta`: e.g. robot=name); otherwise one
+    line naming what is missing and the folder, and the run stops while the DAG is built,
+    before any job (SystemExit: Snakemake prints no stack). Any target built from these
+    files is refused that way (docs/data-contract.md)."""
+
+    def check(wildcards):
+        want = {k: v(wildcards) if callable(v) else v for k, v in meta.items()}
+        lacking = [k for k in kinds if not raw_files(k, **want)]
+        if lacking:
+            files = " and ".join(f"{k} files" for k in lacking)
+            of = "".join(f" of {k} {v}" for k, v in want.items())
+            print(
+                f"robomill: {stage} needs {files}{of}: none in {MANIFEST}",
+                file=sys.stderr,
+            )
+            raise SystemExit(1)
+        return []
+
+    return check
+
+
 # The thesis' design (Tables 2.1/2.2, the thesis-layout figures) and the thesis' study (its
 # process too: the chapters' "thesis: ..." remarks and the scorecard); any other design gets
 # per-cut tables grouped by what varies (robomill.pipeline.design_tables).
@@ -69,6 +107,42 @@ DESIGN_PARAMS = {
     "thesis_design": THESIS_DESIGN,
     "thesis_study": THESIS_STUDY,
 }
+
+
+# The robots (chapter 5): the cell's own robot, and those the folder holds (a robot file),
+# the cell's first.
+CELL_ROBOT = config["cell"]["robot"].get("name") if SYNTHETIC else peek_robot_name(CELL)
+FOLDER_ROBOTS = sorted(
+    {f["robot"] for f in RAW_FILES if f["kind"] == "robot"},
+    key=lambda r: (r != CELL_ROBOT, r),
+)
+
+
+def folder_robot(configured):
+    """The robot the configuration names (stiffness.map_robot, thesis_robot) where the folder
+    holds it, else the folder's robots, the cell's first; the configured name when the folder
+    has none (its targets then stop with one line: kind_input)."""
+    return (
+        configured
+        if configured in FOLDER_ROBOTS or not FOLDER_ROBOTS
+        else FOLDER_ROBOTS[0]
+    )
+
+
+def robot_file(name, kind="robot"):
+    """The robot file (or the load tests: kind stiffness) of robot `name`: an input only
+    where the folder holds it."""
+    paths = raw_files(kind, robot=name)
+    return optional_input(bool(paths), paths[0] if paths else "")
+
+
+# The study's experiment as the analyses read it: the manifest's keys (synthetic mode: the
+# plan's), never the configuration's design; the block layout (where the thesis' U segments
+# sit, for cuts without start_mm) from the manifest's experiment.layout where it gives one,
+# else config experiment.layout.
+STUDY_EXPERIMENT = {"layout": config["experiment"].get("layout"), **EXPERIMENT}
+# the study's depths of cut (chatter's recommendations, chapter 4)
+STUDY_DEPTHS_MM = sorted({c.depth_mm for c in CUTS if c.depth_mm is not None})
 
 
 def add_chapter(label, html, needs=()):

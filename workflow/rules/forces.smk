@@ -7,7 +7,7 @@ FORCE_FILES = {f["cut"]: f for f in RAW_FILES if f["kind"] == "force"}
 # the manifest entry of a cut's record; the planted truth input (synthetic runs only)
 force_entry = lambda w: FORCE_FILES[w.cut]
 forces_truth_input = lambda w: (
-    {"truth": "results/synthetic/truth.nc"} if SYNTHETIC else {}
+    optional_input(SYNTHETIC, truth="results/synthetic/truth.nc")
 )
 
 
@@ -33,6 +33,7 @@ rule forces_cut:
 
 rule forces_gather:
     input:
+        data=kind_input("forces", "force"),
         cuts=expand("results/forces/cuts/{cut}.nc", cut=FORCE_FILES),
         manifest=MANIFEST,
     output:

@@ -14,6 +14,7 @@ MODAL_HITS = [f for f in RAW_FILES if f["kind"] == "impact"]
 
 rule modal_frf:
     input:
+        data=kind_input("modal", "impact"),
         hits=[f"{RAW}/{f['path']}" for f in MODAL_HITS],
         manifest=MANIFEST,
     output:
@@ -65,8 +66,8 @@ rule modal_identify:
 
 rule modal_report:
     input:
-        **({"truth": "results/synthetic/truth.nc"} if SYNTHETIC else {}),
-        **({"forces_peaks": "results/forces/peaks.csv"} if has_kind("force") else {}),
+        **optional_input(SYNTHETIC, truth="results/synthetic/truth.nc"),
+        **optional_input(has_kind("force"), forces_peaks="results/forces/peaks.csv"),
         frf="results/modal/frf.nc",
         modes="results/modal/modes.csv",
         peaks="results/modal/peak_picking.csv",

@@ -9,15 +9,15 @@ wildcard_constraints:
     angle="-?[0-9]+",
 
 
-STIFF_ROBOTS = sorted({f["robot"] for f in RAW_FILES if f["kind"] == "robot"})
 STIFF_REL = {
     (f["kind"], f["robot"]): f["path"]
     for f in RAW_FILES
     if f["kind"] in ("robot", "stiffness")
 }
+STIFF_ROBOTS = FOLDER_ROBOTS  # the robots the folder holds, the cell's first
 STIFF_CFG = config.get("stiffness", {})
-MAP_ROBOT = STIFF_CFG.get("map_robot", "kr360")
-THESIS_ROBOT = STIFF_CFG.get("thesis_robot", "irb1600")
+MAP_ROBOT = folder_robot(STIFF_CFG.get("map_robot", "kr360"))
+THESIS_ROBOT = folder_robot(STIFF_CFG.get("thesis_robot", "irb1600"))
 MAP_JOBS = [
     (int(round(h)), int(round(a)))
     for h in STIFF_CFG.get("map", {}).get("heights_mm", [])
@@ -28,8 +28,9 @@ STIFF_SEED = int(STIFF_CFG.get("seed", 20240601))
 
 rule stiffness_identify:
     input:
-        robot=lambda w: f"{RAW}/{STIFF_REL[('robot', w.robot)]}",
-        tests=lambda w: f"{RAW}/{STIFF_REL[('stiffness', w.robot)]}",
+        data=kind_input("stiffness", "robot", "stiffness", robot=lambda w: w.robot),
+        robot=lambda w: robot_file(w.robot),
+        tests=lambda w: robot_file(w.robot, "stiffness"),
         manifest=MANIFEST,
     output:
         joints="results/stiffness/{robot}/joint_stiffness.csv",
@@ -43,8 +44,8 @@ rule stiffness_identify:
         ENV
     params:
         robot=lambda w: w.robot,
-        robot_rel=lambda w: STIFF_REL[("robot", w.robot)],
-        tests_rel=lambda w: STIFF_REL[("stiffness", w.robot)],
+        robot_rel=lambda w: STIFF_REL.get(("robot", w.robot)),
+        tests_rel=lambda w: STIFF_REL.get(("stiffness", w.robot)),
         options=config["stiffness"]["identification"],
     script:
         "../scripts/stiffness_identify.py"
@@ -52,11 +53,7 @@ rule stiffness_identify:
 
 rule stiffness_map:
     input:
-        robot=(
-            f"{RAW}/{STIFF_REL[('robot', MAP_ROBOT)]}"
-            if MAP_ROBOT in STIFF_ROBOTS
-            else []
-        ),
+        robot=robot_file(MAP_ROBOT),
         joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
         manifest=MANIFEST,
     output:
@@ -79,11 +76,7 @@ rule stiffness_map:
 rule stiffness_maps:
     input:
         maps=[f"results/stiffness/maps/h{h}_r{a}.nc" for h, a in MAP_JOBS],
-        robot=(
-            f"{RAW}/{STIFF_REL[('robot', MAP_ROBOT)]}"
-            if MAP_ROBOT in STIFF_ROBOTS
-            else []
-        ),
+        robot=robot_file(MAP_ROBOT),
     output:
         maps="results/stiffness/maps.nc",
     log:
@@ -102,11 +95,7 @@ rule stiffness_maps:
 rule stiffness_optimal:
     input:
         maps="results/stiffness/maps.nc",
-        robot=(
-            f"{RAW}/{STIFF_REL[('robot', MAP_ROBOT)]}"
-            if MAP_ROBOT in STIFF_ROBOTS
-            else []
-        ),
+        robot=robot_file(MAP_ROBOT),
         joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
     output:
         poses=report(
@@ -145,11 +134,7 @@ rule stiffness_beamframe:
 
 rule stiffness_thesis:
     input:
-        robot=(
-            f"{RAW}/{STIFF_REL[('robot', THESIS_ROBOT)]}"
-            if THESIS_ROBOT in STIFF_ROBOTS
-            else []
-        ),
+        robot=robot_file(THESIS_ROBOT),
         joints=f"results/stiffness/{THESIS_ROBOT}/joint_stiffness.csv",
         manifest=MANIFEST,
         cell=CELL,
@@ -164,7 +149,7 @@ rule stiffness_thesis:
     params:
         robot_rel=STIFF_REL.get(("robot", THESIS_ROBOT), ""),
         cell_relpath=CELL_RELPATH,
-        experiment=config["experiment"],
+        experiment=STUDY_EXPERIMENT,
         cuts=[c.as_dict() for c in CUTS],
         beamframe=config["stiffness"]["beamframe"],
     script:
@@ -173,7 +158,6 @@ rule stiffness_thesis:
 
 # the cell's own robot at every cut (any design other than the thesis'): needs load tests of
 # the robot named in cell.yaml
-CELL_ROBOT = config["cell"]["robot"].get("name") if SYNTHETIC else peek_robot_name(CELL)
 CUT_STIFFNESS = (
     {"cut_stiffness": "results/stiffness/cut_stiffness.csv"}
     if CELL_ROBOT in STIFF_ROBOTS and not THESIS_DESIGN
@@ -196,7 +180,7 @@ rule stiffness_cuts:
         ENV
     params:
         cell_relpath=CELL_RELPATH,
-        experiment={**config["experiment"], **EXPERIMENT},
+        experiment=STUDY_EXPERIMENT,
         cuts=[c.as_dict() for c in CUTS],
     script:
         "../scripts/stiffness_cuts.py"

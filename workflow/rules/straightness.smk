@@ -39,6 +39,7 @@ rule straightness_run:
 
 rule straightness_gather:
     input:
+        data=kind_input("straightness", "tracker"),
         runs=expand("results/straightness/runs/{run}.nc", run=TRACKER_RUNS),
         peaks=expand("results/straightness/runs/{run}_peaks.csv", run=TRACKER_RUNS),
         gears=expand("results/straightness/runs/{run}_gears.csv", run=TRACKER_RUNS),
@@ -68,7 +69,7 @@ rule straightness_truth_check:
     input:
         peaks="results/straightness/peaks.csv",
         profiles="results/straightness/profiles.nc",
-        truth=["results/synthetic/truth.nc"] if SYNTHETIC else [],
+        truth=optional_input(SYNTHETIC, ["results/synthetic/truth.nc"]),
     output:
         "results/straightness/truth_check.csv",
     log:

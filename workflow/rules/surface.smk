@@ -40,6 +40,7 @@ rule surface_profile:
 
 rule surface_gather:
     input:
+        data=kind_input("surface", "profile"),
         cuts=expand("results/surface/cuts/{cut}.nc", cut=SURFACE_FILES),
         peaks=expand("results/surface/cuts/{cut}_peaks.csv", cut=SURFACE_FILES),
         manifest=MANIFEST,
@@ -92,7 +93,7 @@ rule surface:
         "results/surface/peaks.csv",
         "results/surface/metrics.csv",
         "results/surface/spectra.nc",
-        ["results/surface/recovery.csv"] if SYNTHETIC else [],
+        optional_input(SYNTHETIC, "results/surface/recovery.csv"),
 
 
 CHAPTER_PARAMETERS["ch2"] = {

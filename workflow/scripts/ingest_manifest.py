@@ -11,6 +11,8 @@ log = setup(snakemake.log[0], "ingest_manifest")
 m = load_manifest(snakemake.input.manifest)
 m.verify_all()
 exp = m.experiment
-write_table(cuts_table(m.cuts, exp["spindle_rpm"], exp["flutes"]), snakemake.output.cuts)
+# a folder without cuts (modal-only, tracker-only) need not give a spindle speed or flutes
+write_table(cuts_table(m.cuts, exp.get("spindle_rpm"), exp.get("flutes")),
+            snakemake.output.cuts)
 write_table(pd.DataFrame(m.files), snakemake.output.files)
 log.info("verified %d files of %d cuts in %s", len(m.files), len(m.cuts), m.raw_dir)

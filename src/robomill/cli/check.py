@@ -122,8 +122,11 @@ def manifest_problems(data: Any, path: Path) -> tuple[list[str], list[dict]]:
     duplicates across entries; the whole is validated last.
     """
     from robomill.io.manifest import EXPERIMENT_KEYS, parse_manifest
+    from robomill.io.needs import chapter_list, file_kinds, required_experiment_keys
 
     good_exp = {"spindle_rpm": 1.0, "flutes": 1, "tool_diameter_mm": 1.0, "cut_length_mm": 1.0}
+    files_data = data.get("files") if isinstance(data, Mapping) else None
+    kinds = file_kinds(files_data) if isinstance(files_data, list) else set()
     if not isinstance(data, Mapping):
         try:
             parse_manifest(data, path)
@@ -163,7 +166,8 @@ def manifest_problems(data: Any, path: Path) -> tuple[list[str], list[dict]]:
         good: list[dict] = []
         for i, item in enumerate(items):
             try:
-                parse_manifest({"experiment": good_exp, **context, section: [item]}, path)
+                parse_manifest({"experiment": good_exp, **context, section: [item]}, path,
+                               kinds=kinds)
             except RawDataError as exc:
                 problems.append(_line(_reindex(exc, section, i)))
                 continue
@@ -179,6 +183,14 @@ def manifest_problems(data: Any, path: Path) -> tuple[list[str], list[dict]]:
 
     good_cuts = entries("cuts", "id", "cut id", {"files": []})
     good_files = entries("files", "path", "path", {"cuts": good_cuts})
+    if isinstance(exp, Mapping):  # the keys the chapters this folder feeds read
+        has_cuts = bool(data.get("cuts")) and isinstance(data.get("cuts"), list)
+        for key, chapters in required_experiment_keys(kinds, has_cuts).items():
+            if exp.get(key) is None:
+                state = "null" if key in exp else "missing"
+                problems.append(_line(RawDataError(
+                    path, f"key '{key}' is {state}", where="experiment",
+                    expected=f"{key}: {chapter_list(chapters)} of this folder need(s) it")))
     if not problems:
         try:
             parse_manifest(data, path)

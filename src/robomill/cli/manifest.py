@@ -61,7 +61,13 @@ def update_manifest(raw_dir: str | Path) -> tuple[dict[str, Any], list[str], lis
     unknown top-level keys stay. Every listed file's sha256 is recomputed from its bytes.
     Required keys that cannot be inferred are written as ``null``.
     """
-    from robomill.io.manifest import EXPERIMENT_KEYS, KIND_KEYS, build_manifest
+    from robomill.io.manifest import KIND_KEYS, build_manifest
+    from robomill.io.needs import (
+        chapter_list,
+        file_kinds,
+        required_cut_keys,
+        required_experiment_keys,
+    )
 
     raw_dir = Path(raw_dir)
     mpath = raw_dir / "manifest.yaml"
@@ -120,10 +126,6 @@ def update_manifest(raw_dir: str | Path) -> tuple[dict[str, Any], list[str], lis
         fresh[p] for p in order if p not in by_path]
 
     experiment = dict(old.get("experiment") or {})
-    for key in EXPERIMENT_KEYS:
-        if experiment.get(key) is None:
-            experiment[key] = None
-            todo.append(f"manifest.yaml: experiment.{key} not inferred (write it)")
     cuts = [dict(c) for c in old.get("cuts") or [] if isinstance(c, dict)]
     known = {c.get("id") for c in cuts}
     for f in files:
@@ -136,13 +138,21 @@ def update_manifest(raw_dir: str | Path) -> tuple[dict[str, Any], list[str], lis
             known.add(cid)
             changes.append(f"manifest.yaml: cut {cid} added" + (
                 " (set, segment, direction from the id)" if "set" in cuts[-1] else ""))
+    # only the keys of the chapters this folder's kinds feed (robomill.io.needs)
+    kinds = file_kinds(files)
+    for key, chapters in required_experiment_keys(kinds, bool(cuts)).items():
+        if experiment.get(key) is None:
+            experiment[key] = None
+            todo.append(f"manifest.yaml: experiment.{key} not inferred (write it; "
+                        f"{chapter_list(chapters)} need(s) it)")
     for i, c in enumerate(cuts):
-        for key in ("feed_mm_s", "depth_mm"):
+        for key, chapters in required_cut_keys(kinds).items():
             if c.get(key) is None:
                 c[key] = None
                 todo.append(f"manifest.yaml: cuts[{i}] ({c.get('id')}): {key} not inferred "
-                            "(write it)")
-        if c.get("direction") is None and c.get("direction_deg") is None:
+                            f"(write it; {chapter_list(chapters)} need(s) it)")
+        if (required_cut_keys(kinds) and c.get("direction") is None
+                and c.get("direction_deg") is None):
             c.setdefault("direction", None)
             todo.append(f"manifest.yaml: cuts[{i}] ({c.get('id')}): direction not inferred "
                         "(write direction px, mx, py or my, or direction_deg)")

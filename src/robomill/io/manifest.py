@@ -23,6 +23,12 @@ import yaml
 from robomill.errors import RawDataError
 from robomill.experiment import CUT_ID, DIRECTION_VECTORS, FREE_CUT_ID, MILLING, Cut
 from robomill.io.hashing import sha256_file
+from robomill.io.needs import (
+    chapter_list,
+    file_kinds,
+    required_cut_keys,
+    required_experiment_keys,
+)
 
 # the same safe constructor over the C parser when PyYAML was built with libyaml
 SAFE_LOADER = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
@@ -33,12 +39,15 @@ EXPERIMENT_KEYS = {
     "tool_diameter_mm": (int, float),
     "cut_length_mm": (int, float),
 }
+"""The experiment's process keys and their types; each is required only where a chapter the
+folder's kinds feed reads it (:data:`robomill.io.needs.CHAPTER_NEEDS`)."""
 CUT_KEYS = {
     "id": (str,),
     "feed_mm_s": (int, float),
     "depth_mm": (int, float),
 }
-"""Keys every cut carries."""
+"""Keys a cut carries: ``id`` always, the others where a chapter needs them (every folder
+that lists cuts feeds chapter 0, which tables both)."""
 
 CUT_OPTIONAL_KEYS: dict[str, tuple[type, ...]] = {
     "set": (int,),
@@ -163,6 +172,32 @@ def _check_keys(path: Path, where: str, obj: Any, keys: Mapping[str, tuple[type,
                                expected=" or ".join(t.__name__ for t in types))
 
 
+def _check_needed(path: Path, where: str, obj: Mapping[str, Any],
+                  keys: Mapping[str, tuple[type, ...]], needed: Mapping[str, list[str]],
+                  kinds: str) -> None:
+    """The ``keys`` of ``obj`` (experiment or one cut): a key some chapter needs
+    (``needed``: key → chapter labels) is present and not null; every present, non-null key
+    has its type. The message names the chapters that need a missing key."""
+    for key, types in keys.items():
+        value = obj.get(key)
+        if value is None:
+            if key in needed:
+                state = "null" if key in obj else "missing"
+                raise RawDataError(path, f"key '{key}' is {state}", where=where,
+                                   expected=f"{key} ({' or '.join(t.__name__ for t in types)}):"
+                                            f" {chapter_list(needed[key])} of this folder "
+                                            f"({kinds}) need(s) it")
+            continue
+        if isinstance(value, bool) or not isinstance(value, types):
+            raise RawDataError(path, f"key '{key}' is {value!r}", where=where,
+                               expected=" or ".join(t.__name__ for t in types))
+
+
+def _kinds_text(kinds: set[str], has_cuts: bool) -> str:
+    names = [f"{k} files" for k in sorted(kinds)] + (["cuts"] if has_cuts else [])
+    return ", ".join(names) or "no files"
+
+
 def _check_modal_band(path: Path, band: Any) -> None:
     """The optional ``experiment.modal_band_hz``: the modal band of interest of the design
     (``[f_lo_hz, f_hi_hz]``, 0 <= f_lo_hz < f_hi_hz), or absent/null."""
@@ -218,7 +253,7 @@ def _parse_cut(path: Path, where: str, c: Mapping[str, Any], seen: Mapping[str, 
     if cid in seen:
         raise RawDataError(path, f"duplicate cut id {cid!r} (also cuts[{seen[cid]}])",
                            where=f"{where}.id", expected="unique cut ids")
-    if c["feed_mm_s"] <= 0 or c["depth_mm"] <= 0:
+    if any(c.get(k) is not None and c[k] <= 0 for k in ("feed_mm_s", "depth_mm")):
         raise RawDataError(path, "feed_mm_s and depth_mm must be positive", where=where,
                            expected="positive numbers")
     direction, deg = c.get("direction"), c.get("direction_deg")
@@ -257,8 +292,9 @@ def _parse_cut(path: Path, where: str, c: Mapping[str, Any], seen: Mapping[str, 
             isinstance(v, bool) or not isinstance(v, int | float) for v in start)):
         raise RawDataError(path, f"start_mm is {start!r}", where=f"{where}.start_mm",
                            expected="[x, y, z] of the path start in the base frame [mm]")
-    return Cut(cid, c.get("set"), c.get("segment"), direction, float(c["feed_mm_s"]),
-               float(c["depth_mm"]),
+    return Cut(cid, c.get("set"), c.get("segment"), direction,
+               None if c.get("feed_mm_s") is None else float(c["feed_mm_s"]),
+               None if c.get("depth_mm") is None else float(c["depth_mm"]),
                spindle_rpm=None if c.get("spindle_rpm") is None else float(c["spindle_rpm"]),
                flutes=c.get("flutes"),
                tool_diameter_mm=(None if c.get("tool_diameter_mm") is None
@@ -268,11 +304,15 @@ def _parse_cut(path: Path, where: str, c: Mapping[str, Any], seen: Mapping[str, 
                start_mm=None if start is None else tuple(float(v) for v in start))
 
 
-def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True) -> Manifest:
+def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True,
+                   kinds: Iterable[str] | None = None) -> Manifest:
     """Validate a manifest mapping (as loaded from YAML) and return a :class:`Manifest`.
 
     ``require_sha256=False`` validates a *plan*: the synthetic study's manifest before its
-    files exist (:func:`robomill.synth.plan.synthetic_manifest`), through the same checks."""
+    files exist (:func:`robomill.synth.plan.synthetic_manifest`), through the same checks.
+    The experiment and cut keys required are those of the chapters the folder's file kinds
+    feed (:mod:`robomill.io.needs`); ``kinds`` gives the folder's kinds when ``data`` is a
+    part of its manifest (``robomill check`` validates entry by entry)."""
     path = Path(path)
     if not isinstance(data, Mapping):
         raise RawDataError(path, "not a YAML mapping",
@@ -281,15 +321,29 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True) 
         if key not in data:
             raise RawDataError(path, f"top-level key '{key}' is missing",
                                expected="top-level keys experiment, cuts, files")
-    _check_keys(path, "experiment", data["experiment"], EXPERIMENT_KEYS)
-    _check_modal_band(path, data["experiment"].get("modal_band_hz"))
+    exp = data["experiment"]
+    if not isinstance(exp, Mapping):
+        raise RawDataError(path, f"{type(exp).__name__} found", where="experiment",
+                           expected="a mapping with keys " + ", ".join(EXPERIMENT_KEYS))
     if not isinstance(data["cuts"], list):
         raise RawDataError(path, "cuts is not a list", where="cuts", expected="a list of cuts")
+    # the keys the chapters this folder feeds read (robomill.io.needs.CHAPTER_NEEDS)
+    if kinds is None:
+        kinds = file_kinds(data["files"]) if isinstance(data["files"], list) else set()
+    kinds = set(kinds)
+    has_cuts = bool(data["cuts"])
+    what = _kinds_text(kinds, has_cuts)
+    _check_needed(path, "experiment", exp, EXPERIMENT_KEYS,
+                  required_experiment_keys(kinds, has_cuts), what)
+    _check_modal_band(path, exp.get("modal_band_hz"))
+    cut_needed = required_cut_keys(kinds)
     cuts: list[Cut] = []
     seen: dict[str, int] = {}
     for i, c in enumerate(data["cuts"]):
         where = f"cuts[{i}]"
-        _check_keys(path, where, c, CUT_KEYS)
+        _check_keys(path, where, c, {"id": CUT_KEYS["id"]})
+        _check_needed(path, where, c, {k: t for k, t in CUT_KEYS.items() if k != "id"},
+                      cut_needed, what)
         cuts.append(_parse_cut(path, where, c, seen))
         seen[c["id"]] = i
     if not isinstance(data["files"], list):
@@ -325,7 +379,8 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True) 
         paths[f["path"]] = i
         files.append(dict(f))
     extra = {k: v for k, v in data.items() if k not in ("experiment", "cuts", "files")}
-    return Manifest(path, dict(data["experiment"]), cuts, files, extra)
+    # a key written null (robomill manifest writes what it could not infer) is absent
+    return Manifest(path, {k: v for k, v in exp.items() if v is not None}, cuts, files, extra)
 
 
 def load_manifest(path: str | Path) -> Manifest:
