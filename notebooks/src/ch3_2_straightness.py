@@ -40,12 +40,12 @@ from robomill.pipeline.design_tables import (
     thesis_gate,
 )
 from robomill.plotting import save_figure
-from robomill.straightness import (
-    attribution_counts,
+from robomill.straightness.tables import (
     band_floor_table,
     run_summary_table,
     surface_cross_check,
 )
+from robomill.straightness.truth import attribution_counts
 
 prof = open_artefact(profiles)
 pk = pd.read_csv(peaks, keep_default_na=False, na_values=[""])

@@ -8,7 +8,8 @@ from robomill.io.cell import read_cell
 from robomill.io.manifest import load_manifest
 from robomill.io.tracker import read_tracker
 from robomill.pipeline.runlog import setup
-from robomill.straightness import TRIM_MAX_FRACTION, analyse_tracker_run, profile_dataset
+from robomill.straightness.profile import TRIM_MAX_FRACTION, profile_dataset
+from robomill.straightness.study import analyse_tracker_run
 
 log = setup(snakemake.log[0], "straightness_run")
 p = snakemake.params
