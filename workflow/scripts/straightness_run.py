@@ -24,7 +24,9 @@ prof, spec, gears, peaks = analyse_tracker_run(
     t, points, cell, data_file=snakemake.input.raw, ds_mm=opt["ds_mm"],
     trim_mm=opt["trim_mm"], nfft=opt["nfft"], fmin_cycles=opt["fmin_cycles"],
     fmax_per_mm=opt["fmax_per_mm"], threshold=opt["threshold"], n_peaks=opt["n_peaks"],
-    tol_bins=opt["tol_bins"], detrend_order=opt["detrend_order"], merge_bins=opt["merge_bins"])
+    tol_bins=opt["tol_bins"], detrend_order=opt["detrend_order"], merge_bins=opt["merge_bins"],
+    local_prominence_ratio=opt["local_prominence_ratio"],
+    local_floor_halfwidth_bins=opt["local_floor_halfwidth_bins"])
 if prof.trim_mm < opt["trim_mm"]:
     log.warning("path of %.3g mm: trimmed %.3g mm at each end instead of straightness.trim_mm "
                 "%g mm (at most %g %% of the path)", prof.length_mm + 2 * prof.trim_mm,

@@ -230,32 +230,43 @@ def profile_spectrum(profile: Profile, *, nfft: int | None = None,
 
 
 def spectrum_peaks(spec: ProfileSpectrum, *, fmin_per_mm: float, fmax_per_mm: float,
-                   threshold: float, n_peaks: int) -> pd.DataFrame:
+                   threshold: float, n_peaks: int, local_ratio: float = 0.0,
+                   floor_halfwidth_bins: float = 0.0) -> pd.DataFrame:
     """Peaks of the combined perpendicular power within [fmin, fmax].
 
-    A peak must exceed ``threshold`` × the median power of the band (the noise floor; uses
-    :func:`robomill.spectra.find_peaks_spectrum`). Local maxima are searched from two
-    resolution bins below ``fmin`` (so a peak right at the band edge is still a local
-    maximum) and kept from ``fmin`` up. Returns ``f_spatial_per_mm``,
-    ``amplitude_um`` (``sqrt(2·power)``: the amplitude of the perpendicular oscillation),
-    ``component`` (the larger of lateral/vertical) and ``snr`` (power / floor).
+    A peak is a local maximum that exceeds ``threshold`` × the median power of the band (the
+    noise floor) and whose prominence is at least ``local_ratio`` × its local floor, the
+    median power within ±``floor_halfwidth_bins`` resolution bins 1/L
+    (:func:`robomill.spectra.find_peaks_spectrum`): never a bump on the skirt of a stronger
+    line. The ``n_peaks`` strongest are kept; none qualifying: an empty table. Local maxima
+    are searched from two resolution bins below ``fmin`` (so a peak right at the band edge is
+    still a local maximum) and kept from ``fmin`` up.
+
+    Returns ``f_spatial_per_mm`` (interpolated within the bin,
+    :func:`robomill.spectra.interpolate_peak`: it is compared with the gear lines),
+    ``amplitude_um`` (``sqrt(2·power)`` at the peak bin: the amplitude of the perpendicular
+    oscillation), ``component`` (the larger of lateral/vertical there) and ``snr``
+    (power / floor).
     """
-    sel = (spec.f_per_mm >= fmin_per_mm) & (spec.f_per_mm <= fmax_per_mm)
-    floor = float(np.median(spec.power_um2[sel])) if sel.any() else np.nan
-    low = max(0.0, fmin_per_mm - 2 * spec.resolution_per_mm)
-    found = spectra.find_peaks_spectrum(spec.f_per_mm, spec.power_um2, fmin=low,
-                                        fmax=fmax_per_mm, n=n_peaks + 2,
-                                        prominence_ratio=threshold * floor / np.median(
-                                            spec.power_um2[(spec.f_per_mm >= low)
-                                                           & (spec.f_per_mm <= fmax_per_mm)]))
-    found = [(f, p) for f, p in found if f >= fmin_per_mm][:n_peaks]
+    f_grid, power = spec.f_per_mm, spec.power_um2
+    sel = (f_grid >= fmin_per_mm) & (f_grid <= fmax_per_mm)
+    floor = float(np.median(power[sel])) if sel.any() else np.nan
+    df = float(f_grid[1] - f_grid[0])
+    found = spectra.find_peaks_spectrum(
+        f_grid, power, fmin=fmin_per_mm, fmax=fmax_per_mm, n=n_peaks,
+        prominence_ratio=threshold, floor=floor, local_ratio=local_ratio,
+        halfwidth_points=int(round(floor_halfwidth_bins * spec.resolution_per_mm / df)),
+        search_from=max(0.0, fmin_per_mm - 2 * spec.resolution_per_mm),
+        envelope_points=int(round(spec.resolution_per_mm / df)))
     rows = []
     for f, p in found:
-        k = int(np.argmin(np.abs(spec.f_per_mm - f)))
+        k = int(np.argmin(np.abs(f_grid - f)))
         comp = COMPONENTS[int(np.argmax(spec.amplitude_um[:, k]))]
-        rows.append({"f_spatial_per_mm": f, "amplitude_um": float(np.sqrt(2 * p)),
-                     "component": comp, "snr": p / floor})
+        rows.append({"f_spatial_per_mm": spectra.interpolate_peak(f_grid, power, k),
+                     "amplitude_um": float(np.sqrt(2 * p)), "component": comp,
+                     "snr": p / floor})
     return pd.DataFrame(rows, columns=["f_spatial_per_mm", "amplitude_um", "component", "snr"])
+
 
 def profile_dataset(prof: Profile, spec: ProfileSpectrum, *, fmax_store_per_mm: float,
                     attrs: Mapping[str, Any]) -> xr.Dataset:

@@ -31,7 +31,8 @@ def analyse_run(t_s: np.ndarray, points_mm: np.ndarray, *, robot: SerialRobot,
                 gears: Sequence[Any], tool_rotation: np.ndarray, q0_rad: np.ndarray,
                 ds_mm: float, trim_mm: float, nfft: int, fmin_cycles: float,
                 fmax_per_mm: float, threshold: float, n_peaks: int, tol_bins: float,
-                detrend_order: int = 1, ik_points: int = 41, merge_bins: float = 2.0
+                detrend_order: int = 1, ik_points: int = 41, merge_bins: float = 2.0,
+                local_prominence_ratio: float = 0.0, local_floor_halfwidth_bins: float = 0.0
                 ) -> tuple[Profile, ProfileSpectrum, pd.DataFrame, pd.DataFrame]:
     """Profile, spectrum, gear frequencies and gear-matched peaks of one tracker run.
 
@@ -39,7 +40,9 @@ def analyse_run(t_s: np.ndarray, points_mm: np.ndarray, *, robot: SerialRobot,
     (tracker coordinates are those of the robot base frame) through inverse kinematics at
     the tool orientation ``tool_rotation``. Peaks are searched from ``fmin_cycles/L``
     (fewer cycles than that in the record are indistinguishable from the removed line) up to
-    ``fmax_per_mm``; the match tolerance is ``tol_bins/L``, and gear lines closer than
+    ``fmax_per_mm``, each a local maximum standing ``local_prominence_ratio`` above its local
+    floor within ±``local_floor_halfwidth_bins``/L (:func:`spectrum_peaks`), its frequency
+    interpolated within the bin; the match tolerance is ``tol_bins/L``, and gear lines closer than
     ``merge_bins/L`` (the Hann window's resolution, 2 bins) are merged: the peak lists every
     candidate (:func:`match_peaks_to_gears`).
     """
@@ -50,7 +53,9 @@ def analyse_run(t_s: np.ndarray, points_mm: np.ndarray, *, robot: SerialRobot,
                                ik_points)
     gears_df = gear_spatial_frequencies(q, s, gears)
     peaks = spectrum_peaks(spec, fmin_per_mm=fmin_cycles * spec.resolution_per_mm,
-                           fmax_per_mm=fmax_per_mm, threshold=threshold, n_peaks=n_peaks)
+                           fmax_per_mm=fmax_per_mm, threshold=threshold, n_peaks=n_peaks,
+                           local_ratio=local_prominence_ratio,
+                           floor_halfwidth_bins=local_floor_halfwidth_bins)
     peaks = match_peaks_to_gears(peaks, gears_df,
                                  tolerance_per_mm=tol_bins * spec.resolution_per_mm,
                                  resolution_per_mm=merge_bins * spec.resolution_per_mm)

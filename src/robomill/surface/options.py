@@ -16,6 +16,8 @@ DEFAULTS: dict[str, Any] = {
     "roughness_peak_segment_mm": 2.5,
     "n_peaks": 3,
     "peak_prominence_ratio": 5.0,
+    "local_prominence_ratio": 1.0,
+    "local_floor_halfwidth_bins": 10,
     "match_tolerance": 0.2,
     "min_feed_ratio": 1.5,
     "min_peak_cycles": 2.5,

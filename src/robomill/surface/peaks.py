@@ -24,7 +24,14 @@ def profile_peaks(ds: xr.Dataset, opts: Mapping[str, Any]) -> pd.DataFrame:
     """Dominant peaks of one analysed profile: waviness band from the whole-profile thesis
     spectrum (resolution fs/N), roughness band from the segment-averaged spectrum with
     ``roughness_peak_segment_mm`` segments (variance of a random-vibration spectrum reduced by
-    averaging). ``amplitude_um`` is the sinusoid amplitude sqrt(2 P) at the peak bin.
+    averaging). A peak is a local maximum above ``peak_prominence_ratio`` × the band's median
+    power whose prominence is at least ``local_prominence_ratio`` × its local floor (the
+    median power within ±``local_floor_halfwidth_bins`` bins; :func:`robomill.spectra.
+    find_peaks_spectrum`): never a bump on the skirt of a stronger line; none qualifying, the
+    band has no row. ``f_spatial_per_mm`` is interpolated within the bin (parabola through
+    the log powers of the peak bin and its neighbours, :func:`robomill.spectra.
+    interpolate_peak`; it is compared across feeds and with the tracker's gear lines);
+    ``power_um2`` and ``amplitude_um`` (the sinusoid amplitude sqrt(2 P)) are the peak bin's.
 
     Sanity flag: ``resolution_per_mm`` is the bin spacing of the spectrum the peak was found
     in (1/L for waviness, 1/segment for roughness) and ``below_resolution`` marks a peak with
@@ -32,6 +39,8 @@ def profile_peaks(ds: xr.Dataset, opts: Mapping[str, Any]) -> pd.DataFrame:
     (:func:`robomill.spectra.below_resolution`)."""
     rows = []
     n, ratio = int(opts["n_peaks"]), float(opts["peak_prominence_ratio"])
+    local = float(opts.get("local_prominence_ratio", DEFAULTS["local_prominence_ratio"]))
+    half = int(opts.get("local_floor_halfwidth_bins", DEFAULTS["local_floor_halfwidth_bins"]))
     cycles = float(opts.get("min_peak_cycles", DEFAULTS["min_peak_cycles"]))
     for band, f_name, p_name in (("waviness", "f", "power"),
                                  ("roughness", "f_peak", "power_peak")):
@@ -39,7 +48,8 @@ def profile_peaks(ds: xr.Dataset, opts: Mapping[str, Any]) -> pd.DataFrame:
         f_axis = ds[f_name].values
         res = float(f_axis[1] - f_axis[0]) if f_axis.size > 1 else float("nan")
         for f, p in find_peaks_spectrum(f_axis, ds[p_name].values, fmin=lo, fmax=hi, n=n,
-                                        prominence_ratio=ratio):
+                                        prominence_ratio=ratio, local_ratio=local,
+                                        halfwidth_points=half, interpolate=True):
             rows.append({"band": band, "f_spatial_per_mm": f, "power_um2": p,
                          "resolution_per_mm": res,
                          "below_resolution": bool(below_resolution(f, res,
