@@ -35,6 +35,7 @@ from robomill._lazy import lazy_exports
 
 _EXPORTS = {  # public name → submodule
     "MECHANISMS": "attribution",
+    "NO_TIME_BASE": "attribution",
     "PEAK_COLUMNS": "attribution",
     "classify_peaks": "attribution",
     "element_label": "attribution",

@@ -5,7 +5,7 @@ constant-spatial or unclassified.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 from typing import Any
 
 import numpy as np
@@ -101,8 +101,18 @@ def match_peaks_to_gears(peaks: pd.DataFrame, gears: pd.DataFrame, *,
 # ---------------------------------------------------------------------------------------------
 # 5. temporal vs spatial classification across feeds
 # ---------------------------------------------------------------------------------------------
+NO_TIME_BASE = ("a stream without a time base (a distance- or event-triggered tracker export, "
+                "imported with --spatial-only) is analysed in space only: its peaks are "
+                "matched to the gear lines per mm, but whether an unmatched peak keeps its "
+                "temporal or its spatial frequency across feeds cannot be told without the "
+                "time base, so it stays unclassified")
+"""Why the peaks of a run without a time base are not classified temporal/spatial (the
+chapter prints it)."""
+
+
 def classify_peaks(peaks: pd.DataFrame, resolution_per_mm: Mapping[tuple[str, float], float],
-                   *, tol_bins: float = 1.0, min_other_feeds: int = 1) -> pd.DataFrame:
+                   *, tol_bins: float = 1.0, min_other_feeds: int = 1,
+                   untimed: Collection[tuple[str, float]] = ()) -> pd.DataFrame:
     """Classify every peak as ``gear``, ``temporal``, ``spatial`` or ``unclassified``.
 
     For a peak at spatial frequency f in the run (direction d, feed v), the other runs of
@@ -119,14 +129,23 @@ def classify_peaks(peaks: pd.DataFrame, resolution_per_mm: Mapping[tuple[str, fl
 
     ``peaks`` needs ``direction, feed_mm_s, f_spatial_per_mm`` and ``joint`` (from
     :func:`match_peaks_to_gears`); ``resolution_per_mm`` maps (direction, feed) to 1/L.
+    The runs ``untimed`` (direction, feed) have no time base (:data:`NO_TIME_BASE`): their
+    peaks are ``gear`` or ``unclassified``, never ``temporal``/``spatial``, and witness for
+    no other run.
     """
+    untimed = {(d, float(v)) for d, v in untimed}
     out = peaks.copy()
     out["f_temporal_hz"] = out["f_spatial_per_mm"] * out["feed_mm_s"]
     mech = []
     for _, p in out.iterrows():
         d, v, f = p["direction"], float(p["feed_mm_s"]), float(p["f_spatial_per_mm"])
         res_p = resolution_per_mm[(d, v)]
-        others = out[(out["direction"] == d) & (out["feed_mm_s"] != v)]
+        if (d, v) in untimed:
+            mech.append("unclassified" if pd.isna(p["joint"]) else "gear")
+            continue
+        others = out[(out["direction"] == d) & (out["feed_mm_s"] != v)
+                     & ~np.array([(d, float(x)) in untimed for x in out["feed_mm_s"]],
+                                 dtype=bool)]
         same_t, same_s = set(), set()
         for _, o in others.iterrows():
             vo = float(o["feed_mm_s"])

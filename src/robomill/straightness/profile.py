@@ -39,7 +39,7 @@ class Profile:
     ds_mm
         Grid step [mm].
     speed_mm_s
-        Median speed along the line (from the raw samples) [mm/s].
+        Median speed along the line (from the raw samples) [mm/s]; NaN without a time base.
     """
 
     s_mm: np.ndarray
@@ -114,14 +114,15 @@ TRIM_MAX_FRACTION = 0.1
 of being refused; the 40 mm thesis runs trim the full ``trim_mm``."""
 
 
-def spatial_profile(t_s: np.ndarray, points_mm: np.ndarray, *, ds_mm: float,
+def spatial_profile(t_s: np.ndarray | None, points_mm: np.ndarray, *, ds_mm: float,
                     trim_mm: float = 0.0, detrend_order: int = 1) -> Profile:
     """Re-order a tracker time series in space (thesis §3.2).
 
     Parameters
     ----------
     t_s
-        Sample times [s], increasing.
+        Sample times [s], increasing; ``None`` for a stream without a time base
+        (``time_base: none``): the acquisition order orients the line and the speed is NaN.
     points_mm
         ``(n, 3)`` measured positions [mm].
     ds_mm
@@ -147,8 +148,8 @@ def spatial_profile(t_s: np.ndarray, points_mm: np.ndarray, *, ds_mm: float,
     deviation is ``(p_k − c) − s_k u`` projected on the two perpendicular axes. The samples
     are sorted by ``s`` (space order), whatever their time order.
     """
-    t = np.asarray(t_s, float)
     p = np.asarray(points_mm, float)
+    t = np.arange(p.shape[0], dtype=float) if t_s is None else np.asarray(t_s, float)
     c, u = fit_line(p)
     s = (p - c) @ u
     if np.polyfit(t, s, 1)[0] < 0:  # orient the line along the motion
@@ -170,7 +171,7 @@ def spatial_profile(t_s: np.ndarray, points_mm: np.ndarray, *, ds_mm: float,
     V = np.polynomial.legendre.legvander(x, int(detrend_order))
     coef, *_ = np.linalg.lstsq(V, dev_u.T, rcond=None)
     dev_u = dev_u - (V @ coef).T
-    speed = _speed(t, (p - c) @ u)
+    speed = np.nan if t_s is None else _speed(t, (p - c) @ u)
     return Profile(s_mm=grid - grid[0], deviation_um=dev_u, start_mm=c + s0 * u,
                    end_mm=c + s1 * u, direction=u, ds_mm=float(ds_mm), speed_mm_s=speed,
                    trim_mm=trim_mm)

@@ -27,7 +27,7 @@ from robomill.straightness.profile import (
 # ---------------------------------------------------------------------------------------------
 # one tracker run, end to end
 # ---------------------------------------------------------------------------------------------
-def analyse_run(t_s: np.ndarray, points_mm: np.ndarray, *, robot: SerialRobot,
+def analyse_run(t_s: np.ndarray | None, points_mm: np.ndarray, *, robot: SerialRobot,
                 gears: Sequence[Any], tool_rotation: np.ndarray, q0_rad: np.ndarray,
                 ds_mm: float, trim_mm: float, nfft: int, fmin_cycles: float,
                 fmax_per_mm: float, threshold: float, n_peaks: int, tol_bins: float,
@@ -44,7 +44,8 @@ def analyse_run(t_s: np.ndarray, points_mm: np.ndarray, *, robot: SerialRobot,
     floor within ±``local_floor_halfwidth_bins``/L (:func:`spectrum_peaks`), its frequency
     interpolated within the bin; the match tolerance is ``tol_bins/L``, and gear lines closer than
     ``merge_bins/L`` (the Hann window's resolution, 2 bins) are merged: the peak lists every
-    candidate (:func:`match_peaks_to_gears`).
+    candidate (:func:`match_peaks_to_gears`). ``t_s`` is ``None`` for a stream without a
+    time base (:func:`spatial_profile`): everything here is in space.
     """
     prof = spatial_profile(t_s, points_mm, ds_mm=ds_mm, trim_mm=trim_mm,
                            detrend_order=detrend_order)
@@ -61,7 +62,7 @@ def analyse_run(t_s: np.ndarray, points_mm: np.ndarray, *, robot: SerialRobot,
                                  resolution_per_mm=merge_bins * spec.resolution_per_mm)
     return prof, spec, gears_df, peaks
 
-def analyse_tracker_run(t_s: np.ndarray, points_mm: np.ndarray, cell: Any, *,
+def analyse_tracker_run(t_s: np.ndarray | None, points_mm: np.ndarray, cell: Any, *,
                         data_file: str, **settings: Any
                         ) -> tuple[Profile, ProfileSpectrum, pd.DataFrame, pd.DataFrame]:
     """:func:`analyse_run` for a tracker file in the cell described by ``cell``
@@ -107,8 +108,9 @@ _RUN_COORDS = {  # run coordinate: (units, long name), from each run's attrs
 
 def gather_profiles(runs: Sequence[xr.Dataset], run_ids: Sequence[str]) -> xr.Dataset:
     """Stack the per-run :func:`profile_dataset` artefacts along ``run`` (outer join of their
-    axes); each run's attrs (direction, feed, resolution, …) become ``run`` coordinates.
-    The inputs are not modified."""
+    axes); each run's attrs (direction, feed, resolution, …) become ``run`` coordinates,
+    and ``time_base`` (``time`` or ``none``) when a run has no time base. The inputs are not
+    modified."""
     if len(runs) != len(run_ids):
         raise ValueError(f"gather_profiles: {len(runs)} runs but {len(run_ids)} run ids")
     missing = [(r, k) for r, ds in zip(run_ids, runs, strict=True) for k in _RUN_COORDS
@@ -122,6 +124,10 @@ def gather_profiles(runs: Sequence[xr.Dataset], run_ids: Sequence[str]) -> xr.Da
         part = ds.expand_dims(run=[r])
         part.attrs = {}
         parts.append(part)
+    if any("time_base" in ds.attrs for ds in runs):  # a stream without a time base among them
+        coords["time_base"] = ("run", [ds.attrs.get("time_base", "time") for ds in runs],
+                               {"units": "1", "long_name": "time base of the stream (none: "
+                                "analysed in space only)"})
     prof = xr.concat(parts, dim="run", join="outer").assign_coords(coords)
     prof["run"].attrs = {"units": "1", "long_name": "tracker run <dir>_f<feed>"}
     return prof
@@ -139,7 +145,8 @@ def gather_peaks(per_run: Sequence[pd.DataFrame], profiles: xr.Dataset, *,
                  tol_bins: float) -> pd.DataFrame:
     """All runs' peaks, classified across feeds (:func:`classify_peaks`) with each run's
     resolution from ``profiles`` (:func:`gather_profiles`); columns :data:`PEAK_COLUMNS`
-    (plus ``n_candidates``, ``candidates``, ``merged`` when present)."""
+    (plus ``n_candidates``, ``candidates``, ``merged`` when present, and ``time_base`` when a
+    run has none: its peaks are not classified temporal/spatial, :data:`NO_TIME_BASE`)."""
     peaks = pd.concat(list(per_run), ignore_index=True)
     peaks["joint"] = peaks["joint"].astype("Int64")
     peaks[["stage", "order"]] = peaks[["stage", "order"]].fillna("")
@@ -150,6 +157,15 @@ def gather_peaks(per_run: Sequence[pd.DataFrame], profiles: xr.Dataset, *,
                                                       profiles["feed_mm_s"].values,
                                                       profiles["resolution_per_mm"].values,
                                                       strict=True)}
-    peaks = classify_peaks(peaks, res, tol_bins=tol_bins)
-    extra = [c for c in ("n_candidates", "candidates", "merged") if c in peaks]
+    untimed = []
+    if "time_base" in profiles.coords:
+        untimed = [(d, float(v)) for d, v, b in zip(profiles["direction"].values,
+                                                    profiles["feed_mm_s"].values,
+                                                    profiles["time_base"].values, strict=True)
+                   if b == "none"]
+        peaks["time_base"] = ["none" if (d, float(v)) in untimed else "time"
+                              for d, v in zip(peaks["direction"], peaks["feed_mm_s"],
+                                              strict=True)]
+    peaks = classify_peaks(peaks, res, tol_bins=tol_bins, untimed=untimed)
+    extra = [c for c in ("n_candidates", "candidates", "merged", "time_base") if c in peaks]
     return peaks[PEAK_COLUMNS + extra]
