@@ -28,10 +28,13 @@ def profile_peaks(ds: xr.Dataset, opts: Mapping[str, Any]) -> pd.DataFrame:
     power whose prominence is at least ``local_prominence_ratio`` × its local floor (the
     median power within ±``local_floor_halfwidth_bins`` bins; :func:`robomill.spectra.
     find_peaks_spectrum`): never a bump on the skirt of a stronger line; none qualifying, the
-    band has no row. ``f_spatial_per_mm`` is interpolated within the bin (parabola through
-    the log powers of the peak bin and its neighbours, :func:`robomill.spectra.
-    interpolate_peak`; it is compared across feeds and with the tracker's gear lines);
-    ``power_um2`` and ``amplitude_um`` (the sinusoid amplitude sqrt(2 P)) are the peak bin's.
+    band has no row. ``f_spatial_per_mm``, ``power_um2`` and ``amplitude_um`` (the sinusoid
+    amplitude sqrt(2 P)) are the peak bin's: the frequency is compared across feeds within
+    ``match_tolerance`` (relative), which ``min_peak_cycles`` ties to half a bin, and these
+    spectra are unwindowed and coarse (a 15 mm profile: 1/L = 0.067 mm⁻¹), where the
+    parabola on the log power (:func:`robomill.spectra.interpolate_peak`, used for the
+    straightness peaks that are compared with gear lines) is biased by up to 0.17 bin and
+    pulled apart by unresolved neighbouring lines.
 
     Sanity flag: ``resolution_per_mm`` is the bin spacing of the spectrum the peak was found
     in (1/L for waviness, 1/segment for roughness) and ``below_resolution`` marks a peak with
@@ -49,7 +52,7 @@ def profile_peaks(ds: xr.Dataset, opts: Mapping[str, Any]) -> pd.DataFrame:
         res = float(f_axis[1] - f_axis[0]) if f_axis.size > 1 else float("nan")
         for f, p in find_peaks_spectrum(f_axis, ds[p_name].values, fmin=lo, fmax=hi, n=n,
                                         prominence_ratio=ratio, local_ratio=local,
-                                        halfwidth_points=half, interpolate=True):
+                                        halfwidth_points=half):
             rows.append({"band": band, "f_spatial_per_mm": f, "power_um2": p,
                          "resolution_per_mm": res,
                          "below_resolution": bool(below_resolution(f, res,
