@@ -46,7 +46,7 @@ from robomill.pipeline.design_tables import (
     with_design,
 )
 from robomill.plotting import save_figure
-from robomill.surface import (
+from robomill.surface.tables import (
     comparison_summary,
     direction_means,
     feed_correlation,

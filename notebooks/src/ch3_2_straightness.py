@@ -40,12 +40,13 @@ from robomill.pipeline.design_tables import (
     thesis_gate,
 )
 from robomill.plotting import save_figure
-from robomill.straightness import (
-    attribution_counts,
+from robomill.straightness.attribution import NO_TIME_BASE
+from robomill.straightness.tables import (
     band_floor_table,
     run_summary_table,
     surface_cross_check,
 )
+from robomill.straightness.truth import attribution_counts
 
 prof = open_artefact(profiles)
 pk = pd.read_csv(peaks, keep_default_na=False, na_values=[""])
@@ -113,10 +114,14 @@ display(Markdown(
     f"length {runs.length_mm.mean():.1f} mm, so the frequency resolution is "
     f"1/L = {runs.resolution_per_mm.mean():.4f} mm⁻¹. Measured speeds agree with the "
     f"commanded feeds within "
-    f"{100 * np.max(np.abs(runs.speed_mm_s / runs.feed_mm_s - 1)):.2f} %. "
+    f"{100 * np.nanmax(np.abs(runs.speed_mm_s / runs.feed_mm_s - 1)):.2f} %. "
     f"{len(pk)} spectral peaks: {len(gear_pk)} attributed to a gear, {len(temporal)} at a "
     f"constant temporal frequency, {int((pk.mechanism == 'spatial').sum())} spatial without "
     f"a gear, {int((pk.mechanism == 'unclassified').sum())} unclassified."))
+untimed = (list(prof["run"].values[prof["time_base"].values == "none"])
+           if "time_base" in prof.coords else [])
+if untimed:  # spatial-only streams: why their peaks are not classified temporal/spatial
+    display(Markdown(f"Run(s) {', '.join(map(str, untimed))}: {NO_TIME_BASE}."))
 
 
 # %%

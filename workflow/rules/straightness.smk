@@ -31,7 +31,8 @@ rule straightness_run:
         relpath=lambda w: TRACKER_RUNS[w.run]["path"],
         direction=lambda w: tracker_direction(TRACKER_RUNS[w.run]),
         feed_mm_s=lambda w: TRACKER_RUNS[w.run]["feed_mm_s"],
-        fs_hz=lambda w: TRACKER_RUNS[w.run]["fs_hz"],
+        fs_hz=lambda w: TRACKER_RUNS[w.run].get("fs_hz"),
+        time_base=lambda w: TRACKER_RUNS[w.run].get("time_base", "time"),
         cut=lambda w: TRACKER_RUNS[w.run].get("cut", ""),
     script:
         "../scripts/straightness_run.py"

@@ -5,7 +5,7 @@ import pandas as pd
 
 from robomill.io import open_artefact, write_artefact, write_table
 from robomill.pipeline.runlog import setup
-from robomill.straightness import gather_gears, gather_peaks, gather_profiles
+from robomill.straightness.study import gather_gears, gather_peaks, gather_profiles
 
 log = setup(snakemake.log[0], "straightness_gather")
 p = snakemake.params

@@ -1,4 +1,5 @@
-"""One tracker run: validate, re-order in space, spectrum, gear frequencies, gear-matched peaks."""
+"""One tracker run: validate, re-order in space, spectrum, gear frequencies, gear-matched peaks
+(a stream without a time base, manifest time_base: none, in space only)."""
 
 import numpy as np
 import pandas as pd
@@ -8,7 +9,8 @@ from robomill.io.cell import read_cell
 from robomill.io.manifest import load_manifest
 from robomill.io.tracker import read_tracker
 from robomill.pipeline.runlog import setup
-from robomill.straightness import TRIM_MAX_FRACTION, analyse_tracker_run, profile_dataset
+from robomill.straightness.profile import TRIM_MAX_FRACTION, profile_dataset
+from robomill.straightness.study import analyse_tracker_run
 
 log = setup(snakemake.log[0], "straightness_run")
 p = snakemake.params
@@ -18,17 +20,24 @@ manifest.verify_file(p.relpath)
 if p.cell_relpath:  # the raw folder's cell.yaml (else the configuration's cell, ingest_cell)
     manifest.verify_file(p.cell_relpath)
 cell = read_cell(snakemake.input.cell)
-t, points = read_tracker(snakemake.input.raw, fs_hz=float(p.fs_hz))
+# a stream without a time base (time_base: none, --spatial-only): analysed in space only
+untimed = p.time_base == "none"
+t, points = read_tracker(snakemake.input.raw, fs_hz=None if untimed else float(p.fs_hz),
+                         spatial_only=untimed)
 prof, spec, gears, peaks = analyse_tracker_run(
-    t, points, cell, data_file=snakemake.input.raw, ds_mm=opt["ds_mm"],
+    None if untimed else t, points, cell, data_file=snakemake.input.raw, ds_mm=opt["ds_mm"],
     trim_mm=opt["trim_mm"], nfft=opt["nfft"], fmin_cycles=opt["fmin_cycles"],
     fmax_per_mm=opt["fmax_per_mm"], threshold=opt["threshold"], n_peaks=opt["n_peaks"],
-    tol_bins=opt["tol_bins"], detrend_order=opt["detrend_order"], merge_bins=opt["merge_bins"])
+    tol_bins=opt["tol_bins"], detrend_order=opt["detrend_order"], merge_bins=opt["merge_bins"],
+    local_prominence_ratio=opt["local_prominence_ratio"],
+    local_floor_halfwidth_bins=opt["local_floor_halfwidth_bins"])
 if prof.trim_mm < opt["trim_mm"]:
     log.warning("path of %.3g mm: trimmed %.3g mm at each end instead of straightness.trim_mm "
                 "%g mm (at most %g %% of the path)", prof.length_mm + 2 * prof.trim_mm,
                 prof.trim_mm, opt["trim_mm"], 100 * TRIM_MAX_FRACTION)
 meta = {"direction": p.direction, "feed_mm_s": float(p.feed_mm_s), "cut": p.cut}
+if untimed:
+    meta["time_base"] = "none"
 fmin = opt["fmin_cycles"] * spec.resolution_per_mm
 band = (spec.f_per_mm >= fmin) & (spec.f_per_mm <= opt["fmax_per_mm"])
 ds = profile_dataset(prof, spec, fmax_store_per_mm=opt["fmax_store_per_mm"],

@@ -5,7 +5,7 @@ import pandas as pd
 
 from robomill.io import open_artefact, write_table
 from robomill.pipeline.runlog import setup
-from robomill.straightness import attribution_counts, truth_check
+from robomill.straightness.truth import attribution_counts, truth_check
 
 log = setup(snakemake.log[0], "straightness_truth_check")
 if not snakemake.input.truth:  # real data: no planted truth

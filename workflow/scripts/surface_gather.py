@@ -7,7 +7,8 @@ from robomill.experiment import cut_process, is_thesis_design
 from robomill.io import open_artefact, write_artefact, write_table
 from robomill.io.manifest import load_manifest
 from robomill.pipeline.runlog import setup
-from robomill.surface import gather_surface, settings
+from robomill.surface.options import settings
+from robomill.surface.study import gather_surface
 
 log = setup(snakemake.log[0], "surface_gather")
 opts = settings(snakemake.params.settings)

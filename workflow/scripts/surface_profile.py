@@ -4,7 +4,9 @@ from robomill.io import write_artefact, write_table
 from robomill.io.manifest import load_manifest
 from robomill.io.profiles import read_profile
 from robomill.pipeline.runlog import setup
-from robomill.surface import analyse_profile, profile_peaks, settings
+from robomill.surface.options import settings
+from robomill.surface.peaks import profile_peaks
+from robomill.surface.psd import analyse_profile
 
 log = setup(snakemake.log[0], "surface_profile")
 p = snakemake.params

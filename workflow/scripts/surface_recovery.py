@@ -4,7 +4,7 @@ import pandas as pd
 
 from robomill.io import open_artefact, write_table
 from robomill.pipeline.runlog import setup
-from robomill.surface import recovery_table
+from robomill.surface.recovery import recovery_table
 
 log = setup(snakemake.log[0], "surface_recovery")
 df = recovery_table(pd.read_csv(snakemake.input.metrics), open_artefact(snakemake.input.truth))

@@ -354,6 +354,9 @@ def run(args: argparse.Namespace) -> int:
     for e in entries:
         meta = ", ".join(f"{k}={v}" for k, v in e.items() if k not in ("path", "sha256"))
         print(f"{fargs.to / e['path']}: imported ({meta})")
+        if e.get("time_base") == "none":
+            print(f"{fargs.to / e['path']}: no time base (--spatial-only): analysed in space "
+                  "only (gear lines per mm), its peaks not classified temporal/spatial")
     for line in getattr(fargs, "cut_lines", []):
         print(f"{fargs.to / 'manifest.yaml'}: {line}")
     print(f"{fargs.to / 'manifest.yaml'}: {len(entries)} entr{'y' if len(entries) == 1 else 'ies'}"

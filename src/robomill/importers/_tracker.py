@@ -62,6 +62,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="coordinate unit of the export (default: from the file, else mm)")
     parser.add_argument("--time-unit", choices=("s", "ms"), default="s",
                         help="unit of a numeric time column (default s)")
+    parser.add_argument("--spatial-only", action="store_true",
+                        help="a stream without a usable time base (a distance- or event-"
+                             "triggered export: coarse stamps holding uneven point counts): "
+                             "kept in acquisition order without a rebuilt time axis, recorded "
+                             "as time_base: none and analysed in space only (gear lines per "
+                             "mm; its peaks are not classified temporal/spatial)")
 
 
 def _unit_in(name: str) -> str | None:
@@ -242,13 +248,35 @@ def read_points(source: Path, *, fmt: str, what: str,
     return pts * UNITS_MM[unit], t, info
 
 
+def event_triggered(t: np.ndarray | None, *, min_stamps: int = 3,
+                    spread: float = 1.5) -> str | None:
+    """Why a stream has no time base, or None: coarse stamps (several points each) whose inner
+    stamps (between the first and the last, which are partial) hold point counts differing
+    by more than ``spread`` times (at least ``min_stamps`` of them) — a tracker triggered by
+    distance or by an event, whose rate is not uniform (a real SpatialAnalyzer stream: whole
+    seconds holding 98–444 points, median 159)."""
+    if t is None or len(t) < 3 or np.any(np.diff(t) < 0):
+        return None
+    _, counts = np.unique(t, return_counts=True)
+    inner = counts[1:-1]
+    if inner.size < min_stamps or inner.min() < 2 or inner.max() < spread * inner.min():
+        return None
+    return (f"{len(t)} points on {counts.size} time stamps holding {int(inner.min())}–"
+            f"{int(inner.max())} points each (median {float(np.median(inner)):g}): no uniform "
+            "rate (a distance- or event-triggered export)")
+
+
 def convert_points(sources: list[Path], staging: Path, args: argparse.Namespace, *, fmt: str,
                    what: str, time_names: Sequence[str], headerless: bool = False
                    ) -> list[dict]:
     """Write ``staging/tracker/<dir>_f<feed>.csv`` per source (``d<deg>_f<feed>.csv`` with
     ``--direction-deg``); return the manifest entries ``{"path", "kind": "tracker",
     "direction" or "direction_deg", "feed_mm_s", "fs_hz"}`` (``headerless``: see
-    :func:`read_points`)."""
+    :func:`read_points`). With ``args.spatial_only`` no time axis is rebuilt: ``t_s`` holds
+    the export's stamps from the first (or the sample number without stamps) and the entry
+    has ``time_base: none`` instead of ``fs_hz``. A stream refused for its stamps that looks
+    distance- or event-triggered (:func:`event_triggered`) is refused with one line
+    suggesting ``--spatial-only``."""
     from robomill.experiment import tracker_direction
 
     entries = []
@@ -277,12 +305,28 @@ def convert_points(sources: list[Path], staging: Path, args: argparse.Namespace,
         if pts.shape[0] < 2:
             raise RawDataError(src, f"only {pts.shape[0]} points", where="data rows",
                                expected="a point stream")
-        t_s, fs, _jitter = time_axis(src, t, pts.shape[0], getattr(args, "fs_hz", None),
-                                     column=info["time_column"] or "time")
+        column = info["time_column"] or "time"
         where = {"direction": direction} if deg is None else {"direction_deg": float(deg)}
         rel = f"tracker/{tracker_direction(where)}_f{float(feed):g}.csv"
+        if getattr(args, "spatial_only", False):
+            # no time base: the export's own stamps (or the sample number) kept as they are
+            t_s = np.arange(pts.shape[0], dtype=float) if t is None else t - t[0]
+            entry = {"time_base": "none"}
+        else:
+            try:
+                t_s, fs, _jitter = time_axis(src, t, pts.shape[0],
+                                             getattr(args, "fs_hz", None), column=column)
+            except RawDataError:
+                untimed = event_triggered(t)
+                if untimed is None:
+                    raise
+                raise RawDataError(src, untimed, where=f"column {column}",
+                                   expected="--spatial-only to import it for a spatial "
+                                            "analysis (gear lines per mm), or a "
+                                            "time-triggered export") from None
+            entry = {"fs_hz": fs}
         write_csv(staging / rel, ("t_s", "x_mm", "y_mm", "z_mm"), (t_s - t_s[0], *pts.T),
                   ("%.9f", "%.6f", "%.6f", "%.6f"))
         entries.append({"path": rel, "kind": "tracker", **where,
-                        "feed_mm_s": float(feed), "fs_hz": fs})
+                        "feed_mm_s": float(feed), **entry})
     return entries

@@ -8,7 +8,9 @@ second (``02/12/25 16:52:45``); commas or spaces separate the fields and there i
 header row (SA User Manual; a real SA 2024.2 export, ``tests/data/real/spatialanalyzer/
 SOURCE.md``). Files re-saved with a header row (``Collection,Group,Target,X,Y,Z,Timestamp``,
 ``Units:`` line) are read by the header. The stamps are far coarser than the tracker rate:
-give ``--fs-hz`` and the time axis is rebuilt (see :mod:`robomill.importers._tracker`).
+give ``--fs-hz`` and the time axis is rebuilt (see :mod:`robomill.importers._tracker`). A
+stream triggered by distance or by events (whole-second stamps holding uneven point counts)
+has no time base to rebuild: ``--spatial-only`` imports it for a spatial analysis alone.
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ TIME_NAMES = ("time", "timestamp", "time stamp", "timestamps", "t")
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """``--fs-hz``, ``--direction`` (or ``--direction-deg``), ``--feed-mm-s``, ``--units``,
-    ``--time-unit``, ``--name-fields``, ``--group``."""
+    ``--time-unit``, ``--spatial-only``, ``--name-fields``, ``--group``."""
     _tracker.add_arguments(parser)
     parser.add_argument("--name-fields", type=int, choices=(0, 1, 2, 3), default=None,
                         help="export without a header row (SA's own ASCII export): how many "

@@ -358,9 +358,17 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True,
         if f["kind"] not in KIND_KEYS:
             raise RawDataError(path, f"unknown kind {f['kind']!r}", where=f"{where}.kind",
                                expected="one of " + ", ".join(KIND_KEYS))
-        _check_keys(path, f"{where} ({f['path']})", f, KIND_KEYS[f["kind"]])
+        required = KIND_KEYS[f["kind"]]
+        if f["kind"] == "tracker" and f.get("time_base") == "none":  # spatial-only: no rate
+            required = {k: v for k, v in required.items() if k != "fs_hz"}
+        _check_keys(path, f"{where} ({f['path']})", f, required)
         if f["kind"] == "tracker":
             _check_tracker_direction(path, f"{where} ({f['path']})", f)
+            if f.get("time_base", "none") != "none":
+                raise RawDataError(path, f"time_base is {f['time_base']!r}",
+                                   where=f"{where} ({f['path']}).time_base",
+                                   expected="none (a stream without a time base, imported "
+                                            "with --spatial-only), or no time_base")
         if f["path"] in paths:
             first = paths[f["path"]]
             raise RawDataError(path, f"duplicate path {f['path']!r} (also files[{first}])",

@@ -1,6 +1,7 @@
 """Reader for laser-tracker records ``tracker/<dir>_f<feed>.csv`` (``docs/data-contract.md``).
 
 Columns ``t_s, x_mm, y_mm, z_mm``: sample time [s] at the tracker rate (815 Hz in the thesis)
+— or, for a stream without a time base (``time_base: none``), the export's own coarse stamps —
 and the target position [mm] in the robot base frame, while the robot moves along one
 straight cut path at one feed. Checks: the columns are present and numeric (no NaN/inf),
 at least ``MIN_ROWS`` rows, time strictly increasing and uniform at ``1/fs_hz`` (the
@@ -22,7 +23,8 @@ MIN_ROWS = 64
 
 
 def read_tracker(path: str | Path, *, fs_hz: float | None = None, min_path_mm: float = 1.0,
-                 max_step_mm: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+                 max_step_mm: float = 1.0, spatial_only: bool = False
+                 ) -> tuple[np.ndarray, np.ndarray]:
     """Read and validate one tracker record.
 
     Parameters
@@ -36,6 +38,10 @@ def read_tracker(path: str | Path, *, fs_hz: float | None = None, min_path_mm: f
     max_step_mm
         Largest accepted distance between consecutive samples (a longer one is a lost beam
         or a re-acquired target; at 815 Hz even 100 mm/s moves 0.12 mm per sample).
+    spatial_only
+        A stream without a time base (manifest ``time_base: none``, imported with
+        ``--spatial-only``): ``t_s`` holds the export's own stamps (non-decreasing, coarse)
+        and is not checked against a rate; the samples keep their acquisition order.
 
     Returns
     -------
@@ -49,7 +55,14 @@ def read_tracker(path: str | Path, *, fs_hz: float | None = None, min_path_mm: f
     """
     df = read_numeric_csv(path, COLUMNS, min_rows=MIN_ROWS)
     t = df["t_s"].to_numpy(float)
-    check_uniform(path, t, "t_s", step=None if fs_hz is None else 1.0 / float(fs_hz))
+    if spatial_only:
+        back = np.flatnonzero(np.diff(t) < 0)
+        if back.size:
+            raise RawDataError(path, f"t_s goes backwards ({t[back[0]]:g} then "
+                               f"{t[back[0] + 1]:g})", where=f"row {int(back[0]) + 3}, column t_s",
+                               expected="non-decreasing stamps (the acquisition order)")
+    else:
+        check_uniform(path, t, "t_s", step=None if fs_hz is None else 1.0 / float(fs_hz))
     p = df[["x_mm", "y_mm", "z_mm"]].to_numpy(float)
     span = float(np.linalg.norm(p[-1] - p[0]))
     if span < min_path_mm:

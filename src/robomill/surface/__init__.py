@@ -1,0 +1,66 @@
+"""Surface irregularities of the milled slots (thesis ch. 2): profile analysis.
+
+A stylus profile ``z(x)`` [µm] sampled uniformly in ``x`` [mm] is
+
+1. detrended (least-squares line removed: the stylus tilt, thesis §2.3, MATLAB ``detrend``);
+2. split into waviness and roughness by the ISO 16610-21 Gaussian profile filter of cut-off
+   ``λc`` (:func:`gaussian_filter`; the ends are handled by renormalizing the weights over the
+   part of the kernel inside the profile, the zero-order end correction of ISO 16610-28, so
+   that every sample is kept and a constant stays constant up to the ends);
+3. characterized by the amplitude parameters Wt, Wq (waviness) and Rq, Ra, Rz (roughness)
+   (ISO 4287), by the thesis spectra (eqs. 2.1–2.3, :func:`robomill.spectra.thesis_spectrum`)
+   and by the RMS of the thesis' segment method (eq. 2.6 on segments averaged:
+   :func:`robomill.spectra.segment_rms`): 2.5 mm segments for waviness (Table 2.1), 0.25 mm
+   for roughness (Table 2.2);
+4. searched for dominant spectral peaks, which :func:`attribute_mechanisms` classifies across
+   the feeds of the same set and direction: a peak whose *spatial* frequency stays put when
+   the feed changes is kinematic (it follows the joint positions: gears), one whose
+   *temporal* frequency ``f_spatial · feed`` stays put is dynamic (it follows time: modes,
+   tooth passing).
+
+One subject per submodule: :mod:`~robomill.surface.profile` (detrending, Gaussian filter,
+amplitude parameters), :mod:`~robomill.surface.psd` (one profile's analysis and spectra),
+:mod:`~robomill.surface.peaks` (peaks and mechanisms), :mod:`~robomill.surface.study`
+(gathering the cuts), :mod:`~robomill.surface.tables` (chapter tables),
+:mod:`~robomill.surface.recovery` (against the planted truth) and
+:mod:`~robomill.surface.options` (settings). The public names are importable from this
+package, loaded from their submodule on first use (importing the package imports nothing);
+rule scripts and notebooks import from the submodules.
+"""
+
+from robomill._lazy import lazy_exports
+
+_EXPORTS = {  # public name → submodule
+    "DEFAULTS": "options",
+    "settings": "options",
+    "MECHANISMS": "peaks",
+    "attribute_mechanisms": "peaks",
+    "profile_peaks": "peaks",
+    "ALPHA": "profile",
+    "amplitude_parameters": "profile",
+    "detrend_profile": "profile",
+    "gaussian_filter": "profile",
+    "gaussian_weights": "profile",
+    "rz_um": "profile",
+    "split_profile": "profile",
+    "analyse_profile": "psd",
+    "segment_lengths_mm": "psd",
+    "spectra_dataset": "psd",
+    "recovery_table": "recovery",
+    "METRIC_COLUMNS": "study",
+    "PEAK_TABLE_COLUMNS": "study",
+    "gather_surface": "study",
+    "DESIGN_KEYS": "tables",
+    "DIRECTION_ORDER": "tables",
+    "compare_with_thesis": "tables",
+    "comparison_summary": "tables",
+    "design_table": "tables",
+    "direction_means": "tables",
+    "feed_correlation": "tables",
+    "load_thesis_tables": "tables",
+    "path_direction": "tables",
+    "rms_table": "tables",
+    "table_column": "tables",
+}
+
+__getattr__, __dir__, __all__ = lazy_exports(__name__, _EXPORTS)
