@@ -166,3 +166,60 @@ def _scatter_min(env: np.ndarray, rpm: np.ndarray, a: np.ndarray, n_t: np.ndarra
     span = N1 - N0
     w = np.where(span != 0, (n_t[ti] - N0) / np.where(span != 0, span, 1.0), 0.0)
     np.minimum.at(env, (b, ti), A0 + w * (A1 - A0))
+
+
+def state_space(fn_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.ndarray, shape: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Modal state-space matrices of B tool models at once (as
+    :func:`robomill.chatter.model.tool_from_modes`): A ``(B, 2M, 2M)``, B ``(B, 2M, 2)``,
+    C ``(B, 2, 2M)``."""
+    fn = np.atleast_2d(np.asarray(fn_hz, float))
+    nb, M = fn.shape
+    w = 2 * np.pi * fn
+    z = np.broadcast_to(np.asarray(zeta, float), fn.shape)
+    k = np.atleast_2d(np.asarray(k_N_m, float))
+    phi = np.asarray(shape, float).reshape(nb, M, 2)
+    A = np.zeros((nb, 2 * M, 2 * M))
+    Bm = np.zeros((nb, 2 * M, 2))
+    C = np.zeros((nb, 2, 2 * M))
+    i = 2 * np.arange(M)
+    A[:, i, i + 1] = 1.0
+    A[:, i + 1, i] = -(w**2)
+    A[:, i + 1, i + 1] = -2 * z * w
+    Bm[:, i + 1, :] = phi / (k / w**2)[..., None]
+    C[:, :, i] = np.swapaxes(phi, 1, 2)
+    return A, Bm, C
+
+
+def batch_coupling_depth(fn_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.ndarray,
+                         shape: np.ndarray, cut: CuttingModel, *, depth_max_m: float = 0.02,
+                         n_scan: int = 40, n_bisect: int = 12) -> np.ndarray:
+    """Mode-coupling depth ``(B,)`` [m]: the smallest depth a at which ṡ = (A + a B W̄ C) s has
+    an unstable eigenvalue (the delay-free oriented cutting stiffness; Tlusty's mode coupling,
+    as :func:`robomill.chatter.thesis.mode_coupling`), by a log scan up to ``depth_max_m`` and
+    bisection; +inf where stable up to ``depth_max_m``. The zero-order lobes miss this limit
+    when the tooth frequency is far above the modes (the robot's structure)."""
+    A, Bm, C = state_space(fn_hz, zeta, k_N_m, shape)
+    BWC = Bm @ cut.mean_matrix() @ C
+
+    def unstable(a):
+        lam = np.linalg.eigvals(A + np.asarray(a)[..., None, None] * BWC)
+        return lam.real.max(-1) > 0
+
+    scan = np.geomspace(depth_max_m / 1e4, depth_max_m, n_scan)
+    bad = np.stack([unstable(np.full(len(A), a)) for a in scan], 1)        # (B, n_scan)
+    first = np.where(bad.any(1), np.argmax(bad, 1), -1)
+    hi = np.where(first >= 0, scan[np.maximum(first, 0)], np.inf)
+    lo = np.where(first > 0, scan[np.maximum(first - 1, 0)], 0.0)
+    todo = np.isfinite(hi)
+    if todo.any():
+        lo_t, hi_t = lo[todo], hi[todo]
+        sub = (A[todo], BWC[todo])
+        for _ in range(n_bisect):
+            mid = 0.5 * (lo_t + hi_t)
+            lam = np.linalg.eigvals(sub[0] + mid[:, None, None] * sub[1])
+            u = lam.real.max(-1) > 0
+            hi_t = np.where(u, mid, hi_t)
+            lo_t = np.where(u, lo_t, mid)
+        hi[todo] = 0.5 * (lo_t + hi_t)
+    return hi

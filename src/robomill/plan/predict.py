@@ -1,7 +1,8 @@
 """Predictions for every candidate cut (pose × redundancy angle × direction × speed × depth ×
 feed), each with an interval carried from the identified quantities' uncertainty.
 
-* **Stability margin** a_crit/a − 1 from zero-order lobes (:mod:`robomill.plan.lobes`) of the
+* **Stability margin** a_crit/a − 1, a_crit the smaller of the zero-order lobes and the
+  mode-coupling depth (:mod:`robomill.plan.lobes`) of the
   impact test's modes in the cut frame, the modes below ``robot_mode_max_hz`` (the robot's
   structure) scaled with the pose: k_r(q) = k_r(q_ref)·k_φ(q)/k_φ(q_ref), f_r ∝ √k_r (modal mass
   kept), k_φ = 1/(φᵀ C(q) φ) the joint model's stiffness along the mode shape. Interval: the
@@ -25,7 +26,7 @@ import xarray as xr
 from robomill.chatter.model import CuttingModel, immersion_angles
 from robomill.forces import CuttingCoefficients, mean_milling_forces
 from robomill.kinematics import SerialRobot
-from robomill.plan.lobes import batch_zoa_lobes
+from robomill.plan.lobes import batch_coupling_depth, batch_zoa_lobes
 from robomill.plan.measured import (
     Measured,
     coefficient_bounds,
@@ -103,8 +104,9 @@ def critical_depth_m(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np
             scalings[key] = np.where(robot_mode, ratio, 1.0)
 
     def lobes(scale, cut):
-        return batch_zoa_lobes(fn[None] * np.sqrt(scale), zeta, k[None] * scale, inplane, cut,
-                               spindle_rpm)
+        args = (fn[None] * np.sqrt(scale), zeta, k[None] * scale, inplane, cut)
+        a_mc = batch_coupling_depth(*args)
+        return np.minimum(batch_zoa_lobes(*args, spindle_rpm), a_mc[:, None])
 
     a_nom = lobes(scalings["nominal"], model(nom.Ktc, nom.Krc))
     ends = [a_nom]
@@ -156,6 +158,8 @@ def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
     nan_full = np.full((P, R, D, S, A, V), np.nan)
     data = {"reachable": (prd, ok, attrs("1", "inverse kinematics converges along the cut"))}
     data["q_deg"] = var(prd + ("joint",), np.rad2deg(q), "deg", "posture at the cut's middle")
+    data["q_path_deg"] = var(prd + ("station", "joint"), np.rad2deg(poses.q_rad), "deg",
+                             "posture at each station along the cut")
     # stability
     a_crit = None
     if ok.any():
@@ -227,7 +231,9 @@ def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
     data["mrr_mm3_s"] = var(("depth_mm", "feed_mm_s"),
                             req.depth_mm[:, None] * req.width_mm * req.feed_mm_s[None, :],
                             "mm3/s", "material removal rate a a_e v")
-    ds = xr.Dataset(data, coords=_coords(req, poses))
+    coords = _coords(req, poses)
+    coords["station"] = ("station", poses.s_mm, attrs("mm", "path abscissa from the cut's start"))
+    ds = xr.Dataset(data, coords=coords)
     ds = form_error(ds)
     ds.attrs["missing_predictions"] = "; ".join(f"{k}: {v}" for k, v in missing.items())
     return ds
@@ -262,3 +268,31 @@ def _coords(req: PlanRequest, poses) -> dict:
         "feed_mm_s": ("feed_mm_s", req.feed_mm_s, attrs("mm/s", "feed rate")),
         "joint": ("joint", np.arange(1, poses.q_rad.shape[-1] + 1), attrs("1", "joint")),
     }
+
+
+def station_scores(ds: xr.Dataset, row, req: PlanRequest, measured: Measured,
+                   cell: Cell) -> tuple[np.ndarray, str]:
+    """Score of every redundancy angle at every station along one chosen cut ``(stations,
+    rotations)`` and what it is: the stability margin a_crit/a − 1 at the cut's speed and depth
+    (nominal coefficients), else (no modes) the joint-model stiffness normal to the wall
+    [N/m], else zeros."""
+    q = np.deg2rad(ds["q_path_deg"].isel(placement=int(row["i_placement"]),
+                                         direction=int(row["i_direction"])).values)  # (R, St, n)
+    R, St, n = q.shape
+    frame = cut_frames(np.array([float(row["direction_deg"])]))[0]
+    ok = ds["reachable"].isel(placement=int(row["i_placement"]),
+                              direction=int(row["i_direction"])).values
+    a = critical_depth_m(measured, cell, req, q.reshape(-1, n),
+                         np.broadcast_to(frame, (R * St, 3, 3)),
+                         np.array([float(row["spindle_rpm"])]), corners=False)
+    if a is not None:
+        score = (a["nominal"][:, 0].reshape(R, St) / (float(row["depth_mm"]) * 1e-3) - 1).T
+        what = "stability margin"
+    elif measured.has("joints"):
+        from robomill.plan.measured import compliance_bounds
+        C = compliance_grid(cell.robot, q, compliance_bounds(measured.joints)["nominal"])
+        score = (1.0 / np.einsum("i,rsij,j->rs", frame[:, 1], C, frame[:, 1])).T
+        what = "stiffness normal to the wall [N/m]"
+    else:
+        score, what = np.zeros((St, R)), "none"
+    return np.where(ok[None, :], score, -np.inf), what
