@@ -19,7 +19,8 @@ from robomill.plan.request import PlanRequest
 
 STUDY_COLUMNS = ["cut", "spindle_rpm", "depth_mm", "feed_mm_s", "mrr_mm3_s", "reachable",
                  "stability_margin_low", "deflection_normal_high_um",
-                 "deflection_axial_high_um", "waviness_high_um", "force_high_N", "feasible"]
+                 "deflection_axial_high_um", "waviness_high_um", "force_high_N",
+                 "form_error_high_um", "feasible"]
 
 
 def study_cuts_table(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: PlanRequest,

@@ -159,3 +159,19 @@ def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
             tot = tot + s[..., int(r["joint"]) - 1] * float(r[col]) * 1e-6
         out[key] = tot
     return out
+
+
+def cut_mid_poses(robot: SerialRobot, cuts, experiment: Mapping, *, tool_rotation: np.ndarray,
+                  q0_rad: np.ndarray) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Posture at the middle of each study cut and its unit feed direction (the poses at which
+    the tracker runs along those cuts saw their gear lines;
+    :func:`robomill.experiment.cut_joint_path_rad`)."""
+    from robomill.experiment import cut_joint_path_rad, feed_direction
+
+    L = float(experiment["cut_length_mm"])
+    out = {}
+    for cut in cuts:
+        q = cut_joint_path_rad(robot, cut, experiment, np.array([L / 2]),
+                               tool_rotation=tool_rotation, q0_rad=q0_rad)[0]
+        out[cut.id] = (q, feed_direction(cut))
+    return out

@@ -12,6 +12,7 @@ import xarray as xr
 
 from robomill.plan.predict import Cell
 from robomill.plan.request import PlanRequest
+from robomill.xrvars import attrs
 
 PREDICTION_COLUMNS = {
     "stability_margin": "1", "a_crit_mm": "mm", "deflection_normal_um": "um",
@@ -128,3 +129,28 @@ def cell_of(cell_file, req: PlanRequest, cuts_mid_mm: np.ndarray | None) -> Cell
         ref = req.placements_mm.mean(0)
     return Cell(cell_file.robot, np.asarray(cell_file.tool_rotation, float),
                 cell_file.q_home_rad, np.asarray(ref, float))
+
+
+def pose_map(cand: xr.Dataset, best: pd.Series) -> xr.Dataset:
+    """Chapter 7's pose map over placement × rotation × direction: the best pessimistic
+    critical depth over the speed range, the joint-model stiffness normal to the wall and along
+    the tool, and the upper normal deflection and pessimistic margin at the plan's best cut's
+    speed, depth and feed."""
+    at = {"spindle_rpm": float(best["spindle_rpm"]), "depth_mm": float(best["depth_mm"]),
+          "feed_mm_s": float(best["feed_mm_s"])}
+    out = xr.Dataset(coords={k: cand[k] for k in ("placement", "placement_x_mm",
+                                                  "placement_y_mm", "placement_z_mm",
+                                                  "rotation", "direction", "direction_deg")})
+    out["a_crit_best_low_mm"] = cand["a_crit_low_mm"].max("spindle_rpm").where(
+        cand["reachable"]).assign_attrs(attrs("mm", "largest pessimistic critical depth over "
+                                              "the speed range"))
+    for name in ("k_normal_N_m", "k_axial_N_m", "reachable"):
+        out[name] = cand[name]
+    out["deflection_normal_high_um"] = cand["deflection_normal_high_um"].sel(at).drop_vars(
+        list(at)).assign_attrs(attrs("um", "upper deflection normal to the wall at the best "
+                                     "cut's speed, depth and feed"))
+    out["stability_margin_low"] = cand["stability_margin_low"].sel(at).drop_vars(
+        list(at)).assign_attrs(attrs("1", "pessimistic stability margin at the best cut's "
+                                     "speed, depth and feed"))
+    out.attrs.update({f"best_{k}": v for k, v in at.items()})
+    return out
