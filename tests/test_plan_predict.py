@@ -127,6 +127,16 @@ def test_gear_error_carried_to_a_new_pose(robot):
     w = waviness_um(rb, q[1], n_new, gears)["nominal"]
     J_new = np.asarray(rb.jacobian(q[1]))[:3, 1] * 1e3
     assert w == pytest.approx(dq * abs(n_new @ J_new), rel=1e-9)
+    # the element counts as waviness only if it completes >= 2.5 periods along the 40 mm cut:
+    # dq2/ds from the Jacobian, order × |dq2/ds| × 40 / 2π cycles
+    Jsi = np.asarray(rb.jacobian(q[1])) * np.r_[1e-3, 1e-3, 1e-3, 1, 1, 1][:, None]
+    rate = abs(np.linalg.solve(Jsi, np.r_[1e-3, 0, 0, 0, 0, 0])[1])
+    fast, slow = 5.0 / (rate * 40 / (2 * np.pi)), 1.0 / (rate * 40 / (2 * np.pi))
+    kw = {"direction": np.array([1.0, 0, 0]), "length_mm": 40.0}
+    key = (2, "motor", "mesh")
+    assert waviness_um(rb, q[1], n_new, gears, orders={key: fast}, **kw)["nominal"] == \
+        pytest.approx(w, rel=1e-12)
+    assert waviness_um(rb, q[1], n_new, gears, orders={key: slow}, **kw)["nominal"] == 0.0
 
 
 def test_missing_measurements_leave_nan_and_say_so(robot):

@@ -20,6 +20,7 @@ plan: str = None  # results/plan/plan.csv
 pareto: str = None  # results/plan/pareto.csv
 study: str = None  # results/plan/study_cuts.csv
 comparison: str = None  # results/plan/comparison.csv
+check: str = None  # results/plan/check.csv
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
@@ -38,6 +39,8 @@ num.figure("pose_map", "Pose map: the largest pessimistic critical depth over th
            "(top) and the upper deflection normal to the wall at the best cut's speed, depth "
            "and feed (bottom), over placement × rotation about the tool axis")
 num.table("plan", "The chosen cuts, ranked by removal rate (results/plan/plan.csv)")
+num.table("check", "Each prediction beside the outcome recorded under the same cut id "
+          "(results/plan/check.csv)")
 num.table("comparison", "The plan's best removal rate beside the study's best at equal "
           "constraints (results/plan/comparison.csv)")
 
@@ -47,6 +50,7 @@ chosen = pd.read_csv(plan)
 front = pd.read_csv(pareto)
 own = pd.read_csv(study)
 cmp_ = pd.read_csv(comparison).set_index("quantity")
+chk = pd.read_csv(check)
 
 # %% [markdown]
 # ## What the plan could predict
@@ -124,3 +128,18 @@ display(Markdown(
     f"{cmp_.loc['study_best_mrr_mm3_s', 'value']:.3g} mm³/s"
     + (f" ({cmp_.loc['study_best_mrr_mm3_s', 'cut']}): a ratio of {r:.3g}." if r == r
        else ": none of the study's cuts meets them, so there is no ratio.")))
+
+# %% [markdown]
+# ## Closing the loop
+#
+# Each prediction beside the outcome recorded under the same cut id: the study's own cuts now;
+# the planned cuts once they are cut (`snakemake -j2 all --configfile
+# results/plan/next/config.yaml` on the virtual cell, or the lab's measurements imported under
+# the planned ids).
+
+# %%
+display(num.caption("check"))
+if len(chk):
+    display(chk)
+else:
+    display(Markdown("No cut of this run has an outcome to compare yet."))

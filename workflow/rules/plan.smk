@@ -51,6 +51,30 @@ rule plan_make:
         "../scripts/plan_make.py"
 
 
+rule plan_check:
+    input:
+        **(
+            {"mean_forces": "results/forces/mean_forces.csv"}
+            if has_kind("force")
+            else {}
+        ),
+        **({"peaks": "results/straightness/peaks.csv"} if has_kind("tracker") else {}),
+        plan=PLAN_OUTPUTS["plan"],
+        study=PLAN_OUTPUTS["study"],
+    output:
+        check="results/plan/check.csv",
+    log:
+        "results/logs/plan/check.log",
+    benchmark:
+        "results/benchmarks/rules/plan/check.tsv"
+    conda:
+        ENV
+    params:
+        tolerance=0.25,
+    script:
+        "../scripts/plan_check.py"
+
+
 rule ch7:
     input:
         notebook=notebook("ch7_plan.ipynb"),
@@ -60,6 +84,7 @@ rule ch7:
         pareto=PLAN_OUTPUTS["pareto"],
         study=PLAN_OUTPUTS["study"],
         comparison=PLAN_OUTPUTS["comparison"],
+        check="results/plan/check.csv",
     output:
         ipynb="results/chapters/ch7_plan.ipynb",
         html=report(
@@ -91,4 +116,5 @@ rule ch7:
 rule plan:
     input:
         *PLAN_OUTPUTS.values(),
+        "results/plan/check.csv",
         "results/chapters/ch7_plan.html",

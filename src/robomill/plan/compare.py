@@ -17,10 +17,13 @@ from robomill.plan.measured import Measured
 from robomill.plan.predict import Cell, predict_grid
 from robomill.plan.request import PlanRequest
 
+PREDICTED = ["stability_margin", "stability_margin_low", "stability_margin_high",
+             "deflection_normal_um", "deflection_normal_low_um", "deflection_normal_high_um",
+             "deflection_axial_um", "deflection_axial_low_um", "deflection_axial_high_um",
+             "waviness_um", "waviness_low_um", "waviness_high_um", "force_N", "force_low_N",
+             "force_high_N", "form_error_high_um"]
 STUDY_COLUMNS = ["cut", "spindle_rpm", "depth_mm", "feed_mm_s", "mrr_mm3_s", "reachable",
-                 "stability_margin_low", "deflection_normal_high_um",
-                 "deflection_axial_high_um", "waviness_high_um", "force_high_N",
-                 "form_error_high_um", "feasible"]
+                 *PREDICTED, "feasible"]
 
 
 def study_cuts_table(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: PlanRequest,
@@ -48,7 +51,7 @@ def study_cuts_table(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: Pl
                "feed_mm_s": cut.feed_mm_s,
                "mrr_mm3_s": float(ds["mrr_mm3_s"].values.ravel()[0]),
                "reachable": bool(ds["reachable"].values.ravel()[0])}
-        for name in STUDY_COLUMNS[6:-1]:
+        for name in PREDICTED:
             row[name] = float(ds[name].values.ravel()[0])
         row["feasible"] = ok
         rows.append(row)

@@ -145,18 +145,41 @@ def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
 
 
 def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
-                gears: pd.DataFrame) -> dict[str, np.ndarray]:
+                gears: pd.DataFrame, *, direction: np.ndarray | None = None,
+                length_mm: float | None = None, orders: Mapping | None = None,
+                min_cycles: float = 2.5) -> dict[str, np.ndarray]:
     """Path waviness normal to the wall at postures ``q_rad`` ``(..., n)``: each gear element's
     joint amplitude carried through the Jacobian, A = δq_j |nᵀ J_v[:, j](q)|, summed over the
     elements (lines adding in phase: a bound on the peak waviness) [µm]; nominal, low, high
-    from the elements' amplitude intervals (:func:`gear_joint_amplitudes`)."""
-    J = jacobian_m(robot, q_rad)[..., :3, :] * 1e6                           # µm/rad
-    s = np.abs(np.einsum("...i,...ij->...j", np.asarray(normal, float), J))  # (..., n)
+    from the elements' amplitude intervals (:func:`gear_joint_amplitudes`).
+
+    With the path ``direction`` (unit, ``(..., 3)`` or ``(3,)``), its ``length_mm`` and the
+    elements' ``orders`` (cycles per joint revolution per ``(joint, stage, order)``,
+    :func:`robomill.straightness.gear_orders`), an element counts only where it completes at
+    least ``min_cycles`` periods along the cut: spatial frequency
+    f = order·|dq_j/ds|/(2π) (dq/ds from J dq = (u, 0) at fixed orientation) times the length.
+    A joint that hardly turns along the path prints its gear error as a slow offset, not as
+    waviness (the straightness analysis' own resolution rule)."""
+    J = jacobian_m(robot, q_rad)
+    Jv = J[..., :3, :] * 1e6                                                 # µm/rad
+    s = np.abs(np.einsum("...i,...ij->...j", np.asarray(normal, float), Jv))  # (..., n)
+    rates = None
+    if direction is not None and length_mm is not None and orders is not None:
+        u = np.broadcast_to(np.asarray(direction, float), J.shape[:-2] + (3,))
+        twist = np.concatenate([u * 1e-3, np.zeros_like(u)], -1)            # m per mm
+        rates = np.abs(np.linalg.solve(J, twist[..., None])[..., 0])        # rad/mm
     out = {}
     for key, col in (("nominal", "dq_urad"), ("low", "dq_low_urad"), ("high", "dq_high_urad")):
         tot = np.zeros(s.shape[:-1])
         for _, r in gears.iterrows():
-            tot = tot + s[..., int(r["joint"]) - 1] * float(r[col]) * 1e-6
+            j = int(r["joint"]) - 1
+            term = s[..., j] * float(r[col]) * 1e-6
+            if rates is not None:
+                order = orders.get((j + 1, str(r["stage"]), str(r["order"])))
+                if order is not None:
+                    cycles = order * rates[..., j] / (2 * np.pi) * float(length_mm)
+                    term = np.where(cycles >= min_cycles, term, 0.0)
+            tot = tot + term
         out[key] = tot
     return out
 

@@ -127,8 +127,11 @@ def cell_of(cell_file, req: PlanRequest, cuts_mid_mm: np.ndarray | None) -> Cell
         ref = np.asarray(cuts_mid_mm, float).mean(0)
     else:
         ref = req.placements_mm.mean(0)
+    from robomill.straightness import gear_orders
+
+    orders = {(j, st, o): m for j, st, o, m in gear_orders(cell_file.transmissions)}
     return Cell(cell_file.robot, np.asarray(cell_file.tool_rotation, float),
-                cell_file.q_home_rad, np.asarray(ref, float))
+                cell_file.q_home_rad, np.asarray(ref, float), orders)
 
 
 def pose_map(cand: xr.Dataset, best: pd.Series) -> xr.Dataset:

@@ -100,14 +100,3 @@ def directional_ratio(C: np.ndarray, C_ref: np.ndarray, shapes: np.ndarray) -> n
     with np.errstate(divide="ignore", invalid="ignore"):
         r = num / den
     return np.where(np.isfinite(r) & (r > 0), r, 1.0)
-
-
-def joint_rates_per_mm(robot: SerialRobot, q_rad: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """Joint rates along the path dq/ds ``(..., n)`` [rad/mm] at fixed orientation: the
-    least-squares solution of J dq = (u, 0) (SI Jacobian, u in 1/mm → 1e-3 m/mm)."""
-    J = jacobian_m(robot, q_rad)
-    twist = np.concatenate([np.broadcast_to(np.asarray(u, float) * 1e-3,
-                                            J.shape[:-2] + (3,)), np.zeros(J.shape[:-2] + (3,))],
-                           -1)
-    return np.linalg.lstsq(J, twist[..., None], rcond=None)[0][..., 0] if J.ndim == 2 else \
-        np.linalg.solve(J, twist[..., None])[..., 0]

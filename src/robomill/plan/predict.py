@@ -47,12 +47,14 @@ from robomill.xrvars import attrs, var
 @dataclass(frozen=True)
 class Cell:
     """What the planner needs of the cell: the robot, the tool orientation R0 (θ = 0), the IK
-    seed and the reference point of the impact test (where the modes were measured)."""
+    seed, the reference point of the impact test (where the modes were measured) and the
+    gear elements' orders ``{(joint, stage, order): cycles per joint revolution}``."""
 
     robot: SerialRobot
     R0: np.ndarray
     q_seed_rad: np.ndarray
     reference_point_mm: np.ndarray
+    gear_orders: dict | None = None
 
 
 def engagement(req: PlanRequest) -> tuple[float, float]:
@@ -217,7 +219,9 @@ def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
     wav = {k: np.full((P, R, D), np.nan) for k in ("nominal", "low", "high")}
     if measured.has("gears"):
         n_vec = np.broadcast_to(frames[None, None, :, :, 1], (P, R, D, 3))
-        w = waviness_um(cell.robot, q, n_vec, measured.gears)
+        u_vec = np.broadcast_to(frames[None, None, :, :, 0], (P, R, D, 3))
+        w = waviness_um(cell.robot, q, n_vec, measured.gears, direction=u_vec,
+                        length_mm=req.length_mm, orders=cell.gear_orders)
         wav = {k: np.where(ok, v, np.nan) for k, v in w.items()}
     for k, suffix in (("nominal", ""), ("low", "_low"), ("high", "_high")):
         data[f"waviness{suffix}_um"] = var(prd, wav[k], "um", "gear-line waviness normal to "
