@@ -94,7 +94,7 @@ def compliance_bounds(joints: pd.DataFrame) -> dict[str, np.ndarray]:
 
 def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
                           poses: Mapping[str, tuple[np.ndarray, np.ndarray]], *,
-                          min_sensitivity: float = 0.1) -> pd.DataFrame:
+                          min_sensitivity: float = 0.02) -> pd.DataFrame:
     """Joint-angle amplitude of every gear element seen on the tracker paths.
 
     A gear error δq_j of joint j moves the TCP by J_v[:, j] δq_j; a peak of amplitude A along
