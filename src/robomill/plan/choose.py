@@ -146,7 +146,8 @@ def choose(ds: xr.Dataset, req: PlanRequest, robot_name: str = "the robot"
     """The chosen cuts and the Pareto front.
 
     For each removal rate (depth × feed) the feasible candidate of smallest upper form error
-    (ties: largest pessimistic margin) represents it; the Pareto front of those against the
+    (ties: largest pessimistic margin, then the smallest rotation about the tool axis)
+    represents it; the Pareto front of those against the
     form error is the menu, and the chosen cuts are its ``n_cuts`` highest removal rates,
     ranked by removal rate (rank 1 = the plan's best).
 
@@ -160,9 +161,10 @@ def choose(ds: xr.Dataset, req: PlanRequest, robot_name: str = "the robot"
         raise PlanInfeasible(binding_constraint(ds, req, robot_name))
     t = feasible_table(ds, mask)
     margin = t["stability_margin_low"].fillna(np.inf)
-    t = t.assign(_m=-margin).sort_values(["mrr_mm3_s", "form_error_high_um", "_m"],
-                                         ascending=[False, True, True])
-    best = t.groupby(["depth_mm", "feed_mm_s"], sort=False).head(1).drop(columns="_m")
+    t = t.assign(_m=-margin, _r=t["rotation_deg"].abs()).sort_values(
+        ["mrr_mm3_s", "form_error_high_um", "_m", "_r"], ascending=[False, True, True, True],
+        kind="stable")
+    best = t.groupby(["depth_mm", "feed_mm_s"], sort=False).head(1).drop(columns=["_m", "_r"])
     front = best.iloc[pareto_front(best["mrr_mm3_s"].to_numpy(),
                                    best["form_error_high_um"].to_numpy())].reset_index(drop=True)
     chosen = front.head(req.n_cuts).copy()
