@@ -39,10 +39,10 @@ num.figure("pose_map", "Pose map: the largest pessimistic critical depth over th
            "(top) and the upper deflection normal to the wall at the best cut's speed, depth "
            "and feed (bottom), over placement × rotation about the tool axis")
 num.table("plan", "The chosen cuts, ranked by removal rate (results/plan/plan.csv)")
-num.table("check", "Each prediction beside the outcome recorded under the same cut id "
-          "(results/plan/check.csv)")
 num.table("comparison", "The plan's best removal rate beside the study's best at equal "
           "constraints (results/plan/comparison.csv)")
+num.table("check", "Each prediction beside the outcome recorded under the same cut id "
+          "(results/plan/check.csv)")
 
 cand = open_artefact(candidates, load=False)
 pmap = open_artefact(pose_map)
