@@ -37,6 +37,7 @@ include: "workflow/rules/modal.smk"
 include: "workflow/rules/chatter.smk"
 include: "workflow/rules/stiffness.smk"
 include: "workflow/rules/hexapod.smk"
+include: "workflow/rules/plan.smk"
 include: "workflow/rules/chapters.smk"
 include: "workflow/rules/book.smk"
 

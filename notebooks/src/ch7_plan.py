@@ -1,0 +1,145 @@
+# %% [markdown]
+# # Chapter 7 — The next cuts
+#
+# The study identified the robot's modes (impact test), its joint stiffness (load tests), the
+# cutting coefficients (dynamometer) and the gear lines printed on its paths (tracker). This
+# chapter turns them into a plan (`robomill.plan`, request `plan.yaml`): every candidate cut —
+# where the part sits, how the spindle turns about the tool axis, the feed direction, speed,
+# depth and feed — with its predicted stability margin (zero-order lobes and the mode-coupling
+# limit of the modes, the robot's low-frequency modes scaled with the pose through the joint
+# stiffness), static deflection (mean cutting force over the pose's stiffness), waviness (the
+# gear lines carried through the Jacobian to the new pose), force, feed marks and removal
+# rate, each with an interval from the identified quantities' uncertainty. The constraints
+# are checked on the pessimistic end of each interval. Every number below comes from the
+# plan's artefacts.
+
+# %% tags=["parameters"]
+candidates: str = None  # results/plan/candidates.nc
+pose_map: str = None  # results/plan/pose_map.nc
+plan: str = None  # results/plan/plan.csv
+pareto: str = None  # results/plan/pareto.csv
+study: str = None  # results/plan/study_cuts.csv
+comparison: str = None  # results/plan/comparison.csv
+check: str = None  # results/plan/check.csv
+fig_dir: str = None  # folder for this chapter's figures
+
+# %%
+import matplotlib.pyplot as plt
+import pandas as pd
+from IPython.display import Markdown, display
+
+from robomill.io import open_artefact
+from robomill.pipeline.captions import Numbering
+from robomill.plotting import save_figure
+
+num = Numbering("7")
+num.figure("pareto", "Removal rate against the predicted form error (upper bound): the "
+           "plan's Pareto front and the study's own cuts")
+num.figure("pose_map", "Pose map: the largest pessimistic critical depth over the speed range "
+           "(top) and the upper deflection normal to the wall at the best cut's speed, depth "
+           "and feed (bottom), over placement × rotation about the tool axis")
+num.table("plan", "The chosen cuts, ranked by removal rate (results/plan/plan.csv)")
+num.table("comparison", "The plan's best removal rate beside the study's best at equal "
+          "constraints (results/plan/comparison.csv)")
+num.table("check", "Each prediction beside the outcome recorded under the same cut id "
+          "(results/plan/check.csv)")
+
+cand = open_artefact(candidates, load=False)
+pmap = open_artefact(pose_map)
+chosen = pd.read_csv(plan)
+front = pd.read_csv(pareto)
+own = pd.read_csv(study)
+cmp_ = pd.read_csv(comparison).set_index("quantity")
+chk = pd.read_csv(check)
+
+# %% [markdown]
+# ## What the plan could predict
+
+# %%
+missing = cand.attrs.get("missing_predictions", "")
+display(Markdown(f"Request `{cand.attrs.get('request', '')}`, constraints "
+                 f"{cand.attrs.get('constraints', '') or 'none'}. "
+                 + (f"Missing predictions (planned without them): {missing}."
+                    if missing else "Every prediction could be made.")))
+
+# %% [markdown]
+# ## Removal rate against form error
+
+# %%
+fig, ax = plt.subplots(figsize=(7, 4.5))
+ax.plot(front["form_error_high_um"], front["mrr_mm3_s"], "o-", label="plan: Pareto front")
+ax.plot(chosen["form_error_high_um"], chosen["mrr_mm3_s"], "s", mfc="none", ms=11,
+        label="plan: chosen cuts")
+ok = own["feasible"].astype(bool)
+ax.plot(own.loc[ok, "form_error_high_um"], own.loc[ok, "mrr_mm3_s"], "^", color="tab:green",
+        label="study cuts meeting the constraints")
+ax.plot(own.loc[~ok, "form_error_high_um"], own.loc[~ok, "mrr_mm3_s"], "x", color="tab:red",
+        label="study cuts outside them")
+ax.set_xlabel("predicted form error, upper bound [µm]")
+ax.set_ylabel("material removal rate [mm³/s]")
+ax.legend(fontsize=8)
+fig.tight_layout()
+save_figure(fig, fig_dir, num.file("pareto"))
+display(num.caption("pareto"))
+
+# %% [markdown]
+# ## The pose map
+
+# %%
+dirs = list(pmap["direction"].values)
+fig, axes = plt.subplots(2, len(dirs), figsize=(5 * len(dirs), 7), squeeze=False)
+for j, d in enumerate(dirs):
+    for i, (name, label) in enumerate((("a_crit_best_low_mm", "a_crit (low) [mm]"),
+                                       ("deflection_normal_high_um", "δ normal (high) [µm]"))):
+        v = pmap[name].sel(direction=d).transpose("placement", "rotation")
+        im = axes[i, j].pcolormesh(pmap["rotation"].values, pmap["placement"].values, v.values,
+                                   shading="nearest")
+        fig.colorbar(im, ax=axes[i, j], label=label)
+        axes[i, j].set_title(f"direction {d}")
+        axes[i, j].set_xlabel("rotation about the tool axis [deg]")
+        axes[i, j].set_ylabel("placement")
+fig.tight_layout()
+save_figure(fig, fig_dir, num.file("pose_map"))
+display(num.caption("pose_map"))
+
+# %% [markdown]
+# ## The chosen cuts
+
+# %%
+display(num.caption("plan"))
+cols = ["cut", "placement_x_mm", "placement_y_mm", "placement_z_mm", "direction",
+        "rotation_deg", "redundancy_path_deg", "spindle_rpm", "depth_mm", "feed_mm_s",
+        "mrr_mm3_s", "stability_margin_low", "deflection_normal_high_um",
+        "deflection_axial_high_um", "waviness_high_um", "force_high_N", "feed_mark_um"]
+display(chosen[[c for c in cols if c in chosen]])
+
+# %% [markdown]
+# ## The plan beside the study
+
+# %%
+display(num.caption("comparison"))
+display(cmp_)
+r = cmp_.loc["mrr_ratio", "value"]
+display(Markdown(
+    f"At the request's constraints the plan's best cut ({cmp_.loc['plan_best_mrr_mm3_s', 'cut']})"
+    f" removes {cmp_.loc['plan_best_mrr_mm3_s', 'value']:.3g} mm³/s; the best of the study's "
+    f"{cmp_.loc['study_cuts', 'value']:.0f} cuts that meet the same constraints "
+    f"({cmp_.loc['study_cuts_feasible', 'value']:.0f} do) removes "
+    f"{cmp_.loc['study_best_mrr_mm3_s', 'value']:.3g} mm³/s"
+    + (f" ({cmp_.loc['study_best_mrr_mm3_s', 'cut']}): a ratio of {r:.3g}." if r == r
+       else ": none of the study's cuts meets them, so there is no ratio.")))
+
+# %% [markdown]
+# ## Closing the loop
+#
+# Each prediction beside the outcome recorded under the same cut id: the study's own cuts now;
+# the planned cuts once they are cut (`snakemake -j2 all --configfile
+# results/plan/next/config.yaml` on the virtual cell, or the lab's measurements imported under
+# the planned ids).
+
+# %%
+display(num.caption("check"))
+if len(chk):
+    display(chk)
+else:
+    display(Markdown("No cut of this run has an outcome to compare yet."))

@@ -1,0 +1,209 @@
+"""The choice among the candidates: the constraints, the largest removal rate inside them, the
+Pareto front of removal rate against predicted form error, a redundancy angle that varies
+smoothly along a path, and — when nothing is feasible — one line naming the constraint that
+binds.
+
+Constraints are checked on the pessimistic end of each prediction's interval (the lower
+stability margin, the upper deflection, waviness and force).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from robomill.plan.request import PlanRequest
+
+CONSTRAINT_VARS = {
+    "min_stability_margin": ("stability_margin_low", "min", "stability margin"),
+    "max_deflection_normal_um": ("deflection_normal_high_um", "max",
+                                 "deflection normal to the wall [um]"),
+    "max_deflection_axial_um": ("deflection_axial_high_um", "max",
+                                "deflection along the tool axis [um]"),
+    "max_waviness_um": ("waviness_high_um", "max", "waviness [um]"),
+    "max_force_N": ("force_high_N", "max", "mean cutting force [N]"),
+}
+"""Constraint key → (variable checked, bound kind, what it is)."""
+
+NEEDS = {"min_stability_margin": "stability_margin", "max_deflection_normal_um": "deflection",
+         "max_deflection_axial_um": "deflection", "max_waviness_um": "waviness",
+         "max_force_N": "force"}
+"""The prediction each constraint needs (:data:`robomill.plan.measured.PREDICTIONS`)."""
+
+
+class PlanInfeasible(ValueError):
+    """No plan: one line saying which constraint binds (or which measurement is missing)."""
+
+
+def check_needs(req: PlanRequest, missing: dict[str, str]) -> None:
+    """Refuse a request whose constraints need a prediction that cannot be made.
+
+    Raises
+    ------
+    PlanInfeasible
+        ``constraints.max_waviness_um needs the waviness prediction: no tracker runs …``.
+    """
+    for key, pred in NEEDS.items():
+        if req.constrained(key) and pred in missing:
+            raise PlanInfeasible(f"{req.path}: constraints.{key} needs the {pred} prediction: "
+                                 f"{missing[pred]} (measure it, or remove the constraint to "
+                                 "plan without it)")
+
+
+def constraint_masks(ds: xr.Dataset, req: PlanRequest) -> dict[str, xr.DataArray]:
+    """Per constrained key, where it holds (broadcast over the candidates' dims)."""
+    out = {}
+    for key, (name, kind, _) in CONSTRAINT_VARS.items():
+        lim = req.constraints.get(key)
+        if lim is None:
+            continue
+        v = ds[name]
+        out[key] = (v >= lim) if kind == "min" else (v <= lim)
+    return out
+
+
+def feasible(ds: xr.Dataset, req: PlanRequest) -> xr.DataArray:
+    """Reachable candidates meeting every constraint (full candidate dims)."""
+    m = ds["reachable"] & xr.ones_like(ds["mrr_mm3_s"], dtype=bool)
+    m = m & xr.ones_like(ds["feed_mark_um"], dtype=bool)
+    for mask in constraint_masks(ds, req).values():
+        m = m & mask
+    return m.transpose("placement", "rotation", "direction", "spindle_rpm", "depth_mm",
+                       "feed_mm_s")
+
+
+def binding_constraint(ds: xr.Dataset, req: PlanRequest, robot_name: str = "the robot") -> str:
+    """One line saying why no candidate is feasible: no reachable placement, no stable speed
+    in range, or the constraint whose removal alone would leave candidates (with the best value
+    reached beside its limit)."""
+    if not bool(ds["reachable"].any()):
+        n = ds.sizes
+        return (f"no reachable placement: none of the {n['placement']} placements × "
+                f"{n['rotation']} rotations × {n['direction']} directions of {req.path} is "
+                f"reachable by {robot_name} (inverse kinematics at the cut's start, middle "
+                "and end)")
+    masks = constraint_masks(ds, req)
+    base = ds["reachable"] & xr.ones_like(ds["mrr_mm3_s"], dtype=bool)
+    base = base & xr.ones_like(ds["feed_mark_um"], dtype=bool)
+    for key in masks:
+        others = base
+        for k2, m2 in masks.items():
+            if k2 != key:
+                others = others & m2
+        if not bool(others.any()):
+            continue
+        name, kind, what = CONSTRAINT_VARS[key]
+        v = ds[name].where(others)
+        best = float(v.max() if kind == "min" else v.min())
+        lim = req.constraints[key]
+        if key == "min_stability_margin":
+            a = ds["a_crit_low_mm"].where(ds["reachable"])
+            return (f"no stable speed in range: the largest pessimistic critical depth over "
+                    f"spindle_rpm {float(ds.spindle_rpm.min()):g}-{float(ds.spindle_rpm.max()):g}"
+                    f" is {float(a.max()):.4g} mm, so the best stability margin {best:.3g} at "
+                    f"the smallest depth_mm {float(ds.depth_mm.min()):g} is below "
+                    f"constraints.min_stability_margin {lim:g}")
+        return (f"constraints.{key} binds: the best {what} among the candidates meeting every "
+                f"other constraint is {best:.4g}, the limit is {lim:g}")
+    keys = ", ".join(f"constraints.{k}" for k in masks)
+    return f"no candidate meets {keys} together (each one alone leaves none either)"
+
+
+def pareto_front(mrr: np.ndarray, error: np.ndarray) -> np.ndarray:
+    """Indices of the non-dominated points (largest removal rate, smallest form error), sorted
+    by decreasing removal rate: a point stays when no other has at least its rate with a
+    smaller error."""
+    mrr, error = np.asarray(mrr, float), np.asarray(error, float)
+    order = np.lexsort((error, -mrr))
+    keep, best = [], np.inf
+    for i in order:
+        if error[i] < best:
+            keep.append(i)
+            best = error[i]
+    return np.asarray(keep, int)
+
+
+def feasible_table(ds: xr.Dataset, mask: xr.DataArray) -> pd.DataFrame:
+    """The feasible candidates as rows with every prediction (indices and coordinates)."""
+    dims = mask.dims
+    idx = np.nonzero(mask.values)
+    rows = {f"i_{d}": i for d, i in zip(dims, idx, strict=True)}
+    sel = {d: xr.DataArray(i, dims="c") for d, i in zip(dims, idx, strict=True)}
+    out = pd.DataFrame(rows)
+    for d in dims:
+        out[d if d != "rotation" else "rotation_deg"] = ds[d].values[out[f"i_{d}"]]
+    for extra in ("placement_x_mm", "placement_y_mm", "placement_z_mm", "direction_deg"):
+        out[extra] = ds[extra].values[out[f"i_{ds[extra].dims[0]}"]]
+    for name, v in ds.data_vars.items():
+        if set(v.dims) <= set(dims) and name not in ("reachable",):
+            out[name] = v.isel({d: sel[d] for d in v.dims}).values
+    return out
+
+
+def choose(ds: xr.Dataset, req: PlanRequest, robot_name: str = "the robot"
+           ) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The chosen cuts and the Pareto front.
+
+    For each removal rate (depth × feed) the feasible candidate of smallest upper form error
+    (ties: largest pessimistic margin, then the smallest rotation about the tool axis)
+    represents it; the Pareto front of those against the
+    form error is the menu, and the chosen cuts are its ``n_cuts`` highest removal rates,
+    ranked by removal rate (rank 1 = the plan's best).
+
+    Raises
+    ------
+    PlanInfeasible
+        No feasible candidate (:func:`binding_constraint`).
+    """
+    mask = feasible(ds, req)
+    if not bool(mask.any()):
+        raise PlanInfeasible(binding_constraint(ds, req, robot_name))
+    t = feasible_table(ds, mask)
+    margin = t["stability_margin_low"].fillna(np.inf)
+    t = t.assign(_m=-margin, _r=t["rotation_deg"].abs()).sort_values(
+        ["mrr_mm3_s", "form_error_high_um", "_m", "_r"], ascending=[False, True, True, True],
+        kind="stable")
+    best = t.groupby(["depth_mm", "feed_mm_s"], sort=False).head(1).drop(columns=["_m", "_r"])
+    front = best.iloc[pareto_front(best["mrr_mm3_s"].to_numpy(),
+                                   best["form_error_high_um"].to_numpy())].reset_index(drop=True)
+    chosen = front.head(req.n_cuts).copy()
+    chosen.insert(0, "rank", np.arange(1, len(chosen) + 1))
+    chosen.insert(0, "cut", [f"plan_{i:02d}" for i in chosen["rank"]])
+    return chosen.reset_index(drop=True), front
+
+
+def smooth_rotation(score: np.ndarray, rotations_deg: np.ndarray, max_step_deg: float, *,
+                    penalty: float = 1e-3, prefer_deg: float | None = None) -> np.ndarray:
+    """Redundancy angle at each station along a path (indices into ``rotations_deg``).
+
+    Dynamic programming over the stations: maximise Σ score[s, r] − penalty·Σ|Δθ|/max_step
+    with |Δθ| ≤ ``max_step_deg`` between neighbouring stations, so the angle varies smoothly
+    (no jump larger than one step) while staying where the score (e.g. the pessimistic
+    stability margin) is high; with ``prefer_deg`` (the cut's chosen angle) every station also
+    pays penalty·|θ − prefer|/max_step, so equal scores keep that angle. Non-finite scores
+    are unusable stations (−inf); +inf counts as a large finite score.
+
+    Parameters
+    ----------
+    score
+        ``(stations, rotations)``.
+    """
+    s = np.asarray(score, float)
+    s = np.where(np.isposinf(s), 1e6, s)
+    s = np.where(np.isfinite(s), s, -np.inf)
+    th = np.asarray(rotations_deg, float)
+    step = np.abs(th[:, None] - th[None, :])
+    trans = np.where(step <= max_step_deg + 1e-9, -penalty * step / max_step_deg, -np.inf)
+    if prefer_deg is not None:
+        s = s - penalty * np.abs(th - float(prefer_deg))[None, :] / max_step_deg
+    val = s[0].copy()
+    back = np.zeros(s.shape, int)
+    for i in range(1, len(s)):
+        cand = val[:, None] + trans                      # from r' (rows) to r (cols)
+        back[i] = np.argmax(cand, axis=0)
+        val = cand[back[i], np.arange(len(th))] + s[i]
+    path = [int(np.argmax(val))]
+    for i in range(len(s) - 1, 0, -1):
+        path.append(int(back[i][path[-1]]))
+    return np.asarray(path[::-1], int)

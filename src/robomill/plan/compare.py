@@ -1,0 +1,75 @@
+"""The plan beside the study: the study's own cuts predicted with the same models and judged by
+the same constraints, and the ratio of the plan's best removal rate to theirs (the number
+Chapter 7 states)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from robomill.experiment import Cut, cut_endpoints_mm, cut_process
+from robomill.plan.choose import feasible
+from robomill.plan.measured import Measured
+from robomill.plan.predict import Cell, predict_grid
+from robomill.plan.request import PlanRequest
+
+PREDICTED = ["stability_margin", "stability_margin_low", "stability_margin_high",
+             "deflection_normal_um", "deflection_normal_low_um", "deflection_normal_high_um",
+             "deflection_axial_um", "deflection_axial_low_um", "deflection_axial_high_um",
+             "waviness_um", "waviness_low_um", "waviness_high_um", "force_N", "force_low_N",
+             "force_high_N", "form_error_high_um"]
+STUDY_COLUMNS = ["cut", "spindle_rpm", "depth_mm", "feed_mm_s", "mrr_mm3_s", "reachable",
+                 *PREDICTED, "feasible"]
+
+
+def study_cuts_table(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: PlanRequest,
+                     measured: Measured, cell: Cell) -> pd.DataFrame:
+    """Each of the study's cuts at its own place, direction, speed, depth, feed and tool (the
+    cell's tool orientation, redundancy 0), with the plan's predictions and whether it meets the
+    request's constraints."""
+    rows = []
+    for cut in cuts:
+        p = cut_process(cut, experiment)
+        a, b = cut_endpoints_mm(cut, experiment)
+        milling = p["milling"] if p["milling"] in ("slot", "up", "down") else "slot"
+        one = replace(req, milling=milling, radial_immersion=float(p["radial_immersion"]),
+                      length_mm=float(np.linalg.norm(b - a)),
+                      direction_deg=np.array([float(p["direction_deg"])]),
+                      direction_names=(cut.id,),
+                      tool_diameter_mm=float(p["tool_diameter_mm"] or req.tool_diameter_mm),
+                      flutes=int(p["flutes"]), placements_mm=((a + b) / 2)[None],
+                      rotations_deg=np.array([0.0]), spindle_rpm=np.array([p["spindle_rpm"]]),
+                      depth_mm=np.array([cut.depth_mm]), feed_mm_s=np.array([cut.feed_mm_s]),
+                      path_stations=3)
+        ds = predict_grid(one, measured, cell)
+        ok = bool(feasible(ds, req).values.ravel()[0])
+        row = {"cut": cut.id, "spindle_rpm": p["spindle_rpm"], "depth_mm": cut.depth_mm,
+               "feed_mm_s": cut.feed_mm_s,
+               "mrr_mm3_s": float(ds["mrr_mm3_s"].values.ravel()[0]),
+               "reachable": bool(ds["reachable"].values.ravel()[0])}
+        for name in PREDICTED:
+            row[name] = float(ds[name].values.ravel()[0])
+        row["feasible"] = ok
+        rows.append(row)
+    return pd.DataFrame(rows, columns=STUDY_COLUMNS)
+
+
+def comparison_table(plan: pd.DataFrame, study: pd.DataFrame) -> pd.DataFrame:
+    """Findings: the plan's best removal rate, the best of the study's own cuts meeting the same
+    constraints, and their ratio (NaN when no study cut meets them)."""
+    ok = study[study["feasible"]]
+    plan_best = float(plan["mrr_mm3_s"].max()) if len(plan) else np.nan
+    study_best = float(ok["mrr_mm3_s"].max()) if len(ok) else np.nan
+    best_cut = str(ok.loc[ok["mrr_mm3_s"].idxmax(), "cut"]) if len(ok) else ""
+    rows = [
+        ("plan_best_mrr_mm3_s", plan_best, "mm3/s", str(plan["cut"].iloc[0]) if len(plan) else ""),
+        ("study_best_mrr_mm3_s", study_best, "mm3/s", best_cut),
+        ("mrr_ratio", plan_best / study_best if study_best > 0 else np.nan, "1", ""),
+        ("study_cuts", float(len(study)), "1", ""),
+        ("study_cuts_feasible", float(len(ok)), "1", ""),
+    ]
+    return pd.DataFrame(rows, columns=["quantity", "value", "unit", "cut"])

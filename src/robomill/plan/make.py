@@ -1,0 +1,75 @@
+"""One plan from one request: predict every candidate, refuse or choose, give each chosen cut a
+smooth redundancy angle along its path, and put the plan beside the study's own cuts."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from robomill.experiment import Cut
+from robomill.plan.choose import check_needs, choose, smooth_rotation
+from robomill.plan.compare import comparison_table, study_cuts_table
+from robomill.plan.measured import Measured, missing_predictions
+from robomill.plan.outputs import next_config, next_manifest, plan_table, pose_map
+from robomill.plan.predict import Cell, predict_grid, station_scores
+from robomill.plan.request import PlanRequest
+
+
+@dataclass
+class Plan:
+    """Everything the plan rule writes."""
+
+    candidates: xr.Dataset
+    pose_map: xr.Dataset
+    plan: pd.DataFrame
+    pareto: pd.DataFrame
+    study: pd.DataFrame
+    comparison: pd.DataFrame
+    manifest: dict[str, Any]
+    config: dict[str, Any]
+
+
+def redundancy_paths(candidates: xr.Dataset, chosen: pd.DataFrame, req: PlanRequest,
+                     measured: Measured, cell: Cell) -> list[dict[str, Any]]:
+    """Per chosen cut, the redundancy angle at each station along it
+    (:func:`robomill.plan.choose.smooth_rotation` on :func:`station_scores`)."""
+    out = []
+    rot = candidates["rotation"].values
+    for _, r in chosen.iterrows():
+        score, what = station_scores(candidates, r, req, measured, cell)
+        idx = smooth_rotation(score, rot, req.max_rotation_step_deg,
+                              prefer_deg=float(r["rotation_deg"]))
+        out.append({"station_mm": [float(s) for s in candidates["station"].values],
+                    "redundancy_path_deg": [float(rot[i]) for i in idx],
+                    "redundancy_path_score": what})
+    return out
+
+
+def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[Cut],
+              experiment: Mapping[str, Any], *, robot_name: str = "the robot") -> Plan:
+    """The whole plan (raises :class:`robomill.plan.choose.PlanInfeasible` with one line when a
+    constraint needs a missing measurement or no candidate meets the constraints)."""
+    missing = missing_predictions(measured)
+    check_needs(req, missing)
+    cand = predict_grid(req, measured, cell)
+    chosen, front = choose(cand, req, robot_name)
+    paths = redundancy_paths(cand, chosen, req, measured, cell)
+    q = [cand["q_deg"].isel(placement=int(r["i_placement"]), rotation=int(r["i_rotation"]),
+                            direction=int(r["i_direction"])).values
+         for _, r in chosen.iterrows()]
+    table = plan_table(chosen)
+    table["redundancy_path_deg"] = [";".join(f"{a:g}" for a in p["redundancy_path_deg"])
+                                    for p in paths]
+    study = study_cuts_table(cuts, experiment, req, measured, cell)
+    manifest = next_manifest(chosen, req, dict(experiment), cand.attrs["missing_predictions"],
+                             np.asarray(q), paths)
+    cand.attrs["request"] = req.path
+    cand.attrs["constraints"] = "; ".join(f"{k}={v}" for k, v in req.constraints.items()
+                                          if v is not None)
+    return Plan(cand, pose_map(cand, chosen.iloc[0]), table, plan_table(front), study,
+                comparison_table(table, study), manifest, next_config(manifest))

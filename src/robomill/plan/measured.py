@@ -1,0 +1,200 @@
+"""What the lab measured, as the planner uses it: cutting coefficients with their confidence
+intervals, joint stiffness with its interval, the impact test's modes, and the gear errors of
+the tracker runs expressed as joint-angle amplitudes (so they can be carried to a new pose).
+
+Each quantity may be absent (no dynamometer cuts, no load tests, no impact test, no tracker
+runs); :func:`missing_predictions` says which predictions that removes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+
+from robomill.forces import CuttingCoefficients
+from robomill.kinematics import SerialRobot
+from robomill.stiffness import jacobian_m
+from robomill.straightness import perpendicular_axes
+
+PREDICTIONS = {
+    "stability_margin": ("modes", "coefficients"),
+    "deflection": ("joints", "coefficients"),
+    "force": ("coefficients",),
+    "waviness": ("gears",),
+    "pose_dependent_modes": ("joints", "modes"),
+}
+"""Each prediction and the measured quantities it needs."""
+
+SOURCES = {
+    "modes": "no impact test (results/modal/modes.csv)",
+    "coefficients": "no cutting coefficients (results/forces/cutting_coefficients.csv)",
+    "joints": "no load tests of the cell's robot (results/stiffness/<robot>/joint_stiffness.csv)",
+    "gears": "no tracker runs with gear lines (results/straightness/peaks.csv)",
+}
+
+
+@dataclass(frozen=True)
+class Measured:
+    """The lab's identified quantities (each None when not measured)."""
+
+    modes: pd.DataFrame | None = None
+    coefficients: pd.DataFrame | None = None
+    joints: pd.DataFrame | None = None
+    gears: pd.DataFrame | None = None
+
+    def has(self, name: str) -> bool:
+        v = getattr(self, name)
+        return v is not None and len(v) > 0
+
+
+def missing_predictions(m: Measured) -> dict[str, str]:
+    """Predictions that cannot be made, each with the reason (the first missing source)."""
+    out = {}
+    for pred, needs in PREDICTIONS.items():
+        for n in needs:
+            if not m.has(n):
+                out[pred] = SOURCES[n]
+                break
+    return out
+
+
+def coefficient_bounds(coeffs: pd.DataFrame) -> dict[str, CuttingCoefficients]:
+    """Nominal coefficients and the two ends of their confidence intervals (``ci_low`` and
+    ``ci_high`` of ``cutting_coefficients.csv``; the value where an interval is missing)."""
+    t = coeffs.set_index("name")
+    out = {}
+    for key, col in (("nominal", "value"), ("low", "ci_low"), ("high", "ci_high")):
+        vals = {}
+        for k in ("Ktc", "Krc", "Kac", "Kte", "Kre", "Kae"):
+            v = t.loc[k, col] if col in t and k in t.index else np.nan
+            vals[k] = float(v) if np.isfinite(v) else float(t.loc[k, "value"])
+        out[key] = CuttingCoefficients(**vals)
+    return out
+
+
+def compliance_bounds(joints: pd.DataFrame) -> dict[str, np.ndarray]:
+    """Joint compliances c = 1/k [rad/(N·m)] at the nominal stiffness and at the ends of its
+    95 % interval (``low``: 1/k_high, ``high``: 1/k_low; an unbounded upper stiffness gives
+    compliance 0, a non-positive lower bound twice the nominal compliance). Unobservable joints
+    are rigid (as :func:`robomill.stiffness.compliance_from_table`)."""
+    k = joints["k_Nm_rad"].to_numpy(float)
+    obs = joints["observable"].astype(str).str.lower().isin(["true", "1"]).to_numpy()
+    ok = obs & np.isfinite(k) & (k > 0)
+    lo = joints.get("ci95_low_Nm_rad", pd.Series(k)).to_numpy(float)
+    hi = joints.get("ci95_high_Nm_rad", pd.Series(k)).to_numpy(float)
+    c = np.where(ok, 1.0 / np.where(ok, k, 1.0), 0.0)
+    with np.errstate(divide="ignore"):
+        c_lo = np.where(ok & np.isfinite(hi) & (hi > 0), 1.0 / np.where(hi > 0, hi, 1.0), 0.0)
+        c_hi = np.where(ok & (lo > 0), 1.0 / np.where(lo > 0, lo, 1.0), 2.0 * c)
+    return {"nominal": c, "low": np.minimum(c_lo, c), "high": np.maximum(c_hi, c)}
+
+
+def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
+                          poses: Mapping[str, tuple[np.ndarray, np.ndarray]], *,
+                          min_sensitivity: float = 0.02) -> pd.DataFrame:
+    """Joint-angle amplitude of every gear element seen on the tracker paths.
+
+    A gear error δq_j of joint j moves the TCP by J_v[:, j] δq_j; a peak of amplitude A along
+    the path's component axis l (lateral ẑ × u or vertical, :func:`perpendicular_axes`) at the
+    run's posture q gives δq_j = A / |lᵀ J_v[:, j](q)|. Peaks whose axis sees less than
+    ``min_sensitivity`` of the joint's TCP motion are left out (ill-conditioned). Each element's
+    estimates over the runs give its nominal (median) and interval (min, max).
+
+    Parameters
+    ----------
+    peaks
+        ``results/straightness/peaks.csv`` (gear-attributed rows: ``mechanism`` gear, ``joint``
+        given).
+    poses
+        Per cut id (the peaks' ``cut``): the posture ``q_rad`` at the run's middle and the unit
+        path direction ``u``.
+
+    Returns
+    -------
+    pandas.DataFrame
+        ``joint, stage, order, dq_urad, dq_low_urad, dq_high_urad, n_runs``.
+    """
+    cols = ["joint", "stage", "order", "dq_urad", "dq_low_urad", "dq_high_urad", "n_runs"]
+    if peaks is None or peaks.empty:
+        return pd.DataFrame(columns=cols)
+    g = peaks[(peaks.get("mechanism", "gear") == "gear") & peaks["joint"].notna()]
+    rows = []
+    for _, r in g.iterrows():
+        pose = poses.get(str(r.get("cut", "")))
+        if pose is None:
+            continue
+        q, u = pose
+        j = int(r["joint"]) - 1
+        Jv = jacobian_m(robot, np.asarray(q, float))[:3, j] * 1e6           # µm/rad
+        axes = perpendicular_axes(np.asarray(u, float))
+        ax = axes[0] if r["component"] == "lateral" else axes[1]
+        sens = abs(float(ax @ Jv))
+        if sens < min_sensitivity * np.linalg.norm(Jv) or sens == 0:
+            continue
+        rows.append({"joint": j + 1, "stage": r["stage"], "order": r["order"],
+                     "dq": float(r["amplitude_um"]) / sens * 1e6})
+    if not rows:
+        return pd.DataFrame(columns=cols)
+    t = pd.DataFrame(rows).groupby(["joint", "stage", "order"])["dq"]
+    out = pd.DataFrame({"dq_urad": t.median(), "dq_low_urad": t.min(), "dq_high_urad": t.max(),
+                        "n_runs": t.size()}).reset_index()
+    return out[cols]
+
+
+def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
+                gears: pd.DataFrame, *, direction: np.ndarray | None = None,
+                length_mm: float | None = None, orders: Mapping | None = None,
+                min_cycles: float = 2.5) -> dict[str, np.ndarray]:
+    """Path waviness normal to the wall at postures ``q_rad`` ``(..., n)``: each gear element's
+    joint amplitude carried through the Jacobian, A = δq_j |nᵀ J_v[:, j](q)|, summed over the
+    elements (lines adding in phase: a bound on the peak waviness) [µm]; nominal, low, high
+    from the elements' amplitude intervals (:func:`gear_joint_amplitudes`).
+
+    With the path ``direction`` (unit, ``(..., 3)`` or ``(3,)``), its ``length_mm`` and the
+    elements' ``orders`` (cycles per joint revolution per ``(joint, stage, order)``,
+    :func:`robomill.straightness.gear_orders`), an element counts only where it completes at
+    least ``min_cycles`` periods along the cut: spatial frequency
+    f = order·|dq_j/ds|/(2π) (dq/ds from J dq = (u, 0) at fixed orientation) times the length.
+    A joint that hardly turns along the path prints its gear error as a slow offset, not as
+    waviness (the straightness analysis' own resolution rule)."""
+    J = jacobian_m(robot, q_rad)
+    Jv = J[..., :3, :] * 1e6                                                 # µm/rad
+    s = np.abs(np.einsum("...i,...ij->...j", np.asarray(normal, float), Jv))  # (..., n)
+    rates = None
+    if direction is not None and length_mm is not None and orders is not None:
+        u = np.broadcast_to(np.asarray(direction, float), J.shape[:-2] + (3,))
+        twist = np.concatenate([u * 1e-3, np.zeros_like(u)], -1)            # m per mm
+        rates = np.abs(np.linalg.solve(J, twist[..., None])[..., 0])        # rad/mm
+    out = {}
+    for key, col in (("nominal", "dq_urad"), ("low", "dq_low_urad"), ("high", "dq_high_urad")):
+        tot = np.zeros(s.shape[:-1])
+        for _, r in gears.iterrows():
+            j = int(r["joint"]) - 1
+            term = s[..., j] * float(r[col]) * 1e-6
+            if rates is not None:
+                order = orders.get((j + 1, str(r["stage"]), str(r["order"])))
+                if order is not None:
+                    cycles = order * rates[..., j] / (2 * np.pi) * float(length_mm)
+                    term = np.where(cycles >= min_cycles, term, 0.0)
+            tot = tot + term
+        out[key] = tot
+    return out
+
+
+def cut_mid_poses(robot: SerialRobot, cuts, experiment: Mapping, *, tool_rotation: np.ndarray,
+                  q0_rad: np.ndarray) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Posture at the middle of each study cut and its unit feed direction (the poses at which
+    the tracker runs along those cuts saw their gear lines;
+    :func:`robomill.experiment.cut_joint_path_rad`)."""
+    from robomill.experiment import cut_joint_path_rad, feed_direction
+
+    L = float(experiment["cut_length_mm"])
+    out = {}
+    for cut in cuts:
+        q = cut_joint_path_rad(robot, cut, experiment, np.array([L / 2]),
+                               tool_rotation=tool_rotation, q0_rad=q0_rad)[0]
+        out[cut.id] = (q, feed_direction(cut))
+    return out

@@ -1,0 +1,302 @@
+"""Predictions for every candidate cut (pose × redundancy angle × direction × speed × depth ×
+feed), each with an interval carried from the identified quantities' uncertainty.
+
+* **Stability margin** a_crit/a − 1, a_crit the smaller of the zero-order lobes and the
+  mode-coupling depth (:mod:`robomill.plan.lobes`) of the
+  impact test's modes in the cut frame, the modes below ``robot_mode_max_hz`` (the robot's
+  structure) scaled with the pose: k_r(q) = k_r(q_ref)·k_φ(q)/k_φ(q_ref), f_r ∝ √k_r (modal mass
+  kept), k_φ = 1/(φᵀ C(q) φ) the joint model's stiffness along the mode shape. Interval: the
+  coefficients' K_t interval (a_crit ∝ 1/K_t exactly), the K_r ratio's interval and the joint
+  stiffness interval (lobes recomputed at each end); the lower end is the pessimistic margin.
+* **Static deflection** δ = C(q) F̄ along the wall normal and the tool axis, with F̄ the mean
+  cutting force (Altintas 2012 eq. 2.25, :func:`robomill.forces.mean_milling_forces`) rotated
+  from the cut frame to the base frame; interval over the coefficient and stiffness ends.
+* **Force** |F̄| with the coefficients' interval; **waviness** from the gear elements' joint
+  amplitudes (:func:`robomill.plan.measured.waviness_um`); **feed marks** c²/(8R) for a feed
+  per tooth c = v/(N n) and tool radius R; **removal rate** a·a_e·v [mm³/s].
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import xarray as xr
+
+from robomill.chatter.model import CuttingModel, immersion_angles
+from robomill.forces import CuttingCoefficients, mean_milling_forces
+from robomill.kinematics import SerialRobot
+from robomill.plan.lobes import batch_coupling_depth, batch_zoa_lobes
+from robomill.plan.measured import (
+    Measured,
+    coefficient_bounds,
+    compliance_bounds,
+    missing_predictions,
+    waviness_um,
+)
+from robomill.plan.poses import (
+    compliance_grid,
+    cut_frames,
+    directional_ratio,
+    solve_grid,
+)
+from robomill.plan.request import PlanRequest
+from robomill.xrvars import attrs, var
+
+
+@dataclass(frozen=True)
+class Cell:
+    """What the planner needs of the cell: the robot, the tool orientation R0 (θ = 0), the IK
+    seed, the reference point of the impact test (where the modes were measured) and the
+    gear elements' orders ``{(joint, stage, order): cycles per joint revolution}``."""
+
+    robot: SerialRobot
+    R0: np.ndarray
+    q_seed_rad: np.ndarray
+    reference_point_mm: np.ndarray
+    gear_orders: dict | None = None
+
+
+def engagement(req: PlanRequest) -> tuple[float, float]:
+    """Entry and exit angles of the request's operation (slot: 0 … π)."""
+    return (0.0, float(np.pi)) if req.milling == "slot" else immersion_angles(
+        req.radial_immersion, req.milling)
+
+
+def _modes_arrays(modes):
+    ok = modes["k_modal_N_m"].to_numpy(float) > 0
+    m = modes[ok]
+    shapes = np.nan_to_num(m[["shape_x", "shape_y", "shape_z"]].to_numpy(float))
+    return (m["f_n_hz"].to_numpy(float), m["zeta"].to_numpy(float),
+            m["k_modal_N_m"].to_numpy(float), shapes)
+
+
+def critical_depth_m(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np.ndarray,
+                     frames: np.ndarray, spindle_rpm: np.ndarray, *,
+                     corners: bool = True) -> dict[str, np.ndarray] | None:
+    """Critical depth ``(B, S)`` [m] at postures ``q_rad`` ``(B, n)`` with cut frames
+    ``frames`` ``(B, 3, 3)`` (columns feed, normal, axis): ``nominal``, ``low``, ``high``.
+    None when the modes or the coefficients were not measured."""
+    if not (measured.has("modes") and measured.has("coefficients")):
+        return None
+    fn, zeta, k, shapes = _modes_arrays(measured.modes)
+    if fn.size == 0:
+        return None
+    cb = coefficient_bounds(measured.coefficients)
+    ent, ext = engagement(req)
+    nom = cb["nominal"]
+
+    def model(ktc, krc):
+        return CuttingModel(req.flutes, ktc * 1e6, krc / ktc, ent, ext)
+
+    B = len(q_rad)
+    inplane = np.einsum("mi,bid->bmd", shapes, frames[:, :, :2])            # (B, M, 2)
+    robot_mode = fn < req.robot_mode_max_hz
+    scalings = {"nominal": np.ones((B, fn.size))}
+    if measured.has("joints"):
+        cset = compliance_bounds(measured.joints)
+        R_ref = cell.R0
+        from robomill.stiffness import solve_poses
+        q_ref, ok = solve_poses(cell.robot, cell.reference_point_mm[None], R_ref, cell.q_seed_rad)
+        keys = ("nominal", "low", "high") if corners else ("nominal",)
+        for key in keys:
+            C = compliance_grid(cell.robot, q_rad, cset[key])
+            C_ref = compliance_grid(cell.robot, q_ref[0], cset[key])
+            ratio = directional_ratio(C, C_ref, shapes) if ok[0] else np.ones((B, fn.size))
+            scalings[key] = np.where(robot_mode, ratio, 1.0)
+
+    def lobes(scale, cut):
+        args = (fn[None] * np.sqrt(scale), zeta, k[None] * scale, inplane, cut)
+        a_mc = batch_coupling_depth(*args)
+        return np.minimum(batch_zoa_lobes(*args, spindle_rpm), a_mc[:, None])
+
+    a_nom = lobes(scalings["nominal"], model(nom.Ktc, nom.Krc))
+    ends = [a_nom]
+    if corners:
+        lo_c, hi_c = cb["low"], cb["high"]
+        for ktc, krc in ((hi_c.Ktc, lo_c.Krc), (lo_c.Ktc, hi_c.Krc)):  # K_r = Krc/Ktc ends
+            if not np.isclose(krc / ktc, nom.Krc / nom.Ktc, rtol=1e-12):
+                ends.append(lobes(scalings["nominal"], model(nom.Ktc, krc * nom.Ktc / ktc)))
+        for key in ("low", "high"):
+            if key in scalings:
+                ends.append(lobes(scalings[key], model(nom.Ktc, nom.Krc)))
+    stack = np.stack(ends)
+    return {"nominal": a_nom,
+            "low": stack.min(0) * nom.Ktc / max(cb["high"].Ktc, nom.Ktc),
+            "high": stack.max(0) * nom.Ktc / min(cb["low"].Ktc, nom.Ktc)}
+
+
+def mean_forces_N(coeffs: CuttingCoefficients, req: PlanRequest, spindle_rpm, depth_mm,
+                  feed_mm_s) -> np.ndarray:
+    """Mean cutting force in the cut frame ``(S, A, V, 3)`` for speeds × depths × feeds."""
+    n = np.asarray(spindle_rpm, float)[:, None, None]
+    a = np.asarray(depth_mm, float)[None, :, None]
+    v = np.asarray(feed_mm_s, float)[None, None, :]
+    c = v * 60.0 / (req.flutes * n)
+    ent, ext = engagement(req)
+    return mean_milling_forces(c, a, coeffs, flutes=req.flutes, entry_rad=ent, exit_rad=ext)
+
+
+def _dims(*names):
+    return tuple(names)
+
+
+def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
+                 corners: bool = True) -> xr.Dataset:
+    """Every candidate of the request with its predictions and intervals (the variables of
+    ``results/plan/candidates.nc``; docs/artefacts.md). Predictions that cannot be made are
+    NaN and listed in the ``missing_predictions`` attribute."""
+    missing = missing_predictions(measured)
+    poses = solve_grid(cell.robot, req.placements_mm, req.rotations_deg, req.direction_deg,
+                       req.length_mm, R0=cell.R0, q_seed_rad=cell.q_seed_rad,
+                       stations=req.path_stations)
+    P, R, D = poses.reachable.shape
+    S, A, V = len(req.spindle_rpm), len(req.depth_mm), len(req.feed_mm_s)
+    frames = cut_frames(req.direction_deg)                                  # (D, 3, 3)
+    q = poses.q_mid_rad                                                     # (P, R, D, n)
+    ok = poses.reachable
+    prd = ("placement", "rotation", "direction")
+    full = prd + ("spindle_rpm", "depth_mm", "feed_mm_s")
+    nan_full = np.full((P, R, D, S, A, V), np.nan)
+    data = {"reachable": (prd, ok, attrs("1", "inverse kinematics converges along the cut"))}
+    data["q_deg"] = var(prd + ("joint",), np.rad2deg(q), "deg", "posture at the cut's middle")
+    data["q_path_deg"] = var(prd + ("station", "joint"), np.rad2deg(poses.q_rad), "deg",
+                             "posture at each station along the cut")
+    # stability
+    a_crit = None
+    if ok.any():
+        fb = np.broadcast_to(frames[None, None], (P, R, D, 3, 3))[ok]
+        a_crit = critical_depth_m(measured, cell, req, q[ok], fb, req.spindle_rpm,
+                                  corners=corners)
+    depth_m = req.depth_mm[None, :] * 1e-3
+    for key, suffix in (("nominal", ""), ("low", "_low"), ("high", "_high")):
+        a_full = np.full((P, R, D, S), np.nan)
+        if a_crit is not None:
+            a_full[ok] = a_crit[key]
+        data[f"a_crit{suffix}_mm"] = var(prd + ("spindle_rpm",), a_full * 1e3, "mm",
+                                         f"critical axial depth (zero-order lobes, {key})")
+        data[f"stability_margin{suffix}"] = var(
+            full, np.broadcast_to((a_full[..., None] / depth_m - 1)[..., None], nan_full.shape),
+            "1", f"stability margin a_crit/a - 1 ({key})")
+    # forces and deflection
+    Fmag = {k: np.full((S, A, V), np.nan) for k in ("nominal", "low", "high")}
+    defl = {(ax, k): nan_full.copy() for ax in ("normal", "axial") for k in Fmag}
+    stiff = {ax: np.full((P, R, D), np.nan) for ax in ("normal", "axial")}
+    if measured.has("coefficients"):
+        cb = coefficient_bounds(measured.coefficients)
+        Fc = {k: mean_forces_N(cb[k], req, req.spindle_rpm, req.depth_mm, req.feed_mm_s)
+              for k in ("nominal", "low", "high")}
+        mags = np.stack([np.linalg.norm(f, axis=-1) for f in Fc.values()])
+        Fmag = {"nominal": mags[0], "low": mags.min(0), "high": mags.max(0)}
+        if measured.has("joints"):
+            cset = compliance_bounds(measured.joints)
+            Fb = {k: np.einsum("dij,saj->dsai", frames, f.reshape(S, A * V, 3))
+                  .reshape(D, S, A, V, 3) for k, f in Fc.items()}
+            for ax, col in (("normal", 1), ("axial", 2)):
+                vals = []
+                for ck in ("nominal", "low", "high"):
+                    C = compliance_grid(cell.robot, q, cset[ck])              # (P, R, D, 3, 3)
+                    row = np.einsum("di,prdij->prdj", frames[:, :, col], C)   # (P, R, D, 3)
+                    if ck == "nominal":
+                        stiff[ax] = np.where(ok, 1.0 / np.einsum("prdj,dj->prd", row,
+                                                                 frames[:, :, col]), np.nan)
+                    for fk in ("nominal", "low", "high"):
+                        vals.append(np.abs(np.einsum("prdj,dsavj->prdsav", row, Fb[fk])) * 1e6)
+                vals = np.stack(vals)
+                for k, v in (("nominal", vals[0]), ("low", vals.min(0)), ("high", vals.max(0))):
+                    defl[(ax, k)] = np.where(ok[..., None, None, None], v, np.nan)
+    for k, suffix in (("nominal", ""), ("low", "_low"), ("high", "_high")):
+        data[f"force{suffix}_N"] = var(("spindle_rpm", "depth_mm", "feed_mm_s"), Fmag[k], "N",
+                                       f"mean cutting force magnitude ({k})")
+        for ax, what in (("normal", "normal to the wall"), ("axial", "along the tool axis")):
+            data[f"deflection_{ax}{suffix}_um"] = var(full, defl[(ax, k)], "um",
+                                                      f"static deflection {what} ({k})")
+    data["k_normal_N_m"] = var(prd, stiff["normal"], "N/m", "joint-model stiffness normal to "
+                               "the wall")
+    data["k_axial_N_m"] = var(prd, stiff["axial"], "N/m", "joint-model stiffness along the "
+                              "tool axis")
+    # waviness
+    wav = {k: np.full((P, R, D), np.nan) for k in ("nominal", "low", "high")}
+    if measured.has("gears"):
+        n_vec = np.broadcast_to(frames[None, None, :, :, 1], (P, R, D, 3))
+        u_vec = np.broadcast_to(frames[None, None, :, :, 0], (P, R, D, 3))
+        w = waviness_um(cell.robot, q, n_vec, measured.gears, direction=u_vec,
+                        length_mm=req.length_mm, orders=cell.gear_orders)
+        wav = {k: np.where(ok, v, np.nan) for k, v in w.items()}
+    for k, suffix in (("nominal", ""), ("low", "_low"), ("high", "_high")):
+        data[f"waviness{suffix}_um"] = var(prd, wav[k], "um", "gear-line waviness normal to "
+                                           f"the wall, in-phase sum ({k})")
+    # feed marks and removal rate
+    c_mm = req.feed_mm_s[None, :] * 60.0 / (req.flutes * req.spindle_rpm[:, None])
+    data["feed_per_tooth_mm"] = var(("spindle_rpm", "feed_mm_s"), c_mm, "mm", "feed per tooth")
+    data["feed_mark_um"] = var(("spindle_rpm", "feed_mm_s"),
+                               c_mm**2 / (8 * req.tool_diameter_mm / 2) * 1e3, "um",
+                               "feed-mark height c^2/(8R)")
+    data["mrr_mm3_s"] = var(("depth_mm", "feed_mm_s"),
+                            req.depth_mm[:, None] * req.width_mm * req.feed_mm_s[None, :],
+                            "mm3/s", "material removal rate a a_e v")
+    coords = _coords(req, poses)
+    coords["station"] = ("station", poses.s_mm, attrs("mm", "path abscissa from the cut's start"))
+    ds = xr.Dataset(data, coords=coords)
+    ds = form_error(ds)
+    ds.attrs["missing_predictions"] = "; ".join(f"{k}: {v}" for k, v in missing.items())
+    return ds
+
+
+def form_error(ds: xr.Dataset) -> xr.Dataset:
+    """Predicted form error of the wall: static deflection normal to the wall plus the gear
+    waviness (a missing term counts as 0), nominal and upper bound [µm]."""
+    for suffix in ("", "_high"):
+        d = ds[f"deflection_normal{suffix}_um"].fillna(0.0)
+        w = ds[f"waviness{suffix}_um"].fillna(0.0)
+        fe = (d + w).where(ds["reachable"])
+        ds[f"form_error{suffix}_um"] = fe.assign_attrs(attrs(
+            "um", "predicted form error: normal deflection + waviness"))
+    return ds
+
+
+def _coords(req: PlanRequest, poses) -> dict:
+    P = req.placements_mm
+    return {
+        "placement": ("placement", np.arange(len(P)), attrs("1", "placement index")),
+        "placement_x_mm": ("placement", P[:, 0], attrs("mm", "cut midpoint x (base frame)")),
+        "placement_y_mm": ("placement", P[:, 1], attrs("mm", "cut midpoint y (base frame)")),
+        "placement_z_mm": ("placement", P[:, 2], attrs("mm", "cut midpoint z (base frame)")),
+        "rotation": ("rotation", req.rotations_deg,
+                     attrs("deg", "redundancy angle about the tool axis")),
+        "direction": ("direction", list(req.direction_names), attrs("1", "feed direction")),
+        "direction_deg": ("direction", req.direction_deg,
+                          attrs("deg", "feed direction angle in the base XY plane")),
+        "spindle_rpm": ("spindle_rpm", req.spindle_rpm, attrs("rpm", "spindle speed")),
+        "depth_mm": ("depth_mm", req.depth_mm, attrs("mm", "axial depth of cut")),
+        "feed_mm_s": ("feed_mm_s", req.feed_mm_s, attrs("mm/s", "feed rate")),
+        "joint": ("joint", np.arange(1, poses.q_rad.shape[-1] + 1), attrs("1", "joint")),
+    }
+
+
+def station_scores(ds: xr.Dataset, row, req: PlanRequest, measured: Measured,
+                   cell: Cell) -> tuple[np.ndarray, str]:
+    """Score of every redundancy angle at every station along one chosen cut ``(stations,
+    rotations)`` and what it is: the stability margin a_crit/a − 1 at the cut's speed and depth
+    (nominal coefficients), else (no modes) the joint-model stiffness normal to the wall
+    [N/m], else zeros."""
+    q = np.deg2rad(ds["q_path_deg"].isel(placement=int(row["i_placement"]),
+                                         direction=int(row["i_direction"])).values)  # (R, St, n)
+    R, St, n = q.shape
+    frame = cut_frames(np.array([float(row["direction_deg"])]))[0]
+    ok = ds["reachable"].isel(placement=int(row["i_placement"]),
+                              direction=int(row["i_direction"])).values
+    a = critical_depth_m(measured, cell, req, q.reshape(-1, n),
+                         np.broadcast_to(frame, (R * St, 3, 3)),
+                         np.array([float(row["spindle_rpm"])]), corners=False)
+    if a is not None:
+        score = (a["nominal"][:, 0].reshape(R, St) / (float(row["depth_mm"]) * 1e-3) - 1).T
+        what = "stability margin"
+    elif measured.has("joints"):
+        from robomill.plan.measured import compliance_bounds
+        C = compliance_grid(cell.robot, q, compliance_bounds(measured.joints)["nominal"])
+        score = (1.0 / np.einsum("i,rsij,j->rs", frame[:, 1], C, frame[:, 1])).T
+        what = "stiffness normal to the wall [N/m]"
+    else:
+        score, what = np.zeros((St, R)), "none"
+    return np.where(ok[None, :], score, -np.inf), what

@@ -1,0 +1,270 @@
+"""The planning request ``plan.yaml`` (kind ``plan``): read, validate, expand its grids.
+
+A request states the job and what counts as acceptable (issue 28):
+
+.. code-block:: yaml
+
+    kind: plan
+    operation: {milling: slot, radial_immersion: 1.0, length_mm: 40, directions: [py, px]}
+    tool: {diameter_mm: 6.0, flutes: 2}
+    placement:                       # cut midpoints in the robot base frame [mm]
+      box: {min_mm: [550, -150, 200], max_mm: [750, 150, 200], n: [4, 3, 1]}
+      # or points_mm: [[x, y, z], ...]
+    rotations_deg: {min: -60, max: 60, n: 12}    # about the tool axis (or a list)
+    spindle_rpm: {min: 10000, max: 30000, n: 200}
+    depth_mm: [0.1, 0.2, 0.3]
+    feed_mm_s: {min: 1, max: 10, n: 4}
+    constraints:                     # any may be null (not constrained)
+      min_stability_margin: 0.2      # a_crit,low / depth − 1
+      max_deflection_normal_um: 50
+      max_deflection_axial_um: 50
+      max_waviness_um: 5
+      max_force_N: 200
+
+Directions are names (``px``, ``py``, ``mx``, ``my``) or angles in degrees in the part frame,
+whose axes are parallel to the base frame's. Every problem is reported as one line naming the
+file, the field and what was expected (:class:`PlanRequestError`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+
+from robomill.experiment import DIRECTION_DEG
+
+CONSTRAINTS = ("min_stability_margin", "max_deflection_normal_um", "max_deflection_axial_um",
+               "max_waviness_um", "max_force_N")
+"""Constraint keys of ``plan.yaml: constraints`` (each optional)."""
+
+MILLING = ("slot", "up", "down")
+
+
+class PlanRequestError(ValueError):
+    """A ``plan.yaml`` that does not follow the request format (one line: file, field, what was
+    expected)."""
+
+    def __init__(self, path: str | Path, where: str, problem: str):
+        self.path, self.where, self.problem = str(path), where, problem
+        super().__init__(f"{path}: {where}: {problem}")
+
+
+@dataclass(frozen=True)
+class PlanRequest:
+    """A validated request with its grids expanded."""
+
+    path: str
+    milling: str
+    radial_immersion: float
+    length_mm: float
+    direction_deg: np.ndarray
+    direction_names: tuple[str, ...]
+    tool_diameter_mm: float
+    flutes: int
+    placements_mm: np.ndarray
+    rotations_deg: np.ndarray
+    spindle_rpm: np.ndarray
+    depth_mm: np.ndarray
+    feed_mm_s: np.ndarray
+    constraints: dict[str, float | None]
+    n_cuts: int = 5
+    max_rotation_step_deg: float = 15.0
+    path_stations: int = 5
+    robot_mode_max_hz: float = 200.0
+    reference_point_mm: np.ndarray | None = None
+    raw: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def width_mm(self) -> float:
+        """Radial width of cut a_e = (a_e/D)·D [mm]."""
+        return self.radial_immersion * self.tool_diameter_mm
+
+    def constrained(self, key: str) -> bool:
+        return self.constraints.get(key) is not None
+
+
+def _number(path, where: str, value, *, positive: bool = False, integer: bool = False,
+            minimum: float | None = None) -> float:
+    ok = isinstance(value, int | float) and not isinstance(value, bool) and np.isfinite(value)
+    if ok and integer:
+        ok = float(value).is_integer()
+    what = "an integer" if integer else "a number"
+    if positive:
+        what = f"a positive {what.split(' ', 1)[1]}"
+        ok = ok and value > 0
+    if minimum is not None and ok and value < minimum:
+        ok = False
+        what = f"{what} ≥ {minimum:g}"
+    if not ok:
+        raise PlanRequestError(path, where, f"expected {what}, got {value!r}")
+    return int(value) if integer else float(value)
+
+
+def _grid(path, where: str, value, *, positive: bool = True) -> np.ndarray:
+    """A list of numbers, or ``{min, max, n}`` (n evenly spaced values, ends included)."""
+    if isinstance(value, list):
+        if not value:
+            raise PlanRequestError(path, where, "expected a non-empty list of numbers")
+        vals = [_number(path, f"{where}[{i}]", v, positive=positive) for i, v in enumerate(value)]
+        return np.unique(np.asarray(vals, float))
+    if isinstance(value, dict):
+        missing = [k for k in ("min", "max", "n") if k not in value]
+        if missing:
+            raise PlanRequestError(path, where, f"missing key {missing[0]!r} (expected a list "
+                                   "or {min, max, n})")
+        lo = _number(path, f"{where}.min", value["min"], positive=positive)
+        hi = _number(path, f"{where}.max", value["max"], positive=positive)
+        n = _number(path, f"{where}.n", value["n"], positive=True, integer=True)
+        if hi < lo:
+            raise PlanRequestError(path, f"{where}.max", f"expected ≥ min ({lo:g}), got {hi:g}")
+        return np.linspace(lo, hi, n) if n > 1 else np.array([lo])
+    raise PlanRequestError(path, where, f"expected a list or {{min, max, n}}, got {value!r}")
+
+
+def _point(path, where: str, value) -> np.ndarray:
+    if not (isinstance(value, list) and len(value) == 3):
+        raise PlanRequestError(path, where, f"expected [x, y, z] in mm, got {value!r}")
+    return np.array([_number(path, f"{where}[{i}]", v) for i, v in enumerate(value)])
+
+
+def _placements(path, value) -> np.ndarray:
+    if not isinstance(value, dict) or not ({"box", "points_mm"} & set(value)):
+        raise PlanRequestError(path, "placement", "expected a mapping with 'box' "
+                               "{min_mm, max_mm, n} or 'points_mm' [[x, y, z], ...]")
+    if "points_mm" in value:
+        pts = value["points_mm"]
+        if not isinstance(pts, list) or not pts:
+            raise PlanRequestError(path, "placement.points_mm", "expected a non-empty list "
+                                   "of [x, y, z]")
+        return np.array([_point(path, f"placement.points_mm[{i}]", p)
+                         for i, p in enumerate(pts)])
+    box = value["box"]
+    if not isinstance(box, dict):
+        raise PlanRequestError(path, "placement.box", "expected {min_mm, max_mm, n}")
+    for k in ("min_mm", "max_mm", "n"):
+        if k not in box:
+            raise PlanRequestError(path, "placement.box", f"missing key {k!r}")
+    lo = _point(path, "placement.box.min_mm", box["min_mm"])
+    hi = _point(path, "placement.box.max_mm", box["max_mm"])
+    n = box["n"]
+    if not (isinstance(n, list) and len(n) == 3):
+        raise PlanRequestError(path, "placement.box.n", f"expected [nx, ny, nz], got {n!r}")
+    n = [_number(path, f"placement.box.n[{i}]", v, positive=True, integer=True)
+         for i, v in enumerate(n)]
+    if np.any(hi < lo):
+        raise PlanRequestError(path, "placement.box.max_mm", "expected every coordinate ≥ "
+                               "min_mm's")
+    axes = [np.linspace(a, b, k) if k > 1 else np.array([a]) for a, b, k in zip(lo, hi, n,
+                                                                                 strict=True)]
+    Z, Y, X = np.meshgrid(axes[2], axes[1], axes[0], indexing="ij")
+    return np.stack([X.ravel(), Y.ravel(), Z.ravel()], -1)
+
+
+def _directions(path, value) -> tuple[np.ndarray, tuple[str, ...]]:
+    if isinstance(value, str | int | float):
+        value = [value]
+    if not isinstance(value, list) or not value:
+        raise PlanRequestError(path, "operation.directions", "expected a list of names "
+                               f"({', '.join(DIRECTION_DEG)}) or angles in degrees")
+    deg, names = [], []
+    for i, d in enumerate(value):
+        if isinstance(d, str):
+            if d not in DIRECTION_DEG:
+                raise PlanRequestError(path, f"operation.directions[{i}]", "expected one of "
+                                       f"{', '.join(DIRECTION_DEG)} or an angle, got {d!r}")
+            deg.append(DIRECTION_DEG[d])
+            names.append(d)
+        else:
+            a = _number(path, f"operation.directions[{i}]", d)
+            deg.append(a % 360.0)
+            names.append(f"d{a:g}")
+    return np.asarray(deg, float), tuple(names)
+
+
+def parse_request(data: Any, path: str | Path = "plan.yaml") -> PlanRequest:
+    """Validate a request mapping (see the module docstring) and expand its grids."""
+    if not isinstance(data, dict):
+        raise PlanRequestError(path, "top level", "expected a mapping (kind: plan, ...)")
+    if data.get("kind") != "plan":
+        raise PlanRequestError(path, "kind", f"expected 'plan', got {data.get('kind')!r}")
+    known = {"kind", "operation", "tool", "placement", "rotations_deg", "spindle_rpm",
+             "depth_mm", "feed_mm_s", "constraints", "n_cuts", "max_rotation_step_deg",
+             "path_stations", "robot_mode_max_hz", "reference_point_mm"}
+    for k in data:
+        if k not in known:
+            raise PlanRequestError(path, str(k), f"unknown field (expected one of "
+                                   f"{', '.join(sorted(known))})")
+    for k in ("operation", "tool", "placement", "spindle_rpm", "depth_mm", "feed_mm_s"):
+        if k not in data:
+            raise PlanRequestError(path, k, "missing (a required field)")
+    op, tool = data["operation"], data["tool"]
+    if not isinstance(op, dict):
+        raise PlanRequestError(path, "operation", "expected a mapping {milling, length_mm, "
+                               "directions}")
+    if not isinstance(tool, dict):
+        raise PlanRequestError(path, "tool", "expected a mapping {diameter_mm, flutes}")
+    milling = op.get("milling", "slot")
+    if milling not in MILLING:
+        raise PlanRequestError(path, "operation.milling", f"expected one of "
+                               f"{', '.join(MILLING)}, got {milling!r}")
+    ae = 1.0 if milling == "slot" else _number(path, "operation.radial_immersion",
+                                               op.get("radial_immersion"), positive=True)
+    if ae > 1:
+        raise PlanRequestError(path, "operation.radial_immersion", f"expected a fraction in "
+                               f"(0, 1], got {ae:g}")
+    if "length_mm" not in op:
+        raise PlanRequestError(path, "operation.length_mm", "missing (a required field)")
+    length = _number(path, "operation.length_mm", op["length_mm"], positive=True)
+    deg, names = _directions(path, op.get("directions", ["px"]))
+    dia = _number(path, "tool.diameter_mm", tool.get("diameter_mm"), positive=True)
+    flutes = _number(path, "tool.flutes", tool.get("flutes"), positive=True, integer=True)
+    rot = _grid(path, "rotations_deg", data.get("rotations_deg", [0.0]), positive=False)
+    cons_in = data.get("constraints") or {}
+    if not isinstance(cons_in, dict):
+        raise PlanRequestError(path, "constraints", "expected a mapping")
+    cons: dict[str, float | None] = {}
+    for k, v in cons_in.items():
+        if k not in CONSTRAINTS:
+            raise PlanRequestError(path, f"constraints.{k}", "unknown constraint (expected "
+                                   f"one of {', '.join(CONSTRAINTS)})")
+        cons[k] = None if v is None else _number(
+            path, f"constraints.{k}", v, positive=k != "min_stability_margin",
+            minimum=-1.0 if k == "min_stability_margin" else None)
+    for k in CONSTRAINTS:
+        cons.setdefault(k, None)
+    ref = data.get("reference_point_mm")
+    return PlanRequest(
+        path=str(path), milling=milling, radial_immersion=ae, length_mm=length,
+        direction_deg=deg, direction_names=names, tool_diameter_mm=dia, flutes=flutes,
+        placements_mm=_placements(path, data["placement"]), rotations_deg=rot,
+        spindle_rpm=_grid(path, "spindle_rpm", data["spindle_rpm"]),
+        depth_mm=_grid(path, "depth_mm", data["depth_mm"]),
+        feed_mm_s=_grid(path, "feed_mm_s", data["feed_mm_s"]), constraints=cons,
+        n_cuts=_number(path, "n_cuts", data.get("n_cuts", 5), positive=True, integer=True),
+        max_rotation_step_deg=_number(path, "max_rotation_step_deg",
+                                      data.get("max_rotation_step_deg", 15.0), positive=True),
+        path_stations=_number(path, "path_stations", data.get("path_stations", 5),
+                              positive=True, integer=True),
+        robot_mode_max_hz=_number(path, "robot_mode_max_hz",
+                                  data.get("robot_mode_max_hz", 200.0), positive=True),
+        reference_point_mm=None if ref is None else _point(path, "reference_point_mm", ref),
+        raw=data)
+
+
+def read_request(path: str | Path) -> PlanRequest:
+    """Read and validate ``plan.yaml``."""
+    path = Path(path)
+    if not path.exists():
+        raise PlanRequestError(path, "file", "does not exist (expected a plan request, "
+                               "kind: plan)")
+    try:
+        data = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as e:
+        mark = getattr(e, "problem_mark", None)
+        where = f"line {mark.line + 1}" if mark is not None else "file"
+        raise PlanRequestError(path, where, "not valid YAML") from None
+    return parse_request(data, path)

@@ -1,0 +1,120 @@
+# Stage 'plan' (chapter 7, issue 28): the next cuts from what was measured. The request is
+# plan.yaml (config plan.request); each prediction's source is an input only when the raw
+# folder has the measurements behind it (the plan says which prediction is missing).
+
+
+PLAN_REQUEST = config.get("plan", {}).get("request", "plan.yaml")
+PLAN_MEASURED = {
+    **({"modes": "results/modal/modes.csv"} if has_kind("impact") else {}),
+    **(
+        {"coefficients": "results/forces/cutting_coefficients.csv"}
+        if has_kind("force")
+        else {}
+    ),
+    **(
+        {"joints": f"results/stiffness/{CELL_ROBOT}/joint_stiffness.csv"}
+        if CELL_ROBOT in STIFF_ROBOTS
+        else {}
+    ),
+    **({"peaks": "results/straightness/peaks.csv"} if has_kind("tracker") else {}),
+}
+PLAN_OUTPUTS = {
+    "candidates": "results/plan/candidates.nc",
+    "pose_map": "results/plan/pose_map.nc",
+    "plan": "results/plan/plan.csv",
+    "pareto": "results/plan/pareto.csv",
+    "study": "results/plan/study_cuts.csv",
+    "comparison": "results/plan/comparison.csv",
+    "manifest": "results/plan/next/manifest.yaml",
+    "config": "results/plan/next/config.yaml",
+}
+
+
+rule plan_make:
+    input:
+        **PLAN_MEASURED,
+        request=PLAN_REQUEST,
+        cell=CELL,
+        manifest=MANIFEST,
+    output:
+        **PLAN_OUTPUTS,
+    log:
+        "results/logs/plan/make.log",
+    benchmark:
+        "results/benchmarks/rules/plan/make.tsv"
+    conda:
+        ENV
+    params:
+        experiment={**config["experiment"], **EXPERIMENT},
+        cuts=[c.as_dict() for c in CUTS],
+    script:
+        "../scripts/plan_make.py"
+
+
+rule plan_check:
+    input:
+        **(
+            {"mean_forces": "results/forces/mean_forces.csv"}
+            if has_kind("force")
+            else {}
+        ),
+        **({"peaks": "results/straightness/peaks.csv"} if has_kind("tracker") else {}),
+        plan=PLAN_OUTPUTS["plan"],
+        study=PLAN_OUTPUTS["study"],
+    output:
+        check="results/plan/check.csv",
+    log:
+        "results/logs/plan/check.log",
+    benchmark:
+        "results/benchmarks/rules/plan/check.tsv"
+    conda:
+        ENV
+    params:
+        tolerance=0.25,
+    script:
+        "../scripts/plan_check.py"
+
+
+rule ch7:
+    input:
+        notebook=notebook("ch7_plan.ipynb"),
+        candidates=PLAN_OUTPUTS["candidates"],
+        pose_map=PLAN_OUTPUTS["pose_map"],
+        plan=PLAN_OUTPUTS["plan"],
+        pareto=PLAN_OUTPUTS["pareto"],
+        study=PLAN_OUTPUTS["study"],
+        comparison=PLAN_OUTPUTS["comparison"],
+        check="results/plan/check.csv",
+    output:
+        ipynb="results/chapters/ch7_plan.ipynb",
+        html=report(
+            "results/chapters/ch7_plan.html",
+            caption="../report/ch7.rst",
+            category="Chapter 7",
+        ),
+        figures=report(
+            directory("results/figures/ch7"),
+            patterns=["{name}.png"],
+            caption="../report/ch7.rst",
+            category="Chapter 7",
+            subcategory="Figures",
+        ),
+    log:
+        "results/logs/chapters/ch7.log",
+    benchmark:
+        "results/benchmarks/rules/chapters/ch7.tsv"
+    conda:
+        ENV
+    params:
+        options=config["chapters"],
+        failed_copy="results/logs/chapters/ch7.failed.ipynb",
+    script:
+        "../scripts/render_chapter.py"
+
+
+# `all` builds the study; `plan` builds the plan from it and chapter 7
+rule plan:
+    input:
+        *PLAN_OUTPUTS.values(),
+        "results/plan/check.csv",
+        "results/chapters/ch7_plan.html",

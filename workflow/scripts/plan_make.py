@@ -1,0 +1,54 @@
+"""The next cuts from what was measured (issue 28): candidates, the chosen cuts, the Pareto
+front, the study's own cuts beside the plan, and the next experiment's manifest and config."""
+
+import numpy as np
+import pandas as pd
+import yaml
+
+from robomill.experiment import Cut, cut_endpoints_mm
+from robomill.io import write_artefact, write_table
+from robomill.io.atomic import atomic_path
+from robomill.io.cell import read_cell
+from robomill.pipeline.runlog import setup
+from robomill.plan.make import make_plan
+from robomill.plan.measured import Measured, cut_mid_poses, gear_joint_amplitudes
+from robomill.plan.outputs import cell_of, compact
+from robomill.plan.request import read_request
+
+log = setup(snakemake.log[0], "plan")
+inp, out, p = snakemake.input, snakemake.output, snakemake.params
+req = read_request(inp.request)
+cell_file = read_cell(inp.cell)
+cuts = [Cut(**d) for d in p.cuts]
+experiment = dict(p.experiment)
+mids = np.array([np.mean(cut_endpoints_mm(c, experiment), 0) for c in cuts]) if cuts else None
+cell = cell_of(cell_file, req, mids)
+
+
+def table(name):
+    return pd.read_csv(inp[name]) if name in inp.keys() else None
+
+
+gears = None
+if "peaks" in inp.keys():
+    poses = cut_mid_poses(cell.robot, cuts, experiment, tool_rotation=cell.R0,
+                          q0_rad=cell.q_seed_rad)
+    gears = gear_joint_amplitudes(pd.read_csv(inp.peaks), cell.robot, poses)
+measured = Measured(modes=table("modes"), coefficients=table("coefficients"),
+                    joints=table("joints"), gears=gears)
+plan = make_plan(req, measured, cell, cuts, experiment, robot_name=cell.robot.name)
+inputs = [str(f) for f in inp]
+write_artefact(compact(plan.candidates), out.candidates, rule="plan_make", inputs=inputs,
+               config_section=req.raw)
+write_artefact(plan.pose_map, out.pose_map, rule="plan_make", inputs=inputs,
+               config_section=req.raw)
+write_table(plan.plan, out.plan)
+write_table(plan.pareto, out.pareto)
+write_table(plan.study, out.study)
+write_table(plan.comparison, out.comparison)
+for path, data in ((out.manifest, plan.manifest), (out.config, plan.config)):
+    with atomic_path(path) as tmp:
+        tmp.write_text(yaml.safe_dump(data, sort_keys=False))
+log.info("missing predictions: %s", plan.candidates.attrs["missing_predictions"] or "none")
+log.info("plan:\n%s", plan.plan.to_string())
+log.info("comparison:\n%s", plan.comparison.to_string())
