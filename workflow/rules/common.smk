@@ -216,6 +216,7 @@ CHAPTERS = {
     "ch4": ("ch4_chatter", "ch4", "ch4", "Chapter 4"),
     "ch5": ("ch5_stiffness", "ch5", "ch5", "Chapter 5"),
     "ch6": ("ch6_hexapod", "ch6", "ch6", "Chapter 6"),
+    "ch7": ("ch7_plan", "ch7", "ch7", "Chapter 7"),
 }
 # target: notebook parameters besides the inputs (each stage file sets its chapter's)
 CHAPTER_PARAMETERS = {}

@@ -75,7 +75,7 @@ rule plan_check:
         "../scripts/plan_check.py"
 
 
-rule ch7:
+use rule chapter as ch7 with:
     input:
         notebook=notebook("ch7_plan.ipynb"),
         candidates=PLAN_OUTPUTS["candidates"],
@@ -86,30 +86,11 @@ rule ch7:
         comparison=PLAN_OUTPUTS["comparison"],
         check="results/plan/check.csv",
     output:
-        ipynb="results/chapters/ch7_plan.ipynb",
-        html=report(
-            "results/chapters/ch7_plan.html",
-            caption="../report/ch7.rst",
-            category="Chapter 7",
-        ),
-        figures=report(
-            directory("results/figures/ch7"),
-            patterns=["{name}.png"],
-            caption="../report/ch7.rst",
-            category="Chapter 7",
-            subcategory="Figures",
-        ),
+        **chapter_outputs("ch7"),
     log:
-        "results/logs/chapters/ch7.log",
+        chapter_log("ch7"),
     benchmark:
-        "results/benchmarks/rules/chapters/ch7.tsv"
-    conda:
-        ENV
-    params:
-        options=config["chapters"],
-        failed_copy="results/logs/chapters/ch7.failed.ipynb",
-    script:
-        "../scripts/render_chapter.py"
+        chapter_benchmark("ch7")
 
 
 # `all` builds the study; `plan` builds the plan from it and chapter 7
