@@ -109,7 +109,7 @@ CHAPTER_PARAMETERS["ch4"] = {"thesis_study": THESIS_STUDY}
 use rule chapter as ch4 with:
     input:
         notebook=notebook("ch4_chatter.ipynb"),
-        templates="notebooks/templates/ch4.yaml",
+        templates=notebook("templates/ch4.yaml"),
         cases=expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
         simulation="results/chatter/simulation.nc",
         lobes="results/chatter/lobes.nc",

@@ -136,7 +136,7 @@ CHAPTER_PARAMETERS["ch3_modal"] = {"thesis_study": THESIS_STUDY}
 use rule chapter as ch3_modal with:
     input:
         notebook=notebook("ch3_3_modal.ipynb"),
-        templates="notebooks/templates/ch3_3.yaml",
+        templates=notebook("templates/ch3_3.yaml"),
         frf="results/modal/frf.nc",
         synth="results/modal/frf_synth.nc",
         traces="results/modal/hits.nc",
