@@ -26,3 +26,22 @@ def test_a_planted_line_stands_out_in_its_band_only():
     assert t["peak_to_floor_noise_band"].tolist() == pytest.approx([1.0, 1.0])
     assert t["peaks_in_band"].tolist() == [1, 1]
     assert t["direction"].tolist() == ["py", "my"]
+
+
+def test_a_line_at_the_band_edge_is_judged_on_its_upper_side():
+    """Just above ``fmin`` the neighbourhood below holds what the removed trend leaks: a
+    strong line there stands only on its upper side. Judged on both sides it is refused; with
+    ``one_sided_below=fmin`` it is found, and a bump on the leakage's own falling skirt (no
+    line) is still refused."""
+    from robomill import spectra
+
+    f = np.arange(0.0, 2.0, 0.005)
+    leak = 200.0 * np.exp(-f / 0.03)  # the trend's leakage, falling from f = 0
+    line = 21.0 * np.exp(-0.5 * ((f - 0.095) / 0.008) ** 2)
+    power = leak + line + 8.0  # above a noise floor of 8
+    kw = dict(fmin=0.066, fmax=2.0, n=5, prominence_ratio=3.0, local_ratio=2.0,
+              halfwidth_points=40, search_from=0.056)
+    assert spectra.find_peaks_spectrum(f, power, **kw) == []
+    found = spectra.find_peaks_spectrum(f, power, one_sided_below=0.066, **kw)
+    assert len(found) == 1 and abs(found[0][0] - 0.095) <= 0.005
+    assert spectra.find_peaks_spectrum(f, leak + 8.0, one_sided_below=0.066, **kw) == []

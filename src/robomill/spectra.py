@@ -186,7 +186,8 @@ def find_peaks_spectrum(f: np.ndarray, power: np.ndarray, *, fmin: float = 0.0,
                         prominence_ratio: float = 3.0, floor: float | None = None,
                         local_ratio: float = 0.0, halfwidth_points: int = 0,
                         search_from: float | None = None, envelope_points: int = 1,
-                        interpolate: bool = False) -> list[tuple[float, float]]:
+                        interpolate: bool = False,
+                        one_sided_below: float | None = None) -> list[tuple[float, float]]:
     """The ``n`` strongest peaks of ``power`` within [fmin, fmax], as (f, power), by frequency.
 
     A peak is a local maximum (:func:`scipy.signal.find_peaks`) that
@@ -206,6 +207,12 @@ def find_peaks_spectrum(f: np.ndarray, power: np.ndarray, *, fmin: float = 0.0,
     Local maxima are looked for from ``search_from`` (default ``fmin``; lower lets a peak at
     the band edge count as a local maximum) and kept from ``fmin`` up. None qualifying: an
     empty list.
+
+    ``one_sided_below``: below this frequency the spectrum holds no signal of interest (e.g.
+    what a removed trend leaks under ``fmin``); a peak whose ±``halfwidth_points``
+    neighbourhood reaches below it is judged on its upper side alone: its height above the
+    lowest point within ``halfwidth_points`` above it, against the median over the
+    ``2 halfwidth_points + 1`` points from it upwards.
 
     With ``interpolate`` the frequency is refined within the bin (:func:`interpolate_peak`,
     parabolic on the log power); the power stays the bin's.
@@ -232,6 +239,12 @@ def find_peaks_spectrum(f: np.ndarray, power: np.ndarray, *, fmin: float = 0.0,
             prom = scipy.signal.peak_prominences(env, idx, wlen=2 * h + 1)[0]
         start = np.clip(idx - h, 0, max(env.size - 2 * h - 1, 0))
         local = np.array([np.median(env[a:a + 2 * h + 1]) for a in start])
+        if one_sided_below is not None:
+            edge = np.searchsorted(f, one_sided_below)
+            for j in np.flatnonzero(idx - h < edge):
+                above = env[idx[j]:idx[j] + 2 * h + 1]
+                prom[j] = env[idx[j]] - above[:h + 1].min()
+                local[j] = np.median(above)
         idx = idx[prom >= local_ratio * local]
     idx = idx[f[idx] >= fmin]
     idx = idx[np.argsort(power[idx], kind="stable")[::-1][:n]]

@@ -239,7 +239,9 @@ def spectrum_peaks(spec: ProfileSpectrum, *, fmin_per_mm: float, fmax_per_mm: fl
     noise floor) and whose prominence is at least ``local_ratio`` × its local floor, the
     median power within ±``floor_halfwidth_bins`` resolution bins 1/L
     (:func:`robomill.spectra.find_peaks_spectrum`): never a bump on the skirt of a stronger
-    line. The ``n_peaks`` strongest are kept; none qualifying: an empty table. Local maxima
+    line; near ``fmin``, where the neighbourhood below holds what the removed line leaks, on
+    its upper side alone. The ``n_peaks`` strongest are kept; none qualifying: an empty
+    table. Local maxima
     are searched from two resolution bins below ``fmin`` (so a peak right at the band edge is
     still a local maximum) and kept from ``fmin`` up.
 
@@ -258,7 +260,7 @@ def spectrum_peaks(spec: ProfileSpectrum, *, fmin_per_mm: float, fmax_per_mm: fl
         prominence_ratio=threshold, floor=floor, local_ratio=local_ratio,
         halfwidth_points=int(round(floor_halfwidth_bins * spec.resolution_per_mm / df)),
         search_from=max(0.0, fmin_per_mm - 2 * spec.resolution_per_mm),
-        envelope_points=int(round(spec.resolution_per_mm / df)))
+        envelope_points=int(round(spec.resolution_per_mm / df)), one_sided_below=fmin_per_mm)
     rows = []
     for f, p in found:
         k = int(np.argmin(np.abs(f_grid - f)))
