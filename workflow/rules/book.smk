@@ -79,6 +79,7 @@ rule book_pdf:
     input:
         index="results/thesis/index.html",
         chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
+        cuts="results/ingest/cuts.csv",
     output:
         pdf="results/thesis/book.pdf",
         page="results/thesis/book_print.html",

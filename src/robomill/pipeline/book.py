@@ -6,28 +6,33 @@ with the experiment, a table of contents, the numbered figures of each chapter (
 from the figure file names ``fig2_3_<slug>.png``), the scorecard when there is one, and the
 run's provenance. Every link is relative, so the folder can be copied anywhere.
 
-``print_document`` joins every chapter into one page (``book_print.html``) and ``print_pdf``
-turns it into the print-ready ``book.pdf`` with headless Chromium's print-to-PDF (code folded
-away, each chapter on a new page).
+The print-ready ``book.pdf`` (title page, numbered contents, bookmarks) is made by
+:mod:`robomill.pipeline.book_print`, whose functions stay importable from here.
 """
 
 from __future__ import annotations
 
 import html
-import os
 import re
 import shutil
-import subprocess
-import tempfile
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
 import pandas as pd
 
+from robomill.pipeline.book_print import (  # noqa: F401  (public names, kept importable here)
+    CHROMIUM_NAMES,
+    chapter_key,
+    chapter_title,
+    find_chromium,
+    print_book,
+    print_document,
+    print_pdf,
+)
+from robomill.pipeline.design_tables import describe_design
+
 _FIG = re.compile(r"^fig(?P<ch>\d+)_(?P<num>\d+)(?:_(?P<slug>.*))?$")
-_TITLE = re.compile(r"<h1[^>]*>(?P<t>.*?)</h1>", re.S)
-_TAG = re.compile(r"<[^>]+>")
 
 
 @dataclass
@@ -36,15 +41,6 @@ class ChapterPage:
     title: str
     html_path: Path
     figures: list[tuple[str, str, Path]]  # (label "Figure 2.3", caption, png path)
-
-
-def chapter_title(html_text: str, fallback: str) -> str:
-    """Text of the first ``<h1>`` of a rendered chapter (anchor links removed)."""
-    m = _TITLE.search(html_text)
-    if not m:
-        return fallback
-    text = html.unescape(_TAG.sub("", m["t"])).replace("¶", "").strip()
-    return text or fallback
 
 
 def figure_label(png: Path) -> tuple[str, str]:
@@ -60,7 +56,7 @@ def collect_chapters(chapter_html: Sequence[str | Path], figures_root: str | Pat
                      ) -> list[ChapterPage]:
     """Chapter pages in order, each with its figures from ``figures_root/chN[/part]``."""
     pages = []
-    for p in sorted(map(Path, chapter_html), key=lambda p: _chapter_key(p.stem)):
+    for p in sorted(map(Path, chapter_html), key=lambda p: chapter_key(p.stem)):
         name = p.stem
         m = re.match(r"ch(\d+)(?:_(\d+))?_(.+)", name)
         if m and m[2]:
@@ -74,11 +70,6 @@ def collect_chapters(chapter_html: Sequence[str | Path], figures_root: str | Pat
         pages.append(ChapterPage(name, chapter_title(p.read_text(errors="replace"), name), p,
                                  figs))
     return pages
-
-
-def _chapter_key(stem: str) -> tuple:
-    m = re.match(r"ch(\d+)(?:_(\d+))?", stem)
-    return (int(m[1]), int(m[2] or 0)) if m else (999, 0)
 
 
 def _figure_key(stem: str) -> tuple:
@@ -163,6 +154,7 @@ def build_book(
                     f"set(s); spindle {60 * cuts['spindle_hz'].iloc[0]:.0f} rpm; feeds "
                     f"{cuts['feed_mm_s'].min():g}–{cuts['feed_mm_s'].max():g} mm/s; depths "
                     f"{', '.join(f'{d:g}' for d in sorted(cuts['depth_mm'].unique()))} mm.</p>")
+        body.append(f"<p><b>The design:</b> {html.escape(describe_design(cuts))}.</p>")
     body.append("<h2>Contents</h2><ol>")
     for page in pages:
         body.append(f'<li><a href="chapters/{page.name}.html">{html.escape(page.title)}</a> '
@@ -241,87 +233,3 @@ def _write_table_page(path: Path, title: str, df: pd.DataFrame,
             "<td>miss</td>", '<td class="miss">miss</td>')
     path.write_text(_page(title, f'<nav class="robomill"><a href="index.html">Contents</a>'
                                  f"</nav><h1>{html.escape(title)}</h1>{table}"))
-
-
-_BODY = re.compile(r"<body[^>]*>(?P<b>.*)</body>", re.S)
-_HEAD = re.compile(r"<head[^>]*>(?P<h>.*?)</head>", re.S)
-_SCRIPT_SRC = re.compile(r"<script[^>]*\bsrc=[\"']https?:[^>]*>\s*</script>", re.S)
-_PRINT_CSS = """
-@page{size:A4;margin:16mm 14mm}
-@media print{nav.robomill,details.robomill-code{display:none!important}
-section.chapter{break-before:page}.jp-Cell{break-inside:avoid-page}
-img{max-width:100%!important;height:auto}}
-section.title{text-align:center;padding-top:30vh}
-"""
-
-
-def print_document(chapter_html: Sequence[str | Path], out_html: str | Path, *,
-                   title: str = "Robotic milling quality — the study, reproduced") -> Path:
-    """Every chapter in one page for printing: a title page with the contents, then each
-    chapter's body on a new page (chapters in book order; their figures are embedded in the
-    pages). Scripts fetched from the network (MathJax, require.js) are left out so the page
-    prints offline."""
-    paths = sorted(map(Path, chapter_html), key=lambda p: _chapter_key(p.stem))
-    if not paths:
-        raise ValueError("print_document: no chapter pages given")
-    texts = [p.read_text(errors="replace") for p in paths]
-    head = _HEAD.search(texts[0])
-    head_html = _SCRIPT_SRC.sub("", head["h"]) if head else "<meta charset='utf-8'>"
-    titles = [chapter_title(t, p.stem) for t, p in zip(texts, paths, strict=True)]
-    parts = [f'<section class="title"><h1 style="border:0">{html.escape(title)}</h1><ol>']
-    parts += [f"<li>{html.escape(t)}</li>" for t in titles]
-    parts.append("</ol></section>")
-    for text, path in zip(texts, paths, strict=True):
-        m = _BODY.search(text)
-        body = m["b"] if m else text
-        body = re.sub(r'<nav class="robomill">.*?</nav>', "", body, flags=re.S)
-        parts.append(f'<section class="chapter" id="{path.stem}">{body}</section>')
-    out = Path(out_html)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(f"<!DOCTYPE html><html><head>{head_html}<title>{html.escape(title)}</title>"
-                   f"<style>{_PRINT_CSS}</style></head><body>{''.join(parts)}</body></html>")
-    return out
-
-
-#: executable names tried, in order, by :func:`find_chromium` (``$ROBOMILL_CHROMIUM`` first)
-CHROMIUM_NAMES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
-
-
-def find_chromium() -> str | None:
-    """The headless browser used to print the book, or None when none is installed."""
-    named = os.environ.get("ROBOMILL_CHROMIUM")
-    if named:
-        return shutil.which(named) or (named if os.access(named, os.X_OK) else None)
-    for name in CHROMIUM_NAMES:
-        found = shutil.which(name)
-        if found:
-            return found
-    return None
-
-
-def print_pdf(page: str | Path, out_pdf: str | Path, *, chromium: str | None = None,
-              timeout_s: float = 600) -> Path:
-    """Print ``page`` to ``out_pdf`` with headless Chromium (``--print-to-pdf``, no header or
-    footer). Raises ``RuntimeError`` naming what to install when no browser is found, or with
-    the browser's output when it wrote no PDF."""
-    chromium = chromium or find_chromium()
-    if not chromium:
-        raise RuntimeError("cannot print the book to PDF: no Chromium found (tried "
-                           f"{', '.join(CHROMIUM_NAMES)} and $ROBOMILL_CHROMIUM); install the "
-                           "Debian package `chromium` (apt-get install chromium)")
-    out = Path(out_pdf).resolve()
-    out.parent.mkdir(parents=True, exist_ok=True)
-    partial = out.with_name(out.name + ".partial")
-    partial.unlink(missing_ok=True)
-    with tempfile.TemporaryDirectory(prefix="robomill-chromium-") as profile:
-        cmd = [chromium, "--headless", "--no-sandbox", "--disable-gpu",
-               "--disable-dev-shm-usage", "--no-first-run", "--disable-background-networking",
-               "--disable-component-update", "--disable-sync", f"--user-data-dir={profile}",
-               "--no-pdf-header-footer", "--run-all-compositor-stages-before-draw",
-               f"--print-to-pdf={partial}", Path(page).resolve().as_uri()]
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout_s)
-    if not partial.exists() or partial.stat().st_size == 0:
-        raise RuntimeError(f"{chromium} wrote no PDF for {page} (exit {proc.returncode}):\n"
-                           f"{proc.stderr[-2000:]}")
-    partial.replace(out)
-    return out

@@ -98,12 +98,34 @@ def shown_value(value: Any, root: str | Path | None = None) -> str:
     return text
 
 
+def parameter_rows(name: str, value: Any, declared_type: str = "",
+                   root: str | Path | None = None) -> list[tuple[str, str, str]]:
+    """The rows ``(parameter, value, type)`` a parameter shows in the chapter's table.
+
+    A nested setting is no Python literal on the page: a mapping gives one row per key
+    (``settings.lambda_c_mm``), a list of mappings one group of rows per item
+    (``sets[0].depth_mm``), and a list of plain values one row with the values joined by
+    commas. A nested row's type is the type of its value.
+    """
+    if isinstance(value, Mapping):
+        rows = [r for k, v in value.items()
+                for r in parameter_rows(f"{name}.{k}", v, type(v).__name__, root)]
+        return rows or [(name, "(empty)", declared_type or "dict")]
+    if isinstance(value, list | tuple) and any(isinstance(v, Mapping) for v in value):
+        return [r for i, v in enumerate(value)
+                for r in parameter_rows(f"{name}[{i}]", v, type(v).__name__, root)]
+    if isinstance(value, list | tuple):
+        return [(name, ", ".join(shown_value(v, root) for v in value), declared_type or "list")]
+    shown_type = "none" if value is None else (declared_type or type(value).__name__)
+    return [(name, shown_value(value, root), shown_type)]
+
+
 def _parameter_table(parameters: Mapping[str, Any], declared: Mapping[str, str],
                      root: str | Path | None = None) -> str:
     rows = ["| parameter | value | type |", "|---|---|---|"]
     for name, value in parameters.items():
-        shown = shown_value(value, root).replace("|", "\\|")
-        rows.append(f"| `{name}` | `{shown}` | {declared.get(name, '')} |")
+        for key, shown, kind in parameter_rows(name, value, declared.get(name, ""), root):
+            rows.append(f"| `{key}` | `{shown.replace('|', chr(92) + '|')}` | {kind} |")
     return "**Parameters of this run**\n\n" + "\n".join(rows)
 
 

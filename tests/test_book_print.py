@@ -1,0 +1,112 @@
+"""The book as a printed document (issue 30 part 4): title page with the study's description,
+a contents list whose page numbers are the pages where the chapters start, one PDF bookmark
+per chapter, and parameter tables without Python literals. The PDF tests print three small
+chapters with headless Chromium and read the result back with poppler (pdftotext/pdfinfo),
+independently of how the book computed its numbers."""
+
+from __future__ import annotations
+
+import re
+import shutil
+import subprocess
+import zlib
+
+import pytest
+from conftest import missing_system_package
+
+from robomill.pipeline import book_print
+from robomill.pipeline.chapters import parameter_rows
+
+DESCRIPTION = "6 cuts: 3 spindle speeds × 2 directions; constant: 3 flutes"
+
+
+def _chapter(path, title, n_paragraphs):
+    body = "".join(f"<p>Paragraph {k} of {title}. " + "Text " * 60 + "</p>"
+                   for k in range(n_paragraphs))
+    path.write_text(f"<!DOCTYPE html><html><head><meta charset='utf-8'></head><body>"
+                    f"<h1>{title}</h1><h2>{title} section</h2>{body}</body></html>")
+    return path
+
+
+def _outline_titles(pdf_bytes: bytes) -> list[str]:
+    """Titles of the PDF's outline items, read from the raw objects (compressed object
+    streams inflated): every ``/Title (…)`` that belongs to an item with a ``/Parent``."""
+    chunks = [pdf_bytes]
+    for m in re.finditer(rb"stream\r?\n(.*?)endstream", pdf_bytes, re.S):
+        try:
+            chunks.append(zlib.decompress(m[1]))
+        except zlib.error:
+            continue
+    titles = []
+    for chunk in chunks:
+        for m in re.finditer(rb"<<[^<>]*?/Title\s*\((.*?)\)[^<>]*?>>", chunk, re.S):
+            if b"/Parent" in m[0]:
+                titles.append(m[1].decode("latin-1"))
+    return titles
+
+
+@pytest.fixture(scope="module")
+def printed(tmp_path_factory):
+    if not book_print.find_chromium():
+        missing_system_package("chromium not installed (Debian package chromium)")
+    if not (shutil.which("pdftotext") and shutil.which("pdfinfo")):
+        missing_system_package("pdftotext/pdfinfo not installed (Debian package poppler-utils)")
+    d = tmp_path_factory.mktemp("book")
+    pages = [_chapter(d / "ch0_plan.html", "Chapter Zero", 2),
+             _chapter(d / "ch1_long.html", "Chapter One", 40),
+             _chapter(d / "ch2_short.html", "Chapter Two", 3)]
+    found = book_print.print_book(pages, d / "book_print.html", d / "book.pdf",
+                                  description=DESCRIPTION)
+    return d / "book.pdf", found
+
+
+def _page_texts(pdf):
+    n = int(re.search(r"Pages:\s+(\d+)", subprocess.run(
+        ["pdfinfo", str(pdf)], capture_output=True, text=True, check=True).stdout)[1])
+    return [subprocess.run(["pdftotext", "-f", str(k), "-l", str(k), "-layout", str(pdf), "-"],
+                           capture_output=True, text=True, check=True).stdout
+            for k in range(1, n + 1)]
+
+
+@pytest.mark.browser
+def test_title_page_holds_the_design_description(printed):
+    pdf, _ = printed
+    first = " ".join(_page_texts(pdf)[0].split())
+    assert " ".join(DESCRIPTION.split()) in first
+
+
+@pytest.mark.browser
+def test_contents_page_numbers_are_where_the_chapters_start(printed):
+    pdf, found = printed
+    texts = _page_texts(pdf)
+    contents = next(t for t in texts if "Contents" in t)
+    for title in ("Chapter Zero", "Chapter One", "Chapter Two"):
+        # the page where the chapter's heading is printed (the contents page excluded)
+        start = next(k for k, t in enumerate(texts, 1)
+                     if t is not contents and re.search(rf"^\s*{title}\s*$", t, re.M))
+        listed = re.search(rf"{title}[ .]*?(\d+)\s*$", contents, re.M)
+        assert listed, (title, contents)
+        assert int(listed[1]) == start, (title, listed[1], start)
+    # the long chapter spans several pages, so the third one starts later than the second + 1
+    assert found["ch2_short"] > found["ch1_long"] + 1
+
+
+@pytest.mark.browser
+def test_one_bookmark_per_chapter(printed):
+    pdf, _ = printed
+    titles = _outline_titles(pdf.read_bytes())
+    for title in ("Chapter Zero", "Chapter One", "Chapter Two"):
+        assert titles.count(title) == 1, titles
+
+
+def test_nested_parameters_are_key_value_rows_not_literals():
+    rows = parameter_rows("experiment", {"spindle_rpm": 28000, "sets": [
+        {"set": 1, "depth_mm": 0.5}, {"set": 2, "depth_mm": 1.0}], "dirs": ["px", "py"]},
+        "dict")
+    keys = [r[0] for r in rows]
+    assert keys == ["experiment.spindle_rpm", "experiment.sets[0].set",
+                    "experiment.sets[0].depth_mm", "experiment.sets[1].set",
+                    "experiment.sets[1].depth_mm", "experiment.dirs"]
+    assert dict((r[0], r[1]) for r in rows)["experiment.dirs"] == "px, py"
+    assert not any("{" in r[1] or "[" in r[1] for r in rows)
+    assert parameter_rows("empty", {}, "dict") == [("empty", "(empty)", "dict")]
