@@ -25,17 +25,9 @@ def interpolated_peak_hz(f_hz: np.ndarray, magnitude: np.ndarray, k: int) -> flo
     magnitudes (Gasior & Gonzalez, *Improving FFT frequency measurement resolution by
     parabolic and Gaussian spectrum interpolation*, AIP Conf. Proc. 732, 2004). The line
     frequency itself where a neighbour is missing, not positive, or the top is flat."""
-    f_hz = np.asarray(f_hz, float)
-    m = np.asarray(magnitude, float)
-    if k <= 0 or k >= m.size - 1 or not np.all(np.isfinite(m[k - 1:k + 2])) \
-            or np.any(m[k - 1:k + 2] <= 0):
-        return float(f_hz[k])
-    a, b, c = np.log(m[k - 1:k + 2])
-    den = a - 2 * b + c
-    if den >= 0:
-        return float(f_hz[k])
-    delta = float(np.clip(0.5 * (a - c) / den, -0.5, 0.5))
-    return float(f_hz[k] + delta * (f_hz[k + 1] - f_hz[k]))
+    from robomill.spectra import interpolate_peak
+
+    return interpolate_peak(f_hz, magnitude, k)  # the same vertex, written once
 
 
 def peak_picking(ds: xr.Dataset, *, band_hz: Sequence[float], coherence_min: float = 0.75,
