@@ -210,9 +210,12 @@ def find_peaks_spectrum(f: np.ndarray, power: np.ndarray, *, fmin: float = 0.0,
 
     ``one_sided_below``: below this frequency the spectrum holds no signal of interest (e.g.
     what a removed trend leaks under ``fmin``); a peak whose ±``halfwidth_points``
-    neighbourhood reaches below it is judged on its upper side alone: its height above the
-    lowest point within ``halfwidth_points`` above it, against the median over the
-    ``2 halfwidth_points + 1`` points from it upwards.
+    neighbourhood reaches below it, and for which the nearest higher point on its left lies
+    there (it stands on that leakage's skirt, not on a line of the band), is judged on its
+    upper side alone: its height above the lowest point within ``halfwidth_points`` above it
+    and before a higher point (the right base of its prominence: a side lobe on a stronger
+    line's lower skirt has none), against the median over the ``2 halfwidth_points + 1``
+    points from it upwards.
 
     With ``interpolate`` the frequency is refined within the bin (:func:`interpolate_peak`,
     parabolic on the log power); the power stays the bin's.
@@ -242,8 +245,15 @@ def find_peaks_spectrum(f: np.ndarray, power: np.ndarray, *, fmin: float = 0.0,
         if one_sided_below is not None:
             edge = np.searchsorted(f, one_sided_below)
             for j in np.flatnonzero(idx - h < edge):
+                below = env[max(idx[j] - h, 0):idx[j]]
+                higher = np.flatnonzero(below > env[idx[j]])
+                if not higher.size or idx[j] - below.size + higher[-1] >= edge:
+                    continue  # what rises above it on the left is a line of the band: both sides
                 above = env[idx[j]:idx[j] + 2 * h + 1]
-                prom[j] = env[idx[j]] - above[:h + 1].min()
+                upper = above[1:h + 1]  # the right base: lowest point before a higher one
+                higher = np.flatnonzero(upper > above[0])
+                upper = upper[:higher[0]] if higher.size else upper
+                prom[j] = above[0] - upper.min() if upper.size else 0.0
                 local[j] = np.median(above)
         idx = idx[prom >= local_ratio * local]
     idx = idx[f[idx] >= fmin]
