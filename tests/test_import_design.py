@@ -54,16 +54,15 @@ def lab_files(folder: Path) -> dict[str, dict]:
 
 def test_45_force_files_with_design_names_take_four_commands_to_a_valid_manifest(
         tmp_path, capsys):
-    """init, import --cut-pattern, manifest, check: every cut's design filled from its name
-    (and the direction, which the names do not carry, from --design); the experiment block
-    holds the lab's tool, written once."""
+    """init --experiment, import --cut-pattern, manifest, check (then snakemake: five
+    commands): every cut's design filled from its name (and the direction, which the names do
+    not carry, from --design); the experiment block holds the lab's tool, given once to
+    init."""
     truth = lab_files(tmp_path / "exports")
     raw = tmp_path / "raw"
-    assert main(["init", str(raw)]) == 0
-    m = yaml.safe_load((raw / "manifest.yaml").read_text())
-    m["experiment"] = {"spindle_rpm": 6000, "flutes": 2, "tool_diameter_mm": 10.0,
-                       "cut_length_mm": 40.0}  # the lab's tool, written once
-    (raw / "manifest.yaml").write_text(yaml.safe_dump(m, sort_keys=False))
+    assert main(["init", str(raw), "--experiment", "spindle_rpm=6000", "--experiment",
+                 "flutes=2", "--experiment", "tool_diameter_mm=10",
+                 "--experiment", "cut_length_mm=40"]) == 0  # the lab's tool, written once
     sources = sorted(str(p) for p in (tmp_path / "exports").iterdir())
     assert main(["import", "dynoware", *sources, "--to", str(raw),
                  "--cut-pattern", PATTERN, "--design", "direction=px"]) == 0
@@ -83,6 +82,38 @@ def test_45_force_files_with_design_names_take_four_commands_to_a_valid_manifest
         for key, value in want.items():
             assert got[key] == pytest.approx(value, rel=1e-12), (cid, key)
     assert {f["path"]: f.get("cut") for f in m["files"]}["forces/6.csv"] == "6"
+    assert m["experiment"] == {"spindle_rpm": 6000, "flutes": 2, "tool_diameter_mm": 10,
+                               "cut_length_mm": 40.0}
+
+
+@pytest.mark.parametrize("item, expected", [
+    ("flutes=2.5", "(expected an integer)"),
+    ("feed_mm_s=2", "(expected keys among spindle_rpm, flutes, tool_diameter_mm, "
+                    "cut_length_mm)"),
+    ("tool_diameter_mm=ten", "(expected a number [mm])"),
+    ("spindle_rpm", "is not KEY=VALUE"),
+])
+def test_init_experiment_values_are_checked_in_one_line(tmp_path, capsys, item, expected):
+    raw = tmp_path / "raw"
+    assert main(["init", str(raw), "--experiment", item]) == 1
+    out = capsys.readouterr().out
+    assert expected in out and out.count("\n") == 1 and "Traceback" not in out
+    assert not raw.exists()  # refused before anything is made
+
+
+def test_init_experiment_updates_an_existing_manifest_and_keeps_the_rest(tmp_path):
+    raw = tmp_path / "raw"
+    main(["init", str(raw)])
+    m = yaml.safe_load((raw / "manifest.yaml").read_text())
+    m["cuts"] = [{"id": "a", "feed_mm_s": 1.0, "depth_mm": 0.5, "direction": "px"}]
+    header = (raw / "manifest.yaml").read_text().split("\nexperiment:")[0] + "\n"
+    (raw / "manifest.yaml").write_text(header + yaml.safe_dump(m, sort_keys=False))
+    assert main(["init", str(raw), "--experiment", "flutes=3"]) == 0
+    text = (raw / "manifest.yaml").read_text()
+    assert text.startswith(header)  # the template's comments kept
+    new = yaml.safe_load(text)
+    assert new["experiment"]["flutes"] == 3 and new["experiment"]["spindle_rpm"] is None
+    assert new["cuts"] == m["cuts"]
 
 
 def test_without_a_pattern_every_new_cut_is_listed_with_null_keys(tmp_path, capsys):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 from robomill.cli.layout import KIND_FOLDERS
 
@@ -11,7 +12,8 @@ HELP = "make a raw-folder skeleton: one folder per kind, commented manifest.yaml
 
 MANIFEST_TEMPLATE = """\
 # manifest.yaml: what each raw file is (docs/data-contract.md has the full contract).
-# Put your files in the kind folders, then run `robomill manifest .` in this folder: it lists
+# Put your files in the kind folders (robomill init DIR --experiment flutes=2 ... fills the
+# experiment block below), then run `robomill manifest .` in this folder: it lists
 # every file with its kind, metadata and sha256 and keeps what you wrote here. Fill in what it
 # reports it could not infer, then run `robomill check .`.
 #
@@ -88,8 +90,57 @@ transmissions:              # gear stages per joint (straightness vs gear mesh, 
 """
 
 
-def init_folder(raw_dir: str | Path) -> list[str]:
-    """Create the skeleton of a raw folder; existing files are never overwritten.
+def experiment_from_options(items: list[str] | None) -> dict[str, Any]:
+    """``--experiment KEY=VALUE`` items → the experiment block's values, parsed as
+    ``--design`` parses them (:data:`robomill.importers.names.GROUPS`; ``cut_length_mm`` a
+    number of mm).
+
+    Raises
+    ------
+    RawDataError
+        An item without ``=``, a key that is not an experiment key, a value that does not
+        parse, a key given twice.
+    """
+    from robomill.errors import RawDataError
+    from robomill.importers.names import GROUPS
+    from robomill.io.manifest import EXPERIMENT_KEYS
+
+    where, expected = "option --experiment", "keys among " + ", ".join(EXPERIMENT_KEYS)
+    out: dict[str, Any] = {}
+    for item in items or []:
+        name, eq, text = (part.strip() for part in item.partition("="))
+        if not eq or name not in EXPERIMENT_KEYS:
+            raise RawDataError("--experiment", f"--experiment {item!r} is not KEY=VALUE with "
+                               "an experiment key", where=where, expected=expected)
+        _, parse, what = GROUPS.get(name, (name, float, "a number [mm]"))
+        try:
+            value = parse(text)
+        except ValueError:
+            raise RawDataError("--experiment", f"--experiment {name}={text!r}", where=where,
+                               expected=what) from None
+        if name in out:
+            raise RawDataError("--experiment", f"--experiment gives {name} twice",
+                               where=where, expected="one value per key")
+        out[name] = value
+    return out
+
+
+def _set_experiment(path: Path, values: dict[str, Any]) -> str:
+    """Write ``values`` into the experiment block of the manifest at ``path`` (its other
+    keys, its cuts, files and leading comments kept); one line saying what was set."""
+    from robomill.cli.manifest import read_manifest_text, write_manifest_text
+
+    data, header = read_manifest_text(path)
+    data = dict(data) if data else {"experiment": {}, "cuts": [], "files": []}
+    data["experiment"] = {**(data.get("experiment") or {}), **values}
+    write_manifest_text(data, path, header)
+    return f"{path}: experiment " + ", ".join(f"{k}={v}" for k, v in values.items())
+
+
+def init_folder(raw_dir: str | Path, experiment: dict[str, Any] | None = None) -> list[str]:
+    """Create the skeleton of a raw folder; existing files are never overwritten, except the
+    manifest's experiment block where ``experiment`` gives values (the lab's tool and
+    conditions, written once for every cut).
 
     Returns one line per thing made or kept.
     """
@@ -107,18 +158,34 @@ def init_folder(raw_dir: str | Path) -> list[str]:
         else:
             p.write_text(text)
             lines.append(f"{p}: template written")
+    if experiment:
+        lines.append(_set_experiment(raw_dir / "manifest.yaml", experiment))
     return lines
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("init", help=HELP, description=HELP + " (existing files are kept).")
     p.add_argument("dir", type=Path, metavar="DIR", help="the raw folder to make")
+    p.add_argument("--experiment", action="append", metavar="KEY=VALUE",
+                   help="a value of the manifest's experiment block, shared by every cut "
+                        "(repeatable): spindle_rpm, flutes, tool_diameter_mm, cut_length_mm; "
+                        "e.g. --experiment flutes=2 --experiment tool_diameter_mm=10")
     p.set_defaults(run=run)
 
 
 def run(args: argparse.Namespace) -> int:
+    from robomill.errors import RawDataError
+
     try:
-        lines = init_folder(args.dir)
+        experiment = experiment_from_options(args.experiment)
+    except RawDataError as exc:
+        print(" ".join(str(exc).split()))
+        return 1
+    try:
+        lines = init_folder(args.dir, experiment)
+    except RawDataError as exc:
+        print(" ".join(str(exc).split()))
+        return 1
     except OSError as exc:
         print(f"{args.dir}: cannot make the raw folder ({exc})")
         return 1
