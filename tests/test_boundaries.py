@@ -134,6 +134,9 @@ PKG = REPO / "src" / "robomill"
 #: the packages outside the science: the pipeline's tooling, the command line, the importers
 #: of native exports, the simulators and the readers/writers
 NOT_SCIENCE = ("pipeline", "cli", "importers", "synth", "io")
+#: top-level modules outside the science: the study artefact (robomill.study), read from the
+#: manifest by the ingestion rule and by the analysis rules' scripts, never by the science
+NOT_SCIENCE_MODULES = ("study.py",)
 #: the readers a science module may import (raw-file formats it reads or writes itself; each
 #: loads neither the artefact writer nor the manifest: robomill.io's names are lazy)
 SCIENCE_MAY_READ = {"robomill.io.forces", "robomill.io.impact", "robomill.io.cell",
@@ -185,7 +188,7 @@ def _robomill_modules(path: Path, text: str | None = None) -> set[str]:
 
 def _science_files() -> list[Path]:
     skip = {PKG / d for d in NOT_SCIENCE}
-    entry = {PKG / "__init__.py", PKG / "__main__.py"}
+    entry = {PKG / "__init__.py", PKG / "__main__.py", *(PKG / m for m in NOT_SCIENCE_MODULES)}
     return [p for p in sorted(PKG.rglob("*.py")) if p not in entry and not skip & set(p.parents)]
 
 
@@ -305,3 +308,29 @@ def test_import_robomill_loads_nothing_heavy_and_still_offers_the_artefact_funct
 def test_importing_every_science_module_loads_no_tooling():
     names = sorted({_module_name(p) for p in _science_files()} - {"robomill._imports"})
     assert _python(SCIENCE_CHECK.format(names=names))[0] == "none"
+
+
+# The study reaches the analyses by one channel: results/ingest/study.yaml (robomill.study).
+MANIFEST_READERS = {"ingest_manifest.py", "ingest_study.py", "synth_manifest.py"}
+
+
+def test_no_analysis_script_opens_the_manifest():
+    """Only the ingestion scripts (and the virtual cell's writer) read manifest.yaml; every
+    other rule script reads the study (``load_study``), never ``load_manifest``."""
+    scripts = sorted((REPO / "workflow" / "scripts").glob("*.py"))
+    offenders = sorted(p.name for p in scripts if p.name not in MANIFEST_READERS
+                       and re.search(r"\bload_manifest\b|\binput\.manifest\b",
+                                     p.read_text()))
+    assert offenders == []
+    readers = [p.name for p in scripts if "load_study(" in p.read_text()]
+    assert len(readers) >= 10  # the pattern does find the readers of the study
+
+
+def test_every_rule_that_reads_raw_files_takes_the_study():
+    """The analysis rules' input is the study artefact; the manifest is an input only of
+    the ingestion rules and of the book (whose provenance records its sha256)."""
+    rules = {p.name: p.read_text() for p in (REPO / "workflow" / "rules").glob("*.smk")}
+    takes_manifest = sorted(name for name, text in rules.items()
+                            if "manifest=MANIFEST" in text)
+    assert takes_manifest == ["book.smk", "ingest.smk"]
+    assert sum(text.count("study=STUDY") for text in rules.values()) >= 13

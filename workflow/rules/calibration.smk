@@ -6,7 +6,7 @@ CTRACK_TABLES = {f["table"]: f["path"] for f in RAW_FILES if f["kind"] == "ctrac
 rule calibration_identify:
     input:
         data=kind_input("calibration", "ctrack"),
-        manifest=MANIFEST,
+        study=STUDY,
         circles=f"{RAW}/{CTRACK_TABLES.get('circles', 'ctrack/circles.csv')}",
         home=f"{RAW}/{CTRACK_TABLES.get('home', 'ctrack/home.csv')}",
         steps=f"{RAW}/{CTRACK_TABLES.get('steps', 'ctrack/steps.csv')}",
@@ -34,7 +34,7 @@ rule calibration_identify:
 
 rule calibration_accuracy:
     input:
-        manifest=MANIFEST,
+        study=STUDY,
         model="results/calibration/model.nc",
         accuracy=f"{RAW}/{CTRACK_TABLES.get('accuracy', 'ctrack/accuracy.csv')}",
     output:

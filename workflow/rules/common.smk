@@ -22,6 +22,7 @@ REPO = Path(workflow.basedir)
 SYNTHETIC = config["data"]["source"] == "synthetic"
 RAW = "results/synthetic/raw" if SYNTHETIC else config["data"]["raw_dir"]
 MANIFEST = f"{RAW}/manifest.yaml"
+STUDY = "results/ingest/study.yaml"
 ENV = "../envs/robomill.yaml"
 
 # The study plan, one parser in both modes: the raw folder's manifest.yaml, or for synthetic

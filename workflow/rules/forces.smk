@@ -14,7 +14,7 @@ forces_truth_input = lambda w: (
 rule forces_cut:
     input:
         raw=lambda w: f"{RAW}/{force_entry(w)['path']}",
-        manifest=MANIFEST,
+        study=STUDY,
     output:
         "results/forces/cuts/{cut}.nc",
     log:
@@ -35,7 +35,7 @@ rule forces_gather:
     input:
         data=kind_input("forces", "force"),
         cuts=expand("results/forces/cuts/{cut}.nc", cut=FORCE_FILES),
-        manifest=MANIFEST,
+        study=STUDY,
     output:
         spectra="results/forces/spectra.nc",
         peaks=report(

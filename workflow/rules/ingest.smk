@@ -1,5 +1,6 @@
 # Ingestion: the manifest is validated and every listed file checked against its sha256.
-# Per-file readers (one job per cut / run) live with their stage and read the same manifest.
+# Per-file readers (one job per cut / run) live with their stage and read the study
+# (results/ingest/study.yaml), which verifies each file they read.
 
 
 rule ingest_manifest:
@@ -31,3 +32,20 @@ rule ingest_cell:
         cell=config["cell"],
     script:
         "../scripts/cell_write.py"
+
+
+# The study, read once: the manifest validated and written with every cut's resolved design
+# (robomill.study); every analysis rule reads it (input `study`), none the manifest.
+rule ingest_study:
+    input:
+        manifest=MANIFEST,
+    output:
+        STUDY,
+    log:
+        "results/logs/ingest/study.log",
+    benchmark:
+        "results/benchmarks/rules/ingest/study.tsv"
+    conda:
+        ENV
+    script:
+        "../scripts/ingest_study.py"

@@ -16,7 +16,7 @@ rule modal_frf:
     input:
         data=kind_input("modal", "impact"),
         hits=[f"{RAW}/{f['path']}" for f in MODAL_HITS],
-        manifest=MANIFEST,
+        study=STUDY,
     output:
         frf="results/modal/frf.nc",
         hits="results/modal/hits.csv",

@@ -35,7 +35,7 @@ rule plan_make:
         **PLAN_MEASURED,
         request=PLAN_REQUEST,
         cell=CELL,
-        manifest=MANIFEST,
+        study=STUDY,
     output:
         **PLAN_OUTPUTS,
     log:
@@ -46,7 +46,6 @@ rule plan_make:
         ENV
     params:
         experiment={**config["experiment"], **EXPERIMENT},
-        cuts=[c.as_dict() for c in CUTS],
     script:
         "../scripts/plan_make.py"
 

@@ -31,7 +31,7 @@ rule stiffness_identify:
         data=kind_input("stiffness", "robot", "stiffness", robot=lambda w: w.robot),
         robot=lambda w: robot_file(w.robot),
         tests=lambda w: robot_file(w.robot, "stiffness"),
-        manifest=MANIFEST,
+        study=STUDY,
     output:
         joints="results/stiffness/{robot}/joint_stiffness.csv",
         models="results/stiffness/{robot}/identification.csv",
@@ -55,7 +55,7 @@ rule stiffness_map:
     input:
         robot=robot_file(MAP_ROBOT),
         joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
-        manifest=MANIFEST,
+        study=STUDY,
     output:
         map="results/stiffness/maps/h{height}_r{angle}.nc",
     log:
@@ -136,7 +136,7 @@ rule stiffness_thesis:
     input:
         robot=robot_file(THESIS_ROBOT),
         joints=f"results/stiffness/{THESIS_ROBOT}/joint_stiffness.csv",
-        manifest=MANIFEST,
+        study=STUDY,
         cell=CELL,
     output:
         slots="results/stiffness/thesis_slots.csv",
@@ -168,7 +168,7 @@ CUT_STIFFNESS = (
 rule stiffness_cuts:
     input:
         joints=f"results/stiffness/{CELL_ROBOT}/joint_stiffness.csv",
-        manifest=MANIFEST,
+        study=STUDY,
         cell=CELL,
     output:
         cuts="results/stiffness/cut_stiffness.csv",

@@ -11,7 +11,7 @@ TRACKER_RUNS = {
 rule straightness_run:
     input:
         raw=lambda w: f"{RAW}/{TRACKER_RUNS[w.run]['path']}",
-        manifest=MANIFEST,
+        study=STUDY,
         cell=CELL,
     output:
         nc="results/straightness/runs/{run}.nc",

@@ -20,7 +20,7 @@ SURFACE_TABLES = (
 rule surface_profile:
     input:
         raw=lambda w: f"{RAW}/{SURFACE_FILES[w.cut]['path']}",
-        manifest=MANIFEST,
+        study=STUDY,
     output:
         nc="results/surface/cuts/{cut}.nc",
         peaks="results/surface/cuts/{cut}_peaks.csv",
@@ -43,7 +43,7 @@ rule surface_gather:
         data=kind_input("surface", "profile"),
         cuts=expand("results/surface/cuts/{cut}.nc", cut=SURFACE_FILES),
         peaks=expand("results/surface/cuts/{cut}_peaks.csv", cut=SURFACE_FILES),
-        manifest=MANIFEST,
+        study=STUDY,
     output:
         **{
             name: report(

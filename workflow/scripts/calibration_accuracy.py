@@ -9,12 +9,12 @@ from robomill.calibration.accuracy import (
 from robomill.calibration.dataset import model_from_dataset
 from robomill.io import open_artefact, write_table
 from robomill.io.ctrack import read_accuracy
-from robomill.io.manifest import load_manifest
 from robomill.pipeline.runlog import setup
+from robomill.study import load_study
 
 log = setup(snakemake.log[0], "calibration_accuracy")
 inp, p = snakemake.input, snakemake.params
-load_manifest(inp.manifest).verify_file(p.relpath)
+load_study(inp.study).verify_file(p.relpath)
 model = model_from_dataset(open_artefact(inp.model))
 points = accuracy_points(read_accuracy(inp.accuracy), model)
 points["region"] = workspace_regions(points, p.regions["reach_edges_mm"],

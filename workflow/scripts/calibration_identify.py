@@ -8,12 +8,12 @@ from robomill.calibration.identification import GRAVITY_NONE, identify
 from robomill.io import write_artefact, write_table
 from robomill.io.cell import read_cell
 from robomill.io.ctrack import READERS
-from robomill.io.manifest import load_manifest
 from robomill.pipeline.runlog import setup
+from robomill.study import load_study
 
 log = setup(snakemake.log[0], "calibration_identify")
 inp, p = snakemake.input, snakemake.params
-manifest = load_manifest(inp.manifest)
+manifest = load_study(inp.study)
 tables = {}
 for name, relpath in p.relpaths.items():
     manifest.verify_file(relpath)

@@ -11,11 +11,11 @@ from robomill.forces.stream import ForceSpectrumAccumulator  # noqa: E402
 from robomill.forces.study import force_cut_dataset  # noqa: E402
 from robomill.io import write_artefact  # noqa: E402
 from robomill.io.forces import open_force_record  # noqa: E402
-from robomill.io.manifest import load_manifest  # noqa: E402
+from robomill.study import load_study  # noqa: E402
 
 p = snakemake.params
 s = p.settings
-manifest = load_manifest(snakemake.input.manifest)
+manifest = load_study(snakemake.input.study)
 path = manifest.verify_file(p.relpath)
 entry = manifest.entry(p.relpath)
 cut = manifest.cut(p.cut)

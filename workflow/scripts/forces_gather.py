@@ -8,10 +8,10 @@ log = setup(snakemake.log[0], "forces_gather")
 from robomill.experiment import cut_process, is_thesis_design  # noqa: E402
 from robomill.forces.study import gather_force_study  # noqa: E402
 from robomill.io import open_artefact, write_artefact, write_table  # noqa: E402
-from robomill.io.manifest import load_manifest  # noqa: E402
+from robomill.study import load_study  # noqa: E402
 
 s = snakemake.params.settings
-manifest = load_manifest(snakemake.input.manifest)
+manifest = load_study(snakemake.input.study)
 exp = manifest.experiment
 datasets = [open_artefact(p) for p in snakemake.input.cuts]
 # a design other than the thesis': each cut's own speed, flutes, immersion and milling mode

@@ -4,16 +4,16 @@ hammer's force spectrum, UFF 58 export with node numbers."""
 
 from robomill.io import write_artefact, write_table
 from robomill.io.impact import load_impact_test
-from robomill.io.manifest import load_manifest
 from robomill.modal.frf import combine_frfs, force_spectrum, frf_from_groups
 from robomill.modal.hits import check_and_group, empty_traces, hit_table_empty, hit_traces
 from robomill.modal.ncio import split_complex
 from robomill.modal.uff import write_frf_uff
 from robomill.pipeline.runlog import setup
+from robomill.study import load_study
 
 log = setup(snakemake.log[0], "modal_frf")
 cfg = snakemake.params.modal
-manifest = load_manifest(snakemake.input.manifest)
+manifest = load_study(snakemake.input.study)
 test = load_impact_test(manifest, snakemake.params.files)
 if test.hits and test.frfs:
     raise ValueError("the impact files mix hit records and FRFs: give one or the other")

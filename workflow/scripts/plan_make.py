@@ -5,7 +5,7 @@ import numpy as np
 import pandas as pd
 import yaml
 
-from robomill.experiment import Cut, cut_endpoints_mm
+from robomill.experiment import cut_endpoints_mm
 from robomill.io import write_artefact, write_table
 from robomill.io.atomic import atomic_path
 from robomill.io.cell import read_cell
@@ -14,12 +14,13 @@ from robomill.plan.make import make_plan
 from robomill.plan.measured import Measured, cut_mid_poses, gear_joint_amplitudes
 from robomill.plan.outputs import cell_of, compact
 from robomill.plan.request import read_request
+from robomill.study import load_study
 
 log = setup(snakemake.log[0], "plan")
 inp, out, p = snakemake.input, snakemake.output, snakemake.params
 req = read_request(inp.request)
 cell_file = read_cell(inp.cell)
-cuts = [Cut(**d) for d in p.cuts]
+cuts = load_study(inp.study).cuts  # the study's own cuts (raw folder or virtual cell)
 experiment = dict(p.experiment)
 mids = np.array([np.mean(cut_endpoints_mm(c, experiment), 0) for c in cuts]) if cuts else None
 cell = cell_of(cell_file, req, mids)

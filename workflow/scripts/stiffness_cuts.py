@@ -6,14 +6,14 @@ import pandas as pd
 from robomill.experiment import Cut, cut_joint_path_rad
 from robomill.io import write_table
 from robomill.io.cell import read_cell
-from robomill.io.manifest import load_manifest
 from robomill.pipeline.runlog import setup
 from robomill.stiffness.cuts import cut_stiffness_table
 from robomill.stiffness.model import compliance_from_table
+from robomill.study import load_study
 
 log = setup(snakemake.log[0], "stiffness")
 p = snakemake.params
-manifest = load_manifest(snakemake.input.manifest)
+manifest = load_study(snakemake.input.study)
 if p.cell_relpath:
     manifest.verify_file(p.cell_relpath)
 cell = read_cell(snakemake.input.cell)

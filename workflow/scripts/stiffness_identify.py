@@ -1,13 +1,13 @@
 """Joint-stiffness identification of one robot from its load tests (seed 001 §3)."""
 
 from robomill.io import write_table
-from robomill.io.manifest import load_manifest
 from robomill.io.robots import read_load_tests, read_robot_file
 from robomill.pipeline.runlog import setup
 from robomill.stiffness.identify import identify_from_tests
+from robomill.study import load_study
 
 log = setup(snakemake.log[0], "stiffness")
-manifest = load_manifest(snakemake.input.manifest)
+manifest = load_study(snakemake.input.study)
 manifest.verify_file(snakemake.params.robot_rel)
 manifest.verify_file(snakemake.params.tests_rel)
 robot, _ = read_robot_file(snakemake.input.robot)

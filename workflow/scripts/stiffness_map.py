@@ -3,14 +3,14 @@
 import pandas as pd
 
 from robomill.io import write_artefact
-from robomill.io.manifest import load_manifest
 from robomill.io.robots import read_robot_file
 from robomill.pipeline.runlog import setup
 from robomill.stiffness.maps import map_dataset
 from robomill.stiffness.model import compliance_from_table
+from robomill.study import load_study
 
 log = setup(snakemake.log[0], "stiffness")
-load_manifest(snakemake.input.manifest).verify_file(snakemake.params.robot_rel)
+load_study(snakemake.input.study).verify_file(snakemake.params.robot_rel)
 robot, _ = read_robot_file(snakemake.input.robot)
 c = compliance_from_table(pd.read_csv(snakemake.input.joints))
 m = snakemake.params.map

@@ -7,14 +7,14 @@ from robomill.beamframe import sections_from_config, slot_stiffness_table
 from robomill.experiment import Cut, cut_joint_path_rad
 from robomill.io import write_table
 from robomill.io.cell import read_cell
-from robomill.io.manifest import load_manifest
 from robomill.io.robots import read_robot_file
 from robomill.pipeline.runlog import setup
 from robomill.stiffness.model import compliance_from_table
+from robomill.study import load_study
 
 log = setup(snakemake.log[0], "stiffness")
 p = snakemake.params
-manifest = load_manifest(snakemake.input.manifest)
+manifest = load_study(snakemake.input.study)
 manifest.verify_file(p.robot_rel)
 if p.cell_relpath:
     manifest.verify_file(p.cell_relpath)

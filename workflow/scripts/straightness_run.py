@@ -6,16 +6,16 @@ import pandas as pd
 
 from robomill.io import write_artefact, write_table
 from robomill.io.cell import read_cell
-from robomill.io.manifest import load_manifest
 from robomill.io.tracker import read_tracker
 from robomill.pipeline.runlog import setup
 from robomill.straightness.profile import TRIM_MAX_FRACTION, profile_dataset
 from robomill.straightness.study import analyse_tracker_run
+from robomill.study import load_study
 
 log = setup(snakemake.log[0], "straightness_run")
 p = snakemake.params
 opt = p.settings
-manifest = load_manifest(snakemake.input.manifest)
+manifest = load_study(snakemake.input.study)
 manifest.verify_file(p.relpath)
 if p.cell_relpath:  # the raw folder's cell.yaml (else the configuration's cell, ingest_cell)
     manifest.verify_file(p.cell_relpath)

@@ -5,15 +5,15 @@ import pandas as pd
 
 from robomill.experiment import cut_process, is_thesis_design
 from robomill.io import open_artefact, write_artefact, write_table
-from robomill.io.manifest import load_manifest
 from robomill.pipeline.runlog import setup
+from robomill.study import load_study
 from robomill.surface.options import settings
 from robomill.surface.study import gather_surface
 
 log = setup(snakemake.log[0], "surface_gather")
 opts = settings(snakemake.params.settings)
 cuts = pd.DataFrame(snakemake.params.cuts).rename(columns={"id": "cut"})
-manifest = load_manifest(snakemake.input.manifest)
+manifest = load_study(snakemake.input.study)
 plan = [manifest.cut(c) for c in cuts["cut"]]
 # a design other than the thesis': each cut's own speed, flutes, feed per tooth, direction
 processes = (None if is_thesis_design(plan)

@@ -1,9 +1,9 @@
 """Analyse one stylus profile: detrend, Gaussian split, spectra, segment RMS, peaks."""
 
 from robomill.io import write_artefact, write_table
-from robomill.io.manifest import load_manifest
 from robomill.io.profiles import read_profile
 from robomill.pipeline.runlog import setup
+from robomill.study import load_study
 from robomill.surface.options import settings
 from robomill.surface.peaks import profile_peaks
 from robomill.surface.psd import analyse_profile
@@ -11,7 +11,7 @@ from robomill.surface.psd import analyse_profile
 log = setup(snakemake.log[0], "surface_profile")
 p = snakemake.params
 opts = settings(p.settings)
-path = load_manifest(snakemake.input.manifest).verify_file(p.relpath)
+path = load_study(snakemake.input.study).verify_file(p.relpath)
 x, z, fs = read_profile(path)
 ds = analyse_profile(x, z, opts)
 ds.attrs.update({"cut": p.cut["id"], "feed_mm_s": float(p.cut["feed_mm_s"])})
