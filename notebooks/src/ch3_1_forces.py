@@ -5,8 +5,9 @@
 # The mechanistic model for a small axial depth (thesis eq. 3.1) gives each tooth's forces
 # F_t = K_tc a h(φ) + K_te a, F_r = K_rc a h(φ) + K_re a, F_a = K_ac a h(φ) + K_ae a with
 # h(φ) = c sin φ between each tooth's entry and exit angles (0 and π in a slot); the force is
-# periodic at the tooth-passing frequency of each cut's own spindle speed and flutes. Measured
-# forces are periodic but not harmonic: the robot vibrates. This chapter shows the model shape
+# periodic at the tooth-passing frequency of each cut's own spindle speed and flutes (the
+# thesis finds its measured forces periodic but not harmonic and explains it by the robot's
+# vibration: "Against the thesis" at the end). This chapter shows the model shape
 # (Fig 3.2), a record (Fig 3.3) and its full-band spectrum (Fig 3.4), the spectra in spatial
 # frequency (Figs 3.5–) and in time frequency 0–250 Hz (Figs 3.8–), the per-cut peak table,
 # and the cutting coefficients identified from the mean forces.
@@ -20,6 +21,8 @@ means: str = None  # results/forces/mean_forces.csv
 harmonics: str = None  # results/forces/harmonics.csv
 cuts: str = None  # results/ingest/cuts.csv
 modes: str = None  # results/modal/modes.csv (identified modes, chapter 3.3)
+templates: str = None  # notebooks/templates/ch3_1.yaml: the sentences rendered from findings
+findings: str = None  # results/forces/findings.yaml: the dominant peak and its verdict
 truth: str = None  # results/synthetic/truth.nc (synthetic runs only)
 settings: dict = None  # config section forces
 synthetic: bool = None
@@ -37,6 +40,7 @@ import pandas as pd
 from IPython.display import Markdown, display
 
 from robomill.experiment import DIRECTION_LABELS
+from robomill.findings import read_findings
 from robomill.forces.coefficients import coefficient_flag_sentence
 from robomill.forces.peaks import nearest_modes
 from robomill.io import open_artefact
@@ -50,8 +54,11 @@ from robomill.pipeline.design_tables import (
     thesis_gate,
     with_design,
 )
+from robomill.pipeline.prose import Prose, comparison_table, load_templates
 from robomill.plotting import save_figure
 
+found = read_findings(findings)
+say = Prose(load_templates("ch3_1", templates), found)
 vs_thesis = thesis_gate(thesis_study)  # thesis remarks only for a study of its design
 sp = open_artefact(spectra)
 # the thesis' figures show one set (+Y, +X, -Y); any other design shows every cut
@@ -293,40 +300,8 @@ else:  # grouped by what varies, with the force levels
         f"axial {span(mf.F_axial_N)} N."))
 
 # %%
-dom = pk["dominant_hz"]
-inside = ((dom >= 60) & (dom <= 120)).sum()
-dom_db = settings.get("dominant_prominence_db", 12.0)
-where = (f"lies between **{dom.min():.1f} and {dom.max():.1f} Hz**" if dom.notna().any()
-         else "is **none** in every cut")
-text = (f"{num.ref('peaks')}: the dominant low-frequency peak (the strongest local maximum of "
-        f"the summed power in {settings.get('dominant_band_hz', [15, 250])} Hz that rises "
-        f"{dom_db:g} dB above its local floor, the spindle's harmonics left out; interpolated "
-        f"within its bin) {where}"
-        + (f"; in {dom.isna().sum()} of {len(dom)} cuts none stands out ('none')"
-           if dom.isna().any() and dom.notna().any() else "")
-        + vs_thesis(f"; {inside} of {len(dom)} cuts have it in 60–120 Hz (thesis: every cut, "
-                    "60–120 Hz; the robot vibrates at 60–100 Hz)") + ". ")
-if mode_table is not None and len(mode_table) and dom.notna().any():
-    off = tab["offset_hz"].abs()
-    near = tab.groupby("nearest_mode_hz").size().sort_values(ascending=False)
-    text += (f"Against the modes identified by the impact test (chapter 3.3: "
-             f"{', '.join(f'{x:.1f}' for x in mode_f)} Hz), every dominant peak is within "
-             f"{off.max():.1f} Hz of an identified mode (median {off.median():.2f} Hz); the "
-             f"modes hit most often are " + ", ".join(f"{hz:.1f} Hz ({n} cuts)"
-                                                      for hz, n in near.items()) +
-             ". ")
-    if off.max() <= 3.0:
-        text += ("So the dominant force peak sits at the cell's modes: the tool-tip vibration "
-                 "modulates the chip load through the regenerative chip thickness.")
-    else:
-        text += (f"Some peaks lie more than 3 Hz from any identified mode (up to "
-                 f"{off.max():.1f} Hz): they are not explained by a mode alone.")
-elif mode_table is not None and len(mode_table):
-    text += "With no dominant peak, none is matched to the identified modes."
-else:
-    text += ("The identified modes (results/modal/modes.csv) are not available in this run, "
-             "so the peaks are not matched to modes here.")
-display(Markdown(text))
+display(Markdown(say("dominant", "dominant_none", "modes", "verdict", "no_match", "no_modes",
+                     ref_peaks=num.ref("peaks"))))
 
 # %% [markdown]
 # ## Tooth-passing harmonics
@@ -395,4 +370,13 @@ msg += (vs_thesis("The thesis assumes typical aluminium values (Altintas 2012) a
                   "identify them; these are the values the chatter chapter uses.")
         or "These are the values the chatter chapter uses.")
 display(Markdown(msg))
+
+# %% [markdown]
+# ## Against the thesis
+
+# %%
+display(Markdown(say("against")))
+comparison_table(found) if found.comparisons else None
+
+# %%
 num.check()

@@ -64,8 +64,34 @@ rule forces_gather:
         "../scripts/forces_gather.py"
 
 
+# Chapter 3.1's findings on the dominant peak, with the verdict against the identified modes
+# (forces.mode_match_hz) and the scorecard rows of the stage ("Against the thesis").
+rule forces_findings:
+    input:
+        # the impact test's modes, when the raw folder has one (chapter 3.3)
+        **({"modes": "results/modal/modes.csv"} if has_kind("impact") else {}),
+        peaks="results/forces/peaks.csv",
+        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+    output:
+        findings="results/forces/findings.yaml",
+    log:
+        "results/logs/forces/findings.log",
+    benchmark:
+        "results/benchmarks/rules/forces/findings.tsv"
+    conda:
+        ENV
+    params:
+        mode_match_hz=config["forces"]["mode_match_hz"],
+        band_hz=config["forces"]["dominant_band_hz"],
+        prominence_db=config["forces"]["dominant_prominence_db"],
+        thesis_study=THESIS_STUDY,
+    script:
+        "../scripts/forces_findings.py"
+
+
 rule forces:
     input:
+        "results/forces/findings.yaml",
         "results/forces/spectra.nc",
         "results/forces/peaks.csv",
         "results/forces/cutting_coefficients.csv",
@@ -85,6 +111,8 @@ use rule chapter as ch3_forces with:
         unpack(forces_truth_input),
         **({"modes": "results/modal/modes.csv"} if has_kind("impact") else {}),
         notebook=notebook("ch3_1_forces.ipynb"),
+        templates=notebook("templates/ch3_1.yaml"),
+        findings="results/forces/findings.yaml",
         spectra="results/forces/spectra.nc",
         peaks="results/forces/peaks.csv",
         coefficients="results/forces/cutting_coefficients.csv",

@@ -8,7 +8,9 @@
   low-band thesis power, envelope);
 - :mod:`~robomill.forces.peaks`: dominant, kinematic and harmonic peaks, nearest modes;
 - :mod:`~robomill.forces.study`: the per-cut dataset and the gathered study;
-- :mod:`~robomill.forces.settings`: the ``forces`` config section's dataclasses.
+- :mod:`~robomill.forces.settings`: the ``forces`` config section's dataclasses;
+- :mod:`~robomill.forces.findings`: what chapter 3.1 states of the dominant peak, with the
+  verdict against the identified modes (``forces.mode_match_hz``).
 
 Decimation and FIR design live in :mod:`robomill.spectra`, feed per tooth and tooth passing
 in :mod:`robomill.experiment`. Importing this package imports none of them: each public name
@@ -31,6 +33,7 @@ _WHERE = {
     "peaks": ("cut_peaks", "dominant_peak", "harmonic_powers", "nearest_modes"),
     "study": ("force_cut_dataset", "gather_force_study"),
     "settings": ("ForceAnalysisSettings", "ForcePeakSettings"),
+    "findings": ("forces_findings",),
     "robomill.spectra": ("LOWBAND_OVERSAMPLING", "StreamDecimator", "auto_decimation",
                          "decimate_whole", "lowpass_fir"),
     "robomill.experiment": ("feed_per_tooth_mm", "tooth_passing_hz"),
