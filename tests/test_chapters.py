@@ -1,6 +1,8 @@
 """Chapters fail honestly: a raising cell fails the render, keeps the failed notebook, and
 leaves no half-written outputs; parameters are checked against the declared ones first."""
 
+from pathlib import Path
+
 import nbformat
 import pytest
 from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
@@ -207,4 +209,8 @@ def test_shown_value_is_relative_to_the_run_folder(tmp_path):
     assert shown_value(str(tmp_path / "results/x.csv"), tmp_path) == "results/x.csv"
     assert shown_value("results/x.csv", tmp_path) == "results/x.csv"
     assert shown_value("/elsewhere/x.csv", tmp_path) == "/elsewhere/x.csv"
+    # the chapter's templates, read from the repository when the run is elsewhere
+    repo = Path(__file__).resolve().parents[1]
+    templates = repo / "notebooks" / "templates" / "ch3_3.yaml"
+    assert shown_value(str(templates), tmp_path) == "notebooks/templates/ch3_3.yaml"
     assert shown_value(3.5, tmp_path) == "3.5"

@@ -210,8 +210,8 @@ def find_peaks_spectrum(f: np.ndarray, power: np.ndarray, *, fmin: float = 0.0,
 
     ``one_sided_below``: below this frequency the spectrum holds no signal of interest (e.g.
     what a removed trend leaks under ``fmin``); a peak whose ±``halfwidth_points``
-    neighbourhood reaches below it, and for which the nearest higher point on its left lies
-    there (it stands on that leakage's skirt, not on a line of the band), is judged on its
+    neighbourhood reaches below it, and whose left side climbs to a summit there (it stands on
+    that leakage's skirt, not on a line of the band), is judged on its
     upper side alone: its height above the lowest point within ``halfwidth_points`` above it
     and before a higher point (the right base of its prominence: a side lobe on a stronger
     line's lower skirt has none), against the median over the ``2 halfwidth_points + 1``
@@ -247,8 +247,13 @@ def find_peaks_spectrum(f: np.ndarray, power: np.ndarray, *, fmin: float = 0.0,
             for j in np.flatnonzero(idx - h < edge):
                 below = env[max(idx[j] - h, 0):idx[j]]
                 higher = np.flatnonzero(below > env[idx[j]])
-                if not higher.size or idx[j] - below.size + higher[-1] >= edge:
-                    continue  # what rises above it on the left is a line of the band: both sides
+                if not higher.size:
+                    continue
+                summit = idx[j] - below.size + higher[-1]  # climb to what rises on the left
+                while summit > 0 and env[summit - 1] >= env[summit]:
+                    summit -= 1
+                if summit >= edge:
+                    continue  # a line of the band rises on its left: judged on both sides
                 above = env[idx[j]:idx[j] + 2 * h + 1]
                 upper = above[1:h + 1]  # the right base: lowest point before a higher one
                 higher = np.flatnonzero(upper > above[0])
