@@ -45,3 +45,28 @@ def test_a_line_at_the_band_edge_is_judged_on_its_upper_side():
     found = spectra.find_peaks_spectrum(f, power, one_sided_below=0.066, **kw)
     assert len(found) == 1 and abs(found[0][0] - 0.095) <= 0.005
     assert spectra.find_peaks_spectrum(f, leak + 8.0, one_sided_below=0.066, **kw) == []
+
+
+def test_a_line_on_the_leakage_skirt_above_fmin_is_judged_on_its_upper_side():
+    """The removed trend's leakage can peak below ``fmin`` and still fall across it: a line
+    on that skirt has a higher point on its left *above* ``fmin``, but climbing from it the
+    left side reaches its summit below ``fmin``: it is judged on its upper side (found). A
+    side lobe beside a strong line of the band climbs to that line instead: both sides
+    (refused)."""
+    from robomill import spectra
+
+    f = np.arange(0.0, 2.0, 0.005)
+    leak = 40.0 * np.exp(-0.5 * ((f - 0.045) / 0.03) ** 2)  # summit below fmin = 0.066
+    line = 12.0 * np.exp(-0.5 * ((f - 0.095) / 0.006) ** 2)
+    power = leak + line + 8.0
+    kw = dict(fmin=0.066, fmax=2.0, n=5, prominence_ratio=3.0, local_ratio=2.0,
+              halfwidth_points=40, search_from=0.056)
+    assert power[np.searchsorted(f, 0.072)] > power[np.searchsorted(f, 0.095)]  # the case
+    assert spectra.find_peaks_spectrum(f, power, **kw) == []
+    found = spectra.find_peaks_spectrum(f, power, one_sided_below=0.066, **kw)
+    assert len(found) == 1 and abs(found[0][0] - 0.095) <= 0.005
+    # a strong line just above fmin with a side bump on its upper skirt: only the line
+    strong = 400.0 * np.exp(-0.5 * ((f - 0.1) / 0.006) ** 2)
+    bump = 12.0 * np.exp(-0.5 * ((f - 0.125) / 0.004) ** 2)
+    got = spectra.find_peaks_spectrum(f, strong + bump + 8.0, one_sided_below=0.066, **kw)
+    assert [round(x, 3) for x, _ in got] == [0.1]
