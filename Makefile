@@ -32,7 +32,7 @@ kernel: $(STAMP)
 # end-to-end pipeline, browser and cluster tests. The same tests and assertions as one run.
 test: $(STAMP)
 	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster"
-	$(BIN)/python -m pytest -q -m "pipeline or browser or cluster"
+	$(BIN)/python -m pytest -q --durations=10 -m "pipeline or browser or cluster"
 
 test-fast: $(STAMP)
 	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster"
