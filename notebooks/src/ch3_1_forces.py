@@ -191,8 +191,9 @@ display(Markdown(
     f"{num.ref('record')} shows the record; in {num.ref('full_band_psd')} the largest full-band "
     f"peak of {c0} is at **{top:.0f} Hz**"
     + vs_thesis(" (thesis Fig 3.4: dominant peaks can lie above 10 kHz)")
-    + f". It is tooth-passing harmonic "
-    f"{top / float(d0['tooth_passing_hz']):.1f} amplified by the dynamometer/block resonance."))
+    + f", {top / float(d0['tooth_passing_hz']):.2f} times the tooth-passing frequency"
+    + vs_thesis(" (the thesis attributes such peaks to tooth-passing harmonics amplified by "
+                "the dynamometer/block resonance)") + "."))
 
 # %% [markdown]
 # ## Spectra in spatial frequency (kinematic peak)
