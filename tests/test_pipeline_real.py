@@ -151,3 +151,27 @@ def test_x3p_profile_keeps_its_sampling(real_study):
     raw_profile = pd.read_csv(work.parent / "raw/profiles/s1_g1_px.csv")
     dx_um = np.diff(raw_profile["x_mm"].to_numpy()) * 1e3
     assert np.allclose(dx_um, 2.58, atol=0.01)
+
+
+def test_an_impact_test_alone_gives_the_six_beam_modes(tmp_path):
+    """Issue 32, "Done means": the real roving-hammer UFF alone (no cuts, no spindle speed,
+    flutes, tool or cut length written anywhere) through init, import, manifest, check and
+    ``snakemake ch3_modal`` with the default config: the six bending modes of the free-free
+    beam listed in tests/data/real/uff/SOURCE.md (51, 142, 279, 460, 687, 959 Hz)."""
+    raw = tmp_path / "raw"
+    uff = DATA / "real" / "uff" / "pyuff_measurement_roving_hammer.uff"
+    for args in (("init", raw), ("import", "uff", uff, "--to", raw), ("manifest", raw),
+                 ("check", raw)):
+        proc = robomill(*args)
+        assert proc.returncode == 0, (args, proc.stdout, proc.stderr)
+    manifest = yaml.safe_load((raw / "manifest.yaml").read_text())
+    assert manifest["cuts"] == [] and not any(manifest["experiment"].values())
+    work = tmp_path / "work"
+    work.mkdir()
+    proc = run_snakemake(work, "-j2", "ch3_modal", "--config", f"data={raw}",
+                         configfile=REPO / "config.yaml")
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    f = np.sort(pd.read_csv(work / "results/modal/modes.csv")["f_n_hz"].to_numpy())
+    beam = np.array([51.0, 142.0, 279.0, 460.0, 687.0, 959.0])
+    assert f.size == beam.size, f
+    assert np.all(np.abs(f / beam - 1.0) < 0.02), f
