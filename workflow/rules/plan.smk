@@ -45,7 +45,7 @@ rule plan_make:
     conda:
         ENV
     params:
-        experiment={**config["experiment"], **EXPERIMENT},
+        experiment=STUDY_EXPERIMENT,
     script:
         "../scripts/plan_make.py"
 

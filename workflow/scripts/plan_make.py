@@ -21,8 +21,12 @@ inp, out, p = snakemake.input, snakemake.output, snakemake.params
 req = read_request(inp.request)
 cell_file = read_cell(inp.cell)
 cuts = load_study(inp.study).cuts  # the study's own cuts (raw folder or virtual cell)
-experiment = dict(p.experiment)
-mids = np.array([np.mean(cut_endpoints_mm(c, experiment), 0) for c in cuts]) if cuts else None
+experiment = dict(p.experiment)  # the study's (the manifest's), the block layout beside it
+# where the study's cuts lie needs their length; without it they are not placed
+placed = bool(cuts) and experiment.get("cut_length_mm") is not None
+if cuts and not placed:
+    log.info("the study gives no cut_length_mm: its cuts are not placed (no gear lines carried)")
+mids = np.array([np.mean(cut_endpoints_mm(c, experiment), 0) for c in cuts]) if placed else None
 cell = cell_of(cell_file, req, mids)
 
 
@@ -31,7 +35,7 @@ def table(name):
 
 
 gears = None
-if "peaks" in inp.keys():
+if "peaks" in inp.keys() and placed:
     poses = cut_mid_poses(cell.robot, cuts, experiment, tool_rotation=cell.R0,
                           q0_rad=cell.q_seed_rad)
     gears = gear_joint_amplitudes(pd.read_csv(inp.peaks), cell.robot, poses)
