@@ -334,3 +334,21 @@ def test_every_rule_that_reads_raw_files_takes_the_study():
                             if "manifest=MANIFEST" in text)
     assert takes_manifest == ["book.smk", "ingest.smk"]
     assert sum(text.count("study=STUDY") for text in rules.values()) >= 13
+
+
+READS_EXPERIMENT = re.compile(
+    r"""config\s*(\[\s*["']experiment["']\s*\]|\.get\(\s*["']experiment["'])""")
+
+
+def test_the_configured_design_is_read_by_the_simulators_alone():
+    """The design reaches the analyses from the study (the manifest's keys); the
+    configuration's experiment is read by the simulator rules, and by common.smk for one key:
+    the block layout, where a design gives no start_mm and its manifest no layout."""
+    files = [REPO / "Snakefile", *sorted((REPO / "workflow" / "rules").glob("*.smk"))]
+    readers = {f"{f.name}:{i}": line.strip() for f in files if f != SYNTH_RULES
+               for i, line in enumerate(f.read_text().splitlines(), start=1)
+               if READS_EXPERIMENT.search(line)}
+    assert len(readers) == 1, readers
+    (where, line), = readers.items()
+    assert where.startswith("common.smk:") and '.get("layout")' in line
+    assert READS_EXPERIMENT.search(SYNTH_RULES.read_text())
