@@ -40,6 +40,7 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
+from robomill import references as REF
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import per_cut_table, span, thesis_gate
@@ -50,15 +51,25 @@ from robomill.stiffness.cuts import (
     waviness_by_direction,
 )
 
-# Numbers printed by seed 001 (Yi et al. 2025) and seed 004 (Cai et al. 2015), for comparison.
-SEED_K3D_kNm = [8.36e3, 6.62e3, 4.87e3, 3.32e3, 1.85e3, 8.73e2]  # "8.73×10" in the source
-SEED_K2D_kNm = [6.89e3, 4.53e3, 3.40e3, 2.13e3, 1.27e3, 6.32e2]
-SEED_VALIDATION = {"cube": 4.0, "plane": 3.1}  # % error of the predicted deflection (0.325 mm)
-SEED_DEFORMATION_UM = {1600.0: 92.0, 1200.0: 63.0}
-SEED_Y_MAX = {0: 93000.2, 30: 98000.6, 60: 88000.3}  # printed as N/m
-SEED_Z_0DEG_N_MM = 4530.8
-SEED_WORKSPACE = {"X": (-3516, 3516), "Y": (-3516, 3516), "Z": (-1120, 4071),
-                  "XZ_X": (-1651, 3116), "XZ_Z": (-713, 3661), "annulus": (497, 3263)}
+# The numbers printed by seed 001 (Yi et al. 2025), for comparison: read from the one data file
+# of the sources' numbers, each with its citation (src/robomill/data/references.yaml).
+SEED_K3D_kNm = [v / 1e3 for v in REF.values(
+    "seed001.stiffness.joint_stiffness_3d.k_Nm_rad.").values()]
+SEED_K2D_kNm = [v / 1e3 for v in REF.values(
+    "seed001.stiffness.joint_stiffness.k_Nm_rad.").values()]
+SEED_VALIDATION = {  # % error of the predicted deflection (0.325 mm)
+    "cube": REF.value("seed001.validation_error_pct.cube"),
+    "plane": REF.value("seed001.stiffness.validation.vector_error_pct.model_plane.mean")}
+SEED_DEFORMATION_UM = {h: REF.value("seed001.stiffness.optimal_poses.deformation_um."
+                                    f"robot_kr360_height_mm_{h:.0f}_pose_optimal")
+                       for h in (1600.0, 1200.0)}
+SEED_Y_MAX = {a: REF.value(f"seed001.y_stiffness_max_N_m.angle_{a}deg") for a in (0, 30, 60)}
+SEED_Z_0DEG_N_MM = REF.value("seed001.z_stiffness_0deg_N_mm")
+SEED_WORKSPACE = {k: tuple(REF.value(f"seed001.workspace_extent_mm.{key}")) for k, key in
+                  (("X", "x"), ("Y", "y"), ("Z", "z"), ("XZ_X", "xz_plane_x"),
+                   ("XZ_Z", "xz_plane_z"))}
+SEED_WORKSPACE["annulus"] = tuple(REF.value(f"seed001.stiffness.maps.annulus_{e}_diameter_mm."
+                                            "height_mm_1600") for e in ("inner", "outer"))
 
 mp = open_artefact(maps)
 opt = pd.read_csv(optimal)
@@ -129,7 +140,7 @@ display(Markdown(
     "(the seed's MD-H table is not printed). Working-plane annulus with the tool pointing "
     f"down: inner diameter {ann['inner diameter mm'].min():.0f} mm, outer "
     f"{ann['outer diameter mm'].max():.0f} mm (grid resolution; seed: "
-    f"{SEED_WORKSPACE['annulus'][0]} and {SEED_WORKSPACE['annulus'][1]} mm — the seed's plane "
+    f"{SEED_WORKSPACE['annulus'][0]:g} and {SEED_WORKSPACE['annulus'][1]:g} mm — the seed's plane "
     "also depends on its end-effector orientation and joint limits, which are not given)."))
 
 # %%
