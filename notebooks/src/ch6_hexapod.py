@@ -31,6 +31,7 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
+from robomill import references as REF
 from robomill.hexapod.sensitivity import drift_antisymmetry
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
@@ -55,13 +56,14 @@ frc = open_artefact(forces)
 sens = open_artefact(sensitivity)
 need = pd.read_csv(force_accuracy)
 
-# numbers printed in seed 003 (shown beside ours)
-SEED_FORCE_N = 1.65
-SEED_FORCE_ERR_N = 1.6665
-SEED_START = np.array([0.0, 0.0, 53.3])
-SEED_EXACT_END = np.array([0.0, 0.0, 54.57])
-SEED_PERTURBED_END = np.array([-0.186, -0.0521, 57.864])
-SEED_EULER_DEG = np.array([0.447, 4.7031, 0.0])  # psi, theta, phi
+# numbers printed in seed 003 (shown beside ours), from the one data file of the sources'
+# numbers, each with its citation (src/robomill/data/references.yaml)
+SEED_FORCE_N = REF.value("seed003.hexapod.forces.static_force_N")
+SEED_FORCE_ERR_N = REF.value("seed003.hexapod.forces.perturbed_force_N")
+SEED_START = np.array([0.0, 0.0, REF.value("seed003.start_height_mm")])
+SEED_EXACT_END = np.array(REF.value("seed003.hexapod.trajectory.exact_end_mm"))
+SEED_PERTURBED_END = np.array(REF.value("seed003.hexapod.trajectory.perturbed_end_mm"))
+SEED_EULER_DEG = np.array(REF.value("seed003.hexapod.trajectory.perturbed_euler_deg"))
 
 # %% [markdown]
 # ## Context — high-speed machining (seed Table 1)
