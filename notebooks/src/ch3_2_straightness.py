@@ -22,6 +22,8 @@ synthetic: bool = None  # data source is the virtual cell
 experiment: dict = None  # the manifest's experiment defaults (spindle_rpm, flutes, ...)
 thesis_design: bool = None  # the thesis' design (robomill.experiment.is_thesis_design)
 thesis_study: bool = None  # the thesis' study (robomill.experiment.is_thesis_study)
+templates: str = None  # notebooks/templates/ch3_2.yaml: the sentences rendered from findings
+findings: str = None  # results/straightness/findings.yaml: the numbers and verdicts stated
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
@@ -31,6 +33,7 @@ import pandas as pd
 from IPython.display import Markdown, display
 
 from robomill.experiment import DIRECTION_LABELS
+from robomill.findings import read_findings
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import (
@@ -39,6 +42,7 @@ from robomill.pipeline.design_tables import (
     span,
     thesis_gate,
 )
+from robomill.pipeline.prose import Prose, comparison_table, load_templates
 from robomill.plotting import save_figure
 from robomill.straightness.attribution import NO_TIME_BASE
 from robomill.straightness.tables import (
@@ -48,6 +52,9 @@ from robomill.straightness.tables import (
 )
 from robomill.straightness.truth import attribution_counts
 
+found = read_findings(findings)
+F = found.values()
+say = Prose(load_templates("ch3_2", templates), found)
 prof = open_artefact(profiles)
 pk = pd.read_csv(peaks, keep_default_na=False, na_values=[""])
 pk[["stage", "order"]] = pk[["stage", "order"]].fillna("")
@@ -187,9 +194,7 @@ ys = [d for d in ("py", "my") if d in directions] if THESIS_LAYOUT else directio
 display(Markdown(
     f"The deviation of the path from its best line at {span(runs.feed_mm_s, 'g')} mm/s ("
     + ", ".join(num.ref(f"deviation_{d}") for d in ys) + ") and its power spectrum ("
-    + ", ".join(num.ref(f"psd_{d}") for d in ys) + ")"
-    + vs_thesis(", as in thesis Figs 3.12–3.15: dominant peaks below 0.5 mm⁻¹ (wavelengths "
-                "above 2 mm)") + "."))
+    + ", ".join(num.ref(f"psd_{d}") for d in ys) + ")."))
 numbers = ({"py": (12, 13), "my": (14, 15)} if THESIS_LAYOUT else
            {d: (f"12{part[d]}", f"13{part[d]}") for d in directions})
 for d in ys:
@@ -205,55 +210,22 @@ if THESIS_LAYOUT and "px" in directions:
     psd_figure("px", "13x", 1.0, "psd_px", "power spectrum of the motion")
 
 # %%
-low = gear_pk[gear_pk.f_spatial_per_mm <= 0.6]
-main = low.loc[low.groupby(["direction", "feed_mm_s"]).amplitude_um.idxmax()] if len(low) else low
-if len(main):
-    wl = 1 / main.f_spatial_per_mm
-    display(Markdown(
-        f"Gear-attributed peaks lie between {gear_pk.f_spatial_per_mm.min():.3f} and "
-        f"{gear_pk.f_spatial_per_mm.max():.3f} mm⁻¹" + vs_thesis(" (thesis: below 0.5 mm⁻¹)")
-        + ". The mesh peaks near 0.5 mm⁻¹ have wavelengths "
-        f"{span(1 / low[low.f_spatial_per_mm > 0.3].f_spatial_per_mm)} mm"
-        + vs_thesis(" (thesis: about 2 mm; surface waviness about 2.5 mm)") + "."
-        if (low.f_spatial_per_mm > 0.3).any() else
-        f"The largest gear peak per run has a wavelength of {wl.min():.1f}–{wl.max():.1f} mm."))
+display(Markdown(say("gear_peaks")))
 
 # %% [markdown]
 # ## The motion spectrum at higher frequencies
 
 # %%
 display(Markdown(
-    vs_thesis("The thesis finds small irregularities near 8 mm⁻¹ on the surfaces cut at 8 and "
-              "10 mm/s (≈ 64 and 80 Hz) and no peak there in the motion: they come from "
-              "vibration, not from the robot's path. ")
-    + f"{num.ref('psd_high')} shows the motion spectrum up to the surface's roughness band "
+    f"{num.ref('psd_high')} shows the motion spectrum up to the surface's roughness band "
     f"({settings['surface_band_per_mm'][0]:g}–{settings['surface_band_per_mm'][1]:g} mm⁻¹); "
     "a servo ripple at f Hz appears at f/v mm⁻¹."))
 psd_figure(d16, 16, float(settings["fmax_store_per_mm"]), "psd_high",
            "motion spectrum up to the roughness band")
-band = tuple(settings["surface_band_per_mm"])
-fmax_s = float(settings["fmax_store_per_mm"])
-quiet = (fmax_s - (band[1] - band[0]), fmax_s)  # same width, no source planted or expected
-hi = band_floor_table(prof, pk, band, quiet)
-fast = hi[hi.feed_mm_s >= 8]
-n_peaks = int(hi.peaks_in_band.sum())
-display(Markdown(
-    (f"In the band {band[0]:g}–{band[1]:g} mm⁻¹ the {len(hi)} runs have {n_peaks} peaks; the "
-     f"largest power there is {hi.peak_to_floor_in_band.max():.1f}× the noise floor, against "
-     f"{hi.peak_to_floor_noise_band.min():.1f}–{hi.peak_to_floor_noise_band.max():.1f}× in "
-     f"the equally wide band {quiet[0]:g}–{quiet[1]:g} mm⁻¹ where nothing is expected (a "
-     f"peak needs {settings['threshold']:g}×; {num.ref('band_floor')})"
-     + (": the motion has no component there." if n_peaks == 0 else "."))
-    if not vs_thesis.shown else
-    f"In the band {band[0]:g}–{band[1]:g} mm⁻¹ the runs at 8 and 10 mm/s have "
-    f"{int(fast.peaks_in_band.sum())} peaks; the largest power there is "
-    f"{fast.peak_to_floor_in_band.max():.1f}× the noise floor, against "
-    f"{hi.peak_to_floor_noise_band.min():.1f}–{hi.peak_to_floor_noise_band.max():.1f}× in the "
-    f"equally wide band {quiet[0]:g}–{quiet[1]:g} mm⁻¹ where nothing is expected (a peak needs "
-    f"{settings['threshold']:g}×; {num.ref('band_floor')})"
-    + (": the motion has no component there" + vs_thesis(", as the thesis concludes") + "."
-       if fast.peaks_in_band.sum() == 0 else ".") if len(fast) else
-    f"No run at 8 or 10 mm/s in this data set ({num.ref('band_floor')})."))
+band = tuple(F["surface_band_per_mm"])
+hi = band_floor_table(prof, pk, band, tuple(F["quiet_band_per_mm"]))
+display(Markdown(say("surface_band", "surface_band_verdict",
+                     ref_band_floor=num.ref("band_floor"))))
 display(num.caption("band_floor"))
 display(hi.assign(direction=hi.direction.map(lambda d: LABELS.get(d) or direction_label(d)))
         .round(2))
@@ -264,7 +236,7 @@ display(hi.assign(direction=hi.direction.map(lambda d: LABELS.get(d) or directio
 # %%
 display(Markdown(
     "A peak whose wavelength grows with the feed has a constant temporal frequency (a servo "
-    "ripple" + vs_thesis("; thesis: 13 Hz") + "); a gear peak keeps its spatial frequency at "
+    "ripple); a gear peak keeps its spatial frequency at "
     "every feed "
     f"({num.ref('temporal_vs_spatial')})."))
 fig, axes = plt.subplots(1, 2, figsize=(9, 3.8))
@@ -289,14 +261,7 @@ fig.tight_layout()
 save_figure(fig, fig_dir, num.file("temporal_vs_spatial"))
 plt.show()
 display(num.caption("temporal_vs_spatial"))
-if len(temporal):
-    display(Markdown(
-        f"{len(temporal)} peaks have a constant temporal frequency of "
-        f"{temporal.f_temporal_hz.mean():.2f} ± {temporal.f_temporal_hz.std(ddof=0):.2f} Hz"
-        + vs_thesis(" (thesis: 13 Hz)") + ", i.e. wavelengths from "
-        f"{(1 / temporal.f_spatial_per_mm).min():.2f} mm to "
-        f"{(1 / temporal.f_spatial_per_mm).max():.2f} mm depending on the feed, amplitude "
-        f"{temporal.amplitude_um.min():.2f}–{temporal.amplitude_um.max():.2f} µm."))
+display(Markdown(say("temporal")))
 
 # %% [markdown]
 # ## Gear spatial frequencies per direction
@@ -400,4 +365,13 @@ if synthetic and len(tc):
     display(shown.round(4))
 else:
     display(Markdown("Real data: no planted truth to compare with."))
+
+# %% [markdown]
+# ## Against the thesis
+
+# %%
+display(Markdown(say("against")))
+comparison_table(found) if found.comparisons else None
+
+# %%
 num.check()

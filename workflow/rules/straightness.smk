@@ -85,8 +85,33 @@ rule straightness_truth_check:
         "../scripts/straightness_truth_check.py"
 
 
+# Chapter 3.2's findings: gear and temporal peaks, and the verdict on the surface band
+# (straightness.threshold), with the stage's scorecard rows ("Against the thesis").
+rule straightness_findings:
+    input:
+        peaks="results/straightness/peaks.csv",
+        profiles="results/straightness/profiles.nc",
+        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+    output:
+        findings="results/straightness/findings.yaml",
+    log:
+        "results/logs/straightness/findings.log",
+    benchmark:
+        "results/benchmarks/rules/straightness/findings.tsv"
+    conda:
+        ENV
+    params:
+        surface_band_per_mm=config["straightness"]["surface_band_per_mm"],
+        fmax_store_per_mm=config["straightness"]["fmax_store_per_mm"],
+        threshold=config["straightness"]["threshold"],
+        thesis_study=THESIS_STUDY,
+    script:
+        "../scripts/straightness_findings.py"
+
+
 rule straightness:
     input:
+        "results/straightness/findings.yaml",
         "results/straightness/peaks.csv",
         "results/straightness/gears.csv",
         "results/straightness/profiles.nc",
@@ -103,6 +128,8 @@ CHAPTER_PARAMETERS["ch3_straightness"] = {
 use rule chapter as ch3_straightness with:
     input:
         notebook=notebook("ch3_2_straightness.ipynb"),
+        templates=notebook("templates/ch3_2.yaml"),
+        findings="results/straightness/findings.yaml",
         peaks="results/straightness/peaks.csv",
         gears="results/straightness/gears.csv",
         profiles="results/straightness/profiles.nc",

@@ -23,10 +23,12 @@ cutting). The analysis
 One subject per submodule: :mod:`~robomill.straightness.profile` (steps 1–2),
 :mod:`~robomill.straightness.gears` (3), :mod:`~robomill.straightness.attribution` (4–5),
 :mod:`~robomill.straightness.study` (one run end to end, gathering),
-:mod:`~robomill.straightness.truth` (against the planted gears) and
-:mod:`~robomill.straightness.tables` (chapter tables). The public names are importable from
-this package, loaded from their submodule on first use (importing the package imports
-nothing); rule scripts and notebooks import from the submodules.
+:mod:`~robomill.straightness.truth` (against the planted gears),
+:mod:`~robomill.straightness.tables` (chapter tables) and
+:mod:`~robomill.straightness.findings` (what chapter 3.2 states, with its verdicts). The
+public names are importable from this package, loaded from their submodule on first use
+(importing the package imports nothing); rule scripts and notebooks import from the
+submodules.
 """
 
 
