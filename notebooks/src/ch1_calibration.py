@@ -20,7 +20,9 @@ points: str = None  # results/calibration/accuracy_points.csv
 joint_errors: str = None  # results/calibration/joint_errors.csv
 base: str = None  # results/calibration/base.csv
 circles: str = None  # results/calibration/circles.csv
-thesis_study: bool = None  # the thesis' study (robomill.experiment.is_thesis_study)
+templates: str = None  # notebooks/templates/ch1.yaml: the sentences rendered from findings
+findings: str = None  # results/calibration/findings.yaml: the numbers this chapter states
+thesis_study: bool = None  # unused: the comparison rows come with the findings
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
@@ -29,14 +31,16 @@ import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
-from robomill.calibration.accuracy import improvement_ratios, region_table
+from robomill.calibration.accuracy import region_table
 from robomill.calibration.dataset import model_from_dataset
+from robomill.findings import read_findings
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
-from robomill.pipeline.design_tables import thesis_gate
+from robomill.pipeline.prose import Prose, comparison_table, load_templates
 from robomill.plotting import save_figure
 
-vs_thesis = thesis_gate(thesis_study)  # thesis remarks only for the thesis' study
+found = read_findings(findings)
+say = Prose(load_templates("ch1", templates), found)
 num = Numbering("1")
 num.figure("joint_circle", "Single-joint method: the circle of joint 2 in its plane and the "
            "distance of every joint's targets from their fitted circle", number=4)
@@ -71,8 +75,7 @@ cal = model_from_dataset(ds)
 # %%
 display(Markdown(
     f"{num.ref('joint_circle')} shows the targets of joint 2 in their circle plane (u, v about "
-    "the fitted centre) and the residuals from the fitted circle: the fit leaves only the "
-    "instrument's noise."))
+    "the fitted centre) and the distance of every joint's targets from their fitted circle."))
 fig, axs = plt.subplots(1, 2, figsize=(10, 4.2))
 g = cir[cir["joint"] == 2]
 t = np.linspace(0, 2 * np.pi, 400)
@@ -94,12 +97,7 @@ fig.suptitle("Single-joint method: circle of joint 2 and the residuals of every 
 save_figure(fig, fig_dir, num.file("joint_circle"))
 plt.show()
 display(num.caption("joint_circle"))
-display(Markdown(
-    "Circle-fit RMS per joint: " + ", ".join(
-        f"joint {j}: {1000 * v:.1f} µm" for j, v in
-        zip(ds["joint"].values, ds["circle_rms_mm"].values, strict=True))
-    + f". Radii {ds['circle_radius_mm'].min().item():.0f}–"
-      f"{ds['circle_radius_mm'].max().item():.0f} mm."))
+display(Markdown(say("circles")))
 
 # %% [markdown]
 # ## The vector model
@@ -165,15 +163,7 @@ display(num.caption("validation"))
 display(val.round(2))
 
 # %%
-best = val[["polynomial", "fourier", "fourier+polynomial"]].idxmin(axis=1)
-display(Markdown(
-    f"Held-out RMS [arcsec] of the three forms is in {num.ref('validation')}; the combined "
-    "form is best or "
-    f"tied for {int((best == 'fourier+polynomial').sum())} of 6 joints. The held-out residual "
-    f"({val['fourier+polynomial'].min():.1f}–{val['fourier+polynomial'].max():.1f} arcsec) is "
-    "mostly the C-Track noise seen through the target's radius, not model error. Backlash "
-    f"from the two approach directions: {val['backlash [arcsec]'].min():.0f}–"
-    f"{val['backlash [arcsec]'].max():.0f} arcsec."))
+display(Markdown(say("regression", ref_validation=num.ref("validation"))))
 
 # %% [markdown]
 # ## Base deflection versus joint-2 rotation (eq. 1.6)
@@ -182,7 +172,7 @@ display(Markdown(
 c_base = float(ds["base_compliance_rad_per_Nm"])
 r2 = float(ds["base_fit_r2"])
 # the cell file may state no mass model: then the calibration ran without the gravity term
-GRAVITY = not str(ds.attrs.get("gravity_model", "")).startswith("none")
+GRAVITY = bool(found.values()["has_gravity_model"])
 fig, axs = plt.subplots(1, 2 if GRAVITY else 1, figsize=(10 if GRAVITY else 5, 4), squeeze=False)
 axs = axs[0]
 axs[0].plot(np.rad2deg(bd["q2_rad"]), bd["deflection_rad"] / ARCSEC, "o")
@@ -200,21 +190,8 @@ save_figure(fig, fig_dir, num.file("base_deflection"))
 plt.show()
 display(num.caption("base_deflection"))
 c = ds["compliance_rad_per_Nm"].values
-display(Markdown(
-    f"**No gravity model.** {ds.attrs['gravity_model']} The compliances of "
-    f"{num.ref('compliance')} come from the load discs alone (their weight is known); the "
-    "self-weight torques are taken as zero, so the base deflection of "
-    f"{num.ref('base_deflection')} cannot be related to the joint-2 torque (eq. 1.6) and the "
-    "full model corrects no self-weight deflection. Add `mass_model` to the cell file "
-    "(docs/data-contract.md, *The cell*) to identify it.") if not GRAVITY else Markdown(
-    f"In {num.ref('base_deflection')} the base turns by {c_base * 1e9:.0f} nrad per N·m of "
-    "joint-2 torque (linear fit, "
-    f"R² = {r2:.3f}{vs_thesis('; thesis Fig. 1.8: linear in the torque')}). "
-    f"That is {100 * c_base / c[1]:.0f} % "
-    f"of the joint-2 compliance identified from the load discs ({c[1] * 1e6:.2f} µrad/N·m, "
-    f"{num.ref('compliance')}), "
-    "which already contains it: the same arm weight loads both, about parallel axes, so the "
-    "base is treated as rigid and its deflection lumped into joint 2."))
+display(Markdown(say("base", ref_base_deflection=num.ref("base_deflection"),
+                     ref_compliance=num.ref("compliance"))))
 comp = pd.DataFrame({"compliance [µrad/(N·m)]": c * 1e6,
                      "identifiable": ds["compliance_identifiable"].values.astype(bool),
                      "torque at home [N·m]": ds["tau_home_Nm"].values},
@@ -242,29 +219,20 @@ display(num.caption("accuracy"))
 display(acc.round(4))
 
 # %%
-ratios = improvement_ratios(acc)
-ratio, ratio_geo = ratios["full"], ratios["geometric"]
-display(Markdown(
-    f"{num.ref('accuracy_histograms')} and {num.ref('accuracy')}: on "
-    f"{int(acc.loc['nominal', 'n_points'])} points the nominal model misses by "
-    f"{acc.loc['nominal', 'mean_mm']:.2f} mm on average (RMS {acc.loc['nominal', 'rms_mm']:.2f},"
-    f" max {acc.loc['nominal', 'max_mm']:.2f} mm"
-    + vs_thesis("; the thesis says it 'can be a few millimetres'") + "). The "
-    f"identified geometry alone brings the RMS to {acc.loc['geometric', 'rms_mm']:.3f} mm "
-    f"(×{ratio_geo:.1f}); adding the joint-error regression and the compliance brings it to "
-    f"{acc.loc['full', 'rms_mm']:.3f} mm (p95 {acc.loc['full', 'p95_mm']:.3f}, max "
-    f"{acc.loc['full', 'max_mm']:.3f} mm), an improvement of ×{ratio:.0f} in RMS."
-    + (" Most of what the geometric model leaves is elastic deflection under the arm's own "
-       "weight." if GRAVITY else "")
-    + vs_thesis(" The thesis prints no accuracy figure; it concludes that the hybrid "
-                "calibration improves accuracy a lot, but not enough for offline programming "
-                f"of machining: the {acc.loc['full', 'max_mm']:.2f} mm worst case left here is "
-                "large against machining tolerances, and cutting forces (not modelled here) "
-                "deflect the robot far more than gravity does.")
-    + f" {num.ref('regions')} splits the RMS by workspace region."))
+display(Markdown(say("accuracy", ref_accuracy_histograms=num.ref("accuracy_histograms"),
+                     ref_accuracy=num.ref("accuracy"), ref_regions=num.ref("regions"))))
 
 # %%
 tab = region_table(reg)
 display(num.caption("regions"))
 display(tab.round(4))
+
+# %% [markdown]
+# ## Against the thesis
+
+# %%
+display(Markdown(say("against")))
+comparison_table(found) if found.comparisons else None
+
+# %%
 num.check()

@@ -59,8 +59,30 @@ rule calibration_accuracy:
         "../scripts/calibration_accuracy.py"
 
 
+# Chapter 1's findings: circle fits, regression, base deflection, accuracy; with the
+# stage's scorecard rows ("Against the thesis").
+rule calibration_findings:
+    input:
+        model="results/calibration/model.nc",
+        accuracy="results/calibration/accuracy.csv",
+        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+    output:
+        findings="results/calibration/findings.yaml",
+    log:
+        "results/logs/calibration/findings.log",
+    benchmark:
+        "results/benchmarks/rules/calibration/findings.tsv"
+    conda:
+        ENV
+    params:
+        thesis_study=THESIS_STUDY,
+    script:
+        "../scripts/calibration_findings.py"
+
+
 rule calibration:
     input:
+        "results/calibration/findings.yaml",
         "results/calibration/model.nc",
         "results/calibration/accuracy.csv",
 
@@ -71,6 +93,8 @@ CHAPTER_PARAMETERS["ch1"] = {"thesis_study": THESIS_STUDY}
 use rule chapter as ch1 with:
     input:
         notebook=notebook("ch1_calibration.ipynb"),
+        templates=notebook("templates/ch1.yaml"),
+        findings="results/calibration/findings.yaml",
         model="results/calibration/model.nc",
         accuracy="results/calibration/accuracy.csv",
         regions="results/calibration/accuracy_by_region.csv",

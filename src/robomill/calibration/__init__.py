@@ -19,6 +19,7 @@ robot base; gravity along −z). The chain of the chapter:
 6. :mod:`~robomill.calibration.accuracy` — accuracy of the nominal, geometric and full models
    on points not used for identification.
 7. :mod:`~robomill.calibration.dataset` — ``model.nc`` and the chapter's tables.
+8. :mod:`~robomill.calibration.findings` — the numbers chapter 1 states.
 
 Importing this package imports none of them: every public name is loaded from its submodule
 on first use (:mod:`robomill.lazy`), so ``from robomill.calibration import identify`` keeps
@@ -37,6 +38,7 @@ __getattr__, __dir__, __all__ = lazy_exports(__name__, {
                    "compliance_displacement", "fit_compliance", "linear_fit",
                    "single_joint_poses"),
     "dataset": ("circle_table", "joint_error_table", "model_from_dataset", "model_to_dataset"),
+    "findings": ("calibration_findings",),
     "geometry": ("CircleFit", "VectorModel", "fit_circle", "vector_model_from_serial"),
     "gravity": ("G_MM_S2", "MassModel", "gravity_torques_Nm", "mass_model_from_cell",
                 "mass_model_from_mapping", "no_masses"),

@@ -13,8 +13,8 @@ import pandas as pd
 from robomill.findings import Findings
 from robomill.forces.peaks import nearest_modes
 
-PEAKS = "results/forces/peaks.csv"
-MODES = "results/modal/modes.csv"
+_PEAKS = "results/forces/peaks.csv"
+_MODES = "results/modal/modes.csv"
 
 
 def forces_findings(peaks: pd.DataFrame, modes: pd.DataFrame | None, *,
@@ -50,31 +50,31 @@ def forces_findings(peaks: pd.DataFrame, modes: pd.DataFrame | None, *,
     found = Findings("forces")
     dom = pd.to_numeric(peaks["dominant_hz"], errors="coerce").to_numpy(float)
     have = np.isfinite(dom)
-    found.add("n_cuts", int(dom.size), artefact=PEAKS, what="rows")
-    found.add("n_dominant", int(have.sum()), artefact=PEAKS, what="dominant_hz not empty")
-    found.add("n_dominant_none", int((~have).sum()), artefact=PEAKS,
+    found.add("n_cuts", int(dom.size), artefact=_PEAKS, what="rows")
+    found.add("n_dominant", int(have.sum()), artefact=_PEAKS, what="dominant_hz not empty")
+    found.add("n_dominant_none", int((~have).sum()), artefact=_PEAKS,
               what="dominant_hz empty: no local maximum rises above its floor")
     found.add("dominant_hz_range", [float(dom[have].min()), float(dom[have].max())]
-              if have.any() else None, "Hz", artefact=PEAKS, what="dominant_hz")
+              if have.any() else None, "Hz", artefact=_PEAKS, what="dominant_hz")
     found.add("dominant_band_hz", [float(b) for b in band_hz], "Hz")
     found.add("dominant_prominence_db", float(prominence_db), "dB")
     has_modes = modes is not None and len(modes) > 0
-    found.add("has_modes", bool(has_modes), artefact=MODES)
+    found.add("has_modes", bool(has_modes), artefact=_MODES)
     found.add("modes_hz", [float(f) for f in modes["f_n_hz"]] if has_modes else None, "Hz",
-              artefact=MODES, what="f_n_hz")
+              artefact=_MODES, what="f_n_hz")
     if not (has_modes and have.any()):
         return found
     near = nearest_modes(dom[have], modes)
     off = near["offset_hz"].abs().to_numpy(float)
-    found.add("mode_offset_max_hz", float(off.max()), "Hz", artefact=PEAKS,
+    found.add("mode_offset_max_hz", float(off.max()), "Hz", artefact=_PEAKS,
               what="|dominant_hz - nearest f_n_hz|, largest")
-    found.add("mode_offset_median_hz", float(np.median(off)), "Hz", artefact=PEAKS,
+    found.add("mode_offset_median_hz", float(np.median(off)), "Hz", artefact=_PEAKS,
               what="|dominant_hz - nearest f_n_hz|, median")
     hits = near.groupby("nearest_mode_hz").size().sort_values(ascending=False, kind="stable")
-    found.add("modes_hit_hz", [float(f) for f in hits.index], "Hz", artefact=MODES)
-    found.add("modes_hit_cuts", [int(n) for n in hits.to_numpy()], artefact=PEAKS)
+    found.add("modes_hit_hz", [float(f) for f in hits.index], "Hz", artefact=_MODES)
+    found.add("modes_hit_cuts", [int(n) for n in hits.to_numpy()], artefact=_PEAKS)
     found.add("dominant_at_modes", bool(off.max() <= mode_match_hz),
               verdict="pass" if off.max() <= mode_match_hz else "fail",
               threshold=float(mode_match_hz), config_key="forces.mode_match_hz",
-              artefact=PEAKS, what="every dominant peak within the threshold of a mode")
+              artefact=_PEAKS, what="every dominant peak within the threshold of a mode")
     return found

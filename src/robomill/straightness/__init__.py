@@ -64,6 +64,8 @@ _EXPORTS = {  # public name → submodule
     "gather_gears": "study",
     "gather_peaks": "study",
     "gather_profiles": "study",
+    "quiet_band": "findings",
+    "straightness_findings": "findings",
     "band_floor_table": "tables",
     "band_peak_ratio": "tables",
     "run_summary_table": "tables",

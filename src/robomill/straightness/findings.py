@@ -16,8 +16,8 @@ import xarray as xr
 from robomill.findings import Findings
 from robomill.straightness.tables import band_floor_table
 
-PEAKS = "results/straightness/peaks.csv"
-PROFILES = "results/straightness/profiles.nc"
+_PEAKS = "results/straightness/peaks.csv"
+_PROFILES = "results/straightness/profiles.nc"
 
 
 def _span(values: np.ndarray) -> list[float] | None:
@@ -67,45 +67,45 @@ def straightness_findings(profiles: xr.Dataset, peaks: pd.DataFrame, *,
     """
     found = Findings("straightness")
     feeds = np.asarray(profiles["feed_mm_s"].values, float)
-    found.add("n_runs", int(profiles.sizes["run"]), artefact=PROFILES, what="run")
-    found.add("feeds_mm_s", sorted({float(v) for v in feeds}), "mm/s", artefact=PROFILES,
+    found.add("n_runs", int(profiles.sizes["run"]), artefact=_PROFILES, what="run")
+    found.add("feeds_mm_s", sorted({float(v) for v in feeds}), "mm/s", artefact=_PROFILES,
               what="feed_mm_s")
     gear = peaks[peaks["mechanism"] == "gear"]
-    found.add("n_gear_peaks", int(len(gear)), artefact=PEAKS, what="mechanism = gear")
-    found.add("gear_f_range_per_mm", _span(gear["f_spatial_per_mm"]), "1/mm", artefact=PEAKS,
+    found.add("n_gear_peaks", int(len(gear)), artefact=_PEAKS, what="mechanism = gear")
+    found.add("gear_f_range_per_mm", _span(gear["f_spatial_per_mm"]), "1/mm", artefact=_PEAKS,
               what="f_spatial_per_mm[mechanism = gear]")
     main = (gear.loc[gear.groupby(["direction", "feed_mm_s"])["amplitude_um"].idxmax()]
             if len(gear) else gear)
     found.add("gear_main_wavelength_mm_range",
               _span(1.0 / main["f_spatial_per_mm"].to_numpy(float)) if len(main) else None,
-              "mm", artefact=PEAKS, what="1 / f_spatial_per_mm of each run's largest gear peak")
+              "mm", artefact=_PEAKS, what="1 / f_spatial_per_mm of each run's largest gear peak")
     temporal = peaks[peaks["mechanism"] == "temporal"]
     f_t = temporal["f_temporal_hz"].to_numpy(float)
-    found.add("n_temporal", int(len(temporal)), artefact=PEAKS, what="mechanism = temporal")
+    found.add("n_temporal", int(len(temporal)), artefact=_PEAKS, what="mechanism = temporal")
     found.add("temporal_hz_mean", float(f_t.mean()) if f_t.size else None, "Hz",
-              artefact=PEAKS, what="f_temporal_hz[mechanism = temporal]")
+              artefact=_PEAKS, what="f_temporal_hz[mechanism = temporal]")
     found.add("temporal_hz_std", float(f_t.std()) if f_t.size else None, "Hz",
-              artefact=PEAKS, what="f_temporal_hz[mechanism = temporal], population")
+              artefact=_PEAKS, what="f_temporal_hz[mechanism = temporal], population")
     found.add("temporal_wavelength_mm_range",
               _span(1.0 / temporal["f_spatial_per_mm"].to_numpy(float)) if len(temporal)
-              else None, "mm", artefact=PEAKS)
+              else None, "mm", artefact=_PEAKS)
     found.add("temporal_amplitude_um_range", _span(temporal["amplitude_um"]), "um",
-              artefact=PEAKS)
+              artefact=_PEAKS)
     band = tuple(float(b) for b in surface_band_per_mm)
     quiet = quiet_band(band, fmax_store_per_mm)
     hi = band_floor_table(profiles, peaks, band, quiet)
     n_band = int(hi["peaks_in_band"].sum()) if len(hi) else 0
     found.add("surface_band_per_mm", list(band), "1/mm")
     found.add("quiet_band_per_mm", list(quiet), "1/mm")
-    found.add("n_surface_band_peaks", n_band, artefact=PEAKS, what="peaks in the surface band")
+    found.add("n_surface_band_peaks", n_band, artefact=_PEAKS, what="peaks in the surface band")
     found.add("surface_band_peak_to_floor_max",
               float(hi["peak_to_floor_in_band"].max()) if len(hi) else None,
-              artefact=PROFILES, what="largest power in the band over the run's noise floor")
+              artefact=_PROFILES, what="largest power in the band over the run's noise floor")
     found.add("quiet_band_peak_to_floor_range", _span(hi["peak_to_floor_noise_band"]),
-              artefact=PROFILES, what="the same in the quiet band, over the runs")
+              artefact=_PROFILES, what="the same in the quiet band, over the runs")
     if len(hi):
         found.add("motion_in_surface_band", n_band > 0,
                   verdict="peaks" if n_band else "none", threshold=float(threshold),
-                  config_key="straightness.threshold", artefact=PEAKS,
+                  config_key="straightness.threshold", artefact=_PEAKS,
                   what="a peak (power over threshold × the band median) in the surface band")
     return found
