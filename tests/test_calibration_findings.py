@@ -63,9 +63,20 @@ def test_chapter_1_prose_follows_its_findings():
     say = Prose(load_templates("ch1"), calibration_findings(_model(), ACC))
     refs = {k: "[R]" for k in ("ref_validation", "ref_base_deflection", "ref_compliance",
                                "ref_accuracy_histograms", "ref_accuracy", "ref_regions")}
-    text = " ".join(say("circles", "regression", "base", "accuracy", **refs).split())
+    text = " ".join(say("circles", "regression", "base", "base_share", "accuracy",
+                        **refs).split())
     assert "30.0, 31.0, 32.0 µm" in text and "best for 2 of 3 joints" in text
     assert "6.0–7.0 arcsec" in text and "40–70 arcsec" in text
     assert "200 nrad per N·m" in text and "That is 8 %" in text
     assert "RMS 1.50, max 3.80 mm" in text and "(×3.0)" in text and "×30 in RMS" in text
     assert "not compared" in Prose(load_templates("ch1"), Findings("calibration"))("against")
+
+
+def test_a_rigid_joint_2_gives_no_share_and_no_error():
+    m = _model()
+    m["compliance_rad_per_Nm"] = ("joint", [1e-6, 0.0, 3e-6])
+    f = calibration_findings(m, ACC).values()
+    assert f["base_share_of_joint2_pct"] is None and f["base_compliance_nrad_per_Nm"] == 200.0
+    say = Prose(load_templates("ch1"), calibration_findings(m, ACC))
+    text = say("base", "base_share", ref_base_deflection="[F]", ref_compliance="[T]")
+    assert "200 nrad per N·m" in text and "No gravity model" not in text and "%" not in text

@@ -190,7 +190,7 @@ save_figure(fig, fig_dir, num.file("base_deflection"))
 plt.show()
 display(num.caption("base_deflection"))
 c = ds["compliance_rad_per_Nm"].values
-display(Markdown(say("base", ref_base_deflection=num.ref("base_deflection"),
+display(Markdown(say("base", "base_share", ref_base_deflection=num.ref("base_deflection"),
                      ref_compliance=num.ref("compliance"))))
 comp = pd.DataFrame({"compliance [µrad/(N·m)]": c * 1e6,
                      "identifiable": ds["compliance_identifiable"].values.astype(bool),

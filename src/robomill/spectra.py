@@ -302,7 +302,3 @@ def auto_decimation(fs_hz: float, lowband_hz: float) -> int:
     if fs_hz <= 0 or lowband_hz <= 0:
         raise ValueError(f"need positive fs ({fs_hz}) and band ({lowband_hz})")
     return max(1, int(np.floor(fs_hz / (LOWBAND_OVERSAMPLING * lowband_hz) + 1e-9)))
-
-
-
-# ---- peaks that are peaks: local maxima standing out of their floor, interpolated ----------

@@ -78,8 +78,8 @@ def calibration_findings(model: xr.Dataset, accuracy: pd.DataFrame) -> Findings:
                   what="base_fit_r2")
         found.add("joint2_compliance_urad_per_Nm", 1e6 * c2, "urad/(N m)", artefact=_MODEL,
                   what="compliance_rad_per_Nm[joint = 2]")
-        found.add("base_share_of_joint2_pct", 100.0 * c_base / c2, "%", artefact=_MODEL,
-                  what="base over joint-2 compliance")
+        found.add("base_share_of_joint2_pct", 100.0 * c_base / c2 if c2 > 0 else None, "%",
+                  artefact=_MODEL, what="base over joint-2 compliance (none: joint 2 rigid)")
     found.add("n_points", int(accuracy.loc["nominal", "n_points"]), artefact=_ACCURACY,
               what="n_points")
     for m in ("nominal", "geometric", "full"):
