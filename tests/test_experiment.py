@@ -28,21 +28,6 @@ def test_more_sets_cycle_the_thesis_sets(config):
     assert {c.depth_mm for c in s7} == {0.25} and s7[0].feed_mm_s == 1.0
 
 
-def test_cuts_by_set_groups_uneven_sets_in_plan_order():
-    from robomill.experiment import cuts_by_set
-
-    sets = [{"set": 1, "depth_mm": 1.0, "feeds_mm_s": [1.0, 2.0]},
-            {"set": 2, "depth_mm": 0.5, "feeds_mm_s": [3.0]}]
-    cuts = plan_cuts(sets, n_sets=3, directions=("px", "my"))  # set 3 cycles set 1
-    grouped = cuts_by_set(cuts)
-    assert list(grouped) == [1, 2, 3]
-    assert [c.id for c in grouped[1]] == ["s1_g1_px", "s1_g1_my", "s1_g2_px", "s1_g2_my"]
-    assert [c.id for c in grouped[2]] == ["s2_g1_px", "s2_g1_my"]
-    assert [c.feed_mm_s for c in grouped[3]] == [1.0, 1.0, 2.0, 2.0]
-    assert sum(len(v) for v in grouped.values()) == len(cuts)
-    assert cuts_by_set([]) == {}
-
-
 def test_missing_data_names_what_a_chapter_lacks():
     from robomill.experiment import Cut, cuts_table, missing_data
 

@@ -8,6 +8,9 @@ import sys
 import pytest
 
 PACKAGES = {
+    "robomill.chatter": ["sdm_lobes", "sdm_spectral_radius", "sem_lobes", "sem_spectral_radius",
+                         "zoa_lobes", "CuttingModel", "LinearTool", "ModeXY",
+                         "immersion_angles", "tool_from_modes"],
     "robomill.calibration": ["fit_circle", "VectorModel", "MassModel", "gravity_torques_Nm",
                              "joint_angle_eq15", "fit_joint_error", "fit_compliance",
                              "base_deflection_eq16", "CalibratedModel", "identify",

@@ -202,15 +202,6 @@ def plan_cuts(sets: Sequence[Mapping], n_sets: int | None = None,
     return cuts
 
 
-def cuts_by_set(cuts: Iterable[Cut]) -> dict[int, list[Cut]]:
-    """The cuts grouped by set (one machining session of the plan), sets and cuts in the order
-    given: the unit of one synthetic-instrument job (cuts without a set: set 0)."""
-    sets: dict[int, list[Cut]] = {}
-    for c in cuts:
-        sets.setdefault(int(c.set) if c.set is not None else 0, []).append(c)
-    return sets
-
-
 def cut_endpoints_mm(cut: Cut, experiment: Mapping, set_index: int | None = None
                      ) -> tuple[np.ndarray, np.ndarray]:
     """Start and end of a cut's TCP path in the robot base frame [mm] (slot floor).

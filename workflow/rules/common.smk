@@ -6,7 +6,6 @@ from pathlib import Path
 
 from robomill.pipeline.codedeps import code_files, load_cache, save_cache
 from robomill.experiment import (
-    cuts_by_set,
     is_thesis_design,
     is_thesis_study,
     missing_data,

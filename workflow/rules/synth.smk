@@ -50,54 +50,50 @@ rule synth_truth:
         "../scripts/synth_truth.py"
 
 
-# Stylus profiles: one simulator job per set (a machining session; its cuts simulated one
-# after the other in one process, so that Python and the library start once per set).
-for _set_no, _set_cuts in cuts_by_set(
+# Stylus profiles and dynamometer records: one simulator job each for all the planned cuts,
+# simulated one after the other in one process, so that Python and the library start once
+# (a per-cut job would pay the start-up 45 times for under a second of work each).
+SYNTH_PROFILE_CUTS = [
     c for c in CUTS if c.id in {f["cut"] for f in SYNTH_FILES.get("profile", [])}
-).items():
-
-    rule:
-        name:
-            f"surface_synth_profiles_s{_set_no}"
-        output:
-            [f"results/synthetic/raw/profiles/{c.id}.csv" for c in _set_cuts],
-        log:
-            f"results/logs/surface/synth_s{_set_no}.log",
-        benchmark:
-            f"results/benchmarks/rules/surface/synth_s{_set_no}.tsv"
-        conda:
-            ENV
-        params:
-            cfg=SYNTH_CFG,
-            cuts=[c.as_dict() for c in _set_cuts],
-        script:
-            "../scripts/surface_synth_profile.py"
-
-
-# Dynamometer records: one simulator job per set.
-for _set_no, _set_cuts in cuts_by_set(
+]
+SYNTH_FORCE_CUTS = [
     c for c in CUTS if c.id in {f["cut"] for f in SYNTH_FILES.get("force", [])}
-).items():
+]
 
-    rule:
-        name:
-            f"forces_synth_dynamometer_s{_set_no}"
-        output:
-            [
-                f"results/synthetic/raw/forces/{c.id}.{SYNTH_FORCE_FORMAT}"
-                for c in _set_cuts
-            ],
-        log:
-            f"results/logs/forces/synth_s{_set_no}.log",
-        benchmark:
-            f"results/benchmarks/rules/forces/synth_s{_set_no}.tsv"
-        conda:
-            ENV
-        params:
-            cfg=SYNTH_CFG,
-            cuts=[c.as_dict() for c in _set_cuts],
-        script:
-            "../scripts/forces_synth_dynamometer.py"
+
+rule surface_synth_profiles:
+    output:
+        [f"results/synthetic/raw/profiles/{c.id}.csv" for c in SYNTH_PROFILE_CUTS],
+    log:
+        "results/logs/surface/synth.log",
+    benchmark:
+        "results/benchmarks/rules/surface/synth.tsv"
+    conda:
+        ENV
+    params:
+        cfg=SYNTH_CFG,
+        cuts=[c.as_dict() for c in SYNTH_PROFILE_CUTS],
+    script:
+        "../scripts/surface_synth_profile.py"
+
+
+rule forces_synth_dynamometer:
+    output:
+        [
+            f"results/synthetic/raw/forces/{c.id}.{SYNTH_FORCE_FORMAT}"
+            for c in SYNTH_FORCE_CUTS
+        ],
+    log:
+        "results/logs/forces/synth.log",
+    benchmark:
+        "results/benchmarks/rules/forces/synth.tsv"
+    conda:
+        ENV
+    params:
+        cfg=SYNTH_CFG,
+        cuts=[c.as_dict() for c in SYNTH_FORCE_CUTS],
+    script:
+        "../scripts/forces_synth_dynamometer.py"
 
 
 rule straightness_synth_tracker:

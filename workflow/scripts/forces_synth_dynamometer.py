@@ -1,4 +1,4 @@
-"""Simulate the dynamometer records of one set's cuts (robomill.synth.dynamometer), each
+"""Simulate the dynamometer records of the planned cuts (robomill.synth.dynamometer), each
 written block by block, one after the other in this process (one output per cut, in the
 order of ``params.cuts``)."""
 

@@ -1,4 +1,4 @@
-"""Simulate the stylus profiles (profiles/<cut>.csv) of one set's cuts from the virtual cell,
+"""Simulate the stylus profiles (profiles/<cut>.csv) of the planned cuts from the virtual cell,
 one after the other in this process (one output per cut, in the order of ``params.cuts``)."""
 
 from robomill.experiment import Cut

@@ -30,26 +30,11 @@ Modules
 :mod:`~robomill.chatter.findings`   chapter 4's findings from the stage's artefacts
 """
 
-from robomill.chatter.lobes_sdm import sdm_lobes, sdm_spectral_radius
-from robomill.chatter.lobes_sem import sem_lobes, sem_spectral_radius
-from robomill.chatter.lobes_zoa import zoa_lobes
-from robomill.chatter.model import (
-    CuttingModel,
-    LinearTool,
-    ModeXY,
-    immersion_angles,
-    tool_from_modes,
-)
+from robomill.lazy import lazy_exports
 
-__all__ = [
-    "CuttingModel",
-    "LinearTool",
-    "ModeXY",
-    "immersion_angles",
-    "sdm_lobes",
-    "sdm_spectral_radius",
-    "sem_lobes",
-    "sem_spectral_radius",
-    "tool_from_modes",
-    "zoa_lobes",
-]
+__getattr__, __dir__, __all__ = lazy_exports(__name__, {
+    "lobes_sdm": ("sdm_lobes", "sdm_spectral_radius"),
+    "lobes_sem": ("sem_lobes", "sem_spectral_radius"),
+    "lobes_zoa": ("zoa_lobes",),
+    "model": ("CuttingModel", "LinearTool", "ModeXY", "immersion_angles", "tool_from_modes"),
+})
