@@ -59,6 +59,19 @@ def test_edits_rerun_only_what_uses_them(tiny_run, tmp_path):
     assert set(jobs) == {"ingest_manifest", "ch0"}
     assert "input changed" in jobs["ingest_manifest"].categories
 
+    # issue 31: an edit of the LSCF estimator reruns the modal identification that imports it,
+    # not the FRF estimation before it (modal/frf.py does not import modal/lscf.py)
+    module.write_text(module.read_text().removesuffix("\n# an edit\n"))
+    target = "results/modal/modes.csv"
+    proc = _snakemake(repo, work, "-j2", target)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert _planned(repo, work, target) == {}
+    lscf = repo / "src" / "robomill" / "modal" / "lscf.py"
+    lscf.write_text(lscf.read_text() + "\n# an edit\n")
+    jobs = _planned(repo, work, target)
+    assert set(jobs) == {"modal_identify"}, jobs
+    assert jobs["modal_identify"].categories == ["input changed"]
+
 
 def test_editing_any_module_a_rule_imports_makes_why_list_it(tiny_run, tmp_path):
     """Every library file that ch0's script (render_chapter.py) and notebook import, through
