@@ -124,11 +124,12 @@ def test_peaks_of_a_run_without_time_base_are_not_classified_temporal_or_spatial
     # one temporal source (2 Hz) seen at three feeds; the 4 mm/s run has no time base
     peaks = pd.DataFrame({"direction": ["px"] * 4, "feed_mm_s": [1.0, 2.0, 4.0, 4.0],
                           "f_spatial_per_mm": [2.0, 1.0, 0.5, 0.4],
-                          "joint": pd.array([pd.NA, pd.NA, pd.NA, 3], dtype="Int64")})
-    res = {("px", 1.0): 0.025, ("px", 2.0): 0.025, ("px", 4.0): 0.025}
+                          "joint": pd.array([pd.NA, pd.NA, pd.NA, 3], dtype="Int64"),
+                          "run": ["px_f1", "px_f2", "px_f4", "px_f4"]})
+    res = {"px_f1": 0.025, "px_f2": 0.025, "px_f4": 0.025}
     timed = classify_peaks(peaks, res)
     assert timed["mechanism"].tolist() == ["temporal", "temporal", "temporal", "gear"]
-    out = classify_peaks(peaks, res, untimed=[("px", 4.0)])
+    out = classify_peaks(peaks, res, untimed=["px_f4"])
     # the untimed run: gear-matched stays gear, the rest unclassified; it witnesses for no
     # other run, so the 1 and 2 mm/s peaks still witness each other
     assert out["mechanism"].tolist() == ["temporal", "temporal", "unclassified", "gear"]
@@ -157,3 +158,41 @@ def test_robomill_import_says_the_stream_has_no_time_base(tmp_path, capsys):
     data["experiment"] = EXPERIMENT
     (raw / "manifest.yaml").write_text(yaml.safe_dump(data))
     assert load_manifest(raw / "manifest.yaml").verify_file("tracker/px_f2.csv").is_file()
+
+
+def test_a_tracker_run_id_is_its_own_key_or_direction_and_feed(tmp_path):
+    """A tracker entry's ``run`` names it; without one it is ``<dir>_f<feed>``; a malformed or
+    repeated id is refused in one line naming the entry (two runs of one direction and feed
+    need their own ids)."""
+    from robomill.experiment import tracker_run
+
+    base = {"kind": "tracker", "direction": "px", "feed_mm_s": 2.0, "fs_hz": 10.0,
+            "sha256": "0" * 64}
+    assert tracker_run(base) == "px_f2"
+    assert tracker_run({**base, "direction": None, "direction_deg": 45}) == "d45_f2"
+    assert tracker_run({**base, "run": "px_f2_repeat"}) == "px_f2_repeat"
+    one, two = {**base, "path": "tracker/a.csv"}, {**base, "path": "tracker/b.csv"}
+    with pytest.raises(RawDataError, match=r"files\[1\] \(tracker/b\.csv\)\.run: tracker run "
+                                           r"id 'px_f2' also names 'tracker/a\.csv'"):
+        parse_manifest({"experiment": EXPERIMENT, "cuts": [], "files": [one, two]},
+                       tmp_path / "manifest.yaml")
+    m = parse_manifest({"experiment": EXPERIMENT, "cuts": [],
+                        "files": [one, {**two, "run": "px_f2_b"}]}, tmp_path / "manifest.yaml")
+    assert [tracker_run(f) for f in m.files] == ["px_f2", "px_f2_b"]
+    with pytest.raises(RawDataError, match=r"run id 'a b' is malformed"):
+        parse_manifest({"experiment": EXPERIMENT, "cuts": [], "files": [{**one, "run": "a b"}]},
+                       tmp_path / "manifest.yaml")
+
+
+def test_repeated_runs_at_one_feed_are_classified_each_by_its_id():
+    """Two runs of +X at 2 mm/s (a repeat, ids a and b) and one at 4 mm/s: each peak's run is
+    found by its id, not by (direction, feed) (which would merge a and b); the 13 Hz line is
+    temporal in all three, the spatial 0.45 mm⁻¹ line with no gear is spatial."""
+    peaks = pd.DataFrame({"run": ["a", "b", "c", "a", "b", "c"], "direction": ["px"] * 6,
+                          "feed_mm_s": [2.0, 2.0, 4.0, 2.0, 2.0, 4.0],
+                          "f_spatial_per_mm": [6.5, 6.5, 3.25, 0.45, 0.45, 0.45],
+                          "joint": pd.array([pd.NA] * 6, dtype="Int64")})
+    out = classify_peaks(peaks, {"a": 1 / 38.0, "b": 1 / 30.0, "c": 1 / 38.0},
+                         untimed=["b"])
+    assert out["mechanism"].tolist() == ["temporal", "unclassified", "temporal",
+                                         "spatial", "unclassified", "spatial"]

@@ -109,6 +109,7 @@ def _analyse(cfg, cell, run):
         gears=cell.gears, tool_rotation=cell.tool_rotation(), q0_rad=cell.q_home_rad, **ANALYSIS)
     peaks.insert(0, "direction", run["direction"])
     peaks.insert(1, "feed_mm_s", run["feed_mm_s"])
+    peaks["run"] = run["run"]
     return spec, peaks
 
 
@@ -121,7 +122,7 @@ def test_a_single_planted_eccentric_gear_is_attributed_to_its_joint_and_stage(ti
     for r in runs:
         spec, peaks = _analyse(cfg, cell, r)
         parts.append(peaks)
-        res[(r["direction"], r["feed_mm_s"])] = spec.resolution_per_mm
+        res[r["run"]] = spec.resolution_per_mm
     peaks = st.classify_peaks(pd.concat(parts, ignore_index=True), res)
     gear = peaks[peaks["mechanism"] == "gear"]
     assert len(gear) == 2  # one per feed
@@ -146,8 +147,9 @@ def test_classification_uses_several_feeds():
         "f_spatial_per_mm": [6.5, 3.25, 1.625, 0.45, 0.45, 0.45],
         "joint": pd.array([pd.NA, pd.NA, pd.NA, 1, 1, pd.NA], dtype="Int64"),
         "stage": ["", "", "", "motor", "motor", ""], "order": ["", "", "", "mesh", "mesh", ""],
-        "gear_f_spatial_per_mm": [np.nan] * 3 + [0.45, 0.45, np.nan]})
-    res = {("py", v): 1 / 38.0 for v in (2.0, 4.0, 8.0)}
+        "gear_f_spatial_per_mm": [np.nan] * 3 + [0.45, 0.45, np.nan],
+        "run": ["py_a", "py_b", "py_c"] * 2})
+    res = {r: 1 / 38.0 for r in ("py_a", "py_b", "py_c")}
     out = st.classify_peaks(peaks, res)
     assert list(out["mechanism"]) == ["temporal"] * 3 + ["gear", "gear", "spatial"]
     np.testing.assert_allclose(out["f_temporal_hz"][:3], 13.0)
@@ -162,16 +164,18 @@ def test_match_tolerance_is_tied_to_resolution():
 
 
 def test_evaluation_counts_found_missed_and_false():
-    peaks = pd.DataFrame({"direction": ["px", "px"], "feed_mm_s": [2.0, 2.0],
+    peaks = pd.DataFrame({"run": ["r1", "r1"], "direction": ["px", "px"],
+                          "feed_mm_s": [2.0, 2.0],
                           "f_spatial_per_mm": [0.5, 0.3], "amplitude_um": [2.0, 1.0],
                           "mechanism": ["gear", "gear"],
                           "joint": pd.array([3, 5], dtype="Int64"),
                           "stage": ["motor", "motor"], "order": ["mesh", "mesh"]})
-    planted = pd.DataFrame({"direction": ["px"] * 3, "feed_mm_s": [2.0] * 3,
+    planted = pd.DataFrame({"run": ["r1"] * 3, "direction": ["px"] * 3,
+                            "feed_mm_s": [2.0] * 3,
                             "joint": [3, 5, 1], "stage": ["motor"] * 3,
                             "order": ["mesh"] * 3, "f_spatial_per_mm": [0.5, 0.3, 0.9],
                             "amplitude_um": [2.0, 0.001, 2.0]})
-    runs = pd.DataFrame({"direction": ["px"], "feed_mm_s": [2.0], "resolution_per_mm": [0.025],
+    runs = pd.DataFrame({"run": ["r1"], "resolution_per_mm": [0.025],
                          "fmin_per_mm": [0.05], "floor_um2": [1e-4]})
     ev = st.evaluate_attribution(peaks, planted, runs, threshold=25, tol_bins=0.5,
                                  fmax_per_mm=20)
@@ -282,8 +286,8 @@ def test_gear_lines_closer_than_the_resolution_are_listed_as_candidates_and_merg
                                       resolution_per_mm=1.0 / L)
     assert not one_bin["merged"].any()
     # a peak classified temporal is attributed to no gear: no candidates
-    peaks2 = out.assign(direction="px", feed_mm_s=[2.0, 2.0, 2.0])
-    res = {("px", 2.0): 1 / L}
+    peaks2 = out.assign(direction="px", feed_mm_s=[2.0, 2.0, 2.0], run="px_f2")
+    res = {"px_f2": 1 / L}
     cls = st.classify_peaks(peaks2, res)
     assert list(cls["mechanism"]) == ["gear", "gear", "unclassified"]
     assert cls["merged"].iloc[0]
@@ -315,7 +319,8 @@ def _planted_run(cell, amp_um, start=(600.0, -170.0, -200.0), length_mm=30.0, fe
     lat = st.perpendicular_axes(u)[0]
     p = (start + np.outer(sp, u) + 1e-3 * np.outer(dev, lat)
          + 0.05e-3 * rng.standard_normal((sp.size, 3)))
-    planted = pd.DataFrame({"direction": "mx", "feed_mm_s": feed, "joint": list(amp_um),
+    planted = pd.DataFrame({"run": "mx_f2", "direction": "mx", "feed_mm_s": feed,
+                            "joint": list(amp_um),
                             "stage": "motor", "order": "mesh",
                             "f_spatial_per_mm": [mesh[j] for j in amp_um],
                             "amplitude_um": list(amp_um.values())})
@@ -332,9 +337,9 @@ def test_two_joints_mesh_lines_within_a_bin_are_flagged_merged_not_missed(teeth3
     t, p, planted = _planted_run(cell, {2: 2.0, 3: 1.5})
     prof, spec, _, peaks = st.analyse_tracker_run(t, p, cell, data_file="mx_f2.csv", **ANALYSIS)
     gap = np.diff(planted["f_spatial_per_mm"].to_numpy())[0] / spec.resolution_per_mm
-    peaks = peaks.assign(direction="mx", feed_mm_s=2.0, mechanism="gear")
+    peaks = peaks.assign(direction="mx", feed_mm_s=2.0, mechanism="gear", run="mx_f2")
     peaks = peaks[peaks["joint"].isin([2, 3])]
-    runs = pd.DataFrame({"direction": ["mx"], "feed_mm_s": [2.0],
+    runs = pd.DataFrame({"run": ["mx_f2"],
                          "resolution_per_mm": [spec.resolution_per_mm], "fmin_per_mm": [0.05],
                          "floor_um2": [float(np.median(spec.power_um2[spec.f_per_mm > 0.05]))]})
     ev = st.evaluate_attribution(peaks, planted, runs, threshold=25, tol_bins=0.5,
@@ -374,8 +379,7 @@ def test_run_summary_table_rms_largest_peak_and_counts():
                       coords={"run": ["mx_f2", "d45_f6"], "component": ["lateral", "vertical"],
                               "s": s, "direction": ("run", ["mx", "d45"]),
                               "feed_mm_s": ("run", [2.0, 6.0])})
-    peaks = pd.DataFrame({"direction": ["mx", "mx", "mx", "py"],
-                          "feed_mm_s": [2.0, 2.0, 2.0, 2.0],
+    peaks = pd.DataFrame({"run": ["mx_f2", "mx_f2", "mx_f2", "py_f2"],
                           "amplitude_um": [3.0, 1.0, 0.2, 9.0],
                           "f_spatial_per_mm": [0.5, 0.2, 1.0, 0.1],
                           "mechanism": ["gear", "gear", "temporal", "gear"]})

@@ -19,8 +19,7 @@ def test_a_planted_line_stands_out_in_its_band_only():
                       coords={"run": ["a", "b"], "f": f,
                               "direction": ("run", ["py", "my"]),
                               "feed_mm_s": ("run", [8.0, 10.0])})
-    pk = pd.DataFrame({"direction": ["py", "py", "my"], "feed_mm_s": [8.0, 8.0, 10.0],
-                       "f_spatial_per_mm": [8.0, 3.0, 7.9]})
+    pk = pd.DataFrame({"run": ["a", "a", "b"], "f_spatial_per_mm": [8.0, 3.0, 7.9]})
     t = band_floor_table(prof, pk, (7.0, 9.0), (17.0, 19.0))
     assert t["peak_to_floor_in_band"].tolist() == pytest.approx([500.0, 1.0])
     assert t["peak_to_floor_noise_band"].tolist() == pytest.approx([1.0, 1.0])

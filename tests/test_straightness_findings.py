@@ -31,8 +31,9 @@ def _peaks(line_at_8=True):
             ("py", 2.0, 6.5, 13.0, 1.5, "temporal"), ("py", 10.0, 1.3, 13.0, 1.7, "temporal")]
     if line_at_8:
         rows.append(("py", 2.0, 8.0, 16.0, 28.0, "unclassified"))
-    return pd.DataFrame(rows, columns=["direction", "feed_mm_s", "f_spatial_per_mm",
-                                       "f_temporal_hz", "amplitude_um", "mechanism"])
+    out = pd.DataFrame(rows, columns=["direction", "feed_mm_s", "f_spatial_per_mm",
+                                      "f_temporal_hz", "amplitude_um", "mechanism"])
+    return out.assign(run=np.where(out["feed_mm_s"] == 2.0, "a", "b"))
 
 
 def test_findings_from_planted_runs():

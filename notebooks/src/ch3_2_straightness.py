@@ -16,7 +16,6 @@ gears: str = None  # results/straightness/gears.csv
 profiles: str = None  # results/straightness/profiles.nc
 truth_check: str = None  # results/straightness/truth_check.csv
 surface_peaks: str = None  # results/surface/peaks.csv (chapter 2)
-cuts: str = None  # results/ingest/cuts.csv
 settings: dict = None  # config straightness section
 synthetic: bool = None  # data source is the virtual cell
 experiment: dict = None  # the manifest's experiment defaults (spindle_rpm, flutes, ...)
@@ -132,17 +131,18 @@ if untimed:  # spatial-only streams: why their peaks are not classified temporal
 
 
 # %%
-def run_of(direction, feed):
-    sel = runs[(runs.direction == direction) & np.isclose(runs.feed_mm_s, feed)]
-    return sel.index[0]
+def runs_of(direction):
+    """The runs (ids, the join key) of a direction, slowest feed first."""
+    return runs[runs.direction == direction].sort_values("feed_mm_s", kind="stable").index
 
 
 def deviation_figure(direction, number, key):
-    feeds = sorted(runs[runs.direction == direction].feed_mm_s)
-    fig, axes = plt.subplots(len(feeds), 1, figsize=(7.5, 1.6 * len(feeds) + 0.6), sharex=True,
+    ids = runs_of(direction)
+    fig, axes = plt.subplots(len(ids), 1, figsize=(7.5, 1.6 * len(ids) + 0.6), sharex=True,
                              squeeze=False)
-    for ax, v in zip(axes[:, 0], feeds, strict=True):
-        ds = prof.sel(run=run_of(direction, v))
+    for ax, r in zip(axes[:, 0], ids, strict=True):
+        ds = prof.sel(run=r)
+        v = runs.feed_mm_s[r]
         n_avg = max(1, int(round(0.1 / float(ds.attrs.get("ds_mm", prof.s[1] - prof.s[0])))))
         for k, comp in enumerate(ds.component.values):
             y = ds.deviation_um.sel(component=comp).values
@@ -162,15 +162,13 @@ def deviation_figure(direction, number, key):
 
 
 def psd_figure(direction, number, fmax, key, title):
-    feeds = sorted(runs[runs.direction == direction].feed_mm_s)
     fig, ax = plt.subplots(figsize=(7.5, 4.2))
-    for k, v in enumerate(feeds):
-        r = run_of(direction, v)
-        ds = prof.sel(run=r)
+    for k, r in enumerate(runs_of(direction)):
+        ds, v = prof.sel(run=r), runs.feed_mm_s[r]
         keep = ds.f <= fmax
         ax.semilogy(ds.f[keep], ds.power_um2.where(keep, drop=True), lw=0.7,
                     label=f"{v:g} mm/s", color=f"C{k}")
-        mine = pk[(pk.direction == direction) & np.isclose(pk.feed_mm_s, v)]
+        mine = pk[pk.run == r]
         for _, p in mine[mine.f_spatial_per_mm <= fmax].iterrows():
             ax.plot(p.f_spatial_per_mm, p.amplitude_um**2 / 2, "v" if p.mechanism == "gear"
                     else "o", color=f"C{k}", ms=5)
@@ -280,16 +278,15 @@ display(tab.round(4))
 # %% [markdown]
 # ## Peak → gear attribution, and presence on the surface
 #
-# A tracker peak is on the surface when chapter 2 lists a waviness peak in a cut of the same
-# direction and feed within the coarser of the two resolutions.
+# A tracker peak is on the surface when chapter 2 lists a waviness peak, within the coarser of
+# the two resolutions, on the surface of the cut whose path its run followed.
 
 # %%
 sp = pd.read_csv(surface_peaks)
-cut_table = pd.read_csv(cuts)
 tol = float(settings["tol_bins"]) * max(
     float(runs.resolution_per_mm.max()),
     1.0 / 15.0)  # surface profiles of 15 mm or more: 1/15 mm⁻¹ (the thesis' f0)
-xc = surface_cross_check(gear_pk, sp, cut_table, tolerance_per_mm=tol)
+xc = surface_cross_check(gear_pk, sp, tolerance_per_mm=tol)
 HAS_MERGED = {"candidates", "merged"} <= set(xc.columns)  # peaks.csv since issue 21
 table = xc.assign(direction=xc.direction.map(lambda d: LABELS.get(d, d)),
                   on_surface=xc.on_surface.map({True: "yes", False: "no"}))[

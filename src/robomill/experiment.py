@@ -61,6 +61,16 @@ def tracker_run_id(direction: str, feed_mm_s: float) -> str:
     return f"{direction}_f{float(feed_mm_s):g}"
 
 
+def tracker_run(entry: Mapping[str, Any]) -> str:
+    """The id of a tracker run (manifest entry of kind ``tracker``): its own ``run`` key, or
+    :func:`tracker_run_id` of its direction and feed. The one key that joins a run's
+    artefacts (``results/straightness/runs/<run>.nc``, the ``run`` column of ``peaks.csv``
+    and ``gears.csv``, the ``run`` coordinate of ``profiles.nc``) downstream of ingestion."""
+    if entry.get("run") is not None:
+        return str(entry["run"])
+    return tracker_run_id(tracker_direction(entry), entry["feed_mm_s"])
+
+
 @dataclass(frozen=True)
 class Cut:
     """One straight cut: its identity and process parameters.

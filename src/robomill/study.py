@@ -18,7 +18,7 @@ from typing import Any
 import yaml
 
 from robomill.errors import RawDataError
-from robomill.experiment import Cut, cut_process
+from robomill.experiment import Cut, cut_process, tracker_run
 from robomill.io.manifest import SAFE_LOADER, Manifest, parse_manifest
 
 HEADER = ("# The study as the analyses read it (robomill.study): written by the ingestion rule\n"
@@ -36,7 +36,8 @@ def resolved_process(cut: Cut, experiment: dict[str, Any]) -> dict[str, Any] | N
 
 def study_dict(manifest: Manifest) -> dict[str, Any]:
     """The mapping written to ``study.yaml``: where the manifest is, the experiment, every
-    cut with its resolved ``process``, the files with their metadata and sha256, the cell
+    cut with its resolved ``process``, the files with their metadata and sha256 (a tracker
+    run with its ``run`` id, :func:`robomill.experiment.tracker_run`), the cell
     file, and the manifest's other top-level keys (``extra``)."""
     cuts = []
     for c in manifest.cuts:
@@ -49,7 +50,8 @@ def study_dict(manifest: Manifest) -> dict[str, Any]:
         "cell": manifest.cell_file,
         "experiment": dict(manifest.experiment),
         "cuts": cuts,
-        "files": [dict(f) for f in manifest.files],
+        "files": [({**f, "run": tracker_run(f)} if f["kind"] == "tracker" else dict(f))
+                  for f in manifest.files],
         "extra": dict(manifest.extra),
     }
 

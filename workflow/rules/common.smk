@@ -1,6 +1,7 @@
 # Helpers shared by the rules: where raw data comes from, the study plan, target lists.
 # Keep this file small: computation lives in src/robomill/.
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -10,7 +11,7 @@ from robomill.experiment import (
     is_thesis_study,
     missing_data,
     tracker_direction,
-    tracker_run_id,
+    tracker_run,
 )
 from robomill.io.cell import peek_robot_name
 from robomill.io.errors import RawDataError

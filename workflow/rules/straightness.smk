@@ -1,11 +1,8 @@
 # Stage 'straightness' (chapter 3.2, issue 5): laser-tracker runs re-ordered in space, their
 # spectra in 1/mm, gear spatial frequencies and peak -> gear attribution.
 # One simulator job and one analysis job per tracker run, then one gather job.
-TRACKER_RUNS = {
-    tracker_run_id(tracker_direction(f), f["feed_mm_s"]): f
-    for f in RAW_FILES
-    if f["kind"] == "tracker"
-}
+# (keyed by the run id of robomill.experiment.tracker_run: the one key of a run downstream)
+TRACKER_RUNS = {tracker_run(f): f for f in RAW_FILES if f["kind"] == "tracker"}
 
 
 rule straightness_run:
@@ -22,7 +19,7 @@ rule straightness_run:
     benchmark:
         "results/benchmarks/rules/straightness/run_{run}.tsv"
     wildcard_constraints:
-        run="(px|mx|py|my|d-?[0-9.]+)_f[0-9.]+",
+        run="|".join(map(re.escape, TRACKER_RUNS)) or "no_tracker_run",
     conda:
         ENV
     params:
@@ -34,6 +31,7 @@ rule straightness_run:
         fs_hz=lambda w: TRACKER_RUNS[w.run].get("fs_hz"),
         time_base=lambda w: TRACKER_RUNS[w.run].get("time_base", "time"),
         cut=lambda w: TRACKER_RUNS[w.run].get("cut", ""),
+        run=lambda w: w.run,
     script:
         "../scripts/straightness_run.py"
 
@@ -135,7 +133,6 @@ use rule chapter as ch3_straightness with:
         profiles="results/straightness/profiles.nc",
         truth_check="results/straightness/truth_check.csv",
         surface_peaks="results/surface/peaks.csv",
-        cuts="results/ingest/cuts.csv",
     output:
         **chapter_outputs("ch3_straightness"),
     log:

@@ -14,10 +14,7 @@ SYNTH_FORCE_FORMAT = config["synth"]["dynamometer"]["format"]
 SYNTH_FILES = {}
 for _f in RAW_FILES if SYNTHETIC else []:
     SYNTH_FILES.setdefault(_f["kind"], []).append(_f)
-SYNTH_TRACKER_RUNS = {
-    tracker_run_id(f["direction"], f["feed_mm_s"]): f
-    for f in SYNTH_FILES.get("tracker", [])
-}
+SYNTH_TRACKER_RUNS = {tracker_run(f): f for f in SYNTH_FILES.get("tracker", [])}
 
 
 rule synth_cell:
@@ -104,7 +101,7 @@ rule straightness_synth_tracker:
     benchmark:
         "results/benchmarks/rules/straightness/synth_{run}.tsv"
     wildcard_constraints:
-        run="(px|mx|py|my)_f[0-9.]+",
+        run="|".join(map(re.escape, SYNTH_TRACKER_RUNS)) or "no_tracker_run",
     conda:
         ENV
     params:

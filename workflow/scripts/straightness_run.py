@@ -42,13 +42,15 @@ fmin = opt["fmin_cycles"] * spec.resolution_per_mm
 band = (spec.f_per_mm >= fmin) & (spec.f_per_mm <= opt["fmax_per_mm"])
 ds = profile_dataset(prof, spec, fmax_store_per_mm=opt["fmax_store_per_mm"],
                      attrs={**meta, "fmin_per_mm": fmin,
-                            "floor_um2": float(np.median(spec.power_um2[band]))})
+                            "floor_um2": float(np.median(spec.power_um2[band])),
+                            "run": p.run})
 write_artefact(ds, snakemake.output.nc, rule="straightness_run", inputs=[snakemake.input.raw],
                config_section=opt)
-write_table(pd.concat([pd.DataFrame([meta] * len(peaks)), peaks], axis=1),
+# the run id, the one key joining the run's rows downstream, last (after the contract's columns)
+write_table(pd.concat([pd.DataFrame([meta] * len(peaks)), peaks], axis=1).assign(run=p.run),
             snakemake.output.peaks)
-write_table(pd.concat([pd.DataFrame([meta] * len(gears)), gears], axis=1),
+write_table(pd.concat([pd.DataFrame([meta] * len(gears)), gears], axis=1).assign(run=p.run),
             snakemake.output.gears)
-log.info("%s_f%g: %d samples, L = %.2f mm, v = %.3f mm/s, %d peaks (%d gear-matched)",
-         p.direction, p.feed_mm_s, t.size, prof.length_mm, prof.speed_mm_s, len(peaks),
+log.info("%s: %d samples, L = %.2f mm, v = %.3f mm/s, %d peaks (%d gear-matched)",
+         p.run, t.size, prof.length_mm, prof.speed_mm_s, len(peaks),
          int(peaks["joint"].notna().sum()))

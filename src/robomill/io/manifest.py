@@ -21,7 +21,14 @@ from typing import Any
 import yaml
 
 from robomill.errors import RawDataError
-from robomill.experiment import CUT_ID, DIRECTION_VECTORS, FREE_CUT_ID, MILLING, Cut
+from robomill.experiment import (
+    CUT_ID,
+    DIRECTION_VECTORS,
+    FREE_CUT_ID,
+    MILLING,
+    Cut,
+    tracker_run,
+)
 from robomill.io.hashing import sha256_file
 from robomill.io.needs import (
     chapter_list,
@@ -228,6 +235,24 @@ def _check_tracker_direction(path: Path, where: str, f: Mapping[str, Any]) -> No
                            where=f"{where}.direction_deg", expected="a number [deg]")
 
 
+def _check_tracker_run(path: Path, where: str, f: Mapping[str, Any],
+                       earlier: list[dict[str, Any]]) -> None:
+    """A tracker run's id (its optional ``run`` key, else ``<direction>_f<feed>``,
+    :func:`robomill.experiment.tracker_run`): a name of letters, digits, ``_ . -``, and
+    each run's id once (two runs of one direction at one feed need their own ``run``)."""
+    run = f.get("run")
+    if run is not None and (not isinstance(run, str) or not FREE_CUT_ID.match(run)):
+        raise RawDataError(path, f"run id {run!r} is malformed", where=f"{where}.run",
+                           expected="letters, digits, '_', '.', '-' only ([A-Za-z0-9_.-]+)")
+    rid = tracker_run(f)
+    for g in earlier:
+        if g["kind"] == "tracker" and tracker_run(g) == rid:
+            raise RawDataError(path, f"tracker run id {rid!r} also names {g['path']!r}",
+                               where=f"{where}.run",
+                               expected="a distinct run key for each tracker run of one "
+                                        "direction and feed")
+
+
 def _parse_cut(path: Path, where: str, c: Mapping[str, Any], seen: Mapping[str, int]) -> Cut:
     """One ``cuts`` entry: required keys, optional grouping/direction/process keys."""
     unknown = sorted(set(c) - set(CUT_KEYS) - set(CUT_OPTIONAL_KEYS))
@@ -364,6 +389,7 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True,
         _check_keys(path, f"{where} ({f['path']})", f, required)
         if f["kind"] == "tracker":
             _check_tracker_direction(path, f"{where} ({f['path']})", f)
+            _check_tracker_run(path, f"{where} ({f['path']})", f, files)
             if f.get("time_base", "none") != "none":
                 raise RawDataError(path, f"time_base is {f['time_base']!r}",
                                    where=f"{where} ({f['path']}).time_base",

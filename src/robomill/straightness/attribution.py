@@ -110,13 +110,13 @@ NO_TIME_BASE = ("a stream without a time base (a distance- or event-triggered tr
 chapter prints it)."""
 
 
-def classify_peaks(peaks: pd.DataFrame, resolution_per_mm: Mapping[tuple[str, float], float],
+def classify_peaks(peaks: pd.DataFrame, resolution_per_mm: Mapping[str, float],
                    *, tol_bins: float = 1.0, min_other_feeds: int = 1,
-                   untimed: Collection[tuple[str, float]] = ()) -> pd.DataFrame:
+                   untimed: Collection[str] = ()) -> pd.DataFrame:
     """Classify every peak as ``gear``, ``temporal``, ``spatial`` or ``unclassified``.
 
     For a peak at spatial frequency f in the run (direction d, feed v), the other runs of
-    the same direction are searched for a peak not attributed to a gear at the same
+    the same direction at another feed are searched for a peak not attributed to a gear at the same
     *temporal* frequency ``f·v`` (within ``tol_bins`` temporal resolutions ``v/L`` of either
     run) and for any peak at the same *spatial* frequency (within ``tol_bins`` spatial
     resolutions 1/L). Seen at the same temporal frequency, and not at the same spatial
@@ -127,29 +127,29 @@ def classify_peaks(peaks: pd.DataFrame, resolution_per_mm: Mapping[tuple[str, fl
     one seen at the same spatial frequency at other feeds but with no gear is ``spatial``;
     the rest ``unclassified``.
 
-    ``peaks`` needs ``direction, feed_mm_s, f_spatial_per_mm`` and ``joint`` (from
-    :func:`match_peaks_to_gears`); ``resolution_per_mm`` maps (direction, feed) to 1/L.
-    The runs ``untimed`` (direction, feed) have no time base (:data:`NO_TIME_BASE`): their
+    ``peaks`` needs ``run, direction, feed_mm_s, f_spatial_per_mm`` and ``joint`` (from
+    :func:`match_peaks_to_gears`); ``resolution_per_mm`` maps each run id to 1/L.
+    The runs ``untimed`` (run ids) have no time base (:data:`NO_TIME_BASE`): their
     peaks are ``gear`` or ``unclassified``, never ``temporal``/``spatial``, and witness for
     no other run.
     """
-    untimed = {(d, float(v)) for d, v in untimed}
+    untimed = {str(r) for r in untimed}
     out = peaks.copy()
     out["f_temporal_hz"] = out["f_spatial_per_mm"] * out["feed_mm_s"]
     mech = []
     for _, p in out.iterrows():
-        d, v, f = p["direction"], float(p["feed_mm_s"]), float(p["f_spatial_per_mm"])
-        res_p = resolution_per_mm[(d, v)]
-        if (d, v) in untimed:
+        run, d = str(p["run"]), p["direction"]
+        v, f = float(p["feed_mm_s"]), float(p["f_spatial_per_mm"])
+        res_p = resolution_per_mm[run]
+        if run in untimed:
             mech.append("unclassified" if pd.isna(p["joint"]) else "gear")
             continue
         others = out[(out["direction"] == d) & (out["feed_mm_s"] != v)
-                     & ~np.array([(d, float(x)) in untimed for x in out["feed_mm_s"]],
-                                 dtype=bool)]
+                     & ~out["run"].astype(str).isin(untimed)]
         same_t, same_s = set(), set()
         for _, o in others.iterrows():
             vo = float(o["feed_mm_s"])
-            res_o = resolution_per_mm[(d, vo)]
+            res_o = resolution_per_mm[str(o["run"])]
             tol_t = tol_bins * max(res_p * v, res_o * vo)
             tol_s = tol_bins * max(res_p, res_o)
             if abs(float(o["f_temporal_hz"]) - f * v) <= tol_t and pd.isna(o["joint"]):

@@ -45,8 +45,8 @@ def straightness_findings(profiles: xr.Dataset, peaks: pd.DataFrame, *,
         ``results/straightness/profiles.nc`` (``power_um2(run, f)``; ``direction``,
         ``feed_mm_s`` on ``run``).
     peaks
-        ``results/straightness/peaks.csv`` (``direction, feed_mm_s, f_spatial_per_mm,
-        f_temporal_hz, amplitude_um, mechanism``).
+        ``results/straightness/peaks.csv`` (``run, direction, feed_mm_s, f_spatial_per_mm,
+        f_temporal_hz, amplitude_um, mechanism``; ``run`` joins a peak to its run).
     surface_band_per_mm, fmax_store_per_mm
         ``straightness.surface_band_per_mm`` (the roughness band of the surfaces) and
         ``straightness.fmax_store_per_mm`` (the top of the stored spectra).
@@ -74,7 +74,7 @@ def straightness_findings(profiles: xr.Dataset, peaks: pd.DataFrame, *,
     found.add("n_gear_peaks", int(len(gear)), artefact=_PEAKS, what="mechanism = gear")
     found.add("gear_f_range_per_mm", _span(gear["f_spatial_per_mm"]), "1/mm", artefact=_PEAKS,
               what="f_spatial_per_mm[mechanism = gear]")
-    main = (gear.loc[gear.groupby(["direction", "feed_mm_s"])["amplitude_um"].idxmax()]
+    main = (gear.loc[gear.groupby("run")["amplitude_um"].idxmax()]
             if len(gear) else gear)
     found.add("gear_main_wavelength_mm_range",
               _span(1.0 / main["f_spatial_per_mm"].to_numpy(float)) if len(main) else None,

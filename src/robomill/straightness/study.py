@@ -129,7 +129,8 @@ def gather_profiles(runs: Sequence[xr.Dataset], run_ids: Sequence[str]) -> xr.Da
                                {"units": "1", "long_name": "time base of the stream (none: "
                                 "analysed in space only)"})
     prof = xr.concat(parts, dim="run", join="outer").assign_coords(coords)
-    prof["run"].attrs = {"units": "1", "long_name": "tracker run <dir>_f<feed>"}
+    prof["run"].attrs = {"units": "1",
+                         "long_name": "tracker run id (manifest run, else <dir>_f<feed>)"}
     return prof
 
 
@@ -146,26 +147,21 @@ def gather_peaks(per_run: Sequence[pd.DataFrame], profiles: xr.Dataset, *,
     """All runs' peaks, classified across feeds (:func:`classify_peaks`) with each run's
     resolution from ``profiles`` (:func:`gather_profiles`); columns :data:`PEAK_COLUMNS`
     (plus ``n_candidates``, ``candidates``, ``merged`` when present, and ``time_base`` when a
-    run has none: its peaks are not classified temporal/spatial, :data:`NO_TIME_BASE`)."""
+    run has none: its peaks are not classified temporal/spatial, :data:`NO_TIME_BASE`), then
+    ``run``: each row's run id, the key that joins it to ``profiles``'s ``run``."""
     peaks = pd.concat(list(per_run), ignore_index=True)
     peaks["joint"] = peaks["joint"].astype("Int64")
     peaks[["stage", "order"]] = peaks[["stage", "order"]].fillna("")
     if "candidates" in peaks:
         peaks["candidates"] = peaks["candidates"].fillna("")
         peaks["merged"] = peaks["merged"].astype(bool)
-    res = {(d, float(v)): float(x) for d, v, x in zip(profiles["direction"].values,
-                                                      profiles["feed_mm_s"].values,
-                                                      profiles["resolution_per_mm"].values,
-                                                      strict=True)}
+    runs = [str(r) for r in profiles["run"].values]
+    res = dict(zip(runs, profiles["resolution_per_mm"].values.astype(float), strict=True))
     untimed = []
     if "time_base" in profiles.coords:
-        untimed = [(d, float(v)) for d, v, b in zip(profiles["direction"].values,
-                                                    profiles["feed_mm_s"].values,
-                                                    profiles["time_base"].values, strict=True)
+        untimed = [r for r, b in zip(runs, profiles["time_base"].values, strict=True)
                    if b == "none"]
-        peaks["time_base"] = ["none" if (d, float(v)) in untimed else "time"
-                              for d, v in zip(peaks["direction"], peaks["feed_mm_s"],
-                                              strict=True)]
+        peaks["time_base"] = ["none" if r in untimed else "time" for r in peaks["run"]]
     peaks = classify_peaks(peaks, res, tol_bins=tol_bins, untimed=untimed)
     extra = [c for c in ("n_candidates", "candidates", "merged", "time_base") if c in peaks]
-    return peaks[PEAK_COLUMNS + extra]
+    return peaks[PEAK_COLUMNS + extra + ["run"]]

@@ -12,22 +12,19 @@ import xarray as xr
 # ---------------------------------------------------------------------------------------------
 # cross-checks (chapter)
 # ---------------------------------------------------------------------------------------------
-def surface_cross_check(peaks: pd.DataFrame, surface_peaks: pd.DataFrame, cuts: pd.DataFrame,
-                        *, tolerance_per_mm: float) -> pd.DataFrame:
+def surface_cross_check(peaks: pd.DataFrame, surface_peaks: pd.DataFrame, *,
+                        tolerance_per_mm: float) -> pd.DataFrame:
     """Mark every tracker peak present on the surface (yes/no).
 
-    A tracker peak of (direction, feed) is on the surface when a peak of
-    ``results/surface/peaks.csv`` (``cut, f_spatial_per_mm, …``) in a cut of the same
-    direction and feed (``cuts``: ``cut, direction, feed_mm_s``) lies within
-    ``tolerance_per_mm``. Adds ``on_surface`` (bool) and ``surface_f_per_mm`` (nearest).
+    A tracker peak is on the surface when a peak of ``results/surface/peaks.csv``
+    (``cut, f_spatial_per_mm, …``) of the cut whose path its run followed (the peak's
+    ``cut``: the join key, no feed compared) lies within ``tolerance_per_mm``. Adds
+    ``on_surface`` (bool) and ``surface_f_per_mm`` (nearest).
     """
-    # only the contract columns of the surface table (it may carry more, e.g. its own feed)
-    sp = surface_peaks[["cut", "f_spatial_per_mm"]].merge(
-        cuts[["cut", "direction", "feed_mm_s"]], on="cut", how="left")
+    sp = surface_peaks[["cut", "f_spatial_per_mm"]]
     on, fnear = [], []
     for _, p in peaks.iterrows():
-        cand = sp[(sp["direction"] == p["direction"])
-                  & np.isclose(sp["feed_mm_s"].astype(float), float(p["feed_mm_s"]))]
+        cand = sp[sp["cut"].astype(str) == str(p["cut"])]
         if cand.empty:
             on.append(False)
             fnear.append(np.nan)
@@ -61,7 +58,7 @@ def band_floor_table(profiles: xr.Dataset, peaks: pd.DataFrame, band: tuple[floa
     For each run of ``profiles`` (``power_um2(run, f)`` with coordinates ``direction,
     feed_mm_s`` on ``run``), :func:`band_peak_ratio` against the median power from
     ``floor_from_per_mm`` to the top of the spectrum, in ``band`` and in ``quiet``, and the
-    number of ``peaks`` (``direction, feed_mm_s, f_spatial_per_mm``) of that run in ``band``.
+    number of ``peaks`` (``run, f_spatial_per_mm``) of that run in ``band``.
 
     Returns
     -------
@@ -79,8 +76,7 @@ def band_floor_table(profiles: xr.Dataset, peaks: pd.DataFrame, band: tuple[floa
         rows.append({"direction": direction, "feed_mm_s": feed,
                      "peak_to_floor_in_band": band_peak_ratio(f, pw, band, ref),
                      "peak_to_floor_noise_band": band_peak_ratio(f, pw, quiet, ref),
-                     "peaks_in_band": int(((peaks["direction"] == direction)
-                                           & np.isclose(peaks["feed_mm_s"], feed)
+                     "peaks_in_band": int(((peaks["run"].astype(str) == str(r))
                                            & peaks["f_spatial_per_mm"].between(*band)).sum())})
     return pd.DataFrame(rows, columns=["direction", "feed_mm_s", "peak_to_floor_in_band",
                                        "peak_to_floor_noise_band", "peaks_in_band"])
@@ -96,8 +92,8 @@ def run_summary_table(profiles: xr.Dataset, peaks: pd.DataFrame) -> pd.DataFrame
         ``results/straightness/profiles.nc`` (:func:`gather_profiles`): ``deviation_um`` over
         (run, component, s) and the run coordinates ``direction``, ``feed_mm_s``.
     peaks
-        ``results/straightness/peaks.csv`` (:func:`gather_peaks`), with ``direction``,
-        ``feed_mm_s``, ``amplitude_um``, ``f_spatial_per_mm``, ``mechanism``.
+        ``results/straightness/peaks.csv`` (:func:`gather_peaks`), with ``run``,
+        ``amplitude_um``, ``f_spatial_per_mm``, ``mechanism``.
 
     Returns
     -------
@@ -114,11 +110,7 @@ def run_summary_table(profiles: xr.Dataset, peaks: pd.DataFrame) -> pd.DataFrame
     for comp in profiles["component"].values:
         rms = np.sqrt((dev.sel(component=comp) ** 2).mean("s", skipna=True))
         table[f"rms_{comp}_um"] = rms.values
-    key = {(str(d), round(float(v), 9)): r for r, d, v in
-           zip(table.run, table.direction, table.feed_mm_s, strict=True)}
-    pk = peaks.assign(run=[key.get((str(d), round(float(v), 9))) for d, v in
-                           zip(peaks.direction, peaks.feed_mm_s, strict=True)])
-    pk = pk[pk["run"].notna()]
+    pk = peaks[peaks["run"].astype(str).isin(table["run"].astype(str))]
     top = pk.loc[pk.groupby("run").amplitude_um.idxmax()] if len(pk) else pk
     table = table.merge(pd.DataFrame({
         "run": top["run"], "largest_peak_um": top["amplitude_um"],

@@ -20,10 +20,10 @@ def evaluate_attribution(peaks: pd.DataFrame, planted: pd.DataFrame, runs: pd.Da
                          margin: float = 2.0) -> pd.DataFrame:
     """Compare the gear attributions with the planted truth (synthetic runs only).
 
-    Every planted gear element of every run (``planted``: ``direction, feed_mm_s, joint,
-    stage, order, f_spatial_per_mm, amplitude_um``) is put in one class, from its power
-    ``A²/2`` and the run's noise floor ``floor_um2`` (``runs``: ``direction, feed_mm_s,
-    resolution_per_mm, fmin_per_mm, floor_um2``):
+    Every planted gear element of every run (``planted``: ``run, direction, feed_mm_s,
+    joint, stage, order, f_spatial_per_mm, amplitude_um``) is put in one class, from its power
+    ``A²/2`` and the run's noise floor ``floor_um2`` (``runs``: ``run, resolution_per_mm,
+    fmin_per_mm, floor_um2``; peaks and runs joined to it by ``run``):
 
     * ``out_of_band`` — below ``fmin`` (fewer cycles than the record resolves) or above
       ``fmax_per_mm``;
@@ -42,8 +42,8 @@ def evaluate_attribution(peaks: pd.DataFrame, planted: pd.DataFrame, runs: pd.Da
     rows = []
     gear_peaks = peaks[peaks["mechanism"] == "gear"]
     for _, g in planted.iterrows():
-        key = (g["direction"], float(g["feed_mm_s"]))
-        run = runs[(runs["direction"] == key[0]) & np.isclose(runs["feed_mm_s"], key[1])]
+        rid = str(g["run"])
+        run = runs[runs["run"].astype(str) == rid]
         if run.empty:
             continue
         run = run.iloc[0]
@@ -58,8 +58,7 @@ def evaluate_attribution(peaks: pd.DataFrame, planted: pd.DataFrame, runs: pd.Da
             cls = "below_noise"
         else:
             cls = "marginal"
-        mine = gear_peaks[(gear_peaks["direction"] == key[0])
-                          & np.isclose(gear_peaks["feed_mm_s"].astype(float), key[1])]
+        mine = gear_peaks[gear_peaks["run"].astype(str) == rid]
         exact = mine[(mine["joint"].astype("Int64") == int(g["joint"]))
                      & (mine["stage"] == g["stage"]) & (mine["order"] == g["order"])]
         tol = tol_bins * float(run["resolution_per_mm"])
@@ -69,7 +68,8 @@ def evaluate_attribution(peaks: pd.DataFrame, planted: pd.DataFrame, runs: pd.Da
             listed = mine[np.array([me in parse_candidates(c) for c in mine["candidates"]],
                                    dtype=bool)]
             near = pd.concat([listed, near[~near.index.isin(listed.index)]])
-        rows.append({"direction": key[0], "feed_mm_s": key[1], "joint": int(g["joint"]),
+        rows.append({"direction": g["direction"], "feed_mm_s": float(g["feed_mm_s"]),
+                     "joint": int(g["joint"]),
                      "stage": g["stage"], "order": g["order"], "f_spatial_per_mm": f,
                      "amplitude_um": float(g["amplitude_um"]),
                      "snr_expected": power / floor, "class": cls,
@@ -135,7 +135,7 @@ def truth_check(peaks: pd.DataFrame | None, truth: xr.Dataset | None,
     peaks[["stage", "order"]] = peaks[["stage", "order"]].fillna("")
     if "candidates" in peaks:
         peaks["candidates"] = peaks["candidates"].fillna("")
-    runs = pd.DataFrame({k: profiles[k].values for k in ("direction", "feed_mm_s",
+    runs = pd.DataFrame({k: profiles[k].values for k in ("run", "direction", "feed_mm_s",
                                                           "resolution_per_mm", "fmin_per_mm",
                                                           "floor_um2")})
     ev = evaluate_attribution(peaks, planted_gear_elements(truth), runs,
