@@ -110,3 +110,76 @@ def test_nested_parameters_are_key_value_rows_not_literals():
     assert dict((r[0], r[1]) for r in rows)["experiment.dirs"] == "px, py"
     assert not any("{" in r[1] or "[" in r[1] for r in rows)
     assert parameter_rows("empty", {}, "dict") == [("empty", "(empty)", "dict")]
+
+
+def _sections_chapter(path, n_sections=40):
+    """A chapter of ``n_sections`` headed sections of uneven length, so that headings fall
+    at every height of a page; plus a table of 16 wide columns."""
+    body = []
+    for k in range(n_sections):
+        words = 25 + (k * 37) % 110
+        body.append(f"<h2>Section {k} heading</h2><p>" + f"Body{k} " * words + "</p>")
+    head = "".join(f"<th>col{c}</th>" for c in range(16))
+    rows = "".join("<tr>" + "".join(f"<td>{r}{c:02d}.45678</td>" for c in range(16))
+                   + "</tr>" for r in range(1, 4))
+    body.append(f"<div style='overflow-x:auto'><table><tr>{head}</tr>{rows}</table></div>")
+    path.write_text("<!DOCTYPE html><html><head><meta charset='utf-8'></head><body>"
+                    f"<h1>Chapter Three</h1>{''.join(body)}</body></html>")
+    return path
+
+
+def _print_sections(d, css=None, monkeypatch=None):
+    if css is not None:
+        monkeypatch.setattr(book_print, "_PRINT_CSS", css)
+    page = book_print.print_document([_sections_chapter(d / "ch3_sections.html")],
+                                     d / "book_print.html")
+    book_print.print_pdf(page, d / "book.pdf")
+    return _page_texts(d / "book.pdf")
+
+
+def _headings_at_foot(texts):
+    """Pages whose last line of text (the page number left out) is a section heading."""
+    feet = []
+    for k, t in enumerate(texts, 1):
+        lines = [ln.strip() for ln in t.splitlines() if ln.strip()]
+        if lines and lines[-1].isdigit():
+            lines = lines[:-1]
+        if lines and re.fullmatch(r"Section \d+ heading", lines[-1]):
+            feet.append((k, lines[-1]))
+    return feet
+
+
+@pytest.mark.browser
+def test_no_heading_alone_at_the_foot_of_a_page_and_wide_tables_print_whole(
+        tmp_path, monkeypatch):
+    """Printed, no page ends with a heading (it goes to the next page with its text), and
+    every number of a 16-column table inside a scrolling box is on paper, on a landscape
+    page (a portrait page clipped it from the eighth column on). The same chapter printed
+    without the book's heading rule does leave a heading at a page foot: the check can
+    fail."""
+    if not book_print.find_chromium():
+        missing_system_package("chromium not installed (Debian package chromium)")
+    if not (shutil.which("pdftotext") and shutil.which("pdfinfo")):
+        missing_system_package("pdftotext/pdfinfo not installed (Debian package poppler-utils)")
+    (tmp_path / "book").mkdir()
+    texts = _print_sections(tmp_path / "book")
+    assert len(texts) > 4
+    assert _headings_at_foot(texts) == []
+    words = set(" ".join(texts).split())
+    for r in range(1, 4):
+        for c in range(16):
+            assert f"{r}{c:02d}.45678" in words, (r, c)
+    table_page = next(k for k, t in enumerate(texts, 1) if "115.45678" in t)
+    size = subprocess.run(["pdfinfo", "-f", str(table_page), "-l", str(table_page),
+                           str(tmp_path / "book" / "book.pdf")], capture_output=True,
+                          text=True, check=True).stdout
+    w, h = map(float, re.search(rf"Page\s+{table_page} size:\s+([\d.]+) x ([\d.]+)", size).groups())
+    assert w > h  # landscape
+    assert book_print.table_columns(book_print._TABLE.search(
+        (tmp_path / "book" / "book_print.html").read_text())[0]) == 16
+    # control: without keeping headings with what follows, some page ends with one
+    loose = re.sub(r"\s*h1,h2,h3,h4,h5,h6\{[^}]*\}\n.*?break-after:avoid-page\}\n", "\n",
+                   book_print._PRINT_CSS, flags=re.S)
+    assert loose != book_print._PRINT_CSS
+    (tmp_path / "loose").mkdir()
+    assert _headings_at_foot(_print_sections(tmp_path / "loose", loose, monkeypatch))

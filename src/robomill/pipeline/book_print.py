@@ -4,8 +4,10 @@
 with the study's one-line description (:func:`robomill.pipeline.design_tables.describe_design`),
 a contents list whose entries link to the chapters and carry their page numbers, then each
 chapter on a new page. The print style keeps a heading with what follows it
-(``break-after: avoid``), does not split figures, tables or table rows, wraps wide tables
-instead of clipping them behind a scroll bar, folds the code away and numbers the pages.
+(``break-after: avoid``), does not split figures, tables or table rows, wraps table cells
+instead of clipping them behind a scroll bar, prints a table of more than
+:data:`WIDE_TABLE_COLUMNS` columns on a landscape page (:func:`landscape_wide_tables`), folds
+the code away and numbers the pages.
 
 :func:`print_book` prints that page with headless Chromium twice: CSS ``target-counter()`` is
 not supported by Chromium, so the first print gives the page on which each chapter starts
@@ -33,6 +35,15 @@ CHROMIUM_NAMES = ("chromium", "chromium-browser", "google-chrome", "google-chrom
 #: prints of the book at most, until the contents' page numbers agree with the pages
 MAX_PRINTS = 3
 
+#: a table with more columns than this is printed on a landscape page of its own
+#: (:func:`landscape_wide_tables`): 8 pt numbers of 8–10 characters, ~60 px a column, fill
+#: the 182 mm (≈ 690 px) of a portrait A4 line at about 11 columns
+WIDE_TABLE_COLUMNS = 10
+
+_TABLE = re.compile(r"<table\b.*?</table>", re.S | re.I)
+_ROW = re.compile(r"<tr\b.*?</tr>", re.S | re.I)
+_CELL = re.compile(r"<t[hd]\b", re.I)
+
 _TITLE = re.compile(r"<h1[^>]*>(?P<t>.*?)</h1>", re.S)
 _TAG = re.compile(r"<[^>]+>")
 _BODY = re.compile(r"<body[^>]*>(?P<b>.*)</body>", re.S)
@@ -43,6 +54,7 @@ _PRINT_CSS = """
 @page{size:A4;margin:16mm 14mm 18mm 14mm;
  @bottom-center{content:counter(page);font:9pt system-ui,sans-serif;color:#555}}
 @page front{@bottom-center{content:none}}
+@page wide{size:A4 landscape}
 section.front{page:front}
 section.title{text-align:center;padding-top:28vh;font-family:system-ui,sans-serif}
 section.title .book-title{font-size:2.2em;font-weight:bold;margin-bottom:.8em}
@@ -58,6 +70,9 @@ ol.contents li .page{min-width:2em;text-align:right}
 @media print{
  nav.robomill,details.robomill-code{display:none!important}
  section.chapter{break-before:page}
+ div.wide-table{page:wide}
+ div.wide-table table{max-width:none!important}
+ div.wide-table td,div.wide-table th{overflow-wrap:normal}
  h1,h2,h3,h4,h5,h6{break-after:avoid-page;break-inside:avoid-page}
  .jp-Cell:has(.jp-RenderedMarkdown>:is(h1,h2,h3,h4,h5,h6):last-child){break-after:avoid-page}
  .jp-Cell{break-inside:avoid-page}
@@ -66,7 +81,7 @@ ol.contents li .page{min-width:2em;text-align:right}
  .jp-OutputArea-output,.jp-RenderedHTMLCommon,.jp-RenderedHTML,div{overflow:visible!important}
  table{table-layout:auto!important;width:auto!important;max-width:100%!important;
   font-size:8pt!important}
- td,th{white-space:normal!important;overflow-wrap:break-word;word-break:normal;
+ td,th{white-space:normal!important;overflow-wrap:anywhere;word-break:normal;
   max-width:none!important;padding:.2em .35em!important}
  pre{white-space:pre-wrap!important;overflow-wrap:anywhere}
  a.anchor-link{display:none!important}
@@ -122,12 +137,26 @@ def print_document(chapter_html: Sequence[str | Path], out_html: str | Path, *,
         m = _BODY.search(text)
         body = m["b"] if m else text
         body = re.sub(r'<nav class="robomill">.*?</nav>', "", body, flags=re.S)
+        body = landscape_wide_tables(body)
         parts.append(f'<section class="chapter" id="{path.stem}">{body}</section>')
     out = Path(out_html)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(f"<!DOCTYPE html><html><head>{head_html}<title>{html.escape(title)}</title>"
                    f"<style>{_PRINT_CSS}</style></head><body>{''.join(parts)}</body></html>")
     return out
+
+
+def table_columns(table_html: str) -> int:
+    """Columns of an HTML table: the most cells (``<th>``/``<td>``) in one of its rows."""
+    return max((len(_CELL.findall(r)) for r in _ROW.findall(table_html)), default=0)
+
+
+def landscape_wide_tables(body: str, max_columns: int = WIDE_TABLE_COLUMNS) -> str:
+    """``body`` with every table of more than ``max_columns`` columns wrapped in
+    ``<div class="wide-table">``, which the print style puts on a landscape A4 page (CSS
+    named page ``wide``): printed whole, not clipped at the portrait page's edge."""
+    return _TABLE.sub(lambda m: (f'<div class="wide-table">{m[0]}</div>'
+                                 if table_columns(m[0]) > max_columns else m[0]), body)
 
 
 def find_chromium() -> str | None:
