@@ -112,3 +112,36 @@ def test_check_and_manifest_on_the_tiny_runs_raw_folder(tiny_run, tmp_path, caps
         stated = {"tracker": {"cut"}, "impact": {"range_N", "range_ms2"}}.get(f["kind"], set())
         expected = {k: v for k, v in f.items() if k not in stated}
         assert ours[path] == expected, path
+
+
+def test_another_design_in_the_manifest_reaches_chapters_4_and_5(tiny_run, tmp_path):
+    """A raw folder whose manifest states another spindle speed, tool and depth than the
+    configuration (the tiny config: 28 000 rpm, 2 flutes, 0.25 mm) gets chapter 4's
+    recommendations at its own speed and depth and chapter 5's per-cut stiffness on its own
+    slots (the slot floor at its depth): the design comes from the study, not config.yaml."""
+    import pandas as pd
+    from conftest import raw_copy_of_run
+
+    from robomill.cli import main
+
+    raw = raw_copy_of_run(tiny_run, tmp_path / "raw", config_path=tmp_path / "config.yaml")
+    m = yaml.safe_load((raw / "manifest.yaml").read_text())
+    m["experiment"].update(spindle_rpm=24000, flutes=3)
+    for c in m["cuts"]:
+        c["depth_mm"] = 1.5
+    (raw / "manifest.yaml").write_text(yaml.safe_dump(m, sort_keys=False))
+    assert main(["check", str(raw)]) == 0
+    targets = ["results/chatter/recommendations.csv", "results/stiffness/thesis_slots.csv"]
+    proc = run_snakemake(tmp_path, "-j2", *targets, configfile=tmp_path / "config.yaml")
+    assert proc.returncode == 0, proc.stderr[-4000:]
+    rec = pd.read_csv(tmp_path / targets[0])
+    thesis = rec[rec["kind"] == "thesis"]
+    assert set(thesis["spindle_rpm"]) == {24000} and set(thesis["axial_depth_mm"]) == {1.5}
+    ours = pd.read_csv(tmp_path / targets[1])
+    theirs = pd.read_csv(tiny_run / targets[1])
+    assert set(ours["cut"]) == {c["id"] for c in m["cuts"]}
+    key = ["cut", "model"]
+    both = ours.merge(theirs, on=key, suffixes=("", "_config"))
+    assert len(both) == len(ours)
+    # a slot floor 1.25 mm lower: another pose, another stiffness (same cuts otherwise)
+    assert not np.allclose(both["k_normal_N_m"], both["k_normal_N_m_config"], rtol=1e-6)
