@@ -344,9 +344,13 @@ def run_thesis(modes: pd.DataFrame, coeffs: pd.DataFrame, peaks: pd.DataFrame, c
     regenerative and mode-coupling depths and a_limit_error the discretization error of the
     regenerative depth (sem; none for zoa) or the bisection half-bracket of the mode-coupling
     depth; ``stability_margin_min`` = (a_limit − a_limit_error)/a − 1 is the margin at the
-    pessimistic end of the error and decides ``chatter_free``."""
+    pessimistic end of the error and decides ``chatter_free``. The study's ``spindle_rpm`` is
+    added to the speed grid (``chatter.thesis.spindle_rpm``) where the grid misses it, so that
+    its recommendation rows are at the speed the study cut with."""
     cut = cutting_from_coefficients(coeffs, teeth)
     rpm = speed_grid(cfg["spindle_rpm"])
+    if spindle_rpm is not None and not np.isclose(rpm, spindle_rpm, rtol=1e-9, atol=0).any():
+        rpm = np.sort(np.append(rpm, float(spindle_rpm)))  # the study's own speed, exactly
     dmax = cfg["depth_max_mm"] * 1e-3
     per_dir, mc, rows = [], [], []
     for d in DIRECTIONS:
