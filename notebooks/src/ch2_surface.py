@@ -36,13 +36,13 @@ import matplotlib.pyplot as plt
 import pandas as pd
 from IPython.display import Markdown, display
 
+import robomill.surface.figures as figures
 from robomill.findings import read_findings
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import dominant_wavelengths, per_cut_table
 from robomill.pipeline.prose import Prose, comparison_table, load_templates
 from robomill.plotting import save_figure
-from robomill.surface import figures
 from robomill.surface.tables import DIRECTION_ORDER, path_label, peak_counts, plot_groups
 
 found = read_findings(findings)
@@ -211,7 +211,7 @@ display(Markdown(say("mechanism_waviness", "mechanism_roughness", "levels")))
 # ## Against the thesis
 
 # %%
-display(Markdown(say("against", "thesis_tables")))
+display(Markdown(say("against", "thesis_tables", "rows")))
 comparison_table(found) if found.comparisons else None
 
 # %%
