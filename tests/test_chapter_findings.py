@@ -257,7 +257,7 @@ def test_chapter_2_prose_follows_its_findings():
     assert "2 of 2 waviness peaks are kinematic, median wavelength 4.00 mm" in text
     assert "3 of 3 roughness peaks are dynamic, temporal frequencies 80–88 Hz (10–90 %)" in text
     assert "at least 2.5 periods" in text and "Measured data: no planted truth" in text
-    assert "The waviness is kinematic: 100% of its peaks" in text
+    assert "The waviness is kinematic: 100% of its resolved peaks" in text
     assert "at least 50%, `surface.mechanism_share_min`" in text
     assert "not compared with the thesis'" in text and "virtual cell" not in text
     assert "{" not in text

@@ -107,15 +107,33 @@ def test_peaks_their_mechanism_and_the_threshold_that_decides_it():
     assert v["dynamic_hz_spread"] == pytest.approx([60.0, 80.0])  # quartiles of 50 … 90
     assert v["temporal_quantiles_pct"] == [25.0, 75.0]
     assert v["waviness_kinematic_share"] == 0.75 and v["waviness_dynamic_share"] == 0.0
-    assert v["roughness_dynamic_share"] == pytest.approx(5 / 6)
+    # the peak below resolution (a dynamic one) is no evidence: 4 dynamic of 5 resolved
+    assert v["roughness_dynamic_share"] == pytest.approx(4 / 5)
+    assert v["roughness_kinematic_share"] == pytest.approx(1 / 5)
     assert v["verdict_waviness_mechanism"] == "kinematic"
     assert v["verdict_roughness_mechanism"] == "dynamic"
     assert v["threshold_waviness_mechanism"] == 0.5
     assert f["waviness_mechanism"].config_key == "surface.mechanism_share_min"
     strict = _thesis(settings={**SETTINGS, "mechanism_share_min": 0.8}).values()
     assert strict["verdict_waviness_mechanism"] == "mixed"  # 0.75 < 0.8
-    assert strict["verdict_roughness_mechanism"] == "dynamic"  # 5/6 ≥ 0.8
+    assert strict["verdict_roughness_mechanism"] == "dynamic"  # 4/5 ≥ 0.8
+    stricter = _thesis(settings={**SETTINGS, "mechanism_share_min": 0.85}).values()
+    assert stricter["verdict_roughness_mechanism"] == "mixed"
     assert (v["match_tolerance"], v["min_feed_ratio"]) == (0.2, 1.5)
+
+
+def test_peaks_below_resolution_are_no_evidence_of_a_mechanism():
+    """Every waviness peak below resolution: the waviness has no mechanism ('none'), as in a
+    study of 5 mm profiles whose 2.5 mm waviness has two periods."""
+    peaks = _peaks()
+    peaks["below_resolution"] = peaks["band"] == "waviness"
+    v = surface_findings(_metrics(), peaks, PROFILES, settings=SETTINGS, thesis_layout=True,
+                         synthetic=True).values()
+    assert v["verdict_waviness_mechanism"] == "none"
+    assert v["waviness_kinematic_share"] is None
+    assert v["n_kinematic_waviness"] == 3  # still counted, and flagged
+    assert v["n_below_resolution_waviness"] == 4
+    assert v["roughness_dynamic_share"] == pytest.approx(5 / 6)
 
 
 def test_resolution_flag_fails_with_its_threshold():

@@ -68,7 +68,8 @@ def surface_findings(metrics: pd.DataFrame, peaks: pd.DataFrame, profiles: xr.Da
         ``peaks_resolved`` (pass: no peak has fewer periods in the length its spectrum
         covers), ``mechanism_share_min`` the verdicts ``waviness_mechanism`` and
         ``roughness_mechanism`` (``kinematic``/``dynamic`` when at least that share of the
-        band's peaks have it, ``mixed`` otherwise, ``none`` without peaks) and
+        band's resolved peaks, those not ``below_resolution``, have it, ``mixed`` otherwise,
+        ``none`` without a resolved peak) and
         ``temporal_quantiles`` the spread of the dynamic peaks' temporal frequency.
     thesis_layout, synthetic
         The profiled cuts follow the thesis' design (Tables 2.1/2.2 exist); the data come from
@@ -175,15 +176,19 @@ def surface_findings(metrics: pd.DataFrame, peaks: pd.DataFrame, profiles: xr.Da
               if f_dyn.size else None, "Hz", artefact=_PEAKS,
               what="quantiles of f_temporal_hz[roughness, dynamic]")
     share_min = float(settings["mechanism_share_min"])
+    # a peak below resolution is no evidence of a mechanism (the sanity flag below)
+    resolved = (~peaks["below_resolution"].astype(bool) if "below_resolution" in peaks
+                else pd.Series(True, index=peaks.index))
     for band, rows in (("waviness", wv), ("roughness", rg)):
-        verdict, share = _mechanism_verdict(rows, share_min)
+        verdict, share = _mechanism_verdict(rows[resolved[rows.index]], share_min)
         found.add(f"{band}_kinematic_share", share.get("kinematic"), artefact=_PEAKS,
-                  what=f"share of mechanism = kinematic in band = {band}")
+                  what=f"share of mechanism = kinematic, resolved peaks of band = {band}")
         found.add(f"{band}_dynamic_share", share.get("dynamic"), artefact=_PEAKS,
-                  what=f"share of mechanism = dynamic in band = {band}")
+                  what=f"share of mechanism = dynamic, resolved peaks of band = {band}")
         found.add(f"{band}_mechanism", verdict, verdict=verdict, threshold=share_min,
                   config_key="surface.mechanism_share_min", artefact=_PEAKS,
-                  what=f"mechanism of at least the threshold's share of band = {band}")
+                  what=f"mechanism of at least the threshold's share of the resolved peaks "
+                       f"of band = {band}")
 
     # sanity flag: peaks with too few periods in the length their spectrum covers
     cycles = float(settings["min_peak_cycles"])
