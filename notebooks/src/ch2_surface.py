@@ -141,22 +141,18 @@ for d, rows in plot_groups(met, directions, THESIS_LAYOUT, F["profiles_set"]).it
 
 # %%
 show(figures.spectrum_figure(spec, c0, settings), "spectrum")
-spectra_keys = [f"spectra_set{s}" for s in sets] if THESIS_LAYOUT else ["spectra_all"]
+spectra_figures = ({f"spectra_set{s}": (s, f"Power spectra, set {s}") for s in sets}
+                   if THESIS_LAYOUT else {"spectra_all": (None, "Power spectra of every cut")})
 display(Markdown(say("spectrum", ref_spectrum=num.ref("spectrum"),
-                     ref_spectra=", ".join(num.ref(k) for k in spectra_keys))))
+                     ref_spectra=", ".join(num.ref(k) for k in spectra_figures))))
 
 # %% [markdown]
 # ## Spectra of every cut
 
 # %%
-for s in sets:
-    show(figures.spectra_figure(spec, plot_groups(met, directions, True, s),
-                                f"Power spectra, set {s}", settings, per_feed=True),
-         f"spectra_set{s}")
-if not THESIS_LAYOUT:
-    show(figures.spectra_figure(spec, plot_groups(met, directions, False),
-                                "Power spectra of every cut", settings, per_feed=False),
-         "spectra_all")
+for key, (s, title) in spectra_figures.items():
+    show(figures.spectra_figure(spec, plot_groups(met, directions, THESIS_LAYOUT, s), title,
+                                settings, per_feed=THESIS_LAYOUT), key)
 
 # %% [markdown]
 # ## RMS by the segment method
