@@ -214,3 +214,77 @@ def test_chapter_4_prose_follows_its_findings():
     assert "Case `insperger2004_down005` (`config.yaml: chatter.cases`)." in text
     assert "tool partial frequency 167 Hz" in text and "K_t = 900 MPa" in text
     assert "{" not in text
+
+
+def _surface_findings(**kw):
+    """Three cuts along +X and +Y, roughness 0.1 × feed; two kinematic waviness peaks, three
+    dynamic roughness peaks (robomill.surface.findings)."""
+    from robomill.surface.findings import surface_findings
+    from robomill.surface.options import settings
+
+    metrics = pd.DataFrame({"cut": ["s1_g1_px", "s1_g1_py", "s1_g2_px"], "set": [1, 1, 1],
+                            "segment": [1, 1, 2], "direction": ["px", "py", "px"],
+                            "feed_mm_s": [2.0, 2.0, 5.0], "tilt_um_per_mm": [0.25, 0.5, 1.0],
+                            "waviness_rms_um": [1.5, 7.25, 2.5],
+                            "roughness_rms_um": [0.2, 0.2, 0.5], "Ra_um": [0.1, 0.2, 0.4]})
+    peaks = pd.DataFrame({"cut": ["s1_g1_px", "s1_g2_px", "s1_g1_px", "s1_g2_px", "s1_g1_py"],
+                          "band": ["waviness"] * 2 + ["roughness"] * 3,
+                          "mechanism": ["kinematic"] * 2 + ["dynamic"] * 3,
+                          "f_spatial_per_mm": [0.25, 0.25, 40.0, 16.0, 45.0],
+                          "feed_mm_s": [2.0, 5.0, 2.0, 5.0, 2.0],
+                          "f_temporal_hz": [0.5, 1.25, 80.0, 80.0, 90.0],
+                          "resolution_per_mm": [0.1, 0.1, 4.0, 4.0, 4.0],
+                          "below_resolution": [False] * 5})
+    args = dict(settings=settings({}), thesis_layout=True, synthetic=False, design="3 cuts")
+    return surface_findings(metrics, peaks, xr.Dataset(coords={"x": np.linspace(0, 12, 1201)}),
+                            **{**args, **kw})
+
+
+def test_chapter_2_prose_follows_its_findings():
+    found = _surface_findings()
+    say = Prose(load_templates("ch2"), found)
+    refs = {f"ref_{k}": f"[{k}]" for k in (
+        "detrend", "waviness", "roughness_feed", "profiles", "spectrum", "spectra", "rms",
+        "rms_vs_feed", "peak_counts", "peak_mechanisms", "recovery")}
+    text = " ".join(say(*say.templates, **refs).split())
+    assert "**3 profiles**, 1201 samples each at 100 mm⁻¹ (12.00 mm)" in text
+    assert "Data: measured profiles." in text and "Design of the profiled cuts: 3 cuts." in text
+    assert "tilt removed from s1_g1_px: 0.25 µm/mm" in text
+    assert "at feed 2 and 5 mm/s" in text and "The profiles of set 1" in text
+    assert "waviness RMS 1.50–7.25 µm" in text
+    assert "mean waviness RMS 2.00, 7.25 µm along +X, +Y respectively" in text
+    assert "largest along +Y" in text and "roughness 1.00." in text
+    assert "2 of 2 waviness peaks are kinematic, median wavelength 4.00 mm" in text
+    assert "3 of 3 roughness peaks are dynamic, temporal frequencies 80–88 Hz (10–90 %)" in text
+    assert "at least 2.5 periods" in text and "Measured data: no planted truth" in text
+    assert "The waviness is kinematic: 100% of its resolved peaks" in text
+    assert "at least 50%, `surface.mechanism_share_min`" in text
+    assert "not compared with the thesis'" in text and "virtual cell" not in text
+    assert "{" not in text
+    # altered values: the verdicts and numbers follow
+    found.items["waviness_mechanism"].value = found.items["waviness_mechanism"].verdict = "mixed"
+    found.items["waviness_kinematic_share"].value = 0.3
+    found.items["n_kinematic_waviness"].value = 0
+    found.items["peaks_resolved"].verdict = "fail"
+    found.add("n_below_resolution", 4)
+    found.add("below_resolution_example_cut", "s9_g9_my")
+    found.add("below_resolution_example_per_mm", 0.123)
+    found.add("below_resolution_example_resolution_per_mm", 0.0667)
+    found.items["feed_correlation_waviness"].value = None
+    say = Prose(load_templates("ch2"), found)
+    text = " ".join(say("mechanism_waviness", "kinematic", "resolution",
+                        "feed_correlation").split())
+    assert "no single mechanism: kinematic 30%" in text
+    assert "None of the 2 waviness peaks is kinematic." in text
+    assert "**Sanity flag: 4 of 5 peaks" in text and "s9_g9_my at 0.12 mm⁻¹" in text
+    assert "1/L = 0.067 mm⁻¹" in text and "share one feed" in text
+    thesis = _surface_findings(synthetic=True, comparison=pd.DataFrame(
+        {"table": ["table_2_1_waviness_rms_um", "table_2_2_roughness_rms_um"],
+         "ratio": [1.25, 0.75], "within_2x": [True, False]}))
+    thesis.comparisons = [{"verdict": "pass"}, {"verdict": "miss"}, {"verdict": "pass"}]
+    text = " ".join(Prose(load_templates("ch2"), thesis)("against", "thesis_tables", "rows",
+                                                          "levels").split())
+    assert "2 of 3 reproduced" in text and "smallest along +X and largest along +Y" in text
+    assert "within a factor 2 of the thesis: Table 2.1 (waviness) 1 of 1" in text
+    assert "Table 2.2 (roughness) 0 of 1" in text and "0.75" in text
+    assert "virtual cell" in text

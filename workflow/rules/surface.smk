@@ -87,8 +87,42 @@ rule surface_recovery:
         "../scripts/surface_recovery.py"
 
 
+# Chapter 2's findings: the numbers, flags and verdicts the chapter states (the mechanism per
+# band against surface.mechanism_share_min, the resolution flag against
+# surface.min_peak_cycles), with the stage's scorecard rows ("Against the thesis").
+rule surface_findings:
+    input:
+        unpack(
+            lambda w: {"recovery": "results/surface/recovery.csv"} if SYNTHETIC else {}
+        ),
+        # Tables 2.1/2.2 and the thesis comparison (the scorecard reads the tables)
+        **SURFACE_TABLES,
+        metrics="results/surface/metrics.csv",
+        peaks="results/surface/peaks.csv",
+        profiles="results/surface/profiles.nc",
+        cuts="results/ingest/cuts.csv",
+        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+    output:
+        findings="results/surface/findings.yaml",
+    log:
+        "results/logs/surface/findings.log",
+    benchmark:
+        "results/benchmarks/rules/surface/findings.tsv"
+    conda:
+        ENV
+    params:
+        settings=config["surface"],
+        thesis_layout=SURFACE_THESIS,
+        synthetic=SYNTHETIC,
+        experiment=dict(EXPERIMENT),
+        thesis_study=THESIS_STUDY,
+    script:
+        "../scripts/surface_findings.py"
+
+
 rule surface:
     input:
+        "results/surface/findings.yaml",
         list(SURFACE_TABLES.values()),
         "results/surface/peaks.csv",
         "results/surface/metrics.csv",
@@ -111,6 +145,8 @@ use rule chapter as ch2 with:
         ),
         **SURFACE_TABLES,
         notebook=notebook("ch2_surface.ipynb"),
+        templates=notebook("templates/ch2.yaml"),
+        findings="results/surface/findings.yaml",
         cuts="results/ingest/cuts.csv",
         peaks="results/surface/peaks.csv",
         metrics="results/surface/metrics.csv",

@@ -22,6 +22,8 @@ One subject per submodule: :mod:`~robomill.surface.profile` (detrending, Gaussia
 amplitude parameters), :mod:`~robomill.surface.psd` (one profile's analysis and spectra),
 :mod:`~robomill.surface.peaks` (peaks and mechanisms), :mod:`~robomill.surface.study`
 (gathering the cuts), :mod:`~robomill.surface.tables` (chapter tables),
+:mod:`~robomill.surface.findings` (what chapter 2 states), :mod:`~robomill.surface.figures`
+(chapter 2's figures),
 :mod:`~robomill.surface.recovery` (against the planted truth) and
 :mod:`~robomill.surface.options` (settings). The public names are importable from this
 package, loaded from their submodule on first use (importing the package imports nothing);
@@ -47,6 +49,16 @@ _EXPORTS = {  # public name → submodule
     "segment_lengths_mm": "psd",
     "spectra_dataset": "psd",
     "recovery_table": "recovery",
+    "surface_findings": "findings",
+    "PROFILE_OFFSET_UM": "figures",
+    "detrend_figure": "figures",
+    "peak_mechanisms_figure": "figures",
+    "profiles_figure": "figures",
+    "rms_vs_feed_figure": "figures",
+    "roughness_feed_figure": "figures",
+    "spectra_figure": "figures",
+    "spectrum_figure": "figures",
+    "waviness_figure": "figures",
     "METRIC_COLUMNS": "study",
     "PEAK_TABLE_COLUMNS": "study",
     "gather_surface": "study",
@@ -56,6 +68,12 @@ _EXPORTS = {  # public name → submodule
     "comparison_summary": "tables",
     "design_table": "tables",
     "direction_means": "tables",
+    "example_cut": "tables",
+    "figure_directions": "tables",
+    "path_label": "tables",
+    "peak_counts": "tables",
+    "plot_groups": "tables",
+    "with_directions": "tables",
     "feed_correlation": "tables",
     "load_thesis_tables": "tables",
     "path_direction": "tables",

@@ -21,6 +21,8 @@ DEFAULTS: dict[str, Any] = {
     "match_tolerance": 0.2,
     "min_feed_ratio": 1.5,
     "min_peak_cycles": 2.5,
+    "mechanism_share_min": 0.5,
+    "temporal_quantiles": [0.1, 0.9],
     "waviness_plot_max_per_mm": 1.0,
     "roughness_plot_max_per_mm": 30.0,
 }

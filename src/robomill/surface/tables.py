@@ -1,6 +1,7 @@
 """Chapter 2 tables: the thesis layout of Tables 2.1/2.2 and the comparison with the thesis'
-values, the per-design table of any other design, and the chapter's summaries (direction
-means, feed correlation, comparison summary).
+values, the per-design table of any other design, the chapter's summaries (direction
+means, feed correlation, comparison summary, peak counts) and which cuts its figures show
+(directions, the example cut, the cuts of a figure per direction).
 """
 
 from __future__ import annotations
@@ -11,6 +12,8 @@ from importlib import resources
 import numpy as np
 import pandas as pd
 import yaml
+
+from robomill.experiment import DIRECTION_LABELS
 
 DIRECTION_ORDER = ("px", "py", "my")
 """Column order of the thesis tables within a set: +X, +Y, −Y."""
@@ -150,3 +153,55 @@ def comparison_summary(comparison: pd.DataFrame) -> pd.DataFrame:
     g = comparison.groupby("table")
     return pd.DataFrame({"within": g["within_1.5x"].sum().astype(int),
                          "cells": g.size(), "median_ratio": g["ratio"].median()})
+
+
+def path_label(direction: str) -> str:
+    """``+X``, ``−Y`` … for a named direction, ``45°`` for an artefact's path direction
+    ``"45 deg"``."""
+    d = str(direction)
+    return DIRECTION_LABELS.get(d) or f"{float(d.split()[0]):g}°"
+
+
+def with_directions(metrics: pd.DataFrame) -> pd.DataFrame:
+    """``metrics`` with ``direction`` (a free design's ``path_direction`` where it has none)
+    and its printed ``label``."""
+    out = metrics.copy()
+    if "direction" not in out:
+        out["direction"] = out["path_direction"]
+    out["direction"] = out["direction"].astype(str)
+    out["label"] = [path_label(d) for d in out["direction"]]
+    return out
+
+
+def figure_directions(metrics: pd.DataFrame, thesis_layout: bool) -> list[str]:
+    """The directions of the profile figures: the thesis' +X, +Y, −Y present in its first set,
+    or every path direction of any other design (sorted by name)."""
+    m = with_directions(metrics)
+    if thesis_layout:
+        first = m[m["set"] == m["set"].min()]
+        return [d for d in DIRECTION_ORDER if (first["direction"] == d).any()]
+    return sorted(m["direction"].unique(), key=str)
+
+
+def example_cut(metrics: pd.DataFrame, thesis_layout: bool) -> str:
+    """The cut of the single-profile figures: the first by set and segment in the thesis
+    layout, the first of the plan otherwise."""
+    m = metrics.sort_values(["set", "segment"], kind="stable") if thesis_layout else metrics
+    return str(m.iloc[0]["cut"])
+
+
+def plot_groups(metrics: pd.DataFrame, directions: Sequence[str], thesis_layout: bool,
+                set_: int | None = None) -> dict[str, pd.DataFrame]:
+    """The cuts of one figure, per direction, in plot order: one set by segment (thesis
+    layout) or every cut by feed (any other design)."""
+    m = with_directions(metrics)
+    if thesis_layout:
+        sel = m[m["set"] == set_] if set_ is not None else m
+        return {d: sel[sel["direction"] == d].sort_values("segment") for d in directions}
+    return {d: m[m["direction"] == d].sort_values(["feed_mm_s", "cut"]) for d in directions}
+
+
+def peak_counts(peaks: pd.DataFrame) -> pd.DataFrame:
+    """Peaks of ``results/surface/peaks.csv`` counted by ``band`` (rows) and ``mechanism``
+    (columns)."""
+    return peaks.groupby(["band", "mechanism"]).size().unstack(fill_value=0)
