@@ -81,10 +81,11 @@ def _programme(found: Findings, traj: xr.Dataset, gravity_m_s2: float) -> None:
               what="position_mm[axis = z] at t = 0")
     found.add("pendulum_rate_per_s", float(np.sqrt(gravity_m_s2 / h_m)), "1/s",
               artefact=_TRAJECTORY, what="√(g/h), h the start height, g hexapod.gravity_m_s2")
-    found.add("efold_ms", 1e3 / float(lam.max()), "ms", artefact=_TRAJECTORY,
-              what="1 / largest instability_rate_per_s")
-    found.add("decade_ms", 1e3 * np.log(10) / float(lam.max()), "ms", artefact=_TRAJECTORY,
-              what="ln 10 / largest instability_rate_per_s")
+    grows = float(lam.max()) > 0  # else no error grows: no e-folding time
+    found.add("efold_ms", 1e3 / float(lam.max()) if grows else None, "ms",
+              artefact=_TRAJECTORY, what="1 / largest instability_rate_per_s")
+    found.add("decade_ms", 1e3 * np.log(10) / float(lam.max()) if grows else None, "ms",
+              artefact=_TRAJECTORY, what="ln 10 / largest instability_rate_per_s")
 
 
 def _forces(found: Findings, frc: xr.Dataset) -> None:
