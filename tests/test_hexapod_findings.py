@@ -72,8 +72,10 @@ def _found(**kw):
 
 
 def test_programme_instability_and_forces_from_planted_artefacts():
-    v = _found().values()
+    f = _found()
+    v = f.values()
     assert v["base_radius_mm"] == 90.0 and v["platform_mass_kg"] == 0.6
+    assert f["platform_mass_kg"].config_key == "hexapod.platform.mass_kg"
     assert v["programme_end_mm"] == [3.0, 4.0, 50.0] and v["programme_sideways_mm"] == 5.0
     assert v["replay_hold_s"] == 1.5 and v["n_unstable_modes"] == 2
     assert v["instability_rate_range_per_s"] == [2.0, 10.0]

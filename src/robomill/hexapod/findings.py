@@ -54,7 +54,8 @@ def _assumed(found: Findings, hexapod: Mapping[str, Any]) -> None:
             ("programme_accel_y_mm_s2", [a[1] for a in prog["accel_mm_s2"]], "mm/s2",
              "programme.accel_mm_s2"),
             ("start_mm", hexapod["start_mm"], "mm", "start_mm")):
-        found.add(key, value, unit, artefact=_CONFIG, what=f"hexapod.{ck}")
+        found.add(key, value, unit, artefact=_CONFIG, what=f"hexapod.{ck}",
+                  config_key=f"hexapod.{ck}")
 
 
 def _programme(found: Findings, traj: xr.Dataset, gravity_m_s2: float) -> None:
@@ -143,7 +144,8 @@ def _vertical(found: Findings, traj: xr.Dataset, frc: xr.Dataset) -> None:
     found.add("vertical_table_ours", ours, artefact=_TRAJECTORY,
               what="forces, exact end, perturbed end, Euler angles")
     found.add("vertical_table_seed", seed, artefact=_REFS, what="the same, seed 003")
-    found.add("vertical_table_difference", ours - seed, what="ours - seed")
+    found.add("vertical_table_difference", ours - seed, artefact=_TRAJECTORY,
+              what="ours - seed, row by row")
 
 
 def _sensitivity(found: Findings, sens: xr.Dataset, need: pd.DataFrame,
