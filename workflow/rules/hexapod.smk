@@ -76,8 +76,34 @@ rule hexapod_force_accuracy:
         "../scripts/hexapod_force_accuracy.py"
 
 
+# Chapter 6's findings: the assumed hexapod, the programme and its replay, the instability,
+# the vertical move against the seed's, the drift map and the force accuracy; with the
+# stage's scorecard rows ("Against the source").
+rule hexapod_findings:
+    input:
+        trajectory="results/hexapod/trajectory.nc",
+        forces="results/hexapod/forces.nc",
+        sensitivity="results/hexapod/sensitivity.nc",
+        force_accuracy="results/hexapod/force_accuracy.csv",
+        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+    output:
+        findings="results/hexapod/findings.yaml",
+    log:
+        "results/logs/hexapod/findings.log",
+    benchmark:
+        "results/benchmarks/rules/hexapod/findings.tsv"
+    conda:
+        ENV
+    params:
+        hexapod=config["hexapod"],
+        thesis_study=THESIS_STUDY,
+    script:
+        "../scripts/hexapod_findings.py"
+
+
 rule hexapod:
     input:
+        "results/hexapod/findings.yaml",
         "results/hexapod/trajectory.nc",
         "results/hexapod/force_accuracy.csv",
         "results/hexapod/forces.nc",
@@ -87,6 +113,8 @@ rule hexapod:
 use rule chapter as ch6 with:
     input:
         notebook=notebook("ch6_hexapod.ipynb"),
+        templates=notebook("templates/ch6.yaml"),
+        findings="results/hexapod/findings.yaml",
         trajectory="results/hexapod/trajectory.nc",
         forces="results/hexapod/forces.nc",
         sensitivity="results/hexapod/sensitivity.nc",

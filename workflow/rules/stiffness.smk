@@ -209,6 +209,44 @@ STIFF_OUTPUTS += [THESIS_SLOTS["slots"]] if THESIS_SLOTS else []
 STIFF_OUTPUTS += list(CUT_STIFFNESS.values())
 
 
+# Chapter 5's findings: workspace, identification, maps, optimal poses, beam frame, the
+# stiffness along the cuts and the verdict on the slots' asymmetry; with the stage's scorecard
+# rows ("Against the source").
+rule stiffness_findings:
+    input:
+        **optional_input(SYNTHETIC, truth="results/synthetic/truth.nc"),
+        **THESIS_SLOTS,
+        **optional_input(
+            bool(THESIS_SLOTS),
+            thesis_joints=f"results/stiffness/{THESIS_ROBOT}/joint_stiffness.csv",
+        ),
+        **CUT_STIFFNESS,
+        maps="results/stiffness/maps.nc",
+        optimal="results/stiffness/optimal_poses.csv",
+        beamframe="results/stiffness/beamframe.nc",
+        joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
+        validation=f"results/stiffness/{MAP_ROBOT}/validation.csv",
+        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+    output:
+        findings="results/stiffness/findings.yaml",
+    log:
+        "results/logs/stiffness/findings.log",
+    benchmark:
+        "results/benchmarks/rules/stiffness/findings.tsv"
+    conda:
+        ENV
+    params:
+        map_robot=MAP_ROBOT,
+        slot_asymmetry_pct=config["stiffness"]["slot_asymmetry_pct"],
+        thesis_study=THESIS_STUDY,
+    script:
+        "../scripts/stiffness_findings.py"
+
+
+if MAP_ROBOT in STIFF_ROBOTS and MAP_JOBS:
+    STIFF_OUTPUTS += ["results/stiffness/findings.yaml"]
+
+
 rule stiffness:
     input:
         STIFF_OUTPUTS,
@@ -219,19 +257,18 @@ CHAPTER_PARAMETERS["ch5"] = DESIGN_PARAMS
 
 use rule chapter as ch5 with:
     input:
-        **({"truth": "results/synthetic/truth.nc"} if SYNTHETIC else {}),
         **THESIS_SLOTS,
         **CUT_STIFFNESS,
         **({"cuts": "results/ingest/cuts.csv"} if CUT_STIFFNESS else {}),
         notebook=notebook("ch5_stiffness.ipynb"),
+        templates=notebook("templates/ch5.yaml"),
+        findings="results/stiffness/findings.yaml",
         maps="results/stiffness/maps.nc",
         optimal="results/stiffness/optimal_poses.csv",
         beamframe="results/stiffness/beamframe.nc",
         map_joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
         map_models=f"results/stiffness/{MAP_ROBOT}/identification.csv",
         map_validation=f"results/stiffness/{MAP_ROBOT}/validation.csv",
-        thesis_joints=f"results/stiffness/{THESIS_ROBOT}/joint_stiffness.csv",
-        thesis_validation=f"results/stiffness/{THESIS_ROBOT}/validation.csv",
     output:
         **chapter_outputs("ch5"),
     log:

@@ -12,6 +12,8 @@ The model:
   one actuator's force is off, and the instability rates that make it grow.
 * :mod:`~robomill.hexapod.sensitivity` — the gathered drift map and the force accuracy a
   position tolerance needs.
+* :mod:`~robomill.hexapod.figures` — the chapter's figures and its tables beside the seed's.
+* :mod:`~robomill.hexapod.findings` — what chapter 6 states, from the stage's artefacts.
 
 Apart from the model, what ties it to the configuration's shape:
 
@@ -34,6 +36,9 @@ __getattr__, __dir__, __all__ = lazy_exports(__name__, {
     "dynamics": ("dynamic_model", "forward_acceleration", "inverse_dynamics", "leg_energy",
                  "leg_inertia", "leg_tip_force", "platform_inertia", "static_force_closed_form",
                  "total_energy"),
+    "figures": ("VERTICAL_ROWS", "drift_map_figure", "forces_figure", "seed_table1",
+                "trajectory_figure", "vertical_figure", "vertical_table"),
+    "findings": ("hexapod_findings",),
     "geometry": ("G0_M_S2", "Hexapod", "Leg", "Legs", "euler_to_matrix", "inverse_kinematics",
                  "jacobian", "joint_circle", "matrix_to_euler", "skew", "tip_jacobian"),
     "motion": ("ForceLaw", "Programme", "Simulation", "pose_error", "programme_forces",

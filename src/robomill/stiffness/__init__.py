@@ -12,6 +12,9 @@ package, one subject per submodule.
 * :mod:`~robomill.stiffness.maps` — working-plane stiffness maps and the Monte-Carlo
   workspace.
 * :mod:`~robomill.stiffness.cuts` — stiffness along the experiment's cuts and the slot table.
+* :mod:`~robomill.stiffness.figures` — the chapter's figures.
+* :mod:`~robomill.stiffness.tables` — the chapter's tables, the seed's numbers beside ours.
+* :mod:`~robomill.stiffness.findings` — what chapter 5 states, from the stage's artefacts.
 
 Importing this package imports none of them: every public name is loaded from its submodule
 on first use (:mod:`robomill.lazy`); the rule scripts import the submodules they use, so a
@@ -27,6 +30,9 @@ from robomill.lazy import lazy_exports
 __getattr__, __dir__, __all__ = lazy_exports(__name__, {
     "cuts": ("cut_stiffness_table", "slot_stiffness_table", "stiffness_spread_pct",
              "waviness_by_direction"),
+    "figures": ("beamframe_figure", "maps_figure", "optimal_figure", "slots_figure",
+                "workspace_figure"),
+    "findings": ("stiffness_findings",),
     "identify": ("Identification", "identify_from_tests", "identify_joint_stiffness",
                  "pose_group"),
     "maps": ("map_dataset", "monte_carlo_workspace", "plane_map", "workspace_dataset"),
@@ -34,4 +40,6 @@ __getattr__, __dir__, __all__ = lazy_exports(__name__, {
               "comprehensive_index_N_m", "design_matrix", "directional_stiffness_N_m", "jacobian_m",
               "predict_deflection_m", "translational_compliance_m_N"),
     "poses": ("deformation_m", "optimal_poses", "solve_poses", "tool_rotation_redundancy"),
+    "tables": ("cut_stiffness_um", "joints_table", "maxima_table", "slot_means_um",
+               "validation_table", "workspace_table"),
 })
