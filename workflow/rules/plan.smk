@@ -58,6 +58,17 @@ rule plan_check:
             else {}
         ),
         **({"peaks": "results/straightness/peaks.csv"} if has_kind("tracker") else {}),
+        # synthetic: the virtual cell cuts the planned cuts (synth.smk: plan_simulate);
+        # real data: the stability outcome from the measured force spectrum
+        **(
+            {"simulated": "results/plan/simulated.csv"}
+            if SYNTHETIC
+            else (
+                {"force_peaks": "results/forces/peaks.csv"}
+                if has_kind("force")
+                else {}
+            )
+        ),
         plan=PLAN_OUTPUTS["plan"],
         study=PLAN_OUTPUTS["study"],
     output:
@@ -69,7 +80,10 @@ rule plan_check:
     conda:
         ENV
     params:
-        tolerance=0.25,
+        tolerance=config.get("plan", {}).get("check_tolerance", 0.25),
+        chatter_fraction_of_mean=config.get("plan", {}).get(
+            "chatter_fraction_of_mean", 0.05
+        ),
     script:
         "../scripts/plan_check.py"
 
