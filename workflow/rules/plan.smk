@@ -73,6 +73,7 @@ rule plan_check:
         study=PLAN_OUTPUTS["study"],
     output:
         check="results/plan/check.csv",
+        summary="results/plan/check_summary.csv",
     log:
         "results/logs/plan/check.log",
     benchmark:
@@ -98,6 +99,8 @@ use rule chapter as ch7 with:
         study=PLAN_OUTPUTS["study"],
         comparison=PLAN_OUTPUTS["comparison"],
         check="results/plan/check.csv",
+        check_summary="results/plan/check_summary.csv",
+        templates=notebook("templates/ch7.yaml"),
     output:
         **chapter_outputs("ch7"),
     log:
@@ -111,4 +114,5 @@ rule plan:
     input:
         *PLAN_OUTPUTS.values(),
         "results/plan/check.csv",
+        "results/plan/check_summary.csv",
         "results/chapters/ch7_plan.html",

@@ -5,7 +5,7 @@ import pandas as pd
 
 from robomill.io import write_table
 from robomill.pipeline.runlog import setup
-from robomill.plan.check import check_table
+from robomill.plan.check import check_summary, check_table, summary_table
 
 log = setup(snakemake.log[0], "plan")
 inp = snakemake.input
@@ -19,5 +19,6 @@ table = check_table(
     force_peaks=pd.read_csv(inp.force_peaks) if "force_peaks" in inp.keys() else None,
     chatter_fraction_of_mean=float(snakemake.params.chatter_fraction_of_mean))
 write_table(table, snakemake.output.check)
+write_table(summary_table(check_summary(table, float(snakemake.params.tolerance))), snakemake.output.summary)
 log.info("%s", table.groupby("quantity")[["within_interval", "within_tolerance"]].mean()
          .to_string() if len(table) else "no outcomes")

@@ -141,3 +141,33 @@ def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = N
             if row is not None:
                 rows.append(row)
     return pd.DataFrame(rows, columns=CHECK_COLUMNS)
+
+
+def check_summary(check: pd.DataFrame, tolerance: float = 0.25) -> dict[str, float]:
+    """Chapter 7's numbers about ``check.csv``, over the planned cuts (``plan_*``) and the
+    study's own: per quantity q the rows ``n_<q>``, those within the interval
+    ``n_<q>_in_interval`` and within the tolerance ``n_<q>_in_tolerance`` (``_plan`` suffix:
+    planned cuts only); for stability the cuts predicted stable (nominal margin > 0)
+    ``n_predicted_stable`` and those of them stable in the outcome
+    ``n_predicted_stable_stable`` (also with ``_plan``), and ``n_stability_agree`` (nominal
+    verdict = outcome); ``tolerance_percent`` the relative tolerance."""
+    out: dict[str, float] = {"tolerance_percent": 100.0 * float(tolerance)}
+    plan = check["cut"].astype(str).str.startswith("plan_")
+    for suffix, rows in (("", check), ("_plan", check[plan])):
+        for q, g in rows.groupby("quantity"):
+            out[f"n_{q}{suffix}"] = float(len(g))
+            out[f"n_{q}_in_interval{suffix}"] = float(g["within_interval"].astype(bool).sum())
+            out[f"n_{q}_in_tolerance{suffix}"] = float(
+                g["within_tolerance"].astype(bool).sum())
+        s = rows[rows["quantity"] == "stability"]
+        pred = s["predicted"].astype(float) > 0
+        out[f"n_predicted_stable{suffix}"] = float(pred.sum())
+        out[f"n_predicted_stable_stable{suffix}"] = float(
+            (pred & (s["outcome"].astype(float) >= 0.5)).sum())
+        out[f"n_stability_agree{suffix}"] = float(s["within_tolerance"].astype(bool).sum())
+    return out
+
+
+def summary_table(summary: dict[str, float]) -> pd.DataFrame:
+    """:func:`check_summary` as ``results/plan/check_summary.csv`` (``key, value``)."""
+    return pd.DataFrame({"key": list(summary), "value": list(summary.values())})
