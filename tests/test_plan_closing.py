@@ -116,3 +116,46 @@ def test_real_data_stability_from_the_force_spectrum():
     assert t.loc[("s1", "stability"), "outcome"] == 0.0
     assert t.loc[("plan_01", "stability"), "outcome"] == 0.0
     assert t.loc[("s1", "stability"), "source"] == "results/forces/peaks.csv"
+
+
+def test_summary_counts_and_the_chapter_follows_them():
+    from robomill.pipeline.prose import Prose, load_templates
+    from robomill.plan.check import check_summary
+
+    t = check_table(PRED, mean_forces=MEAN, simulated=SIM)
+    s = check_summary(t, tolerance=0.25)
+    # plan_01 predicted stable and stable; plan_02 predicted chatter; s1 predicted stable, chattered
+    assert s["n_predicted_stable_plan"] == 1 and s["n_predicted_stable_stable_plan"] == 1
+    assert s["n_predicted_stable"] == 2 and s["n_predicted_stable_stable"] == 1
+    assert s["n_stability_agree"] == 1
+    assert s["n_deflection_normal_plan"] == 2 and s["n_deflection_normal_in_interval_plan"] == 1
+    say = Prose(load_templates("ch7"), {**s, "n_predicted_stable_stable_plan": 7.0,
+                                        "tolerance_percent": 13.0})
+    assert "7 of these" in say("check_stability_plan")
+    assert "13 %" in say("check_deflection")
+    assert say("check_deflection") != Prose(load_templates("ch7"), s)("check_deflection")
+    empty = Prose(load_templates("ch7"), check_summary(t.iloc[:0]))
+    assert empty("check_stability_plan") == "No planned cut has a stability outcome yet."
+
+
+def test_the_cells_modes_move_with_the_pose_only_below_the_robot_limit():
+    from robomill.synth.cell import Mode, VirtualCell
+    from robomill.synth.plancuts import modes_at_poses
+    from robomill.kinematics import robot_from_mapping
+    import yaml
+    from pathlib import Path
+
+    cfg = yaml.safe_load((Path(__file__).parents[1] / "config.yaml").read_text())
+    robot = robot_from_mapping(cfg["cell"]["robot"])
+    cell = VirtualCell(robot, [], [Mode(20.0, 0.04, 8e5, (0.0, 1.0, 0.0)),
+                                   Mode(900.0, 0.02, 5e7, (0.0, 1.0, 0.0))], {}, {}, 0)
+    q_ref = np.deg2rad([0.0, 20.0, 10.0, 0.0, 60.0, 0.0])
+    q = np.stack([q_ref, np.deg2rad([30.0, 40.0, -10.0, 0.0, 50.0, 0.0])])
+    c = 1.0 / np.array([1e6, 8e5, 4e5, 6e4, 5e4, 2e4])
+    f, z, k, _ = modes_at_poses(cell, q, q_ref, c, 200.0)
+    np.testing.assert_allclose(f[0], [20.0, 900.0])          # the reference pose: as measured
+    np.testing.assert_allclose(k[0], [8e5, 5e7])
+    assert not np.isclose(k[1, 0], 8e5) and k[1, 1] == 5e7   # the robot's mode moves
+    np.testing.assert_allclose(f[1, 0] / 20.0, np.sqrt(k[1, 0] / 8e5))   # modal mass kept
+    f0, _, k0, _ = modes_at_poses(cell, q, q_ref, None, 200.0)
+    np.testing.assert_allclose(k0, [[8e5, 5e7]] * 2)
