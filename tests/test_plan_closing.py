@@ -6,8 +6,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from robomill.chatter.model import CuttingModel
 from robomill.chatter.modal_timedomain import ModalCut, simulate_modal_cut, stability_verdict
+from robomill.chatter.model import CuttingModel
 from robomill.plan.check import check_table
 from robomill.plan.lobes import batch_coupling_depth, batch_zoa_lobes
 
@@ -139,11 +139,13 @@ def test_summary_counts_and_the_chapter_follows_them():
 
 
 def test_the_cells_modes_move_with_the_pose_only_below_the_robot_limit():
+    from pathlib import Path
+
+    import yaml
+
+    from robomill.kinematics import robot_from_mapping
     from robomill.synth.cell import Mode, VirtualCell
     from robomill.synth.plancuts import modes_at_poses
-    from robomill.kinematics import robot_from_mapping
-    import yaml
-    from pathlib import Path
 
     cfg = yaml.safe_load((Path(__file__).parents[1] / "config.yaml").read_text())
     robot = robot_from_mapping(cfg["cell"]["robot"])

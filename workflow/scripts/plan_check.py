@@ -19,6 +19,7 @@ table = check_table(
     force_peaks=pd.read_csv(inp.force_peaks) if "force_peaks" in inp.keys() else None,
     chatter_fraction_of_mean=float(snakemake.params.chatter_fraction_of_mean))
 write_table(table, snakemake.output.check)
-write_table(summary_table(check_summary(table, float(snakemake.params.tolerance))), snakemake.output.summary)
+summary = check_summary(table, float(snakemake.params.tolerance))
+write_table(summary_table(summary), snakemake.output.summary)
 log.info("%s", table.groupby("quantity")[["within_interval", "within_tolerance"]].mean()
          .to_string() if len(table) else "no outcomes")

@@ -46,8 +46,8 @@ DEFAULTS: dict[str, Any] = {
 
 COLUMNS = ["cut", "origin", "redundancy_deg", "spindle_rpm", "depth_mm", "feed_mm_s",
            "reachable", "stable", "growth_regenerative", "growth_coupling", "chatter_hz",
-           "indicator_N", "out_of_cut_fraction", "force_N", "F_feed_N", "F_normal_N", "F_axial_N", "k_normal_N_m",
-           "deflection_normal_um", "deflection_axial_um"]
+           "indicator_N", "out_of_cut_fraction", "force_N", "F_feed_N", "F_normal_N",
+           "F_axial_N", "k_normal_N_m", "deflection_normal_um", "deflection_axial_um"]
 """Columns of ``results/plan/simulated.csv``."""
 
 
@@ -143,12 +143,12 @@ def simulate_cuts(cuts: Sequence[PosedCut], cell, compliance: np.ndarray | None,
                   ) -> pd.DataFrame:
     """``results/plan/simulated.csv``: each cut cut on the virtual cell (:data:`COLUMNS`;
     ``stable`` True/False, NaN outcomes where inverse kinematics fails)."""
-    from robomill.chatter.model import immersion_angles
     from robomill.chatter.modal_timedomain import (
         ModalCut,
         simulate_modal_cut,
         stability_verdict,
     )
+    from robomill.chatter.model import immersion_angles
     from robomill.stiffness import jacobian_m, translational_compliance_m_N
 
     s = settings(section)
