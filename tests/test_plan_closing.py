@@ -161,3 +161,34 @@ def test_the_cells_modes_move_with_the_pose_only_below_the_robot_limit():
     np.testing.assert_allclose(f[1, 0] / 20.0, np.sqrt(k[1, 0] / 8e5))   # modal mass kept
     f0, _, k0, _ = modes_at_poses(cell, q, q_ref, None, 200.0)
     np.testing.assert_allclose(k0, [[8e5, 5e7]] * 2)
+
+
+def test_a_planned_cut_is_cut_on_the_virtual_cell_at_its_pose():
+    from pathlib import Path
+
+    import yaml
+
+    from robomill.forces import CuttingCoefficients, mean_milling_forces
+    from robomill.synth.cell import cell_from_config
+    from robomill.synth.plancuts import planned_cuts, planted_compliance, simulate_cuts
+
+    cfg = yaml.safe_load((Path(__file__).parents[1] / "config.yaml").read_text())
+    cell = cell_from_config(cfg)
+    cut = {"id": "plan_01", "feed_mm_s": 10.0, "depth_mm": 0.2, "direction": "px",
+           "spindle_rpm": 30000.0, "flutes": 2, "tool_diameter_mm": 6.0,
+           "radial_immersion": 1.0, "milling": "slot", "start_mm": [580.0, 50.0, 200.0]}
+    manifest = {"experiment": {"cut_length_mm": 40.0, "spindle_rpm": 30000.0, "flutes": 2},
+                "cuts": [cut], "plan": {"cuts": {"plan_01": {"redundancy_deg": 45.0}}}}
+    posed = planned_cuts(manifest)
+    assert posed[0].redundancy_deg == 45.0
+    np.testing.assert_allclose(posed[0].middle_mm, [600.0, 50.0, 200.0])
+    t = simulate_cuts(posed, cell, planted_compliance(cfg), np.array([700.0, -50.0, 200.0]),
+                      {"duration_s": 1.5})
+    r = t.iloc[0]
+    assert r["reachable"] and r["stable"]
+    c = cfg["synth"]["cutting"]
+    truth = CuttingCoefficients(c["Ktc_N_mm2"], c["Krc_N_mm2"], c["Kac_N_mm2"], c["Kte_N_mm"],
+                                c["Kre_N_mm"], c["Kae_N_mm"])
+    F = mean_milling_forces(10.0 * 60 / (2 * 30000.0), 0.2, truth)
+    assert r["force_N"] == pytest.approx(np.linalg.norm(F), rel=0.01)
+    assert 0 < r["deflection_normal_um"] < 50 and 0 < r["deflection_axial_um"] < 50
