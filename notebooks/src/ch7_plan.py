@@ -21,6 +21,8 @@ pareto: str = None  # results/plan/pareto.csv
 study: str = None  # results/plan/study_cuts.csv
 comparison: str = None  # results/plan/comparison.csv
 check: str = None  # results/plan/check.csv
+check_summary: str = None  # results/plan/check_summary.csv
+templates: str = None  # notebooks/templates/ch7.yaml: the sentences rendered from check_summary
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
@@ -30,6 +32,7 @@ from IPython.display import Markdown, display
 
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
+from robomill.pipeline.prose import Prose, load_templates
 from robomill.plotting import save_figure
 
 num = Numbering("7")
@@ -51,6 +54,8 @@ front = pd.read_csv(pareto)
 own = pd.read_csv(study)
 cmp_ = pd.read_csv(comparison).set_index("quantity")
 chk = pd.read_csv(check)
+summary = pd.read_csv(check_summary).set_index("key")["value"].to_dict()
+say = Prose(load_templates("ch7", templates), summary)
 
 # %% [markdown]
 # ## What the plan could predict
@@ -132,12 +137,20 @@ display(Markdown(
 # %% [markdown]
 # ## Closing the loop
 #
-# Each prediction beside the outcome recorded under the same cut id: the study's own cuts now;
-# the planned cuts once they are cut (`snakemake -j2 all --configfile
-# results/plan/next/config.yaml` on the virtual cell, or the lab's measurements imported under
-# the planned ids).
+# Each prediction beside the outcome recorded under the same cut id. On the virtual cell every
+# planned cut and the study's own are cut at their poses (`plan_simulate`): stability in the
+# seed-002 time-domain model on the modes the cell's truth gives at that pose (once with the
+# regenerative chip, once delay-free: the two mechanisms of the predicted critical depth), and
+# the static deflection from the planted joint stiffness under the simulated mean force; the
+# dynamometer and the tracker give force and waviness once the planned cuts are run
+# (`snakemake -j2 all --configfile results/plan/next/config.yaml`). On real data the lab
+# imports the measurements under the planned ids, and stability is read from the cut's force
+# spectrum. A `stability` row gives the predicted margin a_crit/a − 1 with its interval and
+# the outcome 1 (stable) or 0 (chatter).
 
 # %%
+display(Markdown(say("check_stability_plan", "check_stability_study", "check_deflection",
+                     "check_force")))
 display(num.caption("check"))
 if len(chk):
     display(chk)

@@ -58,10 +58,22 @@ rule plan_check:
             else {}
         ),
         **({"peaks": "results/straightness/peaks.csv"} if has_kind("tracker") else {}),
+        # synthetic: the virtual cell cuts the planned cuts (synth.smk: plan_simulate);
+        # real data: the stability outcome from the measured force spectrum
+        **(
+            {"simulated": "results/plan/simulated.csv"}
+            if SYNTHETIC
+            else (
+                {"force_peaks": "results/forces/peaks.csv"}
+                if has_kind("force")
+                else {}
+            )
+        ),
         plan=PLAN_OUTPUTS["plan"],
         study=PLAN_OUTPUTS["study"],
     output:
         check="results/plan/check.csv",
+        summary="results/plan/check_summary.csv",
     log:
         "results/logs/plan/check.log",
     benchmark:
@@ -69,7 +81,10 @@ rule plan_check:
     conda:
         ENV
     params:
-        tolerance=0.25,
+        tolerance=config.get("plan", {}).get("check_tolerance", 0.25),
+        chatter_fraction_of_mean=config.get("plan", {}).get(
+            "chatter_fraction_of_mean", 0.05
+        ),
     script:
         "../scripts/plan_check.py"
 
@@ -84,6 +99,8 @@ use rule chapter as ch7 with:
         study=PLAN_OUTPUTS["study"],
         comparison=PLAN_OUTPUTS["comparison"],
         check="results/plan/check.csv",
+        check_summary="results/plan/check_summary.csv",
+        templates=notebook("templates/ch7.yaml"),
     output:
         **chapter_outputs("ch7"),
     log:
@@ -97,4 +114,5 @@ rule plan:
     input:
         *PLAN_OUTPUTS.values(),
         "results/plan/check.csv",
+        "results/plan/check_summary.csv",
         "results/chapters/ch7_plan.html",

@@ -206,3 +206,26 @@ rule synth_manifest:
         raw_dir=lambda w, output: os.path.dirname(output[0]),
     script:
         "../scripts/synth_manifest.py"
+
+
+# Closing the loop of the plan (issue 28): the virtual cell cuts the planned cuts (and the
+# study's own) at their poses; stability in the time domain and static deflection from the
+# planted truth. Read by plan_check only (not part of `all`).
+rule plan_simulate:
+    input:
+        manifest="results/plan/next/manifest.yaml",
+        study=STUDY,
+    output:
+        simulated="results/plan/simulated.csv",
+    log:
+        "results/logs/plan/simulate.log",
+    benchmark:
+        "results/benchmarks/rules/plan/simulate.tsv"
+    conda:
+        ENV
+    params:
+        cfg=SYNTH_CFG,
+        settings=config.get("plan", {}).get("simulate", {}),
+        experiment=STUDY_EXPERIMENT,
+    script:
+        "../scripts/plan_simulate.py"

@@ -26,6 +26,8 @@ Modules
                                     2011): converged lobes with a per-speed error estimate
 :mod:`~robomill.chatter.timedomain` seed-002 robot–tool–surface simulation (numba)
 :mod:`~robomill.chatter.detection`  sliding-window FFT detection, adaptive depth logic
+:mod:`~robomill.chatter.modal_timedomain` the seed-002 chip and force law on a modal tool
+                                    (regenerative and delay-free): the plan's stability check
 :mod:`~robomill.chatter.thesis`     thesis robot: slot frames, mode coupling, recommendations
 :mod:`~robomill.chatter.findings`   chapter 4's findings from the stage's artefacts
 """

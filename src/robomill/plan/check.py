@@ -6,6 +6,20 @@ tracker run along the cut (the in-phase sum of its gear-attributed lateral lines
 ``results/straightness/peaks.csv``, the quantity :func:`robomill.plan.measured.waviness_um`
 predicts). Cuts without an outcome are left out; a prediction is judged within its interval
 and within a relative tolerance (the issue's 25 %).
+
+On a synthetic run the virtual cell also cuts every planned cut and the study's own at their
+poses (``results/plan/simulated.csv``, :mod:`robomill.synth.plancuts`): the static deflection
+along the wall normal and the tool axis (quantities ``deflection_normal``,
+``deflection_axial`` [µm]), the mean force of the cuts no dynamometer recorded, and the
+stability outcome. On real data the stability outcome is read from the measured force
+spectrum of the cut (``results/forces/peaks.csv``): chatter when its dominant modal-band line,
+√(bin power), exceeds ``chatter_fraction_of_mean`` of the mean force.
+
+Encoding of the ``stability`` rows (unit ``1``): ``predicted``, ``low``, ``high`` are the
+stability margin a_crit/a − 1 and its interval (> 0 predicts stable); ``outcome`` is 1 when
+the cut was stable, 0 when it chattered. ``within_interval``: the interval admits the outcome
+(stable needs ``high`` > 0, chatter ``low`` < 0); ``within_tolerance``: the nominal verdict
+(``predicted`` > 0) is the outcome.
 """
 
 from __future__ import annotations
@@ -29,24 +43,83 @@ def waviness_outcomes(peaks: pd.DataFrame) -> pd.Series:
     return g.groupby(g["cut"].astype(str))["amplitude_um"].sum()
 
 
+def stability_outcomes(*, simulated: pd.DataFrame | None = None,
+                       force_peaks: pd.DataFrame | None = None,
+                       mean_forces: pd.DataFrame | None = None,
+                       chatter_fraction_of_mean: float = 0.05) -> tuple[pd.Series, str]:
+    """1 (stable) or 0 (chatter) per cut, and where it comes from: the time-domain simulation
+    of the virtual cell when given, else the measured force spectrum (dominant modal-band line
+    √P against ``chatter_fraction_of_mean`` × |F̄|; a cut without a dominant line is stable)."""
+    if simulated is not None and len(simulated):
+        s = simulated[simulated["stable"].notna()]
+        return (pd.Series(s["stable"].astype(str).str.lower().isin(["true", "1", "1.0"])
+                          .astype(float).to_numpy(), index=s["cut"].astype(str)),
+                "results/plan/simulated.csv")
+    if force_peaks is None or mean_forces is None or not len(force_peaks):
+        return pd.Series(dtype=float), ""
+    F = force_outcomes(mean_forces)
+    pk = force_peaks.set_index(force_peaks["cut"].astype(str))
+    line = np.sqrt(pk["dominant_power"].astype(float).fillna(0.0))
+    common = line.index.intersection(F.index)
+    ratio = line[common] / F[common]
+    return (ratio <= chatter_fraction_of_mean).astype(float), "results/forces/peaks.csv"
+
+
+def _stability_row(cut: str, r: pd.Series, outcome: float, source: str) -> dict | None:
+    p = float(r.get("stability_margin", np.nan))
+    if not np.isfinite(p):
+        return None
+    lo = float(r.get("stability_margin_low", p))
+    hi = float(r.get("stability_margin_high", p))
+    stable = outcome >= 0.5
+    return {"cut": cut, "quantity": "stability", "unit": "1", "predicted": p, "low": lo,
+            "high": hi, "outcome": float(stable),
+            "within_interval": bool(hi > 0 if stable else lo < 0),
+            "within_tolerance": bool((p > 0) == stable), "source": source}
+
+
 def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = None,
-                peaks: pd.DataFrame | None = None, tolerance: float = 0.25) -> pd.DataFrame:
+                peaks: pd.DataFrame | None = None, tolerance: float = 0.25,
+                simulated: pd.DataFrame | None = None,
+                force_peaks: pd.DataFrame | None = None,
+                chatter_fraction_of_mean: float = 0.05) -> pd.DataFrame:
     """Rows ``cut, quantity, unit, predicted, low, high, outcome, within_interval,
-    within_tolerance, source`` for every predicted cut with an outcome.
+    within_tolerance, source`` for every predicted cut with an outcome (the ``stability``
+    encoding in the module's docstring).
 
     Parameters
     ----------
     predicted
         Rows with ``cut`` and the prediction columns (``force_N``, ``force_low_N``,
-        ``force_high_N``, ``waviness_um``, …): ``plan.csv`` and ``study_cuts.csv``.
+        ``force_high_N``, ``waviness_um``, ``stability_margin``, ``deflection_normal_um``, …):
+        ``plan.csv`` and ``study_cuts.csv``.
+    simulated
+        ``results/plan/simulated.csv`` (synthetic runs): stability, deflection and, for cuts
+        without a dynamometer record, force outcomes.
+    force_peaks
+        ``results/forces/peaks.csv`` (real data: the stability outcome when no simulation).
     """
     outcomes = []
-    if mean_forces is not None and len(mean_forces):
-        outcomes.append(("force", "N", force_outcomes(mean_forces),
-                         "results/forces/mean_forces.csv"))
+    measured_force = (force_outcomes(mean_forces) if mean_forces is not None
+                      and len(mean_forces) else pd.Series(dtype=float))
+    if len(measured_force):
+        outcomes.append(("force", "N", measured_force, "results/forces/mean_forces.csv"))
     if peaks is not None and len(peaks):
         outcomes.append(("waviness", "um", waviness_outcomes(peaks),
                          "results/straightness/peaks.csv"))
+    if simulated is not None and len(simulated):
+        sim = simulated.set_index(simulated["cut"].astype(str))
+        for name in ("deflection_normal", "deflection_axial"):
+            col = sim[f"{name}_um"].astype(float).dropna()
+            if len(col):
+                outcomes.append((name, "um", col, "results/plan/simulated.csv"))
+        extra = sim["force_N"].astype(float).dropna()
+        extra = extra[~extra.index.isin(measured_force.index)]
+        if len(extra):
+            outcomes.append(("force", "N", extra, "results/plan/simulated.csv"))
+    stab, stab_source = stability_outcomes(simulated=simulated, force_peaks=force_peaks,
+                                           mean_forces=mean_forces,
+                                           chatter_fraction_of_mean=chatter_fraction_of_mean)
     rows = []
     for _, r in predicted.iterrows():
         cut = str(r["cut"])
@@ -54,6 +127,8 @@ def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = N
             if cut not in series.index or f"{name}_{unit}" not in r:
                 continue
             p = float(r[f"{name}_{unit}"])
+            if source == "results/plan/simulated.csv" and not np.isfinite(p):
+                continue
             lo, hi = float(r[f"{name}_low_{unit}"]), float(r[f"{name}_high_{unit}"])
             o = float(series[cut])
             rows.append({"cut": cut, "quantity": name, "unit": unit, "predicted": p,
@@ -61,4 +136,38 @@ def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = N
                          "within_interval": bool(lo <= o <= hi),
                          "within_tolerance": bool(abs(o - p) <= tolerance * abs(o)),
                          "source": source})
+        if cut in stab.index:
+            row = _stability_row(cut, r, float(stab[cut]), stab_source)
+            if row is not None:
+                rows.append(row)
     return pd.DataFrame(rows, columns=CHECK_COLUMNS)
+
+
+def check_summary(check: pd.DataFrame, tolerance: float = 0.25) -> dict[str, float]:
+    """Chapter 7's numbers about ``check.csv``, over the planned cuts (``plan_*``) and the
+    study's own: per quantity q the rows ``n_<q>``, those within the interval
+    ``n_<q>_in_interval`` and within the tolerance ``n_<q>_in_tolerance`` (``_plan`` suffix:
+    planned cuts only); for stability the cuts predicted stable (nominal margin > 0)
+    ``n_predicted_stable`` and those of them stable in the outcome
+    ``n_predicted_stable_stable`` (also with ``_plan``), and ``n_stability_agree`` (nominal
+    verdict = outcome); ``tolerance_percent`` the relative tolerance."""
+    out: dict[str, float] = {"tolerance_percent": 100.0 * float(tolerance)}
+    plan = check["cut"].astype(str).str.startswith("plan_")
+    for suffix, rows in (("", check), ("_plan", check[plan])):
+        for q, g in rows.groupby("quantity"):
+            out[f"n_{q}{suffix}"] = float(len(g))
+            out[f"n_{q}_in_interval{suffix}"] = float(g["within_interval"].astype(bool).sum())
+            out[f"n_{q}_in_tolerance{suffix}"] = float(
+                g["within_tolerance"].astype(bool).sum())
+        s = rows[rows["quantity"] == "stability"]
+        pred = s["predicted"].astype(float) > 0
+        out[f"n_predicted_stable{suffix}"] = float(pred.sum())
+        out[f"n_predicted_stable_stable{suffix}"] = float(
+            (pred & (s["outcome"].astype(float) >= 0.5)).sum())
+        out[f"n_stability_agree{suffix}"] = float(s["within_tolerance"].astype(bool).sum())
+    return out
+
+
+def summary_table(summary: dict[str, float]) -> pd.DataFrame:
+    """:func:`check_summary` as ``results/plan/check_summary.csv`` (``key, value``)."""
+    return pd.DataFrame({"key": list(summary), "value": list(summary.values())})
