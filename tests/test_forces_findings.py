@@ -134,7 +134,7 @@ def _kin_peaks():
 
 def _all(thesis_design=True, **kw):
     args = dict(spectra=_spectra(), means=_means(), coefficients=_coefficients(),
-                cuts=_means()[["cut", "direction", "feed_mm_s", "depth_mm"]],
+                design={"design": "4 cuts: 2 depths", "grouping": ["depth_mm"]},
                 planted={"Ktc": 100.0, "Krc": -2.04}, experiment={"flutes": 2},
                 settings=SETTINGS, thesis_design=thesis_design)
     args.update(kw)
@@ -198,7 +198,8 @@ def test_levels_design_and_engagement():
     assert v["F_axial_N_range"] == [0.5, 0.9]
     assert v["all_slot"] is False
     assert v["millings"] == ["down milling, a_e/D 0.5", "slot milling, a_e/D 1"]
-    assert v["design"].startswith("4 cuts") and v["grouping"]
+    assert v["design"] == "4 cuts: 2 depths" and v["grouping"] == ["depth_mm"]
+    assert "design" not in _all(design=None).values()
 
 
 def test_coefficients_their_flags_and_the_planted_error():

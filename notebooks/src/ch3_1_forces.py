@@ -48,6 +48,7 @@ from robomill.forces.tables import (
 )
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
+from robomill.pipeline.design_tables import per_cut_table
 from robomill.pipeline.prose import Prose, comparison_table, load_templates
 from robomill.plotting import save_figure
 
@@ -141,8 +142,9 @@ for d in DIRS:
 
 # %%
 display(num.caption("peaks"))
-display(peak_table(pd.read_csv(peaks), mf, mode_table, plan, experiment,
-                   grouped=not THESIS_LAYOUT))
+table = peak_table(pd.read_csv(peaks), mf, mode_table, levels=not THESIS_LAYOUT)
+display(table if THESIS_LAYOUT else  # any other design: grouped by what varies
+        per_cut_table(table, list(table.columns.drop("cut")), plan, experiment))
 display(Markdown(say("grouped", "dominant", "dominant_none", "modes", "verdict", "no_match",
                      "no_modes", "levels", ref_peaks=num.ref("peaks"))))
 

@@ -25,10 +25,9 @@ import xarray as xr
 
 from robomill import references
 from robomill.findings import Findings
-from robomill.forces.coefficients import FLAG_COLUMNS
+from robomill.forces.coefficients import FLAG_COLUMNS, not_physical_reasons
 from robomill.forces.peaks import nearest_modes
 from robomill.forces.tables import figure_cuts, process_table
-from robomill.pipeline.design_tables import describe_design, design_factors
 
 _PEAKS = "results/forces/peaks.csv"
 _MODES = "results/modal/modes.csv"
@@ -44,7 +43,7 @@ def forces_findings(peaks: pd.DataFrame, modes: pd.DataFrame | None, *,
                     prominence_db: float, spectra: xr.Dataset | None = None,
                     means: pd.DataFrame | None = None,
                     coefficients: pd.DataFrame | None = None,
-                    cuts: pd.DataFrame | None = None,
+                    design: Mapping[str, Any] | None = None,
                     planted: Mapping[str, float] | None = None,
                     experiment: Mapping[str, Any] | None = None,
                     settings: Mapping[str, Any] | None = None,
@@ -66,10 +65,14 @@ def forces_findings(peaks: pd.DataFrame, modes: pd.DataFrame | None, *,
     band_hz, prominence_db
         ``forces.dominant_band_hz`` and ``forces.dominant_prominence_db`` (stated with the
         peaks).
-    spectra, means, coefficients, cuts
-        ``results/forces/spectra.nc``, ``mean_forces.csv``, ``cutting_coefficients.csv`` and
-        ``results/ingest/cuts.csv``; each ``None`` leaves out the findings that need it
-        (:func:`_records`, :func:`_levels`, :func:`_coefficients`).
+    spectra, means, coefficients
+        ``results/forces/spectra.nc``, ``mean_forces.csv`` and ``cutting_coefficients.csv``;
+        each ``None`` leaves out the findings that need it (:func:`_records`,
+        :func:`_levels`, :func:`_coefficients`).
+    design
+        The design of the cuts as the rule describes it from ``results/ingest/cuts.csv``
+        (``design``: one line; ``grouping``: the factors that vary;
+        :mod:`robomill.pipeline.design_tables`, tooling this package does not import).
     planted
         The planted cutting coefficients of a synthetic run by name
         (:func:`robomill.forces.tables.planted_coefficients`); ``None`` or empty otherwise.
@@ -101,7 +104,7 @@ def forces_findings(peaks: pd.DataFrame, modes: pd.DataFrame | None, *,
     if spectra is not None:
         _records(found, spectra, means, experiment, settings, thesis_design)
     if means is not None:
-        _levels(found, means, cuts, experiment)
+        _levels(found, means, design, experiment)
     if coefficients is not None:
         _coefficients(found, coefficients, planted, settings.get("confidence"))
     _sources(found)
@@ -247,18 +250,18 @@ def _kinematic(found: Findings, peaks: pd.DataFrame, spectra: xr.Dataset | None,
               "mm", artefact=_PEAKS, what="min_peak_cycles / lowest flagged kinematic_per_mm")
 
 
-def _levels(found: Findings, means: pd.DataFrame, cuts: pd.DataFrame | None,
+def _levels(found: Findings, means: pd.DataFrame, design: Mapping[str, Any] | None,
             experiment: Mapping[str, Any] | None) -> None:
-    """The design of the cuts (``design``: one line, :func:`describe_design`; ``grouping``:
-    the factors that vary), the mean force levels in the cut frame (``F_feed_N_range``,
+    """The design of the cuts (``design``: one line; ``grouping``: the factors that vary; as
+    given), the mean force levels in the cut frame (``F_feed_N_range``,
     ``F_cross_feed_N_range``, ``F_axial_N_range``) and the engagement of the cuts
     (``all_slot``; ``millings``: each milling mode and radial immersion, for the mean-force
     equations)."""
-    plan = cuts if cuts is not None else means
-    found.add("design", describe_design(plan, experiment), artefact=_CUTS,
-              what="the cuts' design factors (robomill.pipeline.design_tables)")
-    found.add("grouping", list(design_factors(plan, experiment).grouping), artefact=_CUTS,
-              what="design factors that vary")
+    if design:
+        found.add("design", str(design["design"]), artefact=_CUTS,
+                  what="the cuts' design factors (robomill.pipeline.design_tables)")
+        found.add("grouping", [str(g) for g in design["grouping"]], artefact=_CUTS,
+                  what="design factors that vary")
     for col in ("F_feed_N", "F_cross_feed_N", "F_axial_N"):
         v = means[col].to_numpy(float)
         found.add(f"{col}_range", [float(v.min()), float(v.max())], "N", artefact=_MEANS,
@@ -295,7 +298,7 @@ def _coefficients(found: Findings, coefficients: pd.DataFrame,
     if checked:
         bad = coefficients[~coefficients["physical"].astype(bool)]
         found.add("n_not_physical", len(bad), artefact=_COEFFICIENTS, what="physical == False")
-        found.add("not_physical", [_why_not_physical(r) for r in bad.itertuples()],
+        found.add("not_physical", not_physical_reasons(coefficients),
                   artefact=_COEFFICIENTS, what="negative, residual_exceeds_signal")
     if planted:
         err = {r.name: 100 * (float(r.value) / float(planted[r.name]) - 1)
@@ -305,18 +308,6 @@ def _coefficients(found: Findings, coefficients: pd.DataFrame,
             found.add("planted_error_pct_max", err[worst], "%", artefact=_COEFFICIENTS,
                       what="100 (value / planted - 1), largest in magnitude (truth.nc)")
             found.add("planted_error_worst", worst, artefact=_COEFFICIENTS, what="name")
-
-
-def _why_not_physical(r: Any) -> str:
-    """One coefficient that is not physical and why (its flags)."""
-    why = []
-    if bool(r.negative):
-        why.append(f"negative ({r.value:.3g} {r.unit}): a mechanistic cutting or edge "
-                   "coefficient cannot be below zero")
-    if bool(r.residual_exceeds_signal):
-        why.append(f"not resolved: its fit leaves {r.fit_residual_rms_N:.3g} N rms of "
-                   f"residual against {r.fit_signal_rms_N:.3g} N rms of signal (R² < 1/2)")
-    return f"{r.name} is " + ", and ".join(why)
 
 
 def _sources(found: Findings) -> None:

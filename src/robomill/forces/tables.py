@@ -3,7 +3,8 @@
 
 - :func:`figure_cuts`: the cuts the spectra figures show (the thesis' set ``forces.figure_set``
   for a study of its design, every cut otherwise);
-- :func:`peak_table`: Table 3.1, the per-cut peaks with the nearest identified mode;
+- :func:`peak_table`: Table 3.1, the per-cut peaks with the nearest identified mode (the
+  chapter groups it by the design factors that vary for a design other than the thesis');
 - :func:`harmonic_table`: Table 3.3, the tooth-passing harmonics' median power;
 - :func:`planted_coefficients`, :func:`coefficient_table`: Table 3.4, the identified cutting
   coefficients with the planted values of a synthetic run.
@@ -21,7 +22,6 @@ import xarray as xr
 
 from robomill.experiment import DIRECTION_LABELS
 from robomill.forces.peaks import nearest_modes
-from robomill.pipeline.design_tables import direction_label, per_cut_table, with_design
 
 THESIS_DIRECTIONS = ("py", "px", "my")
 """The thesis' order of the feed directions in its figures (+Y, +X, −Y)."""
@@ -47,7 +47,7 @@ class FigureCuts:
 def direction_text(direction: str) -> str:
     """+X, −Y … for a named direction, ``45°`` for a path direction ``"45 deg"``."""
     return (DIRECTION_LABELS[direction] if direction in DIRECTION_LABELS
-            else direction_label(None, float(direction.split()[0])))
+            else f"{float(direction.split()[0]):g}°")
 
 
 def figure_cuts(spectra: xr.Dataset, *, figure_set: int,
@@ -71,29 +71,27 @@ def figure_cuts(spectra: xr.Dataset, *, figure_set: int,
     return FigureCuts(False, None, cuts, list(dict.fromkeys(direction[c] for c in cuts)))
 
 
-def peak_table(peaks: pd.DataFrame, means: pd.DataFrame, modes: pd.DataFrame | None,
-               cuts: pd.DataFrame, experiment: Mapping[str, Any] | None, *,
-               grouped: bool) -> pd.DataFrame:
+def peak_table(peaks: pd.DataFrame, means: pd.DataFrame, modes: pd.DataFrame | None, *,
+               levels: bool) -> pd.DataFrame:
     """Table 3.1: each cut's dominant and kinematic peak and the identified mode nearest to
     the dominant one (:func:`robomill.forces.peaks.nearest_modes`), ``"none"`` where a peak
-    is empty (:data:`NONE`).
+    is empty (:data:`NONE`), rounded to 4 decimals.
 
-    ``grouped`` (any design but the thesis'): grouped by the design factors that vary
-    (:func:`robomill.pipeline.design_tables.per_cut_table`) with the mean force levels in the
-    cut frame; otherwise one row per cut with its feed, depth and direction, as the thesis.
+    ``levels`` (any design but the thesis'): ``cut``, the two peaks, the mean force levels in
+    the cut frame (:data:`FORCE_COLUMNS`) and the nearest mode's frequency and offset, for
+    the chapter to group by the design factors that vary; otherwise every column of
+    ``peaks.csv`` with the cut's feed, depth and direction, as the thesis.
     """
     tab = peaks.merge(means[["cut", "feed_mm_s", "depth_mm", "direction"]], on="cut")
     if modes is not None and len(modes):
         tab = tab.join(nearest_modes(tab["dominant_hz"], modes))
-    if grouped:
+    if levels:
         values = ["dominant_hz", "kinematic_per_mm", *FORCE_COLUMNS] + [
             c for c in ("nearest_mode_hz", "offset_hz") if c in tab]
-        per_cut = tab.drop(columns=["feed_mm_s", "depth_mm", "direction"]).merge(
-            means[["cut", *FORCE_COLUMNS]], on="cut")
-        tab = per_cut_table(per_cut[["cut", *values]], values, cuts, experiment)
+        tab = tab.drop(columns=["feed_mm_s", "depth_mm", "direction"]).merge(
+            means[["cut", *FORCE_COLUMNS]], on="cut")[["cut", *values]]
     tab = tab.round(4)
-    shown = {k: v for k, v in NONE.items() if k in tab}
-    return tab.astype({k: object for k in shown}).fillna(shown)
+    return tab.astype({k: object for k in NONE}).fillna(NONE)
 
 
 def harmonic_table(harmonics: pd.DataFrame, cuts: pd.DataFrame) -> pd.DataFrame:
@@ -130,13 +128,16 @@ def coefficient_table(coefficients: pd.DataFrame,
 
 
 def process_table(means: pd.DataFrame, experiment: Mapping[str, Any] | None) -> pd.DataFrame:
-    """The mean-force table with each cut's process filled in (flutes, radial immersion,
-    milling mode: :func:`robomill.pipeline.design_tables.with_design`); a table without
-    them (no experiment) counts as two-flute slots."""
-    out = with_design(means, experiment)
-    if "flutes" not in out:
-        out["flutes"] = 2
-    if "milling" not in out:
-        out["milling"], out["radial_immersion"] = "slot", 1.0
+    """The mean-force table with each cut's process filled in: ``flutes`` (the cut's, else the
+    experiment's, else 2), ``radial_immersion`` (else 1: a slot) and ``milling`` (else
+    ``slot`` at full immersion, ``down`` below; as :func:`robomill.experiment.cut_process`)."""
+    out = means.copy()
+    flutes = (experiment or {}).get("flutes") or 2
+    out["flutes"] = (out["flutes"].fillna(flutes) if "flutes" in out else flutes)
     out["flutes"] = np.asarray(out["flutes"], int)
+    ae = (out["radial_immersion"].fillna(1.0) if "radial_immersion" in out
+          else pd.Series(1.0, index=out.index)).astype(float)
+    out["radial_immersion"] = ae
+    mode = pd.Series(np.where(ae >= 1.0, "slot", "down"), index=out.index)
+    out["milling"] = out["milling"].fillna(mode) if "milling" in out else mode
     return out
