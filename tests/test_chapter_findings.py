@@ -264,7 +264,7 @@ def test_chapter_3_1_prose_follows_altered_findings():
     assert "12,345 samples" in text and "700.0, 1400.0 Hz" in text
     assert "Design: 7 cuts: 7 spindle speeds." in text and "groups the cuts by spindle_rpm" in text
     assert "above 800 Hz is at **4321 Hz**, 6.17 times" in text
-    assert "0–180 Hz of the cuts of every cut along +X" in text
+    assert "0–180 Hz of every cut along +X" in text
     assert "median **0.77 mm⁻¹** over the 5 cuts" in text and "0.6–0.9 mm⁻¹" in text
     assert "rises 7 dB" in text and "In 2 of 7 cuts" in text
     assert "3 mm/s record is 1/L = 0.125 mm⁻¹" in text
