@@ -288,3 +288,93 @@ def test_chapter_2_prose_follows_its_findings():
     assert "within a factor 2 of the thesis: Table 2.1 (waviness) 1 of 1" in text
     assert "Table 2.2 (roughness) 0 of 1" in text and "0.75" in text
     assert "virtual cell" in text
+
+
+def _forces_altered():
+    """Chapter 3.1's findings with values no study of the default config gives."""
+    f = Findings("forces")
+    for key, value in {
+            "n_cuts": 7, "n_samples_total": 12345, "tooth_passing_hz_values": [700.0, 1400.0],
+            "design": "7 cuts: 7 spindle speeds", "grouping": ["spindle_rpm"],
+            "thesis_layout": False, "figure_set": None, "model_flutes": 3,
+            "model_milling": "down", "model_radial_immersion": 0.25, "lowband_hz": 180.0,
+            "full_band_min_hz": 800.0, "full_band_peak_cut": "x1", "full_band_peak_hz": 4321.0,
+            "full_band_peak_harmonic": 6.17, "n_kinematic": 5, "n_kinematic_none": 2,
+            "kinematic_per_mm_median": 0.77, "kinematic_per_mm_range": [0.61, 0.83],
+            "kinematic_band_per_mm": [0.6, 0.9], "kinematic_prominence_db": 7.0,
+            "resolution_feed_mm_s": 3.0, "resolution_per_mm": 0.125,
+            "kinematic_below_resolution": ["x2 (0.61 mm⁻¹ at 1/L = 0.125 mm⁻¹)", "x3"],
+            "kinematic_uncertainty_pct": 4.0, "kinematic_record_needed_mm": 20.6,
+            "F_feed_N_range": [-7.25, -1.5], "F_cross_feed_N_range": [0.25, 3.0],
+            "F_axial_N_range": [0.125, 0.5], "all_slot": False,
+            "millings": ["down milling, a_e/D 0.25"], "confidence_pct": 90.0,
+            "coefficient_flags_checked": True, "n_coefficients": 6, "n_not_physical": 1,
+            "not_physical": ["Krc is negative (-3 N/mm^2)"],
+            "planted_error_pct_max": 7.5, "planted_error_worst": "Kae",
+            "ref_full_band_peak_hz": 12000.0, "ref_kinematic_per_mm": 0.45}.items():
+        f.add(key, value)
+    for name, value in {"Ktc": 812.25, "Krc": -3.0, "Kac": 1.0, "Kte": 2.0, "Kre": 3.0,
+                        "Kae": 4.0}.items():
+        f.add(f"coefficient_{name}", value)
+        f.add(f"coefficient_{name}_ci", [value - 12.25, value + 7.75])
+    f.add("n_kinematic_below_resolution", 2, verdict="fail", threshold=12.5,
+          config_key="forces.min_peak_cycles")
+    return f
+
+
+def test_chapter_3_1_prose_follows_altered_findings():
+    """Every statement of chapter 3.1 beyond the dominant peak (tests/test_forces_findings.py)
+    follows its findings: records, figures' selection, full-band peak, kinematic flag,
+    levels, engagement, coefficients and the thesis' numbers."""
+    found = _forces_altered()
+    say = Prose(load_templates("ch3_1"), found)
+    refs = {f"ref_{k}": f"[{k}]" for k in (
+        "peaks", "record", "full_band_psd", "spatial", "time", "model_force_shape",
+        "harmonics", "mean_forces_vs_feed", "coefficients")}
+    shape, which = say("model_shape"), say("which")
+    assert shape == "3-flute down-milling cut at a_e/D 0.25" and which == "every cut"
+    text = " ".join(say(*say.templates, shape=shape, which=which, direction="+X",
+                        **refs).split())
+    assert "12,345 samples" in text and "700.0, 1400.0 Hz" in text
+    assert "Design: 7 cuts: 7 spindle speeds." in text and "groups the cuts by spindle_rpm" in text
+    assert "above 800 Hz is at **4321 Hz**, 6.17 times" in text
+    assert "0–180 Hz of every cut along +X" in text
+    assert "median **0.77 mm⁻¹** over the 5 cuts" in text and "0.6–0.9 mm⁻¹" in text
+    assert "rises 7 dB" in text and "In 2 of 7 cuts" in text
+    assert "3 mm/s record is 1/L = 0.125 mm⁻¹" in text
+    assert "**Sanity flag: 2 of 7 cuts" in text and "fewer than 12.5 periods" in text
+    assert "±4 %" in text and "21 mm for the lowest flagged peak" in text
+    assert "feed -7.25 to -1.50 N" in text and "axial 0.12 to 0.50 N" in text
+    assert "engaged arc: down milling, a_e/D 0.25" in text
+    assert "90 % intervals" in text and "Ktc = 812.2 [800.0, 820.0] N/mm²" in text
+    assert "+7.50 % (Kae)" in text and "**Not physical:** Krc is negative" in text
+    assert "All 6 coefficients are physical" not in text
+    assert "{" not in text
+    assert "Against the thesis" not in text and "12,000" not in text  # not the thesis' study
+    found.comparisons = [{"verdict": "pass"}]
+    closing = " ".join(Prose(load_templates("ch3_1"), found)("thesis_says", "against").split())
+    assert "above 12,000 Hz" in closing and "near 0.45 mm⁻¹" in closing
+    assert "1 of 1 reproduced" in closing
+    found.items["n_kinematic_below_resolution"].verdict = "pass"
+    found.items["n_not_physical"].value = 0
+    found.items["all_slot"].value = True
+    again = " ".join(Prose(load_templates("ch3_1"), found)(
+        "kinematic_flag", "physical", "physical_ok", "mean_forces", **refs).split())
+    assert "at least 12.5 periods" in again and "All 6 coefficients are physical" in again
+    assert "K_tc c/4 + K_te/π" in again and "Sanity flag" not in again
+
+
+def test_chapter_3_3_tables_shown():
+    """The peak groups without the thesis' reference column (left to 'Against the thesis'),
+    the misfit per FRF and the rounded mode table (robomill.modal.shown)."""
+    from robomill.modal.shown import misfit_table, shown_modes, shown_peak_groups
+
+    groups = pd.DataFrame({"group": [1], "f_hz": [19.961], "n_frfs": [5], "frfs": ["X/X"],
+                           "reference_hz": [20.0], "offset_hz": [-0.039]})
+    assert list(shown_peak_groups(groups).columns) == ["group", "f_hz", "n_frfs", "frfs"]
+    assert shown_peak_groups(groups)["f_hz"].iloc[0] == 19.96
+    ds, synth, _ = _modal_inputs(misfit=0.25)
+    err = misfit_table(ds, synth, [10.0, 90.0])
+    assert err.shape == (3, 3) and np.allclose(err.to_numpy(), 25.0)
+    assert shown_modes(pd.DataFrame({"f_n_hz": [20.12345], "zeta": [0.012345]})).iloc[0].tolist() \
+        == [20.123, 0.0123]

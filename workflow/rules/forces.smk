@@ -68,9 +68,14 @@ rule forces_gather:
 # (forces.mode_match_hz) and the scorecard rows of the stage ("Against the thesis").
 rule forces_findings:
     input:
+        unpack(forces_truth_input),
         # the impact test's modes, when the raw folder has one (chapter 3.3)
         **({"modes": "results/modal/modes.csv"} if has_kind("impact") else {}),
         peaks="results/forces/peaks.csv",
+        spectra="results/forces/spectra.nc",
+        means="results/forces/mean_forces.csv",
+        coefficients="results/forces/cutting_coefficients.csv",
+        cuts="results/ingest/cuts.csv",
         references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
     output:
         findings="results/forces/findings.yaml",
@@ -84,6 +89,9 @@ rule forces_findings:
         mode_match_hz=config["forces"]["mode_match_hz"],
         band_hz=config["forces"]["dominant_band_hz"],
         prominence_db=config["forces"]["dominant_prominence_db"],
+        settings=config["forces"],
+        experiment=dict(EXPERIMENT),
+        thesis_design=THESIS_DESIGN,
         thesis_study=THESIS_STUDY,
     script:
         "../scripts/forces_findings.py"

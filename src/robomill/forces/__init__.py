@@ -9,8 +9,11 @@
 - :mod:`~robomill.forces.peaks`: dominant, kinematic and harmonic peaks, nearest modes;
 - :mod:`~robomill.forces.study`: the per-cut dataset and the gathered study;
 - :mod:`~robomill.forces.settings`: the ``forces`` config section's dataclasses;
-- :mod:`~robomill.forces.findings`: what chapter 3.1 states of the dominant peak, with the
-  verdict against the identified modes (``forces.mode_match_hz``).
+- :mod:`~robomill.forces.findings`: every number and verdict chapter 3.1 states (the
+  dominant peak against the identified modes, ``forces.mode_match_hz``; the kinematic peak's
+  resolution flag, ``forces.min_peak_cycles``; the records, force levels and coefficients);
+- :mod:`~robomill.forces.tables`: the tables chapter 3.1 shows and the cuts of its figures;
+- :mod:`~robomill.forces.figures`: chapter 3.1's figures (matplotlib).
 
 Decimation and FIR design live in :mod:`robomill.spectra`, feed per tooth and tooth passing
 in :mod:`robomill.experiment`. Importing this package imports none of them: each public name
@@ -28,12 +31,17 @@ _WHERE = {
               "mean_slot_forces", "slot_force_tables", "slot_forces",
               "slot_forces_band_limited"),
     "coefficients": ("FLAG_COLUMNS", "coefficient_flag_sentence", "coefficient_flags",
-                     "identify_cutting_coefficients", "identify_cutting_coefficients_general"),
+                     "identify_cutting_coefficients", "identify_cutting_coefficients_general",
+                     "not_physical_reasons"),
     "stream": ("ForceSpectrumAccumulator", "analyse_force_record"),
     "peaks": ("cut_peaks", "dominant_peak", "harmonic_powers", "nearest_modes"),
     "study": ("force_cut_dataset", "gather_force_study"),
     "settings": ("ForceAnalysisSettings", "ForcePeakSettings"),
     "findings": ("forces_findings",),
+    "tables": ("FigureCuts", "coefficient_table", "direction_text", "figure_cuts",
+               "harmonic_table", "peak_table", "planted_coefficients", "process_table"),
+    "figures": ("direction_figure", "full_band_figure", "mean_forces_figure",
+                "model_shape_figure", "record_figure"),
     "robomill.spectra": ("LOWBAND_OVERSAMPLING", "StreamDecimator", "auto_decimation",
                          "decimate_whole", "lowpass_fir"),
     "robomill.experiment": ("feed_per_tooth_mm", "tooth_passing_hz"),

@@ -94,11 +94,19 @@ def coefficient_flag_sentence(table: pd.DataFrame) -> str:
     """
     if not set(FLAG_COLUMNS) <= set(table.columns):
         return ""
-    physical = table["physical"].astype(bool)
-    if physical.all():
+    parts = not_physical_reasons(table)
+    if not parts:
         return f"All {len(table)} coefficients are physical (positive, resolved by their fit)."
+    return "**Not physical:** " + "; ".join(parts) + "."
+
+
+def not_physical_reasons(table: pd.DataFrame) -> list[str]:
+    """Each coefficient of ``cutting_coefficients.csv`` that is not ``physical``, and why:
+    ``"Krc is negative (-3 N/mm^2): …"`` (a mechanistic cutting or edge coefficient cannot be
+    below zero) and/or ``"… not resolved: its fit leaves … N rms of residual against … N rms
+    of signal (R² < 1/2)"``; empty when every row is physical."""
     parts = []
-    for r in table[~physical].itertuples():
+    for r in table[~table["physical"].astype(bool)].itertuples():
         why = []
         if bool(r.negative):
             why.append(f"negative ({r.value:.3g} {r.unit}): a mechanistic cutting or edge "
@@ -107,7 +115,7 @@ def coefficient_flag_sentence(table: pd.DataFrame) -> str:
             why.append(f"not resolved: its fit leaves {r.fit_residual_rms_N:.3g} N rms of "
                        f"residual against {r.fit_signal_rms_N:.3g} N rms of signal (R² < 1/2)")
         parts.append(f"{r.name} is " + ", and ".join(why))
-    return "**Not physical:** " + "; ".join(parts) + "."
+    return parts
 
 
 def identify_cutting_coefficients(feed_per_tooth_mm: np.ndarray, depth_mm: np.ndarray,

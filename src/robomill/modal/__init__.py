@@ -22,7 +22,9 @@ The chain, each step a pure function on arrays:
 8. :mod:`~robomill.modal.checks` — planted-truth check, synthesis misfit, mode coupling;
    :mod:`~robomill.modal.ncio` — complex variables in netCDF; :mod:`~robomill.modal.uff` —
    FRFs and modes written as UFF 58/55.
-9. :mod:`~robomill.modal.findings` — chapter 3.3's findings from the stage's artefacts.
+9. :mod:`~robomill.modal.findings` — chapter 3.3's findings from the stage's artefacts;
+   :mod:`~robomill.modal.shown` — the tables it shows; :mod:`~robomill.modal.figures` — its
+   figures (matplotlib).
 
 Importing this package imports none of them: every public name is loaded from its
 submodule on first use (PEP 562 ``__getattr__``), so ``from robomill.modal import identify``
@@ -42,6 +44,8 @@ _NAMES = {
              "choose_band"),
     "checks": ("COUPLING_TOLERANCE", "mode_coupling", "synthesis_misfit", "truth_check"),
     "findings": ("modal_findings",),
+    "figures": ("STABILITY_STYLE", "frf_grid_figure", "frf_pair_figure", "impact_test_figure",
+                "mac_shapes_figure", "measured_pairs", "stabilization_figure"),
     "frf": ("combine_frfs", "force_spectrum", "frf_from_groups", "frf_matrix",
             "to_receptance"),
     "hits": ("CHANNELS", "HIT_COLUMNS", "HitCheck", "HitGroup", "check_and_group", "check_hit",
@@ -55,6 +59,8 @@ _NAMES = {
     "peaks": ("PEAK_COLUMNS", "THESIS_NATURAL_HZ", "group_peaks", "interpolated_peak_hz",
               "peak_picking"),
     "shapes": ("ModeShapes", "mac_matrix", "mode_shapes"),
+    "shown": ("MODE_ROUNDING", "misfit_table", "shown_hits", "shown_modes",
+              "shown_peak_groups"),
     "synthesis": ("modal_constants", "modal_residues", "synthesize_frf"),
     "tables": ("MODE_COLUMNS", "modes_table", "shapes_table"),
     "uff": ("write_frf_uff", "write_modes_uff"),
