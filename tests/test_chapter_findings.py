@@ -148,6 +148,25 @@ def test_chatter_findings_from_planted_artefacts():
     assert v["robot_worst_rpm"] == 27000.0
     assert (v["n_cuts"], v["n_cuts_chatter_free"]) == (2, 1) and v["safety_pct"] == 20.0
     assert v["ref_sdm_converged_6400_mm"] == 1.6392
+    assert v["bench_published"] is True  # the benchmark is configured under its own name
+
+
+def test_chatter_findings_of_another_case_and_a_slotting_case():
+    """A case under another name is not the published benchmark; a slotting case of 3 teeth
+    with one mode in x and another in y is not symmetric (planted by hand)."""
+    cases, sim, lobes, rec = _chatter_inputs()
+    other = cases.pop("insperger2004_down005").assign_attrs(case_name="my_tool")
+    slot = other.assign_attrs(case_name="insperger2004_slot", case_teeth=3, case_modes=(
+        '{"x": [{"f_hz": 500.0, "zeta": 0.02, "k_N_m": 1e7}], '
+        '"y": [{"f_hz": 600.0, "zeta": 0.02, "k_N_m": 1e7}]}'), worst_relative_error=0.001)
+    v = chatter_findings({"my_tool": other, "insperger2004_slot": slot}, sim, lobes, rec,
+                         safety_fraction=0.2).values()
+    assert v["bench_case"] == "my_tool" and v["bench_published"] is False
+    assert v["has_slot"] and v["slot_teeth"] == 3 and v["slot_symmetric"] is False
+    same = slot.assign_attrs(case_modes='{"x": [{"f_hz": 1.0}], "y": [{"f_hz": 1.0}]}')
+    v = chatter_findings({"insperger2004_slot": same}, sim, lobes, rec,
+                         safety_fraction=0.2).values()
+    assert v["slot_symmetric"] is True and v["bench_case"] == "insperger2004_slot"
 
 
 def test_chatter_findings_flip_speed_of_a_one_mode_case():
@@ -213,7 +232,18 @@ def test_chapter_4_prose_follows_its_findings():
     assert "≈ 18440 rpm" not in text  # the planted case lists no modes: no flip-speed sentence
     assert "Case `insperger2004_down005` (`config.yaml: chatter.cases`)." in text
     assert "tool partial frequency 167 Hz" in text and "K_t = 900 MPa" in text
+    assert "1-DOF benchmark of Insperger" in text  # bench_published
+    assert "Their diagram" not in text  # ... but no one-mode setup to state its flip speed
+    assert "No slotting case configured (`chatter.cases`)." in text
     assert "{" not in text
+    found.items["bench_published"].value = False
+    assert Prose(load_templates("ch4"), found)("bench_published") == ""
+    found = chatter_findings({**cases, "insperger2004_slot": cases["insperger2004_down005"]
+                              .assign_attrs(case_teeth=5, worst_relative_error=0.001)},
+                             sim, lobes, rec, safety_fraction=0.3)
+    say = Prose(load_templates("ch4"), found)
+    text = " ".join(say("slot_case", slot_symmetry=say("slot_symmetry")).split())
+    assert "5 teeth, the same modes in x and y" in text
 
 
 def _surface_findings(**kw):

@@ -7,7 +7,7 @@
 # time-domain discretization, Khasawneh & Mann 2011, converged at every speed to
 # `chatter.accuracy` and stored with its error), the time-domain robot–tool–surface model of
 # seed 002 with FFT chatter detection and adaptive depth, and the lobes and recommendations for
-# the thesis robot from the modes and cutting coefficients this pipeline identified.
+# the identified robot from the modes and cutting coefficients this pipeline identified.
 #
 # **Conventions.** x = feed direction, y = normal direction (the seed's z); the cutter angle φ
 # is measured clockwise from +y; up-milling enters at φ = 0, down-milling exits at φ = π;
@@ -26,11 +26,12 @@ thesis_study: bool = None  # unused: the comparison rows come with the findings
 
 # %%
 import matplotlib.pyplot as plt
-import numpy as np
 import pandas as pd
 from IPython.display import Markdown, display
 
-from robomill.chatter.report import coupling_table, onset_table
+from robomill.chatter import figures
+from robomill.chatter.findings import load_cases
+from robomill.chatter.tables import coupling_table, onset_table
 from robomill.findings import read_findings
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
@@ -38,24 +39,24 @@ from robomill.pipeline.prose import Prose, comparison_table, load_templates
 from robomill.plotting import save_figure
 
 found = read_findings(findings)
+F = found.values()
 say = Prose(load_templates("ch4", templates), found)
-
-if isinstance(cases, str):
-    cases = [cases]
-case_ds = {open_artefact(p).attrs["case_name"]: open_artefact(p) for p in cases}
+case_ds = load_cases(cases or [], open_artefact)
+bench = case_ds.get(F.get("bench_case"))
+slot = case_ds.get("insperger2004_slot") if F.get("has_slot") else None
 sim = open_artefact(simulation)
 th = open_artefact(lobes)
 rec = pd.read_csv(recommendations)
-name = "insperger2004_down005" if "insperger2004_down005" in case_ds else next(iter(case_ds))
-HAS_SLOT = "insperger2004_slot" in case_ds
 
 num = Numbering("4")
-num.figure("benchmark_lobes", f"Stability lobes of case {name}: zero-order and spectral "
-           "element, flip lobes marked", number=1, part="a", stem="fig4_1_benchmark_lobes")
-num.figure("benchmark_error", f"Case {name}: estimated discretization error of the spectral "
-           "element per speed, against chatter.accuracy", number=1, part="b",
-           stem="fig4_1b_benchmark_error")
-if HAS_SLOT:
+if bench is not None:
+    num.figure("benchmark_lobes", f"Stability lobes of case {F['bench_case']}: zero-order and "
+               "spectral element, flip lobes marked", number=1, part="a",
+               stem="fig4_1_benchmark_lobes")
+    num.figure("benchmark_error", f"Case {F['bench_case']}: estimated discretization error of "
+               "the spectral element per speed, against chatter.accuracy", number=1, part="b",
+               stem="fig4_1b_benchmark_error")
+if slot is not None:
     num.figure("slot", "Slotting benchmark (insperger2004_slot): zero-order and spectral "
                "element agree", number=2, stem="fig4_2_slotting_agreement")
 num.figure("seed_lobes", "Seed 002: lobes of the closed-loop tool point (ZOA and SDM), a* and "
@@ -76,78 +77,43 @@ num.table("coupling", "Mode coupling and regenerative chatter per slot direction
 num.table("recommendations", "Stability margins of the configured cuts and the "
           "recommended chatter-free depths", number=3)
 
+
+def show(fig, name):
+    """Save the figure under this chapter's numbering, show it and its caption."""
+    save_figure(fig, fig_dir, num.file(name))
+    plt.show()
+    display(num.caption(name))
+
+
 # %% [markdown]
 # ## 4.1 Lobes for any machine: the published benchmark
-#
-# Case `insperger2004_down005` is the 1-DOF benchmark of Insperger & Stépán (2004), also
-# computed by Ding et al. (2010).
 
 # %%
-display(Markdown(say("bench_case")))
-ds = case_ds[name]
-rpm = ds.spindle_rpm.values
-a_z = ds.a_crit_mm.sel(solver="zoa").values
-a_s = ds.a_crit_mm.sel(solver="sem").values
-err = ds.a_crit_error_mm.values
-kind = ds.bifurcation.values.astype(str)
-fig, ax = plt.subplots()
-ax.plot(rpm, a_z, "-", color="0.5", label="zero-order (ZOA)")
-ax.plot(rpm, a_s, "k-", lw=1.2,
-        label=f"spectral element (error ≤ {100 * ds.attrs['accuracy']:.1f} %)")
-flip = kind == "flip"
-ax.plot(rpm[flip], a_s[flip], "r.", ms=4, label="flip (period doubling)")
-ax.set_xlabel("spindle speed [rpm]")
-ax.set_ylabel("critical axial depth [mm]")
-ax.set_ylim(0, ds.attrs["depth_max_mm"])
-ax.set_title(f"Case {name}")
-ax.legend()
-save_figure(fig, fig_dir, num.file("benchmark_lobes"))
-plt.show()
-display(num.caption("benchmark_lobes"))
-display(Markdown(say("bench_lobes", "bench_flip",
-                     ref_benchmark_lobes=num.ref("benchmark_lobes"))))
+display(Markdown(say("bench_case", "bench_published", "bench_diagram")))
+if bench is not None:
+    show(figures.case_lobes_figure(bench), "benchmark_lobes")
+display(Markdown(say("bench_lobes", "bench_flip", ref_benchmark_lobes=num.ref("benchmark_lobes")
+                     if bench is not None else "")))
 
 # %% [markdown]
 # **How converged is it?** Each depth carries its estimated discretization error
 # `a_crit_error_mm`: the difference between the collocation orders p − 2 and p at which it
-# was accepted, plus the root tolerance. The method converges spectrally (the error falls more
-# than tenfold per two added nodes on this benchmark, tests/test_chatter_sem.py), so the
-# estimate bounds the error of the reported value by a wide margin.
+# was accepted, plus the root tolerance. The method converges spectrally (Khasawneh & Mann
+# 2011; tests/test_chatter_sem.py checks it on the benchmark), so the estimate bounds the error
+# of the reported value.
 
 # %%
 display(Markdown(say("convergence_sources")))
-rel = 100 * err / a_s
-fig, ax = plt.subplots()
-ax.semilogy(rpm, rel, "k.", ms=3, label="estimated error of the spectral element")
-ax.axhline(100 * ds.attrs["accuracy"], color="r", ls="--", label="chatter.accuracy")
-ax.set_xlabel("spindle speed [rpm]")
-ax.set_ylabel("relative error of a_crit [%]")
-ax.set_title(f"Case {name}: discretization error per speed")
-ax.legend()
-save_figure(fig, fig_dir, num.file("benchmark_error"))
-plt.show()
-display(num.caption("benchmark_error"))
-display(Markdown(say("bench_error", "bench_checks",
-                     ref_benchmark_error=num.ref("benchmark_error"))))
-
-# %% [markdown]
-# Slotting (`insperger2004_slot`, symmetric x/y, 4 teeth): the directional matrix is nearly
-# constant, so the zero-order method is accurate and both methods must agree.
+if bench is not None:
+    show(figures.case_error_figure(bench), "benchmark_error")
+display(Markdown(say("bench_error", "bench_checks", ref_benchmark_error=num.ref("benchmark_error")
+                     if bench is not None else "")))
 
 # %%
-if HAS_SLOT:
-    sl = case_ds["insperger2004_slot"]
-    az, asd = (sl.a_crit_mm.sel(solver=s).values for s in ("zoa", "sem"))
-    fig, ax = plt.subplots()
-    ax.plot(sl.spindle_rpm, az, color="0.5", label="ZOA")
-    ax.plot(sl.spindle_rpm, asd, "k--", label="spectral element")
-    ax.set_xlabel("spindle speed [rpm]")
-    ax.set_ylabel("critical axial depth [mm]")
-    ax.legend()
-    save_figure(fig, fig_dir, num.file("slot"))
-    plt.show()
-    display(num.caption("slot"))
-display(Markdown(say("slot", ref_slot=num.ref("slot") if HAS_SLOT else "")))
+display(Markdown(say("slot_case", slot_symmetry=say("slot_symmetry"))))
+if slot is not None:
+    show(figures.slot_figure(slot), "slot")
+display(Markdown(say("slot", ref_slot=num.ref("slot") if slot is not None else "")))
 
 # %% [markdown]
 # ## 4.2 Seed 002: robot–tool–surface in the time domain
@@ -160,58 +126,11 @@ display(Markdown(say("slot", ref_slot=num.ref("slot") if HAS_SLOT else "")))
 
 # %%
 display(Markdown(say("seed_model")))
-sp = sim.spindle_rpm.values
-fig, ax = plt.subplots()
-ax.plot(sp, sim.seed_a_crit_mm.sel(solver="zoa"), color="0.5", label="ZOA (D-partition)")
-ax.plot(sp, sim.seed_a_crit_mm.sel(solver="sdm"), "k-", label="SDM")
-ax.axhline(sim.attrs["a_star_mm"], color="b", ls=":", label="a* (stable at every speed)")
-n0 = sim.attrs["spindle_rpm_seed"]
-ax.plot([n0], [sim.attrs["point1_depth_mm"]], "go", label="point 1")
-ax.plot([n0], [sim.attrs["point2_depth_mm"]], "rs", label="point 2")
-ax.set_xlabel("spindle speed n [rpm]")
-ax.set_ylabel("critical axial depth a_cr [mm]")
-ax.legend()
-save_figure(fig, fig_dir, num.file("seed_lobes"))
-plt.show()
-display(num.caption("seed_lobes"))
+show(figures.seed_lobes_figure(sim), "seed_lobes")
 display(Markdown(say("seed_lobes", "seed_sdm_error", ref_seed_lobes=num.ref("seed_lobes"))))
-
-# %%
-fig, axes = plt.subplots(3, 1, figsize=(7.5, 8), sharex=True)
-for ax, run in zip(axes, sim.run.values, strict=True):
-    ax.plot(sim.time, sim.xs_vib_um.sel(run=run), lw=0.4)
-    ax.set_ylabel("x_s [µm]")
-    ax.set_title(str(run))
-axes[-1].set_xlabel("t [s]")
-save_figure(fig, fig_dir, num.file("seed_time"))
-plt.show()
-display(num.caption("seed_time"))
-
-fig, ax = plt.subplots()
-for run in sim.run.values:
-    ax.plot(sim.frequency, sim.spectrum_N.sel(run=run), lw=0.8, label=str(run))
-ax.set_xlim(0, 600)
-ax.set_xlabel("frequency [Hz]")
-ax.set_ylabel("amplitude of R [N]")
-ax.set_title("Amplitude spectrum of the resultant horizontal force, last window")
-ax.legend()
-save_figure(fig, fig_dir, num.file("seed_spectra"))
-plt.show()
-display(num.caption("seed_spectra"))
-
-fig, ax = plt.subplots()
-for run in sim.run.values:
-    ax.semilogy(sim.window_end, sim.indicator_N.sel(run=run), label=str(run))
-for t_a in np.atleast_1d(sim.attrs["adaptation_times_s"]):
-    ax.axvline(t_a, color="r", ls=":")
-ax.set_xlabel("end of window [s]")
-ax.set_ylabel("chatter indicator [N]")
-ax.legend()
-save_figure(fig, fig_dir, num.file("detection"))
-plt.show()
-display(num.caption("detection"))
-
-# %%
+show(figures.seed_time_figure(sim), "seed_time")
+show(figures.seed_spectra_figure(sim), "seed_spectra")
+show(figures.detection_figure(sim), "detection")
 display(Markdown(say("seed_runs", "point1", "point2", ref_seed_time=num.ref("seed_time"),
                      ref_seed_spectra=num.ref("seed_spectra"),
                      ref_detection=num.ref("detection"))))
@@ -223,48 +142,24 @@ display(Markdown(say("why_frequency", "growth", "settling", sep="\n\n")))
 # (negative σ: how fast a disturbance decays):
 
 # %%
-onset = onset_table(sim)
 display(Markdown(say("onset", ref_onset=num.ref("onset"))))
 display(num.caption("onset"))
-onset.round(4)
+onset_table(sim).round(4)
 
 # %%
 display(Markdown(say("robot_title")))
-fig, axes = plt.subplots(1, 3, figsize=(11, 3.8), sharey=True)
-for ax, d in zip(axes, th.direction.values, strict=True):
-    ax.plot(th.spindle_rpm, th.a_crit_mm.sel(direction=d, solver="zoa"), "-", label="zoa")
-    a_d = th.a_crit_mm.sel(direction=d, solver="sem")
-    e_d = th.a_crit_error_mm.sel(direction=d)
-    ax.plot(th.spindle_rpm, a_d, "--", label="sem")
-    ax.fill_between(th.spindle_rpm, a_d - e_d, a_d + e_d, color="C1", alpha=0.3,
-                    label="sem ± error")
-    for dep in np.atleast_1d(th.attrs["thesis_depths_mm"]):
-        ax.axhline(dep, color="r", lw=0.6)
-    ax.axvline(th.attrs["thesis_spindle_rpm"], color="0.6", ls=":")
-    ax.set_title(f"slot {d}")
-    ax.set_xlabel("spindle speed [rpm]")
-axes[0].set_ylabel("critical axial depth [mm]")
-axes[0].legend()
-save_figure(fig, fig_dir, num.file("thesis_lobes"))
-plt.show()
-display(num.caption("thesis_lobes"))
-
-# %%
+show(figures.robot_lobes_figure(th), "thesis_lobes")
 display(Markdown(say("robot_lobes", ref_thesis_lobes=num.ref("thesis_lobes"))))
 
 # %%
-mc = coupling_table(th)
-display(Markdown(f"{num.ref('coupling')}: the mode-coupling limit per slot direction and the "
-                 "coupled pair of modes, beside the regenerative chatter frequency."))
+display(Markdown(say("coupling", ref_coupling=num.ref("coupling"))))
 display(num.caption("coupling"))
-mc.round(3)
+coupling_table(th).round(3)
 
 # %%
 display(Markdown(say("recommendations_intro", ref_recommendations=num.ref("recommendations"))))
 display(num.caption("recommendations"))
-rec.round(3)
-
-# %%
+display(rec.round(3))
 display(Markdown(say("choices", "choice_lines", sep="\n")))
 
 # %% [markdown]

@@ -30,6 +30,8 @@ Modules
                                     (regenerative and delay-free): the plan's stability check
 :mod:`~robomill.chatter.thesis`     thesis robot: slot frames, mode coupling, recommendations
 :mod:`~robomill.chatter.findings`   chapter 4's findings from the stage's artefacts
+:mod:`~robomill.chatter.tables`     chapter 4's tables (onset checks, mode coupling)
+:mod:`~robomill.chatter.figures`    chapter 4's figures
 """
 
 from robomill.lazy import lazy_exports
@@ -39,4 +41,9 @@ __getattr__, __dir__, __all__ = lazy_exports(__name__, {
     "lobes_sem": ("sem_lobes", "sem_spectral_radius"),
     "lobes_zoa": ("zoa_lobes",),
     "model": ("CuttingModel", "LinearTool", "ModeXY", "immersion_angles", "tool_from_modes"),
+    "findings": ("chatter_findings", "load_cases"),
+    "tables": ("coupling_table", "onset_table"),
+    "figures": ("case_error_figure", "case_lobes_figure", "detection_figure",
+                "robot_lobes_figure", "seed_lobes_figure", "seed_spectra_figure",
+                "seed_time_figure", "slot_figure"),
 })

@@ -20,7 +20,7 @@ import pandas as pd
 import xarray as xr
 
 from robomill import references
-from robomill.chatter.report import onset_table
+from robomill.chatter.tables import onset_table
 from robomill.findings import Findings
 
 BENCHMARK = "insperger2004_down005"
@@ -41,6 +41,8 @@ def _case(f: Findings, name: str, ds: xr.Dataset) -> None:
     kind = ds["bifurcation"].values.astype(str)
     flip = kind == "flip"
     f.add("bench_case", name, artefact=art, what="attrs.case_name")
+    f.add("bench_published", name == BENCHMARK, artefact=art,
+          what=f"attrs.case_name == {BENCHMARK} (the published benchmark)")
     _case_setup(f, art, ds.attrs)
     f.add("bench_accuracy_pct", 100 * float(ds.attrs["accuracy"]), "%", artefact=art,
           what="attrs.accuracy", config_key="chatter.accuracy")
@@ -131,6 +133,10 @@ def _slot(f: Findings, ds: xr.Dataset | None) -> None:
     if ds is None:
         return
     art = f"results/chatter/cases/{SLOT}.nc"
+    f.add("slot_teeth", int(ds.attrs["case_teeth"]), artefact=art, what="attrs.case_teeth")
+    modes = json.loads(ds.attrs["case_modes"])
+    f.add("slot_symmetric", modes.get("x") == modes.get("y"), artefact=art,
+          what="attrs.case_modes: the x modes equal the y modes")
     az, asd = (ds["a_crit_mm"].sel(solver=s).values for s in ("zoa", "sem"))
     f.add("slot_zoa_min_mm", float(np.nanmin(az)), "mm", artefact=art,
           what="a_crit_mm[solver=zoa] min")

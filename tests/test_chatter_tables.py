@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from robomill.chatter.report import coupling_table, onset_table
+from robomill.chatter.tables import coupling_table, onset_table
 
 
 def test_onset_table_agrees_where_lobes_and_time_domain_agree():
