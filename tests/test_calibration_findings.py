@@ -80,3 +80,29 @@ def test_a_rigid_joint_2_gives_no_share_and_no_error():
     say = Prose(load_templates("ch1"), calibration_findings(m, ACC))
     text = say("base", "base_share", ref_base_deflection="[F]", ref_compliance="[T]")
     assert "200 nrad per N·m" in text and "No gravity model" not in text and "%" not in text
+
+
+def test_forms_and_held_out_steps():
+    """Three forms planted; the held-out step count comes from the configuration, absent
+    when not given."""
+    f = calibration_findings(_model(), ACC, holdout_every=5)
+    assert (f.values()["n_forms"], f.values()["holdout_every"]) == (3, 5)
+    assert f.items["holdout_every"].config_key == "calibration.error_model.holdout_every"
+    two = _model().sel(form=["polynomial", "fourier+polynomial"])
+    g = calibration_findings(two, ACC).values()
+    assert g["n_forms"] == 2 and "holdout_every" not in g
+
+
+def test_chapter_1_intro_sentences_follow_altered_findings():
+    f = calibration_findings(_model(), ACC, holdout_every=5)
+    f.items["n_forms"].value = 7
+    say = Prose(load_templates("ch1"), f)
+    text = " ".join(say("errors_intro", ref_joint_errors="[F6]").split())
+    assert "one step in 5" in text and "7 candidate forms" in text
+    del f.items["holdout_every"]
+    text = " ".join(say("errors_intro", ref_joint_errors="[F6]").split())
+    assert "on held-out steps," in text and "7 candidate forms" in text
+    text = " ".join(say("circle_intro", "vector_intro", circle_joint=3, turn_deg=45.0,
+                        ref_joint_circle="[F4]", ref_vector_model="[F5]",
+                        ref_a_prime="[T]").split())
+    assert "targets of joint 3" in text and "turned by 45°" in text

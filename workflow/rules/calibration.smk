@@ -76,6 +76,7 @@ rule calibration_findings:
         ENV
     params:
         thesis_study=THESIS_STUDY,
+        holdout_every=config["calibration"]["error_model"]["holdout_every"],
     script:
         "../scripts/calibration_findings.py"
 

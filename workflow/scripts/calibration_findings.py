@@ -12,7 +12,8 @@ from robomill.pipeline.scorecard import stage_comparisons
 log = setup(snakemake.log[0], "calibration_findings")
 inp = snakemake.input
 found = calibration_findings(open_artefact(inp.model),
-                             pd.read_csv(inp.accuracy).set_index("model"))
+                             pd.read_csv(inp.accuracy).set_index("model"),
+                             holdout_every=snakemake.params.holdout_every)
 found.comparisons = stage_comparisons("calibration",
                                       thesis_study=bool(snakemake.params.thesis_study))
 write_findings(found, snakemake.output.findings)

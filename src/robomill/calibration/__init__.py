@@ -20,6 +20,8 @@ robot base; gravity along −z). The chain of the chapter:
    on points not used for identification.
 7. :mod:`~robomill.calibration.dataset` — ``model.nc`` and the chapter's tables.
 8. :mod:`~robomill.calibration.findings` — the numbers chapter 1 states.
+9. :mod:`~robomill.calibration.tables` and :mod:`~robomill.calibration.figures` — the
+   chapter's tables and figures.
 
 Importing this package imports none of them: every public name is loaded from its submodule
 on first use (:mod:`robomill.lazy`), so ``from robomill.calibration import identify`` keeps
@@ -39,6 +41,9 @@ __getattr__, __dir__, __all__ = lazy_exports(__name__, {
                    "single_joint_poses"),
     "dataset": ("circle_table", "joint_error_table", "model_from_dataset", "model_to_dataset"),
     "findings": ("calibration_findings",),
+    "figures": ("accuracy_histogram_figure", "base_deflection_figure", "joint_circle_figure",
+                "joint_errors_figure", "vector_model_figure"),
+    "tables": ("a_prime_table", "compliance_table", "validation_table"),
     "geometry": ("CircleFit", "VectorModel", "fit_circle", "vector_model_from_serial"),
     "gravity": ("G_MM_S2", "MassModel", "gravity_torques_Nm", "mass_model_from_cell",
                 "mass_model_from_mapping", "no_masses"),

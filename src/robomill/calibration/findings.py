@@ -24,7 +24,8 @@ def _span(values) -> list[float]:
     return [float(np.nanmin(v)), float(np.nanmax(v))]
 
 
-def calibration_findings(model: xr.Dataset, accuracy: pd.DataFrame) -> Findings:
+def calibration_findings(model: xr.Dataset, accuracy: pd.DataFrame, *,
+                         holdout_every: int | None = None) -> Findings:
     """The findings of the calibration stage.
 
     Parameters
@@ -37,11 +38,15 @@ def calibration_findings(model: xr.Dataset, accuracy: pd.DataFrame) -> Findings:
     accuracy
         ``results/calibration/accuracy.csv`` indexed by ``model`` (``nominal``,
         ``geometric``, ``full``; ``n_points, mean_mm, rms_mm, p95_mm, max_mm``).
+    holdout_every
+        ``calibration.error_model.holdout_every``: every such step was held out to choose the
+        polynomial degree (``None``: not stated).
 
     Returns
     -------
     Findings
         ``circle_rms_um`` (per joint), ``circle_radius_mm_range``; ``n_joints``,
+        ``n_forms`` (regression forms compared), ``holdout_every``,
         ``combined_form_best_joints`` (joints whose held-out RMS is smallest with the
         combined Fourier + polynomial form), ``heldout_rms_arcsec_range``,
         ``backlash_arcsec_range``; ``has_gravity_model``, ``gravity_model``, and with it
@@ -59,6 +64,11 @@ def calibration_findings(model: xr.Dataset, accuracy: pd.DataFrame) -> Findings:
     forms = [f for f in _FORMS if f in val.columns]
     best = val[forms].idxmin(axis=1)
     found.add("n_joints", int(len(val)), artefact=_MODEL, what="joint")
+    found.add("n_forms", len(forms), artefact=_MODEL, what="error_validation_rms_rad: form")
+    if holdout_every is not None:
+        found.add("holdout_every", int(holdout_every), artefact="config.yaml",
+                  what="every n-th step held out",
+                  config_key="calibration.error_model.holdout_every")
     found.add("combined_form_best_joints", int((best == "fourier+polynomial").sum()),
               artefact=_MODEL, what="error_validation_rms_rad: smallest held-out RMS")
     found.add("heldout_rms_arcsec_range", _span(val["fourier+polynomial"]), "arcsec",
