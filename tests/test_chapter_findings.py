@@ -234,7 +234,7 @@ def test_chapter_4_prose_follows_its_findings():
     assert "tool partial frequency 167 Hz" in text and "K_t = 900 MPa" in text
     assert "1-DOF benchmark of Insperger" in text  # bench_published
     assert "Their diagram" not in text  # ... but no one-mode setup to state its flip speed
-    assert "No slotting case configured (`chatter.cases`)." in text
+    assert text.count("No slotting case configured") == 1
     assert "{" not in text
     found.items["bench_published"].value = False
     assert Prose(load_templates("ch4"), found)("bench_published") == ""

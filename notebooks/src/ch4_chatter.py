@@ -86,7 +86,7 @@ def show(fig, name):
 
 
 # %% [markdown]
-# ## 4.1 Lobes for any machine: the published benchmark
+# ## 4.1 Lobes for any machine: a benchmark case
 
 # %%
 display(Markdown(say("bench_case", "bench_published", "bench_diagram")))
