@@ -61,7 +61,7 @@ if slot is not None:
                "element agree", number=2, stem="fig4_2_slotting_agreement")
 num.figure("seed_lobes", "Seed 002: lobes of the closed-loop tool point (ZOA and SDM), a* and "
            "the two operating points", number=3, stem="fig4_3_seed_lobes")
-num.figure("seed_time", "Seed 002: tool vibration x_s over time in the three runs", number=4,
+num.figure("seed_time", "Seed 002: tool vibration x_s over time, one panel per run", number=4,
            stem="fig4_4_seed_time_histories")
 num.figure("seed_spectra", "Seed 002: amplitude spectrum of the resultant horizontal force, "
            "last window", number=5, stem="fig4_5_seed_spectra")
