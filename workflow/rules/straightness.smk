@@ -89,11 +89,11 @@ rule straightness_truth_check:
 # ("Against the thesis").
 rule straightness_findings:
     input:
+        **optional_input(has_kind("profile"), surface_peaks="results/surface/peaks.csv"),
         peaks="results/straightness/peaks.csv",
         profiles="results/straightness/profiles.nc",
         truth_check="results/straightness/truth_check.csv",
         references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
-        **optional_input(has_kind("profile"), surface_peaks="results/surface/peaks.csv"),
     output:
         findings="results/straightness/findings.yaml",
     log:

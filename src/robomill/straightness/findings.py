@@ -194,14 +194,18 @@ def _runs(found: Findings, profiles: xr.Dataset, peaks: pd.DataFrame,
               artefact=_PROFILES, what="direction, printed")
     found.add("high_band_direction", "my" if "my" in dirs else dirs[0] if dirs else None,
               artefact=_PROFILES, what="direction")
-    found.add("length_mm_mean", float(np.mean(profiles["length_mm"].values)), "mm",
-              artefact=_PROFILES, what="length_mm, mean over the runs")
-    found.add("resolution_per_mm_mean", float(np.mean(profiles["resolution_per_mm"].values)),
-              "1/mm", artefact=_PROFILES, what="resolution_per_mm (1/L), mean over the runs")
-    ratio = np.asarray(profiles["speed_mm_s"].values, float) / feeds - 1.0
-    found.add("speed_error_pct_max",
-              100 * float(np.nanmax(np.abs(ratio))) if np.isfinite(ratio).any() else None,
-              "%", artefact=_PROFILES, what="100 |speed_mm_s / feed_mm_s - 1|, largest")
+    for key, coord, unit, what in (
+            ("length_mm_mean", "length_mm", "mm", "length_mm, mean over the runs"),
+            ("resolution_per_mm_mean", "resolution_per_mm", "1/mm",
+             "resolution_per_mm (1/L), mean over the runs")):
+        if coord in profiles.coords:
+            found.add(key, float(np.mean(profiles[coord].values)), unit, artefact=_PROFILES,
+                      what=what)
+    if "speed_mm_s" in profiles.coords:
+        ratio = np.asarray(profiles["speed_mm_s"].values, float) / feeds - 1.0
+        found.add("speed_error_pct_max",
+                  100 * float(np.nanmax(np.abs(ratio))) if np.isfinite(ratio).any() else None,
+                  "%", artefact=_PROFILES, what="100 |speed_mm_s / feed_mm_s - 1|, largest")
     mech = peaks["mechanism"].astype(str)
     found.add("n_peaks", int(len(peaks)), artefact=_PEAKS, what="rows")
     found.add("n_spatial", int((mech == "spatial").sum()), artefact=_PEAKS,
@@ -228,7 +232,7 @@ def _surface(found: Findings, profiles: xr.Dataset, gear: pd.DataFrame,
     resolution: direction, feed, frequency and the candidates) where ``peaks.csv`` has the
     ``merged`` column."""
     found.add("has_surface_peaks", surface_peaks is not None, artefact=_SURFACE_PEAKS)
-    if surface_peaks is not None:
+    if surface_peaks is not None and "resolution_per_mm" in profiles.coords:
         tol = surface_tolerance_per_mm(profiles["resolution_per_mm"].values, surface_peaks,
                                        tol_bins)
         xc = surface_cross_check(gear, surface_peaks, tolerance_per_mm=tol)
