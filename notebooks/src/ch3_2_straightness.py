@@ -92,11 +92,10 @@ def show(fig, name):
     display(num.caption(name))
 
 
-def direction_figures(directions):  # the deviation and its spectrum up to 1 mm⁻¹
+def direction_figures(directions):  # the deviation and its spectrum in the gears' band
     for d in directions:
         show(deviation_figure(prof, d), f"deviation_{d}")
-        show(psd_figure(prof, pk, d, fmax_per_mm=1.0, title="power spectrum of the motion"),
-             f"psd_{d}")
+        show(psd_figure(prof, pk, d), f"psd_{d}")
 
 
 display(Markdown(say("overview", "untimed")))

@@ -79,10 +79,11 @@ def deviation_figure(profiles: xr.Dataset, direction: str, *,
 
 
 def psd_figure(profiles: xr.Dataset, peaks: pd.DataFrame, direction: str, *,
-               fmax_per_mm: float, title: str) -> plt.Figure:
-    """The power spectrum of every run along ``direction`` up to ``fmax_per_mm``, one line
-    per feed, with its peaks (``peaks.csv`` joined by ``run``; power A²/2): ▼ a gear peak,
-    ● any other."""
+               fmax_per_mm: float = 1.0,
+               title: str = "power spectrum of the motion") -> plt.Figure:
+    """The power spectrum of every run along ``direction`` up to ``fmax_per_mm`` (default
+    1 mm⁻¹: the gear lines' band, thesis Figs 3.13, 3.15), one line per feed, with its peaks
+    (``peaks.csv`` joined by ``run``; power A²/2): ▼ a gear peak, ● any other."""
     fig, ax = plt.subplots(figsize=(7.5, 4.2))
     for k, r in enumerate(runs_of(profiles, direction)):
         ds = profiles.sel(run=r)
