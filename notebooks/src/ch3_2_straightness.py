@@ -151,7 +151,8 @@ display(mesh_table(pd.read_csv(gears)))
 # %%
 display(Markdown(say("on_surface", "merged", ref_attribution=num.ref("attribution"))))
 display(num.caption("attribution"))
-display(attribution_table(pk[pk["mechanism"] == "gear"], pd.read_csv(surface_peaks),
+surface = pd.read_csv(surface_peaks) if F["has_surface_peaks"] else None
+display(attribution_table(pk[pk["mechanism"] == "gear"], surface,
                           tolerance_per_mm=F.get("surface_match_tol_per_mm") or 0.0))
 
 # %% [markdown]

@@ -168,12 +168,16 @@ def mesh_table(gears: pd.DataFrame) -> pd.DataFrame:
             .rename(columns=direction_text).round(4))
 
 
-def attribution_table(gear_peaks: pd.DataFrame, surface_peaks: pd.DataFrame, *,
+def attribution_table(gear_peaks: pd.DataFrame, surface_peaks: pd.DataFrame | None, *,
                       tolerance_per_mm: float) -> pd.DataFrame:
     """The gear-attributed peaks with their presence on the surface
-    (:func:`surface_cross_check`) as the chapter shows them: :data:`ATTRIBUTION_COLUMNS`
-    (``merged``/``candidates`` where ``peaks.csv`` has them), directions printed, flags
-    yes/no, rounded to 4 decimals."""
+    (:func:`surface_cross_check`; ``surface_peaks`` ``None`` where no surface was profiled:
+    none on it) as the chapter shows them: :data:`ATTRIBUTION_COLUMNS` (``merged``/
+    ``candidates`` where ``peaks.csv`` has them), directions printed, flags yes/no, rounded
+    to 4 decimals."""
+    if surface_peaks is None:
+        surface_peaks = pd.DataFrame({"cut": pd.Series(dtype=str),
+                                      "f_spatial_per_mm": pd.Series(dtype=float)})
     xc = surface_cross_check(gear_peaks, surface_peaks, tolerance_per_mm=tolerance_per_mm)
     yes_no = {True: "yes", False: "no"}
     out = with_labels(xc).assign(on_surface=xc["on_surface"].map(yes_no))
