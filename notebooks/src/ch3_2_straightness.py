@@ -85,8 +85,7 @@ if F["has_truth"]:
               number=7)
 
 
-def show(fig, name):
-    """Save the figure under this chapter's numbering, show it and its caption."""
+def show(fig, name):  # save the figure under this chapter's numbering, show it, caption it
     save_figure(fig, fig_dir, num.file(name))
     plt.show()
     display(num.caption(name))
@@ -104,8 +103,7 @@ display(Markdown(say("overview", "untimed")))
 # ## Deviation profiles and their spectra
 
 # %%
-display(Markdown(say("deviation", ref_deviation=", ".join(num.ref(f"deviation_{d}")
-                                                          for d in MAIN),
+display(Markdown(say("deviation", ref_deviation=", ".join(num.ref(f"deviation_{d}") for d in MAIN),
                      ref_psd=", ".join(num.ref(f"psd_{d}") for d in MAIN))))
 direction_figures(MAIN)
 display(Markdown(say("more", ref_more=" and ".join(num.ref(f"{k}_{d}") for d in EXTRA
