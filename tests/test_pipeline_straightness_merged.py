@@ -41,7 +41,10 @@ def test_coinciding_mesh_lines_of_the_example_are_flagged_merged(tmp_path):
     assert j3["merged"].all() and not j3["found"].any()
     # chapter 3.2 shows the merged peak with its candidates, and where joint 3 went (issue 21)
     text = chapter_outputs(tmp_path, "ch3_2_straightness")
-    assert "2 of them are **merged**" in text
+    found = yaml.safe_load((tmp_path / "results/straightness/findings.yaml").read_text())
+    values = {f["key"]: f["value"] for f in found["findings"]}
+    assert values["n_merged"] == 2 and values["truth_merged"] == 2
+    assert "2 gear peak(s) are **merged**" in text
     assert text.count("mm⁻¹: 2:motor:mesh, 3:motor:mesh") == 2
     assert "3:motor:mesh (−X, 2 mm/s) → 2:motor:mesh" in text
     assert set(j3["merged_into"]) == {"2:motor:mesh"}

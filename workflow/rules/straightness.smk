@@ -83,12 +83,16 @@ rule straightness_truth_check:
         "../scripts/straightness_truth_check.py"
 
 
-# Chapter 3.2's findings: gear and temporal peaks, and the verdict on the surface band
-# (straightness.threshold), with the stage's scorecard rows ("Against the thesis").
+# Chapter 3.2's findings: the runs, gear and temporal peaks, the verdict on the surface band
+# (straightness.threshold), the gear peaks on the surface (chapter 2's peaks, where the study
+# profiled surfaces), the planted truth (synthetic), with the stage's scorecard rows
+# ("Against the thesis").
 rule straightness_findings:
     input:
+        **optional_input(has_kind("profile"), surface_peaks="results/surface/peaks.csv"),
         peaks="results/straightness/peaks.csv",
         profiles="results/straightness/profiles.nc",
+        truth_check="results/straightness/truth_check.csv",
         references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
     output:
         findings="results/straightness/findings.yaml",
@@ -102,6 +106,10 @@ rule straightness_findings:
         surface_band_per_mm=config["straightness"]["surface_band_per_mm"],
         fmax_store_per_mm=config["straightness"]["fmax_store_per_mm"],
         threshold=config["straightness"]["threshold"],
+        tol_bins=config["straightness"]["tol_bins"],
+        fmin_cycles=config["straightness"]["fmin_cycles"],
+        truth_margin=config["straightness"]["truth_margin"],
+        thesis_design=THESIS_DESIGN,
         thesis_study=THESIS_STUDY,
     script:
         "../scripts/straightness_findings.py"

@@ -12,9 +12,14 @@ from robomill.straightness.findings import straightness_findings
 log = setup(snakemake.log[0], "straightness_findings")
 inp, p = snakemake.input, snakemake.params
 peaks = pd.read_csv(inp.peaks, keep_default_na=False, na_values=[""])
+surface = pd.read_csv(inp.surface_peaks) if "surface_peaks" in inp.keys() else None
 found = straightness_findings(open_artefact(inp.profiles), peaks,
                               surface_band_per_mm=p.surface_band_per_mm,
-                              fmax_store_per_mm=p.fmax_store_per_mm, threshold=p.threshold)
+                              fmax_store_per_mm=p.fmax_store_per_mm, threshold=p.threshold,
+                              surface_peaks=surface,
+                              truth_check=pd.read_csv(inp.truth_check),
+                              tol_bins=p.tol_bins, fmin_cycles=p.fmin_cycles,
+                              truth_margin=p.truth_margin, thesis_design=p.thesis_design)
 found.comparisons = stage_comparisons("straightness", thesis_study=bool(p.thesis_study))
 write_findings(found, snakemake.output.findings)
 log.info("%d findings, %d comparison rows", len(found.items), len(found.comparisons))

@@ -1,12 +1,47 @@
 """Chapter 3.2 tables computed from the straightness artefacts: the cross-check against the
-surface peaks, the band-to-floor ratios and the per-run summary.
+surface peaks, the band-to-floor ratios, the per-run summary, and the tables as the chapter
+shows them (direction labels, yes/no flags: :func:`mesh_table`, :func:`attribution_table`,
+:func:`truth_table`).
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 import pandas as pd
 import xarray as xr
+
+from robomill.experiment import DIRECTION_LABELS
+
+ATTRIBUTION_COLUMNS = ["direction", "feed_mm_s", "joint", "stage", "order", "f_spatial_per_mm",
+                       "amplitude_um", "on_surface", "surface_f_per_mm", "merged",
+                       "candidates"]
+"""The columns of the chapter's peak → gear attribution table (:func:`attribution_table`)."""
+
+
+def direction_text(direction: str) -> str:
+    """A tracker path direction as printed: ``+Y`` for a named one (``py``), ``45°`` for one
+    given in degrees (``"45 deg"``, ``"d45"``)."""
+    d = str(direction)
+    return DIRECTION_LABELS.get(d) or f"{float(d.lstrip('d').split()[0]):g}°"
+
+
+def with_labels(table: pd.DataFrame) -> pd.DataFrame:
+    """``table`` with its ``direction`` column printed (:func:`direction_text`)."""
+    return table.assign(direction=table["direction"].map(direction_text))
+
+
+def surface_tolerance_per_mm(tracker_resolution_per_mm: Sequence[float] | np.ndarray,
+                             surface_peaks: pd.DataFrame | None, tol_bins: float) -> float:
+    """The match tolerance between a tracker peak and a surface peak: ``tol_bins`` bins of the
+    coarser of the two resolutions, the coarsest tracker run's 1/L and the finest resolution
+    of the surface peaks (``resolution_per_mm`` of ``results/surface/peaks.csv``: 1/L of the
+    profiles their waviness comes from)."""
+    res = float(np.nanmax(np.asarray(tracker_resolution_per_mm, float)))
+    if surface_peaks is not None and "resolution_per_mm" in surface_peaks and len(surface_peaks):
+        res = max(res, float(pd.to_numeric(surface_peaks["resolution_per_mm"]).min()))
+    return float(tol_bins) * res
 
 
 # ---------------------------------------------------------------------------------------------
@@ -121,3 +156,63 @@ def run_summary_table(profiles: xr.Dataset, peaks: pd.DataFrame) -> pd.DataFrame
     table = table.merge(counts.reset_index(), on="run", how="left")
     table[list(counts.columns)] = table[list(counts.columns)].fillna(0).astype(int)
     return table
+
+
+def mesh_table(gears: pd.DataFrame) -> pd.DataFrame:
+    """The tooth-mesh spatial frequency of every gear stage [1/mm], one column per path
+    direction (``results/straightness/gears.csv``, ``order == mesh``; mean over the runs of a
+    direction), rounded to 4 decimals."""
+    mesh = gears[gears["order"] == "mesh"]
+    return (mesh.pivot_table(index=["joint", "stage"], columns="direction",
+                             values="f_spatial_per_mm", aggfunc="mean")
+            .rename(columns=direction_text).round(4))
+
+
+def attribution_table(gear_peaks: pd.DataFrame, surface_peaks: pd.DataFrame | None, *,
+                      tolerance_per_mm: float) -> pd.DataFrame:
+    """The gear-attributed peaks with their presence on the surface
+    (:func:`surface_cross_check`; ``surface_peaks`` ``None`` where no surface was profiled:
+    none on it) as the chapter shows them: :data:`ATTRIBUTION_COLUMNS` (``merged``/
+    ``candidates`` where ``peaks.csv`` has them), directions printed, flags yes/no, rounded
+    to 4 decimals."""
+    if surface_peaks is None:
+        surface_peaks = pd.DataFrame({"cut": pd.Series(dtype=str),
+                                      "f_spatial_per_mm": pd.Series(dtype=float)})
+    xc = surface_cross_check(gear_peaks, surface_peaks, tolerance_per_mm=tolerance_per_mm)
+    yes_no = {True: "yes", False: "no"}
+    out = with_labels(xc).assign(on_surface=xc["on_surface"].map(yes_no))
+    if {"candidates", "merged"} <= set(out.columns):
+        out["merged"] = out["merged"].astype(bool).map(yes_no)
+        out["candidates"] = out["candidates"].astype(object).fillna("")
+    return out[[c for c in ATTRIBUTION_COLUMNS if c in out.columns]].round(4)
+
+
+def truth_table(truth_check: pd.DataFrame) -> pd.DataFrame:
+    """``results/straightness/truth_check.csv`` as the chapter shows it: the elements in band
+    (``class`` not ``out_of_band``), directions printed, rounded to 4 decimals."""
+    shown = with_labels(truth_check[truth_check["class"] != "out_of_band"])
+    if "merged_into" in shown:
+        shown = shown.assign(merged_into=shown["merged_into"].astype(object).fillna(""))
+    return shown.round(4)
+
+
+def read_peaks(path) -> pd.DataFrame:
+    """``results/straightness/peaks.csv`` as the chapter uses it: empty ``stage``/``order``
+    as ``""``, ``joint`` an integer column with gaps."""
+    peaks = pd.read_csv(path, keep_default_na=False, na_values=[""])
+    peaks[["stage", "order"]] = peaks[["stage", "order"]].fillna("")
+    peaks["joint"] = peaks["joint"].astype("Int64")
+    return peaks
+
+
+def run_values_table(profiles: xr.Dataset, peaks: pd.DataFrame
+                     ) -> tuple[pd.DataFrame, list[str]]:
+    """The per-run summary (:func:`run_summary_table`) as the chapter groups it by what varies
+    (:func:`robomill.pipeline.design_tables.per_cut_table`): the table (``run, direction,
+    feed_mm_s`` and the values) and the value columns in order (RMS per component, the
+    largest peak, the peaks per mechanism)."""
+    table = run_summary_table(profiles, peaks)
+    values = [c for c in table.columns if c.startswith("rms_")] + [
+        "largest_peak_um", "largest_peak_wavelength_mm", "largest_peak_mechanism",
+        *[c for c in table.columns if c.endswith("_peaks")]]
+    return table[["run", "direction", "feed_mm_s", *values]], values

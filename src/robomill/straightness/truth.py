@@ -140,5 +140,6 @@ def truth_check(peaks: pd.DataFrame | None, truth: xr.Dataset | None,
                                                           "floor_um2")})
     ev = evaluate_attribution(peaks, planted_gear_elements(truth), runs,
                               threshold=options["threshold"], tol_bins=options["tol_bins"],
-                              fmax_per_mm=options["fmax_per_mm"])
+                              fmax_per_mm=options["fmax_per_mm"],
+                              margin=float(options.get("truth_margin", 2.0)))
     return ev[TRUTH_CHECK_COLUMNS]
