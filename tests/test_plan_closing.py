@@ -192,3 +192,17 @@ def test_a_planned_cut_is_cut_on_the_virtual_cell_at_its_pose():
     F = mean_milling_forces(10.0 * 60 / (2 * 30000.0), 0.2, truth)
     assert r["force_N"] == pytest.approx(np.linalg.norm(F), rel=0.01)
     assert 0 < r["deflection_normal_um"] < 50 and 0 < r["deflection_axial_um"] < 50
+
+
+def test_chapter_7_states_the_request_and_what_it_could_not_predict():
+    """The request sentence follows the candidates' attributes (templates/ch7.yaml)."""
+    from robomill.pipeline.prose import Prose, load_templates
+
+    say = Prose(load_templates("ch7"), {})
+    one = say("request", "missing_predictions", request="r.yaml", constraints="",
+              missing_predictions="waviness (no tracker runs)")
+    assert one == ("Request `r.yaml`, constraints none. Missing predictions (planned without "
+                   "them): waviness (no tracker runs).")
+    two = say("request", "missing_predictions", request="p.yaml",
+              constraints="max_force_N=100.0", missing_predictions="")
+    assert two == "Request `p.yaml`, constraints max_force_N=100.0. Every prediction could be made."

@@ -61,11 +61,9 @@ say = Prose(load_templates("ch7", templates), summary)
 # ## What the plan could predict
 
 # %%
-missing = cand.attrs.get("missing_predictions", "")
-display(Markdown(f"Request `{cand.attrs.get('request', '')}`, constraints "
-                 f"{cand.attrs.get('constraints', '') or 'none'}. "
-                 + (f"Missing predictions (planned without them): {missing}."
-                    if missing else "Every prediction could be made.")))
+display(Markdown(say("request", "missing_predictions",
+                     **{k: cand.attrs.get(k, "") for k in ("request", "constraints",
+                                                            "missing_predictions")})))
 
 # %% [markdown]
 # ## Removal rate against form error
