@@ -171,6 +171,32 @@ def test_print_document_joins_chapters_in_book_order(tmp_path):
         print_document([], tmp_path / "none.html")
 
 
+def test_reference_studies_form_the_books_second_part(tmp_path):
+    """Chapter 6's pages (the seeds' reproductions that use no data of the study) come after
+    every chapter of the study, in the contents under their own part title and in the body
+    behind a part title page; the study's chapters keep their order."""
+    from robomill.pipeline.book import build_book, print_document
+
+    names = ("ch7_plan", "ch6_3_hexapod", "ch0_experiment", "ch6_1_chatter", "ch5_stiffness")
+    for name in names:
+        (tmp_path / f"{name}.html").write_text(
+            f"<html><body><h1>Title {name}</h1><p>body of {name}</p></body></html>")
+    page = print_document([tmp_path / f"{n}.html" for n in names],
+                          tmp_path / "print.html").read_text()
+    want = ["ch0_experiment", "ch5_stiffness", "ch7_plan", "ch6_1_chatter", "ch6_3_hexapod"]
+    order = [page.index(f"body of {n}") for n in want]
+    assert order == sorted(order)
+    contents = page[page.index("Contents"):page.index("body of ch0_experiment")]
+    assert contents.index("The study") < contents.index("Title ch7_plan") < contents.index(
+        "Reference studies") < contents.index("Title ch6_1_chatter")
+    part_page = page.index('<section class="part">')
+    assert order[2] < part_page < order[3]
+    index = build_book([tmp_path / f"{n}.html" for n in names], tmp_path / "figs",
+                       tmp_path / "book", provenance={}).read_text()
+    assert (index.index("The study") < index.index("Title ch5_stiffness")
+            < index.index("Reference studies") < index.index("Title ch6_3_hexapod"))
+
+
 def test_print_pdf_without_chromium_says_what_to_install(tmp_path, monkeypatch):
     from robomill.pipeline import book
 

@@ -217,16 +217,33 @@ def test_chapter_3_3_prose_follows_its_findings():
 
 def test_chapter_4_prose_follows_its_findings():
     cases, sim, lobes, rec = _chatter_inputs()
-    sim.attrs["sdm_bifurcation_at_n"] = "hopf"
-    sim.attrs["a_star_mm"] = 0.0777
     found = chatter_findings(cases, sim, lobes, rec, safety_fraction=0.3)
     say = Prose(load_templates("ch4"), found)
     text = " ".join(say(*say.templates, **_refs(say.templates)).split())
-    assert "a* = **0.078 mm**" in text and "of **Hopf** type" in text
     assert "30 % (`chatter.thesis.safety_fraction`)" in text
+    assert "at 28000 rpm" in text and "(1 of 2 cuts chatter-free)" in text
+    assert "not compared with the thesis'" in text  # not the thesis' study: no comparison
+    assert "{" not in text
+    thesis = chatter_findings(cases, sim, lobes, rec, safety_fraction=0.3, thesis_study=True)
+    against = " ".join(Prose(load_templates("ch4"), thesis)("against", ref_coupling="[t]")
+                       .split())
+    assert "60–120 Hz" in against and "chapter 6.1" in against  # from references.yaml
+    assert "Reference" not in " ".join(load_templates("ch4"))  # no seed-002 template left
+
+
+def test_chapter_6_1_prose_follows_its_findings_without_the_studys_robot():
+    """The reference study of chatter (chapter 6.1) renders from the configured cases and the
+    seed-002 simulation alone: a study without impact or force data has no robot findings."""
+    cases, sim, _, _ = _chatter_inputs()
+    sim.attrs["sdm_bifurcation_at_n"] = "hopf"
+    sim.attrs["a_star_mm"] = 0.0777
+    found = chatter_findings(cases, sim, None, None, safety_fraction=0.3)
+    assert found.values()["has_robot"] is False and "robot_rpm" not in found
+    say = Prose(load_templates("ch6_1"), found)
+    text = " ".join(say(*say.templates, **_refs(say.templates)).split())
+    assert "a* = **0.078 mm**" in text and "of **Hopf** type" in text
     assert "t = 1.5 s" in text and "99, 98 %" in text
     assert "agree at 1 of 2 checks" in text
-    assert "at 28000 rpm" in text and "(1 of 2 cuts chatter-free)" in text
     assert "No slotting case configured." in text
     assert "+3.1 %" in text and "1.6392 mm" in text  # from references.yaml
     assert "≈ 18440 rpm" not in text  # the planted case lists no modes: no flip-speed sentence
@@ -235,13 +252,14 @@ def test_chapter_4_prose_follows_its_findings():
     assert "1-DOF benchmark of Insperger" in text  # bench_published
     assert "Their diagram" not in text  # ... but no one-mode setup to state its flip speed
     assert text.count("No slotting case configured") == 1
+    assert "holds no check" in text  # no scorecard rows given
     assert "{" not in text
     found.items["bench_published"].value = False
-    assert Prose(load_templates("ch4"), found)("bench_published") == ""
+    assert Prose(load_templates("ch6_1"), found)("bench_published") == ""
     found = chatter_findings({**cases, "insperger2004_slot": cases["insperger2004_down005"]
                               .assign_attrs(case_teeth=5, worst_relative_error=0.001)},
-                             sim, lobes, rec, safety_fraction=0.3)
-    say = Prose(load_templates("ch4"), found)
+                             sim, None, None, safety_fraction=0.3)
+    say = Prose(load_templates("ch6_1"), found)
     text = " ".join(say("slot_case", slot_symmetry=say("slot_symmetry")).split())
     assert "5 teeth, the same modes in x and y" in text
 

@@ -9,7 +9,13 @@ import pandas as pd
 import pytest
 import xarray as xr
 
-from robomill.pipeline.scorecard import build_scorecard, parse_locator, read_locator, verdict
+from robomill.pipeline.scorecard import (
+    build_scorecard,
+    load_checks,
+    parse_locator,
+    read_locator,
+    verdict,
+)
 
 
 def test_locator_reads_cells_aggregates_and_netcdf(tmp_path):
@@ -46,6 +52,24 @@ def test_no_thesis_comparison_for_a_study_that_is_not_the_thesis_design(tmp_path
     assert not is_thesis_study(cuts, {**thesis, "flutes": 3})          # process
     assert not is_thesis_study([Cut("run7", None, None, "px", 1.0, 0.25)], thesis)
     assert not is_thesis_study([], thesis)
+
+
+def test_reference_study_rows_are_kept_for_any_study(tmp_path):
+    """A check marked ``any_study`` (chapter 6's reference studies: computed from the
+    configuration alone) stays in the scorecard of a study that is not the thesis' design;
+    the thesis' rows go."""
+    pd.DataFrame({"n": [101.0]}).to_csv(tmp_path / "h.csv", index=False)
+    checks = [{"source": "thesis", "where": "Fig 3.4", "quantity": "a", "source_value": 100.0,
+               "tolerance": {"rel": 0.1}, "locator": "h.csv::n@max"},
+              {"source": "seed 003", "where": "Fig. 5", "quantity": "b", "source_value": 100.0,
+               "tolerance": {"rel": 0.1}, "locator": "h.csv::n@max", "any_study": True}]
+    other = build_scorecard(tmp_path, checks, thesis_study=False)
+    assert list(other["source"]) == ["seed 003"] and list(other["verdict"]) == ["pass"]
+    assert len(build_scorecard(tmp_path, checks)) == 2
+    shipped = [c for c in load_checks() if c.get("any_study")]
+    assert shipped and all(c["locator"].startswith(("results/chatter/simulation.nc",
+                                                    "results/chatter/cases/",
+                                                    "results/hexapod/")) for c in shipped)
 
 
 @pytest.mark.parametrize(

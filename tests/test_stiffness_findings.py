@@ -164,9 +164,15 @@ def _refs():
         "thesis_slots")}
 
 
+def _chapters_5_and_6_2(found):
+    """The text of chapter 5 (the study's cuts) and chapter 6.2 (seed 001's and 004's models),
+    both rendered from the one stiffness findings file."""
+    says = [Prose(load_templates(c), found) for c in ("ch5", "ch6_2")]
+    return " ".join(" ".join(say(*say.templates, **_refs()).split()) for say in says)
+
+
 def test_chapter_5_prose_follows_its_findings():
-    say = Prose(load_templates("ch5"), _found())
-    text = " ".join(say(*say.templates, **_refs()).split())
+    text = _chapters_5_and_6_2(_found())
     assert "inner diameter 500 mm, outer 3500 mm" in text
     assert "2 of 3 lie within the 95 % interval" in text
     assert "all, plane 2.00, 3.00 %" in text
@@ -179,15 +185,20 @@ def test_chapter_5_prose_follows_its_findings():
     assert "{" not in text
     alike = Prose(load_templates("ch5"), _found(slot_asymmetry_pct=150.0))
     assert "no asymmetry" in alike("slot_verdict")
-    bent = Prose(load_templates("ch5"), _found(K0=((1.0, 2.0), (2.0, 1.0))))
+    bent = Prose(load_templates("ch6_2"), _found(K0=((1.0, 2.0), (2.0, 1.0))))
     assert "not positive definite" in bent("beamframe_definite")
     other = Prose(load_templates("ch5"), _found(slots=None, cut_stiffness=CUTS))
     text = " ".join(other("cut_stiffness", "no_cuts", "slots", **_refs()).split())
     assert "normal direction of cut `c2` (0.500 N/µm)" in text and "this run has none" not in text
-    bare = Prose(load_templates("ch5"), _found(slots=None, planted_k_Nm_rad=None))
-    assert "this run has none" in " ".join(bare("no_cuts").split())
-    assert bare("planted") == ""
-    assert "not computed" in Prose(load_templates("ch5"), Findings("stiffness"))("against_rows")
+    bare = _found(slots=None, planted_k_Nm_rad=None)
+    assert "this run has none" in " ".join(Prose(load_templates("ch5"), bare)("no_cuts").split())
+    assert Prose(load_templates("ch6_2"), bare)("planted") == ""
+    assert "holds no check" in Prose(load_templates("ch6_2"), Findings("stiffness"))(
+        "against_rows")
     rows = _found()
     rows.comparisons = [{"verdict": "pass"}, {"verdict": "miss"}]
-    assert "1 of 2 within" in " ".join(Prose(load_templates("ch5"), rows)("against_rows").split())
+    assert "1 of 2 within" in " ".join(Prose(load_templates("ch6_2"), rows)("against_rows")
+                                       .split())
+    assert "not compared with the thesis'" in Prose(load_templates("ch5"), rows)("against")
+    rows.add("thesis_study", True)
+    assert "chapter 6.2" in " ".join(Prose(load_templates("ch5"), rows)("against").split())

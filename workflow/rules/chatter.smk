@@ -1,6 +1,7 @@
 # Stage 'chatter' (SPEC §4, seed 002): stability lobes for configured machines (one job per
-# case), the seed's time-domain robot-tool-surface model with detection and adaptive depth, and
-# the thesis robot's lobes, mode-coupling check and chatter-free recommendations.
+# case), the seed's time-domain robot-tool-surface model with detection and adaptive depth
+# (chapter 6.1), and the study robot's lobes, mode-coupling check and chatter-free
+# recommendations (chapter 4).
 
 CHATTER_CASES = {c["name"]: c for c in config["chatter"]["cases"]}
 
@@ -72,12 +73,20 @@ rule chatter_thesis:
         "../scripts/chatter_thesis.py"
 
 
+# the study's robot (chapter 4) only where the folder has its modes and forces; the reference
+# studies (chapter 6.1: the configured cases and seed 002) in any run
+CHATTER_ROBOT = has_kind("impact") and has_kind("force")
+
+
 rule chatter_findings:
     input:
+        **optional_input(
+            CHATTER_ROBOT,
+            lobes="results/chatter/lobes.nc",
+            recommendations="results/chatter/recommendations.csv",
+        ),
         cases=expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
         simulation="results/chatter/simulation.nc",
-        lobes="results/chatter/lobes.nc",
-        recommendations="results/chatter/recommendations.csv",
         references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
     output:
         findings="results/chatter/findings.yaml",
@@ -103,15 +112,10 @@ rule chatter:
         "results/chatter/findings.yaml",
 
 
-CHAPTER_PARAMETERS["ch4"] = {"thesis_study": THESIS_STUDY}
-
-
 use rule chapter as ch4 with:
     input:
         notebook=notebook("ch4_chatter.ipynb"),
         templates=notebook("templates/ch4.yaml"),
-        cases=expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
-        simulation="results/chatter/simulation.nc",
         lobes="results/chatter/lobes.nc",
         recommendations="results/chatter/recommendations.csv",
         findings="results/chatter/findings.yaml",
@@ -124,3 +128,23 @@ use rule chapter as ch4 with:
 
 
 add_chapter("4", "results/chapters/ch4_chatter.html", needs=("impact", "force"))
+
+
+# Chapter 6.1 (reference studies): the lobe methods on the configured published cases and the
+# seed-002 robot-tool-surface model; no data of the study.
+use rule chapter as ch6_chatter with:
+    input:
+        notebook=notebook("ch6_1_chatter.ipynb"),
+        templates=notebook("templates/ch6_1.yaml"),
+        cases=expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
+        simulation="results/chatter/simulation.nc",
+        findings="results/chatter/findings.yaml",
+    output:
+        **chapter_outputs("ch6_chatter"),
+    log:
+        chapter_log("ch6_chatter"),
+    benchmark:
+        chapter_benchmark("ch6_chatter")
+
+
+add_chapter("6.1", "results/chapters/ch6_1_chatter.html")

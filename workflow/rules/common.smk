@@ -216,7 +216,15 @@ CHAPTERS = {
     "ch3_modal": ("ch3_3_modal", "ch3/modal", "ch3_3_modal", "Chapter 3"),
     "ch4": ("ch4_chatter", "ch4", "ch4", "Chapter 4"),
     "ch5": ("ch5_stiffness", "ch5", "ch5", "Chapter 5"),
-    "ch6": ("ch6_hexapod", "ch6", "ch6", "Chapter 6"),
+    # chapter 6, "Reference studies": the seeds' reproductions that use no data of the study
+    "ch6_chatter": ("ch6_1_chatter", "ch6/chatter", "ch6_1_chatter", "Chapter 6"),
+    "ch6_stiffness": (
+        "ch6_2_stiffness",
+        "ch6/stiffness",
+        "ch6_2_stiffness",
+        "Chapter 6",
+    ),
+    "ch6_hexapod": ("ch6_3_hexapod", "ch6/hexapod", "ch6_3_hexapod", "Chapter 6"),
     "ch7": ("ch7_plan", "ch7", "ch7", "Chapter 7"),
 }
 # target: notebook parameters besides the inputs (each stage file sets its chapter's)

@@ -1,4 +1,4 @@
-# Stage 'hexapod' (chapter 6, seed 003): Stewart–Gough platform inverse and forward dynamics,
+# Stage 'hexapod' (chapter 6.3 of the reference studies, seed 003): Stewart–Gough platform inverse and forward dynamics,
 # the vertical move with a force error, and the sensitivity map (one job per actuator).
 
 HEXAPOD_ACTUATORS = config["hexapod"]["sensitivity"]["actuators"]
@@ -96,7 +96,6 @@ rule hexapod_findings:
         ENV
     params:
         hexapod=config["hexapod"],
-        thesis_study=THESIS_STUDY,
     script:
         "../scripts/hexapod_findings.py"
 
@@ -110,21 +109,21 @@ rule hexapod:
         "results/hexapod/sensitivity.nc",
 
 
-use rule chapter as ch6 with:
+use rule chapter as ch6_hexapod with:
     input:
-        notebook=notebook("ch6_hexapod.ipynb"),
-        templates=notebook("templates/ch6.yaml"),
+        notebook=notebook("ch6_3_hexapod.ipynb"),
+        templates=notebook("templates/ch6_3.yaml"),
         findings="results/hexapod/findings.yaml",
         trajectory="results/hexapod/trajectory.nc",
         forces="results/hexapod/forces.nc",
         sensitivity="results/hexapod/sensitivity.nc",
         force_accuracy="results/hexapod/force_accuracy.csv",
     output:
-        **chapter_outputs("ch6"),
+        **chapter_outputs("ch6_hexapod"),
     log:
-        chapter_log("ch6"),
+        chapter_log("ch6_hexapod"),
     benchmark:
-        chapter_benchmark("ch6")
+        chapter_benchmark("ch6_hexapod")
 
 
-add_chapter("6", "results/chapters/ch6_hexapod.html")
+add_chapter("6.3", "results/chapters/ch6_3_hexapod.html")

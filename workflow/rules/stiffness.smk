@@ -263,12 +263,6 @@ use rule chapter as ch5 with:
         notebook=notebook("ch5_stiffness.ipynb"),
         templates=notebook("templates/ch5.yaml"),
         findings="results/stiffness/findings.yaml",
-        maps="results/stiffness/maps.nc",
-        optimal="results/stiffness/optimal_poses.csv",
-        beamframe="results/stiffness/beamframe.nc",
-        map_joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
-        map_models=f"results/stiffness/{MAP_ROBOT}/identification.csv",
-        map_validation=f"results/stiffness/{MAP_ROBOT}/validation.csv",
     output:
         **chapter_outputs("ch5"),
     log:
@@ -278,3 +272,36 @@ use rule chapter as ch5 with:
 
 
 add_chapter("5", "results/chapters/ch5_stiffness.html", needs=("robot", "stiffness"))
+
+
+# Chapter 6.2 (reference studies): seed 001's joint-stiffness study on its robot (workspace,
+# identification, maps, optimal pose) and seed 004's beam frame.
+use rule chapter as ch6_stiffness with:
+    input:
+        notebook=notebook("ch6_2_stiffness.ipynb"),
+        templates=notebook("templates/ch6_2.yaml"),
+        findings="results/stiffness/findings.yaml",
+        maps="results/stiffness/maps.nc",
+        optimal="results/stiffness/optimal_poses.csv",
+        beamframe="results/stiffness/beamframe.nc",
+        map_joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
+        map_models=f"results/stiffness/{MAP_ROBOT}/identification.csv",
+        map_validation=f"results/stiffness/{MAP_ROBOT}/validation.csv",
+    output:
+        **chapter_outputs("ch6_stiffness"),
+    log:
+        chapter_log("ch6_stiffness"),
+    benchmark:
+        chapter_benchmark("ch6_stiffness")
+
+
+add_chapter(
+    "6.2", "results/chapters/ch6_2_stiffness.html", needs=("robot", "stiffness")
+)
+
+
+rule ch6:
+    input:
+        "results/chapters/ch6_1_chatter.html",
+        "results/chapters/ch6_2_stiffness.html",
+        "results/chapters/ch6_3_hexapod.html",

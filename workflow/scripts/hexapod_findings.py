@@ -1,4 +1,4 @@
-"""Chapter 6's findings (robomill.hexapod.findings), with the scorecard rows of the stage
+"""Chapter 6.3's findings (robomill.hexapod.findings), with the scorecard rows of the stage
 for its "Against the source" section."""
 
 import pandas as pd
@@ -14,6 +14,7 @@ inp, p = snakemake.input, snakemake.params
 found = hexapod_findings(open_artefact(inp.trajectory), open_artefact(inp.forces),
                          open_artefact(inp.sensitivity), pd.read_csv(inp.force_accuracy),
                          hexapod=p.hexapod)
-found.comparisons = stage_comparisons("hexapod", thesis_study=bool(p.thesis_study))
+# a reference study: its rows hold for any study (scorecard.yaml `any_study`)
+found.comparisons = stage_comparisons("hexapod")
 write_findings(found, snakemake.output.findings)
 log.info("%d findings, %d comparison rows", len(found.items), len(found.comparisons))

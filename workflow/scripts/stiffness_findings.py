@@ -26,6 +26,7 @@ found = stiffness_findings(
     waviness=pd.read_csv(inp.waviness, index_col=0) if "waviness" in has else None,
     thesis_joints=pd.read_csv(inp.thesis_joints) if "thesis_joints" in has else None,
     slot_asymmetry_pct=p.slot_asymmetry_pct)
+found.add("thesis_study", bool(p.thesis_study), what="robomill.experiment.is_thesis_study")
 found.comparisons = stage_comparisons("stiffness", thesis_study=bool(p.thesis_study))
 write_findings(found, snakemake.output.findings)
 log.info("%d findings, %d comparison rows", len(found.items), len(found.comparisons))

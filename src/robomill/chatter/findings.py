@@ -267,18 +267,28 @@ def _sources(f: Findings) -> None:
               what=ref)
 
 
-def chatter_findings(cases: Mapping[str, xr.Dataset], sim: xr.Dataset, lobes: xr.Dataset,
-                     recommendations: pd.DataFrame, *, safety_fraction: float) -> Findings:
-    """The findings of chapter 4 from the stage's artefacts (``cases``: name → lobes of a
-    configured case; the benchmark is ``insperger2004_down005`` when configured, else the
-    first case); ``safety_fraction``: ``chatter.thesis.safety_fraction``."""
+def chatter_findings(cases: Mapping[str, xr.Dataset], sim: xr.Dataset,
+                     lobes: xr.Dataset | None, recommendations: pd.DataFrame | None, *,
+                     safety_fraction: float, thesis_study: bool = False) -> Findings:
+    """The findings of chapters 4 and 6.1 from the stage's artefacts (``cases``: name → lobes
+    of a configured case; the benchmark is ``insperger2004_down005`` when configured, else the
+    first case); ``safety_fraction``: ``chatter.thesis.safety_fraction``.
+
+    Chapter 6.1 (the reference studies: the benchmark cases and seed 002) needs no data of
+    the study; the robot's lobes and recommendations (chapter 4) are left out (``has_robot``
+    false) when the study measured no modes or no cutting coefficients (``lobes`` None).
+    ``thesis_study``: whether chapter 4 closes with its comparison with the thesis."""
     f = Findings("chatter")
+    f.add("thesis_study", bool(thesis_study), what="robomill.experiment.is_thesis_study")
+    f.add("has_robot", lobes is not None and recommendations is not None, artefact=LOBES,
+          what="the study's lobes were computed (impact and force data)")
     if cases:
         name = BENCHMARK if BENCHMARK in cases else next(iter(cases))
         _case(f, name, cases[name])
     _slot(f, cases.get(SLOT))
     _seed(f, sim)
-    _robot(f, lobes, recommendations, safety_fraction)
+    if lobes is not None and recommendations is not None:
+        _robot(f, lobes, recommendations, safety_fraction)
     _sources(f)
     return f
 

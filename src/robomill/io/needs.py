@@ -46,7 +46,11 @@ CHAPTER_NEEDS: dict[str, ChapterNeeds] = {
     "4": ChapterNeeds("ch4", ("impact", "force"), ("spindle_rpm", "flutes"), ("depth_mm",)),
     # the robots' joint stiffness; with cuts, the stiffness at the middle of every cut
     "5": ChapterNeeds("ch5", ("robot", "stiffness"), experiment_with_cuts=("cut_length_mm",)),
-    "6": ChapterNeeds("ch6", ()),
+    # chapter 6, the reference studies: seed 002 and the published lobe cases, seed 001's
+    # robot and seed 004's frame (their load tests), seed 003's hexapod
+    "6.1": ChapterNeeds("ch6_chatter", ()),
+    "6.2": ChapterNeeds("ch6_stiffness", ("robot", "stiffness")),
+    "6.3": ChapterNeeds("ch6_hexapod", ()),
 }
 """Chapter label → what it needs (the chapters' own inputs follow from their rules)."""
 

@@ -23,6 +23,7 @@ import pandas as pd
 
 from robomill.pipeline.book_print import (  # noqa: F401  (public names, kept importable here)
     CHROMIUM_NAMES,
+    book_part,
     chapter_key,
     chapter_title,
     find_chromium,
@@ -155,10 +156,17 @@ def build_book(
                     f"{cuts['feed_mm_s'].min():g}–{cuts['feed_mm_s'].max():g} mm/s; depths "
                     f"{', '.join(f'{d:g}' for d in sorted(cuts['depth_mm'].unique()))} mm.</p>")
         body.append(f"<p><b>The design:</b> {html.escape(describe_design(cuts))}.</p>")
-    body.append("<h2>Contents</h2><ol>")
+    body.append("<h2>Contents</h2>")
+    part = None
     for page in pages:
+        if book_part(page.name) != part:
+            body.append("</ol>" if part is not None else "")
+            part = book_part(page.name)
+            body.append(f"<h3>{html.escape(part)}</h3><ol>")
         body.append(f'<li><a href="chapters/{page.name}.html">{html.escape(page.title)}</a> '
                     f"({len(page.figures)} figures)</li>")
+    body.append("</ol>" if part is not None else "")
+    body.append("<h3>Tables and print</h3><ol>")
     extra = []
     if pdf_name:
         extra.append(f'<li><a href="{html.escape(pdf_name)}">The whole book, print-ready '

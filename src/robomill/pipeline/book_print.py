@@ -2,8 +2,10 @@
 
 :func:`print_document` joins the chapters into one page (``book_print.html``): a title page
 with the study's one-line description (:func:`robomill.pipeline.design_tables.describe_design`),
-a contents list whose entries link to the chapters and carry their page numbers, then each
-chapter on a new page. The print style keeps a heading with what follows it
+a contents list in two parts, the study's chapters and the reference studies (chapter 6: the
+source papers' reproductions that use no data of the study, :func:`book_part`), whose entries
+link to the chapters and carry their page numbers, then each chapter on a new page, the
+reference studies behind a part title page. The print style keeps a heading with what follows it
 (``break-after: avoid``), does not split figures, tables or table rows, wraps table cells
 instead of clipping them behind a scroll bar, prints a table of more than
 :data:`WIDE_TABLE_COLUMNS` columns on a landscape page (:func:`landscape_wide_tables`), folds
@@ -67,6 +69,9 @@ ol.contents li{display:flex;align-items:baseline;margin:.35em 0}
 ol.contents li a{color:#222;text-decoration:none}
 ol.contents li .leader{flex:1;border-bottom:1px dotted #888;margin:0 .4em}
 ol.contents li .page{min-width:2em;text-align:right}
+.contents .part-title{font-weight:bold;font-size:12pt;margin:1em 0 .3em}
+section.part{break-before:page;font-family:system-ui,sans-serif;padding-top:30vh}
+section.part .part-title{font-size:2em;font-weight:bold}
 @media print{
  nav.robomill,details.robomill-code{display:none!important}
  section.chapter{break-before:page}
@@ -98,10 +103,27 @@ def chapter_title(html_text: str, fallback: str) -> str:
     return text or fallback
 
 
+#: the chapter whose pages form the book's second part, :data:`REFERENCE_PART`: the source
+#: papers' reproductions that use no data of the study (seeds 001-004, published lobe cases)
+REFERENCE_CHAPTER = 6
+STUDY_PART = "The study"
+REFERENCE_PART = "Reference studies"
+
+
 def chapter_key(stem: str) -> tuple:
-    """Book order of a chapter file name: ``ch2_surface`` < ``ch3_1_forces`` < ``ch10_x``."""
+    """Book order of a chapter file name: the study's chapters (``ch2_surface`` <
+    ``ch3_1_forces`` < ``ch7_plan``), then the reference studies (``ch6_1_chatter`` <
+    ``ch6_3_hexapod``), then names that are not chapters."""
     m = re.match(r"ch(\d+)(?:_(\d+))?", stem)
-    return (int(m[1]), int(m[2] or 0)) if m else (999, 0)
+    if not m:
+        return (2, 999, 0)
+    return (int(int(m[1]) == REFERENCE_CHAPTER), int(m[1]), int(m[2] or 0))
+
+
+def book_part(stem: str) -> str:
+    """The part of the book a chapter page belongs to (:data:`STUDY_PART` or
+    :data:`REFERENCE_PART`)."""
+    return REFERENCE_PART if chapter_key(stem)[0] == 1 else STUDY_PART
 
 
 def print_document(chapter_html: Sequence[str | Path], out_html: str | Path, *,
@@ -126,14 +148,26 @@ def print_document(chapter_html: Sequence[str | Path], out_html: str | Path, *,
         parts.append(f'<p class="description">{html.escape(description)}</p>')
     parts.append('<p class="by">computed by the robomill pipeline from this run\'s data</p>'
                  '</section><section class="front contents">'
-                 '<div class="contents-title">Contents</div><ol class="contents">')
+                 '<div class="contents-title">Contents</div>')
+    part = None
     for path, name in zip(paths, titles, strict=True):
+        if book_part(path.stem) != part:
+            parts.append("</ol>" if part is not None else "")
+            part = book_part(path.stem)
+            parts.append(f'<div class="part-title">{html.escape(part)}</div>'
+                         '<ol class="contents">')
         page = (pages or {}).get(path.stem)
         parts.append(f'<li><a href="#{path.stem}">{html.escape(name)}</a>'
                      f'<span class="leader"></span><span class="page">'
                      f'{page if page is not None else "&nbsp;"}</span></li>')
     parts.append("</ol></section>")
+    part = STUDY_PART
     for text, path in zip(texts, paths, strict=True):
+        if book_part(path.stem) != part:  # the reference studies open with a part title page
+            part = book_part(path.stem)
+            parts.append(f'<section class="part"><h1 class="part-title">{html.escape(part)}'
+                         "</h1><p>Reproductions of the source papers that use no data of this "
+                         "study.</p></section>")
         m = _BODY.search(text)
         body = m["b"] if m else text
         body = re.sub(r'<nav class="robomill">.*?</nav>', "", body, flags=re.S)

@@ -160,11 +160,12 @@ def build_scorecard(root: str | Path = ".", checks: list[dict] | None = None, *,
     """The scorecard table for the artefacts under ``root``; checks whose artefact does not
     exist in this run (a chapter not built) are left out. For a study that is not the
     thesis' design (``thesis_study`` false, :func:`robomill.experiment.is_thesis_study`) the
-    source numbers do not apply: the table is empty (same columns)."""
+    thesis' numbers do not apply: only the reference studies' checks (``any_study: true``,
+    chapter 6: computed from the configuration alone) remain, possibly none (same columns)."""
     rows = []
-    if not thesis_study:
-        return pd.DataFrame(rows, columns=SCORECARD_COLUMNS)
     for c in checks if checks is not None else load_checks():
+        if not (thesis_study or c.get("any_study")):
+            continue
         c = resolve_reference(c)
         sv = c["source_value"]
         if c.get("locator") is None:  # a source number the pipeline does not compute
@@ -203,7 +204,7 @@ def stage_comparisons(stage: str, root: str | Path = ".", *,
                       thesis_study: bool = True) -> list[dict[str, Any]]:
     """The scorecard rows of one stage as a findings artefact's ``comparisons`` (the rows of
     a chapter's "Against the thesis" section, :func:`robomill.findings.comparison_rows`);
-    empty for a study that is not the thesis' design."""
+    for a study that is not the thesis' design, only the reference studies' rows."""
     from robomill.findings import comparison_rows
 
     card = build_scorecard(root, stage_checks(stage), thesis_study=thesis_study)

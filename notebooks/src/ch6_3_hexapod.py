@@ -1,8 +1,9 @@
 # %% [markdown]
-# # Chapter 6 — Parallel kinematics: hexapod dynamics and force errors
+# # Chapter 6.3 — Reference study: hexapod dynamics and force errors
 #
-# Seed 003 (Rybak, Gaponenko, Mamaev) argues for high-speed milling on parallel-kinematics
-# machines and gives a dynamic model of a Stewart–Gough hexapod: the inverse problem
+# A reproduction of a source paper that uses no data of this study. Seed 003 (Rybak,
+# Gaponenko, Mamaev) argues for high-speed milling on parallel-kinematics machines and gives
+# a dynamic model of a Stewart–Gough hexapod: the inverse problem
 # **M(X) Ẇ + C(W, X) + G = τ** and the forward problem **V̇ₚ = A_m⁻¹ (J_rᵀ Γ − h_m)**
 # (seed eqs 1–8), built from the six leg models (inertia A_xi, bias h_xi at the leg tip) and
 # the platform's Newton–Euler equations. We implement that model (`robomill.hexapod`), run the
@@ -17,7 +18,7 @@ trajectory: str = None  # results/hexapod/trajectory.nc
 forces: str = None  # results/hexapod/forces.nc
 sensitivity: str = None  # results/hexapod/sensitivity.nc
 force_accuracy: str = None  # results/hexapod/force_accuracy.csv
-templates: str = None  # notebooks/templates/ch6.yaml: the sentences rendered from findings
+templates: str = None  # notebooks/templates/ch6_3.yaml: the sentences rendered from findings
 findings: str = None  # results/hexapod/findings.yaml: every number stated here
 fig_dir: str = None  # folder for this chapter's figures
 
@@ -41,12 +42,13 @@ from robomill.pipeline.prose import Prose, comparison_table, load_templates
 from robomill.plotting import save_figure
 
 found = read_findings(findings)
-say = Prose(load_templates("ch6", templates), found)
+say = Prose(load_templates("ch6_3", templates), found)
+# chapter 6 is numbered across its three pages: 6.1 ends at Table 6.1, 6.2 at Figure 6.10/Table 6.7
 num = Numbering("6")
 num.table("seed_table1", "High-speed against conventional ball-end milling, as printed in "
-          "seed 003's Table 1")
+          "seed 003's Table 1", number=8)
 num.figure("trajectory", "The seed's acceleration programme through the inverse dynamics and "
-           "its open-loop replay (left), and the round-trip error (right)")
+           "its open-loop replay (left), and the round-trip error (right)", number=11)
 num.figure("actuator_forces", "Actuator forces of the programme (seed Fig. 4)")
 num.figure("drift_vs_exact", "The vertical move with exact forces and with one actuator's "
            "force off (seed Fig. 5): height, drift and Euler angles")
