@@ -426,3 +426,81 @@ def test_chapter_3_3_tables_shown():
     assert err.shape == (3, 3) and np.allclose(err.to_numpy(), 25.0)
     assert shown_modes(pd.DataFrame({"f_n_hz": [20.12345], "zeta": [0.012345]})).iloc[0].tolist() \
         == [20.123, 0.0123]
+
+
+def _chapter_0(found):
+    """Chapter 0's sentences as its notebook renders them (notebooks/src/ch0_experiment.py)."""
+    from robomill.pipeline.prose import render
+
+    say = Prose(load_templates("ch0"), found)
+    refs = {"ref_plan": "[plan]", "ref_feed_per_tooth": "[feed]"}
+    v = found.values()
+    lines = [render(say.templates["group"], g) for g in v.get("groups") or []]
+    return " ".join(" ".join([
+        say("caption_plan", grouped_by=say("grouped_by")), say("caption_feed_per_tooth"),
+        say("layout", "design", "missing"),
+        say("summary", cut_count=say("cut_count"), speed=say("speed"),
+            shown_per=say("shown_per"), **refs),
+        say("by_group", "same_feed", group_lines=lines, **refs),
+        say("against", "against_rows")]).split())
+
+
+def test_chapter_0_prose_follows_altered_findings():
+    """Chapter 0 states the cuts, speeds, feed per tooth and design of its findings (values
+    no study of the default config gives), the layout only in the thesis' layout and the
+    thesis' cell only for the thesis' study, in the closing section."""
+    f = Findings("ingest")
+    for key, value in {
+            "n_cuts": 12, "has_cuts": True, "thesis_layout": True, "thesis_study": False,
+            "missing": [], "n_sets": 4, "n_segments": 6, "directions": ["+X", "−Y"],
+            "n_directions": 2, "single_speed": True, "spindle_rpm": 21000.0,
+            "spindle_hz": 350.0, "tooth_passing_hz": 1400.0,
+            "feed_per_tooth_um_range": [0.125, 9.875], "design": "12 cuts: 4 sets × 3 x",
+            "grouping": ["set", "segment"], "groups": [], "ref_robot": "Robot R-9",
+            "ref_workpiece": "brass", "ref_dynamometer": "Dyno 7", "ref_tool": "5-flute mill",
+            "ref_spindle_rpm": 12345.0, "ref_cell_where": "§9.9"}.items():
+        f.add(key, value)
+    text = _chapter_0(f)
+    assert "the cuts of every segment" in text and "of every segment, per set" in text
+    assert "4 sets of 6 U-shaped segments; each segment is 2 straight cuts, **+X, −Y**" in text
+    assert "**Design:** 12 cuts: 4 sets × 3 x." in text and "Not stated" not in text
+    assert "**12 cuts** in 4 sets; spindle 350.0 Hz (21000 rpm), tooth passing 1400.0 Hz" in text
+    assert "from 0.12 µm to 9.88 µm" in text and "feed per tooth of every segment." in text
+    assert "[feed]:" not in text  # the thesis' layout: no per-group sentence
+    assert "not the thesis' design" in text and "Robot R-9" not in text
+    assert "{" not in text.replace("`s{set}_g{segment}_{dir}`", "")
+    # the thesis' study: its cell and the comparison rows, in the closing section
+    f.items["thesis_study"].value = True
+    f.comparisons = [{"verdict": "pass"}, {"verdict": "miss"}, {"verdict": "pass"}]
+    text = _chapter_0(f)
+    assert "The thesis' cell (§9.9): the robot, Robot R-9, slot-milled a block of brass" in text
+    assert "dynamometer, Dyno 7; the tool, 5-flute mill, turned at 12345 rpm" in text
+    assert "2 of 3 within the tolerance" in text
+    # another design: a speed series grouped by speed, no layout sentence
+    for key, value in {"thesis_layout": False, "thesis_study": False, "single_speed": False,
+                       "spindle_rpm": None, "spindle_rpm_range": [6000.0, 30000.0],
+                       "tooth_passing_hz_range": [400.0, 2000.0],
+                       "grouping": ["spindle_rpm", "direction"],
+                       "groups": [{"label": "6000 rpm", "feed_per_tooth_um": [1.5, 4.25],
+                                   "tooth_passing_hz": [400.0, 400.0]},
+                                  {"label": "30000 rpm", "feed_per_tooth_um": [0.3, 0.85],
+                                   "tooth_passing_hz": [2000.0, 2000.0]}]}.items():
+        f.add(key, value)
+    f.comparisons = []
+    text = _chapter_0(f)
+    assert "grouped by what varies (spindle_rpm, direction)" in text
+    assert "U-shaped" not in text and "**12 cuts**;" in text
+    assert "spindle 6000–30000 rpm, tooth passing 400.0–2000.0 Hz" in text
+    assert "feed per tooth of every cut." in text
+    assert ("[feed]: 6000 rpm: c 1.50–4.25 µm, tooth passing 400–400 Hz; 30000 rpm: c "
+            "0.30–0.85 µm, tooth passing 2000–2000 Hz.") in text
+    assert "same feed per tooth" not in text and "not the thesis' design" in text
+    f.add("groups", [])
+    f.add("grouping", [])
+    text = _chapter_0(f)
+    assert "grouped by what varies (nothing)" in text
+    assert "[feed]: every cut has the same feed per tooth." in text
+    f.add("missing", ["spindle_rpm"])
+    del f.items["feed_per_tooth_um_range"]
+    text = _chapter_0(f)
+    assert "**Not stated:** spindle_rpm" in text and "[plan] lists the cuts." in text

@@ -81,7 +81,9 @@ def test_every_reference_has_a_value_and_a_citation():
     assert len(refs) > 120
     for key, ref in refs.items():
         assert ref["source"] and ref["where"] and ref["quantity"], key
-        assert isinstance(ref["value"], int | float | list), key
+        # a number or a range; a text only for the source's setup (thesis.cell.*)
+        assert isinstance(ref["value"], int | float | list) or (
+            key.startswith("thesis.cell.") and isinstance(ref["value"], str)), key
 
 
 def test_scorecard_numbers_come_from_references_once():

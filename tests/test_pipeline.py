@@ -25,9 +25,14 @@ def test_the_thesis_design_keeps_its_tables_and_thesis_remarks(tiny_run):
     closing comparison with its source, from the comparison rows of its findings (issue 30).
     Chapters 1-5 are checked on their findings and their structure, not on their sentences."""
     ch0 = chapter_outputs(tiny_run, "ch0_experiment")
-    assert "Three sets of five U-shaped segments" in ch0 and "+Y, +X, −Y" in ch0
-    assert "(thesis: 1.07 µm at 1 mm/s, 10.7 µm at 10 mm/s)" in ch0
+    plan = read_findings(tiny_run / "results/ingest/findings.yaml").values()
+    assert plan["thesis_layout"] and plan["thesis_study"] and plan["single_speed"]
+    assert plan["directions"] == ["+Y", "+X", "−Y"] and plan["spindle_rpm"] == 28000.0
+    assert plan["ref_robot"] in ch0  # the thesis' cell, in its closing section
     assert "The cut plan: the cuts of every segment" in ch0 and "grouped by what" not in ch0
+    nb0 = json.loads((tiny_run / "results/chapters/ch0_experiment.ipynb").read_text())
+    assert sum(ln.startswith("## Against") for c in nb0["cells"] if c["cell_type"] == "markdown"
+               for ln in "".join(c["source"]).splitlines()) == 1
     assert read_findings(tiny_run / "results/surface/findings.yaml").values()["thesis_layout"]
     ch2 = chapter_outputs(tiny_run, "ch2_surface")
     assert "Table 2.1" in ch2 and "Table 2.2" in ch2 and "grouped by what varies" not in ch2

@@ -56,8 +56,10 @@ def test_edits_rerun_only_what_uses_them(tiny_run, tmp_path):
     module = repo / "src" / "robomill" / "experiment.py"
     module.write_text(module.read_text() + "\n# an edit\n")
     jobs = _planned(repo, work, "ch0")
-    assert set(jobs) == {"ingest_manifest", "ch0"}
+    # chapter 0's findings (robomill.experiment_findings) import experiment.py too
+    assert set(jobs) == {"ingest_manifest", "ingest_findings", "ch0"}
     assert "input changed" in jobs["ingest_manifest"].categories
+    assert "input changed" in jobs["ingest_findings"].categories
 
     # issue 31: an edit of the LSCF estimator reruns the modal identification that imports it,
     # not the FRF estimation before it (modal/frf.py does not import modal/lscf.py)

@@ -3,13 +3,17 @@
 #
 # The cuts of the run's data (from its manifest), what varies between them, and the
 # quantities every later chapter uses: feed per tooth c = v / (N n) and tooth-passing
-# frequency N n / 60.
+# frequency N n / 60. Every number stated here comes from the experiment's findings
+# (results/ingest/findings.yaml, robomill.experiment_findings); the thesis' cell and its
+# feed per tooth close the chapter ("Against the thesis").
 
 # %% tags=["parameters"]
 cuts: str = None  # results/ingest/cuts.csv
 experiment: dict = None  # the manifest's experiment defaults (spindle_rpm, flutes, ...)
-thesis_design: bool = None  # the thesis' design (robomill.experiment.is_thesis_design)
-thesis_study: bool = None  # the thesis' study (robomill.experiment.is_thesis_study)
+templates: str = None  # notebooks/templates/ch0.yaml: the sentences rendered from findings
+findings: str = None  # results/ingest/findings.yaml: every number stated here
+thesis_design: bool = None  # unused: the layout comes with the findings
+thesis_study: bool = None  # unused: the comparison rows come with the findings
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
@@ -19,57 +23,26 @@ import pandas as pd
 from IPython.display import Markdown, display
 from matplotlib.patches import Patch
 
+from robomill.findings import read_findings
 from robomill.pipeline.captions import Numbering
-from robomill.pipeline.design_tables import (
-    describe_design,
-    design_factors,
-    format_factor,
-    per_cut_table,
-    thesis_gate,
-    with_design,
-)
+from robomill.pipeline.design_tables import format_factor, per_cut_table
+from robomill.pipeline.prose import Prose, comparison_table, load_templates, render
 from robomill.plotting import save_figure
 
-vs_thesis = thesis_gate(thesis_study)
-THESIS_LAYOUT = thesis_design is not False  # sets x U segments (+Y, +X, -Y)
+found = read_findings(findings)
+say = Prose(load_templates("ch0", templates), found)
+v = found.values()
+THESIS_LAYOUT = v["thesis_layout"]  # sets x U segments (+Y, +X, -Y)
 table = pd.read_csv(cuts)
-design = design_factors(table, experiment)
 
 num = Numbering("0")
-if THESIS_LAYOUT:
-    num.table("plan", "The cut plan: the cuts of every segment, its feed, depth and feed per "
-              "tooth")
-    num.figure("feed_per_tooth", "Feed per tooth c = v / (N n) of every segment, per set")
-else:
-    num.table("plan", "The cut plan: every cut, grouped by what varies ("
-              + (", ".join(design.grouping) or "nothing") + "), with its feed per tooth and "
-              "tooth-passing frequency")
-    num.figure("feed_per_tooth", "Feed per tooth c = v / (N n) and tooth-passing frequency "
-               "of every cut, grouped by what varies")
+num.table("plan", say("caption_plan", grouped_by=say("grouped_by")))
+num.figure("feed_per_tooth", say("caption_feed_per_tooth"))
 
-if THESIS_LAYOUT:
-    display(Markdown(
-        "An ABB IRB 1600-6/1.45 robot slot-milled an Al 6061-T6 block on a Kistler 9255B "
-        "dynamometer with a 2-flute end mill (thesis §2.1). Three sets of five U-shaped "
-        "segments; each segment is three straight cuts, **+Y, +X, −Y**."
-        if vs_thesis.shown else
-        "The cuts follow the thesis' layout (ids `s{set}_g{segment}_{dir}`: sets of U-shaped "
-        "segments, directions px, py, my) with this study's own process."))
-display(Markdown(f"**Design:** {describe_design(table, experiment)}."))
-spindle_hz = table["spindle_hz"]
-tooth_hz = table["tooth_passing_hz"]
-speed = (f"spindle {spindle_hz.iloc[0]:.1f} Hz ({60 * spindle_hz.iloc[0]:.0f} rpm), tooth "
-         f"passing {tooth_hz.iloc[0]:.1f} Hz" if spindle_hz.nunique() == 1 and
-         tooth_hz.nunique() == 1 else
-         f"spindle {60 * spindle_hz.min():.0f}–{60 * spindle_hz.max():.0f} rpm, tooth passing "
-         f"{tooth_hz.min():.1f}–{tooth_hz.max():.1f} Hz")
-groups = (f" in {table['set'].nunique()} sets" if THESIS_LAYOUT and "set" in table else "")
-display(Markdown(
-    f"**{len(table)} cuts**{groups}; {speed}. Feed per tooth ranges from "
-    f"{table.feed_per_tooth_um.min():.2f} µm to {table.feed_per_tooth_um.max():.2f} µm"
-    + vs_thesis(" (thesis: 1.07 µm at 1 mm/s, 10.7 µm at 10 mm/s)")
-    + f". {num.ref('plan')} lists the cuts and {num.ref('feed_per_tooth')} shows the feed "
-    "per tooth of every " + ("segment." if THESIS_LAYOUT else "cut.")))
+display(Markdown(say("layout", "design", "missing")))
+display(Markdown(say("summary", cut_count=say("cut_count"), speed=say("speed"),
+                     shown_per=say("shown_per"), ref_plan=num.ref("plan"),
+                     ref_feed_per_tooth=num.ref("feed_per_tooth"))))
 
 # %% [markdown]
 # ## The cut plan
@@ -102,34 +75,36 @@ if THESIS_LAYOUT:
     ax.legend()
 else:
     rows = plan.reset_index()
-    first = design.grouping[0] if design.grouping else None
-    colour = ({v: f"C{i}" for i, v in enumerate(rows[first].unique())} if first else {})
+    first = v.get("group_by")
+    colour = ({lvl: f"C{i}" for i, lvl in enumerate(rows[first].unique())} if first else {})
     fig, axs = plt.subplots(1, 2, figsize=(10, 3.8), sharey=True)
     y = np.arange(len(rows))
     label = rows["cut"] if "cut" in rows else rows.iloc[:, 0]
     for ax, col, xlabel in ((axs[0], "feed_per_tooth_um", "feed per tooth c [µm]"),
                             (axs[1], "tooth_passing_hz", "tooth-passing frequency [Hz]")):
-        ax.barh(y, rows[col], color=[colour.get(v, "C0") for v in
+        ax.barh(y, rows[col], color=[colour.get(lvl, "C0") for lvl in
                                      (rows[first] if first else [None] * len(rows))])
         ax.set_xlabel(xlabel)
     axs[0].set_yticks(y, label)
     axs[0].invert_yaxis()
     if first:
-        axs[1].legend(handles=[Patch(color=c, label=format_factor(first, v))
-                               for v, c in colour.items()], fontsize=8, title=first)
+        axs[1].legend(handles=[Patch(color=c, label=format_factor(first, lvl))
+                               for lvl, c in colour.items()], fontsize=8, title=first)
     fig.suptitle("Feed per tooth c = v / (N n) and tooth passing N n / 60, per cut")
     fig.tight_layout()
 save_figure(fig, fig_dir, num.file("feed_per_tooth"))
 plt.show()
 display(num.caption("feed_per_tooth"))
-if not THESIS_LAYOUT:
-    filled = with_design(table, experiment)
-    display(Markdown(
-        f"{num.ref('feed_per_tooth')}: "
-        + "; ".join(f"{format_factor(first, v)}: c {g.feed_per_tooth_um.min():.2f}–"
-                    f"{g.feed_per_tooth_um.max():.2f} µm, tooth passing "
-                    f"{g.tooth_passing_hz.min():.0f}–{g.tooth_passing_hz.max():.0f} Hz"
-                    for v, g in filled.groupby(first, sort=True)) + "."
-        if design.grouping else
-        f"{num.ref('feed_per_tooth')}: every cut has the same feed per tooth."))
+group_lines = [render(say.templates["group"], g) for g in v.get("groups") or []]
+display(Markdown(say("by_group", "same_feed", ref_feed_per_tooth=num.ref("feed_per_tooth"),
+                     group_lines=group_lines)))
+
+# %% [markdown]
+# ## Against the thesis
+
+# %%
+display(Markdown(say("against", "against_rows")))
+comparison_table(found) if found.comparisons else None
+
+# %%
 num.check()

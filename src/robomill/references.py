@@ -1,7 +1,8 @@
 """The sources' reference numbers: one file, one citation per value.
 
 Every number the thesis and the seed papers print that this study is compared with lives once
-in ``robomill/data/references.yaml``: key → ``value`` (a number, or ``[low, high]``), ``unit``,
+in ``robomill/data/references.yaml``: key → ``value`` (a number, ``[low, high]``, or a text
+for a part of the source's setup: ``thesis.cell.robot``), ``unit``,
 ``source`` (the document), ``where`` (table, figure, section or equation in it) and
 ``quantity``. The scorecard (:mod:`robomill.pipeline.scorecard`), the findings of the chapters
 and module constants such as :data:`robomill.modal.peaks.THESIS_NATURAL_HZ` read them here, so

@@ -8,6 +8,8 @@ CHAPTER_PARAMETERS["ch0"] = DESIGN_PARAMS
 use rule chapter as ch0 with:
     input:
         notebook=notebook("ch0_experiment.ipynb"),
+        templates=notebook("templates/ch0.yaml"),
+        findings="results/ingest/findings.yaml",
         cuts="results/ingest/cuts.csv",
     output:
         **chapter_outputs("ch0"),

@@ -49,3 +49,26 @@ rule ingest_study:
         ENV
     script:
         "../scripts/ingest_study.py"
+
+
+# Chapter 0's findings: the cuts, their process (spindle speed, tooth passing, feed per
+# tooth c = v / (N n)) and design; with the scorecard rows of cuts.csv ("Against the thesis").
+rule ingest_findings:
+    input:
+        cuts="results/ingest/cuts.csv",
+        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+    output:
+        findings="results/ingest/findings.yaml",
+    log:
+        "results/logs/ingest/findings.log",
+    benchmark:
+        "results/benchmarks/rules/ingest/findings.tsv"
+    conda:
+        ENV
+    params:
+        experiment=dict(EXPERIMENT),
+        thesis_design=THESIS_DESIGN,
+        thesis_study=THESIS_STUDY,
+    script:
+        "../scripts/ingest_findings.py"

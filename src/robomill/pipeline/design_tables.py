@@ -226,6 +226,26 @@ def describe_design(cuts: pd.DataFrame, experiment: Mapping[str, Any] | None = N
     return head
 
 
+def design_summary(cuts: pd.DataFrame, experiment: Mapping[str, Any] | None = None
+                   ) -> dict[str, Any]:
+    """The design as chapter 0's findings state it (:func:`robomill.experiment_findings.
+    experiment_findings`): ``design`` (:func:`describe_design`), ``grouping`` and
+    ``dependent`` (:func:`design_factors`), and ``groups``: per level of the first grouping
+    factor (sorted), its ``label`` (:func:`format_factor`) and the ids of its ``cuts``."""
+    if not len(cuts):
+        return {"design": None, "grouping": [], "dependent": [], "groups": []}
+    d = design_factors(cuts, experiment)
+    groups = []
+    if d.grouping:
+        first = d.grouping[0]
+        filled = with_design(cuts, experiment)
+        groups = [{"label": format_factor(first, level),
+                   "cuts": filled.loc[filled[first] == level, "cut"].astype(str).tolist()}
+                  for level in d.levels[first]]
+    return {"design": describe_design(cuts, experiment), "grouping": list(d.grouping),
+            "dependent": list(d.dependent), "groups": groups}
+
+
 def _determining(cuts: pd.DataFrame, experiment: Mapping[str, Any] | None, key: str,
                  grouping: Sequence[str]) -> list[str]:
     """The shortest prefix of ``grouping`` that fixes ``key``."""
