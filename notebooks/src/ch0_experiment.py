@@ -12,8 +12,6 @@ cuts: str = None  # results/ingest/cuts.csv
 experiment: dict = None  # the manifest's experiment defaults (spindle_rpm, flutes, ...)
 templates: str = None  # notebooks/templates/ch0.yaml: the sentences rendered from findings
 findings: str = None  # results/ingest/findings.yaml: every number stated here
-thesis_design: bool = None  # unused: the layout comes with the findings
-thesis_study: bool = None  # unused: the comparison rows come with the findings
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%

@@ -22,7 +22,6 @@ base: str = None  # results/calibration/base.csv
 circles: str = None  # results/calibration/circles.csv
 templates: str = None  # notebooks/templates/ch1.yaml: the sentences rendered from findings
 findings: str = None  # results/calibration/findings.yaml: the numbers this chapter states
-thesis_study: bool = None  # unused: the comparison rows come with the findings
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%

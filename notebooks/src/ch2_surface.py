@@ -25,10 +25,7 @@ recovery: str = None  # results/surface/recovery.csv (synthetic data only)
 templates: str = None  # notebooks/templates/ch2.yaml: the sentences rendered from findings
 findings: str = None  # results/surface/findings.yaml: every number and verdict stated here
 settings: dict = None  # config surface section (the figures' frequency ranges)
-synthetic: bool = None  # unused: the data source comes with the findings
 experiment: dict = None  # the manifest's experiment defaults (spindle_rpm, flutes, ...)
-thesis_design: bool = None  # unused: the layout comes with the findings
-thesis_study: bool = None  # unused: the comparison rows come with the findings
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%

@@ -23,10 +23,7 @@ templates: str = None  # notebooks/templates/ch3_1.yaml: the sentences rendered 
 findings: str = None  # results/forces/findings.yaml: every number and verdict stated here
 truth: str = None  # results/synthetic/truth.nc (synthetic runs only)
 settings: dict = None  # config section forces
-synthetic: bool = None
 experiment: dict = None  # the manifest's experiment defaults (spindle_rpm, flutes, ...)
-thesis_design: bool = None  # unused: the figures' cuts come with the findings
-thesis_study: bool = None  # unused: the comparison rows come with the findings
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%

@@ -33,7 +33,6 @@ coupling_pairs: str = None  # results/modal/coupling_pairs.csv
 templates: str = None  # notebooks/templates/ch3_3.yaml: the sentences of this chapter
 findings: str = None  # results/modal/findings.yaml: every number and verdict stated here
 fig_dir: str = None  # folder for this chapter's figures
-thesis_study: bool = None  # unused: the comparison rows come with the findings
 
 # %%
 import matplotlib.pyplot as plt

@@ -15,8 +15,6 @@ cuts: str = None  # results/ingest/cuts.csv (with cut_stiffness)
 templates: str = None  # notebooks/templates/ch5.yaml: the sentences rendered from findings
 findings: str = None  # results/stiffness/findings.yaml: every number and verdict stated here
 experiment: dict = None  # the manifest's experiment defaults (spindle_rpm, flutes, ...)
-thesis_design: bool = None  # unused: the findings say which cut table applies
-thesis_study: bool = None  # unused: the comparison rows come with the findings
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%

@@ -88,9 +88,6 @@ rule calibration:
         "results/calibration/accuracy.csv",
 
 
-CHAPTER_PARAMETERS["ch1"] = {"thesis_study": THESIS_STUDY}
-
-
 use rule chapter as ch1 with:
     input:
         notebook=notebook("ch1_calibration.ipynb"),

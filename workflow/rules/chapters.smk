@@ -2,7 +2,7 @@
 # chapter.smk used under its target's name; each chapter's lives with its stage file.
 
 
-CHAPTER_PARAMETERS["ch0"] = DESIGN_PARAMS
+CHAPTER_PARAMETERS["ch0"] = EXPERIMENT_PARAM
 
 
 use rule chapter as ch0 with:

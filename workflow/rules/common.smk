@@ -97,17 +97,14 @@ def kind_input(stage, *kinds, **meta):
     return check
 
 
-# The thesis' design (Tables 2.1/2.2, the thesis-layout figures) and the thesis' study (its
-# process too: the chapters' "thesis: ..." remarks and the scorecard); any other design gets
-# per-cut tables grouped by what varies (robomill.pipeline.design_tables).
+# The thesis' design (Tables 2.1/2.2, the thesis-layout artefacts) and the thesis' study (its
+# process too: the findings' comparison rows and the scorecard); the chapters take both from
+# their findings, never as a parameter. Any other design gets per-cut tables grouped by what
+# varies (robomill.pipeline.design_tables).
 THESIS_DESIGN = is_thesis_design(CUTS)
 THESIS_STUDY = is_thesis_study(CUTS, EXPERIMENT)
-# what the chapters need to describe any design: the experiment defaults and the thesis gate
-DESIGN_PARAMS = {
-    "experiment": dict(EXPERIMENT),
-    "thesis_design": THESIS_DESIGN,
-    "thesis_study": THESIS_STUDY,
-}
+# the parameter of the chapters that tabulate the cuts: the experiment's defaults
+EXPERIMENT_PARAM = {"experiment": dict(EXPERIMENT)}
 
 
 # The robots (chapter 5): the cell's own robot, and those the folder holds (a robot file),

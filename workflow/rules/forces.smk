@@ -109,8 +109,7 @@ rule forces:
 
 CHAPTER_PARAMETERS["ch3_forces"] = {
     "settings": config["forces"],
-    "synthetic": SYNTHETIC,
-    **DESIGN_PARAMS,
+    **EXPERIMENT_PARAM,
 }
 
 

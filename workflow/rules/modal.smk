@@ -130,9 +130,6 @@ rule modal:
         "results/modal/findings.yaml",
 
 
-CHAPTER_PARAMETERS["ch3_modal"] = {"thesis_study": THESIS_STUDY}
-
-
 use rule chapter as ch3_modal with:
     input:
         notebook=notebook("ch3_3_modal.ipynb"),

@@ -252,7 +252,7 @@ rule stiffness:
         STIFF_OUTPUTS,
 
 
-CHAPTER_PARAMETERS["ch5"] = DESIGN_PARAMS
+CHAPTER_PARAMETERS["ch5"] = EXPERIMENT_PARAM
 
 
 use rule chapter as ch5 with:

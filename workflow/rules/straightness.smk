@@ -124,11 +124,7 @@ rule straightness:
         "results/straightness/truth_check.csv",
 
 
-CHAPTER_PARAMETERS["ch3_straightness"] = {
-    "settings": config["straightness"],
-    "synthetic": SYNTHETIC,
-    **DESIGN_PARAMS,
-}
+CHAPTER_PARAMETERS["ch3_straightness"] = {"settings": config["straightness"]}
 
 
 use rule chapter as ch3_straightness with:

@@ -132,9 +132,7 @@ rule surface:
 
 CHAPTER_PARAMETERS["ch2"] = {
     "settings": config["surface"],
-    "synthetic": SYNTHETIC,
-    **DESIGN_PARAMS,
-    "thesis_design": SURFACE_THESIS,  # of the profiled cuts
+    **EXPERIMENT_PARAM,
 }
 
 
