@@ -228,3 +228,31 @@ def test_surface_per_design_table_and_attribution(other_cell_run):
     rec = pd.read_csv(workdir / "results/surface/recovery.csv")
     assert rec["waviness_ratio"].between(0.7, 1.4).all(), rec
     assert rec["roughness_ratio"].between(0.7, 1.4).all(), rec
+
+
+def _sections(workdir, name):
+    """The chapter's level-1/2 headings as a reader sees them, numbers left out (a heading may
+    state the study's spindle speed)."""
+    import json
+    import re
+
+    nb = json.loads((workdir / "results" / "chapters" / f"{name}.ipynb").read_text())
+    lines = [ln for c in nb["cells"] if c["cell_type"] == "markdown"
+             for ln in "".join(c["source"]).splitlines() if re.match(r"#{1,2} ", ln)]
+    lines += [ln for c in nb["cells"] for out in c.get("outputs", [])
+              for ln in "".join(out.get("data", {}).get("text/markdown", "")).splitlines()
+              if re.match(r"#{1,2} ", ln)]
+    return [re.sub(r"[\d.,]+", "#", ln).strip() for ln in lines]
+
+
+def test_every_chapter_has_the_same_sections_for_the_thesis_and_another_study(
+        other_cell_run, tiny_run):
+    """Issue 30: every chapter has the same structure for any study (what was measured, what
+    was found, what it means, and one closing comparison section) whether the study is the
+    thesis' design (the tiny run) or the PUMA cell's."""
+    workdir, _ = other_cell_run
+    ours = {p.stem for p in (workdir / "results" / "chapters").glob("*.ipynb")}
+    thesis = {p.stem for p in (tiny_run / "results" / "chapters").glob("*.ipynb")}
+    assert len(ours & thesis) >= 10, sorted(ours ^ thesis)
+    for name in sorted(ours & thesis):
+        assert _sections(workdir, name) == _sections(tiny_run, name), name
