@@ -36,7 +36,7 @@ MILLING = ("slot", "up", "down")
 """Milling modes: slotting (a_e = D), up (conventional) or down (climb) milling."""
 
 CUT_PROCESS_KEYS = ("spindle_rpm", "flutes", "tool_diameter_mm", "radial_immersion", "milling",
-                    "direction_deg", "start_mm")
+                    "direction_deg", "start_mm", "redundancy_deg")
 """Per-cut keys that override the ``experiment`` defaults (absent = the experiment's value)."""
 
 
@@ -78,7 +78,9 @@ class Cut:
     ``set`` and ``segment`` are optional grouping keys; ``direction`` is a name (``px``, ``mx``,
     ``py``, ``my``) or None when ``direction_deg`` gives the feed direction. The process keys
     (``spindle_rpm`` … ``start_mm``) are None when the cut takes the experiment's value
-    (:func:`cut_process`)."""
+    (:func:`cut_process`). ``redundancy_deg`` is the rotation θ of the tool about its axis
+    from the cell's tool orientation R0, R = R0 Rz(θ) (:func:`cut_redundancy_deg`; the
+    plan's redundancy angle, issue 28): None cuts at R0."""
 
     id: str
     set: int | None
@@ -93,6 +95,7 @@ class Cut:
     milling: str | None = None
     direction_deg: float | None = None
     start_mm: tuple[float, float, float] | None = None
+    redundancy_deg: float | None = None
 
     def as_dict(self) -> dict:
         """The manifest mapping of the cut (keys left at the experiment's value omitted)."""
@@ -126,6 +129,11 @@ def cut_process(cut: Cut, experiment: Mapping[str, Any]) -> dict[str, Any]:
             "radial_immersion": ae, "milling": mode, "direction_deg": deg,
             "feed_per_tooth_mm": feed_per_tooth_mm(cut.feed_mm_s, rpm, z),
             "tooth_passing_hz": tooth_passing_hz(rpm, z)}
+
+
+def cut_redundancy_deg(cut: Cut) -> float:
+    """The cut's rotation of the tool about its axis [deg] (0: the cell's tool orientation)."""
+    return 0.0 if cut.redundancy_deg is None else float(cut.redundancy_deg)
 
 
 def feed_direction(cut: Cut) -> np.ndarray:
@@ -285,5 +293,7 @@ def cuts_table(cuts: Sequence[Cut], spindle_rpm: float, flutes: int) -> pd.DataF
                 "direction_deg"):
         if any(getattr(c, key) is not None for c in cuts):
             df[key] = [p[key] for p in proc]
+    if any(c.redundancy_deg is not None for c in cuts):  # the tool's rotation about its axis
+        df["redundancy_deg"] = [cut_redundancy_deg(c) for c in cuts]
     df = df.rename(columns={"id": "cut"})
     return df

@@ -50,7 +50,8 @@ def compact(ds: xr.Dataset) -> xr.Dataset:
 
 def cut_entries(chosen: pd.DataFrame, req: PlanRequest) -> list[dict[str, Any]]:
     """The chosen cuts as manifest ``cuts`` entries (every design key; ``start_mm`` = the
-    placement point − L/2 · feed direction)."""
+    placement point − L/2 · feed direction; ``redundancy_deg`` the planned rotation about the
+    tool axis, at which the virtual cell's simulators cut it)."""
     out = []
     for _, r in chosen.iterrows():
         a = np.deg2rad(float(r["direction_deg"]))
@@ -66,7 +67,8 @@ def cut_entries(chosen: pd.DataFrame, req: PlanRequest) -> list[dict[str, Any]]:
         d.update({"spindle_rpm": float(r["spindle_rpm"]), "flutes": int(req.flutes),
                   "tool_diameter_mm": float(req.tool_diameter_mm),
                   "radial_immersion": float(req.radial_immersion), "milling": req.milling,
-                  "start_mm": [round(float(x), 6) for x in start]})
+                  "start_mm": [round(float(x), 6) for x in start],
+                  "redundancy_deg": float(r["rotation_deg"])})
         out.append(d)
     return out
 
