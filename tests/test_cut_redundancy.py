@@ -137,3 +137,23 @@ def _compliance(cell, q, k_inv):
 
 def test_redundancy_in_the_cut_type():
     assert Cut("c", None, None, "px", 1.0, 0.1).redundancy_deg is None
+
+
+@pytest.mark.parametrize("theta", [0.0, 30.0])
+def test_the_tracker_analysis_solves_the_run_at_its_cuts_rotation(monkeypatch, theta):
+    """The gear lines of a tracker run are attributed along the joint path at the tool
+    orientation of the run's cut: R0 Rz(θ)."""
+    import types
+
+    import robomill.straightness.study as study
+
+    seen = {}
+    monkeypatch.setattr(study, "analyse_run",
+                        lambda *a, **kw: seen.update(kw) or ("prof", "spec", "gears", "peaks"))
+    R0 = np.array([[1.0, 0, 0], [0, -1.0, 0], [0, 0, -1.0]])
+    cell = types.SimpleNamespace(to_base_mm=lambda instrument, p: p, robot="robot",
+                                 transmissions=[], tool_rotation=R0, q_home_rad=np.zeros(6))
+    out = study.analyse_tracker_run(None, np.zeros((3, 3)), cell, data_file="r.csv",
+                                    redundancy_deg=theta)
+    assert out == ("prof", "spec", "gears", "peaks")
+    np.testing.assert_allclose(seen["tool_rotation"], R0 @ _rz(theta), atol=1e-12)
