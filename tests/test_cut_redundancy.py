@@ -157,3 +157,19 @@ def test_the_tracker_analysis_solves_the_run_at_its_cuts_rotation(monkeypatch, t
                                     redundancy_deg=theta)
     assert out == ("prof", "spec", "gears", "peaks")
     np.testing.assert_allclose(seen["tool_rotation"], R0 @ _rz(theta), atol=1e-12)
+
+
+def test_the_analyses_cut_pose_follows_the_cuts_rotation(tiny_config):
+    """robomill.experiment.cut_joint_path_rad (the plan's and chapter 5's poses of a study's
+    cuts) solves each cut at R0 Rz(θ); at θ = 0 at R0 exactly."""
+    from robomill.experiment import cut_joint_path_rad
+
+    cell = _cell(tiny_config, [60.0, 0.0, 150.0])
+    R0 = cell.tool_rotation()
+    kw = {"tool_rotation": R0, "q0_rad": cell.q_home_rad}
+    q = cut_joint_path_rad(cell.robot, _cut(30.0), EXP, S_MM, **kw)
+    np.testing.assert_allclose(cell.robot.fk(q)[:, :3, :3],
+                               np.broadcast_to(R0 @ _rz(30.0), (5, 3, 3)), atol=1e-6)
+    np.testing.assert_allclose(q, cell.joint_path_rad(_cut(30.0), S_MM), atol=1e-9)
+    np.testing.assert_array_equal(cut_joint_path_rad(cell.robot, _cut(None), EXP, S_MM, **kw),
+                                  cell.joint_path_rad(_cut(None), S_MM))

@@ -246,16 +246,29 @@ def cut_endpoints_mm(cut: Cut, experiment: Mapping, set_index: int | None = None
     return a, b
 
 
+def cut_tool_rotation(cut: Cut, tool_rotation: np.ndarray) -> np.ndarray:
+    """The tool's orientation while cutting ``cut``: the cell's ``tool_rotation`` R0 turned by
+    the cut's redundancy angle θ about the tool axis, R0 Rz(θ) (seed 001 §4.2); R0 itself
+    when θ = 0."""
+    theta = np.deg2rad(cut_redundancy_deg(cut))
+    if theta == 0.0:
+        return tool_rotation
+    c, s = np.cos(theta), np.sin(theta)
+    return np.asarray(tool_rotation, float) @ np.array([[c, -s, 0.0], [s, c, 0.0],
+                                                        [0.0, 0.0, 1.0]])
+
+
 def cut_joint_path_rad(robot: Any, cut: Cut, experiment: Mapping, s_mm: np.ndarray, *,
                        tool_rotation: np.ndarray, q0_rad: np.ndarray) -> np.ndarray:
     """Joint angles ``(len(s), n)`` along a cut at path abscissae ``s_mm`` [mm]: inverse
     kinematics of the straight TCP line of :func:`cut_endpoints_mm` at the fixed orientation
-    ``tool_rotation``, from the posture ``q0_rad`` (``cell.yaml: q_home_deg``)."""
+    ``tool_rotation`` turned by the cut's redundancy angle (:func:`cut_tool_rotation`), from
+    the posture ``q0_rad`` (``cell.yaml: q_home_deg``)."""
     a, b = cut_endpoints_mm(cut, experiment)
     u = (b - a) / np.linalg.norm(b - a)
     P = a + np.outer(np.asarray(s_mm, float), u)
     T = np.broadcast_to(np.eye(4), (len(P), 4, 4)).copy()
-    T[:, :3, :3] = tool_rotation
+    T[:, :3, :3] = cut_tool_rotation(cut, tool_rotation)
     T[:, :3, 3] = P
     return robot.ik_path(T, q0_rad)
 

@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from robomill.experiment import Cut, cut_endpoints_mm, cut_redundancy_deg
+from robomill.experiment import Cut, cut_endpoints_mm, cut_tool_rotation
 from robomill.kinematics import SerialRobot, robot_from_mapping
 
 ARCSEC = np.pi / (180.0 * 3600.0)
@@ -108,13 +108,9 @@ class VirtualCell:
     def cut_tool_rotation(self, cut: Cut) -> np.ndarray:
         """The tool's orientation while cutting ``cut``: R0 Rz(θ) for the cut's redundancy
         angle θ (``redundancy_deg``: rotation about the tool axis,
-        :func:`robomill.stiffness.tool_rotation_redundancy`); R0 itself at θ = 0."""
-        theta = cut_redundancy_deg(cut)
-        if theta == 0.0:
-            return self.tool_rotation()
-        from robomill.stiffness.poses import tool_rotation_redundancy
-
-        return tool_rotation_redundancy(self.tool_rotation(), np.deg2rad(theta))
+        :func:`robomill.experiment.cut_tool_rotation`, the analyses' own); R0 itself at
+        θ = 0."""
+        return cut_tool_rotation(cut, self.tool_rotation())
 
     def joint_path_rad(self, cut: Cut, s_mm: np.ndarray) -> np.ndarray:
         """Joint angles ``(len(s), 6)`` along the cut, by inverse kinematics (elbow-up branch
