@@ -173,3 +173,25 @@ def test_the_analyses_cut_pose_follows_the_cuts_rotation(tiny_config):
     np.testing.assert_allclose(q, cell.joint_path_rad(_cut(30.0), S_MM), atol=1e-9)
     np.testing.assert_array_equal(cut_joint_path_rad(cell.robot, _cut(None), EXP, S_MM, **kw),
                                   cell.joint_path_rad(_cut(None), S_MM))
+
+
+def test_the_plan_predicts_a_study_cut_at_its_own_rotation(monkeypatch, repo):
+    import robomill.plan.compare as compare
+    from robomill.plan.measured import Measured
+    from robomill.plan.request import read_request
+
+    seen = []
+
+    class Seen(Exception):
+        pass
+
+    def capture(req, measured, cell):
+        seen.append(req.rotations_deg.tolist())
+        raise Seen
+
+    monkeypatch.setattr(compare, "predict_grid", capture)
+    req = read_request(repo / "plan.yaml")
+    for theta, want in ((None, [0.0]), (30.0, [30.0])):
+        with pytest.raises(Seen):
+            compare.study_cuts_table([_cut(theta)], EXP, req, Measured(), None)
+        assert seen[-1] == want
