@@ -1,10 +1,11 @@
 # robomill: the study of robotic milling quality, as one workflow.
 # A table of contents: configuration, one include per stage, and the targets.
+import os
 import sys
 
 from snakemake.utils import min_version, validate
 
-from robomill.pipeline.config import SECTIONS, prepare_config
+from robomill.pipeline.config import SECTIONS, prepare_config, run_folder
 
 min_version("9.0")
 
@@ -20,6 +21,19 @@ for keys, name in SECTIONS:  # each section by its own schema (fills its default
     for key in keys:
         section = section[key]
     validate(section, f"workflow/schemas/config/{name}.schema.yaml")
+
+
+# The run's folder: here, or the one the configuration names (config workdir; inside the
+# folder of snakemake --directory when one is given). The next experiment's configuration
+# (results/plan/next/config.yaml) names its own, so that running the planned cuts leaves the
+# study's results as they are.
+RUN_FOLDER = run_folder(config)
+if RUN_FOLDER and workflow.overwrite_workdir is not None:
+    os.makedirs(RUN_FOLDER, exist_ok=True)
+    os.chdir(RUN_FOLDER)  # snakemake changes back to where it started at the end
+elif RUN_FOLDER:
+
+    workdir: RUN_FOLDER
 
 
 report: "workflow/report/workflow.rst"

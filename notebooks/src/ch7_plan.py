@@ -141,7 +141,8 @@ display(Markdown(
 # regenerative chip, once delay-free: the two mechanisms of the predicted critical depth), and
 # the static deflection from the planted joint stiffness under the simulated mean force; the
 # dynamometer and the tracker give force and waviness once the planned cuts are run
-# (`snakemake -j2 all --configfile results/plan/next/config.yaml`). On real data the lab
+# (`snakemake -j2 all --configfile results/plan/next/config.yaml`, in their own folder
+# `results/plan/next/run/`, beside the study). On real data the lab
 # imports the measurements under the planned ids, and stability is read from the cut's force
 # spectrum. A `stability` row gives the predicted margin a_crit/a − 1 with its interval and
 # the outcome 1 (stable) or 0 (chatter).

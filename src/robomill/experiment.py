@@ -36,7 +36,7 @@ MILLING = ("slot", "up", "down")
 """Milling modes: slotting (a_e = D), up (conventional) or down (climb) milling."""
 
 CUT_PROCESS_KEYS = ("spindle_rpm", "flutes", "tool_diameter_mm", "radial_immersion", "milling",
-                    "direction_deg", "start_mm")
+                    "direction_deg", "start_mm", "redundancy_deg")
 """Per-cut keys that override the ``experiment`` defaults (absent = the experiment's value)."""
 
 
@@ -78,7 +78,9 @@ class Cut:
     ``set`` and ``segment`` are optional grouping keys; ``direction`` is a name (``px``, ``mx``,
     ``py``, ``my``) or None when ``direction_deg`` gives the feed direction. The process keys
     (``spindle_rpm`` … ``start_mm``) are None when the cut takes the experiment's value
-    (:func:`cut_process`)."""
+    (:func:`cut_process`). ``redundancy_deg`` is the rotation θ of the tool about its axis
+    from the cell's tool orientation R0, R = R0 Rz(θ) (:func:`cut_redundancy_deg`; the
+    plan's redundancy angle, issue 28): None cuts at R0."""
 
     id: str
     set: int | None
@@ -93,6 +95,7 @@ class Cut:
     milling: str | None = None
     direction_deg: float | None = None
     start_mm: tuple[float, float, float] | None = None
+    redundancy_deg: float | None = None
 
     def as_dict(self) -> dict:
         """The manifest mapping of the cut (keys left at the experiment's value omitted)."""
@@ -126,6 +129,11 @@ def cut_process(cut: Cut, experiment: Mapping[str, Any]) -> dict[str, Any]:
             "radial_immersion": ae, "milling": mode, "direction_deg": deg,
             "feed_per_tooth_mm": feed_per_tooth_mm(cut.feed_mm_s, rpm, z),
             "tooth_passing_hz": tooth_passing_hz(rpm, z)}
+
+
+def cut_redundancy_deg(cut: Cut) -> float:
+    """The cut's rotation of the tool about its axis [deg] (0: the cell's tool orientation)."""
+    return 0.0 if cut.redundancy_deg is None else float(cut.redundancy_deg)
 
 
 def feed_direction(cut: Cut) -> np.ndarray:
@@ -238,16 +246,29 @@ def cut_endpoints_mm(cut: Cut, experiment: Mapping, set_index: int | None = None
     return a, b
 
 
+def cut_tool_rotation(cut: Cut, tool_rotation: np.ndarray) -> np.ndarray:
+    """The tool's orientation while cutting ``cut``: the cell's ``tool_rotation`` R0 turned by
+    the cut's redundancy angle θ about the tool axis, R0 Rz(θ) (seed 001 §4.2); R0 itself
+    when θ = 0."""
+    theta = np.deg2rad(cut_redundancy_deg(cut))
+    if theta == 0.0:
+        return tool_rotation
+    c, s = np.cos(theta), np.sin(theta)
+    return np.asarray(tool_rotation, float) @ np.array([[c, -s, 0.0], [s, c, 0.0],
+                                                        [0.0, 0.0, 1.0]])
+
+
 def cut_joint_path_rad(robot: Any, cut: Cut, experiment: Mapping, s_mm: np.ndarray, *,
                        tool_rotation: np.ndarray, q0_rad: np.ndarray) -> np.ndarray:
     """Joint angles ``(len(s), n)`` along a cut at path abscissae ``s_mm`` [mm]: inverse
     kinematics of the straight TCP line of :func:`cut_endpoints_mm` at the fixed orientation
-    ``tool_rotation``, from the posture ``q0_rad`` (``cell.yaml: q_home_deg``)."""
+    ``tool_rotation`` turned by the cut's redundancy angle (:func:`cut_tool_rotation`), from
+    the posture ``q0_rad`` (``cell.yaml: q_home_deg``)."""
     a, b = cut_endpoints_mm(cut, experiment)
     u = (b - a) / np.linalg.norm(b - a)
     P = a + np.outer(np.asarray(s_mm, float), u)
     T = np.broadcast_to(np.eye(4), (len(P), 4, 4)).copy()
-    T[:, :3, :3] = tool_rotation
+    T[:, :3, :3] = cut_tool_rotation(cut, tool_rotation)
     T[:, :3, 3] = P
     return robot.ik_path(T, q0_rad)
 
@@ -285,5 +306,7 @@ def cuts_table(cuts: Sequence[Cut], spindle_rpm: float, flutes: int) -> pd.DataF
                 "direction_deg"):
         if any(getattr(c, key) is not None for c in cuts):
             df[key] = [p[key] for p in proc]
+    if any(c.redundancy_deg is not None for c in cuts):  # the tool's rotation about its axis
+        df["redundancy_deg"] = [cut_redundancy_deg(c) for c in cuts]
     df = df.rename(columns={"id": "cut"})
     return df

@@ -3,6 +3,8 @@
 # folder has the measurements behind it (the plan says which prediction is missing).
 
 
+from robomill.plan.outputs import NEXT_RUN_DIR
+
 PLAN_REQUEST = config.get("plan", {}).get("request", "plan.yaml")
 PLAN_MEASURED = {
     **({"modes": "results/modal/modes.csv"} if has_kind("impact") else {}),
@@ -27,6 +29,18 @@ PLAN_OUTPUTS = {
     "comparison": "results/plan/comparison.csv",
     "manifest": "results/plan/next/manifest.yaml",
     "config": "results/plan/next/config.yaml",
+}
+# The planned cuts' own run (snakemake all --configfile results/plan/next/config.yaml, which
+# writes under NEXT_RUN_DIR): its outcomes are inputs of plan_check once it has made them
+# (another run of the workflow makes them, not this one).
+PLAN_NEXT_OUTCOMES = {
+    name: f"{NEXT_RUN_DIR}/{path}"
+    for name, path in (
+        ("next_mean_forces", "results/forces/mean_forces.csv"),
+        ("next_force_peaks", "results/forces/peaks.csv"),
+        ("next_peaks", "results/straightness/peaks.csv"),
+    )
+    if os.path.exists(f"{NEXT_RUN_DIR}/{path}")
 }
 
 
@@ -69,6 +83,7 @@ rule plan_check:
                 else {}
             )
         ),
+        **PLAN_NEXT_OUTCOMES,
         plan=PLAN_OUTPUTS["plan"],
         study=PLAN_OUTPUTS["study"],
     output:
@@ -82,6 +97,7 @@ rule plan_check:
         ENV
     params:
         tolerance=config.get("plan", {}).get("check_tolerance", 0.25),
+        next_run=NEXT_RUN_DIR,
         chatter_fraction_of_mean=config.get("plan", {}).get(
             "chatter_fraction_of_mean", 0.05
         ),

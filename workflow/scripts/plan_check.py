@@ -5,19 +5,29 @@ import pandas as pd
 
 from robomill.io import write_table
 from robomill.pipeline.runlog import setup
-from robomill.plan.check import check_summary, check_table, summary_table
+from robomill.plan.check import RunOutcomes, check_summary, check_table, summary_table
 
 log = setup(snakemake.log[0], "plan")
 inp = snakemake.input
+
+
+def table(name):
+    return pd.read_csv(inp[name]) if name in inp.keys() else None
+
+
+# the planned cuts' own run (results/plan/next/run), once it has run
+planned_run = RunOutcomes(snakemake.params.next_run, mean_forces=table("next_mean_forces"),
+                          force_peaks=table("next_force_peaks"), peaks=table("next_peaks"))
 predicted = pd.concat([pd.read_csv(inp.plan), pd.read_csv(inp.study)], ignore_index=True)
 table = check_table(
     predicted,
-    mean_forces=pd.read_csv(inp.mean_forces) if "mean_forces" in inp.keys() else None,
-    peaks=pd.read_csv(inp.peaks) if "peaks" in inp.keys() else None,
+    mean_forces=table("mean_forces"),
+    peaks=table("peaks"),
     tolerance=float(snakemake.params.tolerance),
-    simulated=pd.read_csv(inp.simulated) if "simulated" in inp.keys() else None,
-    force_peaks=pd.read_csv(inp.force_peaks) if "force_peaks" in inp.keys() else None,
-    chatter_fraction_of_mean=float(snakemake.params.chatter_fraction_of_mean))
+    simulated=table("simulated"),
+    force_peaks=table("force_peaks"),
+    chatter_fraction_of_mean=float(snakemake.params.chatter_fraction_of_mean),
+    planned_run=planned_run)
 write_table(table, snakemake.output.check)
 summary = check_summary(table, float(snakemake.params.tolerance))
 write_table(summary_table(summary), snakemake.output.summary)

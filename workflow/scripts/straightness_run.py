@@ -4,6 +4,7 @@
 import numpy as np
 import pandas as pd
 
+from robomill.experiment import cut_redundancy_deg
 from robomill.io import write_artefact, write_table
 from robomill.io.cell import read_cell
 from robomill.io.tracker import read_tracker
@@ -24,8 +25,11 @@ cell = read_cell(snakemake.input.cell)
 untimed = p.time_base == "none"
 t, points = read_tracker(snakemake.input.raw, fs_hz=None if untimed else float(p.fs_hz),
                          spatial_only=untimed)
+# the tool's rotation about its axis while cutting the run's cut (the manifest's cut key)
+theta_deg = next((cut_redundancy_deg(c) for c in manifest.cuts if c.id == p.cut), 0.0)
 prof, spec, gears, peaks = analyse_tracker_run(
-    None if untimed else t, points, cell, data_file=snakemake.input.raw, ds_mm=opt["ds_mm"],
+    None if untimed else t, points, cell, data_file=snakemake.input.raw,
+    redundancy_deg=theta_deg, ds_mm=opt["ds_mm"],
     trim_mm=opt["trim_mm"], nfft=opt["nfft"], fmin_cycles=opt["fmin_cycles"],
     fmax_per_mm=opt["fmax_per_mm"], threshold=opt["threshold"], n_peaks=opt["n_peaks"],
     tol_bins=opt["tol_bins"], detrend_order=opt["detrend_order"], merge_bins=opt["merge_bins"],

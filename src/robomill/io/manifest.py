@@ -13,6 +13,7 @@ Ingestion checks each file against its sha256 and never writes into the raw dire
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -67,9 +68,14 @@ CUT_OPTIONAL_KEYS: dict[str, tuple[type, ...]] = {
     "radial_immersion": (int, float),
     "milling": (str,),
     "start_mm": (list,),
+    "redundancy_deg": (int, float),
 }
 """Optional cut keys: grouping (``set``, ``segment``), the feed direction (``direction`` or
-``direction_deg``, one of them required) and the process keys overriding ``experiment``."""
+``direction_deg``, one of them required), the process keys overriding ``experiment`` and the
+tool's rotation about its axis ``redundancy_deg`` (default 0: the cell's tool orientation)."""
+
+REDUNDANCY_LIMIT_DEG = 360.0
+"""The largest |redundancy_deg| a cut may give (one turn either way)."""
 
 KIND_KEYS: dict[str, dict[str, tuple[type, ...]]] = {
     # kind -> metadata keys every file of that kind must carry (besides path, kind, sha256)
@@ -317,6 +323,11 @@ def _parse_cut(path: Path, where: str, c: Mapping[str, Any], seen: Mapping[str, 
             isinstance(v, bool) or not isinstance(v, int | float) for v in start)):
         raise RawDataError(path, f"start_mm is {start!r}", where=f"{where}.start_mm",
                            expected="[x, y, z] of the path start in the base frame [mm]")
+    theta = c.get("redundancy_deg")
+    if theta is not None and not (math.isfinite(theta) and abs(theta) <= REDUNDANCY_LIMIT_DEG):
+        raise RawDataError(path, f"redundancy_deg is {theta!r}", where=f"{where}.redundancy_deg",
+                           expected="the tool's rotation about its axis from the cell's tool "
+                                    f"orientation, within ±{REDUNDANCY_LIMIT_DEG:g} deg")
     return Cut(cid, c.get("set"), c.get("segment"), direction,
                None if c.get("feed_mm_s") is None else float(c["feed_mm_s"]),
                None if c.get("depth_mm") is None else float(c["depth_mm"]),
@@ -326,7 +337,8 @@ def _parse_cut(path: Path, where: str, c: Mapping[str, Any], seen: Mapping[str, 
                                  else float(c["tool_diameter_mm"])),
                radial_immersion=None if ae is None else float(ae), milling=mode,
                direction_deg=None if deg is None else float(deg),
-               start_mm=None if start is None else tuple(float(v) for v in start))
+               start_mm=None if start is None else tuple(float(v) for v in start),
+               redundancy_deg=None if theta is None else float(theta))
 
 
 def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True,

@@ -292,3 +292,24 @@ def repo_root(start: str | Path | None = None) -> Path:
     if (src_root / "Snakefile").exists():
         return src_root
     raise FileNotFoundError(f"no robomill checkout (Snakefile + workflow/) above {here}")
+
+
+
+def run_folder(config: dict[str, Any]) -> str | None:
+    """The run's folder the configuration names (top-level ``workdir``), or None: run here.
+
+    ``results/``, the virtual cell's raw folder and the logs are written there (the Snakefile
+    changes into it; with ``snakemake --directory D`` it is taken inside D), so that a run of
+    other cuts leaves this study's results as they are: the next experiment's configuration
+    (``results/plan/next/config.yaml``) names ``results/plan/next/run``
+    (:data:`robomill.plan.outputs.NEXT_RUN_DIR`). A relative ``data.raw_dir`` keeps meaning a
+    folder relative to where the run started: it is made absolute here, in place, before the
+    working directory changes.
+    """
+    folder = config.get("workdir")
+    if not folder:
+        return None
+    data = config.get("data")
+    if isinstance(data, dict) and data.get("raw_dir"):
+        data["raw_dir"] = str(Path(data["raw_dir"]).resolve())
+    return str(folder)

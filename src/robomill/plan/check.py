@@ -15,6 +15,14 @@ stability outcome. On real data the stability outcome is read from the measured 
 spectrum of the cut (``results/forces/peaks.csv``): chatter when its dominant modal-band line,
 √(bin power), exceeds ``chatter_fraction_of_mean`` of the mean force.
 
+The planned cuts' own pipeline run (``snakemake all --configfile
+results/plan/next/config.yaml``, written under ``results/plan/next/run``:
+:data:`robomill.plan.outputs.NEXT_RUN_DIR`) gives, once it has run, the outcomes of the planned
+cuts as the lab's instruments record them: the mean force of its dynamometer, the waviness of its
+tracker runs and, for cuts without a time-domain simulation, the stability from its force
+spectrum; these are preferred to the study's and the simulation's (one row per cut and
+quantity, the ``source`` column says which).
+
 Encoding of the ``stability`` rows (unit ``1``): ``predicted``, ``low``, ``high`` are the
 stability margin a_crit/a − 1 and its interval (> 0 predicts stable); ``outcome`` is 1 when
 the cut was stable, 0 when it chattered. ``within_interval``: the interval admits the outcome
@@ -23,6 +31,8 @@ the cut was stable, 0 when it chattered. ``within_interval``: the interval admit
 """
 
 from __future__ import annotations
+
+from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
@@ -43,26 +53,50 @@ def waviness_outcomes(peaks: pd.DataFrame) -> pd.Series:
     return g.groupby(g["cut"].astype(str))["amplitude_um"].sum()
 
 
+@dataclass(frozen=True)
+class RunOutcomes:
+    """The outcomes of one pipeline run of the planned cuts (the next experiment's own run,
+    in ``folder``: :data:`robomill.plan.outputs.NEXT_RUN_DIR`): its mean forces, force
+    spectrum peaks and tracker peaks (each None where that run has none)."""
+
+    folder: str
+    mean_forces: pd.DataFrame | None = None
+    force_peaks: pd.DataFrame | None = None
+    peaks: pd.DataFrame | None = None
+
+
+def _present(table: pd.DataFrame | None) -> bool:
+    return table is not None and len(table) > 0
+
+
+def spectrum_stability(force_peaks: pd.DataFrame, mean_forces: pd.DataFrame,
+                       chatter_fraction_of_mean: float = 0.05) -> pd.Series:
+    """1 (stable) or 0 (chatter) per cut from its force spectrum: chatter when the dominant
+    modal-band line √P exceeds ``chatter_fraction_of_mean`` × |F̄| (a cut without a dominant
+    line is stable)."""
+    F = force_outcomes(mean_forces)
+    pk = force_peaks.set_index(force_peaks["cut"].astype(str))
+    line = np.sqrt(pk["dominant_power"].astype(float).fillna(0.0))
+    common = line.index.intersection(F.index)
+    return (line[common] / F[common] <= chatter_fraction_of_mean).astype(float)
+
+
 def stability_outcomes(*, simulated: pd.DataFrame | None = None,
                        force_peaks: pd.DataFrame | None = None,
                        mean_forces: pd.DataFrame | None = None,
                        chatter_fraction_of_mean: float = 0.05) -> tuple[pd.Series, str]:
     """1 (stable) or 0 (chatter) per cut, and where it comes from: the time-domain simulation
-    of the virtual cell when given, else the measured force spectrum (dominant modal-band line
-    √P against ``chatter_fraction_of_mean`` × |F̄|; a cut without a dominant line is stable)."""
-    if simulated is not None and len(simulated):
+    of the virtual cell when given, else the measured force spectrum
+    (:func:`spectrum_stability`)."""
+    if _present(simulated):
         s = simulated[simulated["stable"].notna()]
         return (pd.Series(s["stable"].astype(str).str.lower().isin(["true", "1", "1.0"])
                           .astype(float).to_numpy(), index=s["cut"].astype(str)),
                 "results/plan/simulated.csv")
-    if force_peaks is None or mean_forces is None or not len(force_peaks):
+    if not _present(force_peaks) or mean_forces is None:
         return pd.Series(dtype=float), ""
-    F = force_outcomes(mean_forces)
-    pk = force_peaks.set_index(force_peaks["cut"].astype(str))
-    line = np.sqrt(pk["dominant_power"].astype(float).fillna(0.0))
-    common = line.index.intersection(F.index)
-    ratio = line[common] / F[common]
-    return (ratio <= chatter_fraction_of_mean).astype(float), "results/forces/peaks.csv"
+    return (spectrum_stability(force_peaks, mean_forces, chatter_fraction_of_mean),
+            "results/forces/peaks.csv")
 
 
 def _stability_row(cut: str, r: pd.Series, outcome: float, source: str) -> dict | None:
@@ -78,14 +112,67 @@ def _stability_row(cut: str, r: pd.Series, outcome: float, source: str) -> dict 
             "within_tolerance": bool((p > 0) == stable), "source": source}
 
 
+Outcome = tuple[str, str, pd.Series, str]
+"""An outcome source: quantity, unit, the outcomes indexed by cut, and where they come from."""
+
+
+def _outcomes(mean_forces, peaks, simulated, planned_run: RunOutcomes | None
+              ) -> list[Outcome]:
+    """Every outcome source, first preferred for a cut and quantity: the planned cuts' own
+    run, then the study's run (dynamometer, tracker), then the virtual cell's cuts of
+    plan_simulate (deflection; force where no dynamometer recorded the cut)."""
+    out: list[Outcome] = []
+    if planned_run is not None:
+        f = planned_run.folder
+        if _present(planned_run.mean_forces):
+            out.append(("force", "N", force_outcomes(planned_run.mean_forces),
+                        f"{f}/results/forces/mean_forces.csv"))
+        if _present(planned_run.peaks):
+            out.append(("waviness", "um", waviness_outcomes(planned_run.peaks),
+                        f"{f}/results/straightness/peaks.csv"))
+    if _present(mean_forces):
+        out.append(("force", "N", force_outcomes(mean_forces),
+                    "results/forces/mean_forces.csv"))
+    if _present(peaks):
+        out.append(("waviness", "um", waviness_outcomes(peaks),
+                    "results/straightness/peaks.csv"))
+    if _present(simulated):
+        sim = simulated.set_index(simulated["cut"].astype(str))
+        for name, col in (("deflection_normal", "deflection_normal_um"),
+                          ("deflection_axial", "deflection_axial_um"), ("force", "force_N")):
+            out.append((name, col.rsplit("_", 1)[1], sim[col].astype(float).dropna(),
+                        "results/plan/simulated.csv"))
+    return out
+
+
+def _stabilities(simulated, force_peaks, mean_forces, planned_run: RunOutcomes | None,
+                 chatter_fraction_of_mean: float) -> list[tuple[pd.Series, str]]:
+    """The stability outcome sources, first preferred: the time-domain simulation (synthetic
+    runs), else the study's force spectrum; then the planned cuts' own force spectrum."""
+    out = []
+    stab, source = stability_outcomes(simulated=simulated, force_peaks=force_peaks,
+                                      mean_forces=mean_forces,
+                                      chatter_fraction_of_mean=chatter_fraction_of_mean)
+    if len(stab):
+        out.append((stab, source))
+    if (planned_run is not None and _present(planned_run.force_peaks)
+            and planned_run.mean_forces is not None):
+        out.append((spectrum_stability(planned_run.force_peaks, planned_run.mean_forces,
+                                       chatter_fraction_of_mean),
+                    f"{planned_run.folder}/results/forces/peaks.csv"))
+    return out
+
+
 def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = None,
                 peaks: pd.DataFrame | None = None, tolerance: float = 0.25,
                 simulated: pd.DataFrame | None = None,
                 force_peaks: pd.DataFrame | None = None,
-                chatter_fraction_of_mean: float = 0.05) -> pd.DataFrame:
+                chatter_fraction_of_mean: float = 0.05,
+                planned_run: RunOutcomes | None = None) -> pd.DataFrame:
     """Rows ``cut, quantity, unit, predicted, low, high, outcome, within_interval,
     within_tolerance, source`` for every predicted cut with an outcome (the ``stability``
-    encoding in the module's docstring).
+    encoding in the module's docstring): one row per cut and quantity, its outcome from the
+    first source that has the cut (:func:`_outcomes`).
 
     Parameters
     ----------
@@ -98,37 +185,25 @@ def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = N
         without a dynamometer record, force outcomes.
     force_peaks
         ``results/forces/peaks.csv`` (real data: the stability outcome when no simulation).
+    planned_run
+        The outcomes of the planned cuts' own pipeline run
+        (``snakemake all --configfile results/plan/next/config.yaml``), preferred for force and
+        waviness; its force spectrum gives the stability of the cuts without one above.
     """
-    outcomes = []
-    measured_force = (force_outcomes(mean_forces) if mean_forces is not None
-                      and len(mean_forces) else pd.Series(dtype=float))
-    if len(measured_force):
-        outcomes.append(("force", "N", measured_force, "results/forces/mean_forces.csv"))
-    if peaks is not None and len(peaks):
-        outcomes.append(("waviness", "um", waviness_outcomes(peaks),
-                         "results/straightness/peaks.csv"))
-    if simulated is not None and len(simulated):
-        sim = simulated.set_index(simulated["cut"].astype(str))
-        for name in ("deflection_normal", "deflection_axial"):
-            col = sim[f"{name}_um"].astype(float).dropna()
-            if len(col):
-                outcomes.append((name, "um", col, "results/plan/simulated.csv"))
-        extra = sim["force_N"].astype(float).dropna()
-        extra = extra[~extra.index.isin(measured_force.index)]
-        if len(extra):
-            outcomes.append(("force", "N", extra, "results/plan/simulated.csv"))
-    stab, stab_source = stability_outcomes(simulated=simulated, force_peaks=force_peaks,
-                                           mean_forces=mean_forces,
-                                           chatter_fraction_of_mean=chatter_fraction_of_mean)
+    outcomes = _outcomes(mean_forces, peaks, simulated, planned_run)
+    stabilities = _stabilities(simulated, force_peaks, mean_forces, planned_run,
+                               chatter_fraction_of_mean)
     rows = []
     for _, r in predicted.iterrows():
         cut = str(r["cut"])
+        done = set()
         for name, unit, series, source in outcomes:
-            if cut not in series.index or f"{name}_{unit}" not in r:
+            if cut not in series.index or f"{name}_{unit}" not in r or name in done:
                 continue
             p = float(r[f"{name}_{unit}"])
             if source == "results/plan/simulated.csv" and not np.isfinite(p):
                 continue
+            done.add(name)
             lo, hi = float(r[f"{name}_low_{unit}"]), float(r[f"{name}_high_{unit}"])
             o = float(series[cut])
             rows.append({"cut": cut, "quantity": name, "unit": unit, "predicted": p,
@@ -136,10 +211,12 @@ def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = N
                          "within_interval": bool(lo <= o <= hi),
                          "within_tolerance": bool(abs(o - p) <= tolerance * abs(o)),
                          "source": source})
-        if cut in stab.index:
-            row = _stability_row(cut, r, float(stab[cut]), stab_source)
-            if row is not None:
-                rows.append(row)
+        for series, source in stabilities:
+            if cut in series.index:
+                row = _stability_row(cut, r, float(series[cut]), source)
+                if row is not None:
+                    rows.append(row)
+                break
     return pd.DataFrame(rows, columns=CHECK_COLUMNS)
 
 

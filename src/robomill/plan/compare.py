@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from robomill.experiment import Cut, cut_endpoints_mm, cut_process
+from robomill.experiment import Cut, cut_endpoints_mm, cut_process, cut_redundancy_deg
 from robomill.plan.choose import feasible
 from robomill.plan.measured import Measured
 from robomill.plan.predict import Cell, predict_grid
@@ -28,9 +28,9 @@ STUDY_COLUMNS = ["cut", "spindle_rpm", "depth_mm", "feed_mm_s", "mrr_mm3_s", "re
 
 def study_cuts_table(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: PlanRequest,
                      measured: Measured, cell: Cell) -> pd.DataFrame:
-    """Each of the study's cuts at its own place, direction, speed, depth, feed and tool (the
-    cell's tool orientation, redundancy 0), with the plan's predictions and whether it meets the
-    request's constraints."""
+    """Each of the study's cuts at its own place, direction, speed, depth, feed, tool and
+    redundancy angle (``redundancy_deg``, 0: the cell's tool orientation), with the plan's
+    predictions and whether it meets the request's constraints."""
     rows = []
     for cut in cuts:
         p = cut_process(cut, experiment)
@@ -42,7 +42,8 @@ def study_cuts_table(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: Pl
                       direction_names=(cut.id,),
                       tool_diameter_mm=float(p["tool_diameter_mm"] or req.tool_diameter_mm),
                       flutes=int(p["flutes"]), placements_mm=((a + b) / 2)[None],
-                      rotations_deg=np.array([0.0]), spindle_rpm=np.array([p["spindle_rpm"]]),
+                      rotations_deg=np.array([cut_redundancy_deg(cut)]),
+                      spindle_rpm=np.array([p["spindle_rpm"]]),
                       depth_mm=np.array([cut.depth_mm]), feed_mm_s=np.array([cut.feed_mm_s]),
                       path_stations=3)
         ds = predict_grid(one, measured, cell)

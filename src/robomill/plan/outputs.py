@@ -20,6 +20,12 @@ PREDICTION_COLUMNS = {
 }
 """Predictions with an interval (``<name>`` nominal, ``_low``/``_high`` ends) in plan.csv."""
 
+NEXT_RUN_DIR = "results/plan/next/run"
+"""Where the next experiment's run writes (its ``results/``, the virtual cell's raw folder,
+logs), relative to the study's folder: ``results/plan/next/config.yaml`` names it (config
+``workdir``), so that running the planned cuts leaves the study's results as they are; the
+study's ``plan_check`` reads the outcomes of the planned cuts from there."""
+
 SINGLE = ("feed_per_tooth_mm", "feed_mark_um", "mrr_mm3_s", "form_error_um",
           "form_error_high_um")
 """Predictions without an interval (exact given the cut, or a sum of bounds)."""
@@ -44,7 +50,8 @@ def compact(ds: xr.Dataset) -> xr.Dataset:
 
 def cut_entries(chosen: pd.DataFrame, req: PlanRequest) -> list[dict[str, Any]]:
     """The chosen cuts as manifest ``cuts`` entries (every design key; ``start_mm`` = the
-    placement point − L/2 · feed direction)."""
+    placement point − L/2 · feed direction; ``redundancy_deg`` the planned rotation about the
+    tool axis, at which the virtual cell's simulators cut it)."""
     out = []
     for _, r in chosen.iterrows():
         a = np.deg2rad(float(r["direction_deg"]))
@@ -60,7 +67,8 @@ def cut_entries(chosen: pd.DataFrame, req: PlanRequest) -> list[dict[str, Any]]:
         d.update({"spindle_rpm": float(r["spindle_rpm"]), "flutes": int(req.flutes),
                   "tool_diameter_mm": float(req.tool_diameter_mm),
                   "radial_immersion": float(req.radial_immersion), "milling": req.milling,
-                  "start_mm": [round(float(x), 6) for x in start]})
+                  "start_mm": [round(float(x), 6) for x in start],
+                  "redundancy_deg": float(r["rotation_deg"])})
         out.append(d)
     return out
 
@@ -111,10 +119,12 @@ def next_manifest(chosen: pd.DataFrame, req: PlanRequest, experiment: dict, miss
     return {"experiment": header, "cuts": cuts, "files": [], "plan": plan}
 
 
-def next_config(manifest: dict[str, Any]) -> dict[str, Any]:
+def next_config(manifest: dict[str, Any], workdir: str = NEXT_RUN_DIR) -> dict[str, Any]:
     """``results/plan/next/config.yaml``: a configuration overlay (``--configfile``) that has the
-    virtual cell cut the planned cuts (``experiment.cuts``; robomill.synth.plan)."""
-    return {"experiment": {**manifest["experiment"], "cuts": manifest["cuts"]}}
+    virtual cell cut the planned cuts (``experiment.cuts``; robomill.synth.plan) in their own
+    run's folder ``workdir`` (:data:`NEXT_RUN_DIR`; config ``workdir``), not over the study."""
+    return {"workdir": workdir,
+            "experiment": {**manifest["experiment"], "cuts": manifest["cuts"]}}
 
 
 def cell_of(cell_file, req: PlanRequest, cuts_mid_mm: np.ndarray | None) -> Cell:

@@ -63,28 +63,35 @@ def analyse_run(t_s: np.ndarray | None, points_mm: np.ndarray, *, robot: SerialR
     return prof, spec, gears_df, peaks
 
 def analyse_tracker_run(t_s: np.ndarray | None, points_mm: np.ndarray, cell: Any, *,
-                        data_file: str, **settings: Any
+                        data_file: str, redundancy_deg: float = 0.0, **settings: Any
                         ) -> tuple[Profile, ProfileSpectrum, pd.DataFrame, pd.DataFrame]:
     """:func:`analyse_run` for a tracker file in the cell described by ``cell``
     (:class:`robomill.io.cell.Cell`, read from ``cell.yaml``).
 
     The points are first registered to the robot base frame with the cell's
     ``base_from_instrument.tracker`` (if any); the robot, its home posture (IK seed), the tool
-    orientation and the gear trains are the cell's. A path out of the robot's reach raises
+    orientation and the gear trains are the cell's; the tool turned by the cut's
+    ``redundancy_deg`` about its axis, R0 Rz(θ) (the manifest's cut key, 0 by default). A path
+    out of the robot's reach raises
     :class:`~robomill.io.errors.RawDataError` naming ``data_file`` and pointing at
     ``base_from_instrument`` (not the inverse kinematics' ``RuntimeError``).
     """
     from robomill.errors import RawDataError
 
     base = cell.to_base_mm("tracker", points_mm)
+    tool_rotation = np.asarray(cell.tool_rotation, float)
+    if redundancy_deg:
+        from robomill.stiffness.poses import tool_rotation_redundancy
+
+        tool_rotation = tool_rotation_redundancy(tool_rotation, np.deg2rad(redundancy_deg))
     try:
         return analyse_run(t_s, base, robot=cell.robot, gears=cell.transmissions,
-                           tool_rotation=cell.tool_rotation, q0_rad=cell.q_home_rad,
+                           tool_rotation=tool_rotation, q0_rad=cell.q_home_rad,
                            **settings)
     except RuntimeError:
         prof = spatial_profile(t_s, base, ds_mm=settings["ds_mm"], trim_mm=settings["trim_mm"])
         T = np.broadcast_to(np.eye(4), (2, 4, 4)).copy()
-        T[:, :3, :3] = cell.tool_rotation
+        T[:, :3, :3] = tool_rotation
         T[:, :3, 3] = [prof.start_mm, prof.end_mm]
         cell.joint_path_rad(T, data_file=data_file, instrument="tracker")  # raises RawDataError
         raise RawDataError(data_file, f"the path is not reachable by robot '{cell.robot.name}'",

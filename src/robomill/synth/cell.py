@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 import xarray as xr
 
-from robomill.experiment import Cut, cut_endpoints_mm
+from robomill.experiment import Cut, cut_endpoints_mm, cut_tool_rotation
 from robomill.kinematics import SerialRobot, robot_from_mapping
 
 ARCSEC = np.pi / (180.0 * 3600.0)
@@ -105,12 +105,21 @@ class VirtualCell:
         u = (b - a) / np.linalg.norm(b - a)
         return a + np.outer(np.asarray(s_mm, float), u)
 
+    def cut_tool_rotation(self, cut: Cut) -> np.ndarray:
+        """The tool's orientation while cutting ``cut``: R0 Rz(θ) for the cut's redundancy
+        angle θ (``redundancy_deg``: rotation about the tool axis,
+        :func:`robomill.experiment.cut_tool_rotation`, the analyses' own); R0 itself at
+        θ = 0."""
+        return cut_tool_rotation(cut, self.tool_rotation())
+
     def joint_path_rad(self, cut: Cut, s_mm: np.ndarray) -> np.ndarray:
         """Joint angles ``(len(s), 6)`` along the cut, by inverse kinematics (elbow-up branch
-        nearest ``q_home_rad``)."""
+        nearest ``q_home_rad``) at the cut's tool orientation (:meth:`cut_tool_rotation`): the
+        posture, hence the gear errors, the joint torques and the Jacobian every simulator
+        carries them through, follow the cut's redundancy angle."""
         P = self.cut_path_mm(cut, s_mm)
         T = np.broadcast_to(np.eye(4), (len(P), 4, 4)).copy()
-        T[:, :3, :3] = self.tool_rotation()
+        T[:, :3, :3] = self.cut_tool_rotation(cut)
         T[:, :3, 3] = P
         return self.robot.ik_path(T, self.q_home_rad)
 

@@ -73,7 +73,8 @@ class PosedCut:
 
 
 def planned_cuts(manifest: Mapping[str, Any]) -> list[PosedCut]:
-    """The planned cuts of ``results/plan/next/manifest.yaml`` with their redundancy angles."""
+    """The planned cuts of ``results/plan/next/manifest.yaml`` with their redundancy angles
+    (each cut's ``redundancy_deg``; a manifest from before that key: ``plan.cuts.<id>``)."""
     exp = dict(manifest["experiment"])
     plan = (manifest.get("plan") or {}).get("cuts") or {}
     out = []
@@ -84,7 +85,10 @@ def planned_cuts(manifest: Mapping[str, Any]) -> list[PosedCut]:
         cut = Cut(str(c["id"]), None, None, c.get("direction"), float(c["feed_mm_s"]),
                   float(c["depth_mm"]), **fields,
                   start_mm=None if start is None else tuple(float(x) for x in start))
-        theta = float((plan.get(cut.id) or {}).get("redundancy_deg", 0.0))
+        theta = c.get("redundancy_deg")  # the cut's own key, else the plan's record of it
+        if theta is None:
+            theta = (plan.get(cut.id) or {}).get("redundancy_deg", 0.0)
+        theta = float(theta)
         out.append(PosedCut(cut, exp, theta, "plan"))
     return out
 

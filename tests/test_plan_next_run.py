@@ -1,0 +1,124 @@
+"""The next experiment runs in its own folder (issue 28, deliver item 4): the configuration the
+plan writes (results/plan/next/config.yaml) names a run folder under results/plan/next, so
+`snakemake all --configfile results/plan/next/config.yaml` leaves the study's results as they
+are, and plan_check puts the outcomes of that run beside the predictions."""
+
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+from conftest import REPO, SNAKEMAKE
+
+from robomill.pipeline.config import run_folder
+from robomill.plan.check import RunOutcomes, check_table
+from robomill.plan.outputs import NEXT_RUN_DIR, next_config
+
+CUT = {"feed_mm_s": 10.0, "depth_mm": 0.2, "direction": "px", "spindle_rpm": 28000.0,
+       "flutes": 2, "tool_diameter_mm": 6.0, "radial_immersion": 1.0, "milling": "slot",
+       "start_mm": [580.0, -50.0, 200.0]}
+MANIFEST = {"experiment": {"spindle_rpm": 28000.0, "flutes": 2, "tool_diameter_mm": 6.0,
+                           "cut_length_mm": 40.0},
+            "cuts": [{"id": "plan_01", **CUT}, {"id": "plan_02", **CUT, "depth_mm": 0.1}],
+            "files": [], "plan": {"cuts": {}}}
+
+
+def test_the_next_config_names_its_own_run_folder_inside_the_plan():
+    cfg = next_config(MANIFEST)
+    assert cfg["workdir"] == NEXT_RUN_DIR
+    folder = Path(cfg["workdir"])
+    assert not folder.is_absolute()
+    assert folder.parts[:3] == ("results", "plan", "next") and len(folder.parts) > 3
+    assert [c["id"] for c in cfg["experiment"]["cuts"]] == ["plan_01", "plan_02"]
+
+
+def test_run_folder_keeps_a_relative_raw_folder_where_it_was(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert run_folder({"data": {"source": "raw", "raw_dir": "lab"}}) is None
+    cfg = {"workdir": "results/plan/next/run", "data": {"source": "raw", "raw_dir": "lab"}}
+    assert run_folder(cfg) == "results/plan/next/run"
+    assert cfg["data"]["raw_dir"] == str(tmp_path / "lab")
+
+
+def _tree(folder: Path) -> dict[str, float]:
+    return {str(p.relative_to(folder)): p.stat().st_mtime_ns for p in folder.rglob("*")
+            if p.is_file()}
+
+
+@pytest.mark.parametrize("directory", [True, False], ids=["--directory", "cwd"])
+def test_a_dry_run_of_the_next_experiment_targets_its_run_folder_only(tmp_path, directory):
+    """`snakemake -n all --configfile results/plan/next/config.yaml` in a study folder: the
+    jobs are planned in results/plan/next/run (its own .snakemake, its synthetic raw folder),
+    nothing else of the study's results/ is touched."""
+    study = tmp_path / "study"
+    (study / "results" / "plan" / "next").mkdir(parents=True)
+    (study / "results" / "forces").mkdir()
+    (study / "results" / "forces" / "mean_forces.csv").write_text("cut,Fx_N,Fy_N,Fz_N\n")
+    nxt = study / "results" / "plan" / "next" / "config.yaml"
+    nxt.write_text(yaml.safe_dump(next_config(MANIFEST), sort_keys=False))
+    before = _tree(study / "results")
+    cmd = [SNAKEMAKE, "-s", str(REPO / "Snakefile"), *(["--directory", str(study)]
+                                                        if directory else []),
+           "--configfile", str(REPO / ".test" / "config.yaml"),
+           "results/plan/next/config.yaml", "-n", "all"]
+    proc = subprocess.run(cmd, cwd=study, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    run = study / NEXT_RUN_DIR
+    assert (run / ".snakemake").is_dir()
+    # the planned cuts' synthetic raw files are outputs of this run (in its folder)
+    assert "results/synthetic/raw/forces/plan_01." in proc.stdout
+    assert "results/synthetic/raw/forces/s1_g1" not in proc.stdout  # the study's cuts: none
+    after = {k: v for k, v in _tree(study / "results").items()
+             if not k.startswith(NEXT_RUN_DIR.removeprefix("results/"))}
+    assert after == before                      # the study's results untouched
+
+
+PRED = pd.DataFrame({
+    "cut": ["plan_01", "plan_02", "s1"],
+    "stability_margin": [0.8, 0.5, 0.1], "stability_margin_low": [0.6, 0.3, -0.1],
+    "stability_margin_high": [1.0, 0.7, 0.3],
+    "force_N": [15.0, 12.0, 7.0], "force_low_N": [14.0, 11.0, 6.0],
+    "force_high_N": [16.0, 13.0, 8.0],
+    "waviness_um": [1.0, 1.0, np.nan], "waviness_low_um": [0.8, 0.8, np.nan],
+    "waviness_high_um": [1.2, 1.2, np.nan]})
+SIM = pd.DataFrame({"cut": ["plan_01", "s1"], "stable": [True, False],
+                    "deflection_normal_um": [1.0, 1.0], "deflection_axial_um": [1.0, 1.0],
+                    "force_N": [20.0, 7.0]})
+NEXT = RunOutcomes(
+    NEXT_RUN_DIR,
+    mean_forces=pd.DataFrame({"cut": ["plan_01", "plan_02"], "Fx_N": [0.0, 0.0],
+                              "Fy_N": [15.5, 12.0], "Fz_N": [0.0, 0.0]}),
+    force_peaks=pd.DataFrame({"cut": ["plan_01", "plan_02"], "dominant_power": [4.0, 4.0]}),
+    peaks=pd.DataFrame({"cut": ["plan_01", "plan_01", "plan_02"],
+                        "mechanism": ["gear", "gear", "gear"],
+                        "component": ["lateral", "lateral", "normal"],
+                        "amplitude_um": [0.5, 0.6, 9.0]}))
+
+
+def test_the_planned_runs_outcomes_come_first_one_row_per_cut_and_quantity():
+    t = check_table(PRED, simulated=SIM, planned_run=NEXT)
+    assert not t.duplicated(["cut", "quantity"]).any()
+    t = t.set_index(["cut", "quantity"])
+    # force: the planned run's dynamometer (15.5 N), not the simulation's 20 N
+    f = t.loc[("plan_01", "force")]
+    assert f["outcome"] == pytest.approx(15.5) and f["within_interval"]
+    assert f["source"] == f"{NEXT_RUN_DIR}/results/forces/mean_forces.csv"
+    # waviness: in-phase sum of the gear lateral lines, 0.5 + 0.6 um
+    w = t.loc[("plan_01", "waviness")]
+    assert w["outcome"] == pytest.approx(1.1) and w["within_interval"]
+    assert ("plan_02", "waviness") not in t.index          # no lateral gear line
+    # stability: the time-domain simulation where it cut the cut, else the planned run's
+    # force spectrum: line √4 = 2 N on 12 N is 17 % > 5 % of the mean -> chatter
+    assert t.loc[("plan_01", "stability"), "source"] == "results/plan/simulated.csv"
+    s = t.loc[("plan_02", "stability")]
+    assert s["outcome"] == 0.0 and s["source"] == f"{NEXT_RUN_DIR}/results/forces/peaks.csv"
+    # the study's cut keeps the study's sources
+    assert t.loc[("s1", "force"), "source"] == "results/plan/simulated.csv"
+
+
+def test_without_a_planned_run_the_table_is_as_before():
+    a = check_table(PRED, simulated=SIM)
+    b = check_table(PRED, simulated=SIM, planned_run=RunOutcomes(NEXT_RUN_DIR))
+    pd.testing.assert_frame_equal(a, b)
