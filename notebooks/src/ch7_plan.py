@@ -33,6 +33,7 @@ from IPython.display import Markdown, display
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.prose import Prose, load_templates
+from robomill.plan.compare import comparison_values
 from robomill.plotting import save_figure
 
 num = Numbering("7")
@@ -122,15 +123,8 @@ display(chosen[[c for c in cols if c in chosen]])
 # %%
 display(num.caption("comparison"))
 display(cmp_)
-r = cmp_.loc["mrr_ratio", "value"]
-display(Markdown(
-    f"At the request's constraints the plan's best cut ({cmp_.loc['plan_best_mrr_mm3_s', 'cut']})"
-    f" removes {cmp_.loc['plan_best_mrr_mm3_s', 'value']:.3g} mm³/s; the best of the study's "
-    f"{cmp_.loc['study_cuts', 'value']:.0f} cuts that meet the same constraints "
-    f"({cmp_.loc['study_cuts_feasible', 'value']:.0f} do) removes "
-    f"{cmp_.loc['study_best_mrr_mm3_s', 'value']:.3g} mm³/s"
-    + (f" ({cmp_.loc['study_best_mrr_mm3_s', 'cut']}): a ratio of {r:.3g}." if r == r
-       else ": none of the study's cuts meets them, so there is no ratio.")))
+display(Markdown(Prose(load_templates("ch7", templates), comparison_values(cmp_))(
+    "comparison", "rotation_effect")))
 
 # %% [markdown]
 # ## Closing the loop
@@ -154,4 +148,4 @@ display(num.caption("check"))
 if len(chk):
     display(chk)
 else:
-    display(Markdown("No cut of this run has an outcome to compare yet."))
+    display(Markdown(say("check_none")))

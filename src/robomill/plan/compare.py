@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+import xarray as xr
 
 from robomill.experiment import Cut, cut_endpoints_mm, cut_process, cut_redundancy_deg
 from robomill.plan.choose import feasible
@@ -59,9 +60,26 @@ def study_cuts_table(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: Pl
     return pd.DataFrame(rows, columns=STUDY_COLUMNS)
 
 
-def comparison_table(plan: pd.DataFrame, study: pd.DataFrame) -> pd.DataFrame:
+def rotation_effect_pct(pose_map: xr.Dataset) -> float:
+    """The most a rotation about the tool axis changes a pose prediction, in %: over every
+    placement and direction, (max − min)/max over the rotations of the stiffness normal to the
+    wall and along the tool and of the largest pessimistic critical depth (unreachable poses
+    left out; NaN when no pose is reachable). Near zero when the tool point lies on the last
+    joint's axis: the rotation then only turns that joint, and the arm's pose is unchanged."""
+    spreads = []
+    for name in ("k_normal_N_m", "k_axial_N_m", "a_crit_best_low_mm"):
+        v = pose_map[name].where(pose_map["reachable"])
+        hi, lo = v.max("rotation"), v.min("rotation")
+        spreads.append(float((100 * (hi - lo) / hi).max(skipna=True)))
+    spreads = [s for s in spreads if s == s]
+    return max(spreads) if spreads else np.nan
+
+
+def comparison_table(plan: pd.DataFrame, study: pd.DataFrame,
+                     rotation_effect: float = np.nan) -> pd.DataFrame:
     """Findings: the plan's best removal rate, the best of the study's own cuts meeting the same
-    constraints, and their ratio (NaN when no study cut meets them)."""
+    constraints, and their ratio (NaN when no study cut meets them); ``rotation_effect``:
+    :func:`rotation_effect_pct` of the pose map."""
     ok = study[study["feasible"]]
     plan_best = float(plan["mrr_mm3_s"].max()) if len(plan) else np.nan
     study_best = float(ok["mrr_mm3_s"].max()) if len(ok) else np.nan
@@ -72,5 +90,17 @@ def comparison_table(plan: pd.DataFrame, study: pd.DataFrame) -> pd.DataFrame:
         ("mrr_ratio", plan_best / study_best if study_best > 0 else np.nan, "1", ""),
         ("study_cuts", float(len(study)), "1", ""),
         ("study_cuts_feasible", float(len(ok)), "1", ""),
+        ("rotation_effect_pct", float(rotation_effect), "%", ""),
     ]
     return pd.DataFrame(rows, columns=["quantity", "value", "unit", "cut"])
+
+
+def comparison_values(comparison: pd.DataFrame) -> dict[str, Any]:
+    """The comparison table (indexed by ``quantity``) as the fields of Chapter 7's sentences:
+    each quantity's value (None where not computed) and ``<quantity>_cut``."""
+    out: dict[str, Any] = {}
+    for quantity, row in comparison.iterrows():
+        value = row["value"]
+        out[str(quantity)] = None if value != value else value
+        out[f"{quantity}_cut"] = row["cut"] if isinstance(row["cut"], str) else ""
+    return out

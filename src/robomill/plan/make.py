@@ -13,7 +13,7 @@ import xarray as xr
 
 from robomill.experiment import Cut
 from robomill.plan.choose import check_needs, choose, smooth_rotation
-from robomill.plan.compare import comparison_table, study_cuts_table
+from robomill.plan.compare import comparison_table, rotation_effect_pct, study_cuts_table
 from robomill.plan.measured import Measured, missing_predictions
 from robomill.plan.outputs import next_config, next_manifest, plan_table, pose_map
 from robomill.plan.predict import Cell, predict_grid, station_scores
@@ -71,5 +71,7 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     cand.attrs["request"] = req.path
     cand.attrs["constraints"] = "; ".join(f"{k}={v}" for k, v in req.constraints.items()
                                           if v is not None)
-    return Plan(cand, pose_map(cand, chosen.iloc[0]), table, plan_table(front), study,
-                comparison_table(table, study), manifest, next_config(manifest))
+    pmap = pose_map(cand, chosen.iloc[0])
+    return Plan(cand, pmap, table, plan_table(front), study,
+                comparison_table(table, study, rotation_effect_pct(pmap)), manifest,
+                next_config(manifest))

@@ -1,0 +1,55 @@
+"""Chapter 7's comparison findings: how much the rotation about the tool axis changes a pose
+prediction (planted pose maps, spreads computed by hand), and the sentences that follow the
+comparison table's values."""
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+
+from robomill.pipeline.prose import Prose, load_templates
+from robomill.plan.compare import comparison_table, comparison_values, rotation_effect_pct
+
+
+def _pose_map(k_normal, reachable=None):
+    k = np.asarray(k_normal, float)[..., None]  # placement × rotation × direction
+    dims = ("placement", "rotation", "direction")
+    ones = np.ones_like(k)
+    return xr.Dataset({"k_normal_N_m": (dims, k), "k_axial_N_m": (dims, 5e6 * ones),
+                       "a_crit_best_low_mm": (dims, 0.3 * ones),
+                       "reachable": (dims, np.ones(k.shape, bool) if reachable is None
+                                     else np.asarray(reachable)[..., None])},
+                      coords={"rotation": [0.0, 30.0, 60.0]})
+
+
+def test_the_rotation_effect_is_the_largest_spread_over_rotations():
+    # placement 0: 100, 110, 120 → (120 − 100)/120 = 16.67 %; placement 1 unchanged
+    pmap = _pose_map([[100.0, 110.0, 120.0], [200.0, 200.0, 200.0]])
+    assert rotation_effect_pct(pmap) == pytest.approx(100 * 20 / 120)
+    assert rotation_effect_pct(_pose_map([[1.0, 1.0, 1.0]])) == 0.0
+    # an unreachable pose does not count, however far off its (meaningless) value is
+    far = _pose_map([[100.0, 100.0, 1.0]], reachable=[[True, True, False]])
+    assert rotation_effect_pct(far) == 0.0
+    assert np.isnan(rotation_effect_pct(_pose_map([[1.0, 2.0, 3.0]],
+                                                 reachable=[[False] * 3])))
+
+
+def _comparison(study_feasible, rotation_effect):
+    plan = pd.DataFrame({"cut": ["plan_01", "plan_02"], "mrr_mm3_s": [30.0, 20.0]})
+    study = pd.DataFrame({"cut": ["s1", "s2", "s3"], "mrr_mm3_s": [15.0, 12.0, 40.0],
+                          "feasible": study_feasible})
+    return comparison_table(plan, study, rotation_effect).set_index("quantity")
+
+
+def test_chapter_7_states_the_ratio_and_the_rotation_effect_from_the_comparison():
+    say = Prose(load_templates("ch7"), comparison_values(_comparison([True, True, False], 0.0)))
+    text = " ".join(say("comparison", "rotation_effect").split())
+    assert "plan's best cut (plan_01) removes 30 mm³/s" in text
+    assert "3 cuts that meet the same constraints (2 do, s1) removes 15 mm³/s" in text
+    assert "a ratio of **2**" in text
+    assert "changes no predicted stiffness" in text  # 0 %: the rotation is a tie-break
+    say = Prose(load_templates("ch7"),
+                comparison_values(_comparison([False, False, False], 16.7)))
+    text = " ".join(say("comparison", "rotation_effect").split())
+    assert "none of the study's 3 cuts meets them, so there is no ratio" in text
+    assert "by at most 16.7 %" in text and "{" not in text
