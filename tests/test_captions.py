@@ -53,3 +53,21 @@ def test_duplicates_and_unknown_keys_are_refused():
         num.figure("b", "same number", number=1)
     with pytest.raises(KeyError, match="no figure or table 'zz'.*declared: a"):
         num.ref("zz")
+
+
+def test_show_saves_the_figure_under_its_number_and_captions_it(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    num = Numbering("6", fig_dir=str(tmp_path / "figs"))
+    num.figure("drift", "Drift of the platform", number=11)
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [0, 1])
+    num.show(fig, "drift")
+    assert (tmp_path / "figs" / "fig6_11_drift.png").stat().st_size > 0
+    num.ref("drift")
+    num.check()  # shown (captioned) and referred to
+    with pytest.raises(ValueError, match="fig_dir"):
+        Numbering("6").show(fig, "drift")

@@ -25,7 +25,6 @@ from robomill.findings import read_findings
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import format_factor, per_cut_table
 from robomill.pipeline.prose import Prose, comparison_table, load_templates, render
-from robomill.plotting import save_figure
 
 found = read_findings(findings)
 say = Prose(load_templates("ch0", templates), found)
@@ -33,7 +32,7 @@ v = found.values()
 THESIS_LAYOUT = v["thesis_layout"]  # sets x U segments (+Y, +X, -Y)
 table = pd.read_csv(cuts)
 
-num = Numbering("0")
+num = Numbering("0", fig_dir=fig_dir)
 num.table("plan", say("caption_plan", grouped_by=say("grouped_by")))
 num.figure("feed_per_tooth", say("caption_feed_per_tooth"))
 
@@ -90,9 +89,7 @@ else:
                                for lvl, c in colour.items()], fontsize=8, title=first)
     fig.suptitle("Feed per tooth c = v / (N n) and tooth passing N n / 60, per cut")
     fig.tight_layout()
-save_figure(fig, fig_dir, num.file("feed_per_tooth"))
-plt.show()
-display(num.caption("feed_per_tooth"))
+num.show(fig, "feed_per_tooth")
 group_lines = [render(say.templates["group"], g) for g in v.get("groups") or []]
 display(Markdown(say("by_group", "same_feed", ref_feed_per_tooth=num.ref("feed_per_tooth"),
                      group_lines=group_lines)))

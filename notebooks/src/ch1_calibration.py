@@ -25,7 +25,6 @@ findings: str = None  # results/calibration/findings.yaml: the numbers this chap
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
-import matplotlib.pyplot as plt
 import pandas as pd
 from IPython.display import Markdown, display
 
@@ -37,13 +36,12 @@ from robomill.findings import read_findings
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.prose import Prose, comparison_table, load_templates
-from robomill.plotting import save_figure
 
 found = read_findings(findings)
 say = Prose(load_templates("ch1", templates), found)
 ds = open_artefact(model)
 JOINT, TURN = figures.CIRCLE_JOINT, figures.VECTOR_TURN_DEG
-num = Numbering("1")
+num = Numbering("1", fig_dir=fig_dir)
 num.figure("joint_circle", f"Single-joint method: the circle of joint {JOINT} in its plane and "
            "the distance of every joint's targets from their fitted circle", number=4)
 num.figure("vector_model", "The vector model: centres O_i, vectors a'_i and axes e_i at home "
@@ -62,12 +60,6 @@ num.table("accuracy", "Positioning accuracy of the three models on the accuracy 
 num.table("regions", "RMS positioning error [mm] by workspace region")
 
 
-def show(fig, name):
-    """Save the figure under this chapter's numbering, show it and its caption."""
-    save_figure(fig, fig_dir, num.file(name))
-    plt.show()
-    display(num.caption(name))
-
 
 # %% [markdown]
 # ## A joint circle and its axis
@@ -75,7 +67,7 @@ def show(fig, name):
 # %%
 display(Markdown(say("circle_intro", circle_joint=JOINT,
                      ref_joint_circle=num.ref("joint_circle"))))
-show(figures.joint_circle_figure(ds, pd.read_csv(circles), JOINT), "joint_circle")
+num.show(figures.joint_circle_figure(ds, pd.read_csv(circles), JOINT), "joint_circle")
 display(Markdown(say("circles")))
 
 # %% [markdown]
@@ -84,7 +76,7 @@ display(Markdown(say("circles")))
 # %%
 display(Markdown(say("vector_intro", turn_deg=TURN, ref_vector_model=num.ref("vector_model"),
                      ref_a_prime=num.ref("a_prime"))))
-show(figures.vector_model_figure(model_from_dataset(ds), TURN), "vector_model")
+num.show(figures.vector_model_figure(model_from_dataset(ds), TURN), "vector_model")
 display(num.caption("a_prime"))
 display(a_prime_table(ds).round(3))
 
@@ -93,7 +85,7 @@ display(a_prime_table(ds).round(3))
 
 # %%
 display(Markdown(say("errors_intro", ref_joint_errors=num.ref("joint_errors"))))
-show(figures.joint_errors_figure(pd.read_csv(joint_errors)), "joint_errors")
+num.show(figures.joint_errors_figure(pd.read_csv(joint_errors)), "joint_errors")
 display(num.caption("validation"))
 display(validation_table(ds).round(2))
 display(Markdown(say("regression", ref_validation=num.ref("validation"))))
@@ -102,7 +94,7 @@ display(Markdown(say("regression", ref_validation=num.ref("validation"))))
 # ## Base deflection versus joint-2 rotation (eq. 1.6)
 
 # %%
-show(figures.base_deflection_figure(ds, pd.read_csv(base),
+num.show(figures.base_deflection_figure(ds, pd.read_csv(base),
                                     gravity=found.values()["has_gravity_model"]),
      "base_deflection")
 display(Markdown(say("base", "base_share", ref_base_deflection=num.ref("base_deflection"),
@@ -114,7 +106,7 @@ display(compliance_table(ds).round(3))
 # ## Accuracy before and after calibration
 
 # %%
-show(figures.accuracy_histogram_figure(pd.read_csv(points)), "accuracy_histograms")
+num.show(figures.accuracy_histogram_figure(pd.read_csv(points)), "accuracy_histograms")
 display(num.caption("accuracy"))
 display(pd.read_csv(accuracy).set_index("model").round(4))
 display(Markdown(say("accuracy", ref_accuracy_histograms=num.ref("accuracy_histograms"),

@@ -29,7 +29,6 @@ experiment: dict = None  # the manifest's experiment defaults (spindle_rpm, flut
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
-import matplotlib.pyplot as plt
 import pandas as pd
 from IPython.display import Markdown, display
 
@@ -39,7 +38,6 @@ from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import dominant_wavelengths, per_cut_table
 from robomill.pipeline.prose import Prose, comparison_table, load_templates
-from robomill.plotting import save_figure
 from robomill.surface.tables import DIRECTION_ORDER, path_label, peak_counts, plot_groups
 
 found = read_findings(findings)
@@ -59,7 +57,7 @@ def part(i, n):
     return "abcdefghijklmnopqrstuvwxyz"[i] if n > 1 else ""
 
 
-num = Numbering("2")
+num = Numbering("2", fig_dir=fig_dir)
 num.figure("detrend", "A measured profile and the same profile detrended (stylus tilt "
            "removed)", number=9)
 num.figure("waviness", f"Waviness of that profile: the ISO 16610-21 Gaussian filter, "
@@ -97,11 +95,6 @@ if F["has_recovery"]:
     num.table("recovery", "Planted against recovered RMS per cut (synthetic data)")
 
 
-def show(fig, key):
-    save_figure(fig, fig_dir, num.file(key))
-    plt.show()
-    display(num.caption(key))
-
 
 display(Markdown(say("measured", "source", "design")))
 
@@ -109,15 +102,15 @@ display(Markdown(say("measured", "source", "design")))
 # ## Measured and detrended profile
 
 # %%
-show(figures.detrend_figure(prof, c0), "detrend")
+num.show(figures.detrend_figure(prof, c0), "detrend")
 display(Markdown(say("detrend", ref_detrend=num.ref("detrend"))))
 
 # %% [markdown]
 # ## Waviness, and roughness at low and high feed
 
 # %%
-show(figures.waviness_figure(prof, c0, F["lambda_c_mm"]), "waviness")
-show(figures.roughness_feed_figure(prof, [F["low_feed_cut"], F["high_feed_cut"]]),
+num.show(figures.waviness_figure(prof, c0, F["lambda_c_mm"]), "waviness")
+num.show(figures.roughness_feed_figure(prof, [F["low_feed_cut"], F["high_feed_cut"]]),
      "roughness_feed")
 display(Markdown(say("waviness", ref_waviness=num.ref("waviness"),
                      ref_roughness_feed=num.ref("roughness_feed"))))
@@ -131,13 +124,13 @@ display(Markdown(say("profiles", ref_profiles=", ".join(num.ref(f"profiles_{d}")
 for d, rows in plot_groups(met, directions, THESIS_LAYOUT, F["profiles_set"]).items():
     title = (f"Set {F['profiles_set']}, direction {path_label(d)}" if THESIS_LAYOUT
              else f"Direction {path_label(d)}")
-    show(figures.profiles_figure(prof, rows, title, per_feed=THESIS_LAYOUT), f"profiles_{d}")
+    num.show(figures.profiles_figure(prof, rows, title, per_feed=THESIS_LAYOUT), f"profiles_{d}")
 
 # %% [markdown]
 # ## One spectrum
 
 # %%
-show(figures.spectrum_figure(spec, c0, settings), "spectrum")
+num.show(figures.spectrum_figure(spec, c0, settings), "spectrum")
 spectra_figures = ({f"spectra_set{s}": (s, f"Power spectra, set {s}") for s in sets}
                    if THESIS_LAYOUT else {"spectra_all": (None, "Power spectra of every cut")})
 display(Markdown(say("spectrum", ref_spectrum=num.ref("spectrum"),
@@ -148,7 +141,7 @@ display(Markdown(say("spectrum", ref_spectrum=num.ref("spectrum"),
 
 # %%
 for key, (s, title) in spectra_figures.items():
-    show(figures.spectra_figure(spec, plot_groups(met, directions, THESIS_LAYOUT, s), title,
+    num.show(figures.spectra_figure(spec, plot_groups(met, directions, THESIS_LAYOUT, s), title,
                                 settings, per_feed=THESIS_LAYOUT), key)
 
 # %% [markdown]
@@ -171,7 +164,7 @@ else:
 display(Markdown(say("rms", ref_rms=ref_rms)))
 
 # %%
-show(figures.rms_vs_feed_figure(met), "rms_vs_feed")
+num.show(figures.rms_vs_feed_figure(met), "rms_vs_feed")
 display(Markdown(say("by_direction", "feed_correlation", ref_rms_vs_feed=num.ref("rms_vs_feed"))))
 
 # %% [markdown]
@@ -180,7 +173,7 @@ display(Markdown(say("by_direction", "feed_correlation", ref_rms_vs_feed=num.ref
 # %%
 display(num.caption("peak_counts"))
 display(peak_counts(pk))
-show(figures.peak_mechanisms_figure(pk), "peak_mechanisms")
+num.show(figures.peak_mechanisms_figure(pk), "peak_mechanisms")
 display(Markdown(say("peaks", "kinematic", "dynamic", ref_peak_counts=num.ref("peak_counts"),
                      ref_peak_mechanisms=num.ref("peak_mechanisms"))))
 display(Markdown(say("resolution")))

@@ -29,7 +29,6 @@ fig_dir: str = None  # folder for this chapter's figures
 # %%
 import os
 
-import matplotlib.pyplot as plt
 import pandas as pd
 from IPython.display import Markdown, display
 
@@ -47,7 +46,6 @@ from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import per_cut_table
 from robomill.pipeline.prose import Prose, comparison_table, load_templates
-from robomill.plotting import save_figure
 
 found = read_findings(findings)
 F = found.values()
@@ -61,7 +59,7 @@ planted = planted_coefficients(open_artefact(truth) if truth and os.path.exists(
 CUTS, DIRS, THESIS_LAYOUT = F["figure_cuts"], F["figure_directions"], F["thesis_layout"]
 
 # thesis numbers (Figs 3.2–3.11, Tables 3.1, 3.3, 3.4; Table 3.2 is in chapter 3.2)
-num = Numbering("3")
+num = Numbering("3", fig_dir=fig_dir)
 num.figure("model_force_shape", f"The model's force shape over two revolutions of a "
            f"{say('model_shape')}, with the coefficients identified below (eq. 3.1)", number=2)
 num.figure("record", "A measured force record: (a) the whole record as a min–max envelope, "
@@ -87,12 +85,6 @@ num.table("coefficients", "Identified cutting coefficients with their intervals 
           "sanity flags (negative value, fit residual against signal, physical)", number=4)
 
 
-def show(fig, name):
-    """Save the figure under this chapter's numbering, show it and its caption."""
-    save_figure(fig, fig_dir, num.file(name))
-    plt.show()
-    display(num.caption(name))
-
 
 display(Markdown(say("overview")))
 
@@ -102,14 +94,14 @@ display(Markdown(say("overview")))
 # %%
 display(Markdown(say("model", shape=say("model_shape"),
                      ref_model_force_shape=num.ref("model_force_shape"))))
-show(figures.model_shape_figure(sp), "model_force_shape")
+num.show(figures.model_shape_figure(sp), "model_force_shape")
 
 # %% [markdown]
 # ## A measured record, its zoom and its full-band spectrum
 
 # %%
-show(figures.record_figure(sp, CUTS[0]), "record")
-show(figures.full_band_figure(sp, CUTS[0]), "full_band_psd")
+num.show(figures.record_figure(sp, CUTS[0]), "record")
+num.show(figures.full_band_figure(sp, CUTS[0]), "full_band_psd")
 display(Markdown(say("full_band", ref_record=num.ref("record"),
                      ref_full_band_psd=num.ref("full_band_psd"))))
 
@@ -120,7 +112,7 @@ display(Markdown(say("full_band", ref_record=num.ref("record"),
 display(Markdown(say("spatial", ref_spatial=", ".join(num.ref(f"spatial_{d}") for d in DIRS))))
 kinematic = [F["kinematic_per_mm_median"]] if F.get("kinematic_per_mm_median") else []
 for d in DIRS:
-    show(figures.direction_figure(sp, CUTS, d, spatial=True,
+    num.show(figures.direction_figure(sp, CUTS, d, spatial=True,
                                   x_max=F["kinematic_band_per_mm"][1], vlines=kinematic,
                                   which=say("which")), f"spatial_{d}")
 display(Markdown(say("kinematic", "kinematic_none", "resolution", "kinematic_flag")))
@@ -131,7 +123,7 @@ display(Markdown(say("kinematic", "kinematic_none", "resolution", "kinematic_fla
 # %%
 display(Markdown(say("time", ref_time=", ".join(num.ref(f"time_{d}") for d in DIRS))))
 for d in DIRS:
-    show(figures.direction_figure(sp, CUTS, d, spatial=False, x_max=F["lowband_hz"],
+    num.show(figures.direction_figure(sp, CUTS, d, spatial=False, x_max=F["lowband_hz"],
                                   vlines=F["modes_hz"] or [], which=say("which")), f"time_{d}")
 
 # %% [markdown]
@@ -158,7 +150,7 @@ display(harmonic_table(pd.read_csv(harmonics), plan))
 
 # %%
 display(Markdown(say("mean_forces", ref_mean_forces_vs_feed=num.ref("mean_forces_vs_feed"))))
-show(figures.mean_forces_figure(process_table(mf, experiment)), "mean_forces_vs_feed")
+num.show(figures.mean_forces_figure(process_table(mf, experiment)), "mean_forces_vs_feed")
 display(num.caption("coefficients"))
 display(coefficient_table(pd.read_csv(coefficients), planted))
 display(Markdown(say("coefficients", "planted", "physical", "physical_ok", "uses",

@@ -23,7 +23,6 @@ findings: str = None  # results/straightness/findings.yaml: every number and ver
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
-import matplotlib.pyplot as plt
 import pandas as pd
 from IPython.display import Markdown, display
 
@@ -32,7 +31,6 @@ from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import per_cut_table
 from robomill.pipeline.prose import Prose, comparison_table, load_templates
-from robomill.plotting import save_figure
 from robomill.straightness.figures import (
     deviation_figure,
     figure_numbers,
@@ -58,7 +56,7 @@ pk = read_peaks(peaks)
 MAIN, EXTRA, HIGH = F["main_directions"], F["extra_directions"], F["high_band_direction"]
 
 # the thesis' numbers (Figs 3.12–3.17, Tables 3.2, 3.5–3.8; 3.1, 3.3, 3.4 are in chapter 3.1)
-num = Numbering("3")
+num = Numbering("3", fig_dir=fig_dir)
 for key, (number, part, stem) in figure_numbers(F["directions"], F["thesis_layout"]).items():
     kind, d = key.split("_", 1)
     num.figure(key, say(f"cap_{kind}", direction=direction_text(d)), number=number,
@@ -81,16 +79,11 @@ if F["has_truth"]:
               number=7)
 
 
-def show(fig, name):  # save the figure under this chapter's numbering, show it, caption it
-    save_figure(fig, fig_dir, num.file(name))
-    plt.show()
-    display(num.caption(name))
-
 
 def direction_figures(directions):  # the deviation and its spectrum in the gears' band
     for d in directions:
-        show(deviation_figure(prof, d), f"deviation_{d}")
-        show(psd_figure(prof, pk, d), f"psd_{d}")
+        num.show(deviation_figure(prof, d), f"deviation_{d}")
+        num.show(psd_figure(prof, pk, d), f"psd_{d}")
 
 
 display(Markdown(say("overview", "untimed")))
@@ -112,7 +105,7 @@ display(Markdown(say("gear_peaks")))
 
 # %%
 display(Markdown(say("high", ref_psd_high=num.ref("psd_high"))))
-show(psd_figure(prof, pk, HIGH, fmax_per_mm=float(settings["fmax_store_per_mm"]),
+num.show(psd_figure(prof, pk, HIGH, fmax_per_mm=float(settings["fmax_store_per_mm"]),
                 title="motion spectrum up to the roughness band"), "psd_high")
 display(Markdown(say("surface_band", "surface_band_verdict",
                      ref_band_floor=num.ref("band_floor"))))
@@ -125,7 +118,7 @@ display(with_labels(band_floor_table(prof, pk, tuple(F["surface_band_per_mm"]),
 
 # %%
 display(Markdown(say("mechanisms", ref_temporal_vs_spatial=num.ref("temporal_vs_spatial"))))
-show(mechanism_figure(pk, F["feeds_mm_s"]), "temporal_vs_spatial")
+num.show(mechanism_figure(pk, F["feeds_mm_s"]), "temporal_vs_spatial")
 display(Markdown(say("temporal")))
 
 # %% [markdown]

@@ -35,7 +35,6 @@ findings: str = None  # results/modal/findings.yaml: every number and verdict st
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
-import matplotlib.pyplot as plt
 import pandas as pd
 from IPython.display import Markdown, display
 
@@ -47,7 +46,6 @@ from robomill.modal.ncio import join_complex
 from robomill.modal.shown import misfit_table, shown_hits, shown_modes, shown_peak_groups
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.prose import Prose, comparison_table, load_templates
-from robomill.plotting import save_figure
 
 found = read_findings(findings)
 F = found.values()
@@ -63,7 +61,7 @@ TOOLTIP_LAYOUT = bool(F["tooltip_layout"])
 band_hz = F["band_hz"]
 HAS_TRACES = "time" in tr.dims
 
-num = Numbering("3")
+num = Numbering("3", fig_dir=fig_dir)
 if HAS_TRACES:
     num.figure("impact_test", "The test: the tool tip, the three hammer directions and the "
                "accelerometer; force and accelerations of an accepted hit and of every "
@@ -93,12 +91,6 @@ if len(coupling_table):
     num.table("coupling", "Modes against the cutting vibration frequency", number=16)
 
 
-def show(fig, name):
-    """Save the figure under this chapter's numbering, show it and its caption."""
-    save_figure(fig, fig_dir, num.file(name))
-    plt.show()
-    display(num.caption(name))
-
 
 # %% [markdown]
 # ## What was measured
@@ -118,7 +110,7 @@ display(shown_hits(hit_table))
 # %%
 display(Markdown(say("signals", ref_impact_test=num.ref("impact_test") if HAS_TRACES else "")))
 if HAS_TRACES:
-    show(figures.impact_test_figure(tr, hit_table, tooltip_layout=TOOLTIP_LAYOUT),
+    num.show(figures.impact_test_figure(tr, hit_table, tooltip_layout=TOOLTIP_LAYOUT),
          "impact_test")
 
 # %% [markdown]
@@ -128,7 +120,7 @@ if HAS_TRACES:
 # panels: pairs this layout did not measure.
 
 # %%
-show(figures.frf_grid_figure(ds, sy, band_hz), "frf_grid")
+num.show(figures.frf_grid_figure(ds, sy, band_hz), "frf_grid")
 display(Markdown(say("frf_grid", ref_frf_grid=num.ref("frf_grid"))))
 
 # %% [markdown]
@@ -145,7 +137,7 @@ display(Markdown(say("frf_nine", **({"ref_frf_first": num.ref("frf_{}{}".format(
                                     if FRF_PAIRS else {}))))
 for o, i in FRF_PAIRS:
     num.ref(f"frf_{o}{i}")
-    show(figures.frf_pair_figure(ds, sy, o, i, band_hz, F["threshold_n_coherence_ok"]),
+    num.show(figures.frf_pair_figure(ds, sy, o, i, band_hz, F["threshold_n_coherence_ok"]),
          f"frf_{o}{i}")
 
 # %% [markdown]
@@ -169,7 +161,7 @@ shown_peak_groups(pd.read_csv(peak_groups))
 # tolerances in frequency, damping and residue-vector MAC. Background: Σ|H| over the FRFs.
 
 # %%
-show(figures.stabilization_figure(pd.read_csv(stabilization), mode_table, ds, band_hz),
+num.show(figures.stabilization_figure(pd.read_csv(stabilization), mode_table, ds, band_hz),
      "stabilization")
 display(Markdown(say("stability_tolerances", "stabilization",
                      ref_stabilization=num.ref("stabilization"))))
@@ -195,7 +187,7 @@ shown_modes(mode_table)
 # the node numbers, one line per direction (for one node: bars per direction).
 
 # %%
-show(figures.mac_shapes_figure(pd.read_csv(mac).set_index("mode"), pd.read_csv(shapes),
+num.show(figures.mac_shapes_figure(pd.read_csv(mac).set_index("mode"), pd.read_csv(shapes),
                                mode_table), "mac_shapes")
 display(Markdown(say("mac", ref_mac_shapes=num.ref("mac_shapes"))))
 

@@ -16,7 +16,6 @@ findings: str = None  # results/chatter/findings.yaml: every number and verdict 
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
-import matplotlib.pyplot as plt
 import pandas as pd
 from IPython.display import Markdown, display
 
@@ -26,14 +25,13 @@ from robomill.findings import read_findings
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.prose import Prose, load_templates
-from robomill.plotting import save_figure
 
 found = read_findings(findings)
 say = Prose(load_templates("ch4", templates), found)
 th = open_artefact(lobes)
 rec = pd.read_csv(recommendations)
 
-num = Numbering("4")
+num = Numbering("4", fig_dir=fig_dir)
 num.figure("thesis_lobes", "The identified robot: lobes per slot direction with the "
            "spectral element's error band; red: the configured depths, dotted: its spindle "
            "speed")
@@ -43,16 +41,10 @@ num.table("recommendations", "Stability margins of the configured cuts and the "
           "recommended chatter-free depths")
 
 
-def show(fig, name):
-    """Save the figure under this chapter's numbering, show it and its caption."""
-    save_figure(fig, fig_dir, num.file(name))
-    plt.show()
-    display(num.caption(name))
-
 
 # %%
 display(Markdown(say("robot_title")))
-show(figures.robot_lobes_figure(th), "thesis_lobes")
+num.show(figures.robot_lobes_figure(th), "thesis_lobes")
 display(Markdown(say("robot_lobes", ref_thesis_lobes=num.ref("thesis_lobes"))))
 
 # %%

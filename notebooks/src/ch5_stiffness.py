@@ -18,7 +18,6 @@ experiment: dict = None  # the manifest's experiment defaults (spindle_rpm, flut
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
-import matplotlib.pyplot as plt
 import pandas as pd
 from IPython.display import Markdown, display
 
@@ -26,7 +25,6 @@ from robomill.findings import read_findings
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.design_tables import per_cut_table
 from robomill.pipeline.prose import Prose, load_templates
-from robomill.plotting import save_figure
 from robomill.stiffness.cuts import slot_stiffness_table
 from robomill.stiffness.figures import slots_figure
 from robomill.stiffness.tables import cut_stiffness_um
@@ -36,7 +34,7 @@ say = Prose(load_templates("ch5", templates), found)
 v = found.values()
 SLOTS, CUTS_K = v["has_slots"], v["has_cut_stiffness"]
 
-num = Numbering("5")
+num = Numbering("5", fig_dir=fig_dir)
 if CUTS_K:
     num.table("cut_stiffness", "The cell's robot (joint model): stiffness along each cut's "
               "feed, in-plane normal and tool axis at the middle of the cut, grouped by what "
@@ -67,9 +65,7 @@ if SLOTS:
     display(Markdown(say("unobservable", "slots", "slot_verdict", ref_slots=num.ref("slots"),
                          ref_thesis_slots=num.ref("thesis_slots"))))
     fig = slots_figure(sl, v)
-    save_figure(fig, fig_dir, num.file("thesis_slots"))
-    plt.show()
-    display(num.caption("thesis_slots"))
+    num.show(fig, "thesis_slots")
 
 # %% [markdown]
 # ## Against the thesis

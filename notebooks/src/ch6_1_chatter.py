@@ -21,7 +21,6 @@ findings: str = None  # results/chatter/findings.yaml: every number and verdict 
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
-import matplotlib.pyplot as plt
 from IPython.display import Markdown, display
 
 from robomill.chatter import figures
@@ -31,7 +30,6 @@ from robomill.findings import read_findings
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.prose import Prose, comparison_table, load_templates
-from robomill.plotting import save_figure
 
 found = read_findings(findings)
 F = found.values()
@@ -42,7 +40,7 @@ slot = case_ds.get("insperger2004_slot") if F.get("has_slot") else None
 sim = open_artefact(simulation)
 
 # chapter 6 is numbered across its three pages: this one holds Figures 6.1-6.6, Table 6.1
-num = Numbering("6")
+num = Numbering("6", fig_dir=fig_dir)
 if bench is not None:
     num.figure("benchmark_lobes", f"Stability lobes of case {F['bench_case']}: zero-order and "
                "spectral element, flip lobes marked", number=1, part="a")
@@ -62,12 +60,6 @@ num.table("onset", "Time domain against the lobes just below and above the SDM b
           number=1)
 
 
-def show(fig, name):
-    """Save the figure under this chapter's numbering, show it and its caption."""
-    save_figure(fig, fig_dir, num.file(name))
-    plt.show()
-    display(num.caption(name))
-
 
 # %% [markdown]
 # ## 6.1.1 Lobes for any machine: a benchmark case
@@ -75,7 +67,7 @@ def show(fig, name):
 # %%
 display(Markdown(say("bench_case", "bench_published", "bench_diagram")))
 if bench is not None:
-    show(figures.case_lobes_figure(bench), "benchmark_lobes")
+    num.show(figures.case_lobes_figure(bench), "benchmark_lobes")
 display(Markdown(say("bench_lobes", "bench_flip", ref_benchmark_lobes=num.ref("benchmark_lobes")
                      if bench is not None else "")))
 
@@ -89,14 +81,14 @@ display(Markdown(say("bench_lobes", "bench_flip", ref_benchmark_lobes=num.ref("b
 # %%
 display(Markdown(say("convergence_sources")))
 if bench is not None:
-    show(figures.case_error_figure(bench), "benchmark_error")
+    num.show(figures.case_error_figure(bench), "benchmark_error")
 display(Markdown(say("bench_error", "bench_checks", ref_benchmark_error=num.ref("benchmark_error")
                      if bench is not None else "")))
 
 # %%
 display(Markdown(say("slot_case", slot_symmetry=say("slot_symmetry"))))
 if slot is not None:
-    show(figures.slot_figure(slot), "slot")
+    num.show(figures.slot_figure(slot), "slot")
 display(Markdown(say("slot", ref_slot=num.ref("slot") if slot is not None else "")))
 
 # %% [markdown]
@@ -110,11 +102,11 @@ display(Markdown(say("slot", ref_slot=num.ref("slot") if slot is not None else "
 
 # %%
 display(Markdown(say("seed_model")))
-show(figures.seed_lobes_figure(sim), "seed_lobes")
+num.show(figures.seed_lobes_figure(sim), "seed_lobes")
 display(Markdown(say("seed_lobes", "seed_sdm_error", ref_seed_lobes=num.ref("seed_lobes"))))
-show(figures.seed_time_figure(sim), "seed_time")
-show(figures.seed_spectra_figure(sim), "seed_spectra")
-show(figures.detection_figure(sim), "detection")
+num.show(figures.seed_time_figure(sim), "seed_time")
+num.show(figures.seed_spectra_figure(sim), "seed_spectra")
+num.show(figures.detection_figure(sim), "detection")
 display(Markdown(say("seed_runs", "point1", "point2", ref_seed_time=num.ref("seed_time"),
                      ref_seed_spectra=num.ref("seed_spectra"),
                      ref_detection=num.ref("detection"))))

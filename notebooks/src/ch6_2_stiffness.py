@@ -28,7 +28,6 @@ findings: str = None  # results/stiffness/findings.yaml: every number and verdic
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
-import matplotlib.pyplot as plt
 import pandas as pd
 from IPython.display import Markdown, display
 
@@ -36,7 +35,6 @@ from robomill.findings import read_findings
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.prose import Prose, comparison_table, load_templates
-from robomill.plotting import save_figure
 from robomill.stiffness.figures import (
     beamframe_figure,
     maps_figure,
@@ -59,7 +57,7 @@ bf = open_artefact(beamframe)
 heights = mp["height_mm"].values
 
 # chapter 6 is numbered across its three pages: 6.1 holds Figures 6.1-6.6 and Table 6.1
-num = Numbering("6")
+num = Numbering("6", fig_dir=fig_dir)
 num.table("workspace_ranges", "Workspace ranges: seed 001 against our Monte-Carlo workspace",
           number=2)
 num.figure("workspace", "Monte-Carlo workspace: X–Z projection of the 3-D workspace and the "
@@ -92,9 +90,7 @@ display(Markdown(say("workspace", ref_workspace_ranges=num.ref("workspace_ranges
 
 # %%
 fig = workspace_figure(mp)
-save_figure(fig, fig_dir, num.file("workspace"))
-plt.show()
-display(num.caption("workspace"))
+num.show(fig, "workspace")
 
 # %% [markdown]
 # ## 6.2.2 Joint-stiffness identification (seed 001 §3)
@@ -121,9 +117,7 @@ display(Markdown(say("validation", ref_validation=num.ref("validation"))))
 display(Markdown(say("maps", ref_maps=", ".join(num.ref(f"maps_h{h:.0f}") for h in heights))))
 for h in heights:
     fig = maps_figure(mp, h)
-    save_figure(fig, fig_dir, num.file(f"maps_h{h:.0f}"))
-    plt.show()
-    display(num.caption(f"maps_h{h:.0f}"))
+    num.show(fig, f"maps_h{h:.0f}")
 
 # %%
 display(num.caption("maxima"))
@@ -141,9 +135,7 @@ display(Markdown(say("optimal", ref_optimal=num.ref("optimal"),
 
 # %%
 fig = optimal_figure(opt, v)
-save_figure(fig, fig_dir, num.file("optimal_poses"))
-plt.show()
-display(num.caption("optimal_poses"))
+num.show(fig, "optimal_poses")
 
 # %% [markdown]
 # ## 6.2.5 Beam-frame model and vibration predictor (seed 004)
@@ -152,9 +144,7 @@ display(num.caption("optimal_poses"))
 display(Markdown(say("beamframe", "beamframe_definite", "cantilever",
                      ref_beamframe=num.ref("beamframe"))))
 fig = beamframe_figure(bf)
-save_figure(fig, fig_dir, num.file("beamframe"))
-plt.show()
-display(num.caption("beamframe"))
+num.show(fig, "beamframe")
 
 # %% [markdown]
 # ## Against the source

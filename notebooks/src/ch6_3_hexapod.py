@@ -23,7 +23,6 @@ findings: str = None  # results/hexapod/findings.yaml: every number stated here
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
-import matplotlib.pyplot as plt
 import pandas as pd
 from IPython.display import Markdown, display
 
@@ -39,12 +38,11 @@ from robomill.hexapod.figures import (
 from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.prose import Prose, comparison_table, load_templates
-from robomill.plotting import save_figure
 
 found = read_findings(findings)
 say = Prose(load_templates("ch6_3", templates), found)
 # chapter 6 is numbered across its three pages: 6.1 ends at Table 6.1, 6.2 at Figure 6.10/Table 6.7
-num = Numbering("6")
+num = Numbering("6", fig_dir=fig_dir)
 num.table("seed_table1", "High-speed against conventional ball-end milling, as printed in "
           "seed 003's Table 1", number=8)
 num.figure("trajectory", "The seed's acceleration programme through the inverse dynamics and "
@@ -59,11 +57,6 @@ num.table("force_accuracy", "Force accuracy each position tolerance needs "
           "(results/hexapod/force_accuracy.csv)")
 display(Markdown(say("assumed")))
 
-
-def show(fig, name):
-    save_figure(fig, fig_dir, num.file(name))
-    plt.show()
-    display(num.caption(name))
 
 
 # %% [markdown]
@@ -82,21 +75,21 @@ display(seed_table1(found.values()))
 # %%
 traj = open_artefact(trajectory)
 display(Markdown(say("programme", ref_trajectory=num.ref("trajectory"))))
-show(trajectory_figure(traj), "trajectory")
+num.show(trajectory_figure(traj), "trajectory")
 display(Markdown(say("replay", "unstable")))
 
 # %% [markdown]
 # ## Actuator forces of the programme
 
 # %%
-show(forces_figure(open_artefact(forces)), "actuator_forces")
+num.show(forces_figure(open_artefact(forces)), "actuator_forces")
 display(Markdown(say("forces", ref_actuator_forces=num.ref("actuator_forces"))))
 
 # %% [markdown]
 # ## The vertical move with one actuator's force off
 
 # %%
-show(vertical_figure(traj), "drift_vs_exact")
+num.show(vertical_figure(traj), "drift_vs_exact")
 display(num.caption("vertical"))
 display(vertical_table(found.values()).round(4))
 display(Markdown(say("vertical", ref_drift_vs_exact=num.ref("drift_vs_exact"),
@@ -106,7 +99,7 @@ display(Markdown(say("vertical", ref_drift_vs_exact=num.ref("drift_vs_exact"),
 # ## Drift map, and the force accuracy a tolerance needs
 
 # %%
-show(drift_map_figure(open_artefact(sensitivity)), "drift_map")
+num.show(drift_map_figure(open_artefact(sensitivity)), "drift_map")
 display(num.caption("force_accuracy"))
 display(pd.read_csv(force_accuracy).rename(columns={
     "position_tolerance_mm": "position tolerance [mm]",

@@ -34,9 +34,8 @@ from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.prose import Prose, load_templates
 from robomill.plan.compare import comparison_values
-from robomill.plotting import save_figure
 
-num = Numbering("7")
+num = Numbering("7", fig_dir=fig_dir)
 num.figure("pareto", "Removal rate against the predicted form error (upper bound): the "
            "plan's Pareto front and the study's own cuts")
 num.figure("pose_map", "Pose map: the largest pessimistic critical depth over the speed range "
@@ -83,8 +82,7 @@ ax.set_xlabel("predicted form error, upper bound [µm]")
 ax.set_ylabel("material removal rate [mm³/s]")
 ax.legend(fontsize=8)
 fig.tight_layout()
-save_figure(fig, fig_dir, num.file("pareto"))
-display(num.caption("pareto"))
+num.show(fig, "pareto")
 
 # %% [markdown]
 # ## The pose map
@@ -103,8 +101,7 @@ for j, d in enumerate(dirs):
         axes[i, j].set_xlabel("rotation about the tool axis [deg]")
         axes[i, j].set_ylabel("placement")
 fig.tight_layout()
-save_figure(fig, fig_dir, num.file("pose_map"))
-display(num.caption("pose_map"))
+num.show(fig, "pose_map")
 
 # %% [markdown]
 # ## The chosen cuts

@@ -47,10 +47,17 @@ class Numbering:
     ----------
     chapter
         The chapter number that prefixes every label (``"3"`` gives ``Figure 3.12``).
+    fig_dir
+        The chapter's figure folder, where :meth:`show` saves.
     """
 
     chapter: str
+    fig_dir: str | None = None
     _items: dict[str, _Item] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.fig_dir is not None:  # a chapter: its figure style and inline backend apply
+            import robomill.plotting  # noqa: F401  from the first figure on
 
     def _add(self, kind: str, key: str, caption: str, number: int | None, part: str,
              stem: str | None = None) -> str:
@@ -120,6 +127,22 @@ class Numbering:
         text = self.caption_text(key)
         label = self.label(key)
         return Markdown(f'<p class="caption"><b>{label}</b>{text[len(label):]}</p>')
+
+    def show(self, fig, key: str) -> None:
+        """Save ``fig`` as ``<fig_dir>/<file(key)>.png``
+        (:func:`robomill.plotting.save_figure`), show it inline and put its caption under
+        it."""
+        import matplotlib.pyplot as plt
+        from IPython.display import display
+
+        from robomill.plotting import save_figure
+
+        if self.fig_dir is None:
+            raise ValueError(f"chapter {self.chapter}: Numbering(fig_dir=...) is needed to save "
+                             f"figure {key!r}")
+        save_figure(fig, self.fig_dir, self.file(key))
+        plt.show()
+        display(self.caption(key))
 
     def labels(self) -> list[str]:
         """Every declared label, in declaration order."""
