@@ -58,6 +58,18 @@ def test_the_thesis_design_keeps_its_tables_and_thesis_remarks(tiny_run):
             assert "source_value" in text, name
 
 
+def test_no_chapter_prints_a_stray_label(tiny_run):
+    """A chapter's cells show figures, tables and prose, never the return value of a
+    declaration (``num.table(...)`` gives ``'Table 4.2'``) left as a cell's last line."""
+    for path in sorted((tiny_run / "results/chapters").glob("*.ipynb")):
+        nb = json.loads(path.read_text())
+        stray = ["".join(o["data"].get("text/plain", "")) for c in nb["cells"]
+                 for o in c.get("outputs", []) if o.get("output_type") == "execute_result"
+                 and "".join(o["data"].get("text/plain", "")).startswith(("'Figure",
+                                                                          "'Table"))]
+        assert not stray, (path.name, stray)
+
+
 def test_second_run_is_a_fast_noop(tiny_run):
     t0 = time.monotonic()
     proc = run_snakemake(tiny_run, "-j2", "all", timeout=120)

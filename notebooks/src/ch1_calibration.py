@@ -39,7 +39,6 @@ from robomill.pipeline.prose import Prose, comparison_table, load_templates
 
 found = read_findings(findings)
 say = Prose(load_templates("ch1", templates), found)
-ds = open_artefact(model)
 JOINT, TURN = figures.CIRCLE_JOINT, figures.VECTOR_TURN_DEG
 num = Numbering("1", fig_dir=fig_dir)
 num.figure("joint_circle", f"Single-joint method: the circle of joint {JOINT} in its plane and "
@@ -58,6 +57,7 @@ num.figure("accuracy_histograms", "Positioning error on the accuracy points (not
            "identification), nominal, geometric and full model", number=9)
 num.table("accuracy", "Positioning accuracy of the three models on the accuracy points")
 num.table("regions", "RMS positioning error [mm] by workspace region")
+ds = open_artefact(model)
 
 
 

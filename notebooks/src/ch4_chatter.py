@@ -40,9 +40,6 @@ num.table("coupling", "Mode coupling and regenerative chatter per slot direction
 num.table("recommendations", "Stability margins of the configured cuts and the "
           "recommended chatter-free depths")
 
-
-
-# %%
 display(Markdown(say("robot_title")))
 num.show(figures.robot_lobes_figure(th), "thesis_lobes")
 display(Markdown(say("robot_lobes", ref_thesis_lobes=num.ref("thesis_lobes"))))

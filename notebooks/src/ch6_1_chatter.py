@@ -37,7 +37,6 @@ say = Prose(load_templates("ch6_1", templates), found)
 case_ds = load_cases(cases or [], open_artefact)
 bench = case_ds.get(F.get("bench_case"))
 slot = case_ds.get("insperger2004_slot") if F.get("has_slot") else None
-sim = open_artefact(simulation)
 
 # chapter 6 is numbered across its three pages: this one holds Figures 6.1-6.6, Table 6.1
 num = Numbering("6", fig_dir=fig_dir)
@@ -58,6 +57,7 @@ num.figure("detection", "Seed 002: chatter indicator per window; red: the adapta
            "logic block", number=6)
 num.table("onset", "Time domain against the lobes just below and above the SDM boundary",
           number=1)
+sim = open_artefact(simulation)
 
 
 

@@ -53,7 +53,6 @@ say = Prose(load_templates("ch6_2", templates), found)
 v = found.values()
 mp = open_artefact(maps)
 opt = pd.read_csv(optimal)
-bf = open_artefact(beamframe)
 heights = mp["height_mm"].values
 
 # chapter 6 is numbered across its three pages: 6.1 holds Figures 6.1-6.6 and Table 6.1
@@ -78,6 +77,7 @@ num.figure("optimal_poses", "Deformation under the end load, optimal against ran
            "(dashed: the seed's optimum)", number=9)
 num.figure("beamframe", "Beam-frame model: nodes at t = 0, and the tool displacement with the "
            "predicted σ(t) (seed 004, eq. 17)", number=10)
+bf = open_artefact(beamframe)
 
 # %% [markdown]
 # ## 6.2.1 Workspace (seed 001 §2)
