@@ -103,6 +103,11 @@ def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
     ``min_sensitivity`` of the joint's TCP motion are left out (ill-conditioned). Each element's
     estimates over the runs give its nominal (median) and interval (min, max).
 
+    A is the peak's ``amplitude_um``, √(2P) of the lateral + vertical power at the peak bin
+    (:func:`robomill.straightness.spectrum_peaks`), not the component's own amplitude: it
+    exceeds the component's by the other component's share there (0–20 % on the default
+    study's gear peaks, ≤ 2 % on its strong ones).
+
     Parameters
     ----------
     peaks
@@ -159,7 +164,12 @@ def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
     least ``min_cycles`` periods along the cut: spatial frequency
     f = order·|dq_j/ds|/(2π) (dq/ds from J dq = (u, 0) at fixed orientation) times the length.
     A joint that hardly turns along the path prints its gear error as a slow offset, not as
-    waviness (the straightness analysis' own resolution rule)."""
+    waviness (the straightness analysis' own resolution rule).
+
+    The quantity: the amplitude a of a·sin(2πfs) normal to the wall (n = ẑ × u, the
+    tracker's lateral axis), summed over the lines; the outcome it is checked against reads
+    the same quantity from the run's lateral amplitude spectrum (thesis eqs. 2.1–2.3, SPEC §3.2:
+    :func:`robomill.plan.check.waviness_outcomes`)."""
     J = jacobian_m(robot, q_rad)
     Jv = J[..., :3, :] * 1e6                                                 # µm/rad
     s = np.abs(np.einsum("...i,...ij->...j", np.asarray(normal, float), Jv))  # (..., n)
