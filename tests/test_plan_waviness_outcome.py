@@ -5,8 +5,12 @@ normal ẑ × u) and amplitude definition (sinusoid amplitude a of a·sin(2πfs)
 import numpy as np
 import pandas as pd
 import pytest
+import yaml
 
+from robomill.kinematics import robot_from_mapping
 from robomill.plan.check import check_table, waviness_elements, waviness_outcomes
+from robomill.plan.measured import gear_joint_amplitudes
+from robomill.stiffness import solve_poses
 from robomill.straightness import profile_spectrum, spectrum_peaks
 from robomill.straightness.profile import Profile, profile_dataset
 from robomill.straightness.study import gather_profiles
@@ -101,3 +105,39 @@ def test_no_tracker_spectra_no_waviness_outcome():
                          "waviness_high_um": [1.1]})
     assert check_table(pred, peaks=ELEMENTS_PEAKS).empty
     assert waviness_outcomes(waviness_elements(None), None, None).empty
+
+
+def test_the_identification_reads_the_same_component_amplitude():
+    """A joint's gear amplitude is identified from the peak's component amplitude in the run's
+    spectrum (1.0 µm lateral), not from the peak's √(2P) of both components (√5 µm): the
+    quantity the prediction carries is the one the outcome measures."""
+    cfg = yaml.safe_load(open("config.yaml"))
+    rb = robot_from_mapping(cfg["cell"]["robot"])
+    R0 = np.asarray(cfg["cell"]["tool_rotation"], float)
+    q, ok = solve_poses(rb, np.array([[700.0, 0.0, 200.0]]), R0,
+                        np.deg2rad(cfg["cell"]["q_home_deg"]))
+    assert ok.all()
+    u = np.array([1.0, 0.0, 0.0])
+    sens = abs(np.cross([0, 0, 1.0], u) @ np.asarray(rb.jacobian(q[0]))[:3, 0]) * 1e3  # µm/rad
+    _, _, ds = planted_run("px_f1", "c1")
+    profiles = gather_profiles([ds], ["px_f1"])
+    peaks = pd.DataFrame({"mechanism": ["gear"], "joint": [1], "stage": ["motor"],
+                          "order": ["mesh"], "component": ["lateral"], "cut": ["c1"],
+                          "run": ["px_f1"], "f_spatial_per_mm": [F_STRONG],
+                          "amplitude_um": [np.hypot(STRONG_UM, VERTICAL_UM)]})
+    poses = {"c1": (q[0], u)}
+    with_spectrum = gear_joint_amplitudes(peaks, rb, poses, profiles=profiles)
+    assert with_spectrum.loc[0, "dq_urad"] == pytest.approx(STRONG_UM / sens * 1e6, rel=0.02)
+    from_peak = gear_joint_amplitudes(peaks, rb, poses)
+    assert from_peak.loc[0, "dq_urad"] == pytest.approx(np.sqrt(5.0) / sens * 1e6, rel=1e-9)
+
+
+def test_a_point_interval_admits_its_outcome_within_the_tables_rounding():
+    """A prediction identified from one run has a point interval, written to 6 significant
+    digits: the unrounded outcome it came from is inside; one a unit further is not."""
+    pred = pd.DataFrame({"cut": ["a", "b"], "force_N": 0.473841, "force_low_N": 0.473841,
+                         "force_high_N": 0.473841})
+    mean = pd.DataFrame({"cut": ["a", "b"], "Fx_N": [0.47384114, 0.4738425], "Fy_N": 0.0,
+                         "Fz_N": 0.0})
+    t = check_table(pred, mean_forces=mean).set_index("cut")
+    assert t.loc["a", "within_interval"] and not t.loc["b", "within_interval"]

@@ -18,7 +18,15 @@ PLAN_MEASURED = {
         if CELL_ROBOT in STIFF_ROBOTS
         else {}
     ),
-    **({"peaks": "results/straightness/peaks.csv"} if has_kind("tracker") else {}),
+    # the gear lines and, for their component amplitudes, the runs' spectra
+    **(
+        {
+            "peaks": "results/straightness/peaks.csv",
+            "profiles": "results/straightness/profiles.nc",
+        }
+        if has_kind("tracker")
+        else {}
+    ),
 }
 PLAN_OUTPUTS = {
     "candidates": "results/plan/candidates.nc",
