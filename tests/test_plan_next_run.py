@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 import pytest
+import xarray as xr
 import yaml
 from conftest import REPO, SNAKEMAKE
 
@@ -91,24 +92,38 @@ NEXT = RunOutcomes(
     mean_forces=pd.DataFrame({"cut": ["plan_01", "plan_02"], "Fx_N": [0.0, 0.0],
                               "Fy_N": [15.5, 12.0], "Fz_N": [0.0, 0.0]}),
     force_peaks=pd.DataFrame({"cut": ["plan_01", "plan_02"], "dominant_power": [4.0, 4.0]}),
-    peaks=pd.DataFrame({"cut": ["plan_01", "plan_01", "plan_02"],
-                        "mechanism": ["gear", "gear", "gear"],
-                        "component": ["lateral", "lateral", "normal"],
-                        "amplitude_um": [0.5, 0.6, 9.0]}))
+    # tracker spectra of the planned runs: plan_01 has lateral lines 0.5 and 0.6 µm at the
+    # two predicted gear lines, plan_02 only a 9 µm vertical line there (lateral 0)
+    run_gears=pd.DataFrame({"run": ["r1", "r1", "r2", "r2"],
+                            "cut": ["plan_01", "plan_01", "plan_02", "plan_02"],
+                            "joint": [2, 3, 2, 3], "stage": "motor", "order": "mesh",
+                            "f_spatial_per_mm": [0.3, 0.5, 0.3, 0.5]}),
+    profiles=xr.Dataset(
+        {"amplitude_um": (("run", "component", "f"),
+                          [[[0, 0, 0.5, 0, 0.6, 0], [0] * 6],
+                           [[0] * 6, [0, 0, 0, 0, 9.0, 0]]])},
+        coords={"run": ["r1", "r2"], "component": ["lateral", "vertical"],
+                "f": [0.1, 0.2, 0.3, 0.4, 0.5, 0.6],
+                "length_mm": ("run", [40.0, 40.0]),
+                "resolution_per_mm": ("run", [0.025, 0.025])}))
+STUDY_PEAKS = pd.DataFrame({"mechanism": "gear", "joint": [2, 3], "stage": "motor",
+                            "order": "mesh", "component": "vertical"})
 
 
 def test_the_planned_runs_outcomes_come_first_one_row_per_cut_and_quantity():
-    t = check_table(PRED, simulated=SIM, planned_run=NEXT)
+    t = check_table(PRED, simulated=SIM, planned_run=NEXT, peaks=STUDY_PEAKS)
     assert not t.duplicated(["cut", "quantity"]).any()
     t = t.set_index(["cut", "quantity"])
     # force: the planned run's dynamometer (15.5 N), not the simulation's 20 N
     f = t.loc[("plan_01", "force")]
     assert f["outcome"] == pytest.approx(15.5) and f["within_interval"]
     assert f["source"] == f"{NEXT_RUN_DIR}/results/forces/mean_forces.csv"
-    # waviness: in-phase sum of the gear lateral lines, 0.5 + 0.6 um
+    # waviness: in-phase sum of the lateral spectrum at the predicted gear lines, 0.5 + 0.6 um
     w = t.loc[("plan_01", "waviness")]
     assert w["outcome"] == pytest.approx(1.1) and w["within_interval"]
-    assert ("plan_02", "waviness") not in t.index          # no lateral gear line
+    assert w["source"] == f"{NEXT_RUN_DIR}/results/straightness/profiles.nc"
+    # no lateral line there: measured 0 µm (the vertical 9 µm is not the wall normal)
+    assert t.loc[("plan_02", "waviness"), "outcome"] == 0.0
     # stability: the time-domain simulation where it cut the cut, else the planned run's
     # force spectrum: line √4 = 2 N on 12 N is 17 % > 5 % of the mean -> chatter
     assert t.loc[("plan_01", "stability"), "source"] == "results/plan/simulated.csv"

@@ -18,7 +18,15 @@ PLAN_MEASURED = {
         if CELL_ROBOT in STIFF_ROBOTS
         else {}
     ),
-    **({"peaks": "results/straightness/peaks.csv"} if has_kind("tracker") else {}),
+    # the gear lines and, for their component amplitudes, the runs' spectra
+    **(
+        {
+            "peaks": "results/straightness/peaks.csv",
+            "profiles": "results/straightness/profiles.nc",
+        }
+        if has_kind("tracker")
+        else {}
+    ),
 }
 PLAN_OUTPUTS = {
     "candidates": "results/plan/candidates.nc",
@@ -38,7 +46,8 @@ PLAN_NEXT_OUTCOMES = {
     for name, path in (
         ("next_mean_forces", "results/forces/mean_forces.csv"),
         ("next_force_peaks", "results/forces/peaks.csv"),
-        ("next_peaks", "results/straightness/peaks.csv"),
+        ("next_gears", "results/straightness/gears.csv"),
+        ("next_profiles", "results/straightness/profiles.nc"),
     )
     if os.path.exists(f"{NEXT_RUN_DIR}/{path}")
 }
@@ -71,7 +80,16 @@ rule plan_check:
             if has_kind("force")
             else {}
         ),
-        **({"peaks": "results/straightness/peaks.csv"} if has_kind("tracker") else {}),
+        # the waviness outcome: the tracker spectra at the attributed gear lines
+        **(
+            {
+                "peaks": "results/straightness/peaks.csv",
+                "gears": "results/straightness/gears.csv",
+                "profiles": "results/straightness/profiles.nc",
+            }
+            if has_kind("tracker")
+            else {}
+        ),
         # synthetic: the virtual cell cuts the planned cuts (synth.smk: plan_simulate);
         # real data: the stability outcome from the measured force spectrum
         **(

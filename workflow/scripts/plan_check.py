@@ -2,6 +2,7 @@
 simulated under the same cut id (issue 28: closing the loop)."""
 
 import pandas as pd
+import xarray as xr
 
 from robomill.io import write_table
 from robomill.pipeline.runlog import setup
@@ -15,9 +16,14 @@ def table(name):
     return pd.read_csv(inp[name]) if name in inp.keys() else None
 
 
+def dataset(name):
+    return xr.load_dataset(inp[name]) if name in inp.keys() else None
+
+
 # the planned cuts' own run (results/plan/next/run), once it has run
 planned_run = RunOutcomes(snakemake.params.next_run, mean_forces=table("next_mean_forces"),
-                          force_peaks=table("next_force_peaks"), peaks=table("next_peaks"))
+                          force_peaks=table("next_force_peaks"),
+                          run_gears=table("next_gears"), profiles=dataset("next_profiles"))
 predicted = pd.concat([pd.read_csv(inp.plan), pd.read_csv(inp.study)], ignore_index=True)
 table = check_table(
     predicted,
@@ -27,7 +33,9 @@ table = check_table(
     simulated=table("simulated"),
     force_peaks=table("force_peaks"),
     chatter_fraction_of_mean=float(snakemake.params.chatter_fraction_of_mean),
-    planned_run=planned_run)
+    planned_run=planned_run,
+    run_gears=table("gears"),
+    profiles=dataset("profiles"))
 write_table(table, snakemake.output.check)
 summary = check_summary(table, float(snakemake.params.tolerance))
 write_table(summary_table(summary), snakemake.output.summary)

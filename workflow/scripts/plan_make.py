@@ -3,6 +3,7 @@ front, the study's own cuts beside the plan, and the next experiment's manifest 
 
 import numpy as np
 import pandas as pd
+import xarray as xr
 import yaml
 
 from robomill.experiment import cut_endpoints_mm
@@ -38,7 +39,9 @@ gears = None
 if "peaks" in inp.keys() and placed:
     poses = cut_mid_poses(cell.robot, cuts, experiment, tool_rotation=cell.R0,
                           q0_rad=cell.q_seed_rad)
-    gears = gear_joint_amplitudes(pd.read_csv(inp.peaks), cell.robot, poses)
+    profiles = xr.load_dataset(inp.profiles) if "profiles" in inp.keys() else None
+    gears = gear_joint_amplitudes(pd.read_csv(inp.peaks), cell.robot, poses,
+                                  profiles=profiles)
 measured = Measured(modes=table("modes"), coefficients=table("coefficients"),
                     joints=table("joints"), gears=gears)
 plan = make_plan(req, measured, cell, cuts, experiment, robot_name=cell.robot.name)

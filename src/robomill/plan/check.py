@@ -2,10 +2,9 @@
 
 An outcome is whatever the run measured (or simulated) under the cut's id: the mean cutting
 force of ``results/forces/mean_forces.csv`` (magnitude of Fx, Fy, Fz) and the waviness of the
-tracker run along the cut (the in-phase sum of its gear-attributed lateral lines,
-``results/straightness/peaks.csv``, the quantity :func:`robomill.plan.measured.waviness_um`
-predicts). Cuts without an outcome are left out; a prediction is judged within its interval
-and within a relative tolerance (the issue's 25 %).
+tracker run along the cut (:func:`waviness_outcomes`: its measured spectrum read at the gear
+lines the prediction used, detected as peaks or not). Cuts without an outcome are left out; a
+prediction is judged within its interval and within a relative tolerance (the issue's 25 %).
 
 On a synthetic run the virtual cell also cuts every planned cut and the study's own at their
 poses (``results/plan/simulated.csv``, :mod:`robomill.synth.plancuts`): the static deflection
@@ -33,9 +32,12 @@ the cut was stable, 0 when it chattered. ``within_interval``: the interval admit
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import pandas as pd
+
+from robomill.plan.measured import spectrum_amplitude_um
 
 CHECK_COLUMNS = ["cut", "quantity", "unit", "predicted", "low", "high", "outcome",
                  "within_interval", "within_tolerance", "source"]
@@ -47,22 +49,110 @@ def force_outcomes(mean_forces: pd.DataFrame) -> pd.Series:
     return pd.Series(np.linalg.norm(F, axis=1), index=mean_forces["cut"].astype(str))
 
 
-def waviness_outcomes(peaks: pd.DataFrame) -> pd.Series:
-    """In-phase sum of the gear-attributed lateral line amplitudes per cut [µm]."""
-    g = peaks[(peaks["mechanism"] == "gear") & (peaks["component"] == "lateral")]
-    return g.groupby(g["cut"].astype(str))["amplitude_um"].sum()
+WAVINESS_MIN_CYCLES = 2.5
+"""A gear line counts as waviness where it completes at least this many periods along the
+path: the ``min_cycles`` default of :func:`robomill.plan.measured.waviness_um`, the rule of the
+prediction the outcome is compared with."""
+
+
+def waviness_elements(peaks: pd.DataFrame | None) -> pd.DataFrame:
+    """The gear elements ``joint, stage, order`` the waviness prediction carries: those the
+    study's tracker runs attributed (``results/straightness/peaks.csv``, mechanism ``gear``,
+    joint given: the input of :func:`robomill.plan.measured.gear_joint_amplitudes`)."""
+    cols = ["joint", "stage", "order"]
+    if peaks is None or peaks.empty or "joint" not in peaks:
+        return pd.DataFrame(columns=cols)
+    g = peaks[(peaks["mechanism"] == "gear") & peaks["joint"].notna()]
+    out = g[cols].astype({"joint": int}).astype({"stage": str, "order": str})
+    return out.drop_duplicates().reset_index(drop=True)
+
+
+def waviness_outcomes(elements: pd.DataFrame, run_gears: pd.DataFrame, profiles,
+                      *, min_cycles: float = WAVINESS_MIN_CYCLES,
+                      halfwidth_bins: float = 0.5, merge_bins: float = 2.0) -> pd.Series:
+    """Measured waviness normal to the wall per cut [µm], the quantity
+    :func:`robomill.plan.measured.waviness_um` predicts: Σ_e A_lat(f_e), the in-phase sum over
+    the predicted gear elements e (``elements``, :func:`waviness_elements`) of the run's
+    lateral sinusoid amplitude at the element's spatial frequency f_e on that run's path.
+
+    Same component: the wall normal of a cut, n = ẑ × u (:func:`robomill.plan.poses.cut_frames`),
+    is the tracker's lateral axis Z × u (:func:`robomill.straightness.perpendicular_axes`).
+    Same amplitude definition: A_lat is the Hann-windowed, coherent-gain corrected sinusoid
+    amplitude of the lateral deviation (``amplitude_um`` of ``profiles.nc``,
+    :func:`robomill.straightness.profile_spectrum`, thesis eqs. 2.1–2.3, SPEC §3.2), the
+    amplitude a in a·sin(2πfs) — as the joint amplitude δq_j carried through nᵀJ_v is. (A
+    detected peak's ``amplitude_um`` is √(2P) of the lateral + vertical power: not this
+    quantity.) The spectrum is read whether or not a peak was detected there, so a line below
+    the detection threshold still gives an outcome (its measured amplitude, an upper bound of
+    the line when the noise floor dominates).
+
+    Parameters
+    ----------
+    elements
+        ``joint, stage, order`` of the gear lines the prediction used.
+    run_gears
+        ``results/straightness/gears.csv``: per ``run`` (and its ``cut``) the spatial frequency
+        ``f_spatial_per_mm`` of every element on the run's path
+        (:func:`robomill.straightness.gear_spatial_frequencies`).
+    profiles
+        ``results/straightness/profiles.nc`` (``amplitude_um`` over ``run, component, f``;
+        ``length_mm`` and ``resolution_per_mm`` per run).
+    min_cycles
+        An element counts where f_e × path length ≥ ``min_cycles`` (the prediction's rule).
+    halfwidth_bins
+        A_lat(f_e) is the largest amplitude within ±``halfwidth_bins`` resolution bins 1/L of
+        f_e (the kinematic frequency vs the zero-padded grid).
+    merge_bins
+        Elements closer than ``merge_bins`` resolution bins make one spectral line (the Hann
+        main lobe; ``straightness.merge_bins``): it is read once, as the largest amplitude
+        from the lowest to the highest of their frequencies (± the half width), not once per
+        element (a coherent sum of close lines is at most the in-phase sum the prediction
+        makes).
+
+    Returns
+    -------
+    pandas.Series
+        Per cut id, the median over its runs of the run's sum (cuts without a run left out).
+    """
+    if elements is None or elements.empty or run_gears is None or profiles is None:
+        return pd.Series(dtype=float)
+    keys = set(zip(elements["joint"].astype(int), elements["stage"].astype(str),
+                   elements["order"].astype(str), strict=True))
+    runs = [str(r) for r in profiles["run"].values]
+    out: dict[str, list[float]] = {}
+    for k, run in enumerate(runs):
+        g = run_gears[run_gears["run"].astype(str) == run]
+        if g.empty:
+            continue
+        length = float(profiles["length_mm"].values[k])
+        res = float(profiles["resolution_per_mm"].values[k])
+        used = [(int(r["joint"]), str(r["stage"]), str(r["order"])) in keys
+                for _, r in g.iterrows()]
+        f_used = np.sort(g["f_spatial_per_mm"].to_numpy(float)[used])
+        f_used = f_used[f_used * length >= min_cycles]
+        total = 0.0
+        # clusters of elements closer than merge_bins: one line each
+        cuts = np.flatnonzero(np.diff(f_used) >= merge_bins * res) + 1
+        for group in np.split(f_used, cuts) if f_used.size else []:
+            a = spectrum_amplitude_um(profiles, run, "lateral", group[0], group[-1],
+                                      halfwidth_bins=halfwidth_bins)
+            total += a if np.isfinite(a) else 0.0
+        out.setdefault(str(g["cut"].iloc[0]), []).append(total)
+    return pd.Series({c: float(np.median(v)) for c, v in out.items()}, dtype=float)
 
 
 @dataclass(frozen=True)
 class RunOutcomes:
     """The outcomes of one pipeline run of the planned cuts (the next experiment's own run,
     in ``folder``: :data:`robomill.plan.outputs.NEXT_RUN_DIR`): its mean forces, force
-    spectrum peaks and tracker peaks (each None where that run has none)."""
+    spectrum peaks, tracker gear frequencies (``gears.csv``) and profiles (``profiles.nc``);
+    each None where that run has none)."""
 
     folder: str
     mean_forces: pd.DataFrame | None = None
     force_peaks: pd.DataFrame | None = None
-    peaks: pd.DataFrame | None = None
+    run_gears: pd.DataFrame | None = None
+    profiles: Any = None
 
 
 def _present(table: pd.DataFrame | None) -> bool:
@@ -112,30 +202,43 @@ def _stability_row(cut: str, r: pd.Series, outcome: float, source: str) -> dict 
             "within_tolerance": bool((p > 0) == stable), "source": source}
 
 
+def _rounding(x: float) -> float:
+    """Half a unit of the 6th significant digit of ``x``: the rounding of the predictions'
+    tables (``%.6g``, :func:`robomill.io.write_table`), the slack of the interval test, so a
+    point interval (one run identified the quantity) admits the outcome it was identified
+    from (the waviness of that run itself: δq = A / |nᵀJ|, then A = δq |nᵀJ|)."""
+    return 0.5 * 10.0 ** (np.floor(np.log10(abs(x))) - 5) if np.isfinite(x) and x else 0.0
+
+
 Outcome = tuple[str, str, pd.Series, str]
 """An outcome source: quantity, unit, the outcomes indexed by cut, and where they come from."""
 
 
-def _outcomes(mean_forces, peaks, simulated, planned_run: RunOutcomes | None
-              ) -> list[Outcome]:
+def _outcomes(mean_forces, peaks, simulated, planned_run: RunOutcomes | None,
+              run_gears=None, profiles=None) -> list[Outcome]:
     """Every outcome source, first preferred for a cut and quantity: the planned cuts' own
     run, then the study's run (dynamometer, tracker), then the virtual cell's cuts of
-    plan_simulate (deflection; force where no dynamometer recorded the cut)."""
+    plan_simulate (deflection; force where no dynamometer recorded the cut). The waviness
+    of either run is read at the gear lines the study's tracker peaks attributed (those the
+    prediction carries, :func:`waviness_elements`)."""
     out: list[Outcome] = []
+    elements = waviness_elements(peaks)
     if planned_run is not None:
         f = planned_run.folder
         if _present(planned_run.mean_forces):
             out.append(("force", "N", force_outcomes(planned_run.mean_forces),
                         f"{f}/results/forces/mean_forces.csv"))
-        if _present(planned_run.peaks):
-            out.append(("waviness", "um", waviness_outcomes(planned_run.peaks),
-                        f"{f}/results/straightness/peaks.csv"))
+        if _present(planned_run.run_gears) and planned_run.profiles is not None:
+            out.append(("waviness", "um",
+                        waviness_outcomes(elements, planned_run.run_gears,
+                                          planned_run.profiles),
+                        f"{f}/results/straightness/profiles.nc"))
     if _present(mean_forces):
         out.append(("force", "N", force_outcomes(mean_forces),
                     "results/forces/mean_forces.csv"))
-    if _present(peaks):
-        out.append(("waviness", "um", waviness_outcomes(peaks),
-                    "results/straightness/peaks.csv"))
+    if _present(run_gears) and profiles is not None:
+        out.append(("waviness", "um", waviness_outcomes(elements, run_gears, profiles),
+                    "results/straightness/profiles.nc"))
     if _present(simulated):
         sim = simulated.set_index(simulated["cut"].astype(str))
         for name, col in (("deflection_normal", "deflection_normal_um"),
@@ -168,7 +271,8 @@ def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = N
                 simulated: pd.DataFrame | None = None,
                 force_peaks: pd.DataFrame | None = None,
                 chatter_fraction_of_mean: float = 0.05,
-                planned_run: RunOutcomes | None = None) -> pd.DataFrame:
+                planned_run: RunOutcomes | None = None,
+                run_gears: pd.DataFrame | None = None, profiles: Any = None) -> pd.DataFrame:
     """Rows ``cut, quantity, unit, predicted, low, high, outcome, within_interval,
     within_tolerance, source`` for every predicted cut with an outcome (the ``stability``
     encoding in the module's docstring): one row per cut and quantity, its outcome from the
@@ -185,12 +289,18 @@ def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = N
         without a dynamometer record, force outcomes.
     force_peaks
         ``results/forces/peaks.csv`` (real data: the stability outcome when no simulation).
+    peaks
+        ``results/straightness/peaks.csv``: its gear-attributed lines are the elements whose
+        waviness is read (:func:`waviness_elements`).
+    run_gears, profiles
+        ``results/straightness/gears.csv`` and ``profiles.nc`` of the study's tracker runs:
+        the waviness outcome of a study cut (:func:`waviness_outcomes`).
     planned_run
         The outcomes of the planned cuts' own pipeline run
         (``snakemake all --configfile results/plan/next/config.yaml``), preferred for force and
         waviness; its force spectrum gives the stability of the cuts without one above.
     """
-    outcomes = _outcomes(mean_forces, peaks, simulated, planned_run)
+    outcomes = _outcomes(mean_forces, peaks, simulated, planned_run, run_gears, profiles)
     stabilities = _stabilities(simulated, force_peaks, mean_forces, planned_run,
                                chatter_fraction_of_mean)
     rows = []
@@ -208,7 +318,8 @@ def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = N
             o = float(series[cut])
             rows.append({"cut": cut, "quantity": name, "unit": unit, "predicted": p,
                          "low": lo, "high": hi, "outcome": o,
-                         "within_interval": bool(lo <= o <= hi),
+                         "within_interval": bool(lo - _rounding(lo) <= o
+                                                 <= hi + _rounding(hi)),
                          "within_tolerance": bool(abs(o - p) <= tolerance * abs(o)),
                          "source": source})
         for series, source in stabilities:

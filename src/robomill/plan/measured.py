@@ -92,9 +92,28 @@ def compliance_bounds(joints: pd.DataFrame) -> dict[str, np.ndarray]:
     return {"nominal": c, "low": np.minimum(c_lo, c), "high": np.maximum(c_hi, c)}
 
 
+def spectrum_amplitude_um(profiles, run: str, component: str, f_lo_per_mm: float,
+                          f_hi_per_mm: float | None = None, *,
+                          halfwidth_bins: float = 0.5) -> float:
+    """The largest sinusoid amplitude of one component of a tracker run's spectrum
+    (``amplitude_um`` of ``results/straightness/profiles.nc``: Hann-windowed, coherent-gain
+    corrected, thesis eqs. 2.1–2.3, SPEC §3.2) from ``f_lo`` to ``f_hi`` (default ``f_lo``)
+    ± ``halfwidth_bins`` resolution bins 1/L of the run [µm]; NaN where the run is absent."""
+    runs = [str(r) for r in profiles["run"].values]
+    if run not in runs:
+        return float("nan")
+    k = runs.index(run)
+    half = halfwidth_bins * float(profiles["resolution_per_mm"].values[k])
+    f = profiles["f"].values.astype(float)
+    amp = profiles["amplitude_um"].isel(run=k).sel(component=component).values
+    hi = f_lo_per_mm if f_hi_per_mm is None else f_hi_per_mm
+    near = (f >= f_lo_per_mm - half) & (f <= hi + half) & np.isfinite(amp)
+    return float(amp[near].max()) if near.any() else float("nan")
+
+
 def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
                           poses: Mapping[str, tuple[np.ndarray, np.ndarray]], *,
-                          min_sensitivity: float = 0.02) -> pd.DataFrame:
+                          min_sensitivity: float = 0.02, profiles=None) -> pd.DataFrame:
     """Joint-angle amplitude of every gear element seen on the tracker paths.
 
     A gear error δq_j of joint j moves the TCP by J_v[:, j] δq_j; a peak of amplitude A along
@@ -103,11 +122,21 @@ def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
     ``min_sensitivity`` of the joint's TCP motion are left out (ill-conditioned). Each element's
     estimates over the runs give its nominal (median) and interval (min, max).
 
+    A is the component's own sinusoid amplitude at the peak's frequency in the run's spectrum
+    (``profiles``, :func:`spectrum_amplitude_um`), the quantity :func:`waviness_um` carries and
+    :func:`robomill.plan.check.waviness_outcomes` measures. Without ``profiles`` (or the run in
+    it) A is the peak's ``amplitude_um``, √(2P) of the lateral + vertical power at the peak bin
+    (:func:`robomill.straightness.spectrum_peaks`), which exceeds the component's amplitude by
+    the other component's share there (0–20 % on the default study's gear peaks, ≤ 2 % on its
+    strong ones).
+
     Parameters
     ----------
     peaks
         ``results/straightness/peaks.csv`` (gear-attributed rows: ``mechanism`` gear, ``joint``
         given).
+    profiles
+        ``results/straightness/profiles.nc`` (the runs' spectra, joined on the peaks' ``run``).
     poses
         Per cut id (the peaks' ``cut``): the posture ``q_rad`` at the run's middle and the unit
         path direction ``u``.
@@ -134,8 +163,13 @@ def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
         sens = abs(float(ax @ Jv))
         if sens < min_sensitivity * np.linalg.norm(Jv) or sens == 0:
             continue
+        a_um = float(r["amplitude_um"])
+        if profiles is not None and "run" in r:
+            a = spectrum_amplitude_um(profiles, str(r["run"]), str(r["component"]),
+                                      float(r["f_spatial_per_mm"]))
+            a_um = a if np.isfinite(a) else a_um
         rows.append({"joint": j + 1, "stage": r["stage"], "order": r["order"],
-                     "dq": float(r["amplitude_um"]) / sens * 1e6})
+                     "dq": a_um / sens * 1e6})
     if not rows:
         return pd.DataFrame(columns=cols)
     t = pd.DataFrame(rows).groupby(["joint", "stage", "order"])["dq"]
@@ -159,7 +193,12 @@ def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
     least ``min_cycles`` periods along the cut: spatial frequency
     f = order·|dq_j/ds|/(2π) (dq/ds from J dq = (u, 0) at fixed orientation) times the length.
     A joint that hardly turns along the path prints its gear error as a slow offset, not as
-    waviness (the straightness analysis' own resolution rule)."""
+    waviness (the straightness analysis' own resolution rule).
+
+    The quantity: the amplitude a of a·sin(2πfs) normal to the wall (n = ẑ × u, the
+    tracker's lateral axis), summed over the lines; the outcome it is checked against reads
+    the same quantity from the run's lateral amplitude spectrum (thesis eqs. 2.1–2.3, SPEC §3.2:
+    :func:`robomill.plan.check.waviness_outcomes`)."""
     J = jacobian_m(robot, q_rad)
     Jv = J[..., :3, :] * 1e6                                                 # µm/rad
     s = np.abs(np.einsum("...i,...ij->...j", np.asarray(normal, float), Jv))  # (..., n)
