@@ -3,7 +3,7 @@
 # folder has the measurements behind it (the plan says which prediction is missing).
 
 
-from robomill.plan.outputs import NEXT_RUN_DIR
+from robomill.plan import NEXT_RUN_DIR
 
 PLAN_REQUEST = config.get("plan", {}).get("request", "plan.yaml")
 PLAN_MEASURED = {

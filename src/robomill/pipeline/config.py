@@ -302,7 +302,7 @@ def run_folder(config: dict[str, Any]) -> str | None:
     changes into it; with ``snakemake --directory D`` it is taken inside D), so that a run of
     other cuts leaves this study's results as they are: the next experiment's configuration
     (``results/plan/next/config.yaml``) names ``results/plan/next/run``
-    (:data:`robomill.plan.outputs.NEXT_RUN_DIR`). A relative ``data.raw_dir`` keeps meaning a
+    (:data:`robomill.plan.NEXT_RUN_DIR`). A relative ``data.raw_dir`` keeps meaning a
     folder relative to where the run started: it is made absolute here, in place, before the
     working directory changes.
     """

@@ -16,7 +16,7 @@ spectrum of the cut (``results/forces/peaks.csv``): chatter when its dominant mo
 
 The planned cuts' own pipeline run (``snakemake all --configfile
 results/plan/next/config.yaml``, written under ``results/plan/next/run``:
-:data:`robomill.plan.outputs.NEXT_RUN_DIR`) gives, once it has run, the outcomes of the planned
+:data:`robomill.plan.NEXT_RUN_DIR`) gives, once it has run, the outcomes of the planned
 cuts as the lab's instruments record them: the mean force of its dynamometer, the waviness of its
 tracker runs and, for cuts without a time-domain simulation, the stability from its force
 spectrum; these are preferred to the study's and the simulation's (one row per cut and
@@ -144,7 +144,7 @@ def waviness_outcomes(elements: pd.DataFrame, run_gears: pd.DataFrame, profiles,
 @dataclass(frozen=True)
 class RunOutcomes:
     """The outcomes of one pipeline run of the planned cuts (the next experiment's own run,
-    in ``folder``: :data:`robomill.plan.outputs.NEXT_RUN_DIR`): its mean forces, force
+    in ``folder``: :data:`robomill.plan.NEXT_RUN_DIR`): its mean forces, force
     spectrum peaks, tracker gear frequencies (``gears.csv``) and profiles (``profiles.nc``);
     each None where that run has none)."""
 

@@ -10,6 +10,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from robomill.plan import NEXT_RUN_DIR
 from robomill.plan.predict import Cell
 from robomill.plan.request import PlanRequest
 from robomill.xrvars import attrs
@@ -19,12 +20,6 @@ PREDICTION_COLUMNS = {
     "deflection_axial_um": "um", "waviness_um": "um", "force_N": "N",
 }
 """Predictions with an interval (``<name>`` nominal, ``_low``/``_high`` ends) in plan.csv."""
-
-NEXT_RUN_DIR = "results/plan/next/run"
-"""Where the next experiment's run writes (its ``results/``, the virtual cell's raw folder,
-logs), relative to the study's folder: ``results/plan/next/config.yaml`` names it (config
-``workdir``), so that running the planned cuts leaves the study's results as they are; the
-study's ``plan_check`` reads the outcomes of the planned cuts from there."""
 
 SINGLE = ("feed_per_tooth_mm", "feed_mark_um", "mrr_mm3_s", "form_error_um",
           "form_error_high_um")
