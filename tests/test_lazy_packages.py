@@ -55,3 +55,16 @@ def test_public_names_resolve_from_their_submodule(package):
             assert owner.startswith(package + "."), (name, owner)
     with pytest.raises(AttributeError, match="no attribute 'not_a_name'"):
         pkg.not_a_name  # noqa: B018
+
+
+def test_what_the_workflow_imports_while_parsed_stays_light():
+    """The Snakefile and its rule files import these on every snakemake call, before any job:
+    none may pull in the science stack (plan/outputs.py did: ~1 s per call)."""
+    code = ("import sys; import robomill.plan, robomill.pipeline.codedeps, robomill.experiment, "
+            "robomill.io.manifest, robomill.io.cell, robomill.synth.plan, "
+            "robomill.pipeline.config; "
+            "print(sorted(m for m in sys.modules if m.split('.')[0] in ('scipy', 'xarray', "
+            "'matplotlib') or m.startswith(('robomill.plan.', 'robomill.straightness.'))))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True).stdout.strip()
+    assert out == "[]", out
