@@ -233,3 +233,22 @@ def test_book_lists_the_chapters_skipped_for_want_of_data(tmp_path):
     assert "<li>chapter 3.1: no force files in manifest.yaml</li>" in text
     assert "<li>chapter 0: no cuts in manifest.yaml</li>" in text
     assert "The experiment:" not in text  # no cuts: no experiment summary
+
+
+def test_the_title_page_states_this_studys_experiment_not_the_thesis():
+    """A speed series without sets (another lab's design) is stated as its range, and the
+    title page puts no thesis question to it."""
+    import pandas as pd
+
+    from robomill.pipeline.book import experiment_line
+
+    series = pd.DataFrame({"cut": ["a", "b", "c"], "set": [None, None, None],
+                           "spindle_hz": [200.0, 300.0, 400.0], "feed_mm_s": [2.0, 2.0, 2.0],
+                           "depth_mm": [0.5, 1.0, 1.5]})
+    assert experiment_line(series) == ("3 cuts; spindle 12000–24000 rpm; feed 2 mm/s; "
+                                       "depth 0.5–1.5 mm")
+    thesis = pd.DataFrame({"cut": list("abcd"), "set": [1, 1, 2, 2],
+                           "spindle_hz": [28000 / 60] * 4, "feed_mm_s": [1.0, 10.0, 1.0, 10.0],
+                           "depth_mm": [0.25, 0.25, 0.5, 0.5]})
+    assert experiment_line(thesis) == ("4 cuts in 2 sets; spindle 28000 rpm; feed 1–10 mm/s; "
+                                       "depth 0.25–0.5 mm")

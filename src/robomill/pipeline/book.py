@@ -108,6 +108,26 @@ def _nav(prev: ChapterPage | None, nxt: ChapterPage | None) -> str:
     return "".join(parts)
 
 
+def _span(values: pd.Series, fmt: str) -> str:
+    lo, hi = float(values.min()), float(values.max())
+    return format(lo, fmt) if lo == hi else f"{format(lo, fmt)}–{format(hi, fmt)}"
+
+
+def experiment_line(cuts: pd.DataFrame) -> str:
+    """The title page's line on the experiment, from ``results/ingest/cuts.csv``: the cuts,
+    the sets where the design has them, and the range of spindle speed, feed and depth (one
+    value where all cuts share it), e.g. ``45 cuts in 3 sets; spindle 28000 rpm; feed
+    1–10 mm/s; depth 0.25–1 mm``."""
+    sets = cuts["set"].dropna().nunique() if "set" in cuts else 0
+    parts = [f"{len(cuts)} cuts" + (f" in {sets} sets" if sets > 1 else "")]
+    if "spindle_hz" in cuts and cuts["spindle_hz"].notna().any():
+        parts.append(f"spindle {_span(60 * cuts['spindle_hz'].dropna(), '.0f')} rpm")
+    for col, name, unit in (("feed_mm_s", "feed", "mm/s"), ("depth_mm", "depth", "mm")):
+        if col in cuts and cuts[col].notna().any():
+            parts.append(f"{name} {_span(cuts[col].dropna(), 'g')} {unit}")
+    return "; ".join(parts)
+
+
 def build_book(
     chapter_html: Sequence[str | Path],
     figures_root: str | Path,
@@ -146,15 +166,12 @@ def build_book(
             shutil.copyfile(png, dst)
 
     body = ["<h1>Robotic milling quality — the study, reproduced</h1>",
-            "<p>Why slots milled by an ABB IRB 1600 robot have poor surfaces: calibration, "
-            "surface spectra, cutting forces, path straightness against gear-mesh "
-            "frequencies, modal identification, chatter, stiffness and pose, and hexapod "
-            "dynamics, computed by the robomill pipeline from this run's data.</p>"]
+            "<p>Calibration, surface spectra, cutting forces, path straightness against "
+            "gear-mesh frequencies, modal identification, chatter and stiffness of this run's "
+            "robot cell, computed by the robomill pipeline from this run's data, then the "
+            "reference studies of the source papers.</p>"]
     if cuts_csv and Path(cuts_csv).exists() and len(cuts := pd.read_csv(cuts_csv)):
-        body.append(f"<p><b>The experiment:</b> {len(cuts)} cuts in {cuts['set'].nunique()} "
-                    f"set(s); spindle {60 * cuts['spindle_hz'].iloc[0]:.0f} rpm; feeds "
-                    f"{cuts['feed_mm_s'].min():g}–{cuts['feed_mm_s'].max():g} mm/s; depths "
-                    f"{', '.join(f'{d:g}' for d in sorted(cuts['depth_mm'].unique()))} mm.</p>")
+        body.append(f"<p><b>The experiment:</b> {experiment_line(cuts)}.</p>")
         body.append(f"<p><b>The design:</b> {html.escape(describe_design(cuts))}.</p>")
     body.append("<h2>Contents</h2>")
     part = None
