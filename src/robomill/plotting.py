@@ -39,6 +39,9 @@ STYLE = {
 }
 plt.rcParams.update(STYLE)
 
+SAVE_DPI = 150
+"""Resolution of the saved figure files [dots per inch]."""
+
 
 def save_figure(fig: plt.Figure, fig_dir: str | Path, name: str) -> Path:
     """Save ``fig`` as ``<fig_dir>/<name>.png`` (150 dpi) and return the path.
@@ -48,5 +51,17 @@ def save_figure(fig: plt.Figure, fig_dir: str | Path, name: str) -> Path:
     """
     path = Path(fig_dir) / f"{name}.png"
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=150)
+    fig.savefig(path, dpi=SAVE_DPI)
     return path
+
+
+def saved_image(path: str | Path, shown_dpi: float, alt: str = ""):
+    """The PNG that :func:`save_figure` wrote, as an IPython image shown at the size the
+    inline backend would give it (``shown_dpi``) with alternative text ``alt``: a chapter
+    renders each figure once, not a second time for its inline copy."""
+    from IPython.display import Image
+    from PIL import Image as PILImage
+
+    with PILImage.open(path) as im:
+        width_px = im.size[0]
+    return Image(filename=str(path), width=round(width_px * shown_dpi / SAVE_DPI), alt=alt)

@@ -135,13 +135,14 @@ class Numbering:
         import matplotlib.pyplot as plt
         from IPython.display import display
 
-        from robomill.plotting import save_figure
+        from robomill.plotting import save_figure, saved_image
 
         if self.fig_dir is None:
             raise ValueError(f"chapter {self.chapter}: Numbering(fig_dir=...) is needed to save "
                              f"figure {key!r}")
-        save_figure(fig, self.fig_dir, self.file(key))
-        plt.show()
+        path = save_figure(fig, self.fig_dir, self.file(key))
+        plt.close(fig)
+        display(saved_image(path, fig.dpi, alt=self.caption_text(key)))
         display(self.caption(key))
 
     def labels(self) -> list[str]:
