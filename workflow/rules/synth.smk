@@ -47,9 +47,11 @@ rule synth_truth:
         "../scripts/synth_truth.py"
 
 
-# Stylus profiles and dynamometer records: one simulator job each for all the planned cuts,
-# simulated one after the other in one process, so that Python and the library start once
-# (a per-cut job would pay the start-up 45 times for under a second of work each).
+# Stylus profiles, dynamometer records, tracker runs and impact hits: one simulator job each
+# for all the planned cuts, runs or hits, simulated one after the other in one process, so that
+# Python and the library start once (a per-cut job would pay the start-up 45 times for under a
+# second of work each). The files of one instrument always change together: all come from the
+# same configuration.
 SYNTH_PROFILE_CUTS = [
     c for c in CUTS if c.id in {f["cut"] for f in SYNTH_FILES.get("profile", [])}
 ]
@@ -95,40 +97,38 @@ rule forces_synth_dynamometer:
 
 rule straightness_synth_tracker:
     output:
-        "results/synthetic/raw/tracker/{run}.csv",
+        [f"results/synthetic/raw/tracker/{run}.csv" for run in SYNTH_TRACKER_RUNS],
     log:
-        "results/logs/straightness/synth_{run}.log",
+        "results/logs/straightness/synth.log",
     benchmark:
-        "results/benchmarks/rules/straightness/synth_{run}.tsv"
-    wildcard_constraints:
-        run="|".join(map(re.escape, SYNTH_TRACKER_RUNS)) or "no_tracker_run",
+        "results/benchmarks/rules/straightness/synth.tsv"
     conda:
         ENV
     params:
         cfg=SYNTH_CFG,
-        direction=lambda w: SYNTH_TRACKER_RUNS[w.run]["direction"],
-        feed_mm_s=lambda w: SYNTH_TRACKER_RUNS[w.run]["feed_mm_s"],
-        cut=lambda w: SYNTH_TRACKER_RUNS[w.run]["cut"],
+        runs=[
+            {"direction": f["direction"], "feed_mm_s": f["feed_mm_s"], "cut": f["cut"]}
+            for f in SYNTH_TRACKER_RUNS.values()
+        ],
     script:
         "../scripts/straightness_synth_tracker.py"
 
 
 rule synth_impact:
     output:
-        "results/synthetic/raw/impact/hit{hit_dir}_{hit}.csv",
+        [f"results/synthetic/raw/{f['path']}" for f in SYNTH_FILES.get("impact", [])],
     log:
-        "results/logs/synth/impact/hit{hit_dir}_{hit}.log",
+        "results/logs/synth/impact.log",
     benchmark:
-        "results/benchmarks/rules/synth/impact/hit{hit_dir}_{hit}.tsv"
-    wildcard_constraints:
-        hit_dir="[XYZ]",
-        hit="[0-9]+",
+        "results/benchmarks/rules/synth/impact.tsv"
     conda:
         ENV
     params:
         cfg=SYNTH_CFG,
-        direction=lambda w: w.hit_dir,
-        hit=lambda w: int(w.hit),
+        hits=[
+            {"direction": f["direction"], "hit": int(f["hit"])}
+            for f in SYNTH_FILES.get("impact", [])
+        ],
     script:
         "../scripts/modal_synth_impact.py"
 

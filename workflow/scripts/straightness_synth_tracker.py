@@ -1,4 +1,5 @@
-"""Simulate one laser-tracker run (tracker/<dir>_f<feed>.csv) from the virtual cell."""
+"""Simulate the laser-tracker runs (tracker/<dir>_f<feed>.csv) of the virtual cell, one after
+the other in this process (one output per run, in the order of ``params.runs``)."""
 
 from robomill.pipeline.runlog import setup
 from robomill.synth.cell import cell_from_config
@@ -9,8 +10,10 @@ log = setup(snakemake.log[0], "straightness_synth_tracker")
 p = snakemake.params
 cfg = dict(p.cfg)
 cell = cell_from_config(cfg)
-cut = next(c for c in synthetic_cuts(cfg) if c.id == p.cut)
-df = simulate_run(cfg, cell, p.direction, float(p.feed_mm_s), cut)
-write_run(df, snakemake.output[0])
-log.info("tracker run %s_f%g along %s: %d samples, %.2f s", p.direction, p.feed_mm_s, cut.id,
-         len(df), df["t_s"].iloc[-1])
+cuts = {c.id: c for c in synthetic_cuts(cfg)}
+for run, path in zip(p.runs, snakemake.output, strict=True):
+    cut = cuts[run["cut"]]
+    df = simulate_run(cfg, cell, run["direction"], float(run["feed_mm_s"]), cut)
+    write_run(df, path)
+    log.info("tracker run %s_f%g along %s: %d samples, %.2f s", run["direction"],
+             run["feed_mm_s"], cut.id, len(df), df["t_s"].iloc[-1])
