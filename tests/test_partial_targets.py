@@ -277,3 +277,40 @@ def test_the_configured_robots_are_analysed_where_the_folder_holds_them(other_de
     assert _said(ident.stderr) == [
         f"robomill: stiffness needs robot files and stiffness files of robot irb1600: none in "
         f"{data}/manifest.yaml"]
+
+
+def _job_counts(proc: subprocess.CompletedProcess) -> dict[str, int]:
+    """``{rule: jobs}`` of a dry run's "Job stats" table."""
+    lines = proc.stdout.splitlines()
+    start = next(i for i, x in enumerate(lines) if x.startswith("Job stats"))
+    counts = {}
+    for x in lines[start + 3:]:
+        parts = x.split()
+        if len(parts) != 2 or not parts[1].isdigit() or parts[0] == "total":
+            break
+        counts[parts[0]] = int(parts[1])
+    return counts
+
+
+def test_real_files_get_a_job_per_cut_the_virtual_cell_one_per_instrument(other_design,
+                                                                        tmp_path):
+    """Issue 29: a real profile or tracker file can change alone, so it is analysed in its own
+    job; the virtual cell's files of one instrument come from one simulator job and change
+    together, so one job simulates them and one analyses them."""
+    data, plan = other_design
+    (tmp_path / "raw").mkdir()
+    raw = _job_counts(_dry(tmp_path / "raw", data, "all"))
+    n_profiles = sum(f["kind"] == "profile" for f in plan["files"])
+    n_runs = sum(f["kind"] == "tracker" for f in plan["files"])
+    assert n_profiles > 1 and n_runs > 1
+    assert raw["surface_profile"] == n_profiles and "surface_profiles" not in raw
+    assert raw["straightness_run"] == n_runs and "straightness_runs" not in raw
+    assert not {"synth_impact", "straightness_synth_tracker"} & set(raw)
+    (tmp_path / "synthetic").mkdir()
+    synthetic = _job_counts(run_snakemake(tmp_path / "synthetic", "-n", "all", timeout=300))
+    for rule in ("surface_profiles", "straightness_runs", "synth_impact",
+                 "straightness_synth_tracker", "surface_synth_profiles",
+                 "forces_synth_dynamometer"):
+        assert synthetic[rule] == 1, rule
+    assert not {"surface_profile", "straightness_run"} & set(synthetic)
+    assert synthetic["forces_cut"] > 1  # ~1.6 s of work per cut: the split buys parallelism

@@ -267,3 +267,18 @@ def chapter_parameters(wildcards, output):
 def chapter_failed_copy(wildcards, output):
     """Where a failing chapter's executed notebook is kept (beside its log)."""
     return f"results/logs/chapters/{chapter_target(wildcards, output)}.failed.ipynb"
+
+
+def tracker_run_spec(run):
+    """What the analysis of tracker run ``run`` needs from its manifest entry
+    (``TRACKER_RUNS`` of straightness.smk)."""
+    f = TRACKER_RUNS[run]
+    return {
+        "run": run,
+        "relpath": f["path"],
+        "direction": tracker_direction(f),
+        "feed_mm_s": f["feed_mm_s"],
+        "fs_hz": f.get("fs_hz"),
+        "time_base": f.get("time_base", "time"),
+        "cut": f.get("cut", ""),
+    }

@@ -1,4 +1,5 @@
-"""Analyse one stylus profile: detrend, Gaussian split, spectra, segment RMS, peaks."""
+"""Analyse stylus profiles: detrend, Gaussian split, spectra, segment RMS, peaks (one cut, or
+every cut of the virtual cell in one job: ``params.cut`` and the outputs in the same order)."""
 
 from robomill.io import write_artefact, write_table
 from robomill.io.profiles import read_profile
@@ -8,18 +9,26 @@ from robomill.surface.options import settings
 from robomill.surface.peaks import profile_peaks
 from robomill.surface.psd import analyse_profile
 
+
+def items(paths):
+    """A rule's output or input as a list (one path is a string)."""
+    return [paths] if isinstance(paths, str) else list(paths)
+
+
 log = setup(snakemake.log[0], "surface_profile")
 p = snakemake.params
 opts = settings(p.settings)
-path = load_study(snakemake.input.study).verify_file(p.relpath)
-x, z, fs = read_profile(path)
-ds = analyse_profile(x, z, opts)
-ds.attrs.update({"cut": p.cut["id"], "feed_mm_s": float(p.cut["feed_mm_s"])})
-peaks = profile_peaks(ds, opts)
-peaks.insert(0, "cut", p.cut["id"])
-write_artefact(ds, snakemake.output.nc, rule="surface_profile", inputs=[str(path)],
-               config_section=opts)
-write_table(peaks, snakemake.output.peaks)
-log.info("%s: %d samples at %g /mm; waviness RMS %.3f um, roughness RMS %.3f um, %d peaks",
-         p.cut["id"], x.size, fs, float(ds.waviness_rms_um), float(ds.roughness_rms_um),
-         len(peaks))
+study = load_study(snakemake.input.study)
+for relpath, cut, nc, peaks_csv in zip(p.relpath, p.cut, items(snakemake.output.nc),
+                                       items(snakemake.output.peaks), strict=True):
+    path = study.verify_file(relpath)
+    x, z, fs = read_profile(path)
+    ds = analyse_profile(x, z, opts)
+    ds.attrs.update({"cut": cut["id"], "feed_mm_s": float(cut["feed_mm_s"])})
+    peaks = profile_peaks(ds, opts)
+    peaks.insert(0, "cut", cut["id"])
+    write_artefact(ds, nc, rule="surface_profile", inputs=[str(path)], config_section=opts)
+    write_table(peaks, peaks_csv)
+    log.info("%s: %d samples at %g /mm; waviness RMS %.3f um, roughness RMS %.3f um, %d peaks",
+             cut["id"], x.size, fs, float(ds.waviness_rms_um), float(ds.roughness_rms_um),
+             len(peaks))
