@@ -294,23 +294,24 @@ def _job_counts(proc: subprocess.CompletedProcess) -> dict[str, int]:
 
 def test_real_files_get_a_job_per_cut_the_virtual_cell_one_per_instrument(other_design,
                                                                         tmp_path):
-    """Issue 29: a real profile or tracker file can change alone, so it is analysed in its own
-    job; the virtual cell's files of one instrument come from one simulator job and change
-    together, so one job simulates them and one analyses them."""
+    """Issue 29: a real profile, force or tracker file can change alone, so it is analysed in
+    its own job; the virtual cell's files of one instrument come from one simulator job and
+    change together, so one job simulates them and one analyses them."""
     data, plan = other_design
     (tmp_path / "raw").mkdir()
     raw = _job_counts(_dry(tmp_path / "raw", data, "all"))
     n_profiles = sum(f["kind"] == "profile" for f in plan["files"])
     n_runs = sum(f["kind"] == "tracker" for f in plan["files"])
-    assert n_profiles > 1 and n_runs > 1
+    n_forces = sum(f["kind"] == "force" for f in plan["files"])
+    assert n_profiles > 1 and n_runs > 1 and n_forces > 1
+    assert raw["forces_cut"] == n_forces and "forces_cuts" not in raw
     assert raw["surface_profile"] == n_profiles and "surface_profiles" not in raw
     assert raw["straightness_run"] == n_runs and "straightness_runs" not in raw
     assert not {"synth_impact", "straightness_synth_tracker"} & set(raw)
     (tmp_path / "synthetic").mkdir()
     synthetic = _job_counts(run_snakemake(tmp_path / "synthetic", "-n", "all", timeout=300))
-    for rule in ("surface_profiles", "straightness_runs", "synth_impact",
+    for rule in ("surface_profiles", "straightness_runs", "forces_cuts", "synth_impact",
                  "straightness_synth_tracker", "surface_synth_profiles",
                  "forces_synth_dynamometer"):
         assert synthetic[rule] == 1, rule
-    assert not {"surface_profile", "straightness_run"} & set(synthetic)
-    assert synthetic["forces_cut"] > 1  # ~1.6 s of work per cut: the split buys parallelism
+    assert not {"surface_profile", "straightness_run", "forces_cut"} & set(synthetic)
