@@ -1,6 +1,8 @@
 """Issue 28: the stability prediction and the virtual cell's time-domain check agree whatever
 the feed direction. Truths written by hand, not by the library: reversing the feed negates
-both in-plane components of every mode shape, which leaves φφᵀ (the receptance) unchanged;
+both in-plane components of every mode shape, which leaves φφᵀ (the receptance) unchanged
+(a mirror of the part and the modes is no symmetry: the spindle keeps its sense of rotation,
+so the mirror image of a cut is the other milling mode, the up/down case below);
 the mean directional coefficient along the wall normal of a half-immersion cut,
 W̄_yy = N K_t/(2π) ∫ cos φ (sin φ − K_r cos φ) dφ, is N K_t (1/2 − K_r π/4)/(2π) > 0 in
 up-milling and −N K_t (1/2 + K_r π/4)/(2π) in down-milling, so Tlusty's limit of a normal mode
