@@ -34,11 +34,11 @@ def test_the_rotation_effect_is_the_largest_spread_over_rotations():
                                                  reachable=[[False] * 3])))
 
 
-def _comparison(study_feasible, rotation_effect):
+def _comparison(study_feasible, rotation_effect, rotations=12.0):
     plan = pd.DataFrame({"cut": ["plan_01", "plan_02"], "mrr_mm3_s": [30.0, 20.0]})
     study = pd.DataFrame({"cut": ["s1", "s2", "s3"], "mrr_mm3_s": [15.0, 12.0, 40.0],
                           "feasible": study_feasible})
-    return comparison_table(plan, study, rotation_effect).set_index("quantity")
+    return comparison_table(plan, study, rotation_effect, rotations).set_index("quantity")
 
 
 def test_chapter_7_states_the_ratio_and_the_rotation_effect_from_the_comparison():
@@ -53,3 +53,29 @@ def test_chapter_7_states_the_ratio_and_the_rotation_effect_from_the_comparison(
     text = " ".join(say("comparison", "rotation_effect").split())
     assert "none of the study's 3 cuts meets them, so there is no ratio" in text
     assert "by at most 16.7 %" in text and "{" not in text
+
+
+def test_one_allowed_rotation_is_not_an_effect_of_zero():
+    """A request with one redundancy angle (the default when it lists none) compares nothing:
+    the effect is not computed, and the chapter says why instead of "changes no stiffness"."""
+    pmap = _pose_map([[100.0, 110.0, 120.0]]).isel(rotation=[0])
+    assert np.isnan(rotation_effect_pct(pmap))
+    table = _comparison([True, True, False], rotation_effect_pct(pmap), pmap.sizes["rotation"])
+    assert table.loc["rotations", "value"] == 1.0
+    assert np.isnan(table.loc["rotation_effect_pct", "value"])
+
+
+@pytest.mark.parametrize("rotations, says", [
+    (1.0, "No rotation about the tool axis was allowed"),
+    (12.0, "was not computed (no reachable pose"),
+    (float("nan"), "was not computed (no reachable pose")])  # a table without the count
+def test_chapter_7_says_what_a_nan_rotation_effect_means(rotations, says):
+    table = _comparison([True, True, False], np.nan, rotations)
+    if rotations != rotations:
+        table = table.drop(index="rotations")
+    values = comparison_values(table)
+    assert values["rotation_effect_pct"] is None
+    text = " ".join(Prose(load_templates("ch7"), values)("rotation_effect").split())
+    assert says in text
+    assert "changes no predicted" not in text and "at most" not in text and "{" not in text
+    assert "a ratio of **2**" in Prose(load_templates("ch7"), values)("comparison")

@@ -24,6 +24,18 @@ The planner's critical depth is the smaller of the regenerative lobes and the mo
 depth (:mod:`robomill.plan.lobes`); the check runs the cut twice, with Tlusty's overlap factor
 μ = 1 (the seed's regenerative chip) and μ = 0 (the delay-free chip of mode coupling), and
 calls it stable when the vibration grows in neither run (:func:`stability_verdict`).
+
+The delay-free run has the linear chip (``linear_chip``: every tooth inside its engagement
+cuts h of either sign). Mode coupling is a linear mechanism (Tlusty; the planner's
+mode-coupling depth is the eigenvalue limit of the linear delay-free system), and a delay-free
+chip carries no memory of the surface: a tooth that leaves the cut there leaves no uncut
+material for the next one, so the seed's h ≥ 0 clipping would make that run a different,
+unphysical model. At the thesis' feeds per tooth (1–11 µm) that clipping acts at vibrations
+of a fraction of a micrometre near the entry and exit (where c sin φ → 0): it held a delay-free
+run growing at +17.6 1/s in its linear model to no growth, and kicked one decaying at
+−6.1 1/s into a limit cycle with a fifth of the teeth out of the cut (issue 28,
+``s2_g4_px`` and ``s1_g1_my`` of the default study). The regenerative run keeps the seed's
+chip: the surface it cuts is the one the previous tooth left.
 """
 
 from __future__ import annotations
@@ -63,6 +75,11 @@ class ModalCut:
     """Tlusty's overlap factor μ in Δ = d(t) − μ d(t − τ) − (1 − μ) d̄: 1 regenerative
     (seed 002), 0 the delay-free chip of mode coupling (the surface does not carry the
     vibration; d̄ the static deflection under the mean force, which only shifts the path)."""
+    linear_chip: bool = False
+    """False: the seed's chip, a tooth whose h ≤ 0 cuts nothing (it has left the cut). True:
+    every tooth between entry and exit cuts its chip h of either sign, the force linear in
+    the vibration: the model whose eigenvalues the lobes and the mode-coupling depth are
+    (the delay-free check run; module docstring)."""
 
     @property
     def tooth_hz(self) -> float:
@@ -90,10 +107,11 @@ def modal_steps(f_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.ndarray, dt_s: flo
 
 @numba.njit(cache=True)
 def _run(Phi, Gam, shape, eta, n_steps, m_delay, dt, omega, teeth, phst, phex, c, a,
-         coef, kt_pass, overlap, d0x, d0y, rec_every, rec):
+         coef, kt_pass, overlap, d0x, d0y, linear, rec_every, rec):
     """Advance every mode ``n_steps``; record (Fx, Fy, Fz, Δx, Δy, teeth out of the cut,
     teeth deep in the cut) every ``rec_every`` steps (a tooth is deep in the cut where
-    sin φ > 1/2; out of it where its chip is then ≤ 0)."""
+    sin φ > 1/2; out of it where its chip is then ≤ 0). ``linear``: a tooth between entry
+    and exit cuts whatever the sign of its chip (the count of teeth with h ≤ 0 is kept)."""
     M = Phi.shape[0]
     hx = np.empty(n_steps + 1)
     hy = np.empty(n_steps + 1)
@@ -130,7 +148,7 @@ def _run(Phi, Gam, shape, eta, n_steps, m_delay, dt, omega, teeth, phst, phex, c
                     deep += 1.0
                     if h <= 0.0:
                         out += 1.0
-                if h > 0.0:
+                if h > 0.0 or linear:
                     pas = min(int(np.floor(turns)) * teeth + j, kt_pass.size - 1)
                     kap = kt_pass[pas]
                     Ft = a * (coef[0] * kap * h + coef[3])
@@ -206,7 +224,8 @@ def simulate_modal_cut(cut: ModalCut, *, duration_s: float, steps_per_tooth: int
     nrec = _run(Phi, Gam, shape, eta, n, m, dt, 2 * np.pi * cut.spindle_rpm / 60.0,
                 int(cut.teeth), float(cut.entry_rad), float(cut.exit_rad),
                 float(cut.feed_per_tooth_m), float(cut.depth_m), coef, kt_pass,
-                float(cut.overlap), float(d0[0]), float(d0[1]), every, rec)
+                float(cut.overlap), float(d0[0]), float(d0[1]), bool(cut.linear_chip), every,
+                rec)
     rec = rec[:nrec]
     return {"t_s": np.arange(nrec) * dt * every, "force_N": rec[:, :3], "delta_m": rec[:, 3:5],
             "teeth_out": rec[:, 5], "teeth_deep": rec[:, 6], "fs_hz": 1.0 / (dt * every)}
@@ -240,8 +259,9 @@ class Verdict:
     indicator_N: float
     """That line's amplitude [N]."""
     out_of_cut_fraction: float
-    """Over the last third of that run, the share of teeth deep in the cut (sin φ > 1/2) whose
-    chip was ≤ 0 (the tool jumping out of the cut: a saturated vibration)."""
+    """Over the last third of the regenerative run (the seed's chip), the share of teeth deep in
+    the cut (sin φ > 1/2) whose chip was ≤ 0 (the tool jumping out of the cut: a saturated
+    vibration)."""
     mean_force_N: np.ndarray
     """Mean force over the last two thirds of the regenerative run ``(3,)`` (cut frame, on the
     tool)."""
@@ -250,16 +270,18 @@ class Verdict:
 def stability_verdict(regenerative: dict, coupling: dict, tooth_hz: float, *,
                       band_hz: tuple[float, float], harmonic_halfwidth_hz: float,
                       growth_ratio: float, max_out_of_cut_fraction: float = 0.05) -> Verdict:
-    """Chatter or not from the two runs of :func:`simulate_modal_cut` (overlap μ = 1 and 0:
-    the two mechanisms whose smaller critical depth the planner predicts,
-    :func:`robomill.plan.predict.critical_depth_m`): stable when the vibration grows less than
-    ``growth_ratio`` times between the middle and the last third of both runs
-    (:func:`vibration_growth`) and the teeth stay in the cut (at most
-    ``max_out_of_cut_fraction`` of the teeth deep in the cut leave it over the last third: a
-    vibration that grew and saturated early). The frequency and amplitude of chapter 4's indicator
-    (:func:`chatter_indicator`: the largest line of the resultant in-plane force in
-    ``band_hz`` away from the tooth-passing harmonics) over the last third of the
-    faster-growing run are reported beside."""
+    """Chatter or not from the two runs of :func:`simulate_modal_cut` (overlap μ = 1 with the
+    seed's chip, and μ = 0 with the linear chip: the two mechanisms whose smaller critical
+    depth the planner predicts, :func:`robomill.plan.predict.critical_depth_m`): stable when
+    the vibration grows less than ``growth_ratio`` times between the middle and the last third
+    of both runs (:func:`vibration_growth`) and the teeth stay in the cut in the regenerative
+    run (at most ``max_out_of_cut_fraction`` of the teeth deep in the cut leave it over the last
+    third: a vibration that grew and saturated early). The teeth of the delay-free run are not
+    counted: its chip is linear (nothing saturates it, an unstable run grows) and a tooth
+    leaving a delay-free cut has no physical meaning (module docstring). The frequency and
+    amplitude of chapter 4's indicator (:func:`chatter_indicator`: the largest line of the
+    resultant in-plane force in ``band_hz`` away from the tooth-passing harmonics) over the
+    last third of the faster-growing run are reported beside."""
     g = (vibration_growth(regenerative), vibration_growth(coupling))
     worst = regenerative if g[0] >= g[1] else coupling
     F = np.asarray(worst["force_N"], float)
@@ -268,9 +290,9 @@ def stability_verdict(regenerative: dict, coupling: dict, tooth_hz: float, *,
                                 harmonic_halfwidth_hz) if np.all(np.isfinite(R))
               else (float("inf"), float("nan")))
     F1 = np.asarray(regenerative["force_N"], float)
-    k = 2 * (len(F) // 3)
-    deep = float(np.sum(worst["teeth_deep"][k:]))
-    out = float(np.sum(worst["teeth_out"][k:])) / deep if deep > 0 else float("nan")
+    k = 2 * (len(F1) // 3)
+    deep = float(np.sum(regenerative["teeth_deep"][k:]))
+    out = float(np.sum(regenerative["teeth_out"][k:])) / deep if deep > 0 else float("nan")
     stable = max(g) < growth_ratio and not out > max_out_of_cut_fraction
     return Verdict(stable=bool(stable), growth_regenerative=g[0],
                    growth_coupling=g[1], chatter_hz=float(f), indicator_N=float(amp),

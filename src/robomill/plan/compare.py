@@ -64,8 +64,12 @@ def rotation_effect_pct(pose_map: xr.Dataset) -> float:
     """The most a rotation about the tool axis changes a pose prediction, in %: over every
     placement and direction, (max − min)/max over the rotations of the stiffness normal to the
     wall and along the tool and of the largest pessimistic critical depth (unreachable poses
-    left out; NaN when no pose is reachable). Near zero when the tool point lies on the last
-    joint's axis: the rotation then only turns that joint, and the arm's pose is unchanged."""
+    left out). NaN (not computed) when the pose map has fewer than two rotations (the request
+    allowed one redundancy angle: nothing to compare) or no reachable pose. Near zero when the
+    tool point lies on the last joint's axis: the rotation then only turns that joint, and the
+    arm's pose is unchanged."""
+    if pose_map.sizes.get("rotation", 0) < 2:
+        return np.nan
     spreads = []
     for name in ("k_normal_N_m", "k_axial_N_m", "a_crit_best_low_mm"):
         v = pose_map[name].where(pose_map["reachable"])
@@ -76,10 +80,12 @@ def rotation_effect_pct(pose_map: xr.Dataset) -> float:
 
 
 def comparison_table(plan: pd.DataFrame, study: pd.DataFrame,
-                     rotation_effect: float = np.nan) -> pd.DataFrame:
+                     rotation_effect: float = np.nan, rotations: float = np.nan
+                     ) -> pd.DataFrame:
     """Findings: the plan's best removal rate, the best of the study's own cuts meeting the same
     constraints, and their ratio (NaN when no study cut meets them); ``rotation_effect``:
-    :func:`rotation_effect_pct` of the pose map."""
+    :func:`rotation_effect_pct` of the pose map; ``rotations``: how many redundancy angles
+    about the tool axis the request allowed (the pose map's)."""
     ok = study[study["feasible"]]
     plan_best = float(plan["mrr_mm3_s"].max()) if len(plan) else np.nan
     study_best = float(ok["mrr_mm3_s"].max()) if len(ok) else np.nan
@@ -91,16 +97,32 @@ def comparison_table(plan: pd.DataFrame, study: pd.DataFrame,
         ("study_cuts", float(len(study)), "1", ""),
         ("study_cuts_feasible", float(len(ok)), "1", ""),
         ("rotation_effect_pct", float(rotation_effect), "%", ""),
+        ("rotations", float(rotations), "1", ""),
     ]
     return pd.DataFrame(rows, columns=["quantity", "value", "unit", "cut"])
 
 
+def rotation_effect_case(rotation_effect: float | None, rotations: float | None) -> str:
+    """Which of Chapter 7's rotation sentences holds: ``changes`` (a spread > 0), ``none`` (0:
+    no rotation changed a prediction), ``single_rotation`` (not computed: the request allowed
+    at most one redundancy angle), ``not_computed`` (not computed otherwise: no reachable pose,
+    or a comparison table without the count of rotations)."""
+    if rotation_effect is not None and rotation_effect == rotation_effect:
+        return "changes" if rotation_effect > 0 else "none"
+    if rotations is not None and rotations == rotations and rotations < 2:
+        return "single_rotation"
+    return "not_computed"
+
+
 def comparison_values(comparison: pd.DataFrame) -> dict[str, Any]:
     """The comparison table (indexed by ``quantity``) as the fields of Chapter 7's sentences:
-    each quantity's value (None where not computed) and ``<quantity>_cut``."""
+    each quantity's value (None where not computed), ``<quantity>_cut`` and
+    ``rotation_effect_case`` (:func:`rotation_effect_case`)."""
     out: dict[str, Any] = {}
     for quantity, row in comparison.iterrows():
         value = row["value"]
         out[str(quantity)] = None if value != value else value
         out[f"{quantity}_cut"] = row["cut"] if isinstance(row["cut"], str) else ""
+    out["rotation_effect_case"] = rotation_effect_case(out.get("rotation_effect_pct"),
+                                                       out.get("rotations"))
     return out

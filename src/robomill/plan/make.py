@@ -73,5 +73,6 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
                                           if v is not None)
     pmap = pose_map(cand, chosen.iloc[0])
     return Plan(cand, pmap, table, plan_table(front), study,
-                comparison_table(table, study, rotation_effect_pct(pmap)), manifest,
+                comparison_table(table, study, rotation_effect_pct(pmap),
+                                 pmap.sizes["rotation"]), manifest,
                 next_config(manifest))

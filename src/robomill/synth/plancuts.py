@@ -12,9 +12,11 @@ direction and redundancy angle θ, or one of the study's own at its path with θ
   robot): k_r(q) = k_r k_φ(q)/k_φ(q_ref), f_r(q) = f_r √(k_φ(q)/k_φ(q_ref)) (modal mass kept),
   k_φ = 1/(φᵀ C(q) φ), C = J_v K_θ⁻¹ J_vᵀ (seed 001 eq. 3);
 * **stability**: the seed-002 cut on those modes at the cut's speed, depth, feed and
-  engagement with the planted cutting coefficients, once regenerative and once delay-free
-  (mode coupling) (:func:`robomill.chatter.modal_timedomain.simulate_modal_cut`), stable when
-  the vibration grows in neither (:func:`robomill.chatter.modal_timedomain.stability_verdict`);
+  engagement with the planted cutting coefficients, once regenerative (the seed's chip) and
+  once delay-free with the linear chip (mode coupling)
+  (:func:`robomill.chatter.modal_timedomain.simulate_modal_cut`), stable when the vibration
+  grows in neither and the regenerative run's teeth stay in the cut
+  (:func:`robomill.chatter.modal_timedomain.stability_verdict`);
 * **deflection**: δ = C(q) F̄ with the planted K_θ and the simulated mean force F̄ (cut frame
   rotated to the base frame), along the wall normal n = ẑ × u and the tool axis.
 """
@@ -185,7 +187,7 @@ def simulate_cuts(cuts: Sequence[PosedCut], cell, compliance: np.ndarray | None,
                      int(p["flutes"]), ent, ext, p["feed_per_tooth_mm"] * 1e-3,
                      cut.depth_mm * 1e-3, cc["Ktc_N_mm2"] * 1e6, cc["Krc_N_mm2"] * 1e6,
                      cc["Kac_N_mm2"] * 1e6, cc["Kte_N_mm"] * 1e3, cc["Kre_N_mm"] * 1e3,
-                     cc["Kae_N_mm"] * 1e3, overlap=mu),
+                     cc["Kae_N_mm"] * 1e3, overlap=mu, linear_chip=mu == 0.0),
             duration_s=float(s["duration_s"]), steps_per_tooth=int(s["steps_per_tooth"]),
             Kt_noise_fraction=float(s["Kt_noise_fraction"]), noise_seed=int(s["noise_seed"]))
             for mu in (1.0, 0.0)]
