@@ -3,9 +3,10 @@
 import os
 import sys
 
-from snakemake.utils import min_version, validate
+from snakemake.utils import min_version
 
-from robomill.pipeline.config import SECTIONS, prepare_config, run_folder
+from robomill.io import ConfigError
+from robomill.pipeline.config import run_folder, validate_config
 
 min_version("9.0")
 
@@ -13,14 +14,18 @@ min_version("9.0")
 configfile: "config.yaml"
 
 
-# values as users write them: `data=FOLDER`, numbers given as text (YAML 1.1, --config)
-prepare_config(config, f"{workflow.basedir}/workflow/schemas/config.schema.yaml")
-validate(config, "workflow/schemas/config.schema.yaml")
-for keys, name in SECTIONS:  # each section by its own schema (fills its defaults)
-    section = config
-    for key in keys:
-        section = section[key]
-    validate(section, f"workflow/schemas/config/{name}.schema.yaml")
+# Values as users write them (`data=FOLDER`, numbers given as text: YAML 1.1, --config), then
+# the whole configuration and each section by its own schema, defaults filled. A bad key stops
+# the run with one line naming it (robomill.pipeline.config.validate_config).
+try:
+    checked = validate_config(
+        config, f"{workflow.basedir}/workflow/schemas/config.schema.yaml"
+    )
+except ConfigError as exc:
+    print(f"robomill: {exc}", file=sys.stderr)
+    sys.exit(1)
+config.clear()
+config.update(checked)
 
 
 # The run's folder: here, or the one the configuration names (config workdir; inside the

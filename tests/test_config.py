@@ -141,3 +141,17 @@ def test_data_folder_shorthand(repo, config, value, expected):
     cfg = copy.deepcopy(config)
     cfg["data"] = value
     assert validate_config(cfg, repo / "workflow/schemas/config.schema.yaml")["data"] == expected
+
+
+def test_a_bad_key_stops_the_workflow_with_one_line_naming_it(tmp_path):
+    """The workflow validates with the same function (and C YAML loader) as the library; a
+    bad value is one line naming its key, not Snakemake's schema dump or a stack."""
+    from conftest import run_snakemake
+
+    proc = run_snakemake(tmp_path, "-n", "all", "--config", 'surface={"lambda_c_mm": -3}',
+                         timeout=300)
+    assert proc.returncode == 1
+    said = [x for x in proc.stderr.splitlines()
+            if x.strip() and not x.startswith(("Using workflow specific profile", "Config file"))]
+    assert said == ["robomill: config key 'surface.lambda_c_mm': -3 is less than or equal to "
+                    "the minimum of 0 (schema surface.schema.yaml)"]
