@@ -15,9 +15,14 @@ Nyquist frequency. The Hann-windowed, coherent-gain corrected amplitude spectrum
 at every frequency of the (zero-padded) grid, so σ = s √(6/(f_s T)): the product σ √T =
 s √(6/f_s) is the instrument's own constant, and the same tracker records the next cut of
 duration T' with σ' = σ √(T/T') — the amplitude per bin falls as 1/√(number of samples along
-the path). :func:`noise_floor_um` estimates σ from a run's spectrum: |N| is Rayleigh
-distributed, P(|N| > x) = exp(−x²/σ²), with median σ √(ln 2), so σ̂ = median/√(ln 2) over a
-band of ± ``band_bins`` resolution bins 1/L around the line, without the Hann main lobe
+the path). (Noise along the path makes the grid cells' sample counts vary, and their
+unweighted means lose a little of the samples' information: the floor rises by ~10 % at a
+few samples per cell, tests/test_plan_waviness_noise.py; the identifying runs' floors carry
+it, the scaling to another feed does not.)
+
+:func:`noise_floor_um` estimates σ from a run's spectrum: |N| is Rayleigh distributed,
+P(|N| > x) = exp(−x²/σ²), with median σ √(ln 2), so σ̂ = median/√(ln 2) over a band of
+± ``band_bins`` resolution bins 1/L around the line, without the Hann main lobe
 (± ``exclude_bins`` = 2 bins) of the line itself and of every other detected peak, and above
 the run's lowest resolvable frequency (the median ignores the few undetected lines left).
 
@@ -40,7 +45,9 @@ falls outside the sum of the lines' intervals with probability ≤ 1 − coverag
 lines' amplitudes within their identification interval [a_low, a_high]. Lines closer than
 the merge distance are read once over their joint window (more grid points but one noise
 term, fewer than the G terms the sum adds). The interval is widened, never narrowed: its low
-end is min(a_low, R_β) per line, its high end a_high + σ √(ln(K/β)).
+end is min(a_low, R_β) per line, its high end a_high + σ √(ln(K/β)). Both bounds and
+Bonferroni are conservative: planted lines in white noise fall inside in more than the nominal
+fraction (all of 300 seeded draws at a nominal 0.95, tests/test_plan_waviness_noise.py).
 """
 
 from __future__ import annotations
