@@ -177,3 +177,18 @@ def test_waviness_read_interval_scales_with_the_feed():
     sig = np.array([0.4, 0.5])[:, None] * np.sqrt(feeds / 40.0)
     hand = a_hi.sum() + (sig * np.sqrt(np.log(READ_POINTS / 0.025))).sum(0)
     assert w["read_high"] == pytest.approx(hand, rel=1e-9)
+
+
+def test_the_chapter_states_the_waviness_check_from_the_summary():
+    """Chapter 7's waviness sentence follows check_summary.csv's numbers (templates/ch7.yaml)."""
+    from robomill.pipeline.prose import Prose, load_templates
+
+    s = {"n_waviness": 24.0, "n_waviness_in_interval": 21.0, "n_waviness_in_tolerance": 13.0,
+         "tolerance_percent": 25.0}
+    text = Prose(load_templates("ch7"), s)("check_waviness")
+    assert "21 of 24 cuts" in text and "25 % of the outcome for 13" in text
+    other = Prose(load_templates("ch7"), {**s, "n_waviness_in_interval": 5.0,
+                                          "tolerance_percent": 10.0})("check_waviness")
+    assert "5 of 24 cuts" in other and "10 % of the outcome" in other
+    assert Prose(load_templates("ch7"), {})("check_waviness").startswith(
+        "No cut has a waviness outcome")
