@@ -48,7 +48,7 @@ def planted(a_crit_mm, defl_um_per_mm, reachable=(True, True, True)):
          "stability_margin_low": (dims, margin),
          "deflection_normal_um": (dims, defl), "deflection_normal_high_um": (dims, defl),
          "deflection_axial_high_um": (dims, 0 * defl),
-         "waviness_um": (dims[:3], zero), "waviness_high_um": (dims[:3], zero),
+         "waviness_um": (dims[:3], zero), "waviness_ident_high_um": (dims[:3], zero),
          "force_high_N": (dims[3:], np.ones((1, len(DEPTHS), 1))),
          "feed_mark_um": (("spindle_rpm", "feed_mm_s"), np.zeros((1, 1))),
          "mrr_mm3_s": (("depth_mm", "feed_mm_s"), DEPTHS[:, None] * 6 * FEEDS[None])},

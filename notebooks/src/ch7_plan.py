@@ -9,9 +9,12 @@
 # limit of the modes, the robot's low-frequency modes scaled with the pose through the joint
 # stiffness), static deflection (mean cutting force over the pose's stiffness), waviness (the
 # gear lines carried through the Jacobian to the new pose), force, feed marks and removal
-# rate, each with an interval from the identified quantities' uncertainty. The constraints
-# are checked on the pessimistic end of each interval. Every number below comes from the
-# plan's artefacts.
+# rate, each with an interval from the identified quantities' uncertainty. The waviness has
+# two: the spread between the tracker runs that identified its gear lines (the wall's
+# waviness), and the interval the next tracker run's reading falls in, that spread widened
+# by the tracker's noise at the cut's record (`robomill.plan.noise`). The constraints are
+# checked on the pessimistic end of each interval (the waviness' identification interval).
+# Every number below comes from the plan's artefacts.
 
 # %% tags=["parameters"]
 candidates: str = None  # results/plan/candidates.nc
@@ -111,7 +114,7 @@ display(num.caption("plan"))
 cols = ["cut", "placement_x_mm", "placement_y_mm", "placement_z_mm", "direction",
         "rotation_deg", "redundancy_path_deg", "spindle_rpm", "depth_mm", "feed_mm_s",
         "mrr_mm3_s", "stability_margin_low", "deflection_normal_high_um",
-        "deflection_axial_high_um", "waviness_high_um", "force_high_N", "feed_mark_um"]
+        "deflection_axial_high_um", "waviness_ident_high_um", "force_high_N", "feed_mark_um"]
 display(chosen[[c for c in cols if c in chosen]])
 
 # %% [markdown]
@@ -140,7 +143,7 @@ display(Markdown(Prose(load_templates("ch7", templates), comparison_values(cmp_)
 
 # %%
 display(Markdown(say("check_stability_plan", "check_stability_study", "check_deflection",
-                     "check_force")))
+                     "check_force", "check_waviness")))
 display(num.caption("check"))
 if len(chk):
     display(chk)

@@ -69,6 +69,7 @@ rule plan_make:
         ENV
     params:
         experiment=STUDY_EXPERIMENT,
+        waviness_noise=config.get("plan", {}).get("waviness_noise", {}),
     script:
         "../scripts/plan_make.py"
 

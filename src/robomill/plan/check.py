@@ -84,7 +84,10 @@ def waviness_outcomes(elements: pd.DataFrame, run_gears: pd.DataFrame, profiles,
     detected peak's ``amplitude_um`` is √(2P) of the lateral + vertical power: not this
     quantity.) The spectrum is read whether or not a peak was detected there, so a line below
     the detection threshold still gives an outcome (its measured amplitude, an upper bound of
-    the line when the noise floor dominates).
+    the line when the noise floor dominates). The prediction's interval for this read
+    (``waviness_low_um``, ``waviness_high_um``) carries that noise: the tracker's floor near
+    the lines, the max over the ±``halfwidth_bins`` window and the sum over the lines
+    (:mod:`robomill.plan.noise`).
 
     Parameters
     ----------

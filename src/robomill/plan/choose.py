@@ -4,7 +4,9 @@ smoothly along a path, and — when nothing is feasible — one line naming the 
 binds.
 
 Constraints are checked on the pessimistic end of each prediction's interval (the lower
-stability margin, the upper deflection, waviness and force).
+stability margin, the upper deflection, waviness and force; the waviness' upper end of its
+identification interval, the wall's waviness, not the tracker-noise-widened interval its
+reading is checked against).
 """
 
 from __future__ import annotations
@@ -21,7 +23,7 @@ CONSTRAINT_VARS = {
                                  "deflection normal to the wall [um]"),
     "max_deflection_axial_um": ("deflection_axial_high_um", "max",
                                 "deflection along the tool axis [um]"),
-    "max_waviness_um": ("waviness_high_um", "max", "waviness [um]"),
+    "max_waviness_um": ("waviness_ident_high_um", "max", "waviness [um]"),
     "max_force_N": ("force_high_N", "max", "mean cutting force [N]"),
 }
 """Constraint key → (variable checked, bound kind, what it is)."""

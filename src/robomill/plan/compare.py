@@ -22,7 +22,8 @@ PREDICTED = ["stability_margin", "stability_margin_low", "stability_margin_high"
              "deflection_normal_um", "deflection_normal_low_um", "deflection_normal_high_um",
              "deflection_axial_um", "deflection_axial_low_um", "deflection_axial_high_um",
              "waviness_um", "waviness_low_um", "waviness_high_um", "force_N", "force_low_N",
-             "force_high_N", "form_error_high_um"]
+             "force_high_N", "form_error_high_um", "waviness_ident_low_um",
+             "waviness_ident_high_um", "waviness_noise_um"]
 STUDY_COLUMNS = ["cut", "spindle_rpm", "depth_mm", "feed_mm_s", "mrr_mm3_s", "reachable",
                  *PREDICTED, "feasible"]
 

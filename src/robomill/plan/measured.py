@@ -16,6 +16,7 @@ import pandas as pd
 
 from robomill.forces import CuttingCoefficients
 from robomill.kinematics import SerialRobot
+from robomill.plan.noise import noise_floor_um, read_interval_um, record_duration_s, run_duration_s
 from robomill.stiffness import jacobian_m
 from robomill.straightness import perpendicular_axes
 
@@ -44,6 +45,9 @@ class Measured:
     coefficients: pd.DataFrame | None = None
     joints: pd.DataFrame | None = None
     gears: pd.DataFrame | None = None
+    waviness_coverage: float = 0.95
+    """Two-sided coverage of the interval of the waviness the next tracker run reads
+    (:mod:`robomill.plan.noise`; config ``plan.waviness_noise.coverage``)."""
 
     def has(self, name: str) -> bool:
         v = getattr(self, name)
@@ -113,7 +117,9 @@ def spectrum_amplitude_um(profiles, run: str, component: str, f_lo_per_mm: float
 
 def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
                           poses: Mapping[str, tuple[np.ndarray, np.ndarray]], *,
-                          min_sensitivity: float = 0.02, profiles=None) -> pd.DataFrame:
+                          min_sensitivity: float = 0.02, profiles=None,
+                          noise_band_bins: float = 20.0,
+                          noise_exclude_bins: float = 2.0) -> pd.DataFrame:
     """Joint-angle amplitude of every gear element seen on the tracker paths.
 
     A gear error δq_j of joint j moves the TCP by J_v[:, j] δq_j; a peak of amplitude A along
@@ -130,6 +136,14 @@ def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
     the other component's share there (0–20 % on the default study's gear peaks, ≤ 2 % on its
     strong ones).
 
+    With ``profiles``, each element also gets the tracker's noise level near its line in the
+    identifying runs: the lateral spectrum's per-bin noise σ (:func:`robomill.plan.noise.
+    noise_floor_um` over ± ``noise_band_bins`` resolution bins, without ± ``noise_exclude_bins``
+    around the run's detected peaks) times √T, T the run's record duration, which is the
+    tracker's constant s √(6/f_s) (:mod:`robomill.plan.noise`); median over the runs
+    (``noise_um_sqrt_s``, NaN without profiles). The lateral component: the one the outcome
+    reads (the wall normal).
+
     Parameters
     ----------
     peaks
@@ -144,9 +158,11 @@ def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
     Returns
     -------
     pandas.DataFrame
-        ``joint, stage, order, dq_urad, dq_low_urad, dq_high_urad, n_runs``.
+        ``joint, stage, order, dq_urad, dq_low_urad, dq_high_urad, n_runs,
+        noise_um_sqrt_s``.
     """
-    cols = ["joint", "stage", "order", "dq_urad", "dq_low_urad", "dq_high_urad", "n_runs"]
+    cols = ["joint", "stage", "order", "dq_urad", "dq_low_urad", "dq_high_urad", "n_runs",
+            "noise_um_sqrt_s"]
     if peaks is None or peaks.empty:
         return pd.DataFrame(columns=cols)
     g = peaks[(peaks.get("mechanism", "gear") == "gear") & peaks["joint"].notna()]
@@ -164,28 +180,38 @@ def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
         if sens < min_sensitivity * np.linalg.norm(Jv) or sens == 0:
             continue
         a_um = float(r["amplitude_um"])
+        rho = np.nan
         if profiles is not None and "run" in r:
-            a = spectrum_amplitude_um(profiles, str(r["run"]), str(r["component"]),
+            run = str(r["run"])
+            a = spectrum_amplitude_um(profiles, run, str(r["component"]),
                                       float(r["f_spatial_per_mm"]))
             a_um = a if np.isfinite(a) else a_um
+            others = peaks.loc[peaks["run"].astype(str) == run, "f_spatial_per_mm"]
+            sigma = noise_floor_um(profiles, run, float(r["f_spatial_per_mm"]),
+                                   exclude_per_mm=others.to_numpy(float),
+                                   band_bins=noise_band_bins, exclude_bins=noise_exclude_bins)
+            rho = sigma * np.sqrt(run_duration_s(profiles, run))
         rows.append({"joint": j + 1, "stage": r["stage"], "order": r["order"],
-                     "dq": a_um / sens * 1e6})
+                     "dq": a_um / sens * 1e6, "rho": rho})
     if not rows:
         return pd.DataFrame(columns=cols)
-    t = pd.DataFrame(rows).groupby(["joint", "stage", "order"])["dq"]
+    g = pd.DataFrame(rows).groupby(["joint", "stage", "order"])
+    t = g["dq"]
     out = pd.DataFrame({"dq_urad": t.median(), "dq_low_urad": t.min(), "dq_high_urad": t.max(),
-                        "n_runs": t.size()}).reset_index()
+                        "n_runs": t.size(), "noise_um_sqrt_s": g["rho"].median()}).reset_index()
     return out[cols]
 
 
 def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
                 gears: pd.DataFrame, *, direction: np.ndarray | None = None,
                 length_mm: float | None = None, orders: Mapping | None = None,
-                min_cycles: float = 2.5) -> dict[str, np.ndarray]:
+                min_cycles: float = 2.5, feed_mm_s: np.ndarray | None = None,
+                coverage: float = 0.95) -> dict[str, np.ndarray]:
     """Path waviness normal to the wall at postures ``q_rad`` ``(..., n)``: each gear element's
     joint amplitude carried through the Jacobian, A = δq_j |nᵀ J_v[:, j](q)|, summed over the
     elements (lines adding in phase: a bound on the peak waviness) [µm]; nominal, low, high
-    from the elements' amplitude intervals (:func:`gear_joint_amplitudes`).
+    from the elements' amplitude intervals (:func:`gear_joint_amplitudes`): the
+    identification interval, the spread between the identifying runs.
 
     With the path ``direction`` (unit, ``(..., 3)`` or ``(3,)``), its ``length_mm`` and the
     elements' ``orders`` (cycles per joint revolution per ``(joint, stage, order)``,
@@ -194,6 +220,16 @@ def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
     f = order·|dq_j/ds|/(2π) (dq/ds from J dq = (u, 0) at fixed orientation) times the length.
     A joint that hardly turns along the path prints its gear error as a slow offset, not as
     waviness (the straightness analysis' own resolution rule).
+
+    With the feeds ``feed_mm_s`` ``(V,)`` and the elements' ``noise_um_sqrt_s`` (the tracker's
+    noise level, :func:`gear_joint_amplitudes`), also the interval of the amplitude the next
+    tracker run along the cut reads, ``read_low``/``read_high`` ``(..., V)``: per counted
+    element the noise per bin σ_e = ρ_e / √(L/v) of a record of duration L/v, and the line's
+    interval widened by it at β = (1 − ``coverage``)/(2G), G the counted elements
+    (:func:`robomill.plan.noise.read_interval_um`; Bonferroni over the lines: the sum of the
+    reads lies outside the sum of the lines' intervals with probability ≤ 1 − coverage);
+    ``noise`` the largest σ_e over the counted elements (NaN where none counts or no level
+    is known).
 
     The quantity: the amplitude a of a·sin(2πfs) normal to the wall (n = ẑ × u, the
     tracker's lateral axis), summed over the lines; the outcome it is checked against reads
@@ -208,19 +244,51 @@ def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
         twist = np.concatenate([u * 1e-3, np.zeros_like(u)], -1)            # m per mm
         rates = np.abs(np.linalg.solve(J, twist[..., None])[..., 0])        # rad/mm
     out = {}
+    counted = []
+    terms = {}
     for key, col in (("nominal", "dq_urad"), ("low", "dq_low_urad"), ("high", "dq_high_urad")):
         tot = np.zeros(s.shape[:-1])
+        terms[key] = []
         for _, r in gears.iterrows():
             j = int(r["joint"]) - 1
             term = s[..., j] * float(r[col]) * 1e-6
+            count = np.ones(s.shape[:-1], bool)
             if rates is not None:
                 order = orders.get((j + 1, str(r["stage"]), str(r["order"])))
                 if order is not None:
                     cycles = order * rates[..., j] / (2 * np.pi) * float(length_mm)
-                    term = np.where(cycles >= min_cycles, term, 0.0)
+                    count = cycles >= min_cycles
+                    term = np.where(count, term, 0.0)
+            if key == "nominal":
+                counted.append(count)
+            terms[key].append(term)
             tot = tot + term
         out[key] = tot
+    if feed_mm_s is not None and length_mm is not None and "noise_um_sqrt_s" in gears:
+        out.update(_read_interval(terms, counted, gears["noise_um_sqrt_s"].to_numpy(float),
+                                  record_duration_s(length_mm, np.atleast_1d(feed_mm_s)),
+                                  s.shape[:-1], coverage))
     return out
+
+
+def _read_interval(terms, counted, rho, duration_s, shape, coverage):
+    """``read_low``, ``read_high``, ``noise`` ``(*shape, V)`` of :func:`waviness_um`."""
+    V = duration_s.size
+    lo, hi = np.zeros(shape + (V,)), np.zeros(shape + (V,))
+    noise = np.full(shape + (V,), np.nan)
+    if not counted:
+        return {"read_low": lo, "read_high": hi, "noise": noise}
+    n_lines = np.sum(counted, axis=0)[..., None]                             # G (..., 1)
+    beta = (1.0 - float(coverage)) / (2.0 * np.maximum(n_lines, 1))
+    for e, count in enumerate(counted):
+        sigma = rho[e] / np.sqrt(duration_s)                                 # (V,)
+        sig = np.where(count[..., None], sigma, np.nan)
+        lo_e, hi_e = read_interval_um(terms["low"][e][..., None], terms["high"][e][..., None],
+                                      sig, beta)
+        lo = lo + np.where(count[..., None], lo_e, 0.0)
+        hi = hi + np.where(count[..., None], hi_e, 0.0)
+        noise = np.fmax(noise, sig)
+    return {"read_low": lo, "read_high": hi, "noise": noise}
 
 
 def cut_mid_poses(robot: SerialRobot, cuts, experiment: Mapping, *, tool_rotation: np.ndarray,

@@ -12,7 +12,11 @@ feed), each with an interval carried from the identified quantities' uncertainty
   cutting force (Altintas 2012 eq. 2.25, :func:`robomill.forces.mean_milling_forces`) rotated
   from the cut frame to the base frame; interval over the coefficient and stiffness ends.
 * **Force** |F̄| with the coefficients' interval; **waviness** from the gear elements' joint
-  amplitudes (:func:`robomill.plan.measured.waviness_um`); **feed marks** c²/(8R) for a feed
+  amplitudes (:func:`robomill.plan.measured.waviness_um`): ``waviness_ident_low/high_um`` the
+  spread between the identifying runs (the wall's waviness, constrained and in the form
+  error), ``waviness_low/high_um`` per feed the interval the next tracker run reads, widened
+  by the tracker's noise at that record (``waviness_noise_um``, :mod:`robomill.plan.noise`);
+  **feed marks** c²/(8R) for a feed
   per tooth c = v/(N n) and tool radius R; **removal rate** a·a_e·v [mm³/s].
 """
 
@@ -215,17 +219,32 @@ def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
                                "the wall")
     data["k_axial_N_m"] = var(prd, stiff["axial"], "N/m", "joint-model stiffness along the "
                               "tool axis")
-    # waviness
+    # waviness: the identification interval, and the interval of the next tracker run's read
     wav = {k: np.full((P, R, D), np.nan) for k in ("nominal", "low", "high")}
+    wav.update({k: np.full((P, R, D, V), np.nan) for k in ("read_low", "read_high", "noise")})
     if measured.has("gears"):
         n_vec = np.broadcast_to(frames[None, None, :, :, 1], (P, R, D, 3))
         u_vec = np.broadcast_to(frames[None, None, :, :, 0], (P, R, D, 3))
         w = waviness_um(cell.robot, q, n_vec, measured.gears, direction=u_vec,
-                        length_mm=req.length_mm, orders=cell.gear_orders)
-        wav = {k: np.where(ok, v, np.nan) for k, v in w.items()}
-    for k, suffix in (("nominal", ""), ("low", "_low"), ("high", "_high")):
-        data[f"waviness{suffix}_um"] = var(prd, wav[k], "um", "gear-line waviness normal to "
-                                           f"the wall, in-phase sum ({k})")
+                        length_mm=req.length_mm, orders=cell.gear_orders,
+                        feed_mm_s=req.feed_mm_s, coverage=measured.waviness_coverage)
+        w.setdefault("read_low", w["low"][..., None] + np.zeros(V))
+        w.setdefault("read_high", w["high"][..., None] + np.zeros(V))
+        wav.update({k: np.where(ok if v.ndim == 3 else ok[..., None], v, np.nan)
+                    for k, v in w.items()})
+    data["waviness_um"] = var(prd, wav["nominal"], "um", "gear-line waviness normal to the "
+                              "wall, in-phase sum (nominal)")
+    for k in ("low", "high"):
+        data[f"waviness_ident_{k}_um"] = var(prd, wav[k], "um", "gear-line waviness normal to "
+                                             f"the wall, in-phase sum ({k} end of the "
+                                             "identifying runs' spread)")
+    pv = prd + ("feed_mm_s",)
+    data["waviness_noise_um"] = var(pv, wav["noise"], "um", "tracker noise per spectrum bin "
+                                    "at the cut's record (largest over the counted lines)")
+    for k in ("low", "high"):
+        data[f"waviness_{k}_um"] = var(pv, wav[f"read_{k}"], "um", "waviness the next tracker "
+                                       f"run reads ({k}): identification spread widened by "
+                                       "the tracker noise")
     # feed marks and removal rate
     c_mm = req.feed_mm_s[None, :] * 60.0 / (req.flutes * req.spindle_rpm[:, None])
     data["feed_per_tooth_mm"] = var(("spindle_rpm", "feed_mm_s"), c_mm, "mm", "feed per tooth")
@@ -245,10 +264,12 @@ def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
 
 def form_error(ds: xr.Dataset) -> xr.Dataset:
     """Predicted form error of the wall: static deflection normal to the wall plus the gear
-    waviness (a missing term counts as 0), nominal and upper bound [µm]."""
-    for suffix in ("", "_high"):
+    waviness (a missing term counts as 0), nominal and upper bound [µm]. The waviness' upper
+    bound is the identification interval's (the wall's waviness: the tracker's noise widens
+    only the interval its reading is checked against)."""
+    for suffix, wname in (("", "waviness_um"), ("_high", "waviness_ident_high_um")):
         d = ds[f"deflection_normal{suffix}_um"].fillna(0.0)
-        w = ds[f"waviness{suffix}_um"].fillna(0.0)
+        w = ds[wname].fillna(0.0)
         fe = (d + w).where(ds["reachable"])
         ds[f"form_error{suffix}_um"] = fe.assign_attrs(attrs(
             "um", "predicted form error: normal deflection + waviness"))
