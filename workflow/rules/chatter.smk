@@ -43,9 +43,23 @@ rule chatter_seed:
         "../scripts/chatter_seed.py"
 
 
+def coefficients_identified(wildcards):
+    """No input when the force cuts identify the cutting coefficients; otherwise one line
+    and the run stops before any job, as kind_input does (the lobes need K_tc, K_rc)."""
+    if COEFFICIENTS_NOT_IDENTIFIED:
+        print(
+            f"robomill: chatter needs identified cutting coefficients: "
+            f"{COEFFICIENTS_NOT_IDENTIFIED}",
+            file=sys.stderr,
+        )
+        raise SystemExit(1)
+    return []
+
+
 rule chatter_thesis:
     input:
         data=kind_input("chatter", "impact", "force"),
+        identified=coefficients_identified,
         modes="results/modal/modes.csv",
         coefficients="results/forces/cutting_coefficients.csv",
         peaks="results/forces/peaks.csv",
@@ -73,9 +87,12 @@ rule chatter_thesis:
         "../scripts/chatter_thesis.py"
 
 
-# the study's robot (chapter 4) only where the folder has its modes and forces; the reference
-# studies (chapter 6.1: the configured cases and seed 002) in any run
-CHATTER_ROBOT = has_kind("impact") and has_kind("force")
+# the study's robot (chapter 4) only where the folder has its modes and forces and the force
+# cuts identify the cutting coefficients; the reference studies (chapter 6.1: the configured
+# cases and seed 002) in any run
+CHATTER_ROBOT = (
+    has_kind("impact") and has_kind("force") and not COEFFICIENTS_NOT_IDENTIFIED
+)
 
 
 rule chatter_findings:
@@ -127,7 +144,13 @@ use rule chapter as ch4 with:
         chapter_benchmark("ch4")
 
 
-add_chapter("4", "results/chapters/ch4_chatter.html", needs=("impact", "force"))
+add_chapter(
+    "4",
+    "results/chapters/ch4_chatter.html",
+    needs=("impact", "force"),
+    cannot=COEFFICIENTS_NOT_IDENTIFIED
+    and f"the stability lobes need the cutting coefficients, {COEFFICIENTS_NOT_IDENTIFIED}",
+)
 
 
 # Chapter 6.1 (reference studies): the lobe methods on the configured published cases and the

@@ -143,11 +143,13 @@ STUDY_EXPERIMENT = {"layout": config["experiment"].get("layout"), **EXPERIMENT}
 STUDY_DEPTHS_MM = sorted({c.depth_mm for c in CUTS if c.depth_mm is not None})
 
 
-def add_chapter(label, html, needs=()):
-    """Build chapter `label` (its .html) in `all` if the raw folder has the kinds it `needs`;
-    otherwise skip it with one line (`chapter 3.3: no impact files in manifest.yaml`).
+def add_chapter(label, html, needs=(), cannot=None):
+    """Build chapter `label` (its .html) in `all` if the raw folder has the kinds it `needs`
+    and the design does not rule it out (`cannot`: why not, e.g. chapter 4 without
+    identifiable cutting coefficients); otherwise skip it with one line (`chapter 3.3: no
+    impact files in manifest.yaml`).
     """
-    why = missing_data(RAW_FILES, CUTS, needs)
+    why = missing_data(RAW_FILES, CUTS, needs) or cannot
     if why is None:
         ALL_TARGETS.append(html)
     else:
