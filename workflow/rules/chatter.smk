@@ -43,23 +43,13 @@ rule chatter_seed:
         "../scripts/chatter_seed.py"
 
 
-def coefficients_identified(wildcards):
-    """No input when the force cuts identify the cutting coefficients; otherwise one line
-    and the run stops before any job, as kind_input does (the lobes need K_tc, K_rc)."""
-    if COEFFICIENTS_NOT_IDENTIFIED:
-        print(
-            f"robomill: chatter needs identified cutting coefficients: "
-            f"{COEFFICIENTS_NOT_IDENTIFIED}",
-            file=sys.stderr,
-        )
-        raise SystemExit(1)
-    return []
-
-
 rule chatter_thesis:
     input:
         data=kind_input("chatter", "impact", "force"),
-        identified=coefficients_identified,
+        # the lobes need K_tc, K_rc: stop with one line if the cuts cannot identify them
+        identified=design_input(
+            "chatter", "identified cutting coefficients", COEFFICIENTS_NOT_IDENTIFIED
+        ),
         modes="results/modal/modes.csv",
         coefficients="results/forces/cutting_coefficients.csv",
         peaks="results/forces/peaks.csv",
