@@ -57,11 +57,15 @@ mode_table = pd.read_csv(modes) if modes and os.path.exists(modes) else None
 planted = planted_coefficients(open_artefact(truth) if truth and os.path.exists(truth)
                                else None)
 CUTS, DIRS, THESIS_LAYOUT = F["figure_cuts"], F["figure_directions"], F["thesis_layout"]
+# a design that cannot identify the coefficients (one feed per tooth, < 3 cuts): no model shape
+IDENTIFIED = not F.get("coefficients_not_identified")
 
 # thesis numbers (Figs 3.2–3.11, Tables 3.1, 3.3, 3.4; Table 3.2 is in chapter 3.2)
 num = Numbering("3", fig_dir=fig_dir)
-num.figure("model_force_shape", f"The model's force shape over two revolutions of a "
-           f"{say('model_shape')}, with the coefficients identified below (eq. 3.1)", number=2)
+if IDENTIFIED:
+    num.figure("model_force_shape", f"The model's force shape over two revolutions of a "
+               f"{say('model_shape')}, with the coefficients identified below (eq. 3.1)",
+               number=2)
 num.figure("record", "A measured force record: (a) the whole record as a min–max envelope, "
            "(b) a zoom in its middle", number=3)
 num.figure("full_band_psd", "Welch PSD of that record over the full band, sum of the axes",
@@ -81,8 +85,9 @@ num.table("harmonics", "Tooth-passing harmonics: median frequency and power over
           " (of each tooth-passing frequency)", number=3)
 num.figure("mean_forces_vs_feed", "Mean forces per cut, divided by N·a, against the feed per tooth",
            number=11)
-num.table("coefficients", "Identified cutting coefficients with their intervals and their "
-          "sanity flags (negative value, fit residual against signal, physical)", number=4)
+if IDENTIFIED:
+    num.table("coefficients", "Identified cutting coefficients with their intervals and their "
+              "sanity flags (negative value, fit residual against signal, physical)", number=4)
 
 
 
@@ -93,8 +98,9 @@ display(Markdown(say("overview")))
 
 # %%
 display(Markdown(say("model", shape=say("model_shape"),
-                     ref_model_force_shape=num.ref("model_force_shape"))))
-num.show(figures.model_shape_figure(sp), "model_force_shape")
+                     ref_model_force_shape=num.ref("model_force_shape") if IDENTIFIED else "")))
+if IDENTIFIED:
+    num.show(figures.model_shape_figure(sp), "model_force_shape")
 
 # %% [markdown]
 # ## A measured record, its zoom and its full-band spectrum
@@ -151,10 +157,11 @@ display(harmonic_table(pd.read_csv(harmonics), plan))
 # %%
 display(Markdown(say("mean_forces", ref_mean_forces_vs_feed=num.ref("mean_forces_vs_feed"))))
 num.show(figures.mean_forces_figure(process_table(mf, experiment)), "mean_forces_vs_feed")
-display(num.caption("coefficients"))
-display(coefficient_table(pd.read_csv(coefficients), planted))
+if IDENTIFIED:
+    display(num.caption("coefficients"))
+    display(coefficient_table(pd.read_csv(coefficients), planted))
 display(Markdown(say("coefficients", "planted", "physical", "physical_ok", "uses",
-                     ref_coefficients=num.ref("coefficients"))))
+                     ref_coefficients=num.ref("coefficients") if IDENTIFIED else "")))
 
 # %% [markdown]
 # ## Against the thesis

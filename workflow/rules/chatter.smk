@@ -46,6 +46,10 @@ rule chatter_seed:
 rule chatter_thesis:
     input:
         data=kind_input("chatter", "impact", "force"),
+        # the lobes need K_tc, K_rc: stop with one line if the cuts cannot identify them
+        identified=design_input(
+            "chatter", "identified cutting coefficients", COEFFICIENTS_NOT_IDENTIFIED
+        ),
         modes="results/modal/modes.csv",
         coefficients="results/forces/cutting_coefficients.csv",
         peaks="results/forces/peaks.csv",
@@ -73,9 +77,12 @@ rule chatter_thesis:
         "../scripts/chatter_thesis.py"
 
 
-# the study's robot (chapter 4) only where the folder has its modes and forces; the reference
-# studies (chapter 6.1: the configured cases and seed 002) in any run
-CHATTER_ROBOT = has_kind("impact") and has_kind("force")
+# the study's robot (chapter 4) only where the folder has its modes and forces and the force
+# cuts identify the cutting coefficients; the reference studies (chapter 6.1: the configured
+# cases and seed 002) in any run
+CHATTER_ROBOT = (
+    has_kind("impact") and has_kind("force") and not COEFFICIENTS_NOT_IDENTIFIED
+)
 
 
 rule chatter_findings:
@@ -127,7 +134,13 @@ use rule chapter as ch4 with:
         chapter_benchmark("ch4")
 
 
-add_chapter("4", "results/chapters/ch4_chatter.html", needs=("impact", "force"))
+add_chapter(
+    "4",
+    "results/chapters/ch4_chatter.html",
+    needs=("impact", "force"),
+    cannot=COEFFICIENTS_NOT_IDENTIFIED
+    and f"the stability lobes need the cutting coefficients, {COEFFICIENTS_NOT_IDENTIFIED}",
+)
 
 
 # Chapter 6.1 (reference studies): the lobe methods on the configured published cases and the

@@ -97,6 +97,21 @@ def kind_input(stage, *kinds, **meta):
     return check
 
 
+def design_input(stage, what, why):
+    """An input function of a job that needs `what` from the study's design: no input when
+    `why` (the reason the design cannot give it) is None; otherwise one line and the run
+    stops while the DAG is built, as kind_input does (chatter: identified coefficients).
+    """
+
+    def check(wildcards):
+        if why:
+            print(f"robomill: {stage} needs {what}: {why}", file=sys.stderr)
+            raise SystemExit(1)
+        return []
+
+    return check
+
+
 # The thesis' design (Tables 2.1/2.2, the thesis-layout artefacts) and the thesis' study (its
 # process too: the findings' comparison rows and the scorecard); the chapters take both from
 # their findings, never as a parameter. Any other design gets per-cut tables grouped by what
@@ -143,11 +158,13 @@ STUDY_EXPERIMENT = {"layout": config["experiment"].get("layout"), **EXPERIMENT}
 STUDY_DEPTHS_MM = sorted({c.depth_mm for c in CUTS if c.depth_mm is not None})
 
 
-def add_chapter(label, html, needs=()):
-    """Build chapter `label` (its .html) in `all` if the raw folder has the kinds it `needs`;
-    otherwise skip it with one line (`chapter 3.3: no impact files in manifest.yaml`).
+def add_chapter(label, html, needs=(), cannot=None):
+    """Build chapter `label` (its .html) in `all` if the raw folder has the kinds it `needs`
+    and the design does not exclude it (`cannot`: why not, e.g. chapter 4 without
+    identifiable cutting coefficients); otherwise skip it with one line (`chapter 3.3: no
+    impact files in manifest.yaml`).
     """
-    why = missing_data(RAW_FILES, CUTS, needs)
+    why = missing_data(RAW_FILES, CUTS, needs) or cannot
     if why is None:
         ALL_TARGETS.append(html)
     else:

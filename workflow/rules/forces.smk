@@ -2,7 +2,13 @@
 # mean forces -> peaks table, spectra and the identified cutting coefficients.
 # One simulator job (virtual cell), one analysis job per cut (one for all the virtual cell's
 # cuts), then one gather job.
+from robomill.forces.coefficients import design_not_identified
+
 FORCE_FILES = {f["cut"]: f for f in RAW_FILES if f["kind"] == "force"}
+# Why the force cuts' design cannot identify the cutting coefficients (one feed per tooth,
+# fewer than 3 cuts), or None: forces_gather then writes them as NaN with the reason, and what
+# needs them (chapter 4's lobes) is left out with this line (robomill.forces.coefficients).
+COEFFICIENTS_NOT_IDENTIFIED = design_not_identified(CUTS, EXPERIMENT, FORCE_FILES)
 
 
 # the manifest entry of a cut's record; the planted truth input (synthetic runs only)

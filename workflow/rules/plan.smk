@@ -116,7 +116,8 @@ rule plan_check:
         ENV
     params:
         tolerance=config.get("plan", {}).get("check_tolerance", 0.25),
-        next_run=NEXT_RUN_DIR,
+        # a folder, not a prefix of the inputs (they exist only once the run has made them)
+        next_run=lambda w: NEXT_RUN_DIR,
         chatter_fraction_of_mean=config.get("plan", {}).get(
             "chatter_fraction_of_mean", 0.05
         ),

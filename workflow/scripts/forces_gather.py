@@ -6,6 +6,10 @@ from robomill.pipeline.runlog import setup
 log = setup(snakemake.log[0], "forces_gather")
 
 from robomill.experiment import cut_process, is_thesis_design  # noqa: E402
+from robomill.forces.coefficients import (  # noqa: E402
+    identification_status,
+    not_identified_sentence,
+)
 from robomill.forces.study import gather_force_study  # noqa: E402
 from robomill.io import open_artefact, write_artefact, write_table  # noqa: E402
 from robomill.study import load_study  # noqa: E402
@@ -27,8 +31,13 @@ write_table(peaks, out.peaks)
 write_table(coeffs, out.coefficients)
 write_table(means, out.means)
 write_table(harmonics, out.harmonics)
-log.info("coefficients:\n%s", coeffs.to_string(index=False))
+why = identification_status(coeffs)
+if why is not None:  # a legitimate design: everything else is written as always
+    log.warning("cutting coefficients %s: written as NaN (%s)",
+                not_identified_sentence(why), out.coefficients)
+else:
+    log.info("coefficients:\n%s", coeffs.to_string(index=False))
 suspect = coeffs.loc[~coeffs["physical"], "name"].tolist()
-if suspect:
+if suspect and why is None:
     log.warning("coefficients that cannot be physical (negative, or a fit residual larger "
                 "than the signal): %s", ", ".join(suspect))

@@ -48,8 +48,15 @@ def modes_in_slot_frame(modes: pd.DataFrame, direction: str) -> list[ModeXY]:
 
 def cutting_from_coefficients(coeffs: pd.DataFrame, teeth: int) -> CuttingModel:
     """Slotting model from ``results/forces/cutting_coefficients.csv`` (Ktc, Krc in N/mm²):
-    K_t = Ktc·10⁶ N/m², K_r = Krc/Ktc, full immersion (thesis: slotting, entry 0, exit π)."""
+    K_t = Ktc·10⁶ N/m², K_r = Krc/Ktc, full immersion (thesis: slotting, entry 0, exit π).
+    A table whose Ktc or Krc is not finite (not identified: one feed per tooth, fewer than
+    three cuts) raises ``ValueError`` with the reason (the workflow leaves chapter 4 out
+    before, :func:`robomill.forces.coefficients.design_not_identified`)."""
     v = coeffs.set_index("name")["value"].astype(float)
+    if not (np.isfinite(v.get("Ktc", np.nan)) and np.isfinite(v.get("Krc", np.nan))):
+        why = coeffs.get("not_identified_reason", pd.Series(["no finite Ktc, Krc"])).iloc[0]
+        raise ValueError(f"results/forces/cutting_coefficients.csv: the cutting coefficients "
+                         f"are not identified ({why}): the stability lobes need Ktc and Krc")
     return CuttingModel(int(teeth), v["Ktc"] * 1e6, v["Krc"] / v["Ktc"], 0.0, float(np.pi))
 
 

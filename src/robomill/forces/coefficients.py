@@ -21,6 +21,110 @@ FLAG_COLUMNS = ("negative", "fit_residual_rms_N", "fit_signal_rms_N", "residual_
 """Sanity columns of ``cutting_coefficients.csv`` after ``name, value, ci_low, ci_high, unit``
 (issue 21 point 5; see :func:`coefficient_flags`)."""
 
+IDENTIFICATION_NEED = "need ≥ 3 cuts at ≥ 2 feeds per tooth"
+"""What the mechanistic calibration needs from the design (Altintas 2012, §2.4: a straight
+line per axis through the mean forces against the feed per tooth, with one residual degree of
+freedom at least)."""
+
+NOT_IDENTIFIED = {
+    "few_cuts": "not identified: fewer than 3 force cuts",
+    "one_feed_per_tooth": "not identified: the cuts have one feed per tooth",
+    "unknown": "not identified: the table holds no coefficient value",
+}
+"""Reason code of ``not_identified_reason`` (``cutting_coefficients.csv``) → its sentence,
+completed by :data:`IDENTIFICATION_NEED` (:func:`not_identified_sentence`). Three cuts or more
+also give the general least squares of :func:`identify_cutting_coefficients_general` enough
+equations (``2 m − 4 ≥ 2`` and ``m − 2 ≥ 1`` degrees of freedom)."""
+
+IDENTIFIED_COLUMNS = ("identified", "not_identified_reason")
+"""Columns appended to ``cutting_coefficients.csv`` only when the design cannot identify the
+coefficients (:func:`not_identified_table`); a table without them is identified."""
+
+
+def not_identified_reason(feed_per_tooth_mm) -> str | None:
+    """Why the force cuts cannot identify the cutting coefficients, as a code of
+    :data:`NOT_IDENTIFIED`, or ``None`` when they can.
+
+    The mean force per unit ``N a`` is a straight line in the feed per tooth (Altintas 2012,
+    eq. 2.25): its slope (the cutting coefficients) needs two feeds per tooth or more, and
+    its interval a residual degree of freedom, so at least three cuts (``few_cuts`` before
+    ``one_feed_per_tooth``).
+
+    Parameters
+    ----------
+    feed_per_tooth_mm
+        Feed per tooth of each force cut [mm] (the design alone decides: the workflow asks
+        before any record is read).
+    """
+    c = np.asarray(feed_per_tooth_mm, float).ravel()
+    if c.size < 3:
+        return "few_cuts"
+    if np.ptp(c) <= 1e-12 * max(float(np.abs(c).max()), 1e-300):
+        return "one_feed_per_tooth"
+    return None
+
+
+def design_not_identified(cuts, experiment: Mapping, force_cuts) -> str | None:
+    """Whether a study's design can identify the cutting coefficients, before any record
+    is read: ``None``, or the sentence of :func:`not_identified_sentence` for its force cuts.
+
+    Parameters
+    ----------
+    cuts
+        The manifest's cuts (:class:`robomill.experiment.Cut`).
+    experiment
+        The manifest's experiment defaults (spindle speed, flutes) of :func:`cut_process`.
+    force_cuts
+        The ids of the cuts that have a force record; none gives ``None`` (the study has no
+        forces to identify anything from, which the workflow says on its own).
+    """
+    from robomill.experiment import cut_process
+
+    ids = set(force_cuts)
+    if not ids:
+        return None
+    try:
+        feeds = [cut_process(c, experiment)["feed_per_tooth_mm"] for c in cuts if c.id in ids]
+    except (TypeError, KeyError, ZeroDivisionError):
+        return None  # a feed or spindle speed missing: the manifest's own check names it
+    why = not_identified_reason(feeds)
+    return None if why is None else not_identified_sentence(why)
+
+
+def not_identified_sentence(reason: str) -> str:
+    """``"not identified: the cuts have one feed per tooth (need ≥ 3 cuts at ≥ 2 feeds per
+    tooth)"``: the reason code of :func:`not_identified_reason` in words."""
+    return f"{NOT_IDENTIFIED.get(reason, NOT_IDENTIFIED['unknown'])} ({IDENTIFICATION_NEED})"
+
+
+def not_identified_table(reason: str) -> pd.DataFrame:
+    """``cutting_coefficients.csv`` of a design that cannot identify the coefficients: the
+    columns of an identified table (:func:`identify_cutting_coefficients`) with NaN value,
+    interval and fit rms, the flags ``negative`` and ``residual_exceeds_signal`` False and
+    ``physical`` False, then :data:`IDENTIFIED_COLUMNS`: ``identified`` False and
+    ``not_identified_reason`` the code of :data:`NOT_IDENTIFIED`."""
+    nan = float("nan")
+    return pd.DataFrame([{"name": n, "value": nan, "ci_low": nan, "ci_high": nan, "unit": u,
+                          "negative": False, "fit_residual_rms_N": nan,
+                          "fit_signal_rms_N": nan, "residual_exceeds_signal": False,
+                          "physical": False, "identified": False,
+                          "not_identified_reason": reason}
+                         for n, u in COEFFICIENT_UNITS.items()])
+
+
+def identification_status(table: pd.DataFrame) -> str | None:
+    """The reason code of a ``cutting_coefficients.csv`` whose coefficients were not
+    identified (:func:`not_identified_table`), or ``None`` for an identified table (one
+    without the :data:`IDENTIFIED_COLUMNS`, or with ``identified`` true). A table without a
+    finite value and without a code reads ``"unknown"``."""
+    if "identified" in table and not table["identified"].astype(str).str.lower().isin(
+            ["true", "1"]).all():
+        codes = table.get("not_identified_reason", pd.Series(dtype=object)).dropna()
+        return str(codes.iloc[0]) if len(codes) else "unknown"
+    if len(table) and not np.isfinite(pd.to_numeric(table["value"], errors="coerce")).any():
+        return "unknown"
+    return None
+
 
 def _fit_rms(fitted_N: np.ndarray, measured_N: np.ndarray, groups: np.ndarray
              ) -> tuple[float, float]:
@@ -171,7 +275,7 @@ def identify_cutting_coefficients(feed_per_tooth_mm: np.ndarray, depth_mm: np.nd
     c = np.asarray(feed_per_tooth_mm, float)
     na = int(flutes) * np.asarray(depth_mm, float)
     F = np.asarray(mean_forces_N, float)
-    if c.size < 3 or np.ptp(c) <= 0:
+    if not_identified_reason(c) is not None:
         raise ValueError("need at least 3 cuts at two or more feeds per tooth to identify "
                          f"cutting coefficients (got {c.size} cuts)")
     t = stats.t.ppf(0.5 + confidence / 2, c.size - 2)
@@ -228,7 +332,7 @@ def identify_cutting_coefficients_general(feed_per_tooth_mm, depth_mm, mean_forc
     m = F.shape[0]
     c, a, z, st, ex = (np.broadcast_to(np.asarray(x, float), (m,)) for x in
                        (feed_per_tooth_mm, depth_mm, flutes, entry_rad, exit_rad))
-    if m < 3 or np.ptp(c) <= 0:
+    if not_identified_reason(c) is not None:
         raise ValueError("need at least 3 cuts at two or more feeds per tooth to identify "
                          f"cutting coefficients (got {m} cuts)")
     w = z * a / (2 * np.pi)

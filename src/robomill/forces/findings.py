@@ -25,7 +25,12 @@ import xarray as xr
 
 from robomill import references
 from robomill.findings import Findings
-from robomill.forces.coefficients import FLAG_COLUMNS, not_physical_reasons
+from robomill.forces.coefficients import (
+    FLAG_COLUMNS,
+    identification_status,
+    not_identified_sentence,
+    not_physical_reasons,
+)
 from robomill.forces.peaks import nearest_modes
 from robomill.forces.tables import figure_cuts, process_table
 
@@ -282,10 +287,29 @@ def _coefficients(found: Findings, coefficients: pd.DataFrame,
     ``n_coefficients``, ``n_not_physical``, ``not_physical``: each coefficient that is
     not and why: a negative value, or a fit residual rms above the signal rms, R² < 1/2,
     :func:`robomill.forces.coefficient_flags`); with ``planted`` values the largest relative
-    error ``planted_error_pct_max`` (signed) and its coefficient ``planted_error_worst``."""
+    error ``planted_error_pct_max`` (signed) and its coefficient ``planted_error_worst``.
+
+    A table the design could not identify (one feed per tooth, fewer than three cuts:
+    :func:`robomill.forces.coefficients.not_identified_table`) gives instead
+    ``coefficients_not_identified_reason`` (the code of ``not_identified_reason``),
+    ``coefficients_not_identified`` (its sentence: ``"not identified: the cuts have one feed
+    per tooth (need ≥ 3 cuts at ≥ 2 feeds per tooth)"``), ``n_coefficients`` and
+    ``coefficient_flags_checked`` False (an identified table gives neither of the first
+    two)."""
     if confidence is not None:
         found.add("confidence_pct", 100 * float(confidence), "%", artefact="config.yaml",
                   what="forces.confidence", config_key="forces.confidence")
+    why = identification_status(coefficients)
+    if why is not None:
+        found.add("coefficients_not_identified_reason", why, artefact=_COEFFICIENTS,
+                  what="not_identified_reason (identified == False)")
+        found.add("coefficients_not_identified",
+                  not_identified_sentence(why),
+                  artefact=_COEFFICIENTS, what="not_identified_reason, in words")
+        found.add("n_coefficients", len(coefficients), artefact=_COEFFICIENTS, what="rows")
+        found.add("coefficient_flags_checked", False, artefact=_COEFFICIENTS,
+                  what="no flags: nothing identified")
+        return
     for r in coefficients.itertuples():
         found.add(f"coefficient_{r.name}", float(r.value), str(r.unit),
                   artefact=_COEFFICIENTS, what=f"value[name={r.name}]")

@@ -12,7 +12,11 @@ import numpy as np
 import pandas as pd
 
 from robomill.experiment import feed_per_tooth_mm, tooth_passing_hz
-from robomill.forces.coefficients import identify_cutting_coefficients
+from robomill.forces.coefficients import (
+    identify_cutting_coefficients,
+    not_identified_reason,
+    not_identified_table,
+)
 from robomill.forces.model import (
     AXES,
     CuttingCoefficients,
@@ -153,6 +157,12 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
     dataset also holds the model force shape of thesis Fig 3.2 over one revolution with the
     identified coefficients (``model_force``).
 
+    Cuts that cannot identify the coefficients (fewer than three, or one feed per tooth:
+    :func:`robomill.forces.coefficients.not_identified_reason`) are a legitimate design: the
+    spectra, peaks, mean forces and harmonics are as always, the coefficients table is
+    :func:`robomill.forces.coefficients.not_identified_table` (NaN values, ``identified``
+    False, ``not_identified_reason``) and ``model_force`` is NaN.
+
     ``processes`` (cut id → :func:`robomill.experiment.cut_process`), given for a design that
     is not the thesis' (free cut ids, per-cut spindle speed, flutes, immersion, milling mode):
     the cuts keep their given order, ``set``/``segment`` are columns only when every cut has
@@ -250,20 +260,28 @@ def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0
                                               spectra["harmonic_hz"].values if processes is None
                                               else spectra["harmonic_hz"].values[i],
                                               strict=True) if np.isfinite(f)])
-    coeffs = identify_cutting_coefficients(
-        means["feed_per_tooth_mm"].to_numpy(), means["depth_mm"].to_numpy(),
-        means[["F_feed_N", "F_cross_feed_N", "F_axial_N"]].to_numpy(),
-        flutes=flutes if processes is None else z, confidence=confidence,
-        **({} if processes is None else {"entry_rad": st, "exit_rad": ex}))
-    k = CuttingCoefficients(**dict(zip(coeffs["name"], coeffs["value"], strict=True)))
+    why = not_identified_reason(means["feed_per_tooth_mm"].to_numpy())
+    if why is None:
+        coeffs = identify_cutting_coefficients(
+            means["feed_per_tooth_mm"].to_numpy(), means["depth_mm"].to_numpy(),
+            means[["F_feed_N", "F_cross_feed_N", "F_axial_N"]].to_numpy(),
+            flutes=flutes if processes is None else z, confidence=confidence,
+            **({} if processes is None else {"entry_rad": st, "exit_rad": ex}))
+    else:  # a legitimate design (one feed per tooth, < 3 cuts): NaN and the reason
+        coeffs = not_identified_table(why)
     c_mod = model_feed_per_tooth_mm or float(np.median(means["feed_per_tooth_mm"]))
     a_mod = model_depth_mm or float(np.median(means["depth_mm"]))
     phi = np.linspace(0, 4 * np.pi, 721)
-    F = slot_forces(phi, c_mod, a_mod, k, flutes=int(z[0]), entry_rad=float(st[0]),
-                    exit_rad=float(ex[0]))
+    if why is None:
+        k = CuttingCoefficients(**dict(zip(coeffs["name"], coeffs["value"], strict=True)))
+        F = slot_forces(phi, c_mod, a_mod, k, flutes=int(z[0]), entry_rad=float(st[0]),
+                        exit_rad=float(ex[0]))
+    else:
+        F = np.full((phi.size, 3), np.nan)
     spectra["model_force"] = var(("model_angle", "component"), F, "N",
                                   f"eq. 3.1 force on the tool, identified coefficients, "
-                                  f"c = {c_mod * 1e3:.2f} um, a = {a_mod:.2f} mm")
+                                  f"c = {c_mod * 1e3:.2f} um, a = {a_mod:.2f} mm"
+                                  + ("" if why is None else f" (NaN: coefficients {why})"))
     spectra = spectra.assign_coords(model_angle=var("model_angle", np.degrees(phi), "deg",
                                                      "rotation angle of tooth 1"))
     spectra.attrs.update({"model_feed_per_tooth_mm": c_mod, "model_depth_mm": a_mod})

@@ -15,6 +15,7 @@ import numpy as np
 import pandas as pd
 
 from robomill.forces import CuttingCoefficients
+from robomill.forces.coefficients import identification_status, not_identified_sentence
 from robomill.kinematics import SerialRobot
 from robomill.plan.noise import noise_floor_um, read_interval_um, record_duration_s, run_duration_s
 from robomill.stiffness import jacobian_m
@@ -50,8 +51,24 @@ class Measured:
     (:mod:`robomill.plan.noise`; config ``plan.waviness_noise.coverage``)."""
 
     def has(self, name: str) -> bool:
+        """Whether ``name`` was measured: a table with rows; cutting coefficients must also
+        be identified (a design with one feed per tooth writes them as NaN with the reason,
+        :func:`robomill.forces.coefficients.not_identified_table`)."""
         v = getattr(self, name)
-        return v is not None and len(v) > 0
+        if v is None or len(v) == 0:
+            return False
+        return name != "coefficients" or identification_status(v) is None
+
+    def why_missing(self, name: str) -> str:
+        """Why ``name`` is not there (:data:`SOURCES`; the coefficients' reason when the
+        table is there but not identified)."""
+        v = getattr(self, name)
+        if name == "coefficients" and v is not None and len(v) > 0:
+            why = identification_status(v)
+            if why is not None:
+                return ("no cutting coefficients (results/forces/cutting_coefficients.csv: "
+                        f"{not_identified_sentence(why)})")
+        return SOURCES[name]
 
 
 def missing_predictions(m: Measured) -> dict[str, str]:
@@ -60,7 +77,7 @@ def missing_predictions(m: Measured) -> dict[str, str]:
     for pred, needs in PREDICTIONS.items():
         for n in needs:
             if not m.has(n):
-                out[pred] = SOURCES[n]
+                out[pred] = m.why_missing(n)
                 break
     return out
 
