@@ -141,3 +141,40 @@ def test_a_point_interval_admits_its_outcome_within_the_tables_rounding():
                          "Fz_N": 0.0})
     t = check_table(pred, mean_forces=mean).set_index("cut")
     assert t.loc["a", "within_interval"] and not t.loc["b", "within_interval"]
+
+
+def test_a_line_inside_the_slow_deviations_lobe_is_not_read_as_waviness():
+    """A gear line 3.1 periods along the path, next to a 3 µm slow deviation at 2 periods
+    (what the cubic detrend leaves of a path's slow error), reads that deviation's Hann lobe,
+    not its own 0.1 µm: the line counts only from fmin_cycles + the main lobe's half width
+    (waviness_min_cycles), in the outcome as in the prediction (issue 28, plan_05)."""
+    from robomill.plan.check import WAVINESS_MIN_CYCLES, waviness_min_cycles
+    from robomill.plan.measured import Measured
+
+    assert waviness_min_cycles(2.5, 2.0) == 4.5 == WAVINESS_MIN_CYCLES
+    assert Measured().waviness_min_cycles == WAVINESS_MIN_CYCLES  # prediction = outcome
+    rng = np.random.default_rng(3)
+    s = DS_MM * np.arange(N)
+    lat = (3.0 * np.sin(2 * np.pi * 2.0 / L_MM * s + 0.4)            # the slow deviation
+           + 0.1 * np.sin(2 * np.pi * 3.1 / L_MM * s + 0.9)          # the low gear line
+           + STRONG_UM * np.sin(2 * np.pi * F_STRONG * s + 0.3)
+           + NOISE_UM * rng.standard_normal(N))
+    prof = Profile(s_mm=s, deviation_um=np.stack([lat, NOISE_UM * rng.standard_normal(N)]),
+                   start_mm=np.zeros(3), end_mm=np.array([L_MM, 0, 0]),
+                   direction=np.array([1.0, 0, 0]), ds_mm=DS_MM, speed_mm_s=1.0)
+    spec = profile_spectrum(prof, nfft=32768)
+    ds = profile_dataset(prof, spec, fmax_store_per_mm=20.0,
+                         attrs={"direction": "px", "feed_mm_s": 1.0, "cut": "plan_05",
+                                "fmin_per_mm": 2.5 / L_MM, "floor_um2": 0.0})
+    profiles = gather_profiles([ds], ["px_f10"])
+    gears = pd.DataFrame({"run": "px_f10", "cut": "plan_05", "joint": [2, 3],
+                          "stage": ["motor", "reducer_input"], "order": "mesh",
+                          "f_spatial_per_mm": [F_STRONG, 3.1 / L_MM]})
+    elements = pd.DataFrame({"joint": [2, 3], "stage": ["motor", "reducer_input"],
+                             "order": "mesh"})
+    # by hand: the strong line alone, 1.0 µm (noise per bin ≈ 0.3·√(6/4000) ≈ 0.012 µm)
+    assert waviness_outcomes(elements, gears, profiles)["plan_05"] == pytest.approx(
+        STRONG_UM, abs=0.03)
+    # read from 2.5 periods, the low line reads the slow deviation's lobe: far above 0.1 µm
+    leaky = waviness_outcomes(elements, gears, profiles, min_cycles=2.5)["plan_05"]
+    assert leaky - STRONG_UM > 0.5

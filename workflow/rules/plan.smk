@@ -70,6 +70,7 @@ rule plan_make:
     params:
         experiment=STUDY_EXPERIMENT,
         waviness_noise=config.get("plan", {}).get("waviness_noise", {}),
+        fmin_cycles=config["straightness"]["fmin_cycles"],
     script:
         "../scripts/plan_make.py"
 
@@ -121,6 +122,8 @@ rule plan_check:
         chatter_fraction_of_mean=config.get("plan", {}).get(
             "chatter_fraction_of_mean", 0.05
         ),
+        waviness_noise=config.get("plan", {}).get("waviness_noise", {}),
+        fmin_cycles=config["straightness"]["fmin_cycles"],
     script:
         "../scripts/plan_check.py"
 

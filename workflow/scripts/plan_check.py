@@ -6,7 +6,13 @@ import xarray as xr
 
 from robomill.io import write_table
 from robomill.pipeline.runlog import setup
-from robomill.plan.check import RunOutcomes, check_summary, check_table, summary_table
+from robomill.plan.check import (
+    RunOutcomes,
+    check_summary,
+    check_table,
+    summary_table,
+    waviness_min_cycles,
+)
 
 log = setup(snakemake.log[0], "plan")
 inp = snakemake.input
@@ -35,7 +41,10 @@ table = check_table(
     chatter_fraction_of_mean=float(snakemake.params.chatter_fraction_of_mean),
     planned_run=planned_run,
     run_gears=table("gears"),
-    profiles=dataset("profiles"))
+    profiles=dataset("profiles"),
+    waviness_min_cycles=waviness_min_cycles(
+        snakemake.params.fmin_cycles,
+        float(dict(snakemake.params.waviness_noise or {}).get("exclude_bins", 2.0))))
 write_table(table, snakemake.output.check)
 summary = check_summary(table, float(snakemake.params.tolerance))
 write_table(summary_table(summary), snakemake.output.summary)

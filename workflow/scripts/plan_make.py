@@ -11,6 +11,7 @@ from robomill.io import write_artefact, write_table
 from robomill.io.atomic import atomic_path
 from robomill.io.cell import read_cell
 from robomill.pipeline.runlog import setup
+from robomill.plan.check import waviness_min_cycles
 from robomill.plan.make import make_plan
 from robomill.plan.measured import Measured, cut_mid_poses, gear_joint_amplitudes
 from robomill.plan.outputs import cell_of, compact
@@ -48,7 +49,9 @@ if "peaks" in inp.keys() and placed:
     log.info("gear elements (joint amplitudes, tracker noise):\n%s", gears.to_string())
 measured = Measured(modes=table("modes"), coefficients=table("coefficients"),
                     joints=table("joints"), gears=gears,
-                    waviness_coverage=float(noise.get("coverage", 0.95)))
+                    waviness_coverage=float(noise.get("coverage", 0.95)),
+                    waviness_min_cycles=waviness_min_cycles(
+                        p.fmin_cycles, float(noise.get("exclude_bins", 2.0))))
 plan = make_plan(req, measured, cell, cuts, experiment, robot_name=cell.robot.name)
 inputs = [str(f) for f in inp]
 write_artefact(compact(plan.candidates), out.candidates, rule="plan_make", inputs=inputs,

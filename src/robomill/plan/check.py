@@ -49,10 +49,24 @@ def force_outcomes(mean_forces: pd.DataFrame) -> pd.Series:
     return pd.Series(np.linalg.norm(F, axis=1), index=mean_forces["cut"].astype(str))
 
 
-WAVINESS_MIN_CYCLES = 2.5
+WAVINESS_MIN_CYCLES = 4.5
 """A gear line counts as waviness where it completes at least this many periods along the
-path: the ``min_cycles`` default of :func:`robomill.plan.measured.waviness_um`, the rule of the
-prediction the outcome is compared with."""
+path: :func:`waviness_min_cycles` of the default settings (``straightness.fmin_cycles`` 2.5
+and ``plan.waviness_noise.exclude_bins`` 2), the ``min_cycles`` default of
+:func:`robomill.plan.measured.waviness_um` and of :func:`waviness_outcomes`."""
+
+
+def waviness_min_cycles(fmin_cycles: float, exclude_bins: float) -> float:
+    """Periods along the path from which a gear line counts as waviness, in the prediction and
+    in its outcome alike: the straightness analysis' lowest analysed frequency
+    (``fmin_cycles`` periods per record, below which the run's slow deviation is left as its
+    line) plus the Hann main lobe's half width (``exclude_bins`` resolution bins), so that a
+    line's read window (±0.5 bin) lies clear of the slow deviation's lobe. A line read closer
+    reads the leakage of that slow deviation, not a gear: on the default study's planned cut
+    plan_05 the lateral spectrum of its tracker run is a hump of 4.7 µm at 2 bins, and the
+    read at joint 3's reducer-input mesh line, 3.1 periods along the 38 mm path, gave 3.37 µm
+    where no peak stands out."""
+    return float(fmin_cycles) + float(exclude_bins)
 
 
 def waviness_elements(peaks: pd.DataFrame | None) -> pd.DataFrame:
@@ -218,7 +232,8 @@ Outcome = tuple[str, str, pd.Series, str]
 
 
 def _outcomes(mean_forces, peaks, simulated, planned_run: RunOutcomes | None,
-              run_gears=None, profiles=None) -> list[Outcome]:
+              run_gears=None, profiles=None,
+              min_cycles: float = WAVINESS_MIN_CYCLES) -> list[Outcome]:
     """Every outcome source, first preferred for a cut and quantity: the planned cuts' own
     run, then the study's run (dynamometer, tracker), then the virtual cell's cuts of
     plan_simulate (deflection; force where no dynamometer recorded the cut). The waviness
@@ -234,13 +249,14 @@ def _outcomes(mean_forces, peaks, simulated, planned_run: RunOutcomes | None,
         if _present(planned_run.run_gears) and planned_run.profiles is not None:
             out.append(("waviness", "um",
                         waviness_outcomes(elements, planned_run.run_gears,
-                                          planned_run.profiles),
+                                          planned_run.profiles, min_cycles=min_cycles),
                         f"{f}/results/straightness/profiles.nc"))
     if _present(mean_forces):
         out.append(("force", "N", force_outcomes(mean_forces),
                     "results/forces/mean_forces.csv"))
     if _present(run_gears) and profiles is not None:
-        out.append(("waviness", "um", waviness_outcomes(elements, run_gears, profiles),
+        out.append(("waviness", "um", waviness_outcomes(elements, run_gears, profiles,
+                                                        min_cycles=min_cycles),
                     "results/straightness/profiles.nc"))
     if _present(simulated):
         sim = simulated.set_index(simulated["cut"].astype(str))
@@ -275,7 +291,8 @@ def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = N
                 force_peaks: pd.DataFrame | None = None,
                 chatter_fraction_of_mean: float = 0.05,
                 planned_run: RunOutcomes | None = None,
-                run_gears: pd.DataFrame | None = None, profiles: Any = None) -> pd.DataFrame:
+                run_gears: pd.DataFrame | None = None, profiles: Any = None,
+                waviness_min_cycles: float = WAVINESS_MIN_CYCLES) -> pd.DataFrame:
     """Rows ``cut, quantity, unit, predicted, low, high, outcome, within_interval,
     within_tolerance, source`` for every predicted cut with an outcome (the ``stability``
     encoding in the module's docstring): one row per cut and quantity, its outcome from the
@@ -303,7 +320,8 @@ def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = N
         (``snakemake all --configfile results/plan/next/config.yaml``), preferred for force and
         waviness; its force spectrum gives the stability of the cuts without one above.
     """
-    outcomes = _outcomes(mean_forces, peaks, simulated, planned_run, run_gears, profiles)
+    outcomes = _outcomes(mean_forces, peaks, simulated, planned_run, run_gears, profiles,
+                         waviness_min_cycles)
     stabilities = _stabilities(simulated, force_peaks, mean_forces, planned_run,
                                chatter_fraction_of_mean)
     rows = []

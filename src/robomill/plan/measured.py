@@ -49,6 +49,9 @@ class Measured:
     waviness_coverage: float = 0.95
     """Two-sided coverage of the interval of the waviness the next tracker run reads
     (:mod:`robomill.plan.noise`; config ``plan.waviness_noise.coverage``)."""
+    waviness_min_cycles: float = 4.5
+    """Periods along the path from which a gear line counts as waviness
+    (:func:`robomill.plan.check.waviness_min_cycles`)."""
 
     def has(self, name: str) -> bool:
         """Whether ``name`` was measured: a table with rows; cutting coefficients must also
@@ -222,7 +225,7 @@ def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
 def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
                 gears: pd.DataFrame, *, direction: np.ndarray | None = None,
                 length_mm: float | None = None, orders: Mapping | None = None,
-                min_cycles: float = 2.5, feed_mm_s: np.ndarray | None = None,
+                min_cycles: float = 4.5, feed_mm_s: np.ndarray | None = None,
                 coverage: float = 0.95) -> dict[str, np.ndarray]:
     """Path waviness normal to the wall at postures ``q_rad`` ``(..., n)``: each gear element's
     joint amplitude carried through the Jacobian, A = δq_j |nᵀ J_v[:, j](q)|, summed over the
@@ -236,7 +239,9 @@ def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
     least ``min_cycles`` periods along the cut: spatial frequency
     f = order·|dq_j/ds|/(2π) (dq/ds from J dq = (u, 0) at fixed orientation) times the length.
     A joint that hardly turns along the path prints its gear error as a slow offset, not as
-    waviness (the straightness analysis' own resolution rule).
+    waviness; ``min_cycles`` is the analysis band's edge plus the Hann main lobe, where a
+    read is clear of the slow deviation's lobe (:func:`robomill.plan.check.waviness_min_cycles`,
+    the outcome's rule too).
 
     With the feeds ``feed_mm_s`` ``(V,)`` and the elements' ``noise_um_sqrt_s`` (the tracker's
     noise level, :func:`gear_joint_amplitudes`), also the interval of the amplitude the next

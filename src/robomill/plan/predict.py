@@ -227,7 +227,8 @@ def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
         u_vec = np.broadcast_to(frames[None, None, :, :, 0], (P, R, D, 3))
         w = waviness_um(cell.robot, q, n_vec, measured.gears, direction=u_vec,
                         length_mm=req.length_mm, orders=cell.gear_orders,
-                        feed_mm_s=req.feed_mm_s, coverage=measured.waviness_coverage)
+                        feed_mm_s=req.feed_mm_s, coverage=measured.waviness_coverage,
+                        min_cycles=measured.waviness_min_cycles)
         w.setdefault("read_low", w["low"][..., None] + np.zeros(V))
         w.setdefault("read_high", w["high"][..., None] + np.zeros(V))
         wav.update({k: np.where(ok if v.ndim == 3 else ok[..., None], v, np.nan)
