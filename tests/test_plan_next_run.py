@@ -33,6 +33,29 @@ def test_the_next_config_names_its_own_run_folder_inside_the_plan():
     assert not folder.is_absolute()
     assert folder.parts[:3] == ("results", "plan", "next") and len(folder.parts) > 3
     assert [c["id"] for c in cfg["experiment"]["cuts"]] == ["plan_01", "plan_02"]
+    assert cfg["synth"] == {"tracker": {"per_cut": True}}  # each planned cut tracked
+
+
+def test_per_cut_tracking_gives_each_cut_its_own_run():
+    """Two planned cuts at one direction and feed: one tracker run each, keyed by the cut's
+    id (manifest key run), where one run per direction and feed would follow the last only."""
+    from snakemake.utils import update_config
+
+    from robomill.experiment import tracker_run
+    from robomill.pipeline.config import load_config
+    from robomill.synth.plan import instrument_files
+
+    base = load_config(REPO / "config.yaml")
+    overlay = next_config(MANIFEST)
+    overlay.pop("workdir")
+    shared = [f for f in instrument_files({**base, "experiment": overlay["experiment"]},
+                                          "tracker")]
+    assert [f["cut"] for f in shared] == ["plan_02"] and "run" not in shared[0]
+    update_config(base, overlay)
+    own = instrument_files(base, "tracker")
+    assert [(f["cut"], tracker_run(f), f["path"]) for f in own] == [
+        ("plan_01", "plan_01", "tracker/plan_01.csv"),
+        ("plan_02", "plan_02", "tracker/plan_02.csv")]
 
 
 def test_run_folder_keeps_a_relative_raw_folder_where_it_was(tmp_path, monkeypatch):

@@ -89,16 +89,22 @@ def hit_path(direction: str, hit: int) -> str:
 def tracker_runs(config: Mapping[str, Any]) -> list[dict[str, Any]]:
     """The tracker runs: one per (direction, feed) of the experiment (``synth.tracker``
     ``directions``/``feeds_mm_s`` select; null = all), each following the path of the last
-    cut with that direction and feed. Keys ``run, direction, feed_mm_s, cut`` (a :class:`Cut`)."""
+    cut with that direction and feed; with ``synth.tracker.per_cut`` one per tracked cut, its
+    id the cut's. Keys ``run, direction, feed_mm_s, cut`` (a :class:`Cut`; ``per_cut`` True
+    for a cut's own run)."""
     exp = config["experiment"]
     tr = _settings(config, "tracker")
     dirs = tr["directions"] or list(exp.get("directions") or ("py", "px", "my", "mx"))
     feeds = tr["feeds_mm_s"]
+    tracked = [c for c in synthetic_cuts(config)  # cuts by direction_deg only: no run
+               if c.direction in dirs and (feeds is None or any(
+                   math.isclose(c.feed_mm_s, f, rel_tol=1e-5, abs_tol=1e-8) for f in feeds))]
+    if tr.get("per_cut"):  # one run per cut, keyed by the cut's id (manifest key run)
+        return [{"run": c.id, "direction": c.direction, "feed_mm_s": c.feed_mm_s, "cut": c,
+                 "per_cut": True} for c in tracked]
     chosen: dict[tuple[str, float], Cut] = {}
-    for c in synthetic_cuts(config):  # cuts given by direction_deg only: no tracker run
-        if c.direction in dirs and (feeds is None or any(
-                math.isclose(c.feed_mm_s, f, rel_tol=1e-5, abs_tol=1e-8) for f in feeds)):
-            chosen[(c.direction, c.feed_mm_s)] = c
+    for c in tracked:
+        chosen[(c.direction, c.feed_mm_s)] = c
     runs = []
     for d in dirs:
         for (dd, feed), c in sorted(chosen.items(), key=lambda kv: kv[0][1]):
@@ -126,7 +132,9 @@ def instrument_files(config: Mapping[str, Any], instrument: str) -> list[dict[st
         fs = float(_settings(config, "tracker")["fs_hz"])
         return [{"path": f"tracker/{r['run']}.csv", "kind": "tracker",
                  "direction": r["direction"], "feed_mm_s": float(r["feed_mm_s"]),
-                 "fs_hz": fs, "cut": r["cut"].id} for r in tracker_runs(config)]
+                 "fs_hz": fs, "cut": r["cut"].id, **({"run": r["run"]} if r.get("per_cut")
+                                                      else {})}
+                for r in tracker_runs(config)]
     if instrument == "impact":
         if "impact" not in config["synth"]:
             return []
