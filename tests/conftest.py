@@ -107,3 +107,22 @@ def chapter_outputs(workdir, name):
             if out.get("output_type") == "stream":
                 parts.append("".join(out["text"]))
     return "\n".join(parts)
+
+
+def default_cell_posture(point_mm):
+    """The default cell's robot (``config.yaml`` ``cell:``) and its posture ``(1, n)`` with
+    the TCP at ``point_mm`` and the cell's tool orientation (tests of the plan's gear-line
+    waviness at one pose)."""
+    import numpy as np
+    import yaml
+
+    from robomill.kinematics import robot_from_mapping
+    from robomill.stiffness import solve_poses
+
+    cfg = yaml.safe_load((REPO / "config.yaml").read_text())
+    rb = robot_from_mapping(cfg["cell"]["robot"])
+    R0 = np.asarray(cfg["cell"]["tool_rotation"], float)
+    q, ok = solve_poses(rb, np.atleast_2d(np.asarray(point_mm, float)), R0,
+                        np.deg2rad(cfg["cell"]["q_home_deg"]))
+    assert ok.all(), f"{point_mm} mm is not reachable"
+    return rb, q

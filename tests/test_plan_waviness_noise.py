@@ -8,9 +8,8 @@ lines in at least the nominal fraction of seeded Monte-Carlo draws."""
 import numpy as np
 import pandas as pd
 import pytest
-import yaml
+from conftest import default_cell_posture
 
-from robomill.kinematics import robot_from_mapping
 from robomill.plan.measured import spectrum_amplitude_um, waviness_um
 from robomill.plan.noise import (
     READ_POINTS,
@@ -19,7 +18,6 @@ from robomill.plan.noise import (
     rice_quantile_um,
     run_duration_s,
 )
-from robomill.stiffness import solve_poses
 from robomill.straightness import profile_spectrum
 from robomill.straightness.profile import Profile, profile_dataset, spatial_profile
 from robomill.straightness.study import gather_profiles
@@ -152,12 +150,7 @@ def test_waviness_read_interval_scales_with_the_feed():
     """The prediction at a pose: nominal and identification ends unchanged by the feeds;
     the noise per bin ρ √(v/L) exactly, and the read interval contains the identification
     interval and widens with the feed."""
-    cfg = yaml.safe_load(open("config.yaml"))
-    rb = robot_from_mapping(cfg["cell"]["robot"])
-    R0 = np.asarray(cfg["cell"]["tool_rotation"], float)
-    q, ok = solve_poses(rb, np.array([[700.0, 0.0, 200.0]]), R0,
-                        np.deg2rad(cfg["cell"]["q_home_deg"]))
-    assert ok.all()
+    rb, q = default_cell_posture([700.0, 0.0, 200.0])
     gears = pd.DataFrame({"joint": [2, 3], "stage": ["motor", "motor"], "order": ["mesh"] * 2,
                           "dq_urad": [10.0, 8.0], "dq_low_urad": [9.0, 7.0],
                           "dq_high_urad": [11.0, 9.0], "n_runs": [3, 3],

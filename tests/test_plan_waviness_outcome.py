@@ -5,12 +5,10 @@ normal ẑ × u) and amplitude definition (sinusoid amplitude a of a·sin(2πfs)
 import numpy as np
 import pandas as pd
 import pytest
-import yaml
+from conftest import default_cell_posture
 
-from robomill.kinematics import robot_from_mapping
 from robomill.plan.check import check_table, waviness_elements, waviness_outcomes
 from robomill.plan.measured import gear_joint_amplitudes
-from robomill.stiffness import solve_poses
 from robomill.straightness import profile_spectrum, spectrum_peaks
 from robomill.straightness.profile import Profile, profile_dataset
 from robomill.straightness.study import gather_profiles
@@ -111,12 +109,7 @@ def test_the_identification_reads_the_same_component_amplitude():
     """A joint's gear amplitude is identified from the peak's component amplitude in the run's
     spectrum (1.0 µm lateral), not from the peak's √(2P) of both components (√5 µm): the
     quantity the prediction carries is the one the outcome measures."""
-    cfg = yaml.safe_load(open("config.yaml"))
-    rb = robot_from_mapping(cfg["cell"]["robot"])
-    R0 = np.asarray(cfg["cell"]["tool_rotation"], float)
-    q, ok = solve_poses(rb, np.array([[700.0, 0.0, 200.0]]), R0,
-                        np.deg2rad(cfg["cell"]["q_home_deg"]))
-    assert ok.all()
+    rb, q = default_cell_posture([700.0, 0.0, 200.0])
     u = np.array([1.0, 0.0, 0.0])
     sens = abs(np.cross([0, 0, 1.0], u) @ np.asarray(rb.jacobian(q[0]))[:3, 0]) * 1e3  # µm/rad
     _, _, ds = planted_run("px_f1", "c1")
