@@ -7,7 +7,13 @@ import nbformat
 import pytest
 from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
 
-from robomill.pipeline.chapters import ChapterError, check_parameters, render_chapter
+from robomill.pipeline.chapters import (
+    ChapterError,
+    WarmExporter,
+    check_parameters,
+    document_html,
+    render_chapter,
+)
 
 
 def _notebook(tmp_path, body, params="data: str = None\nn: int = 2\nfig_dir: str = None"):
@@ -36,6 +42,26 @@ def test_good_chapter_renders_with_parameter_table(tmp_path):
     assert "value 42" in html
     assert "Parameters of this run" in html and "a.csv" in html
     assert (out / "figs" / "f.png").exists()
+
+
+def test_the_page_is_the_same_from_a_warmed_exporter_and_from_run_to_run():
+    """The exporter readied in the background while the kernel runs (WarmExporter) has
+    already converted its warm-up notebook; the page it writes must not carry anything of
+    that, and two renders of the same notebook must give the same bytes (no random ids)."""
+    from nbformat.v4 import new_output
+
+    nb = new_notebook(cells=[
+        new_markdown_cell("# Chapter\n\nSome *prose*."),
+        new_code_cell("x = 1", outputs=[new_output("display_data", data={
+            "text/markdown": "| a | b |\n|---|---|\n| 1 | 2 |", "text/plain": "t"})]),
+        new_markdown_cell("## Section\n\n$a^2$ and `code`")])
+    table = "| parameter | value |\n|---|---|\n| n | 2 |"
+    fresh = document_html(nb, table, replace={"Some": "Any"})
+    warmed = document_html(nb, table, replace={"Some": "Any"}, exporter=WarmExporter().get())
+    assert warmed == fresh
+    assert document_html(nb, table, replace={"Some": "Any"}) == fresh
+    assert "Any <em>prose</em>" in fresh and "warm-up" not in fresh
+    assert fresh.index("parameter") < fresh.index("Section")  # the table follows the title
 
 
 def test_figures_are_inline_even_when_the_environment_forces_agg(tmp_path, monkeypatch):

@@ -141,26 +141,68 @@ def _parameter_table(parameters: Mapping[str, Any], declared: Mapping[str, str],
 TEMPLATE_DIR = Path(__file__).parents[1] / "data" / "chapter_template"
 
 
+def chapter_exporter():
+    """The nbconvert exporter of the chapter pages (the chapter template, no prompts)."""
+    from nbconvert import HTMLExporter
+
+    return HTMLExporter(extra_template_basedirs=[str(TEMPLATE_DIR.parent)],
+                        template_name=TEMPLATE_DIR.name, exclude_input_prompt=True,
+                        exclude_output_prompt=True)
+
+
+class WarmExporter:
+    """A :func:`chapter_exporter` made ready in a background thread.
+
+    The exporter's first page costs about a second on its own (importing nbconvert, loading
+    and compiling the Jinja template, the markdown and highlighting machinery), and nothing
+    in it depends on the chapter. :func:`render_chapter` starts this before the kernel and
+    collects it after: the kernel runs the notebook in its own process meanwhile, and this
+    process only waits for its messages, so the warm-up is done on the other core instead of
+    after the kernel. :meth:`get` returns the warmed exporter (a failed warm-up returns a
+    fresh one: the warm-up only saves time).
+    """
+
+    def __init__(self) -> None:
+        import threading
+
+        self._exporter = None
+        self._thread = threading.Thread(target=self._warm, name="chapter-exporter",
+                                        daemon=True)
+        self._thread.start()
+
+    def _warm(self) -> None:
+        try:
+            exporter = chapter_exporter()
+            nb = nbformat.v4.new_notebook(cells=[
+                nbformat.v4.new_markdown_cell("# warm-up\n\n| a |\n|---|\n| 1 |"),
+                nbformat.v4.new_code_cell("x = 1", outputs=[nbformat.v4.new_output(
+                    "display_data", data={"text/markdown": "*x*", "text/plain": "x"})])])
+            exporter.from_notebook_node(nb)
+            self._exporter = exporter
+        except Exception as exc:  # noqa: BLE001 - the real export reports real problems
+            log.debug("chapter exporter warm-up failed: %s", exc)
+
+    def get(self):
+        self._thread.join()
+        return self._exporter if self._exporter is not None else chapter_exporter()
+
+
 def document_html(nb: nbformat.NotebookNode, table_md: str,
-                  replace: Mapping[str, str] | None = None) -> str:
+                  replace: Mapping[str, str] | None = None, exporter=None) -> str:
     """The chapter page of an executed notebook, as a document.
 
     The ``parameters`` and papermill's ``injected-parameters`` cells are left out (the one
     parameter table ``table_md`` is inserted after the title instead), every code cell's
     input is folded in a ``<details>`` element (one click shows it; printing omits it), and
-    each ``replace`` key (e.g. the staging folder) is replaced in the page.
+    each ``replace`` key (e.g. the staging folder) is replaced in the page. ``exporter`` is a
+    :func:`chapter_exporter` (one already used, see :class:`WarmExporter`), a new one if None.
     """
-    from nbconvert import HTMLExporter
-
     nb = nbformat.from_dict(nb)
     nb.cells = [c for c in nb.cells if not {"parameters", "injected-parameters"}
                 & set(c.metadata.get("tags", []))]
-    table = nbformat.v4.new_markdown_cell(table_md)
+    table = nbformat.v4.new_markdown_cell(table_md, id="parameters-of-this-run")  # same id each run
     nb.cells.insert(1 if nb.cells and nb.cells[0].cell_type == "markdown" else 0, table)
-    exporter = HTMLExporter(extra_template_basedirs=[str(TEMPLATE_DIR.parent)],
-                            template_name=TEMPLATE_DIR.name, exclude_input_prompt=True,
-                            exclude_output_prompt=True)
-    body, _ = exporter.from_notebook_node(nb)
+    body, _ = (exporter or chapter_exporter()).from_notebook_node(nb)
     for old, new in (replace or {}).items():
         body = body.replace(old, new)
     return body
@@ -249,6 +291,7 @@ def render_chapter(
         staged_figs.mkdir()
         params = {**parameters, "fig_dir": str(staged_figs.resolve())}
         declared = check_parameters(notebook, params)
+        exporter = WarmExporter()  # readies the page's exporter while the kernel runs
         error: Exception | None = None
         for attempt in range(1, KERNEL_START_ATTEMPTS + 1):
             error = None
@@ -285,7 +328,8 @@ def render_chapter(
         root = Path(cwd) if cwd else Path.cwd()
         body = document_html(nb, _parameter_table(shown, declared, root), replace={
             str(staged_figs.resolve()): shown_value(str(fig_dir.resolve()), root),
-            str(stage.resolve()): shown_value(str(out_ipynb.parent.resolve()), root)})
+            str(stage.resolve()): shown_value(str(out_ipynb.parent.resolve()), root)},
+            exporter=exporter.get())
         (stage / out_html.name).write_text(body)
         # move into place: figures first, the notebook and the page last
         if fig_dir.exists():
