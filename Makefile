@@ -29,10 +29,11 @@ $(STAMP): environment.lock pyproject.toml
 kernel: $(STAMP)
 
 # Unit tests first, in parallel (pytest-xdist, one worker per job slot); then the slow
-# end-to-end pipeline, browser and cluster tests. The same tests and assertions as one run.
+# end-to-end pipeline, browser and cluster tests, also in parallel (the tiny study is built once
+# for both workers, tests/conftest.py). The same tests and assertions as one run.
 test: $(STAMP)
 	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster"
-	$(BIN)/python -m pytest -q --durations=10 -m "pipeline or browser or cluster"
+	$(BIN)/python -m pytest -q -n $(JOBS) --dist loadscope --no-loadscope-reorder --durations=10 -m "pipeline or browser or cluster"
 
 test-fast: $(STAMP)
 	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster"

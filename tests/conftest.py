@@ -80,14 +80,64 @@ def run_snakemake(workdir: Path, *args: str, configfile: Path | None = None,
                           env=env)
 
 
-@pytest.fixture(scope="session")
-def tiny_run(tmp_path_factory) -> Path:
-    """The whole workflow (`all`) run once on the tiny config; shared by pipeline tests."""
-    workdir = tmp_path_factory.mktemp("tiny_run")
+def pytest_collection_modifyitems(config, items):
+    """Order the test modules for two workers (`make test`: ``-n 2 --dist loadscope
+    --no-loadscope-reorder`` hands whole modules out in this order): the first module that
+    needs the shared tiny run (:func:`tiny_run`) goes first, so one worker starts building it
+    at once; then the modules that do not need it, which keep the other worker busy meanwhile;
+    then the other modules that need it. Within a module the order is unchanged, and a run
+    without workers runs the same tests in this order."""
+    modules: dict[str, int] = {}
+    needs: dict[str, bool] = {}
+    for item in items:
+        name = item.nodeid.split("::")[0]
+        modules.setdefault(name, len(modules))
+        needs[name] = needs.get(name, False) or "tiny_run" in getattr(item, "fixturenames", ())
+    first = next((m for m in modules if needs[m]), None)
+
+    def rank(item):
+        name = item.nodeid.split("::")[0]
+        return (0 if name == first else 1 if not needs[name] else 2), modules[name]
+
+    items.sort(key=rank)  # stable: a module's own order is kept
+
+
+def _build_tiny_run(workdir: Path) -> str:
+    """Run `all` on the tiny config in ``workdir``; "" when it succeeded, else why not."""
     proc = run_snakemake(workdir, "-j2", "all")
     if proc.returncode != 0:
-        pytest.fail(f"snakemake -j2 all failed on the tiny config:\n{proc.stdout[-4000:]}"
-                    f"\n{proc.stderr[-6000:]}")
+        return (f"snakemake -j2 all failed on the tiny config:\n{proc.stdout[-4000:]}"
+                f"\n{proc.stderr[-6000:]}")
+    return ""
+
+
+@pytest.fixture(scope="session")
+def tiny_run(tmp_path_factory, worker_id) -> Path:
+    """The whole workflow (`all`) run once on the tiny config; shared by pipeline tests.
+
+    Under pytest-xdist (`make test` runs the pipeline tests on two workers) the run is built
+    once for all workers: the first worker to need it builds it in the session's shared
+    temporary folder while holding a lock, the others wait for it and read the same folder.
+    Tests only read it, except test_pipeline.py (a no-op run and ``--report`` in it) and
+    test_book.py (screenshots into its book); `--dist loadscope` keeps each module on one
+    worker, so those run one after the other (:func:`pytest_collection_modifyitems`)."""
+    if worker_id == "master":
+        workdir = tmp_path_factory.mktemp("tiny_run")
+        why = _build_tiny_run(workdir)
+    else:
+        import fcntl
+
+        shared = tmp_path_factory.getbasetemp().parent  # the same for every worker
+        workdir = shared / "tiny_run"
+        outcome = shared / "tiny_run.outcome"
+        with open(shared / "tiny_run.lock", "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
+            if not outcome.exists():
+                workdir.mkdir()
+                outcome.write_text(_build_tiny_run(workdir))
+            why = outcome.read_text()
+    if why:
+        pytest.fail(why)
     return workdir
 
 
