@@ -65,3 +65,16 @@ def test_rule_scripts_and_chapters_import_submodules():
                     a.name in PACKAGES for a in node.names):
                 offenders.append(f"{path.name}: from robomill import …")
     assert offenders == []
+
+
+def test_the_plan_chapters_imports_load_no_scipy_signal():
+    """Chapter 7 imports robomill.plan.compare, which needs only the straightness geometry
+    (perpendicular_axes): SciPy's signal package (about 1 s of the chapter's kernel) stays
+    unloaded until a spectrum is taken."""
+    code = ("import sys\nfrom robomill.plan.compare import comparison_values\n"
+            "from robomill.straightness import perpendicular_axes\n"
+            "print('scipy.signal' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "False"

@@ -11,7 +11,6 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
-import scipy.signal
 import xarray as xr
 
 from robomill import spectra
@@ -219,6 +218,9 @@ def profile_spectrum(profile: Profile, *, nfft: int | None = None,
         nfft = int(2 ** np.ceil(np.log2(pad * n)))
     if nfft < n:
         raise ValueError(f"nfft={nfft} is shorter than the profile ({n} samples)")
+    import scipy.signal  # here, not at the top: the plan's chapter uses this module's
+    # geometry (perpendicular_axes) and should not pay SciPy's signal package (~1 s)
+
     w = scipy.signal.get_window("hann", n, fftbins=True)
     padded = np.zeros((dev.shape[0], nfft))
     padded[:, :n] = dev * w
