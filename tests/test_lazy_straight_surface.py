@@ -16,14 +16,18 @@ REPO = Path(__file__).resolve().parents[1]
 PACKAGES = ("straightness", "surface")
 
 
-def test_importing_the_packages_imports_no_submodule():
-    code = ("import sys, robomill.straightness, robomill.surface\n"
-            "print(sorted(m for m in sys.modules if m.startswith("
-            "('robomill.straightness.', 'robomill.surface.'))))")
+def _printed(code: str) -> str:
+    """What ``code`` prints, run in a fresh interpreter (nothing imported yet)."""
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          timeout=120)
     assert out.returncode == 0, out.stderr
-    assert out.stdout.strip() == "[]"
+    return out.stdout.strip()
+
+
+def test_importing_the_packages_imports_no_submodule():
+    assert _printed("import sys, robomill.straightness, robomill.surface\n"
+                    "print(sorted(m for m in sys.modules if m.startswith("
+                    "('robomill.straightness.', 'robomill.surface.'))))") == "[]"
 
 
 @pytest.mark.parametrize("name", PACKAGES)
@@ -71,10 +75,6 @@ def test_the_plan_chapters_imports_load_no_scipy_signal():
     """Chapter 7 imports robomill.plan.compare, which needs only the straightness geometry
     (perpendicular_axes): SciPy's signal package (about 1 s of the chapter's kernel) stays
     unloaded until a spectrum is taken."""
-    code = ("import sys\nfrom robomill.plan.compare import comparison_values\n"
-            "from robomill.straightness import perpendicular_axes\n"
-            "print('scipy.signal' in sys.modules)")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         timeout=120)
-    assert out.returncode == 0, out.stderr
-    assert out.stdout.strip() == "False"
+    assert _printed("import sys\nfrom robomill.plan.compare import comparison_values\n"
+                    "from robomill.straightness import perpendicular_axes\n"
+                    "print('scipy.signal' in sys.modules)") == "False"
