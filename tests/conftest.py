@@ -112,7 +112,7 @@ def _build_tiny_run(workdir: Path) -> str:
 
 
 @pytest.fixture(scope="session")
-def tiny_run(tmp_path_factory, worker_id) -> Path:
+def tiny_run(tmp_path_factory) -> Path:
     """The whole workflow (`all`) run once on the tiny config; shared by pipeline tests.
 
     Under pytest-xdist (`make test` runs the pipeline tests on two workers) the run is built
@@ -121,7 +121,7 @@ def tiny_run(tmp_path_factory, worker_id) -> Path:
     Tests only read it, except test_pipeline.py (a no-op run and ``--report`` in it) and
     test_book.py (screenshots into its book); `--dist loadscope` keeps each module on one
     worker, so those run one after the other (:func:`pytest_collection_modifyitems`)."""
-    if worker_id == "master":
+    if not os.environ.get("PYTEST_XDIST_WORKER"):  # no workers (or xdist not loaded)
         workdir = tmp_path_factory.mktemp("tiny_run")
         why = _build_tiny_run(workdir)
     else:
@@ -132,8 +132,8 @@ def tiny_run(tmp_path_factory, worker_id) -> Path:
         outcome = shared / "tiny_run.outcome"
         with open(shared / "tiny_run.lock", "w") as lock:
             fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
-            if not outcome.exists():
-                workdir.mkdir()
+            if not outcome.exists():  # a worker killed while building left no outcome:
+                workdir.mkdir(exist_ok=True)  # the next one tries again in the same folder
                 outcome.write_text(_build_tiny_run(workdir))
             why = outcome.read_text()
     if why:

@@ -48,8 +48,7 @@ def test_per_cut_tracking_gives_each_cut_its_own_run():
     base = load_config(REPO / "config.yaml")
     overlay = next_config(MANIFEST)
     overlay.pop("workdir")
-    shared = [f for f in instrument_files({**base, "experiment": overlay["experiment"]},
-                                          "tracker")]
+    shared = instrument_files({**base, "experiment": overlay["experiment"]}, "tracker")
     assert [f["cut"] for f in shared] == ["plan_02"] and "run" not in shared[0]
     update_config(base, overlay)
     own = instrument_files(base, "tracker")
