@@ -77,3 +77,11 @@ rule all:
     default_target: True
     input:
         all_targets,
+
+
+# Every artefact the chapters of `all` read, without the chapters, the scorecard and the book
+# (common.smk, chapter_artefacts): a study computed where no kernel or browser runs, e.g. on a
+# cluster's nodes, its pages made later with `all`.
+rule artefacts:
+    input:
+        chapter_artefacts,

@@ -70,6 +70,12 @@ def raw_copy_of_run(run_dir: Path, dst: Path, *, config_path: Path) -> Path:
     return dst
 
 
+# The book's PDF (rule book_pdf: headless Chromium, about 16 CPU s a study) is printed and
+# checked once, for the tiny run (test_book.py); the other whole-study tests leave it out of
+# `all` with this --config value (config book.pdf), having no assertion on it.
+NO_BOOK_PDF = "book={pdf: false}"
+
+
 def run_snakemake(workdir: Path, *args: str, configfile: Path | None = None,
                   timeout: int = 900) -> subprocess.CompletedProcess:
     """Run the repository's workflow in ``workdir`` (results land there)."""

@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import yaml
-from conftest import REPO, SNAKEMAKE, chapter_outputs
+from conftest import NO_BOOK_PDF, REPO, SNAKEMAKE, chapter_outputs
 
 pytestmark = pytest.mark.pipeline
 
@@ -22,7 +22,8 @@ def other_cell_run(tmp_path_factory):
 
     workdir = tmp_path_factory.mktemp("other_cell")
     cmd = [SNAKEMAKE, "-s", str(REPO / "Snakefile"), "--directory", str(workdir),
-           "--configfile", str(REPO / ".test" / "config.yaml"), str(OVERLAY), "-j2", "all"]
+           "--configfile", str(REPO / ".test" / "config.yaml"), str(OVERLAY), "-j2", "all",
+           "--config", NO_BOOK_PDF]
     proc = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, timeout=900,
                           env={**os.environ, "PYTHONHASHSEED": "0"})
     if proc.returncode != 0:

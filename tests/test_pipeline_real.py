@@ -26,7 +26,7 @@ import numpy as np
 import pandas as pd
 import pytest
 import yaml
-from conftest import REPO, run_snakemake
+from conftest import NO_BOOK_PDF, REPO, run_snakemake
 
 pytestmark = pytest.mark.pipeline
 
@@ -105,7 +105,7 @@ def real_study(tmp_path_factory):
     assert check.returncode == 0, check.stdout + check.stderr
     work = base / "work"
     work.mkdir()
-    proc = run_snakemake(work, "-j2", "all", "--config", f"data={raw}",
+    proc = run_snakemake(work, "-j2", "all", "--config", f"data={raw}", NO_BOOK_PDF,
                          configfile=REPO / "config.yaml")
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-8000:]
     return work, proc

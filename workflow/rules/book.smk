@@ -17,6 +17,8 @@ CHROMIUM = next(
     ),
     None,
 )
+# config book.pdf: false leaves the print out of `all` (the index does not link it)
+PRINT_BOOK = config["book"]["pdf"]
 
 
 rule scorecard:
@@ -70,7 +72,7 @@ rule book:
         out_dir=lambda w, output: os.path.dirname(output.index),
         benchmarks="results/benchmarks/summary.csv",
         skipped=SKIPPED,
-        pdf_name="book.pdf" if CHROMIUM else None,
+        pdf_name="book.pdf" if CHROMIUM and PRINT_BOOK else None,
     script:
         "../scripts/book.py"
 
@@ -96,8 +98,13 @@ rule book_pdf:
 
 
 ALL_TARGETS.append("results/thesis/index.html")
-if CHROMIUM:
+if CHROMIUM and PRINT_BOOK:
     ALL_TARGETS.append("results/thesis/book.pdf")
+elif not PRINT_BOOK:
+    print(
+        "robomill: results/thesis/book.pdf left out of `all`: book.pdf is false",
+        file=sys.stderr,
+    )
 else:
     print(
         "robomill: results/thesis/book.pdf left out of `all`: no Chromium found "

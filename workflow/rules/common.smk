@@ -177,6 +177,27 @@ def all_targets(wildcards):
     return ALL_TARGETS
 
 
+# the chapters' own outputs: pages and executed notebooks, figure folders, the book
+CHAPTER_FOLDERS = ("results/chapters/", "results/figures/", "results/thesis/")
+
+
+def chapter_artefacts(wildcards):
+    """Target `artefacts`: the results/ inputs of every chapter `all` builds (its data
+    artefacts), without the chapters' pages and figures, the scorecard and the book. Each
+    chapter's rule is found by its page; its inputs are expanded as Snakemake expands them for
+    the chapter's job (input functions and unpack included; chapters have no wildcards, so
+    the empty `wildcards` of this target serve)."""
+    pages = {t for t in ALL_TARGETS if t.startswith("results/chapters/")}
+    found = {}
+    for r in workflow.rules:
+        if pages.isdisjoint(str(o) for o in r.output):
+            continue
+        for f in map(str, r.expand_input(wildcards)[0]):
+            if f.startswith("results/") and not f.startswith(CHAPTER_FOLDERS):
+                found.setdefault(f)
+    return list(found)
+
+
 def raw_files(kind, **meta):
     """Paths of the raw files of `kind` (matching `meta`) in the active raw folder."""
     return [

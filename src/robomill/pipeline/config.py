@@ -40,6 +40,7 @@ SECTIONS: tuple[tuple[tuple[str, ...], str], ...] = (
     (("synth", "ctrack"), "synth_ctrack"),
     (("synth", "loadtests"), "synth_loadtests"),
     (("chapters",), "chapters"),
+    (("book",), "book"),
     (("calibration",), "calibration"),
     (("surface",), "surface"),
     (("forces",), "forces"),
