@@ -23,7 +23,7 @@ from conftest import REPO, SNAKEMAKE, missing_system_package, raw_copy_of_run
 from slurm_cluster import missing_requirements, single_node_slurm
 from test_reliability import assert_same_results
 
-pytestmark = [pytest.mark.cluster, pytest.mark.pipeline]
+pytestmark = [pytest.mark.cluster, pytest.mark.pipeline, pytest.mark.whole_study]
 
 
 def _on_slurm(tmp_path: Path, work: Path, cfgfile: Path, targets: list[str],

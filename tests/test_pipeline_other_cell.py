@@ -11,7 +11,7 @@ import pytest
 import yaml
 from conftest import NO_BOOK_PDF, REPO, SNAKEMAKE, chapter_outputs
 
-pytestmark = pytest.mark.pipeline
+pytestmark = [pytest.mark.pipeline, pytest.mark.whole_study]
 
 OVERLAY = REPO / "examples" / "other_cell" / "config.yaml"
 

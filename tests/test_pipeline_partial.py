@@ -10,7 +10,7 @@ from conftest import NO_BOOK_PDF, REPO, run_snakemake
 
 from robomill.io.manifest import build_manifest, load_manifest, write_manifest
 
-pytestmark = pytest.mark.pipeline
+pytestmark = [pytest.mark.pipeline, pytest.mark.whole_study]
 
 
 def _partial_folder(tiny_run: Path, dst: Path, kinds: set[str], with_cuts: bool) -> Path:

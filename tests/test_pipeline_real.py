@@ -28,7 +28,7 @@ import pytest
 import yaml
 from conftest import NO_BOOK_PDF, REPO, run_snakemake
 
-pytestmark = pytest.mark.pipeline
+pytestmark = [pytest.mark.pipeline, pytest.mark.whole_study]
 
 DATA = REPO / "tests" / "data"
 ROBOMILL = Path(sys.executable).parent / "robomill"

@@ -17,7 +17,7 @@ import pytest
 import xarray as xr
 from conftest import NO_BOOK_PDF, REPO, SNAKEMAKE, raw_copy_of_run, run_snakemake, tree_digest
 
-pytestmark = pytest.mark.pipeline
+pytestmark = [pytest.mark.pipeline, pytest.mark.whole_study]
 
 
 def _artefacts(results: Path, subdirs=None):

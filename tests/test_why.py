@@ -9,7 +9,7 @@ from conftest import REPO, SNAKEMAKE, raw_copy_of_run
 
 from robomill.pipeline.why import parse_dry_run
 
-pytestmark = pytest.mark.pipeline
+pytestmark = [pytest.mark.pipeline, pytest.mark.whole_study]
 
 
 def _copy_repo(dst):
