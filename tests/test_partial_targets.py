@@ -11,6 +11,7 @@ with empty data files: a dry run (``snakemake -n``) reads only the manifest and 
 from __future__ import annotations
 
 import json
+import re
 import subprocess
 import sys
 from concurrent.futures import ThreadPoolExecutor
@@ -315,3 +316,45 @@ def test_real_files_get_a_job_per_cut_the_virtual_cell_one_per_instrument(other_
                  "forces_synth_dynamometer"):
         assert synthetic[rule] == 1, rule
     assert not {"surface_profile", "straightness_run", "forces_cut"} & set(synthetic)
+
+
+def _is_page_rule(rule: str) -> bool:
+    """The rules that make pages: the chapters (ch0, ch3_forces, …), the scorecard (it waits
+    for the chapters), the book, its print and `all`."""
+    return re.match(r"ch\d", rule) is not None or rule in ("scorecard", "book", "book_pdf",
+                                                            "all")
+
+
+def test_artefacts_plans_every_job_of_all_but_the_pages(folders, tmp_path):
+    """Target `artefacts`: on the tiny virtual cell, exactly the jobs of `all` less the pages
+    (the chapters, the scorecard, the book); on a folder of force files alone, the jobs of
+    what its chapters read, and no page."""
+    for d in ("all", "artefacts", "forces"):
+        (tmp_path / d).mkdir()
+    every = _job_counts(run_snakemake(tmp_path / "all", "-n", "all", timeout=300))
+    proc = run_snakemake(tmp_path / "artefacts", "-n", "artefacts", timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    pages = {r for r in every if _is_page_rule(r)}
+    assert {"ch0", "ch2", "scorecard", "book"} <= pages
+    assert _job_counts(proc) == {**{r: n for r, n in every.items() if r not in pages},
+                                 "artefacts": 1}
+    proc = _dry(tmp_path / "forces", folders["forces"], "artefacts")
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    planned = _job_counts(proc)
+    assert {"forces_findings", "ingest_findings"} <= set(planned)
+    assert not [r for r in planned if _is_page_rule(r)], planned
+
+
+def test_book_pdf_false_leaves_the_print_out_of_all_with_one_line(tmp_path):
+    proc = run_snakemake(tmp_path, "-n", "all", "--config", "book={pdf: false}", timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    assert proc.stderr.count("robomill: results/thesis/book.pdf left out of `all`: "
+                             "book.pdf is false") == 1
+    planned = _job_counts(proc)
+    assert "book" in planned and "book_pdf" not in planned
+    bad = run_snakemake(tmp_path, "-n", "all", "--config", "book={pdf: maybe}", timeout=300)
+    assert bad.returncode == 1
+    assert _said(bad.stderr) == [
+        "robomill: config key 'book.pdf': 'maybe' is not true or false (expected true or "
+        "false: write e.g. pdf: true in the config file, or --config book='{pdf: true}' on "
+        "the command line)"]
