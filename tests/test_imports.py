@@ -100,3 +100,40 @@ def test_importing_robomill_alone_patches_nothing():
                "print('rfc3987_syntax' in sys.modules and sys.modules['rfc3987_syntax'] is None)\n"
                "print('Array API Standard Support' in ss.welch.__doc__)")
     assert out[:2] == ["False", "True"]
+
+
+FINAL_COLLECTION_CHECK = """
+import atexit, gc, sys
+# registered before the pipeline's handler, so it runs after it (atexit is last in, first out)
+atexit.register(lambda: print("frozen at exit:", gc.get_freeze_count() > 0, flush=True))
+import {module}
+unclosed = open(sys.argv[1], "w")  # never closed: flushed when the process ends
+unclosed.write("written")
+cycle = []
+cycle.append(cycle)
+print("frozen before exit:", gc.get_freeze_count() > 0, flush=True)
+"""
+
+
+def _exit_run(module: str, tmp_path) -> tuple[list[str], str]:
+    target = tmp_path / f"{module}.txt"
+    out = subprocess.run([sys.executable, "-c", FINAL_COLLECTION_CHECK.format(module=module),
+                          str(target)], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    return out.stdout.splitlines(), target.read_text()
+
+
+def test_the_pipeline_skips_the_final_collection_and_still_flushes_files(tmp_path):
+    lines, written = _exit_run("robomill.pipeline", tmp_path)
+    assert lines == ["frozen before exit: False", "frozen at exit: True"]
+    assert written == "written"
+    import robomill.pipeline  # noqa: F401 (registers the handler in this process too)
+    from robomill._imports import skip_final_collection
+
+    assert skip_final_collection() is False  # registered once per process
+
+
+def test_importing_robomill_alone_leaves_the_final_collection(tmp_path):
+    lines, written = _exit_run("robomill", tmp_path)
+    assert lines == ["frozen before exit: False", "frozen at exit: False"]
+    assert written == "written"

@@ -18,7 +18,18 @@ stand-in that leaves each docstring as it was. Nothing else changes: the decorat
 records the capabilities table, and the functions are the same objects. It costs nothing in a
 process that never imports SciPy.
 
-:func:`apply_startup_patches` applies both. The pipeline's entry points call it, not
+At exit, CPython's finalization runs the cyclic garbage collector over every object the
+process still holds before it frees them: with Snakemake, or with xarray, SciPy and
+matplotlib loaded, that pass alone took 0.25–0.45 s of every process here (``snakemake -j2
+all`` with nothing to do: 2.0 s, of which 0.36 s after the last ``atexit`` handler; a rule
+script's imports: 1.58 s against 1.31 s with the pass skipped). The memory goes back to the
+operating system at exit anyway. :func:`skip_final_collection` registers ``gc.freeze`` as an
+``atexit`` handler: objects alive then are moved to the permanent generation, which the
+final passes skip; everything is still released by reference counting, files are closed
+and flushed as before (HDF5 and the standard streams are closed by their own exit hooks),
+and only the finalizers of objects left in reference cycles at exit do not run.
+
+:func:`apply_startup_patches` applies all three. The pipeline's entry points call it, not
 ``import robomill`` (which stays inert): :mod:`robomill.pipeline` on import (the Snakefile,
 ``workflow/rules/common.smk`` and every rule script's first line, ``from
 robomill.pipeline.runlog import setup``), the ``robomill`` command (:func:`robomill.cli.main`)
@@ -28,6 +39,8 @@ and each chapter's kernel (:data:`KERNEL_STARTUP_ARGUMENT`, given to the kernel 
 
 from __future__ import annotations
 
+import atexit
+import gc
 import importlib.abc
 import importlib.util
 import sys
@@ -89,10 +102,26 @@ def skip_scipy_capability_notes() -> bool:
     return True
 
 
+_FINAL_COLLECTION_SKIPPED = False
+
+
+def skip_final_collection() -> bool:
+    """Skip the garbage collector's passes over this process's objects at exit (``atexit``
+    handler ``gc.freeze``); True the first time, False once registered."""
+    global _FINAL_COLLECTION_SKIPPED
+    if _FINAL_COLLECTION_SKIPPED:
+        return False
+    atexit.register(gc.freeze)
+    _FINAL_COLLECTION_SKIPPED = True
+    return True
+
+
 def apply_startup_patches() -> None:
-    """Both patches, for a process that is about to use jsonschema or SciPy."""
+    """The three patches, for a process that is about to use jsonschema or SciPy and that
+    ends with many objects alive (a workflow, a rule script, a chapter kernel)."""
     skip_iri_format_checks()  # before anything imports jsonschema
     skip_scipy_capability_notes()  # before anything imports scipy.signal/stats
+    skip_final_collection()
 
 
 KERNEL_STARTUP_ARGUMENT = ("--IPKernelApp.exec_lines=__import__('robomill._imports')"
