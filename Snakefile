@@ -6,7 +6,7 @@ import sys
 from snakemake.utils import min_version
 
 from robomill.io import ConfigError
-from robomill.pipeline.config import run_folder, validate_config
+from robomill.pipeline.config import run_folder, validate_config_cached
 
 min_version("9.0")
 
@@ -16,10 +16,13 @@ configfile: "config.yaml"
 
 # Values as users write them (`data=FOLDER`, numbers given as text: YAML 1.1, --config), then
 # the whole configuration and each section by its own schema, defaults filled. A bad key stops
-# the run with one line naming it (robomill.pipeline.config.validate_config).
+# the run with one line naming it (robomill.pipeline.config.validate_config); the answer is
+# kept in .snakemake/robomill-config/ for the next run with the same configuration and schemas.
 try:
-    checked = validate_config(
-        config, f"{workflow.basedir}/workflow/schemas/config.schema.yaml"
+    checked = validate_config_cached(
+        config,
+        f"{workflow.basedir}/workflow/schemas/config.schema.yaml",
+        ".snakemake/robomill-config",
     )
 except ConfigError as exc:
     print(f"robomill: {exc}", file=sys.stderr)

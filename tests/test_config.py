@@ -155,3 +155,72 @@ def test_a_bad_key_stops_the_workflow_with_one_line_naming_it(tmp_path):
             if x.strip() and not x.startswith(("Using workflow specific profile", "Config file"))]
     assert said == ["robomill: config key 'surface.lambda_c_mm': -3 is less than or equal to "
                     "the minimum of 0 (schema surface.schema.yaml)"]
+
+
+# ---- the workflow's validation, kept for the next run (issue 29) -----------------------------
+def _schemas_copy(repo, tmp_path):
+    import shutil
+
+    dest = tmp_path / "schemas"
+    shutil.copytree(repo / "workflow/schemas", dest)
+    return dest / "config.schema.yaml"
+
+
+def test_cached_validation_gives_the_fresh_answer_and_skips_the_second_one(
+        repo, tmp_path, monkeypatch):
+    import yaml
+
+    import robomill.pipeline.config as cfgmod
+
+    raw = yaml.safe_load((repo / "config.yaml").read_text())
+    schema = _schemas_copy(repo, tmp_path)
+    fresh = validate_config(raw, schema)
+    calls = []
+    real = cfgmod.validate_config
+    monkeypatch.setattr(cfgmod, "validate_config", lambda *a: calls.append(1) or real(*a))
+    cache = tmp_path / "cache"
+    first = cfgmod.validate_config_cached(raw, schema, cache)
+    second = cfgmod.validate_config_cached(copy.deepcopy(raw), schema, cache)
+    assert first == fresh and second == fresh
+    assert calls == [1]  # the second run read the kept answer
+    assert len(list(cache.glob("*.pickle"))) == 1
+    # another configuration is validated afresh
+    other = copy.deepcopy(raw)
+    other["experiment"]["spindle_rpm"] = 12000
+    assert cfgmod.validate_config_cached(other, schema, cache)["experiment"]["spindle_rpm"] \
+        == 12000
+    assert calls == [1, 1]
+
+
+def test_a_changed_schema_or_a_torn_entry_is_validated_afresh(repo, tmp_path, monkeypatch):
+    import os
+
+    import yaml
+
+    import robomill.pipeline.config as cfgmod
+
+    raw = yaml.safe_load((repo / "config.yaml").read_text())
+    schema = _schemas_copy(repo, tmp_path)
+    cache = tmp_path / "cache"
+    cfgmod.validate_config_cached(raw, schema, cache)
+    # a section's schema now refuses the configuration's value: the kept answer is not used
+    section = schema.parent / "config" / "chapters.schema.yaml"
+    text = section.read_text()
+    assert "kernel" in text
+    section.write_text(text.replace("    type: string\n",
+                                    "    type: string\n    pattern: '^nope$'\n", 1))
+    st = section.stat()
+    os.utime(section, ns=(st.st_atime_ns, st.st_mtime_ns + 10**9))
+    with pytest.raises(ConfigError, match="chapters.kernel"):
+        cfgmod.validate_config_cached(raw, schema, cache)
+    assert len(list(cache.glob("*.pickle"))) == 1  # the refusal is not kept
+    section.write_text(text)
+    os.utime(section, ns=(st.st_atime_ns, st.st_mtime_ns + 2 * 10**9))
+    calls = []
+    real = cfgmod.validate_config
+    monkeypatch.setattr(cfgmod, "validate_config", lambda *a: calls.append(1) or real(*a))
+    good = cfgmod.validate_config_cached(raw, schema, cache)
+    for entry in cache.glob("*.pickle"):
+        entry.write_bytes(b"torn")
+    assert cfgmod.validate_config_cached(raw, schema, cache) == good
+    assert calls == [1, 1]

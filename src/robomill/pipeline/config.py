@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import math
+import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -274,6 +275,68 @@ def validate_config(config: Mapping[str, Any], schema_path: str | Path) -> dict[
             node = node[k]
         _check(node, schema_path.parent / "config" / f"{name}.schema.yaml", keys)
     return cfg
+
+
+#: validated configurations kept by :func:`validate_config_cached`, newest first
+CONFIG_CACHE_ENTRIES = 16
+
+
+def _validation_key(config: Mapping[str, Any], schema_path: Path) -> str | None:
+    """A digest of everything :func:`validate_config`'s answer depends on: the configuration
+    as given, and the name, size and modification time of every schema file and of this
+    module (the validator). None when the configuration cannot be pickled."""
+    import hashlib
+    import pickle
+
+    try:
+        blob = pickle.dumps(dict(config), protocol=5)
+    except Exception:  # noqa: BLE001 (no cache for an unusual configuration, still validated)
+        return None
+    digest = hashlib.sha256(blob)
+    files = [schema_path, *(schema_path.parent / "config" / f"{name}.schema.yaml"
+                            for _, name in SECTIONS), Path(__file__)]
+    for f in files:
+        try:
+            st = f.stat()
+        except OSError:
+            return None
+        digest.update(f"{f.resolve()}|{st.st_size}|{st.st_mtime_ns}\n".encode())
+    return digest.hexdigest()
+
+
+def validate_config_cached(config: Mapping[str, Any], schema_path: str | Path,
+                           cache_dir: str | Path) -> dict[str, Any]:
+    """:func:`validate_config`, its answer kept in ``cache_dir`` for the next run with the
+    same configuration and schemas (:func:`_validation_key`): the workflow validates at
+    every start, ~0.15 s of a no-op rerun here, and a configuration is mostly rerun as it
+    was. A refused configuration is never kept (it is refused again, with the same line); an
+    unreadable cache entry is validated afresh."""
+    import pickle
+
+    schema_path = Path(schema_path)
+    key = _validation_key(config, schema_path)
+    entry = Path(cache_dir) / f"{key}.pickle" if key else None
+    if entry is not None and entry.is_file():
+        try:
+            with open(entry, "rb") as fh:
+                return pickle.load(fh)
+        except Exception:  # noqa: BLE001,S110 (a torn or stale entry: validate again)
+            pass
+    checked = validate_config(config, schema_path)
+    if entry is not None:
+        try:
+            entry.parent.mkdir(parents=True, exist_ok=True)
+            partial = entry.with_suffix(f".{os.getpid()}.partial")
+            with open(partial, "wb") as fh:
+                pickle.dump(checked, fh, protocol=5)
+            partial.replace(entry)
+            kept = sorted(entry.parent.glob("*.pickle"), key=lambda p: p.stat().st_mtime,
+                          reverse=True)
+            for old in kept[CONFIG_CACHE_ENTRIES:]:
+                old.unlink(missing_ok=True)
+        except OSError:
+            pass  # a read-only folder: no cache, the answer stands
+    return checked
 
 
 def load_config(path: str | Path = "config.yaml",
