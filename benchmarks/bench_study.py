@@ -153,9 +153,11 @@ def run(out_dir: Path) -> list[dict]:
             f"{_jobs_run(log_ch)} job(s) rerun; baseline: the no-op rerun of this run; "
             f"issue 29's goal {GOAL_CHAPTER_S:g} s")
     within = sum(t <= GOAL_CHAPTER_S for t, _ in chapters.values())
-    row(f"chapters whose `--forcerun` takes at most {GOAL_CHAPTER_S:g} s", within, "chapters",
-        len(chapters), "baseline: every chapter; the slowest "
-        + max(chapters, key=lambda c: chapters[c][0]))
+    if chapters:  # none where `all` made no page (a run that stopped early)
+        row(f"chapters whose `--forcerun` takes at most {GOAL_CHAPTER_S:g} s", within,
+            "chapters",
+            len(chapters), "baseline: every chapter; the slowest "
+            + max(chapters, key=lambda c: chapters[c][0]))
     row("largest job peak RSS", float(rules["rss_max_mb"].max()), "MB", RSS_BUDGET_MB,
         f"rule {rules.loc[rules['rss_max_mb'].idxmax(), 'rule']}; baseline: the 2 GiB budget")
     for r in rules.itertuples():
