@@ -21,10 +21,21 @@ from typing import Any
 
 import nbformat
 
+from robomill.pipeline.kernels import private_kernel_manager
+
 log = logging.getLogger(__name__)
 
 #: a kernel that never answered is started afresh this many times in all
 KERNEL_START_ATTEMPTS = 2
+
+#: How the kernel ends once the last cell has answered (nbclient's ``shutdown_kernel``):
+#: killed at once. Every output has been received by then, and the chapter kernel has
+#: nothing to save. The polite way (jupyter_client 8 interrupts the kernel, asks it to shut
+#: down, waits half of its 5 s ``shutdown_wait_time``, then terminates it) took 0.14 s and,
+#: when the interrupt disturbed the kernel's handling of the request, 2.6 s: one chapter
+#: ``--forcerun`` in three or four on the 2-core development machine (traced: the kernel
+#: was still alive at the SIGTERM).
+KERNEL_SHUTDOWN = "immediate"
 
 
 class ChapterError(RuntimeError):
@@ -208,39 +219,6 @@ def document_html(nb: nbformat.NotebookNode, table_md: str,
     return body
 
 
-def private_kernel_manager(kernel: str, socket_dir: Path):
-    """A kernel manager class whose kernels talk over Unix sockets in ``socket_dir``.
-
-    Chapter jobs run in parallel, each starting a kernel. Over TCP, jupyter_client picks five
-    free ports by binding and releasing them and the kernel binds them later; two jobs
-    starting together can pick the same ports, and one of them then waits for a kernel that
-    never answers ("Kernel didn't respond", papermill issue 511; seen here with ch2 and ch5).
-    IPC sockets in a folder private to the job cannot collide. A class, not an instance, is
-    handed to papermill (``kernel_manager_class``) so that nbclient owns the manager and
-    shuts the kernel down when the notebook is done.
-
-    The kernel also applies :mod:`robomill._imports`' start-up patches before the first cell
-    (:data:`~robomill._imports.KERNEL_STARTUP_ARGUMENT`), as the pipeline's other entry points
-    do.
-    """
-    from jupyter_client.manager import AsyncKernelManager
-
-    from robomill._imports import KERNEL_STARTUP_ARGUMENT
-
-    prefix = str(Path(socket_dir) / "kernel")
-
-    class PrivateSocketKernelManager(AsyncKernelManager):
-        def __init__(self, **kwargs):
-            kwargs.setdefault("kernel_name", kernel)
-            super().__init__(transport="ipc", ip=prefix, **kwargs)
-
-        def format_kernel_cmd(self, extra_arguments=None):
-            return super().format_kernel_cmd([*(extra_arguments or []),
-                                              KERNEL_STARTUP_ARGUMENT])
-
-    return PrivateSocketKernelManager
-
-
 def _kernel_never_ran(staged_nb: Path) -> bool:
     """True when execution failed before the kernel ran any cell (a start-up failure)."""
     if not staged_nb.exists():
@@ -250,13 +228,23 @@ def _kernel_never_ran(staged_nb: Path) -> bool:
 
 
 def notebook_errors(nb: nbformat.NotebookNode) -> list[str]:
-    """Error outputs of an executed notebook, as ``"cell N: EName: value"`` lines."""
-    found = []
+    """Error outputs of an executed notebook, as ``"cell N: EName: value"`` lines; in a
+    notebook without any, every figure placeholder that no image replaced (a chapter whose
+    last cell is not ``num.check()`` while figure workers draw its figures,
+    :mod:`robomill.pipeline.figure_workers`)."""
+    from robomill.pipeline.figure_workers import BEING_DRAWN
+
+    errors, placeholders = [], []
     for i, cell in enumerate(nb.cells):
         for out in cell.get("outputs", []):
             if out.get("output_type") == "error":
-                found.append(f"cell {i}: {out.get('ename')}: {out.get('evalue')}")
-    return found
+                errors.append(f"cell {i}: {out.get('ename')}: {out.get('evalue')}")
+            elif BEING_DRAWN in out.get("metadata", {}):
+                placeholders.append(
+                    f"cell {i}: figure {out['metadata'][BEING_DRAWN]!r} was never shown: the "
+                    "chapter's last cell must call num.check(), which waits for the figures "
+                    "being drawn")
+    return errors or placeholders
 
 
 def render_chapter(
@@ -271,8 +259,12 @@ def render_chapter(
     execution_timeout_s: int = 1200,
     failed_copy: str | Path | None = None,
     cwd: str | Path | None = None,
+    figure_workers: int = 0,
 ) -> None:
     """Execute ``notebook`` with ``parameters`` (plus ``fig_dir``) and render it.
+
+    ``figure_workers`` processes (``chapters.figure_workers``) draw the chapter's figures
+    beside the kernel (:mod:`robomill.pipeline.figure_workers`); 0 draws them in the kernel.
 
     Raises
     ------
@@ -281,10 +273,13 @@ def render_chapter(
     """
     import papermill as pm
 
+    from robomill.pipeline.figure_workers import FigureServer
+
     out_ipynb, out_html, fig_dir = Path(out_ipynb), Path(out_html), Path(fig_dir)
     out_ipynb.parent.mkdir(parents=True, exist_ok=True)
     fig_dir.parent.mkdir(parents=True, exist_ok=True)
     stage = Path(tempfile.mkdtemp(prefix=f".{out_ipynb.stem}.", dir=out_ipynb.parent))
+    server_dir = Path(tempfile.mkdtemp(prefix="robomill-figures-"))  # short: a socket path
     try:
         staged_nb = stage / out_ipynb.name
         staged_figs = stage / "figures"
@@ -293,24 +288,27 @@ def render_chapter(
         declared = check_parameters(notebook, params)
         exporter = WarmExporter()  # readies the page's exporter while the kernel runs
         error: Exception | None = None
-        for attempt in range(1, KERNEL_START_ATTEMPTS + 1):
-            error = None
-            sockets = Path(tempfile.mkdtemp(prefix="robomill-kernel-"))
-            try:
-                pm.execute_notebook(
-                    str(notebook), str(staged_nb), parameters=params, kernel_name=kernel,
-                    kernel_manager_class=private_kernel_manager(kernel, sockets),
-                    start_timeout=start_timeout_s, execution_timeout=execution_timeout_s,
-                    cwd=str(cwd) if cwd else None, progress_bar=False, log_output=False,
-                )
-            except Exception as exc:  # papermill raises PapermillExecutionError and others
-                error = exc
-            finally:
-                shutil.rmtree(sockets, ignore_errors=True)
-            if error is None or not _kernel_never_ran(staged_nb):
-                break
-            log.warning("chapter %s: kernel did not start (%s), attempt %d of %d", notebook,
-                        error, attempt, KERNEL_START_ATTEMPTS)
+        with FigureServer(figure_workers, server_dir) as figures:
+            for attempt in range(1, KERNEL_START_ATTEMPTS + 1):
+                error = None
+                sockets = Path(tempfile.mkdtemp(prefix="robomill-kernel-"))
+                try:
+                    pm.execute_notebook(
+                        str(notebook), str(staged_nb), parameters=params, kernel_name=kernel,
+                        kernel_manager_class=private_kernel_manager(kernel, sockets,
+                                                                    figures.environment()),
+                        start_timeout=start_timeout_s, execution_timeout=execution_timeout_s,
+                        cwd=str(cwd) if cwd else None, progress_bar=False, log_output=False,
+                        shutdown_kernel=KERNEL_SHUTDOWN,
+                    )
+                except Exception as exc:  # papermill raises PapermillExecutionError, others
+                    error = exc
+                finally:
+                    shutil.rmtree(sockets, ignore_errors=True)
+                if error is None or not _kernel_never_ran(staged_nb):
+                    break
+                log.warning("chapter %s: kernel did not start (%s), attempt %d of %d",
+                            notebook, error, attempt, KERNEL_START_ATTEMPTS)
         nb = nbformat.read(staged_nb, as_version=4) if staged_nb.exists() else None
         problems = notebook_errors(nb) if nb is not None else []
         if error is not None or problems:
@@ -339,3 +337,4 @@ def render_chapter(
         shutil.move(str(stage / out_html.name), out_html)
     finally:
         shutil.rmtree(stage, ignore_errors=True)
+        shutil.rmtree(server_dir, ignore_errors=True)

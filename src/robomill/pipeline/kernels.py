@@ -1,0 +1,105 @@
+"""The chapters' Jupyter kernels: private sockets, start-up patches, and a prompt start.
+
+:func:`private_kernel_manager` is the kernel manager class papermill is given for every
+chapter (:func:`robomill.pipeline.chapters.render_chapter`); :func:`ready_client_class` its
+client, which is ready as soon as the kernel is.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Mapping
+from functools import cache
+from pathlib import Path
+
+#: how long to wait for the kernel's IOPub message that answers a ``kernel_info`` request,
+#: the sign that the client's IOPub subscription is connected [s] (jupyter_client's value)
+IOPUB_CHECK_S = 0.2
+
+
+@cache
+def ready_client_class():
+    """An asynchronous kernel client whose :meth:`wait_for_ready` returns once the kernel
+    answers.
+
+    jupyter_client's ``wait_for_ready`` sends ``kernel_info`` requests until one is answered
+    on the shell channel and a message arrives on IOPub (so that no output of the first cell
+    is missed), then reads IOPub until it has been silent for 0.2 s, to throw away the
+    kernel's start-up status messages. That last wait is pure delay for a chapter: every
+    kernel start pays it in full (0.2 s of the 0.55 s a chapter kernel takes to be ready on
+    the 2-core development machine), and nbclient, which runs the chapter, reads IOPub
+    only for the replies to its own requests (by ``parent_header.msg_id``), so stale status
+    messages are ignored anyway. This client does the first two steps and leaves out the
+    third.
+    """
+    from queue import Empty
+
+    from jupyter_client.asynchronous import AsyncKernelClient
+
+    class ReadyKernelClient(AsyncKernelClient):
+        async def wait_for_ready(self, timeout: float | None = None) -> None:
+            deadline = time.monotonic() + (float("inf") if timeout is None else timeout)
+            while True:
+                self.kernel_info()
+                try:
+                    reply = await self.shell_channel.get_msg(timeout=1)
+                except Empty:
+                    reply = None
+                if reply is not None and reply["msg_type"] == "kernel_info_reply":
+                    try:  # the kernel's status for that request: IOPub is subscribed
+                        await self.iopub_channel.get_msg(timeout=IOPUB_CHECK_S)
+                    except Empty:
+                        pass  # not yet: ask again
+                    else:
+                        self._handle_kernel_info_reply(reply)
+                        return
+                if not await self.is_alive():
+                    raise RuntimeError("Kernel died before replying to kernel_info")
+                if time.monotonic() > deadline:
+                    raise RuntimeError(f"Kernel didn't respond in {timeout:.0f} seconds")
+
+    return ReadyKernelClient
+
+
+def private_kernel_manager(kernel: str, socket_dir: Path,
+                           env: Mapping[str, str] | None = None):
+    """A kernel manager class whose kernels talk over Unix sockets in ``socket_dir``.
+
+    Chapter jobs run in parallel, each starting a kernel. Over TCP, jupyter_client picks five
+    free ports by binding and releasing them and the kernel binds them later; two jobs
+    starting together can pick the same ports, and one of them then waits for a kernel that
+    never answers ("Kernel didn't respond", papermill issue 511; seen here with ch2 and ch5).
+    IPC sockets in a folder private to the job cannot collide. A class, not an instance, is
+    handed to papermill (``kernel_manager_class``) so that nbclient owns the manager and
+    shuts the kernel down when the notebook is done.
+
+    The kernel also applies :mod:`robomill._imports`' start-up patches before the first cell
+    (:data:`~robomill._imports.KERNEL_STARTUP_ARGUMENT`), as the pipeline's other entry points
+    do, and gets ``env`` added to its environment (the job's figure workers,
+    :meth:`robomill.pipeline.figure_workers.FigureServer.environment`). Its clients are
+    :func:`ready_client_class`'s.
+    """
+    from jupyter_client.manager import AsyncKernelManager
+
+    from robomill._imports import KERNEL_STARTUP_ARGUMENT
+
+    prefix = str(Path(socket_dir) / "kernel")
+    extra_env = dict(env or {})
+
+    class PrivateSocketKernelManager(AsyncKernelManager):
+        def __init__(self, **kwargs):
+            kwargs.setdefault("kernel_name", kernel)
+            super().__init__(transport="ipc", ip=prefix, **kwargs)
+            self.client_factory = ready_client_class()
+
+        def format_kernel_cmd(self, extra_arguments=None):
+            return super().format_kernel_cmd([*(extra_arguments or []),
+                                              KERNEL_STARTUP_ARGUMENT])
+
+        async def start_kernel(self, **kw):
+            if extra_env:
+                kw["env"] = {**(kw.get("env") or os.environ), **extra_env}
+            return await super().start_kernel(**kw)
+
+    return PrivateSocketKernelManager
