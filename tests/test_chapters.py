@@ -124,7 +124,7 @@ def test_repository_chapters_declare_typed_parameters(repo):
 def test_kernels_talk_over_private_unix_sockets(tmp_path):
     """Parallel chapter jobs must not race for TCP ports: each kernel gets IPC sockets in its
     own folder, and the chapter runs over them."""
-    from robomill.pipeline.chapters import private_kernel_manager
+    from robomill.pipeline.kernels import private_kernel_manager
 
     a = private_kernel_manager("python3", tmp_path / "a")()
     b = private_kernel_manager("python3", tmp_path / "b")()
@@ -137,16 +137,39 @@ def test_kernels_talk_over_private_unix_sockets(tmp_path):
 
 
 def test_no_kernel_outlives_its_chapter(tmp_path):
-    """nbclient owns the kernel manager, so the kernel is shut down after the render."""
+    """The kernel, started before papermill runs the notebook, is killed after the render,
+    after a failing cell, and when the parameters are refused before any cell ran; no socket
+    folder is left behind."""
+    import glob
+    import tempfile
+
     import psutil
 
     def kernels():
         return {p.pid for p in psutil.Process().children(recursive=True)
                 if "ipykernel" in " ".join(p.cmdline())}
 
-    before = kernels()
+    def folders():
+        return set(glob.glob(f"{tempfile.gettempdir()}/robomill-kernel-*"))
+
+    before, left = kernels(), folders()
     _render(tmp_path, _notebook(tmp_path, "print(1)"), data="a.csv")
+    with pytest.raises(ChapterError):
+        _render(tmp_path / "cell", _notebook(tmp_path, "raise ValueError('x')"), data="a.csv")
+    with pytest.raises(ChapterError, match="unknown parameter .nn."):
+        _render(tmp_path / "refused", _notebook(tmp_path, "print(1)"), nn=3)
     assert kernels() <= before
+    assert folders() <= left
+
+
+def test_unknown_kernel_fails_the_chapter_in_one_line(tmp_path):
+    """A kernel name with no kernelspec is a chapter failure naming it, not a traceback from
+    the early kernel start."""
+    out = tmp_path / "out"
+    with pytest.raises(ChapterError, match="no-such-kernel"):
+        render_chapter(_notebook(tmp_path, "print(1)"), out / "c.ipynb", out / "c.html",
+                       out / "figs", {"data": "a.csv"}, kernel="no-such-kernel")
+    assert not (out / "c.html").exists()
 
 
 def test_parallel_chapters_all_render(tmp_path):
@@ -180,7 +203,7 @@ def test_kernel_that_never_answers_is_started_again(tmp_path, monkeypatch):
     calls = []
 
     def first_start_fails(*args, **kwargs):
-        calls.append(kwargs["kernel_manager_class"]().ip)
+        calls.append(kwargs["km"].ip)
         if len(calls) == 1:
             raise RuntimeError("Kernel didn't respond in 1 seconds")
         return real(*args, **kwargs)
@@ -191,7 +214,7 @@ def test_kernel_that_never_answers_is_started_again(tmp_path, monkeypatch):
     assert len(calls) == 2 and calls[0] != calls[1]
 
     def never_starts(*args, **kwargs):
-        calls.append(kwargs["kernel_manager_class"]().ip)
+        calls.append(kwargs["km"].ip)
         raise RuntimeError("Kernel didn't respond in 1 seconds")
 
     calls.clear()

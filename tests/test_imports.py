@@ -85,14 +85,15 @@ def test_the_cli_and_the_chapter_kernels_apply_the_patches_too():
                "print(sys.modules.get('rfc3987_syntax', 'absent'))")
     assert out[-2] == "None"  # blocked by main() before any verb ran
     from robomill._imports import KERNEL_STARTUP_ARGUMENT
-    from robomill.pipeline.chapters import private_kernel_manager
+    from robomill.pipeline.kernels import KERNEL_PRELOAD_ARGUMENT, private_kernel_manager
 
     code = KERNEL_STARTUP_ARGUMENT.split("=", 1)[1]
     out = _run(f"{code}\nimport scipy.signal\nfrom scipy._lib import _array_api\n"
                "print(_array_api.FunctionDoc.__module__)")
     assert out[0] == "robomill._imports"
     manager = private_kernel_manager("python3", __import__("pathlib").Path("/tmp"))()
-    assert manager.format_kernel_cmd()[-1] == KERNEL_STARTUP_ARGUMENT
+    command = manager.format_kernel_cmd()
+    assert command[-2:] == [KERNEL_STARTUP_ARGUMENT, KERNEL_PRELOAD_ARGUMENT]  # patches first
 
 
 def test_importing_robomill_alone_patches_nothing():

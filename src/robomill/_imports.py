@@ -34,7 +34,7 @@ and only the finalizers of objects left in reference cycles at exit do not run.
 ``workflow/rules/common.smk`` and every rule script's first line, ``from
 robomill.pipeline.runlog import setup``), the ``robomill`` command (:func:`robomill.cli.main`)
 and each chapter's kernel (:data:`KERNEL_STARTUP_ARGUMENT`, given to the kernel by
-:func:`robomill.pipeline.chapters.private_kernel_manager`).
+:func:`robomill.pipeline.kernels.private_kernel_manager`).
 """
 
 from __future__ import annotations

@@ -21,21 +21,10 @@ from typing import Any
 
 import nbformat
 
-from robomill.pipeline.kernels import private_kernel_manager
-
 log = logging.getLogger(__name__)
 
 #: a kernel that never answered is started afresh this many times in all
 KERNEL_START_ATTEMPTS = 2
-
-#: How the kernel ends once the last cell has answered (nbclient's ``shutdown_kernel``):
-#: killed at once. Every output has been received by then, and the chapter kernel has
-#: nothing to save. The polite way (jupyter_client 8 interrupts the kernel, asks it to shut
-#: down, waits half of its 5 s ``shutdown_wait_time``, then terminates it) took 0.14 s and,
-#: when the interrupt disturbed the kernel's handling of the request, 2.6 s: one chapter
-#: ``--forcerun`` in three or four on the 2-core development machine (traced: the kernel
-#: was still alive at the SIGTERM).
-KERNEL_SHUTDOWN = "immediate"
 
 
 class ChapterError(RuntimeError):
@@ -271,16 +260,24 @@ def render_chapter(
     ChapterError
         If execution fails or any cell holds an error output.
     """
-    import papermill as pm
-
     from robomill.pipeline.figure_workers import FigureServer
+    from robomill.pipeline.kernels import start_kernel, stop_kernel
 
     out_ipynb, out_html, fig_dir = Path(out_ipynb), Path(out_html), Path(fig_dir)
     out_ipynb.parent.mkdir(parents=True, exist_ok=True)
     fig_dir.parent.mkdir(parents=True, exist_ok=True)
     stage = Path(tempfile.mkdtemp(prefix=f".{out_ipynb.stem}.", dir=out_ipynb.parent))
     server_dir = Path(tempfile.mkdtemp(prefix="robomill-figures-"))  # short: a socket path
+    figures = FigureServer(figure_workers, server_dir)
+    # the kernel first: it starts and imports while this job does its own start-up below
+    sockets = Path(tempfile.mkdtemp(prefix="robomill-kernel-"))
     try:
+        manager = start_kernel(kernel, sockets, figures.environment(), cwd)
+    except Exception:  # noqa: BLE001 - started again below, where a failure is reported
+        manager = None
+    try:
+        import papermill as pm
+
         staged_nb = stage / out_ipynb.name
         staged_figs = stage / "figures"
         staged_figs.mkdir()
@@ -288,22 +285,26 @@ def render_chapter(
         declared = check_parameters(notebook, params)
         exporter = WarmExporter()  # readies the page's exporter while the kernel runs
         error: Exception | None = None
-        with FigureServer(figure_workers, server_dir) as figures:
+        with figures:
             for attempt in range(1, KERNEL_START_ATTEMPTS + 1):
                 error = None
-                sockets = Path(tempfile.mkdtemp(prefix="robomill-kernel-"))
                 try:
+                    if manager is None:  # a kernel started again
+                        shutil.rmtree(sockets, ignore_errors=True)
+                        sockets = Path(tempfile.mkdtemp(prefix="robomill-kernel-"))
+                        manager = start_kernel(kernel, sockets, figures.environment(), cwd)
                     pm.execute_notebook(
                         str(notebook), str(staged_nb), parameters=params, kernel_name=kernel,
-                        kernel_manager_class=private_kernel_manager(kernel, sockets,
-                                                                    figures.environment()),
-                        start_timeout=start_timeout_s, execution_timeout=execution_timeout_s,
+                        km=manager, start_timeout=start_timeout_s,
+                        execution_timeout=execution_timeout_s,
                         cwd=str(cwd) if cwd else None, progress_bar=False, log_output=False,
-                        shutdown_kernel=KERNEL_SHUTDOWN,
                     )
                 except Exception as exc:  # papermill raises PapermillExecutionError, others
                     error = exc
                 finally:
+                    if manager is not None:
+                        stop_kernel(manager)
+                        manager = None
                     shutil.rmtree(sockets, ignore_errors=True)
                 if error is None or not _kernel_never_ran(staged_nb):
                     break
@@ -336,5 +337,8 @@ def render_chapter(
         shutil.move(str(staged_nb), out_ipynb)
         shutil.move(str(stage / out_html.name), out_html)
     finally:
+        if manager is not None:  # refused before execution
+            stop_kernel(manager)
+        shutil.rmtree(sockets, ignore_errors=True)
         shutil.rmtree(stage, ignore_errors=True)
         shutil.rmtree(server_dir, ignore_errors=True)
