@@ -84,6 +84,58 @@ def test_failing_cell_fails_the_chapter_and_keeps_the_notebook(tmp_path):
     assert not (tmp_path / "out" / "figs").exists()
 
 
+def test_notebook_is_written_once_and_kept_after_a_timeout(tmp_path, monkeypatch):
+    """The engine writes the executed notebook when execution ends, not at every cell; a
+    cell that runs past the timeout still leaves the kept notebook with the cells before it,
+    and is not mistaken for a kernel that never started (one attempt)."""
+    import papermill.engines
+    import papermill.execute
+    import papermill.iorw
+
+    from robomill.pipeline import kernels
+
+    writes = []
+    real = papermill.iorw.write_ipynb
+    for module in (papermill.engines, papermill.execute):  # both write through their own name
+        monkeypatch.setattr(module, "write_ipynb",
+                            lambda nb, path: (writes.append(path), real(nb, path))[1])
+    nb_path = _notebook(tmp_path, "print('first ran')")
+    nb = nbformat.read(nb_path, as_version=4)
+    for i in range(5):
+        nb.cells.append(new_code_cell(f"print({i})"))
+    nbformat.write(nb, nb_path)
+    _render(tmp_path, nb_path, data="a.csv")
+    assert 1 <= len(writes) <= 2  # papermill's final write, and the engine's at the end
+
+    nb.cells.append(new_code_cell("import time\ntime.sleep(60)"))
+    nbformat.write(nb, nb_path)
+    starts = []
+    counted = kernels.start_kernel
+    monkeypatch.setattr(kernels, "start_kernel",
+                        lambda *a, **k: (starts.append(1), counted(*a, **k))[1])
+    out = tmp_path / "slow"
+    with pytest.raises(ChapterError, match="[Tt]imeout|timed out"):
+        render_chapter(nb_path, out / "c.ipynb", out / "c.html", out / "figs",
+                       {"data": "a.csv"}, failed_copy=tmp_path / "logs" / "slow.ipynb",
+                       execution_timeout_s=3)
+    kept = nbformat.read(tmp_path / "logs" / "slow.ipynb", as_version=4)
+    first = next(c for c in kept.cells if c.source == "print('first ran')")
+    assert "first ran" in str(first.outputs)
+    assert len(starts) == 1
+
+
+def test_injected_parameters_are_plain_lines_whatever_formatters_are_installed(tmp_path):
+    """A long value stays on its line (Black, when installed, would wrap it), so the executed
+    notebook does not depend on the development tools present."""
+    nb = _notebook(tmp_path, "print(len(names))", params="names: list = None\nfig_dir: str = None")
+    names = [f"cut{i}" for i in range(30)]
+    out = _render(tmp_path, nb, names=names)
+    executed = nbformat.read(out / "c.ipynb", as_version=4)
+    injected = next(c for c in executed.cells
+                    if "injected-parameters" in c.metadata.get("tags", []))
+    assert "names = [" + ", ".join(f'"{n}"' for n in names) + "]\n" in injected.source
+
+
 def test_error_output_fails_even_if_execution_continues(tmp_path):
     """A cell tagged raises-exception lets papermill carry on; the chapter still fails."""
     nb_path = _notebook(tmp_path, "print('after')")

@@ -74,6 +74,24 @@ def test_the_server_ends_with_a_kernel_still_connected(tmp_path):
     assert done.wait(timeout=60), "FigureServer did not end with a client connected"
 
 
+def test_the_server_leaves_no_process_behind(tmp_path):
+    """Workers and multiprocessing's resource tracker have ended, and been reaped, when the
+    server exits: none is left to become an orphan (a zombie where nothing reaps orphans)."""
+    if figure_workers.usable_workers(2) == 0:
+        pytest.skip("one processor: no figure workers")
+    import subprocess
+
+    code = ("import psutil\nfrom robomill.pipeline.figure_workers import FigureServer\n"
+            f"with FigureServer(2, {str(tmp_path)!r}) as server:\n"
+            "    inside = psutil.Process().children()\n"
+            "print(len(inside), [p.name() for p in psutil.Process().children()])\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120, check=True)
+    assert out.stdout.split()[0] == "3"  # two workers and the tracker while it ran
+    assert out.stdout.strip().endswith("[]"), out.stdout
+    assert "leaked" not in out.stderr, out.stderr
+
+
 # --- whole chapters ----------------------------------------------------------------------
 
 

@@ -261,7 +261,7 @@ def render_chapter(
         If execution fails or any cell holds an error output.
     """
     from robomill.pipeline.figure_workers import FigureServer
-    from robomill.pipeline.kernels import start_kernel, stop_kernel
+    from robomill.pipeline.kernels import register_engine, start_kernel, stop_kernel
 
     out_ipynb, out_html, fig_dir = Path(out_ipynb), Path(out_html), Path(fig_dir)
     out_ipynb.parent.mkdir(parents=True, exist_ok=True)
@@ -295,7 +295,7 @@ def render_chapter(
                         manager = start_kernel(kernel, sockets, figures.environment(), cwd)
                     pm.execute_notebook(
                         str(notebook), str(staged_nb), parameters=params, kernel_name=kernel,
-                        km=manager, start_timeout=start_timeout_s,
+                        km=manager, engine_name=register_engine(), start_timeout=start_timeout_s,
                         execution_timeout=execution_timeout_s,
                         cwd=str(cwd) if cwd else None, progress_bar=False, log_output=False,
                     )

@@ -204,6 +204,26 @@ class FigureServer:
             self._listener.close()
         if self._pool is not None:
             self._pool.shutdown(wait=True, cancel_futures=True)
+            self._pool = None
+            _stop_resource_tracker()
+
+
+def _stop_resource_tracker() -> None:
+    """End and reap the process that ``multiprocessing`` started beside the workers to track
+    their semaphores (its resource tracker), once the pool is gone.
+
+    Left alone it ends only when the job has exited, as an orphan, and where nothing adopts
+    orphans and reaps them (a container whose first process is not an init) it stays a
+    zombie after every chapter. The pool's semaphores are released first (a collection: they
+    sit in reference cycles), while the tracker still listens; otherwise releasing them later
+    would start a new tracker."""
+    import gc
+    from multiprocessing import resource_tracker
+
+    gc.collect()
+    stop = getattr(resource_tracker._resource_tracker, "_stop", None)  # Python 3.8+
+    if stop is not None:
+        stop()
 
 
 def _hang_up(conn) -> None:

@@ -1,8 +1,10 @@
-"""The chapters' Jupyter kernels: private sockets, start-up patches, and a prompt start.
+"""The chapters' Jupyter kernels and the papermill engine that runs a notebook on them.
 
-:func:`private_kernel_manager` is the kernel manager class papermill is given for every
-chapter (:func:`robomill.pipeline.chapters.render_chapter`); :func:`ready_client_class` its
-client, which is ready as soon as the kernel is.
+:func:`start_kernel` starts a chapter's kernel (:func:`private_kernel_manager`: private
+sockets, start-up patches, preloaded modules) before the job has imported papermill, and
+:func:`stop_kernel` kills it; :func:`ready_client_class` is its client, ready as soon as the
+kernel is. :data:`ENGINE` is the papermill engine :func:`robomill.pipeline.chapters.render_chapter`
+executes the notebook with: papermill's own, writing the executed notebook once, at the end.
 """
 
 from __future__ import annotations
@@ -172,3 +174,72 @@ def stop_kernel(manager) -> None:
         run_sync(manager.shutdown_kernel)(now=True)  # cleans up its resources too
     else:
         run_sync(manager.cleanup_resources)()
+
+
+#: the name under which :func:`register_engine` registers the chapters' papermill engine
+ENGINE = "robomill"
+
+
+@cache
+def register_engine() -> str:
+    """Register (once) and name the chapters' papermill engine: papermill's nbclient engine,
+    except that the executed notebook is written once, when execution ends, not also at every
+    cell's start and end; its Python parameters are written without Black
+    (:func:`_plain_python_parameters`).
+
+    Papermill writes the whole notebook (validated, deep-copied, encoded as JSON with every
+    figure) twice per cell so that a long run can be watched; a chapter's staged notebook is
+    read by nobody until the chapter ends, and those 60 writes of ch3_3_modal took 0.3 s of the
+    job's processor time while the kernel and the figure workers wanted it. The notebook is
+    still written when execution ends in any way (papermill's ``notebook_complete``, in a
+    ``finally``): after a failing cell, a timeout or a dead kernel the kept notebook shows the
+    cells that ran, as before.
+    """
+    from papermill.engines import NBClientEngine, NotebookExecutionManager, papermill_engines
+
+    class EndSavingManager(NotebookExecutionManager):
+        _ending = False
+
+        def save(self, **kwargs):
+            if self._ending:
+                super().save(**kwargs)
+
+        def notebook_complete(self, **kwargs):
+            self._ending = True
+            return super().notebook_complete(**kwargs)
+
+    class EndSavingEngine(NBClientEngine):
+        @classmethod
+        def execute_notebook(cls, nb, kernel_name, output_path=None, progress_bar=True,
+                             log_output=False, autosave_cell_every=30, **kwargs):
+            nb_man = EndSavingManager(nb, output_path=output_path, progress_bar=progress_bar,
+                                      log_output=log_output,
+                                      autosave_cell_every=autosave_cell_every)
+            nb_man.notebook_start()
+            try:
+                cls.execute_managed_notebook(nb_man, kernel_name, log_output=log_output,
+                                             **kwargs)
+            finally:
+                nb_man.cleanup_pbar()
+                nb_man.notebook_complete()
+            return nb_man.nb
+
+    papermill_engines.register(ENGINE, EndSavingEngine)
+    _plain_python_parameters()
+    return ENGINE
+
+
+def _plain_python_parameters() -> None:
+    """Have papermill write a Python chapter's injected parameters as ``name = value`` lines,
+    without passing them through Black when Black happens to be installed (it is, for
+    snakefmt, in the development environment): importing and running it took 0.1 s of every
+    chapter job, and the executed notebook no longer depends on whether a formatter is
+    installed."""
+    from papermill.translators import PythonTranslator, papermill_translators
+
+    class PlainPythonTranslator(PythonTranslator):
+        @classmethod
+        def codify(cls, parameters, comment="Parameters"):
+            return super(PythonTranslator, cls).codify(parameters, comment)
+
+    papermill_translators.register("python", PlainPythonTranslator)
