@@ -1,6 +1,7 @@
 """Chapters fail honestly: a raising cell fails the render, keeps the failed notebook, and
 leaves no half-written outputs; parameters are checked against the declared ones first."""
 
+import shutil
 from pathlib import Path
 
 import nbformat
@@ -188,14 +189,19 @@ def test_kernels_talk_over_private_unix_sockets(tmp_path):
     assert "transport ipc" in (out / "c.html").read_text()
 
 
-def test_no_kernel_outlives_its_chapter(tmp_path):
+def test_no_kernel_outlives_its_chapter(tmp_path, monkeypatch):
     """The kernel, started before papermill runs the notebook, is killed after the render,
     after a failing cell, and when the parameters are refused before any cell ran; no socket
-    folder is left behind."""
+    folder is left behind (in a temporary folder of this test's own: chapters that other test
+    workers run meanwhile have theirs)."""
     import glob
     import tempfile
 
     import psutil
+
+    # short: the kernel's Unix socket paths must stay within the system's limit
+    own = tempfile.mkdtemp(prefix="rmk-")
+    monkeypatch.setattr(tempfile, "tempdir", own)
 
     def kernels():
         return {p.pid for p in psutil.Process().children(recursive=True)
@@ -212,6 +218,32 @@ def test_no_kernel_outlives_its_chapter(tmp_path):
         _render(tmp_path / "refused", _notebook(tmp_path, "print(1)"), nn=3)
     assert kernels() <= before
     assert folders() <= left
+    monkeypatch.undo()
+    shutil.rmtree(own)
+
+
+def test_a_stopped_kernel_is_killed_and_reaped_without_polling(tmp_path, monkeypatch):
+    """stop_kernel kills the kernel and waits for its process itself: jupyter_client's own
+    shutdown polls every 0.1 s until the process has gone, which no chapter should pay."""
+    import asyncio
+
+    import psutil
+
+    from robomill.pipeline.kernels import start_kernel, stop_kernel
+
+    manager = start_kernel("python3", tmp_path)
+    pid = manager.provisioner.process.pid
+    slept, real_sleep = [], asyncio.sleep
+
+    async def counted_sleep(delay, *args, **kwargs):
+        slept.append(delay)
+        return await real_sleep(delay, *args, **kwargs)
+
+    monkeypatch.setattr(asyncio, "sleep", counted_sleep)
+    stop_kernel(manager)
+    assert not psutil.pid_exists(pid)  # killed, and reaped (no zombie left)
+    assert not [d for d in slept if d >= 0.1], slept
+    assert not manager.has_kernel
 
 
 def test_unknown_kernel_fails_the_chapter_in_one_line(tmp_path):

@@ -287,13 +287,13 @@ def render_chapter(
         error: Exception | None = None
         with figures:
             for attempt in range(1, KERNEL_START_ATTEMPTS + 1):
-                error = None
+                error = executed = None
                 try:
                     if manager is None:  # a kernel started again
                         shutil.rmtree(sockets, ignore_errors=True)
                         sockets = Path(tempfile.mkdtemp(prefix="robomill-kernel-"))
                         manager = start_kernel(kernel, sockets, figures.environment(), cwd)
-                    pm.execute_notebook(
+                    executed = pm.execute_notebook(
                         str(notebook), str(staged_nb), parameters=params, kernel_name=kernel,
                         km=manager, engine_name=register_engine(), start_timeout=start_timeout_s,
                         execution_timeout=execution_timeout_s,
@@ -310,7 +310,10 @@ def render_chapter(
                     break
                 log.warning("chapter %s: kernel did not start (%s), attempt %d of %d",
                             notebook, error, attempt, KERNEL_START_ATTEMPTS)
-        nb = nbformat.read(staged_nb, as_version=4) if staged_nb.exists() else None
+        # the executed notebook as papermill returns it (the same as the file it wrote), or
+        # what was written of it when execution failed
+        nb = executed if error is None and executed is not None else (
+            nbformat.read(staged_nb, as_version=4) if staged_nb.exists() else None)
         problems = notebook_errors(nb) if nb is not None else []
         if error is not None or problems:
             kept = None
