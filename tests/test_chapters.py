@@ -216,23 +216,26 @@ def test_no_kernel_outlives_its_chapter(tmp_path, monkeypatch):
         _render(tmp_path / "cell", _notebook(tmp_path, "raise ValueError('x')"), data="a.csv")
     with pytest.raises(ChapterError, match="unknown parameter .nn."):
         _render(tmp_path / "refused", _notebook(tmp_path, "print(1)"), nn=3)
-    assert kernels() <= before
-    assert folders() <= left
+    running, remaining = kernels(), folders()
     monkeypatch.undo()
-    shutil.rmtree(own)
+    shutil.rmtree(own)  # before asserting: a failure leaves nothing behind either
+    assert running <= before
+    assert remaining <= left
 
 
-def test_a_stopped_kernel_is_killed_and_reaped_without_polling(tmp_path, monkeypatch):
+def test_a_stopped_kernel_is_killed_and_reaped_without_polling(monkeypatch):
     """stop_kernel kills the kernel and waits for its process itself: jupyter_client's own
     shutdown polls every 0.1 s until the process has gone, which no chapter should pay."""
     import asyncio
+    import tempfile
 
     import psutil
 
     from robomill.pipeline.kernels import start_kernel, stop_kernel
 
-    manager = start_kernel("python3", tmp_path)
-    pid = manager.provisioner.process.pid
+    sockets = Path(tempfile.mkdtemp(prefix="rmk-"))  # short: Unix socket paths are limited
+    manager = start_kernel("python3", sockets)
+    process = manager.provisioner.process
     slept, real_sleep = [], asyncio.sleep
 
     async def counted_sleep(delay, *args, **kwargs):
@@ -240,8 +243,15 @@ def test_a_stopped_kernel_is_killed_and_reaped_without_polling(tmp_path, monkeyp
         return await real_sleep(delay, *args, **kwargs)
 
     monkeypatch.setattr(asyncio, "sleep", counted_sleep)
-    stop_kernel(manager)
-    assert not psutil.pid_exists(pid)  # killed, and reaped (no zombie left)
+    try:
+        stop_kernel(manager)
+    finally:
+        monkeypatch.undo()
+        if process.poll() is None:  # stop_kernel failed: leave no kernel running
+            process.kill()
+            process.wait()
+        shutil.rmtree(sockets, ignore_errors=True)
+    assert not psutil.pid_exists(process.pid)  # killed, and reaped (no zombie left)
     assert not [d for d in slept if d >= 0.1], slept
     assert not manager.has_kernel
 
