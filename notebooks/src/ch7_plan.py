@@ -86,6 +86,7 @@ ax.set_ylabel("material removal rate [mm³/s]")
 ax.legend(fontsize=8)
 fig.tight_layout()
 num.show(fig, "pareto")
+display(Markdown(say("pareto", ref_pareto=num.ref("pareto"))))
 
 # %% [markdown]
 # ## The pose map
@@ -105,11 +106,13 @@ for j, d in enumerate(dirs):
         axes[i, j].set_ylabel("placement")
 fig.tight_layout()
 num.show(fig, "pose_map")
+display(Markdown(say("pose_map", ref_pose_map=num.ref("pose_map"))))
 
 # %% [markdown]
 # ## The chosen cuts
 
 # %%
+display(Markdown(say("plan_table", ref_plan=num.ref("plan"))))
 display(num.caption("plan"))
 cols = ["cut", "placement_x_mm", "placement_y_mm", "placement_z_mm", "direction",
         "rotation_deg", "redundancy_path_deg", "spindle_rpm", "depth_mm", "feed_mm_s",
@@ -121,6 +124,7 @@ display(chosen[[c for c in cols if c in chosen]])
 # ## The plan beside the study
 
 # %%
+display(Markdown(say("comparison_table", ref_comparison=num.ref("comparison"))))
 display(num.caption("comparison"))
 display(cmp_)
 display(Markdown(Prose(load_templates("ch7", templates), comparison_values(cmp_))(
@@ -144,8 +148,10 @@ display(Markdown(Prose(load_templates("ch7", templates), comparison_values(cmp_)
 # %%
 display(Markdown(say("check_stability_plan", "check_stability_study", "check_deflection",
                      "check_force", "check_waviness")))
+display(Markdown(say("check_table", ref_check=num.ref("check"))))
 display(num.caption("check"))
 if len(chk):
     display(chk)
 else:
     display(Markdown(say("check_none")))
+num.check()
