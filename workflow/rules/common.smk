@@ -307,6 +307,11 @@ def chapter_failed_copy(wildcards, output):
     return f"results/logs/chapters/{chapter_target(wildcards, output)}.failed.ipynb"
 
 
+def chapter_figure_cache(wildcards, output):
+    """The folder of a chapter's figure cache (``chapters.figure_cache``)."""
+    return f"results/.cache/figures/{chapter_target(wildcards, output)}"
+
+
 def tracker_run_spec(run):
     """What the analysis of tracker run ``run`` needs from its manifest entry
     (``TRACKER_RUNS`` of straightness.smk)."""

@@ -23,6 +23,7 @@ def main(snakemake) -> None:
         start_timeout_s=opts["start_timeout_s"],
         execution_timeout_s=opts["execution_timeout_s"],
         figure_workers=opts["figure_workers"],
+        figure_cache=snakemake.params.figure_cache if opts["figure_cache"] else None,
         failed_copy=snakemake.params.failed_copy,
     )
     log.info("rendered %s", snakemake.output.html)

@@ -249,17 +249,21 @@ def render_chapter(
     failed_copy: str | Path | None = None,
     cwd: str | Path | None = None,
     figure_workers: int = 0,
+    figure_cache: str | Path | None = None,
 ) -> None:
     """Execute ``notebook`` with ``parameters`` (plus ``fig_dir``) and render it.
 
     ``figure_workers`` processes (``chapters.figure_workers``) draw the chapter's figures
     beside the kernel (:mod:`robomill.pipeline.figure_workers`); 0 draws them in the kernel.
+    With workers, a figure the folder ``figure_cache`` holds from an earlier run is copied
+    rather than drawn (:mod:`robomill.pipeline.figure_cache`); None draws every figure.
 
     Raises
     ------
     ChapterError
         If execution fails or any cell holds an error output.
     """
+    from robomill.pipeline.figure_cache import FigureCache
     from robomill.pipeline.figure_workers import FigureServer
     from robomill.pipeline.kernels import register_engine, start_kernel, stop_kernel
 
@@ -268,7 +272,8 @@ def render_chapter(
     fig_dir.parent.mkdir(parents=True, exist_ok=True)
     stage = Path(tempfile.mkdtemp(prefix=f".{out_ipynb.stem}.", dir=out_ipynb.parent))
     server_dir = Path(tempfile.mkdtemp(prefix="robomill-figures-"))  # short: a socket path
-    figures = FigureServer(figure_workers, server_dir)
+    figures = FigureServer(figure_workers, server_dir,
+                           FigureCache(figure_cache) if figure_cache is not None else None)
     # the kernel first: it starts and imports while this job does its own start-up below
     sockets = Path(tempfile.mkdtemp(prefix="robomill-kernel-"))
     try:
@@ -326,6 +331,10 @@ def render_chapter(
                 f"chapter notebook {notebook} failed: {first.splitlines()[0]}"
                 + (f"; executed notebook kept at {kept}" if kept else "")
             )
+        if figures.cache is not None:
+            figures.keep_only_used()
+            log.info("chapter %s: %d figure(s) drawn, %d unchanged since the last run (from "
+                     "%s)", notebook, figures.drawn, figures.reused, figures.cache.folder)
         shown = {k: v for k, v in params.items() if k != "fig_dir"}
         root = Path(cwd) if cwd else Path.cwd()
         body = document_html(nb, _parameter_table(shown, declared, root), replace={

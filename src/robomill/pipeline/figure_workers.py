@@ -17,11 +17,17 @@ follow.
   waits for it to go; multiprocessing's resource tracker ignores those signals, which cost
   2.6 s per chapter when the pool lived in the kernel).
 * **Kernel side** (:func:`client`, used by :meth:`robomill.pipeline.captions.Numbering.show`):
-  each figure is sent pickled, with the kernel's ``rcParams``; the worker draws it with the
-  same :func:`robomill.plotting.save_figure` under those ``rcParams``, so the file is the
-  same bytes as a figure drawn in the kernel (tested). The chapter shows a placeholder with
-  a display id meanwhile; :meth:`~robomill.pipeline.captions.Numbering.check` (every
-  chapter's last cell) waits for all of them and replaces each placeholder by its image.
+  each figure is sent pickled (:func:`robomill.pipeline.figure_cache.figure_blob`), with the
+  kernel's ``rcParams`` and its cache key; the worker draws it with the same
+  :func:`robomill.plotting.save_figure` under those ``rcParams``, so the file is the same
+  bytes as a figure drawn in the kernel (tested). The chapter shows a placeholder with a
+  display id meanwhile; :meth:`~robomill.pipeline.captions.Numbering.check` (every chapter's
+  last cell) waits for all of them and replaces each placeholder by its image.
+* **Cache** (:mod:`robomill.pipeline.figure_cache`, ``chapters.figure_cache``): a figure whose
+  key an earlier run of the chapter drew is copied from the cache instead of drawn. The
+  workers start with the job only when the chapter's cache is empty (a first run draws every
+  figure); otherwise at the first figure the cache does not hold, so that a rerun whose
+  figures are all unchanged starts none.
 
 Outside a chapter job (a notebook opened by hand, ``make explore``) the variable is not set
 and figures are drawn in the kernel as before; so is a figure that cannot be pickled, and
@@ -41,7 +47,10 @@ import threading
 from collections.abc import Mapping
 from concurrent.futures import Future
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from robomill.pipeline.figure_cache import FigureCache
 
 log = logging.getLogger(__name__)
 
@@ -119,11 +128,19 @@ class FigureServer:
         with none, :meth:`environment` is empty and the kernel draws its own figures.
     folder
         A folder only this user can enter, private to this job, for the socket file.
+    cache
+        The chapter's :class:`~robomill.pipeline.figure_cache.FigureCache`, or None to draw
+        every figure.
     """
 
-    def __init__(self, workers: int, folder: str | Path) -> None:
+    def __init__(self, workers: int, folder: str | Path, cache: FigureCache | None = None
+                 ) -> None:
         self.workers = usable_workers(workers)
         self.address = str(Path(folder) / "figures")
+        self.cache = cache if self.workers else None
+        #: cache keys of the figures this run showed; figures reused from the cache, drawn
+        self.used_keys: set[str] = set()
+        self.reused = self.drawn = 0
         self._pool = None
         self._listener = None
         self._thread: threading.Thread | None = None
@@ -133,18 +150,26 @@ class FigureServer:
     def __enter__(self) -> FigureServer:
         if not self.workers:
             return self
-        import multiprocessing
-        from concurrent.futures import ProcessPoolExecutor
         from multiprocessing.connection import Listener
 
-        self._pool = ProcessPoolExecutor(self.workers, initializer=_start_worker,
-                                         mp_context=multiprocessing.get_context("spawn"))
-        for _ in range(self.workers):  # start them now, while the kernel starts
-            self._pool.submit(int)
+        if self.cache is None or not len(self.cache):
+            self._start_pool()  # now, while the kernel starts: every figure will be drawn
         self._listener = Listener(self.address, family="AF_UNIX")
         self._thread = threading.Thread(target=self._serve, name="figure-server", daemon=True)
         self._thread.start()
         return self
+
+    def _start_pool(self):
+        """The worker processes, started (all of them) on the first call."""
+        if self._pool is None:
+            import multiprocessing
+            from concurrent.futures import ProcessPoolExecutor
+
+            self._pool = ProcessPoolExecutor(self.workers, initializer=_start_worker,
+                                             mp_context=multiprocessing.get_context("spawn"))
+            for _ in range(self.workers):  # start each now, not at its first figure
+                self._pool.submit(int)
+        return self._pool
 
     def environment(self) -> dict[str, str]:
         """The variable that tells the kernel where to send its figures (empty without
@@ -167,25 +192,52 @@ class FigureServer:
                 self._conn.close()
 
     def _answer(self, conn) -> None:
-        """One kernel's requests: ``("draw", ident, blob, fig_dir, name, rc)`` queues a
-        figure; ``("wait",)`` answers ``{ident: None or what went wrong}`` for every figure
-        queued since the last wait, once all are drawn."""
+        """One kernel's requests: ``("draw", ident, blob, fig_dir, name, rc, key)`` queues a
+        figure (or copies it from the cache: ``key`` is its cache key, None for none);
+        ``("wait",)`` answers ``{ident: None or what went wrong}`` for every figure queued
+        since the last wait, once all are drawn, and keeps each one drawn in the cache."""
         pending: dict[str, Future] = {}
+        to_keep: dict[str, tuple[str, str]] = {}  # ident: (key, PNG) of figures drawn
         while True:
             try:
                 request = conn.recv()
             except (EOFError, OSError):
                 return
             if request[0] == "draw":
-                _, ident, blob, fig_dir, name, rc = request
+                _, ident, blob, fig_dir, name, rc, key = request
+                png = str(Path(fig_dir) / f"{name}.png")
+                if key is not None:
+                    self.used_keys.add(key)
+                pending[ident] = Future()
+                if key is not None and self.cache is not None and self.cache.fetch(key, png):
+                    pending[ident].set_result(png)
+                    self.reused += 1
+                    continue
                 try:
-                    pending[ident] = self._pool.submit(draw, blob, fig_dir, name, rc)
+                    pending[ident] = self._start_pool().submit(draw, blob, fig_dir, name, rc)
                 except Exception as exc:  # noqa: BLE001 - a broken pool: report it
-                    pending[ident] = Future()
                     pending[ident].set_exception(exc)
+                    continue
+                self.drawn += 1
+                if key is not None and self.cache is not None:
+                    to_keep[ident] = (key, png)
             elif request[0] == "wait":
-                conn.send({ident: _outcome(f) for ident, f in pending.items()})
+                outcomes = {ident: _outcome(f) for ident, f in pending.items()}
+                for ident, (key, png) in to_keep.items():
+                    if outcomes[ident] is None:
+                        try:
+                            self.cache.store(key, png)
+                        except OSError as exc:  # a full disk: the figure is drawn anyway
+                            log.warning("figure cache: %s not kept (%s)", png, exc)
+                conn.send(outcomes)
                 pending.clear()
+                to_keep.clear()
+
+    def keep_only_used(self) -> None:
+        """Empty the cache of every figure this run did not show (after a successful
+        chapter: a figure that changed leaves only its new PNG)."""
+        if self.cache is not None:
+            self.cache.keep_only(self.used_keys)
 
     def __exit__(self, *exc_info) -> None:
         if self._thread is not None:
@@ -251,15 +303,24 @@ class FigureClient:
         self._conn = Client(address, family="AF_UNIX")
 
     def send(self, ident: str, fig, fig_dir: str | Path, name: str) -> bytes | None:
-        """Queue ``fig`` to be saved as ``<fig_dir>/<name>.png``; returns the pickled
-        figure (to draw it here should its worker fail), or None with nothing sent when the
-        figure cannot be pickled, so that the caller draws it itself."""
+        """Queue ``fig`` to be saved as ``<fig_dir>/<name>.png``, with its cache key
+        (:func:`~robomill.pipeline.figure_cache.figure_key`); returns the pickled figure
+        (to draw it here should its worker fail), or None with nothing sent when the figure
+        cannot be pickled, so that the caller draws it itself."""
+        from robomill.pipeline.figure_cache import figure_blob, figure_key
+
+        rc = drawing_rc()
         try:
-            blob = pickle.dumps(fig, protocol=pickle.HIGHEST_PROTOCOL)
+            blob = figure_blob(fig)
         except Exception as exc:  # noqa: BLE001 - any pickling failure: draw it here
             log.debug("figure %s is drawn in the kernel: %s", name, exc)
             return None
-        self._conn.send(("draw", ident, blob, str(fig_dir), name, drawing_rc()))
+        try:
+            key = figure_key(blob, rc)
+        except Exception as exc:  # noqa: BLE001 - no key: drawn, not cached
+            log.warning("figure %s has no cache key (%s): it is drawn", name, exc)
+            key = None
+        self._conn.send(("draw", ident, blob, str(fig_dir), name, rc, key))
         return blob
 
     def wait(self) -> dict[str, str | None]:

@@ -1,0 +1,47 @@
+"""A chapter rerun and the plan, in a copy of the tiny study (the shared run stays as other
+test modules read it): a rerun whose figures have not changed copies them from the figure
+cache, and gives the same figures and page; `plan` builds chapter 7."""
+
+import shutil
+
+import pytest
+from conftest import REPO, run_snakemake
+
+pytestmark = pytest.mark.pipeline
+
+
+@pytest.fixture(scope="module")
+def study(tiny_run, tmp_path_factory):
+    copy = tmp_path_factory.mktemp("rerun") / "study"
+    shutil.copytree(tiny_run, copy, symlinks=True,
+                    ignore=shutil.ignore_patterns(".chromium-profile", "locks"))
+    return copy
+
+
+def test_a_chapter_rerun_draws_none_of_its_unchanged_figures(study):
+    figures = study / "results/figures/ch3/modal"
+    before = {p.name: p.read_bytes() for p in figures.glob("*.png")}
+    page = (study / "results/chapters/ch3_3_modal.html").read_text()
+    assert len(before) >= 5
+    proc = run_snakemake(study, "-j2", "ch3_modal", "--forcerun", "ch3_modal", timeout=300)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    said = [line for line in (study / "results/logs/chapters/ch3_modal.log").read_text()
+            .splitlines() if "figure(s) drawn" in line]
+    assert said and f"0 figure(s) drawn, {len(before)} unchanged" in said[-1], said
+    assert {p.name: p.read_bytes() for p in figures.glob("*.png")} == before
+    assert (study / "results/chapters/ch3_3_modal.html").read_text() == page
+    cached = list((study / "results/.cache/figures/ch3_modal").glob("*.png"))
+    assert len(cached) == len(before)
+
+
+def test_the_plan_builds_chapter_7(study):
+    """`snakemake plan`: the plan and its chapter, every figure and table shown and referred
+    to (the chapter's last cell checks it)."""
+    shutil.copy(REPO / "plan.yaml", study / "plan.yaml")
+    proc = run_snakemake(study, "-j2", "plan", timeout=600)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    page = (study / "results/chapters/ch7_plan.html").read_text()
+    for ref in ("Figure 7.1 sets", "Figure 7.2 maps", "Table 7.1 lists", "Table 7.3 sets"):
+        assert ref in page
+    assert "being drawn" not in page
+    assert len(list((study / "results/figures/ch7").glob("*.png"))) == 2
