@@ -23,6 +23,9 @@ $(STAMP): environment.lock pyproject.toml
 	# bytecode compiled at install: imports stay fast even where PYTHONDONTWRITEBYTECODE is set
 	$(BIN)/uv pip sync -q --compile-bytecode --python $(BIN)/python environment.lock
 	$(BIN)/uv pip install -q --python $(BIN)/python --no-deps -e .
+	# and robomill's own modules (an editable install leaves them as source; where
+	# PYTHONDONTWRITEBYTECODE is set every process would compile them again)
+	$(BIN)/python -m compileall -q src
 	$(BIN)/python -m ipykernel install --sys-prefix --name robomill --display-name "robomill (.venv)" >/dev/null
 	@touch $(STAMP)
 
