@@ -106,6 +106,23 @@ def test_the_cache_writes_whole_files_and_keeps_only_the_last_runs(tmp_path):
     assert not cache.fetch("k2", tmp_path / "a file" / "x.png")
 
 
+def test_a_cache_file_that_cannot_be_removed_is_left_with_a_warning(tmp_path, monkeypatch,
+                                                                    caplog):
+    png = tmp_path / "a.png"
+    png.write_bytes(b"\x89PNG")
+    cache = FigureCache(tmp_path / "cache")
+    cache.store("old", png)
+    cache.store("new", png)
+
+    def refuse(self, missing_ok=False):
+        raise PermissionError(13, "Permission denied", str(self))
+
+    monkeypatch.setattr(Path, "unlink", refuse)
+    assert cache.keep_only(["new"]) == 0
+    assert "old.png not removed" in caplog.text
+    assert len(cache) == 2
+
+
 def _one_run(tmp_path, cache, fig, out):
     with FigureServer(2, tmp_path, cache) as server:
         client = FigureClient(server.address)

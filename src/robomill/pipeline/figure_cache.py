@@ -34,9 +34,7 @@ import copyreg
 import hashlib
 import io
 import logging
-import os
 import pickle
-import tempfile
 from collections.abc import Iterable, Mapping
 from functools import cache
 from pathlib import Path
@@ -155,26 +153,31 @@ class FigureCache:
         return True
 
     def store(self, key: str, png: str | Path) -> None:
-        """Keep a copy of ``png`` (just drawn) under ``key``; written whole or not at all."""
-        self.folder.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(prefix=".", suffix=".tmp", dir=self.folder)
-        try:
-            with os.fdopen(fd, "wb") as out:
-                out.write(Path(png).read_bytes())
-            os.replace(tmp, self._path(key))
-        except BaseException:
-            Path(tmp).unlink(missing_ok=True)
-            raise
+        """Keep a copy of ``png`` (just drawn) under ``key``; written whole or not at all
+        (:func:`robomill.io.atomic.atomic_path`)."""
+        from robomill.io.atomic import atomic_path
+
+        with atomic_path(self._path(key)) as tmp:
+            tmp.write_bytes(Path(png).read_bytes())
 
     def keep_only(self, keys: Iterable[str]) -> int:
         """Remove every PNG (and leftover temporary file) but those of ``keys``; returns how
-        many were removed."""
-        if not self.folder.is_dir():
-            return 0
+        many were removed. A file that cannot be removed is left, with a warning: the cache
+        only saves time, and never fails a chapter."""
         wanted = {f"{k}.png" for k in keys}
         removed = 0
-        for path in self.folder.iterdir():
-            if path.name not in wanted and path.is_file():
+        try:
+            entries = list(self.folder.iterdir()) if self.folder.is_dir() else []
+        except OSError as exc:
+            log.warning("figure cache: %s not read (%s): nothing removed", self.folder, exc)
+            return 0
+        for path in entries:
+            if path.name in wanted or not path.is_file():
+                continue
+            try:
                 path.unlink(missing_ok=True)
-                removed += 1
+            except OSError as exc:
+                log.warning("figure cache: %s not removed (%s)", path, exc)
+                continue
+            removed += 1
         return removed
