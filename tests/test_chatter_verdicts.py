@@ -1,0 +1,76 @@
+"""Chatter verdicts (robomill.chatter.verdicts) on signals whose truth is planted: a
+tooth-passing comb with run-out lines, noise, and a non-harmonic line growing in time."""
+
+import numpy as np
+import pytest
+
+from robomill.chatter.verdicts import default_settings, judge, recommended_speeds_rpm
+
+FS_HZ = 10_000.0
+RPM, FLUTES = 6000.0, 3  # spindle 100 Hz, tooth passing 300 Hz
+CHATTER_HZ = 1234.5  # between the comb's lines 1200 and 1300 Hz
+
+
+def comb_signal(duration_s=4.0, seed=0, chatter_amp=0.0, noise=0.05):
+    rng = np.random.default_rng(seed)
+    t = np.arange(int(duration_s * FS_HZ)) / FS_HZ
+    x = sum(np.cos(2 * np.pi * 300.0 * k * t + k) / k for k in range(1, 10))  # tooth passing
+    x = x + sum(0.05 * np.cos(2 * np.pi * 100.0 * k * t + 2 * k) for k in (1, 2, 4, 5))  # run-out
+    if chatter_amp:
+        grow = chatter_amp * np.exp(np.log(100.0) * (t / t[-1] - 1.0))  # 40 dB over the record
+        x = x + grow * np.sin(2 * np.pi * CHATTER_HZ * t)
+    return x + noise * rng.standard_normal(t.size)
+
+
+@pytest.fixture(scope="module")
+def settings():
+    return default_settings()
+
+
+def test_planted_growing_line_is_chatter_at_its_frequency(settings):
+    v = judge(comb_signal(chatter_amp=1.0), FS_HZ, settings, spindle_rpm=RPM, flutes=FLUTES)
+    assert v.verdict == "chatter"
+    assert abs(v.chatter_hz - CHATTER_HZ) < 1.0
+    assert v.energy_ratio >= settings.energy_ratio_threshold
+    assert v.growth_db_s > 5.0  # planted: 40 dB over 4 s = 10 dB/s
+    assert v.comb_source == "design"
+    # by hand: 60 * 1234.5 / 3 = 24690 rpm / k; k = 4 gives 6172.5, nearest to 6000
+    assert v.speeds_rpm[0] == pytest.approx(6172.5, abs=2.0)
+    assert v.speeds_rpm[1] == pytest.approx(24690.0 / 5, abs=2.0)
+    assert "1234" in v.evidence and "threshold" in v.evidence
+
+
+def test_comb_and_noise_is_stable(settings):
+    v = judge(comb_signal(), FS_HZ, settings, spindle_rpm=RPM, flutes=FLUTES)
+    assert v.verdict == "stable"
+    assert np.isnan(v.chatter_hz)
+    assert v.energy_ratio < settings.energy_ratio_threshold
+
+
+def test_comb_estimated_when_no_speed_is_given(settings):
+    v = judge(comb_signal(chatter_amp=1.0, seed=3), FS_HZ, settings, flutes=FLUTES)
+    assert v.comb_source == "estimated"
+    assert v.comb_hz == pytest.approx(100.0, abs=0.5)  # the run-out comb, not the tooth's
+    assert v.verdict == "chatter" and abs(v.chatter_hz - CHATTER_HZ) < 1.0
+    assert "estimated" in v.evidence
+    s = judge(comb_signal(seed=4), FS_HZ, settings)
+    assert s.verdict == "stable" and s.comb_source == "estimated"
+
+
+def test_no_speed_and_no_comb_is_undetermined(settings):
+    rng = np.random.default_rng(1)
+    v = judge(rng.standard_normal(int(3 * FS_HZ)), FS_HZ, settings)
+    assert v.verdict == "undetermined"
+    assert "no spindle speed stated" in v.evidence
+
+
+def test_short_record_is_undetermined(settings):
+    v = judge(np.ones(100), FS_HZ, settings, spindle_rpm=RPM, flutes=FLUTES)
+    assert v.verdict == "undetermined" and "shorter" in v.evidence
+
+
+def test_speeds_in_range_by_hand():
+    # f_c = 500 Hz, Z = 2: 15000 / k rpm; in 4000-16000: k = 1..3 -> 15000, 7500, 5000
+    assert recommended_speeds_rpm(500.0, 2, (4000.0, 16000.0)) == [15000.0, 7500.0, 5000.0]
+    assert recommended_speeds_rpm(500.0, 2, (4000.0, 16000.0), spindle_rpm=7000.0)[0] == 7500.0
+    assert recommended_speeds_rpm(500.0, 0, (4000.0, 16000.0)) == []
