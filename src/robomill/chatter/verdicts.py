@@ -179,15 +179,20 @@ def estimate_comb_hz(f: np.ndarray, power: np.ndarray, s: VerdictSettings
 def _runout_fundamental(lines_hz: np.ndarray, f0: float, w: float) -> float:
     """``f0 / m`` (m = 2…8) when the prominent lines hold at least two distinct multiples of
     it that are not multiples of ``f0`` (run-out lines of a spindle turning at ``f0 / m``
-    beside the tooth-passing comb ``f0``; the ``m`` catching most, the lower on a tie); else
-    ``f0``."""
+    beside the tooth-passing comb ``f0``), at least three times as many as a comb that dense
+    would catch by chance among the lines ``f0`` left (``2 w m / f0`` of them each), and
+    ``f0 / m`` wider than ``4 w``; the ``m`` catching most, the lower on a tie; else ``f0``."""
+    k0 = np.round(lines_hz / f0)
+    left = ~((k0 >= 1) & (np.abs(lines_hz - k0 * f0) <= w + 1e-3 * lines_hz))
     best_m, best_n = 1, 1
     for m in range(2, 9):
         fs = f0 / m
+        if fs <= 4.0 * w:
+            break
         k = np.round(lines_hz / fs)
-        hit = (k >= 1) & (np.abs(lines_hz - k * fs) <= w + 1e-3 * lines_hz) & (k % m != 0)
+        hit = left & (k >= 1) & (np.abs(lines_hz - k * fs) <= w + 1e-3 * lines_hz)
         n = np.unique(k[hit]).size
-        if n >= 2 and n > best_n:
+        if n >= 2 and n >= 3.0 * left.sum() * 2.0 * w / fs and n > best_n:
             best_m, best_n = m, n
     return f0 / best_m
 
