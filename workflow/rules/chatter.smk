@@ -94,6 +94,7 @@ rule chatter_verdicts:
             subcategory="Tables",
         ),
         spectrograms="results/chatter/spectrograms.nc",
+        findings="results/chatter/verdict_findings.yaml",
     log:
         "results/logs/chatter/verdicts.log",
     benchmark:
@@ -162,6 +163,7 @@ use rule chapter as ch4 with:
         findings="results/chatter/findings.yaml",
         verdicts="results/chatter/verdicts.csv",
         spectrograms="results/chatter/spectrograms.nc",
+        verdict_findings="results/chatter/verdict_findings.yaml",
     output:
         **chapter_outputs("ch4"),
     log:

@@ -5,8 +5,13 @@ from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "chatter_verdicts")
 
-from robomill.chatter.recordings import JUDGED_KINDS, judge_study  # noqa: E402
+from robomill.chatter.recordings import (  # noqa: E402
+    JUDGED_KINDS,
+    judge_study,
+    verdict_findings,
+)
 from robomill.chatter.verdicts import VerdictSettings  # noqa: E402
+from robomill.findings import write_findings  # noqa: E402
 from robomill.io import write_artefact  # noqa: E402
 from robomill.io.artefacts import write_table  # noqa: E402
 from robomill.study import load_study  # noqa: E402
@@ -21,3 +26,4 @@ write_artefact(spectrograms, snakemake.output.spectrograms, rule="chatter_verdic
                inputs=list(snakemake.input.raw), config_section=snakemake.params.settings)
 counts = table["verdict"].value_counts().to_dict() if len(table) else {}
 log.info("%d records judged: %s", len(table), counts)
+write_findings(verdict_findings(table, settings), snakemake.output.findings)

@@ -121,3 +121,82 @@ def judge_study(manifest, entries: Iterable[Mapping[str, Any]], settings: Verdic
                      {"units": "s"})},
             coords={"record": [im[0] for im in images]})
     return table, ds
+
+
+def _line(r: Mapping[str, Any]) -> str:
+    """One record's verdict as a sentence fragment (source, cut, verdict, evidence)."""
+    head = f"`{r['source']}` (cut {r['cut']}, {r['kind']}): **{r['verdict']}**"
+    if r["verdict"] == "chatter":
+        head += f" at {float(r['chatter_hz']):.1f} Hz"
+        if isinstance(r.get("speeds_rpm"), str) and r["speeds_rpm"]:
+            head += f"; speeds to try {r['speeds_rpm'].replace(' ', ', ')} rpm"
+    return f"{head} — {r['evidence']}"
+
+
+def comparison_table(table: pd.DataFrame) -> pd.DataFrame:
+    """Per cut with both a force record and a recording: each recording's verdict beside the
+    force record's (``agree``: the same verdict; chatter frequencies within 5 % where both
+    chatter)."""
+    rows = []
+    force = table[table["kind"] == "force"].set_index("cut")
+    for _, r in table[table["kind"] != "force"].iterrows():
+        if r["cut"] not in force.index:
+            continue
+        fr = force.loc[r["cut"]]
+        fr = fr.iloc[0] if isinstance(fr, pd.DataFrame) else fr
+        agree = r["verdict"] == fr["verdict"]
+        if agree and r["verdict"] == "chatter":
+            agree = abs(float(r["chatter_hz"]) / float(fr["chatter_hz"]) - 1.0) <= 0.05
+        rows.append({"cut": r["cut"], "force_source": fr["source"],
+                     "force_verdict": fr["verdict"], "force_chatter_hz": fr["chatter_hz"],
+                     "recording": r["source"], "recording_verdict": r["verdict"],
+                     "recording_chatter_hz": r["chatter_hz"], "agree": bool(agree)})
+    return pd.DataFrame(rows, columns=["cut", "force_source", "force_verdict",
+                                       "force_chatter_hz", "recording", "recording_verdict",
+                                       "recording_chatter_hz", "agree"])
+
+
+def verdict_findings(table: pd.DataFrame, settings: VerdictSettings):
+    """Chapter 4's findings of the verdicts (``results/chatter/verdict_findings.yaml``):
+    counts per verdict and kind, one line per recording (and per chattering or undetermined
+    force record), the force-vs-recording comparison and the threshold that decided."""
+    from robomill.findings import Findings
+
+    art = "results/chatter/verdicts.csv"
+    f = Findings("chatter_verdicts")
+    f.add("verdict_threshold", settings.energy_ratio_threshold, artefact=art,
+          what="energy_ratio_threshold", config_key="chatter.verdicts.energy_ratio_threshold")
+    kinds = table["kind"] if len(table) else pd.Series(dtype=str)
+    f.add("n_records", int(len(table)), artefact=art, what="rows")
+    f.add("n_force_records", int((kinds == "force").sum()), artefact=art, what="kind force")
+    f.add("n_recordings", int(kinds.isin(["sound", "vibration"]).sum()), artefact=art,
+          what="kind sound or vibration")
+    for v in ("stable", "chatter", "undetermined"):
+        f.add(f"n_{v}", int((table["verdict"] == v).sum()) if len(table) else 0, artefact=art,
+              what=f"verdict {v}")
+    rec = table[kinds != "force"] if len(table) else table
+    f.add("recording_lines", [_line(r) for _, r in rec.iterrows()], artefact=art,
+          what="sound and vibration rows")
+    odd = table[(kinds == "force") & (table["verdict"] != "stable")] if len(table) else table
+    f.add("force_lines", [_line(r) for _, r in odd.iterrows()], artefact=art,
+          what="force rows not stable")
+    if len(table) and (kinds == "force").any():
+        fr = table[kinds == "force"]
+        f.add("force_ratio_max", float(fr["energy_ratio"].max()), artefact=art,
+              what="largest energy_ratio of the force records")
+        f.add("force_line_hz_median", float(fr["line_hz"].median()), "Hz", artefact=art,
+              what="median line_hz of the force records")
+    cmp = comparison_table(table) if len(table) else comparison_table(
+        pd.DataFrame(columns=list(VERDICT_COLUMNS) + ["kind"]))
+    f.add("n_compared", int(len(cmp)), artefact=art, what="cuts with force and a recording")
+    f.add("n_agree", int(cmp["agree"].sum()) if len(cmp) else 0, artefact=art,
+          what="recordings whose verdict is the force record's")
+    f.add("comparison_lines", [
+        f"cut {r['cut']}: force `{r['force_source']}` {r['force_verdict']}"
+        + (f" ({float(r['force_chatter_hz']):.1f} Hz)" if r["force_verdict"] == "chatter" else "")
+        + f", `{r['recording']}` {r['recording_verdict']}"
+        + (f" ({float(r['recording_chatter_hz']):.1f} Hz)"
+           if r["recording_verdict"] == "chatter" else "")
+        + (": agree" if r["agree"] else ": **disagree**") for _, r in cmp.iterrows()],
+        artefact=art, what="force vs recording per cut")
+    return f

@@ -125,12 +125,15 @@ def spectrogram_power(signal: np.ndarray, fs_hz: float, window_s: float
     return f, t, S.sum(axis=0)
 
 
-def comb_mask(f: np.ndarray, fundamental_hz: float, halfwidth_hz: float) -> np.ndarray:
-    """True where ``f`` lies within ``halfwidth_hz`` of a multiple k ≥ 1 of
-    ``fundamental_hz`` (a harmonic comb: forced vibration)."""
+def comb_mask(f: np.ndarray, fundamental_hz: float, halfwidth_hz: float, *,
+              from_k: int = 1) -> np.ndarray:
+    """True where ``f`` lies within ``halfwidth_hz`` of a multiple k ≥ ``from_k`` of
+    ``fundamental_hz`` (a harmonic comb: forced vibration; ``from_k=0`` counts the band
+    around 0 Hz too)."""
     f = np.asarray(f, float)
-    k = np.round(f / fundamental_hz)
-    return (k >= 1) & (np.abs(f - k * fundamental_hz) <= halfwidth_hz)
+    r = f / fundamental_hz
+    k = np.round(r)
+    return (k >= from_k) & (np.abs(r - k) * fundamental_hz <= halfwidth_hz)
 
 
 def estimate_comb_hz(f: np.ndarray, power: np.ndarray, s: VerdictSettings
