@@ -149,3 +149,18 @@ def test_listen_command(tmp_path, capsys):
     assert main(["listen", str(bad)]) == 1
     out = capsys.readouterr().out.strip()
     assert out.count("\n") == 0 and "bad.mp3" in out
+
+
+def test_manifest_infers_recordings_from_their_folders(tmp_path):
+    from robomill.cli.layout import infer_file
+
+    raw = tmp_path / "raw"
+    (raw / "sound").mkdir(parents=True)
+    (raw / "vibration").mkdir()
+    soundfile.write(raw / "sound" / "s1_g1_px.flac", np.zeros(100), 8000)
+    uff = raw / "vibration" / "s1_g1_px.uff"
+    uff.write_bytes((REAL / "uff" / "pyuff_binary8byte_time.uff").read_bytes())
+    s = infer_file(raw, raw / "sound" / "s1_g1_px.flac")
+    assert s.entry == {"path": "sound/s1_g1_px.flac", "kind": "sound", "cut": "s1_g1_px"}
+    v = infer_file(raw, uff)  # a UFF in vibration/ is read as it is: no import note
+    assert v.note is None and v.entry["kind"] == "vibration" and not v.missing

@@ -116,10 +116,11 @@ def judge_study(manifest, entries: Iterable[Mapping[str, Any]], settings: Verdic
                        {"units": "power per bin (signal unit squared)",
                         "long_name": "spectrogram, largest power of each cell"}),
              "f_hz": (("record", "f_bin"), np.stack([im[1] for im in images]),
-                      {"units": "Hz"}),
+                      {"units": "Hz", "long_name": "centre frequency of each cell"}),
              "t_s": (("record", "t_bin"), np.stack([im[2] for im in images]),
-                     {"units": "s"})},
-            coords={"record": [im[0] for im in images]})
+                     {"units": "s", "long_name": "centre time of each cell"})},
+            coords={"record": ("record", [im[0] for im in images],
+                               {"units": "1", "long_name": "record (source in the raw folder)"})})
     return table, ds
 
 
