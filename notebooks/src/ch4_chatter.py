@@ -72,7 +72,10 @@ if shown is not None:
                "each): white, the tooth-passing harmonics (dotted: the comb's multiples where "
                "the flutes are unknown); red, the chatter frequency")
     num.show(spectrogram_figure(vs, vt, shown), "spectrogram")
+    display(Markdown(hear("spectrogram_ref", ref_spectrogram=num.ref("spectrogram"),
+                          shown=shown)))
 num.table("verdicts", "Chatter verdict of every record (results/chatter/verdicts.csv)")
+display(Markdown(hear("verdicts_ref", ref_verdicts=num.ref("verdicts"))))
 display(num.caption("verdicts"))
 display(vt[["cut", "verdict", "chatter_hz", "source", "energy_ratio", "line_hz",
             "growth_db_s", "comb_hz", "comb_source", "speeds_rpm"]].round(3))
