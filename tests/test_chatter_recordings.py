@@ -164,3 +164,29 @@ def test_manifest_infers_recordings_from_their_folders(tmp_path):
     assert s.entry == {"path": "sound/s1_g1_px.flac", "kind": "sound", "cut": "s1_g1_px"}
     v = infer_file(raw, uff)  # a UFF in vibration/ is read as it is: no import note
     assert v.note is None and v.entry["kind"] == "vibration" and not v.missing
+
+
+def test_chapter_4_recordings_prose_follows_the_verdict_findings(tmp_path, settings):
+    import pandas as pd
+
+    from robomill.chatter.recordings import verdict_findings
+    from robomill.pipeline.prose import Prose, load_templates
+
+    rows = [{"cut": "c1", "verdict": "chatter", "chatter_hz": 1234.5, "source": "forces/c1.csv",
+             "evidence": "e1", "kind": "force", "energy_ratio": 0.6, "line_hz": 1234.5,
+             "speeds_rpm": "6172 4938"},
+            {"cut": "c1", "verdict": "chatter", "chatter_hz": 1240.0, "source": "sound/c1.flac",
+             "evidence": "e2", "kind": "sound", "energy_ratio": 0.5, "line_hz": 1240.0,
+             "speeds_rpm": "6200"},
+            {"cut": "c2", "verdict": "stable", "chatter_hz": np.nan, "source": "forces/c2.csv",
+             "evidence": "e3", "kind": "force", "energy_ratio": 0.01, "line_hz": 70.0,
+             "speeds_rpm": ""}]
+    found = verdict_findings(pd.DataFrame(rows), settings)
+    say = Prose(load_templates("ch4"), found)
+    names = ["recordings_intro", "force_summary", "recording_lines", "force_lines", "comparison"]
+    text = " ".join(say(*names).split())
+    assert "3 records: 1 stable, 2 chatter, 0 undetermined (2 force records, 1 recordings)" in text
+    assert "at least 0.1 of the comb's energy" in text
+    assert "`sound/c1.flac` (cut c1, sound): **chatter** at 1240.0 Hz" in text
+    assert "1 of 1 recordings agree" in text  # 1240 vs 1234.5 Hz: within 5 %
+    assert "{" not in text
