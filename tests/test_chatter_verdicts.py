@@ -50,7 +50,7 @@ def test_comb_and_noise_is_stable(settings):
 def test_comb_estimated_when_no_speed_is_given(settings):
     v = judge(comb_signal(chatter_amp=1.0, seed=3), FS_HZ, settings, flutes=FLUTES)
     assert v.comb_source == "estimated"
-    assert v.comb_hz == pytest.approx(100.0, abs=0.5)  # the run-out comb, not the tooth's
+    assert v.comb_hz == pytest.approx(300.0, abs=0.5)  # the tooth passing, not a subharmonic
     assert v.verdict == "chatter" and abs(v.chatter_hz - CHATTER_HZ) < 1.0
     assert "estimated" in v.evidence
     s = judge(comb_signal(seed=4), FS_HZ, settings)
@@ -74,3 +74,31 @@ def test_speeds_in_range_by_hand():
     assert recommended_speeds_rpm(500.0, 2, (4000.0, 16000.0)) == [15000.0, 7500.0, 5000.0]
     assert recommended_speeds_rpm(500.0, 2, (4000.0, 16000.0), spindle_rpm=7000.0)[0] == 7500.0
     assert recommended_speeds_rpm(500.0, 0, (4000.0, 16000.0)) == []
+
+
+def test_simulated_cuts_below_and_above_the_lobe(settings):
+    """The seed-002 robot-tool model's closed-loop force (robomill.chatter.timedomain) at 0.85
+    and 1.15 of the critical depth that the semi-discretization gives at 1260 rpm (a truth
+    independent of the verdict): stable below; chatter above, at an odd multiple of half the
+    tooth-passing frequency, because the critical multiplier there is real and negative
+    (period doubling, a flip bifurcation)."""
+    from robomill.chatter.lobes_sdm import critical_depth
+    from robomill.chatter.timedomain import SeedParams, SeedSimulation, horizontal_tool
+
+    p = SeedParams()
+    a_b, mu = critical_depth(horizontal_tool(p), p.cutting_model(), p.spindle_rpm,
+                             depth_max_m=2e-3, m=60, rtol=1e-3)
+    assert mu.real < -0.99 and abs(mu.imag) < 1e-6  # flip
+    tooth_hz = p.teeth * p.spindle_rpm / 60.0
+    out = {}
+    for frac in (0.85, 1.15):
+        sim = SeedSimulation(p, frac * a_b, steps_per_tooth=128, duration_s=2.0)
+        sim.run(2.0)
+        rec = sim.record()
+        out[frac] = judge(np.column_stack([rec["Rx_N"], rec["Rz_N"]]), sim.record_fs_hz,
+                          settings, spindle_rpm=p.spindle_rpm, flutes=p.teeth)
+    assert out[0.85].verdict == "stable"
+    v = out[1.15]
+    assert v.verdict == "chatter" and v.growth_db_s > 10.0
+    half = v.chatter_hz / (tooth_hz / 2.0)
+    assert abs(half - round(half)) < 0.05 and round(half) % 2 == 1

@@ -69,8 +69,8 @@ display(Markdown(hear("recordings_intro", "force_summary")))
 shown = shown_record(vt, vs)
 if shown is not None:
     num.figure("spectrogram", f"Spectrogram of `{shown}` (pooled cells, largest power of "
-               "each): white, the tooth-passing harmonics (dotted: the comb's multiples where "
-               "the flutes are unknown); red, the chatter frequency")
+               "each): ticks on the right, the tooth-passing harmonics (dotted: the spindle "
+               "rotation's where the flutes are unknown); red, the chatter frequency")
     num.show(spectrogram_figure(vs, vt, shown), "spectrogram")
     display(Markdown(hear("spectrogram_ref", ref_spectrogram=num.ref("spectrogram"),
                           shown=shown)))

@@ -25,8 +25,9 @@ def shown_record(table: pd.DataFrame, spectrograms: xr.Dataset) -> str | None:
 
 def spectrogram_figure(spectrograms: xr.Dataset, table: pd.DataFrame, source: str
                        ) -> plt.Figure:
-    """The pooled spectrogram of ``source`` [dB], the comb's multiples (white dotted, the
-    tooth-passing harmonics solid when the flutes are known) and the chatter frequency (red)."""
+    """The pooled spectrogram of ``source`` [dB], the comb's lines as ticks on the right edge
+    (the tooth-passing harmonics; dotted: the spindle rotation's where the flutes are unknown)
+    and the chatter frequency (red)."""
     d = spectrograms.sel(record=source)
     row = table.set_index("source").loc[source]
     f, t = d["f_hz"].values, d["t_s"].values
@@ -38,10 +39,10 @@ def spectrogram_figure(spectrograms: xr.Dataset, table: pd.DataFrame, source: st
     fig.colorbar(mesh, ax=ax, label="power per bin [dB]")
     comb, z = float(row["comb_hz"]), row["flutes"]
     top = float(np.nanmax(f))
-    if np.isfinite(comb) and comb > 0:
-        step = comb * (int(z) if pd.notna(z) and z else 1)
-        for k in range(1, int(top / step) + 1):
-            ax.axhline(k * step, color="w", lw=0.6, ls="-" if pd.notna(z) else ":", alpha=0.6)
+    if np.isfinite(comb) and comb > 0:  # ticks on the right edge: the lines stay visible
+        for k in range(1, int(top / comb) + 1):
+            ax.plot([1.0, 1.03], [k * comb] * 2, color="k", lw=0.8, clip_on=False,
+                    ls="-" if pd.notna(z) else ":", transform=ax.get_yaxis_transform())
     if row["verdict"] == "chatter":
         ax.axhline(float(row["chatter_hz"]), color="r", lw=1.2,
                    label=f"chatter {float(row['chatter_hz']):.1f} Hz")

@@ -9,9 +9,13 @@ teeth):
 1. **Spectrogram** (Hann windows of ``window_s``, half overlap, power per bin, the channels'
    powers summed): ``S(f, t)``. Frames whose band power is below ``active_fraction`` of the
    record's 90th-percentile frame are idle (spindle out of the cut) and left out.
-2. **Comb**: multiples of the spindle rotation frequency ``f_s = n/60`` (they hold the
-   tooth-passing harmonics ``k Z n/60`` and the run-out lines); from the cut's design when the
-   speed is given, else estimated from the signal (:func:`estimate_comb_hz`), and said so.
+2. **Comb**: the tooth-passing harmonics ``k Z n/60`` (the spindle rotation's ``k n/60``
+   when the flutes are not given); from the cut's design when the speed is given, else
+   estimated from the signal (:func:`estimate_comb_hz`), and said so. The run-out lines
+   between the teeth are not excluded: with an even number of flutes they hold the
+   period-doubling (flip) chatter at odd multiples of half the tooth-passing frequency
+   [Insperger & Stépán 2011, §5.3]; a run-out line strong enough to pass the threshold is
+   named as the line, and its growth (none) tells it apart.
 3. **Strongest non-harmonic line** ``f_c``: a local maximum of the mean spectrum that stands
    ``prominence_db`` above its local floor, farther than ``harmonic_halfwidth_hz`` (and two
    bins) from every comb line (:func:`robomill.spectral_peaks.prominent_peaks`: never a side
@@ -146,9 +150,7 @@ def estimate_comb_hz(f: np.ndarray, power: np.ndarray, s: VerdictSettings
     ``max(harmonic_halfwidth_hz, 2 Δf)`` of a multiple of it, less the share a comb that dense
     would catch by chance (``2 w / f0``); ``f0`` is refined by least squares over the lines it
     catches, and the best score wins (a tie within 0.02: the higher ``f0``, not a
-    subharmonic). Run-out lines between the teeth then lower it to the spindle rotation
-    (:func:`_runout_fundamental`). ``(nan, score)`` when no candidate reaches
-    ``comb_min_score``."""
+    subharmonic). ``(nan, score)`` when no candidate reaches ``comb_min_score``."""
     from robomill.spectral_peaks import prominent_peaks
 
     df = float(f[1] - f[0])
@@ -174,30 +176,7 @@ def estimate_comb_hz(f: np.ndarray, power: np.ndarray, s: VerdictSettings
         score = float(wl[hit].sum() - min(1.0, 2.0 * w / f0))
         if score > best[1] + 0.02 or (abs(score - best[1]) <= 0.02 and f0 > best[0]):
             best = (f0, score)
-    if best[1] < s.comb_min_score:
-        return float("nan"), max(best[1], 0.0)
-    return _runout_fundamental(fl, best[0], w), best[1]
-
-
-def _runout_fundamental(lines_hz: np.ndarray, f0: float, w: float) -> float:
-    """``f0 / m`` (m = 2…8) when the prominent lines hold at least two distinct multiples of
-    it that are not multiples of ``f0`` (run-out lines of a spindle turning at ``f0 / m``
-    beside the tooth-passing comb ``f0``), at least three times as many as a comb that dense
-    would catch by chance among the lines ``f0`` left (``2 w m / f0`` of them each), and
-    ``f0 / m`` wider than ``4 w``; the ``m`` catching most, the lower on a tie; else ``f0``."""
-    k0 = np.round(lines_hz / f0)
-    left = ~((k0 >= 1) & (np.abs(lines_hz - k0 * f0) <= w + 1e-3 * lines_hz))
-    best_m, best_n = 1, 1
-    for m in range(2, 9):
-        fs = f0 / m
-        if fs <= 4.0 * w:
-            break
-        k = np.round(lines_hz / fs)
-        hit = left & (k >= 1) & (np.abs(lines_hz - k * fs) <= w + 1e-3 * lines_hz)
-        n = np.unique(k[hit]).size
-        if n >= 2 and n >= 3.0 * left.sum() * 2.0 * w / fs and n > best_n:
-            best_m, best_n = m, n
-    return f0 / best_m
+    return (best[0] if best[1] >= s.comb_min_score else float("nan")), max(best[1], 0.0)
 
 
 def recommended_speeds_rpm(chatter_hz: float, flutes: int, speed_range_rpm: tuple[float, float],
@@ -251,9 +230,10 @@ def judge(signal: np.ndarray, fs_hz: float, settings: VerdictSettings, *,
     rpm = float(spindle_rpm) if spindle_rpm else float("nan")
     z = int(flutes) if flutes else None
     if np.isfinite(rpm):
-        comb, source = rpm / 60.0, "design"
-        comb_text = (f"comb from the design: {rpm:.0f} rpm, spindle {comb:.2f} Hz"
-                     + (f", tooth passing {comb * z:.2f} Hz ({z} flutes)" if z else ""))
+        comb, source = rpm / 60.0 * (z or 1), "design"
+        comb_text = (f"comb from the design: {rpm:.0f} rpm, "
+                     + (f"tooth passing {comb:.2f} Hz ({z} flutes)" if z else
+                        f"spindle rotation {comb:.2f} Hz (flutes not given)"))
     else:
         comb, score = estimate_comb_hz(f, P, s)
         source = "estimated"
