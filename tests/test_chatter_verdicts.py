@@ -102,3 +102,16 @@ def test_simulated_cuts_below_and_above_the_lobe(settings):
     assert v.verdict == "chatter" and v.growth_db_s > 10.0
     half = v.chatter_hz / (tooth_hz / 2.0)
     assert abs(half - round(half)) < 0.05 and round(half) % 2 == 1
+
+
+def test_the_line_is_a_real_line_not_a_harmonics_skirt(settings):
+    """Very strong harmonics (their Hann skirts and side lobes far above the noise) and a weak
+    planted line between them: the strongest non-harmonic line is the planted one, and it is
+    too weak for chatter."""
+    t = np.arange(int(4 * FS_HZ)) / FS_HZ
+    x = sum(100.0 * np.cos(2 * np.pi * 300.0 * k * t) / k for k in range(1, 10))
+    x = x + 0.5 * np.sin(2 * np.pi * CHATTER_HZ * t)
+    x = x + 0.01 * np.random.default_rng(7).standard_normal(t.size)
+    v = judge(x, FS_HZ, settings, spindle_rpm=RPM, flutes=FLUTES)
+    assert v.line_hz == pytest.approx(CHATTER_HZ, abs=1.0)
+    assert v.verdict == "stable" and v.energy_ratio < 1e-3  # (0.5/100)^2 of the first alone
