@@ -2,7 +2,7 @@
 that says "stable", "chatter" or "undetermined", at which frequency, and which spindle speeds
 to try instead.
 
-Method (the spectral chatter test of [Schmitz & Smith 2009, §6.4] and [Altintas 2012, §3.5]:
+Method (the spectral chatter test of [Schmitz & Smith 2009, ch. 4] and [Altintas 2012, ch. 4]:
 forced vibration sits on the tooth-passing comb, regenerative chatter on a line between its
 teeth):
 
@@ -14,7 +14,7 @@ teeth):
    estimated from the signal (:func:`estimate_comb_hz`), and said so. The run-out lines
    between the teeth are not excluded: with an even number of flutes they hold the
    period-doubling (flip) chatter at odd multiples of half the tooth-passing frequency
-   [Insperger & Stépán 2011, §5.3]; a run-out line strong enough to pass the threshold is
+   [Insperger & Stépán 2011]; a run-out line strong enough to pass the threshold is
    named as the line, and its growth (none) tells it apart.
 3. **Strongest non-harmonic line** ``f_c``: a local maximum of the mean spectrum that stands
    ``prominence_db`` above its local floor, farther than ``harmonic_halfwidth_hz`` (and two
@@ -32,7 +32,7 @@ teeth):
 5. **Growth** of the line: least-squares slope of ``10 log10 E_c(t)`` over the active frames
    [dB/s], and the change from the first to the last quarter [dB].
 6. **Speeds** for chatter: the tooth-passing frequency on the chatter frequency,
-   ``n_k = 60 f_c / (Z k)``, k = 1, 2, … [Schmitz & Smith 2009, eq. 6.35], within
+   ``n_k = 60 f_c / (Z k)``, k = 1, 2, … [Schmitz & Smith 2009, ch. 4], within
    ``speed_range_rpm``, nearest to the cut's speed first, at most ``max_speeds``.
 
 The settings are config ``chatter.verdicts`` (defaults in the schema; :func:`default_settings`).
@@ -182,7 +182,7 @@ def estimate_comb_hz(f: np.ndarray, power: np.ndarray, s: VerdictSettings
 def recommended_speeds_rpm(chatter_hz: float, flutes: int, speed_range_rpm: tuple[float, float],
                            spindle_rpm: float | None = None, max_speeds: int = 6) -> list[float]:
     """Spindle speeds that put a tooth-passing harmonic on the chatter frequency,
-    ``n_k = 60 f_c / (Z k)``, k = 1, 2, … [Schmitz & Smith 2009, eq. 6.35], within
+    ``n_k = 60 f_c / (Z k)``, k = 1, 2, … [Schmitz & Smith 2009, ch. 4], within
     ``speed_range_rpm``; nearest to ``spindle_rpm`` first (else highest first), at most
     ``max_speeds``."""
     if not (np.isfinite(chatter_hz) and flutes):
