@@ -9,6 +9,7 @@ import soundfile
 import yaml
 from conftest import REPO, run_snakemake
 
+from robomill.cli import main
 from robomill.io.hashing import sha256_file
 
 pytestmark = [pytest.mark.pipeline]
@@ -25,7 +26,7 @@ def _signal(seconds=3.0, chatter=0.0, seed=0):
     return t, x + 0.05 * np.random.default_rng(seed).standard_normal(t.size)
 
 
-def test_verdicts_of_force_and_recordings(tmp_path):
+def test_verdicts_of_force_and_recordings(tmp_path, capsys):
     raw = tmp_path / "raw"
     for d in ("forces", "sound", "vibration"):
         (raw / d).mkdir(parents=True)
@@ -51,6 +52,10 @@ def test_verdicts_of_force_and_recordings(tmp_path):
         "files": [{"path": p, "kind": k, "cut": c, **x, "sha256": sha256_file(raw / p)}
                   for p, k, c, x in files]}
     (raw / "manifest.yaml").write_text(yaml.safe_dump(manifest, sort_keys=False))
+    assert main(["check", str(raw)]) == 1  # robomill check: the broken recording, one line
+    problems = [ln for ln in capsys.readouterr().out.splitlines()
+                if not ln.startswith("note:") and "problem(s)" not in ln]
+    assert len(problems) == 1 and "c2_broken.wav" in problems[0]
     cfg = yaml.safe_load((REPO / ".test" / "config.yaml").read_text())
     cfg["data"] = {"source": "raw", "raw_dir": str(raw)}
     config = tmp_path / "config.yaml"
