@@ -115,3 +115,22 @@ def test_the_line_is_a_real_line_not_a_harmonics_skirt(settings):
     v = judge(x, FS_HZ, settings, spindle_rpm=RPM, flutes=FLUTES)
     assert v.line_hz == pytest.approx(CHATTER_HZ, abs=1.0)
     assert v.verdict == "stable" and v.energy_ratio < 1e-3  # (0.5/100)^2 of the first alone
+
+
+def test_spindle_off_its_command_is_found_not_called_chatter(settings):
+    """The spindle turns 2 % faster than the design says (6120 for 6000 rpm): the comb is
+    moved onto the signal's harmonics and the cut is stable; with the comb left at the design
+    (speed_tolerance 0) its drifted harmonics would pass for chatter."""
+    import dataclasses
+
+    t = np.arange(int(4 * FS_HZ)) / FS_HZ
+    tooth = 6120.0 * FLUTES / 60.0  # 306 Hz
+    x = sum(np.cos(2 * np.pi * tooth * k * t + k) / k for k in range(1, 10))
+    x = x + 0.05 * sum(np.cos(2 * np.pi * tooth / 3 * k * t) for k in (1, 2, 4))  # run-out
+    x = x + 0.05 * np.random.default_rng(11).standard_normal(t.size)
+    v = judge(x, FS_HZ, settings, spindle_rpm=RPM, flutes=FLUTES)
+    assert v.verdict == "stable"
+    assert v.comb_hz == pytest.approx(tooth, abs=0.3)
+    assert "+2.0 %" in v.evidence
+    fixed = dataclasses.replace(settings, speed_tolerance=0.0)
+    assert judge(x, FS_HZ, fixed, spindle_rpm=RPM, flutes=FLUTES).verdict == "chatter"

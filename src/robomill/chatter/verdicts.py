@@ -10,8 +10,9 @@ teeth):
    powers summed): ``S(f, t)``. Frames whose band power is below ``active_fraction`` of the
    record's 90th-percentile frame are idle (spindle out of the cut) and left out.
 2. **Comb**: the tooth-passing harmonics ``k Z n/60`` (the spindle rotation's ``k n/60``
-   when the flutes are not given); from the cut's design when the speed is given, else
-   estimated from the signal (:func:`estimate_comb_hz`), and said so. The run-out lines
+   when the flutes are not given); from the cut's design when the speed is given (moved
+   within ``speed_tolerance`` to where the signal's harmonics are, :func:`refine_comb_hz`),
+   else estimated from the signal (:func:`estimate_comb_hz`), and said so. The run-out lines
    between the teeth are not excluded: with an even number of flutes they hold the
    period-doubling (flip) chatter at odd multiples of half the tooth-passing frequency
    [Insperger & Stépán 2011]; a run-out line strong enough to pass the threshold is
@@ -67,6 +68,7 @@ class VerdictSettings(FromMapping):
     comb_min_score: float
     speed_range_rpm: tuple[float, float]
     max_speeds: int
+    speed_tolerance: float
 
 
 def default_settings() -> VerdictSettings:
@@ -179,6 +181,33 @@ def estimate_comb_hz(f: np.ndarray, power: np.ndarray, s: VerdictSettings
     return (best[0] if best[1] >= s.comb_min_score else float("nan")), max(best[1], 0.0)
 
 
+def refine_comb_hz(f: np.ndarray, power: np.ndarray, comb_hz: float, s: VerdictSettings
+                   ) -> float:
+    """The design's spindle rotation ``comb_hz`` moved to where the signal's harmonics are
+    (the tooth passing's and the run-out's): the spindle under load turns a few per cent off
+    its command, and the k-th harmonic drifts k times as far. Searched within
+    ``± speed_tolerance`` on a grid fine enough that the highest harmonic used moves a
+    quarter bin per step; the score is the sum over the first (up to 20) harmonics in the
+    band of ``log P(k f)`` (``P`` interpolated), so that one strong non-harmonic line cannot
+    pull the comb onto itself. The best score at an end of the range is no comb found:
+    ``comb_hz`` is kept."""
+    tol = float(s.speed_tolerance)
+    df = float(f[1] - f[0])
+    hi = min(s.band_hz[1], float(f[-1]))
+    k_max = min(20, int(hi / (comb_hz * (1.0 + tol))))
+    if tol <= 0 or k_max < 2:
+        return comb_hz
+    step = df / (4.0 * k_max)
+    grid = comb_hz + np.arange(-tol * comb_hz, tol * comb_hz + step, step)
+    k = np.arange(1, k_max + 1)
+    tiny = max(float(power.max()), 1e-300) * 1e-15
+    score = np.log(np.maximum(np.interp(np.outer(grid, k), f, power), tiny)).sum(axis=1)
+    best = int(np.argmax(score))
+    if best in (0, grid.size - 1):
+        return comb_hz  # the best at an end of the range: no comb found near the design's
+    return float(grid[best])
+
+
 def recommended_speeds_rpm(chatter_hz: float, flutes: int, speed_range_rpm: tuple[float, float],
                            spindle_rpm: float | None = None, max_speeds: int = 6) -> list[float]:
     """Spindle speeds that put a tooth-passing harmonic on the chatter frequency,
@@ -230,10 +259,14 @@ def judge(signal: np.ndarray, fs_hz: float, settings: VerdictSettings, *,
     rpm = float(spindle_rpm) if spindle_rpm else float("nan")
     z = int(flutes) if flutes else None
     if np.isfinite(rpm):
-        comb, source = rpm / 60.0 * (z or 1), "design"
+        nominal = rpm / 60.0 * (z or 1)  # refined on the spindle's lines (run-out included)
+        comb, source = refine_comb_hz(f, P, rpm / 60.0, s) * (z or 1), "design"
         comb_text = (f"comb from the design: {rpm:.0f} rpm, "
-                     + (f"tooth passing {comb:.2f} Hz ({z} flutes)" if z else
-                        f"spindle rotation {comb:.2f} Hz (flutes not given)"))
+                     + (f"tooth passing {nominal:.2f} Hz ({z} flutes)" if z else
+                        f"spindle rotation {nominal:.2f} Hz (flutes not given)")
+                     + (f", found on the signal at {comb:.2f} Hz "
+                        f"({100 * (comb / nominal - 1):+.1f} %)"
+                        if abs(comb / nominal - 1) > 1e-3 else ""))
     else:
         comb, score = estimate_comb_hz(f, P, s)
         source = "estimated"
