@@ -37,6 +37,16 @@ teeth):
    ``speed_range_rpm``, nearest to the cut's speed first, at most ``max_speeds``.
 
 The settings are config ``chatter.verdicts`` (defaults in the schema; :func:`default_settings`).
+The same test on the force spectrum, with detection by a growing non-harmonic line, is the
+one of [Shagniev 2019]; here it runs on any record of a finished cut.
+
+References: Schmitz, T. L.; Smith, K. S. *Machining Dynamics: Frequency Response to Improved
+Productivity*. Springer, New York, 2009 (ch. 4, milling stability and the speed that puts a
+tooth-passing harmonic on the chatter frequency). Altintas, Y. *Manufacturing Automation: Metal
+Cutting Mechanics, Machine Tool Vibrations, and CNC Design*, 2nd ed. Cambridge University
+Press, 2012 (ch. 4, chatter in milling). Insperger, T.; Stépán, G. *Semi-Discretization for
+Time-Delay Systems: Stability and Engineering Applications*. Springer, New York, 2011
+(period-doubling chatter in milling).
 """
 
 from __future__ import annotations
