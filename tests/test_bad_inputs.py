@@ -21,6 +21,7 @@ from robomill.io.forces import read_forces
 from robomill.io.impact import read_frf_uff, read_hit, read_hits_uff
 from robomill.io.manifest import load_manifest
 from robomill.io.profiles import read_profile
+from robomill.io.recordings import read_sound, read_vibration
 from robomill.io.robots import read_load_tests, read_robot_file
 from robomill.io.tracker import read_tracker
 
@@ -37,6 +38,8 @@ CALLS = {
     **{f"ctrack:{t}": reader for t, reader in READERS.items()},
     "robot": read_robot_file,
     "load_tests": read_load_tests,
+    "sound": read_sound,
+    "vibration": read_vibration,
     "manifest": lambda p: load_manifest(p),
     "manifest+verify": lambda p: load_manifest(p).verify_all(),
 }
@@ -238,6 +241,10 @@ CASES = [
      r"cuts\[0\]: cut id 's1_g1_px' disagrees with set=1, segment=2, direction=px"),
     ("manifest", "manifest/duplicate_cut_id/manifest.yaml", "manifest",
      r"cuts\[1\]\.id: duplicate cut id 's1_g1_px' \(also cuts\[0\]\)"),
+    ("sound", "sound/header_only.wav", "sound",
+     r"file: cannot be read as audio \(.*No 'data' chunk.*\) \(expected a WAV, FLAC, MP3"),
+    ("vibration", "vibration/time_back.csv", "vibration",
+     r"row 9, column t_s: time does not increase"),
     ("manifest", "manifest/unknown_kind/manifest.yaml", "manifest",
      r"files\[0\]\.kind: unknown kind 'profilometer' \(expected one of profile, force"),
     ("manifest", "manifest/missing_sha256/manifest.yaml", "manifest",

@@ -14,6 +14,9 @@ recommendations: str = None  # results/chatter/recommendations.csv
 templates: str = None  # notebooks/templates/ch4.yaml: the sentences of this chapter
 findings: str = None  # results/chatter/findings.yaml: every number and verdict stated here
 fig_dir: str = None  # folder for this chapter's figures
+verdicts: str = None  # results/chatter/verdicts.csv: one verdict per cut and record
+spectrograms: str = None  # results/chatter/spectrograms.nc: the records' pooled spectrograms
+verdict_findings: str = None  # results/chatter/verdict_findings.yaml: the verdicts' findings
 
 # %%
 import pandas as pd
@@ -54,6 +57,33 @@ display(Markdown(say("recommendations_intro", ref_recommendations=num.ref("recom
 display(num.caption("recommendations"))
 display(rec.round(3))
 display(Markdown(say("choices", "choice_lines", sep="\n")))
+
+# %%
+from robomill.chatter.recording_figures import shown_record, spectrogram_figure
+
+vt = pd.read_csv(verdicts)
+vs = open_artefact(spectrograms)
+hear = Prose(load_templates("ch4", templates), read_findings(verdict_findings))
+display(Markdown(hear("recordings_title")))
+display(Markdown(hear("recordings_intro", "force_summary")))
+shown = shown_record(vt, vs)
+if shown is not None:
+    num.figure("spectrogram", f"Spectrogram of `{shown}` (pooled cells, largest power of "
+               "each): ticks on the right, the tooth-passing harmonics (dotted: the spindle "
+               "rotation's where the flutes are unknown); red, the chatter frequency")
+    num.show(spectrogram_figure(vs, vt, shown), "spectrogram")
+    display(Markdown(hear("spectrogram_ref", ref_spectrogram=num.ref("spectrogram"),
+                          shown=shown)))
+num.table("verdicts", "Chatter verdict of every record (results/chatter/verdicts.csv)")
+display(Markdown(hear("verdicts_ref", ref_verdicts=num.ref("verdicts"))))
+display(num.caption("verdicts"))
+display(vt[["cut", "verdict", "chatter_hz", "source", "energy_ratio", "line_hz",
+            "growth_db_s", "comb_hz", "comb_source", "speeds_rpm"]].round(3))
+
+# %%
+display(Markdown(hear("recording_lines")))
+display(Markdown(hear("force_lines")))
+display(Markdown(hear("comparison")))
 
 # %% [markdown]
 # ## Against the thesis

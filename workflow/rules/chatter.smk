@@ -77,6 +77,40 @@ rule chatter_thesis:
         "../scripts/chatter_thesis.py"
 
 
+# Chatter verdicts from the time records (chapter 4 "Chatter from recordings"): every cut's
+# dynamometer force record and every sound or vibration recording, one row each.
+VERDICT_FILES = [f for f in RAW_FILES if f["kind"] in ("force", "sound", "vibration")]
+
+
+rule chatter_verdicts:
+    input:
+        raw=[f"{RAW}/{f['path']}" for f in VERDICT_FILES],
+        study=STUDY,
+    output:
+        verdicts=report(
+            "results/chatter/verdicts.csv",
+            caption="../report/ch4.rst",
+            category="Chapter 4",
+            subcategory="Tables",
+        ),
+        spectrograms="results/chatter/spectrograms.nc",
+        findings="results/chatter/verdict_findings.yaml",
+    log:
+        "results/logs/chatter/verdicts.log",
+    benchmark:
+        "results/benchmarks/rules/chatter/verdicts.tsv"
+    conda:
+        ENV
+    params:
+        settings=config["chatter"]["verdicts"],
+    script:
+        "../scripts/chatter_verdicts.py"
+
+
+if VERDICT_FILES:
+    ALL_TARGETS.append("results/chatter/verdicts.csv")
+
+
 # the study's robot (chapter 4) only where the folder has its modes and forces and the force
 # cuts identify the cutting coefficients; the reference studies (chapter 6.1: the configured
 # cases and seed 002) in any run
@@ -117,6 +151,7 @@ rule chatter:
         "results/chatter/lobes.nc",
         "results/chatter/recommendations.csv",
         "results/chatter/findings.yaml",
+        "results/chatter/verdicts.csv",
 
 
 use rule chapter as ch4 with:
@@ -126,6 +161,9 @@ use rule chapter as ch4 with:
         lobes="results/chatter/lobes.nc",
         recommendations="results/chatter/recommendations.csv",
         findings="results/chatter/findings.yaml",
+        verdicts="results/chatter/verdicts.csv",
+        spectrograms="results/chatter/spectrograms.nc",
+        verdict_findings="results/chatter/verdict_findings.yaml",
     output:
         **chapter_outputs("ch4"),
     log:

@@ -15,18 +15,23 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from robomill.chatter.verdicts import comb_mask
+
 
 def chatter_indicator(force_N: np.ndarray, fs_hz: float, tooth_hz: float,
                       band_hz: tuple[float, float], harmonic_halfwidth_hz: float
                       ) -> tuple[float, float]:
     """Largest non-harmonic amplitude-spectrum line in ``band_hz`` (Hann window, single-sided
-    amplitude scaling) and its frequency: (amplitude [N], frequency [Hz])."""
+    amplitude scaling) and its frequency: (amplitude [N], frequency [Hz]). The online
+    indicator of the adaptive loop; the tooth-passing comb is the verdicts' one
+    (:func:`robomill.chatter.verdicts.comb_mask`), and a finished record's verdict is
+    :func:`robomill.chatter.verdicts.judge`."""
     x = np.asarray(force_N, float)
     x = x - x.mean()
     w = np.hanning(x.size)
     spec = 2.0 * np.abs(np.fft.rfft(x * w)) / w.sum()
     f = np.fft.rfftfreq(x.size, 1.0 / fs_hz)
-    harm = np.abs(f / tooth_hz - np.round(f / tooth_hz)) * tooth_hz <= harmonic_halfwidth_hz
+    harm = comb_mask(f, tooth_hz, harmonic_halfwidth_hz, from_k=0)
     ok = (f >= band_hz[0]) & (f <= band_hz[1]) & ~harm
     if not ok.any():
         return 0.0, float("nan")

@@ -7,7 +7,8 @@ Verbs (each with ``--help``):
 - ``robomill import FORMAT SRC... --to DIR``: native exports converted into the contract;
 - ``robomill manifest DIR``: write or update ``manifest.yaml`` from the files;
 - ``robomill check DIR``: every problem of the folder, one line each (exit status 1 if any);
-- ``robomill plan DIR --request plan.yaml``: the next cuts from the study's measurements.
+- ``robomill plan DIR --request plan.yaml``: the next cuts from the study's measurements;
+- ``robomill listen FILE [--rpm N --flutes Z]``: the chatter verdict of one recording.
 
 Then ``snakemake -j2 all --config data=DIR`` runs the study on it.
 """
@@ -18,18 +19,18 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-VERBS = ("init", "import", "manifest", "check", "plan")
+VERBS = ("init", "import", "manifest", "check", "plan", "listen")
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The parser of the ``robomill`` command."""
-    from robomill.cli import check, importing, init, manifest, plan
+    from robomill.cli import check, importing, init, listen, manifest, plan
 
     parser = argparse.ArgumentParser(
         prog="robomill", description="Prepare a folder of real measurements for the robomill "
         "pipeline: init, import, manifest, check; then snakemake -j2 all --config data=DIR.")
     sub = parser.add_subparsers(dest="verb", metavar="VERB", required=True)
-    for module in (init, importing, manifest, check, plan):
+    for module in (init, importing, manifest, check, plan, listen):
         module.add_parser(sub)
     return parser
 

@@ -86,7 +86,16 @@ def _check_stiffness(path: Path, entry: Mapping[str, Any]) -> None:
     read_load_tests(path, n_joints)
 
 
+def _check_recording(path: Path, entry: Mapping[str, Any]) -> None:
+    """A sound or vibration recording with :func:`robomill.io.recordings.read_recording`."""
+    from robomill.io.recordings import read_recording
+
+    read_recording(path, entry["kind"], fs_hz=entry.get("fs_hz"), channels=entry.get("channels"))
+
+
 CHECKERS: dict[str, Callable[[Path, Mapping[str, Any]], None]] = {
+    "sound": _check_recording,
+    "vibration": _check_recording,
     "profile": _check_profile,
     "force": _check_force,
     "tracker": _check_tracker,

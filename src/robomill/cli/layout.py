@@ -25,6 +25,8 @@ KIND_FOLDERS: dict[str, str] = {
     "ctrack": "ctrack",
     "robot": "stiffness",
     "stiffness": "stiffness",
+    "sound": "sound",
+    "vibration": "vibration",
 }
 """Folder of each file kind inside the raw folder (the contract's layout)."""
 
@@ -160,6 +162,8 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
             return inf
         except RawDataError:
             pass  # not readable as impact data: the note below names the import command
+    if native in ("uff", "tdms") and Path(rel).parts[0] == KIND_FOLDERS["vibration"]:
+        native = None  # accelerometer time records are read as they are (robomill.io.recordings)
     if native:
         detail = uff_summary(path) if native == "uff" else None
         inf.note = (f"native {native} export{f' ({detail})' if detail else ''}: convert it with "

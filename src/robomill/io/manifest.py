@@ -89,6 +89,10 @@ KIND_KEYS: dict[str, dict[str, tuple[type, ...]]] = {
     "robot": {"robot": (str,)},
     "stiffness": {"robot": (str,)},
     "cell": {},
+    # recordings of the cut (robomill.io.recordings); optional spindle_rpm, flutes (else the
+    # cut's design), fs_hz (CSV), channels (TDMS)
+    "sound": {"cut": (str,)},
+    "vibration": {"cut": (str,)},
 }
 """Metadata keys required per file kind. Chapter issues extend their kind's entry."""
 

@@ -380,3 +380,13 @@ def run_folder(config: dict[str, Any]) -> str | None:
     if isinstance(data, dict) and data.get("raw_dir"):
         data["raw_dir"] = str(Path(data["raw_dir"]).resolve())
     return str(folder)
+
+
+def section_defaults(name: str) -> dict[str, Any]:
+    """The config section ``name`` (``workflow/schemas/config/<name>.schema.yaml``) as its
+    schema fills it when no key is given: the defaults a library user or a command outside
+    the pipeline (``robomill listen``) runs with."""
+    section: dict[str, Any] = {}
+    _check(section, repo_root() / "workflow" / "schemas" / "config" / f"{name}.schema.yaml",
+           (name,))
+    return section

@@ -1,0 +1,58 @@
+"""``robomill listen FILE [--rpm N --flutes Z]``: did this cut chatter, at what frequency, and
+which spindle speeds to try instead, from one recording (sound, vibration or a force record in
+CSV), with the pipeline's verdict (:func:`robomill.chatter.verdicts.judge`, settings
+``chatter.verdicts`` of the schema).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from robomill.errors import RawDataError
+
+HELP = ("chatter verdict of one recording (WAV/FLAC/MP3 sound, accelerometer CSV/TDMS/UFF 58): "
+        "stable | chatter | undetermined, the chatter frequency and the speeds to try")
+
+
+def add_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser("listen", help=HELP, description=HELP + ".")
+    p.add_argument("file", type=Path, metavar="FILE", help="the recording")
+    p.add_argument("--rpm", type=float, default=None,
+                   help="spindle speed [rpm] (default: estimated from the signal's comb)")
+    p.add_argument("--flutes", type=int, default=None,
+                   help="number of flutes Z (needed for the recommended speeds)")
+    p.add_argument("--kind", choices=("sound", "vibration"), default=None,
+                   help="the recording's kind (default: from the suffix)")
+    p.add_argument("--fs-hz", type=float, default=None,
+                   help="sampling rate of a vibration CSV (default: from its t_s column)")
+    p.add_argument("--range", type=float, nargs=2, metavar=("MIN", "MAX"), default=None,
+                   help="range of the recommended speeds [rpm] (default: "
+                        "chatter.verdicts.speed_range_rpm)")
+    p.set_defaults(run=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    import dataclasses
+
+    from robomill.chatter.verdicts import default_settings, judge
+    from robomill.io.recordings import read_recording
+
+    settings = default_settings()
+    if args.range is not None:
+        settings = dataclasses.replace(settings, speed_range_rpm=tuple(sorted(args.range)))
+    try:
+        rec = read_recording(args.file, args.kind, fs_hz=args.fs_hz)
+    except RawDataError as exc:
+        print(f"robomill listen: {exc}")
+        return 1
+    v = judge(rec.samples, rec.fs_hz, settings, spindle_rpm=args.rpm, flutes=args.flutes)
+    print(f"{args.file}: {v.verdict}"
+          + (f" at {v.chatter_hz:.1f} Hz" if v.verdict == "chatter" else ""))
+    print(f"  {rec.duration_s:.1f} s at {rec.fs_hz:g} Hz, {len(rec.channels)} channel(s)")
+    print(f"  evidence: {v.evidence}")
+    if v.speeds_rpm:
+        lo, hi = settings.speed_range_rpm
+        print(f"  try spindle speeds (n = 60 f_c / (Z k), {lo:g}-{hi:g} rpm): "
+              + ", ".join(f"{n:.0f}" for n in v.speeds_rpm) + " rpm")
+    return 0 if v.verdict != "undetermined" else 1
