@@ -130,3 +130,29 @@ def predict_mean_force(reg: ForceRegression, feed_per_tooth_mm, depth_mm, *, flu
     return {"mean_N": mean, "magnitude_N": mag, "magnitude_sd_N": sd,
             "low_N": np.maximum(mag - t * sd, 0.0), "high_N": mag + t * sd,
             "component_low_N": mean - t * sd_c, "component_high_N": mean + t * sd_c}
+
+
+def regression_from_means(means, flutes: int) -> ForceRegression | None:
+    """:func:`fit_force_regression` over ``results/forces/mean_forces.csv`` (each cut's
+    ``feed_per_tooth_mm``, ``depth_mm``, ``F_feed_N, F_cross_feed_N, F_axial_N`` and, for a
+    design other than the thesis', its ``flutes, entry_deg, exit_deg``; else slots of
+    ``flutes`` teeth). None when the table cannot identify the coefficients (fewer
+    equations than coefficients plus one, or one feed per tooth)."""
+    from robomill.forces.coefficients import not_identified_reason
+
+    need = ("feed_per_tooth_mm", "depth_mm", "F_feed_N", "F_cross_feed_N", "F_axial_N")
+    if means is None or len(means) == 0 or not set(need) <= set(means.columns):
+        return None
+    c = means["feed_per_tooth_mm"].to_numpy(float)
+    if not_identified_reason(c) is not None:
+        return None
+    z = means["flutes"].to_numpy(float) if "flutes" in means else float(flutes)
+    st = np.radians(means["entry_deg"].to_numpy(float)) if "entry_deg" in means else 0.0
+    ex = np.radians(means["exit_deg"].to_numpy(float)) if "exit_deg" in means else np.pi
+    try:
+        return fit_force_regression(c, means["depth_mm"].to_numpy(float),
+                                    means[["F_feed_N", "F_cross_feed_N",
+                                           "F_axial_N"]].to_numpy(float),
+                                    flutes=z, entry_rad=st, exit_rad=ex)
+    except ValueError:
+        return None

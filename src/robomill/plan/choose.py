@@ -71,6 +71,8 @@ def feasible(ds: xr.Dataset, req: PlanRequest) -> xr.DataArray:
     m = m & xr.ones_like(ds["feed_mark_um"], dtype=bool)
     for mask in constraint_masks(ds, req).values():
         m = m & mask
+    if not req.extrapolation.get("allow", True) and "extrapolation" in ds:
+        m = m & ~ds["extrapolation"]
     return m.transpose("placement", "rotation", "direction", "spindle_rpm", "depth_mm",
                        "feed_mm_s")
 
@@ -88,6 +90,17 @@ def binding_constraint(ds: xr.Dataset, req: PlanRequest, robot_name: str = "the 
     masks = constraint_masks(ds, req)
     base = ds["reachable"] & xr.ones_like(ds["mrr_mm3_s"], dtype=bool)
     base = base & xr.ones_like(ds["feed_mark_um"], dtype=bool)
+    if not req.extrapolation.get("allow", True) and "extrapolation" in ds:
+        inside = base & ~ds["extrapolation"]
+        if not bool(inside.any()):
+            from robomill.plan.extrapolation import reason_text
+            codes = np.unique(ds["extrapolation_code"].where(base.any(
+                [d for d in base.dims if d not in ds["extrapolation_code"].dims]), 0).values)
+            why = reason_text(int(np.bitwise_or.reduce(codes.astype(int))))
+            return (f"every reachable candidate of {req.path} is extrapolated ({why} outside "
+                    "what the study measured) and extrapolation.allow is false: measure "
+                    "there first, or allow extrapolation with its widened intervals")
+        base = inside
     for key in masks:
         others = base
         for k2, m2 in masks.items():
@@ -169,6 +182,9 @@ def choose(ds: xr.Dataset, req: PlanRequest, robot_name: str = "the robot"
     best = t.groupby(["depth_mm", "feed_mm_s"], sort=False).head(1).drop(columns=["_m", "_r"])
     front = best.iloc[pareto_front(best["mrr_mm3_s"].to_numpy(),
                                    best["form_error_high_um"].to_numpy())].reset_index(drop=True)
+    if "extrapolation_code" in front:
+        from robomill.plan.extrapolation import reason_text
+        front["extrapolation_reason"] = [reason_text(c) for c in front["extrapolation_code"]]
     chosen = front.head(req.n_cuts).copy()
     chosen.insert(0, "rank", np.arange(1, len(chosen) + 1))
     chosen.insert(0, "cut", [f"plan_{i:02d}" for i in chosen["rank"]])

@@ -16,7 +16,7 @@ from robomill.plan.choose import check_needs, choose, smooth_rotation
 from robomill.plan.compare import comparison_table, rotation_effect_pct, study_cuts_table
 from robomill.plan.measured import Measured, missing_predictions
 from robomill.plan.outputs import next_config, next_manifest, plan_table, pose_map
-from robomill.plan.predict import Cell, predict_grid, station_scores
+from robomill.plan.predict import Cell, apply_extrapolation, predict_grid, station_scores
 from robomill.plan.request import PlanRequest
 
 
@@ -51,12 +51,17 @@ def redundancy_paths(candidates: xr.Dataset, chosen: pd.DataFrame, req: PlanRequ
 
 
 def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[Cut],
-              experiment: Mapping[str, Any], *, robot_name: str = "the robot") -> Plan:
+              experiment: Mapping[str, Any], *, robot_name: str = "the robot",
+              reach=None) -> Plan:
     """The whole plan (raises :class:`robomill.plan.choose.PlanInfeasible` with one line when a
-    constraint needs a missing measurement or no candidate meets the constraints)."""
+    constraint needs a missing measurement, no candidate meets the constraints, or every
+    candidate is extrapolated and the request does not allow it). ``reach``
+    (:class:`robomill.plan.extrapolation.StudyReach`): flag and widen what lies outside it."""
     missing = missing_predictions(measured)
     check_needs(req, missing)
     cand = predict_grid(req, measured, cell)
+    if reach is not None:  # what the study measured (robomill.plan.extrapolation)
+        cand = apply_extrapolation(cand, req, measured, cell, reach)
     chosen, front = choose(cand, req, robot_name)
     paths = redundancy_paths(cand, chosen, req, measured, cell)
     q = [cand["q_deg"].isel(placement=int(r["i_placement"]), rotation=int(r["i_rotation"]),

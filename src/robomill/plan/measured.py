@@ -52,6 +52,12 @@ class Measured:
     waviness_min_cycles: float = 4.5
     """Periods along the path from which a gear line counts as waviness
     (:func:`robomill.plan.check.waviness_min_cycles`)."""
+    force_regression: object | None = None
+    """The coefficient regression of the identifying cuts
+    (:class:`robomill.forces.prediction.ForceRegression`), for the force's prediction
+    interval; None: the coefficients' confidence corners."""
+    level: float = 0.95
+    """Nominal two-sided level of the plan's intervals (config ``plan.interval_level``)."""
 
     def has(self, name: str) -> bool:
         """Whether ``name`` was measured: a table with rows; cutting coefficients must also
