@@ -47,7 +47,7 @@ if "peaks" in inp.keys() and placed:
     gears = gear_joint_amplitudes(
         pd.read_csv(inp.peaks), cell.robot, poses, profiles=profiles,
         noise_band_bins=float(noise.get("band_bins", 20.0)),
-        noise_exclude_bins=float(noise.get("exclude_bins", 2.0)))
+        noise_exclude_bins=float(noise.get("exclude_bins", 2.0)), level=float(p.level))
     log.info("gear elements (joint amplitudes, tracker noise):\n%s", gears.to_string())
 regression = regression_from_means(table("means"), int(experiment.get("flutes", req.flutes)))
 measured = Measured(modes=table("modes"), coefficients=table("coefficients"),
