@@ -63,8 +63,9 @@ if "modal_fit" in inp.keys():
         band = [float(b) for b in np.atleast_1d(fit.attrs.get("band_hz", []))] or None
 reach = reach_from_means(table("means"), experiment, mids, band)
 log.info("study reach: %s", reach)
+slots = [np.asarray(cut_endpoints_mm(c, experiment), float) for c in cuts] if placed else None
 plan = make_plan(req, measured, cell, cuts, experiment, robot_name=cell.robot.name,
-                 reach=reach)
+                 reach=reach, study_slots=slots)
 inputs = [str(f) for f in inp]
 write_artefact(compact(plan.candidates), out.candidates, rule="plan_make", inputs=inputs,
                config_section=req.raw)

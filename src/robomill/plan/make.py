@@ -52,17 +52,20 @@ def redundancy_paths(candidates: xr.Dataset, chosen: pd.DataFrame, req: PlanRequ
 
 def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[Cut],
               experiment: Mapping[str, Any], *, robot_name: str = "the robot",
-              reach=None) -> Plan:
+              reach=None, study_slots=None) -> Plan:
     """The whole plan (raises :class:`robomill.plan.choose.PlanInfeasible` with one line when a
     constraint needs a missing measurement, no candidate meets the constraints, or every
     candidate is extrapolated and the request does not allow it). ``reach``
-    (:class:`robomill.plan.extrapolation.StudyReach`): flag and widen what lies outside it."""
+    (:class:`robomill.plan.extrapolation.StudyReach`): flag and widen what lies outside it;
+    ``study_slots``: the study's cuts as segments ``(2, 3)`` [mm], which no planned slot may
+    overlap (:mod:`robomill.plan.material`)."""
     missing = missing_predictions(measured)
     check_needs(req, missing)
     cand = predict_grid(req, measured, cell)
     if reach is not None:  # what the study measured (robomill.plan.extrapolation)
         cand = apply_extrapolation(cand, req, measured, cell, reach)
-    chosen, front = choose(cand, req, robot_name)
+    occupied = [] if study_slots is None else list(study_slots)
+    chosen, front = choose(cand, req, robot_name, occupied=occupied)
     paths = redundancy_paths(cand, chosen, req, measured, cell)
     q = [cand["q_deg"].isel(placement=int(r["i_placement"]), rotation=int(r["i_rotation"]),
                             direction=int(r["i_direction"])).values
