@@ -180,3 +180,30 @@ def widen(ds: xr.Dataset, code: xr.DataArray, excess: xr.DataArray,
     out["interval_widening"] = var(code.dims, w.values, "1", "factor on the interval "
                                    "half-widths, 2 (1 + excess) when extrapolated")
     return out
+
+
+def reach_values(chosen, attrs: dict) -> dict:
+    """The values chapter 7 states about the plan's reach: the intervals' nominal level [%],
+    the impact test's band [Hz], the chosen cuts' tooth-passing frequencies [Hz] (from
+    ``plan.csv``: ``tooth_passing_hz``), how many of the chosen cuts are extrapolated and
+    for which reasons, how many reach above the band (``band_case``: ``above``, ``inside``
+    or ``unknown`` without an impact test), and the widening rule."""
+    band = np.atleast_1d(np.asarray(attrs.get("modal_band_hz", []), float))
+    out = {"level_percent": 100 * float(attrs.get("interval_level", np.nan)),
+           "n_cuts": len(chosen), "harmonics": int(attrs.get("extrapolation_harmonics", 1))}
+    flagged = chosen["extrapolation"].astype(bool) if "extrapolation" in chosen else None
+    out["n_extrapolated"] = int(flagged.sum()) if flagged is not None else 0
+    reasons = sorted({x for r in chosen.get("extrapolation_reason", []) if isinstance(r, str)
+                      for x in r.split("; ") if x})
+    out["reasons"] = ", ".join(reasons) if reasons else "none"
+    tp = chosen["tooth_passing_hz"].to_numpy(float) if "tooth_passing_hz" in chosen else []
+    if len(tp):
+        out["tooth_passing_min_hz"], out["tooth_passing_max_hz"] = float(min(tp)), float(max(tp))
+    if band.size == 2 and np.all(np.isfinite(band)):
+        out["band_low_hz"], out["band_high_hz"] = float(band[0]), float(band[1])
+        above = [f for f in tp if out["harmonics"] * f > band[1]]
+        out["n_above_band"] = len(above)
+        out["band_case"] = "above" if above else "inside"
+    else:
+        out["band_case"] = "unknown"
+    return out

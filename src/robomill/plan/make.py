@@ -70,13 +70,19 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     q = [cand["q_deg"].isel(placement=int(r["i_placement"]), rotation=int(r["i_rotation"]),
                             direction=int(r["i_direction"])).values
          for _, r in chosen.iterrows()]
+    chosen["tooth_passing_hz"] = chosen["spindle_rpm"].to_numpy(float) * req.flutes / 60.0
     table = plan_table(chosen)
     table["redundancy_path_deg"] = [";".join(f"{a:g}" for a in p["redundancy_path_deg"])
                                     for p in paths]
-    study = study_cuts_table(cuts, experiment, req, measured, cell)
+    study = study_cuts_table(cuts, experiment, req, measured, cell, reach)
     manifest = next_manifest(chosen, req, dict(experiment), cand.attrs["missing_predictions"],
                              np.asarray(q), paths)
     cand.attrs["request"] = req.path
+    cand.attrs["interval_level"] = float(measured.level)
+    cand.attrs["purpose"] = req.purpose
+    cand.attrs["extrapolation_harmonics"] = int(req.extrapolation["harmonics"])
+    if reach is not None and reach.modal_band_hz is not None:
+        cand.attrs["modal_band_hz"] = np.asarray(reach.modal_band_hz, float)
     cand.attrs["constraints"] = "; ".join(f"{k}={v}" for k, v in req.constraints.items()
                                           if v is not None)
     pmap = pose_map(cand, chosen.iloc[0])
