@@ -12,7 +12,7 @@ import pandas as pd
 import xarray as xr
 
 from robomill.experiment import Cut
-from robomill.plan.choose import check_needs, choose, smooth_rotation
+from robomill.plan.choose import PlanInfeasible, check_needs, choose, smooth_rotation
 from robomill.plan.compare import comparison_table, rotation_effect_pct, study_cuts_table
 from robomill.plan.measured import Measured, missing_predictions
 from robomill.plan.outputs import next_config, next_manifest, plan_table, pose_map
@@ -50,6 +50,31 @@ def redundancy_paths(candidates: xr.Dataset, chosen: pd.DataFrame, req: PlanRequ
     return out
 
 
+def learn_plan(cand: xr.Dataset, req: PlanRequest, measured: Measured, occupied, reach,
+               robot_name: str) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The learn design (:func:`robomill.plan.learn.learn_design`) aimed at the production
+    plan's binding cut (its largest removal rate; none when no candidate is feasible), and the
+    production Pareto front beside it (empty then)."""
+    from robomill.plan.extrapolation import reason_text
+    from robomill.plan.learn import learn_design
+
+    try:
+        prod, front = choose(cand, req, robot_name, occupied=occupied)
+    except PlanInfeasible:
+        prod, front = None, pd.DataFrame()
+    chosen = learn_design(cand, req, occupied=occupied,
+                          midpoints_mm=None if reach is None else reach.midpoints_mm,
+                          regression=measured.force_regression,
+                          binding=None if prod is None or prod.empty else prod.iloc[0])
+    if chosen.empty:
+        raise PlanInfeasible(f"{req.path}: purpose learn: no reachable candidate to learn from "
+                             "(no stability limit inside the requested depths, no pose or "
+                             "feed within the other constraints)")
+    if "extrapolation_code" in chosen:
+        chosen["extrapolation_reason"] = [reason_text(c) for c in chosen["extrapolation_code"]]
+    return chosen, front
+
+
 def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[Cut],
               experiment: Mapping[str, Any], *, robot_name: str = "the robot",
               reach=None, study_slots=None) -> Plan:
@@ -65,7 +90,11 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     if reach is not None:  # what the study measured (robomill.plan.extrapolation)
         cand = apply_extrapolation(cand, req, measured, cell, reach)
     occupied = [] if study_slots is None else list(study_slots)
-    chosen, front = choose(cand, req, robot_name, occupied=occupied)
+    if req.purpose == "learn":
+        chosen, front = learn_plan(cand, req, measured, occupied, reach, robot_name)
+    else:
+        chosen, front = choose(cand, req, robot_name, occupied=occupied)
+    pmap = pose_map(cand, chosen.iloc[0])
     paths = redundancy_paths(cand, chosen, req, measured, cell)
     q = [cand["q_deg"].isel(placement=int(r["i_placement"]), rotation=int(r["i_rotation"]),
                             direction=int(r["i_direction"])).values
@@ -85,7 +114,6 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
         cand.attrs["modal_band_hz"] = np.asarray(reach.modal_band_hz, float)
     cand.attrs["constraints"] = "; ".join(f"{k}={v}" for k, v in req.constraints.items()
                                           if v is not None)
-    pmap = pose_map(cand, chosen.iloc[0])
     return Plan(cand, pmap, table, plan_table(front), study,
                 comparison_table(table, study, rotation_effect_pct(pmap),
                                  pmap.sizes["rotation"]), manifest,
