@@ -9,8 +9,9 @@ narrowing of the interval it aims at.
   material; the pose moves by that much). Their verdicts (stable, chatter) bracket the true
   limit between the two depths: expected narrowing 1 − (d_above − d_below)/(a_high − a_low).
 * **The farthest pose**: the reachable placement farthest from the study's cuts, at a depth
-  the pessimistic margin still calls stable where one is; it removes the pose's widening
-  factor w: expected narrowing 1 − 1/w.
+  the pessimistic margin still calls stable where one is; when the pose is extrapolated
+  (farther than ``extrapolation.max_pose_distance_mm``) it removes the widening factor w:
+  expected narrowing 1 − 1/w (0 otherwise: the pose's own check).
 * **A feed that separates edge and shearing coefficients**: the chip load of the request's
   grid that, added to the identifying cuts, most shrinks the force's prediction interval at
   the production plan's binding cut (largest removal rate): the half-width goes from
@@ -143,7 +144,8 @@ def far_pose(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray, taken: lis
         r = _row(ds, (int(p),) + tuple(int(i) for i in rest))
         if not place_apart(r, req, taken):
             continue
-        w = float(r["interval_widening"].iloc[0]) if "interval_widening" in r else 1.0
+        posed = "extrapolation_code" in r and int(r["extrapolation_code"].iloc[0]) & 8
+        w = float(r["interval_widening"].iloc[0]) if posed else 1.0
         r["reason"] = f"pose farthest from the study's cuts ({dist[p]:.0f} mm)"
         r["learn_target"] = "pose"
         r["expected_narrowing"] = float(1 - 1 / w) if w > 1 else 0.0
