@@ -75,3 +75,24 @@ def test_interval_widens_away_from_the_identified_chip_loads():
     assert w[1] > 1.5 * w[0]
     assert p["magnitude_N"][0] == pytest.approx(np.linalg.norm(
         simulated_mean_force(0.005, 0.4, 2, 0.0, np.pi)), rel=0.02)
+
+
+def test_regression_from_the_mean_forces_table_of_any_design():
+    import pandas as pd
+
+    from robomill.forces.prediction import regression_from_means
+
+    rows = []
+    rng = np.random.default_rng(2)
+    for c in (0.002, 0.005, 0.008):
+        for ent, z in ((np.pi / 2, 3), (0.0, 3)):
+            F = simulated_mean_force(c, 0.4, z, ent, np.pi) + rng.normal(0, 0.01, 3)
+            rows.append({"feed_per_tooth_mm": c, "depth_mm": 0.4, "flutes": z,
+                         "entry_deg": np.degrees(ent), "exit_deg": 180.0, "F_feed_N": F[0],
+                         "F_cross_feed_N": F[1], "F_axial_N": F[2]})
+    reg = regression_from_means(pd.DataFrame(rows), flutes=2)
+    assert reg is not None and reg.n_cuts == 6
+    assert reg.theta_xy[0] == pytest.approx(K["Ktc"], rel=0.05)
+    assert reg.theta_z[1] == pytest.approx(K["Kae"], rel=0.1)
+    one_feed = pd.DataFrame(rows).assign(feed_per_tooth_mm=0.005)
+    assert regression_from_means(one_feed, flutes=2) is None
