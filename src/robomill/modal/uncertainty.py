@@ -84,7 +84,7 @@ def _poles_at(ds_rep: xr.Dataset, band_hz, orders: np.ndarray, f_ref: np.ndarray
 
 def mode_intervals(ds: xr.Dataset, modes: pd.DataFrame, selected: pd.DataFrame, *,
                    band_hz: Sequence[float], synth: np.ndarray | None = None,
-                   level: float = 0.95, n_boot: int = 40, seed: int = 0,
+                   level: float = 0.95, n_boot: int = 30, seed: int = 0,
                    tol: float = 0.05) -> pd.DataFrame:
     """``modes`` with :data:`INTERVAL_COLUMNS` from the bootstrap of the module docstring.
 
