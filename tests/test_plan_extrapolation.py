@@ -121,3 +121,23 @@ def test_one_line_when_every_candidate_is_extrapolated_and_none_is_allowed(cell)
         choose(ds, req)
     msg = str(e.value)
     assert "\n" not in msg and "extrapolated" in msg and "spindle speed" in msg
+
+
+def test_chapter_7_states_the_band_against_the_chosen_speeds():
+    from robomill.pipeline.prose import Prose, load_templates
+    from robomill.plan.extrapolation import reach_values
+
+    chosen = pd.DataFrame({"tooth_passing_hz": [933.3, 1000.0, 60.0],
+                           "extrapolation": [True, True, False],
+                           "extrapolation_reason": ["modal band", "spindle speed; modal band",
+                                                    ""]})
+    attrs = {"interval_level": 0.9, "modal_band_hz": [10.0, 100.0],
+             "extrapolation_harmonics": 1}
+    v = reach_values(chosen, attrs)
+    assert v["n_above_band"] == 2 and v["band_case"] == "above" and v["n_extrapolated"] == 2
+    assert v["reasons"] == "modal band, spindle speed"
+    text = Prose(load_templates("ch7"), v)("reach_level", "reach_extrapolated", "reach_band")
+    assert "90 %" in text and "10–100 Hz" in text and "60–1000 Hz" in text
+    inside = reach_values(chosen.iloc[2:], attrs)
+    assert inside["band_case"] == "inside" and inside["n_extrapolated"] == 0
+    assert "stays inside it" in Prose(load_templates("ch7"), inside)("reach_band")
