@@ -77,8 +77,10 @@ def place_apart(r: pd.DataFrame, req: PlanRequest, taken: list, tries: int = 4) 
 
 
 def straddle(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray,
-             taken: list) -> list[pd.DataFrame]:
-    """The pair of cuts on both sides of the least certain predicted stability limit."""
+             taken: list, skip: set | None = None) -> list[pd.DataFrame]:
+    """The pair of cuts on both sides of the least certain predicted stability limit (not at
+    a speed and placement in ``skip``, to which the pair's own are added)."""
+    skip = set() if skip is None else skip
     a = ds["a_crit_mm"].transpose(*DIMS[:4]).values
     lo = ds["a_crit_low_mm"].transpose(*DIMS[:4]).values
     hi = ds["a_crit_high_mm"].transpose(*DIMS[:4]).values
@@ -92,6 +94,8 @@ def straddle(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray,
         pos = np.unravel_index(flat, rel.shape)
         if not np.isfinite(rel[pos]):
             break
+        if (pos[0], pos[3]) in skip:
+            continue
         i_lo = int(np.flatnonzero(depths <= a[pos]).max())
         i_hi = int(np.flatnonzero(depths > a[pos]).min())
         feeds = np.flatnonzero(allowed.values[pos + (i_lo,)] & allowed.values[pos + (i_hi,)])
@@ -109,6 +113,7 @@ def straddle(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray,
                                                                    req.tool_diameter_mm):
             continue
         taken += [seg, seg2]
+        skip.add((pos[0], pos[3]))
         width = hi[pos] - lo[pos]
         gain = float(np.clip(1 - (depths[i_hi] - depths[i_lo]) / width, 0, 1)) if width > 0 \
             else 0.0
@@ -203,13 +208,20 @@ def learn_design(ds: xr.Dataset, req: PlanRequest, *, occupied: Sequence[np.ndar
                  midpoints_mm: np.ndarray | None = None, regression=None,
                  binding: pd.Series | None = None) -> pd.DataFrame:
     """The learn cuts (module docstring), in the order straddle pair, far pose, separating
-    feed, up to ``n_cuts``; columns as the production plan's plus ``reason``,
+    feed, then further straddle pairs at the next least certain speed and placement while two
+    more fit in ``n_cuts``; columns as the production plan's plus ``reason``,
     ``learn_target`` and ``expected_narrowing``. Empty when nothing can be learnt."""
     allowed = _allowed(ds, req)
     taken = [np.asarray(o, float) for o in occupied]
-    parts = straddle(ds, req, allowed, taken)
+    done: set = set()
+    parts = straddle(ds, req, allowed, taken, done)
     parts += far_pose(ds, req, allowed, taken, midpoints_mm)
     parts += separating_feed(ds, req, allowed, taken, regression, binding)
+    while len(parts) + 2 <= req.n_cuts:          # more pairs where the limit is next least sure
+        more = straddle(ds, req, allowed, taken, done)
+        if not more:
+            break
+        parts += more
     if not parts:
         return pd.DataFrame()
     out = pd.concat(parts, ignore_index=True).head(req.n_cuts)
