@@ -133,6 +133,13 @@ def absolute_depth_m(fn_hz, zeta, k_N_m, shape, cut: CuttingModel) -> np.ndarray
     return np.nan_to_num(a, nan=np.inf).min(axis=(1, 2))
 
 
+def _np(da: xr.DataArray, dims) -> np.ndarray:
+    """``da``'s values ordered and shaped to broadcast against ``dims`` (its dims among
+    them)."""
+    v = da.transpose(*[d for d in dims if d in da.dims]).values
+    return v.reshape([da.sizes[d] if d in da.dims else 1 for d in dims])
+
+
 def widen(ds: xr.Dataset, code: xr.DataArray, excess: xr.DataArray,
           a_abs_low_mm: xr.DataArray | None = None) -> xr.Dataset:
     """Apply the stated widening rule (module docstring) to the candidates' intervals and add
@@ -140,37 +147,41 @@ def widen(ds: xr.Dataset, code: xr.DataArray, excess: xr.DataArray,
     ``interval_widening`` (the factor)."""
     flagged = code > 0
     w = xr.where(flagged, 2.0 * (1.0 + excess), 1.0)
-    out = ds.copy()
+    out: dict[str, xr.DataArray] = {}
 
     def stretch(nom_name, low_name, high_name, w_):
-        nom = ds[nom_name]
-        out[low_name] = (nom + (ds[low_name] - nom) * w_).clip(min=0).assign_attrs(
-            ds[low_name].attrs).transpose(*ds[low_name].dims)
-        out[high_name] = (nom + (ds[high_name] - nom) * w_).assign_attrs(
-            ds[high_name].attrs).transpose(*ds[high_name].dims)
+        dims = ds[low_name].dims
+        nom, fac = _np(ds[nom_name], dims), _np(w_, dims)
+        lo, hi = ds[low_name].values, ds[high_name].values
+        out[low_name] = ds[low_name].copy(data=np.maximum(nom + (lo - nom) * fac, 0.0))
+        out[high_name] = ds[high_name].copy(data=nom + (hi - nom) * fac)
 
     # the force has no placement: the widest factor over the placements
     stretch("force_N", "force_low_N", "force_high_N", w.max("placement"))
     for ax in ("normal", "axial"):
         stretch(f"deflection_{ax}_um", f"deflection_{ax}_low_um", f"deflection_{ax}_high_um", w)
-    a_nom = ds["a_crit_mm"]
-    wa = w.max("feed_mm_s")
-    a_lo, a_hi = ds["a_crit_low_mm"], ds["a_crit_high_mm"]
-    finite = np.isfinite(a_nom)
-    lo = xr.where(finite & np.isfinite(a_lo), a_nom - (a_nom - a_lo) * wa, a_lo)
+    adims = ds["a_crit_mm"].dims
+    a_nom, a_lo, a_hi = (ds[k].values for k in ("a_crit_mm", "a_crit_low_mm", "a_crit_high_mm"))
+    wa = _np(w.max("feed_mm_s"), adims)
+    with np.errstate(invalid="ignore"):
+        ok_lo = np.isfinite(a_nom) & np.isfinite(a_lo)
+        ok_hi = np.isfinite(a_nom) & np.isfinite(a_hi)
+        lo = np.where(ok_lo, a_nom - (np.where(ok_lo, a_nom, 0) - np.where(ok_lo, a_lo, 0))
+                      * wa, a_lo)
+        hi = np.where(ok_hi, a_nom + (np.where(ok_hi, a_hi, 0) - np.where(ok_hi, a_nom, 0))
+                      * wa, a_hi)
     if a_abs_low_mm is not None:
-        band = (code & 16).max("feed_mm_s") > 0
-        lo = xr.where(band, np.minimum(lo, a_abs_low_mm), lo)
-    out["a_crit_low_mm"] = lo.clip(min=0).assign_attrs(ds["a_crit_low_mm"].attrs).transpose(
-        *ds["a_crit_low_mm"].dims)
-    out["a_crit_high_mm"] = xr.where(finite & np.isfinite(a_hi), a_nom + (a_hi - a_nom) * wa,
-                                     a_hi).assign_attrs(
-        ds["a_crit_high_mm"].attrs).transpose(*ds["a_crit_high_mm"].dims)
-    depth = ds["depth_mm"]
+        band = _np((code & 16).max("feed_mm_s") > 0, adims)
+        lo = np.where(band, np.minimum(lo, _np(a_abs_low_mm, adims)), lo)
+    out["a_crit_low_mm"] = ds["a_crit_low_mm"].copy(data=np.maximum(lo, 0.0))
+    out["a_crit_high_mm"] = ds["a_crit_high_mm"].copy(data=hi)
     for key in ("low", "high"):
-        m = (out[f"a_crit_{key}_mm"] / depth - 1).broadcast_like(ds[f"stability_margin_{key}"])
-        out[f"stability_margin_{key}"] = m.transpose(*ds[f"stability_margin_{key}"].dims) \
-            .assign_attrs(ds[f"stability_margin_{key}"].attrs)
+        name = f"stability_margin_{key}"
+        dims = ds[name].dims
+        a = _np(out[f"a_crit_{key}_mm"], dims)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            m = np.broadcast_to(a / _np(ds["depth_mm"], dims) - 1, ds[name].shape)
+        out[name] = ds[name].copy(data=np.array(m))
     out["extrapolation"] = var(code.dims, flagged.values, "1", "prediction outside what the "
                                "study measured (extrapolation_code says why)")
     out["extrapolation_code"] = var(code.dims, code.values, "1", "bits: " + ", ".join(
@@ -179,7 +190,7 @@ def widen(ds: xr.Dataset, code: xr.DataArray, excess: xr.DataArray,
                                       "excess beyond the identified ranges")
     out["interval_widening"] = var(code.dims, w.values, "1", "factor on the interval "
                                    "half-widths, 2 (1 + excess) when extrapolated")
-    return out
+    return ds.assign(out)
 
 
 def reach_values(chosen, attrs: dict) -> dict:
