@@ -141,3 +141,25 @@ def test_chapter_7_states_the_band_against_the_chosen_speeds():
     inside = reach_values(chosen.iloc[2:], attrs)
     assert inside["band_case"] == "inside" and inside["n_extrapolated"] == 0
     assert "stays inside it" in Prose(load_templates("ch7"), inside)("reach_band")
+
+
+def test_the_modes_intervals_carry_into_the_critical_depth(cell):
+    """One mode, exact coefficients: the lobes' minimum scales with k ζ (1 + ζ) (Altintas 2012
+    §4.3: the most negative real part of an SDOF receptance is −1/(4kζ(1+ζ))), so the
+    pessimistic end of the critical depth's minimum over the speeds is that of ζ and k at
+    their low ends, by hand: 0.95 · 0.97 · (1 + 0.95 ζ)/(1 + ζ)."""
+    names = ["Ktc", "Krc", "Kac", "Kte", "Kre", "Kae"]
+    vals = [KTC, KRC, 200.0, 25.0, 30.0, 6.0]
+    coeffs = pd.DataFrame({"name": names, "value": vals, "ci_low": vals, "ci_high": vals})
+    req = _request()
+    m = Measured(modes=_modes(MEASURED), coefficients=coeffs)
+    ds = predict_grid(req, m, cell)
+    sel = {"placement": 0, "rotation": 0, "direction": 0}
+    a = ds["a_crit_mm"].isel(**sel).values
+    lo = ds["a_crit_low_mm"].isel(**sel).values
+    z = MEASURED.zeta
+    assert lo.min() / a.min() == pytest.approx(0.95 * 0.97 * (1 + 0.95 * z) / (1 + z),
+                                               rel=0.02)
+    bare = predict_grid(req, Measured(modes=_modes(MEASURED).iloc[:, :6], coefficients=coeffs),
+                        cell)
+    assert np.allclose(bare["a_crit_low_mm"].isel(**sel).values, a)   # no intervals: a point
