@@ -67,3 +67,21 @@ def test_no_two_production_cuts_overlap_nor_a_study_slot():
     # without the material rule the menu's best candidates share one placement
     assert front["placement"].head(5).nunique() < len(chosen)
     assert list(chosen["mrr_mm3_s"]) == sorted(chosen["mrr_mm3_s"], reverse=True)
+
+
+def test_one_line_when_every_slot_is_taken():
+    from robomill.plan.choose import PlanInfeasible
+
+    cfg = yaml.safe_load(open("config.yaml"))["cell"]
+    cell = Cell(robot_from_mapping(cfg["robot"]), np.asarray(cfg["tool_rotation"], float),
+                np.deg2rad(cfg["q_home_deg"]), np.array([650.0, 0.0, 200.0]))
+    req = parse_request({"kind": "plan", "operation": {"length_mm": 20, "directions": ["py"]},
+                         "tool": {"diameter_mm": 6, "flutes": 2},
+                         "placement": {"points_mm": [[650, 0, 200]]}, "spindle_rpm": [20000],
+                         "depth_mm": [0.1], "feed_mm_s": [1]})
+    coeffs = pd.DataFrame({"name": ["Ktc", "Krc", "Kac", "Kte", "Kre", "Kae"],
+                           "value": [800.0, 240.0, 200.0, 25.0, 30.0, 6.0]})
+    ds = predict_grid(req, Measured(coefficients=coeffs), cell)
+    with pytest.raises(PlanInfeasible) as e:
+        choose(ds, req, occupied=[slot_segment([652, 0, 199.5], 90.0, 40.0)])
+    assert "\n" not in str(e.value) and "overlaps a cut of the study" in str(e.value)

@@ -189,6 +189,10 @@ def choose(ds: xr.Dataset, req: PlanRequest, robot_name: str = "the robot",
     front = best.iloc[pareto_front(best["mrr_mm3_s"].to_numpy(),
                                    best["form_error_high_um"].to_numpy())].reset_index(drop=True)
     chosen = apart(t, front, req, occupied)
+    if chosen.empty:
+        raise PlanInfeasible(f"{req.path}: every feasible candidate's slot overlaps a cut of the "
+                             "study on the part (no stretch of material left at the requested "
+                             "placements: move the placement box)")
     if "extrapolation_code" in front:
         from robomill.plan.extrapolation import reason_text
         for tab in (front, chosen):
