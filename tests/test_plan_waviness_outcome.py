@@ -171,3 +171,24 @@ def test_a_line_inside_the_slow_deviations_lobe_is_not_read_as_waviness():
     # read from 2.5 periods, the low line reads the slow deviation's lobe: far above 0.1 µm
     leaky = waviness_outcomes(elements, gears, profiles, min_cycles=2.5)["plan_05"]
     assert leaky - STRONG_UM > 0.5
+
+
+def test_one_run_gives_an_identification_interval_of_its_noise():
+    """One tracker run alone: the joint amplitude's interval is the read ± z σ/√2, σ the
+    per-bin noise near the line (white noise of 0.3 µm RMS over N samples, Hann window: the
+    amplitude spectrum's per-bin σ = 2·0.3·√(1.5/N)), not a point."""
+    rb, q = default_cell_posture([700.0, 0.0, 200.0])
+    u = np.array([1.0, 0.0, 0.0])
+    sens = abs(np.cross([0, 0, 1.0], u) @ np.asarray(rb.jacobian(q[0]))[:3, 0]) * 1e3
+    _, _, ds = planted_run("px_f1", "c1", seed=3)
+    profiles = gather_profiles([ds], ["px_f1"])
+    peaks = pd.DataFrame({"mechanism": ["gear"], "joint": [1], "stage": ["motor"],
+                          "order": ["mesh"], "component": ["lateral"], "cut": ["c1"],
+                          "run": ["px_f1"], "f_spatial_per_mm": [F_STRONG],
+                          "amplitude_um": [STRONG_UM]})
+    g = gear_joint_amplitudes(peaks, rb, {"c1": (q[0], u)}, profiles=profiles, level=0.95)
+    half_um = (g.loc[0, "dq_high_urad"] - g.loc[0, "dq_low_urad"]) / 2 * sens * 1e-6
+    sigma_um = 2 * NOISE_UM * np.sqrt(1.5 / N)
+    assert g.loc[0, "n_runs"] == 1
+    assert half_um == pytest.approx(1.96 * sigma_um / np.sqrt(2), rel=0.35)
+    assert g.loc[0, "dq_low_urad"] < STRONG_UM / sens * 1e6 < g.loc[0, "dq_high_urad"]

@@ -37,6 +37,7 @@ from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.prose import Prose, load_templates
 from robomill.plan.compare import comparison_values
+from robomill.plan.extrapolation import reach_values
 
 num = Numbering("7", fig_dir=fig_dir)
 num.figure("pareto", "Removal rate against the predicted form error (upper bound): the "
@@ -117,8 +118,24 @@ display(num.caption("plan"))
 cols = ["cut", "placement_x_mm", "placement_y_mm", "placement_z_mm", "direction",
         "rotation_deg", "redundancy_path_deg", "spindle_rpm", "depth_mm", "feed_mm_s",
         "mrr_mm3_s", "stability_margin_low", "deflection_normal_high_um",
-        "deflection_axial_high_um", "waviness_ident_high_um", "force_high_N", "feed_mark_um"]
+        "deflection_axial_high_um", "waviness_ident_high_um", "force_low_N", "force_high_N",
+        "feed_mark_um", "extrapolation_reason"]
 display(chosen[[c for c in cols if c in chosen]])
+
+# %% [markdown]
+# ## How sure the plan is
+#
+# Every interval is a prediction interval for the next cut at the stated level: the force
+# carries the scatter of the identifying cuts' mean forces about the cutting law and the
+# coefficients' uncertainty at the new cut's chip load and engagement; the stability margin
+# the modes' intervals (`results/modal/modes.csv`), the coefficients' and the joint
+# stiffness'; the deflection the force's and the stiffness' together. A candidate outside
+# what the study measured is flagged `extrapolation` with its reason, and its interval widens
+# by the rule of `robomill.plan.extrapolation`.
+
+# %%
+display(Markdown(Prose(load_templates("ch7", templates), reach_values(chosen, cand.attrs))(
+    "reach_level", "reach_extrapolated", "reach_band")))
 
 # %% [markdown]
 # ## The plan beside the study

@@ -60,6 +60,7 @@ rule modal_identify:
     params:
         modal=config["modal"],
         experiment_band_hz=EXPERIMENT.get("modal_band_hz"),
+        level=config["plan"]["interval_level"],
     script:
         "../scripts/modal_identify.py"
 

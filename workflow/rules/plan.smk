@@ -7,9 +7,16 @@ from robomill.plan import NEXT_RUN_DIR
 
 PLAN_REQUEST = config.get("plan", {}).get("request", "plan.yaml")
 PLAN_MEASURED = {
-    **({"modes": "results/modal/modes.csv"} if has_kind("impact") else {}),
     **(
-        {"coefficients": "results/forces/cutting_coefficients.csv"}
+        {"modes": "results/modal/modes.csv", "modal_fit": "results/modal/frf_synth.nc"}
+        if has_kind("impact")
+        else {}
+    ),
+    **(
+        {
+            "coefficients": "results/forces/cutting_coefficients.csv",
+            "means": "results/forces/mean_forces.csv",
+        }
         if has_kind("force")
         else {}
     ),
@@ -71,6 +78,7 @@ rule plan_make:
         experiment=STUDY_EXPERIMENT,
         waviness_noise=config.get("plan", {}).get("waviness_noise", {}),
         fmin_cycles=config["straightness"]["fmin_cycles"],
+        level=config["plan"]["interval_level"],
     script:
         "../scripts/plan_make.py"
 

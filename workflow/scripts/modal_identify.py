@@ -14,6 +14,7 @@ from robomill.modal.ncio import split_complex
 from robomill.modal.peaks import peak_picking
 from robomill.modal.tables import shapes_table
 from robomill.modal.uff import write_modes_uff
+from robomill.modal.uncertainty import mode_intervals
 from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "modal_identify")
@@ -41,7 +42,10 @@ idn = identify(ds, band_hz=band, max_order=cfg["max_order"], tol_f=cfg["tol_f"],
                tol_zeta=cfg["tol_zeta"], mac_min=cfg["mac_min"],
                zeta_max=cfg["zeta_max"], cluster_tol=cfg["cluster_tol"],
                min_stable=cfg["min_stable"], coherence_min=cfg["coherence_min"])
-write_table(idn.modes, snakemake.output.modes)
+# intervals from the hits' scatter (bootstrap of the identification)
+modes_ci = mode_intervals(ds, idn.modes, idn.selected, band_hz=band, synth=idn.H_synth,
+                          level=float(snakemake.params.level))
+write_table(modes_ci, snakemake.output.modes)
 write_table(idn.stabilization, snakemake.output.stabilization)
 shapes = shapes_table(idn.shapes)
 write_table(shapes, snakemake.output.shapes)

@@ -7,11 +7,13 @@ import xarray as xr
 import yaml
 
 from robomill.experiment import cut_endpoints_mm
+from robomill.forces.prediction import regression_from_means
 from robomill.io import write_artefact, write_table
 from robomill.io.atomic import atomic_path
 from robomill.io.cell import read_cell
 from robomill.pipeline.runlog import setup
 from robomill.plan.check import waviness_min_cycles
+from robomill.plan.extrapolation import reach_from_means
 from robomill.plan.make import make_plan
 from robomill.plan.measured import Measured, cut_mid_poses, gear_joint_amplitudes
 from robomill.plan.outputs import cell_of, compact
@@ -45,14 +47,25 @@ if "peaks" in inp.keys() and placed:
     gears = gear_joint_amplitudes(
         pd.read_csv(inp.peaks), cell.robot, poses, profiles=profiles,
         noise_band_bins=float(noise.get("band_bins", 20.0)),
-        noise_exclude_bins=float(noise.get("exclude_bins", 2.0)))
+        noise_exclude_bins=float(noise.get("exclude_bins", 2.0)), level=float(p.level))
     log.info("gear elements (joint amplitudes, tracker noise):\n%s", gears.to_string())
+regression = regression_from_means(table("means"), int(experiment.get("flutes", req.flutes)))
 measured = Measured(modes=table("modes"), coefficients=table("coefficients"),
-                    joints=table("joints"), gears=gears,
+                    joints=table("joints"), gears=gears, force_regression=regression,
+                    level=float(p.level),
                     waviness_coverage=float(noise.get("coverage", 0.95)),
                     waviness_min_cycles=waviness_min_cycles(
                         p.fmin_cycles, float(noise.get("exclude_bins", 2.0))))
-plan = make_plan(req, measured, cell, cuts, experiment, robot_name=cell.robot.name)
+# what the study measured: the identifying cuts' ranges, the cuts' midpoints, the modal band
+band = None
+if "modal_fit" in inp.keys():
+    with xr.open_dataset(inp.modal_fit) as fit:
+        band = [float(b) for b in np.atleast_1d(fit.attrs.get("band_hz", []))] or None
+reach = reach_from_means(table("means"), experiment, mids, band)
+log.info("study reach: %s", reach)
+slots = [np.asarray(cut_endpoints_mm(c, experiment), float) for c in cuts] if placed else None
+plan = make_plan(req, measured, cell, cuts, experiment, robot_name=cell.robot.name,
+                 reach=reach, study_slots=slots)
 inputs = [str(f) for f in inp]
 write_artefact(compact(plan.candidates), out.candidates, rule="plan_make", inputs=inputs,
                config_section=req.raw)

@@ -11,6 +11,8 @@ reading is checked against).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import numpy as np
 import pandas as pd
 import xarray as xr
@@ -71,6 +73,8 @@ def feasible(ds: xr.Dataset, req: PlanRequest) -> xr.DataArray:
     m = m & xr.ones_like(ds["feed_mark_um"], dtype=bool)
     for mask in constraint_masks(ds, req).values():
         m = m & mask
+    if not req.extrapolation.get("allow", True) and "extrapolation" in ds:
+        m = m & ~ds["extrapolation"]
     return m.transpose("placement", "rotation", "direction", "spindle_rpm", "depth_mm",
                        "feed_mm_s")
 
@@ -88,6 +92,17 @@ def binding_constraint(ds: xr.Dataset, req: PlanRequest, robot_name: str = "the 
     masks = constraint_masks(ds, req)
     base = ds["reachable"] & xr.ones_like(ds["mrr_mm3_s"], dtype=bool)
     base = base & xr.ones_like(ds["feed_mark_um"], dtype=bool)
+    if not req.extrapolation.get("allow", True) and "extrapolation" in ds:
+        inside = base & ~ds["extrapolation"]
+        if not bool(inside.any()):
+            from robomill.plan.extrapolation import reason_text
+            codes = np.unique(ds["extrapolation_code"].where(base.any(
+                [d for d in base.dims if d not in ds["extrapolation_code"].dims]), 0).values)
+            why = reason_text(int(np.bitwise_or.reduce(codes.astype(int))))
+            return (f"every reachable candidate of {req.path} is extrapolated ({why} outside "
+                    "what the study measured) and extrapolation.allow is false: measure "
+                    "there first, or allow extrapolation with its widened intervals")
+        base = inside
     for key in masks:
         others = base
         for k2, m2 in masks.items():
@@ -143,15 +158,19 @@ def feasible_table(ds: xr.Dataset, mask: xr.DataArray) -> pd.DataFrame:
     return out
 
 
-def choose(ds: xr.Dataset, req: PlanRequest, robot_name: str = "the robot"
-           ) -> tuple[pd.DataFrame, pd.DataFrame]:
+def choose(ds: xr.Dataset, req: PlanRequest, robot_name: str = "the robot",
+           occupied: Sequence[np.ndarray] = ()) -> tuple[pd.DataFrame, pd.DataFrame]:
     """The chosen cuts and the Pareto front.
 
     For each removal rate (depth × feed) the feasible candidate of smallest upper form error
     (ties: largest pessimistic margin, then the smallest rotation about the tool axis)
     represents it; the Pareto front of those against the
     form error is the menu, and the chosen cuts are its ``n_cuts`` highest removal rates,
-    ranked by removal rate (rank 1 = the plan's best).
+    ranked by removal rate (rank 1 = the plan's best). Each cut goes on its own stretch of
+    material: a removal rate takes its best candidate whose slot (width the tool's diameter)
+    overlaps neither a cut chosen before it nor the ``occupied`` slots (the study's cuts,
+    segments ``(2, 3)`` [mm]; :mod:`robomill.plan.material`); a removal rate with no such
+    candidate is left out.
 
     Raises
     ------
@@ -169,10 +188,43 @@ def choose(ds: xr.Dataset, req: PlanRequest, robot_name: str = "the robot"
     best = t.groupby(["depth_mm", "feed_mm_s"], sort=False).head(1).drop(columns=["_m", "_r"])
     front = best.iloc[pareto_front(best["mrr_mm3_s"].to_numpy(),
                                    best["form_error_high_um"].to_numpy())].reset_index(drop=True)
-    chosen = front.head(req.n_cuts).copy()
+    chosen = apart(t, front, req, occupied)
+    if chosen.empty:
+        raise PlanInfeasible(f"{req.path}: every feasible candidate's slot overlaps a cut of the "
+                             "study on the part (no stretch of material left at the requested "
+                             "placements: move the placement box)")
+    if "extrapolation_code" in front:
+        from robomill.plan.extrapolation import reason_text
+        for tab in (front, chosen):
+            tab["extrapolation_reason"] = [reason_text(c) for c in tab["extrapolation_code"]]
     chosen.insert(0, "rank", np.arange(1, len(chosen) + 1))
     chosen.insert(0, "cut", [f"plan_{i:02d}" for i in chosen["rank"]])
     return chosen.reset_index(drop=True), front
+
+
+def apart(table: pd.DataFrame, front: pd.DataFrame, req: PlanRequest,
+          occupied: Sequence[np.ndarray] = ()) -> pd.DataFrame:
+    """The front's removal rates in order, each at its best candidate (``table``'s order)
+    whose slot overlaps no slot taken before (:func:`robomill.plan.material.overlaps`), up to
+    ``n_cuts``."""
+    from robomill.plan.material import overlaps, slot_segment
+
+    taken = [np.asarray(o, float) for o in occupied]
+    rows = []
+    for _, fr in front.iterrows():
+        same = table[(table["depth_mm"] == fr["depth_mm"])
+                     & (table["feed_mm_s"] == fr["feed_mm_s"])]
+        for _, r in same.drop_duplicates(["placement", "direction"]).iterrows():
+            seg = slot_segment([r["placement_x_mm"], r["placement_y_mm"], r["placement_z_mm"]],
+                               r["direction_deg"], req.length_mm)
+            if not overlaps(seg, taken, req.tool_diameter_mm):
+                taken.append(seg)
+                rows.append(r)
+                break
+        if len(rows) == req.n_cuts:
+            break
+    out = pd.DataFrame(rows).reset_index(drop=True) if rows else front.head(0).copy()
+    return out[list(front.columns)].copy()
 
 
 def smooth_rotation(score: np.ndarray, rotations_deg: np.ndarray, max_step_deg: float, *,

@@ -15,7 +15,7 @@ import xarray as xr
 from robomill.experiment import Cut, cut_endpoints_mm, cut_process, cut_redundancy_deg
 from robomill.plan.choose import feasible
 from robomill.plan.measured import Measured
-from robomill.plan.predict import Cell, predict_grid
+from robomill.plan.predict import Cell, apply_extrapolation, predict_grid
 from robomill.plan.request import PlanRequest
 
 PREDICTED = ["stability_margin", "stability_margin_low", "stability_margin_high",
@@ -29,10 +29,11 @@ STUDY_COLUMNS = ["cut", "spindle_rpm", "depth_mm", "feed_mm_s", "mrr_mm3_s", "re
 
 
 def study_cuts_table(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: PlanRequest,
-                     measured: Measured, cell: Cell) -> pd.DataFrame:
+                     measured: Measured, cell: Cell, reach=None) -> pd.DataFrame:
     """Each of the study's cuts at its own place, direction, speed, depth, feed, tool and
     redundancy angle (``redundancy_deg``, 0: the cell's tool orientation), with the plan's
-    predictions and whether it meets the request's constraints."""
+    predictions and whether it meets the request's constraints (with ``reach``, flagged and
+    widened as the plan's candidates, :func:`robomill.plan.predict.apply_extrapolation`)."""
     rows = []
     for cut in cuts:
         p = cut_process(cut, experiment)
@@ -49,6 +50,8 @@ def study_cuts_table(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: Pl
                       depth_mm=np.array([cut.depth_mm]), feed_mm_s=np.array([cut.feed_mm_s]),
                       path_stations=3)
         ds = predict_grid(one, measured, cell)
+        if reach is not None:
+            ds = apply_extrapolation(ds, one, measured, cell, reach)
         ok = bool(feasible(ds, req).values.ravel()[0])
         row = {"cut": cut.id, "spindle_rpm": p["spindle_rpm"], "depth_mm": cut.depth_mm,
                "feed_mm_s": cut.feed_mm_s,

@@ -12,11 +12,11 @@ import pandas as pd
 import xarray as xr
 
 from robomill.experiment import Cut
-from robomill.plan.choose import check_needs, choose, smooth_rotation
+from robomill.plan.choose import PlanInfeasible, check_needs, choose, smooth_rotation
 from robomill.plan.compare import comparison_table, rotation_effect_pct, study_cuts_table
 from robomill.plan.measured import Measured, missing_predictions
 from robomill.plan.outputs import next_config, next_manifest, plan_table, pose_map
-from robomill.plan.predict import Cell, predict_grid, station_scores
+from robomill.plan.predict import Cell, apply_extrapolation, predict_grid, station_scores
 from robomill.plan.request import PlanRequest
 
 
@@ -50,28 +50,70 @@ def redundancy_paths(candidates: xr.Dataset, chosen: pd.DataFrame, req: PlanRequ
     return out
 
 
+def learn_plan(cand: xr.Dataset, req: PlanRequest, measured: Measured, occupied, reach,
+               robot_name: str) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """The learn design (:func:`robomill.plan.learn.learn_design`) aimed at the production
+    plan's binding cut (its largest removal rate; none when no candidate is feasible), and the
+    production Pareto front beside it (empty then)."""
+    from robomill.plan.extrapolation import reason_text
+    from robomill.plan.learn import learn_design
+
+    try:
+        prod, front = choose(cand, req, robot_name, occupied=occupied)
+    except PlanInfeasible:
+        prod, front = None, pd.DataFrame()
+    chosen = learn_design(cand, req, occupied=occupied,
+                          midpoints_mm=None if reach is None else reach.midpoints_mm,
+                          regression=measured.force_regression,
+                          binding=None if prod is None or prod.empty else prod.iloc[0])
+    if chosen.empty:
+        raise PlanInfeasible(f"{req.path}: purpose learn: no reachable candidate to learn from "
+                             "(no stability limit inside the requested depths, no pose or "
+                             "feed within the other constraints)")
+    if "extrapolation_code" in chosen:
+        chosen["extrapolation_reason"] = [reason_text(c) for c in chosen["extrapolation_code"]]
+    return chosen, front
+
+
 def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[Cut],
-              experiment: Mapping[str, Any], *, robot_name: str = "the robot") -> Plan:
+              experiment: Mapping[str, Any], *, robot_name: str = "the robot",
+              reach=None, study_slots=None) -> Plan:
     """The whole plan (raises :class:`robomill.plan.choose.PlanInfeasible` with one line when a
-    constraint needs a missing measurement or no candidate meets the constraints)."""
+    constraint needs a missing measurement, no candidate meets the constraints, or every
+    candidate is extrapolated and the request does not allow it). ``reach``
+    (:class:`robomill.plan.extrapolation.StudyReach`): flag and widen what lies outside it;
+    ``study_slots``: the study's cuts as segments ``(2, 3)`` [mm], which no planned slot may
+    overlap (:mod:`robomill.plan.material`)."""
     missing = missing_predictions(measured)
     check_needs(req, missing)
     cand = predict_grid(req, measured, cell)
-    chosen, front = choose(cand, req, robot_name)
+    if reach is not None:  # what the study measured (robomill.plan.extrapolation)
+        cand = apply_extrapolation(cand, req, measured, cell, reach)
+    occupied = [] if study_slots is None else list(study_slots)
+    if req.purpose == "learn":
+        chosen, front = learn_plan(cand, req, measured, occupied, reach, robot_name)
+    else:
+        chosen, front = choose(cand, req, robot_name, occupied=occupied)
+    pmap = pose_map(cand, chosen.iloc[0])
     paths = redundancy_paths(cand, chosen, req, measured, cell)
     q = [cand["q_deg"].isel(placement=int(r["i_placement"]), rotation=int(r["i_rotation"]),
                             direction=int(r["i_direction"])).values
          for _, r in chosen.iterrows()]
+    chosen["tooth_passing_hz"] = chosen["spindle_rpm"].to_numpy(float) * req.flutes / 60.0
     table = plan_table(chosen)
     table["redundancy_path_deg"] = [";".join(f"{a:g}" for a in p["redundancy_path_deg"])
                                     for p in paths]
-    study = study_cuts_table(cuts, experiment, req, measured, cell)
+    study = study_cuts_table(cuts, experiment, req, measured, cell, reach)
     manifest = next_manifest(chosen, req, dict(experiment), cand.attrs["missing_predictions"],
                              np.asarray(q), paths)
     cand.attrs["request"] = req.path
+    cand.attrs["interval_level"] = float(measured.level)
+    cand.attrs["purpose"] = req.purpose
+    cand.attrs["extrapolation_harmonics"] = int(req.extrapolation["harmonics"])
+    if reach is not None and reach.modal_band_hz is not None:
+        cand.attrs["modal_band_hz"] = np.asarray(reach.modal_band_hz, float)
     cand.attrs["constraints"] = "; ".join(f"{k}={v}" for k, v in req.constraints.items()
                                           if v is not None)
-    pmap = pose_map(cand, chosen.iloc[0])
     return Plan(cand, pmap, table, plan_table(front), study,
                 comparison_table(table, study, rotation_effect_pct(pmap),
                                  pmap.sizes["rotation"]), manifest,

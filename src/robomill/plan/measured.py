@@ -13,6 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
+from scipy import stats
 
 from robomill.forces import CuttingCoefficients
 from robomill.forces.coefficients import identification_status, not_identified_sentence
@@ -52,6 +53,12 @@ class Measured:
     waviness_min_cycles: float = 4.5
     """Periods along the path from which a gear line counts as waviness
     (:func:`robomill.plan.check.waviness_min_cycles`)."""
+    force_regression: object | None = None
+    """The coefficient regression of the identifying cuts
+    (:class:`robomill.forces.prediction.ForceRegression`), for the force's prediction
+    interval; None: the coefficients' confidence corners."""
+    level: float = 0.95
+    """Nominal two-sided level of the plan's intervals (config ``plan.interval_level``)."""
 
     def has(self, name: str) -> bool:
         """Whether ``name`` was measured: a table with rows; cutting coefficients must also
@@ -139,14 +146,18 @@ def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
                           poses: Mapping[str, tuple[np.ndarray, np.ndarray]], *,
                           min_sensitivity: float = 0.02, profiles=None,
                           noise_band_bins: float = 20.0,
-                          noise_exclude_bins: float = 2.0) -> pd.DataFrame:
+                          noise_exclude_bins: float = 2.0, level: float = 0.95
+                          ) -> pd.DataFrame:
     """Joint-angle amplitude of every gear element seen on the tracker paths.
 
     A gear error δq_j of joint j moves the TCP by J_v[:, j] δq_j; a peak of amplitude A along
     the path's component axis l (lateral ẑ × u or vertical, :func:`perpendicular_axes`) at the
     run's posture q gives δq_j = A / |lᵀ J_v[:, j](q)|. Peaks whose axis sees less than
     ``min_sensitivity`` of the joint's TCP motion are left out (ill-conditioned). Each element's
-    estimates over the runs give its nominal (median) and interval (min, max).
+    estimates over the runs give its nominal (median) and interval: the lowest and highest
+    run, each widened by its own read's noise, ± z σ/√2 (σ the per-bin noise near the line,
+    below; z the normal quantile of the two-sided ``level``), so that one run alone still
+    gives an interval.
 
     A is the component's own sinusoid amplitude at the peak's frequency in the run's spectrum
     (``profiles``, :func:`spectrum_amplitude_um`), the quantity :func:`waviness_um` carries and
@@ -211,14 +222,20 @@ def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
                                    exclude_per_mm=others.to_numpy(float),
                                    band_bins=noise_band_bins, exclude_bins=noise_exclude_bins)
             rho = sigma * np.sqrt(run_duration_s(profiles, run))
+            sigma = sigma / np.sqrt(2) * float(stats.norm.ppf(0.5 + level / 2))
+        else:
+            sigma = 0.0
         rows.append({"joint": j + 1, "stage": r["stage"], "order": r["order"],
-                     "dq": a_um / sens * 1e6, "rho": rho})
+                     "dq": a_um / sens * 1e6, "rho": rho,
+                     "dq_lo": max(a_um - np.nan_to_num(sigma), 0.0) / sens * 1e6,
+                     "dq_hi": (a_um + np.nan_to_num(sigma)) / sens * 1e6})
     if not rows:
         return pd.DataFrame(columns=cols)
     g = pd.DataFrame(rows).groupby(["joint", "stage", "order"])
     t = g["dq"]
-    out = pd.DataFrame({"dq_urad": t.median(), "dq_low_urad": t.min(), "dq_high_urad": t.max(),
-                        "n_runs": t.size(), "noise_um_sqrt_s": g["rho"].median()}).reset_index()
+    out = pd.DataFrame({"dq_urad": t.median(), "dq_low_urad": g["dq_lo"].min(),
+                        "dq_high_urad": g["dq_hi"].max(), "n_runs": t.size(),
+                        "noise_um_sqrt_s": g["rho"].median()}).reset_index()
     return out[cols]
 
 

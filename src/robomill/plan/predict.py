@@ -6,18 +6,22 @@ feed), each with an interval carried from the identified quantities' uncertainty
   impact test's modes in the cut frame, the modes below ``robot_mode_max_hz`` (the robot's
   structure) scaled with the pose: k_r(q) = k_r(q_ref)·k_φ(q)/k_φ(q_ref), f_r ∝ √k_r (modal mass
   kept), k_φ = 1/(φᵀ C(q) φ) the joint model's stiffness along the mode shape. Interval: the
-  coefficients' K_t interval (a_crit ∝ 1/K_t exactly), the K_r ratio's interval and the joint
-  stiffness interval (lobes recomputed at each end); the lower end is the pessimistic margin.
+  coefficients' K_t interval (a_crit ∝ 1/K_t exactly), the K_r ratio's interval, the joint
+  stiffness interval and the modes' intervals (``modes.csv``: ζ and k together, f; lobes
+  recomputed at each end, :func:`mode_ends`); the lower end is the pessimistic margin.
 * **Static deflection** δ = C(q) F̄ along the wall normal and the tool axis, with F̄ the mean
   cutting force (Altintas 2012 eq. 2.25, :func:`robomill.forces.mean_milling_forces`) rotated
   from the cut frame to the base frame; interval over the coefficient and stiffness ends.
-* **Force** |F̄| with the coefficients' interval; **waviness** from the gear elements' joint
-  amplitudes (:func:`robomill.plan.measured.waviness_um`): ``waviness_ident_low/high_um`` the
-  spread between the identifying runs (the wall's waviness, constrained and in the form
-  error), ``waviness_low/high_um`` per feed the interval the next tracker run reads, widened
-  by the tracker's noise at that record (``waviness_noise_um``, :mod:`robomill.plan.noise`);
-  **feed marks** c²/(8R) for a feed
-  per tooth c = v/(N n) and tool radius R; **removal rate** a·a_e·v [mm³/s].
+* **Force** |F̄| with a new cut's prediction interval (:func:`force_interval`; the
+  coefficients' confidence corners when the identifying cuts' means are not given);
+  deflection's ends are the stiffness ends times the force's ends.
+* **Waviness** from the gear elements' joint amplitudes
+  (:func:`robomill.plan.measured.waviness_um`): ``waviness_ident_low/high_um`` the spread
+  between the identifying runs (the wall's waviness, constrained and in the form error),
+  ``waviness_low/high_um`` per feed the interval the next tracker run reads, widened by the
+  tracker's noise at that record (``waviness_noise_um``, :mod:`robomill.plan.noise`).
+* **Feed marks** c²/(8R) for a feed per tooth c = v/(N n) and tool radius R; **removal
+  rate** a·a_e·v [mm³/s].
 """
 
 from __future__ import annotations
@@ -30,6 +34,7 @@ import xarray as xr
 from robomill.chatter.model import CuttingModel, immersion_angles
 from robomill.forces import CuttingCoefficients, mean_milling_forces
 from robomill.kinematics import SerialRobot
+from robomill.plan.extrapolation import absolute_depth_m
 from robomill.plan.lobes import batch_coupling_depth, batch_zoa_lobes
 from robomill.plan.measured import (
     Measured,
@@ -67,20 +72,42 @@ def engagement(req: PlanRequest) -> tuple[float, float]:
         req.radial_immersion, req.milling)
 
 
-def _modes_arrays(modes):
+def _modes_arrays(modes, end: str = ""):
+    """Frequencies, damping ratios, stiffnesses and unit shapes of the modes with a positive
+    stiffness; ``end`` ``"_low"``/``"_high"`` takes that end of the interval columns of
+    ``modes.csv`` (the value where a column is missing or NaN)."""
     ok = modes["k_modal_N_m"].to_numpy(float) > 0
     m = modes[ok]
     shapes = np.nan_to_num(m[["shape_x", "shape_y", "shape_z"]].to_numpy(float))
-    return (m["f_n_hz"].to_numpy(float), m["zeta"].to_numpy(float),
-            m["k_modal_N_m"].to_numpy(float), shapes)
+
+    def col(name):
+        v = m[name].to_numpy(float)
+        if end and f"{name}{end}" in m:
+            e = m[f"{name}{end}"].to_numpy(float)
+            v = np.where(np.isfinite(e) & (e > 0), e, v)
+        return v
+    return col("f_n_hz"), col("zeta"), col("k_modal_N_m"), shapes
+
+
+def mode_ends(modes) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """The modes' interval ends the critical depth is recomputed at: every mode's f, ζ and k
+    at their low ends, and at their high ends (a_crit ∝ k ζ for one mode, so these two bound
+    it; the frequency moves the lobes along the speed axis with them); each ``(f, ζ, k)``.
+    Empty without interval columns."""
+    if not {"zeta_low", "k_modal_N_m_low", "f_n_hz_low"} <= set(modes.columns):
+        return []
+    return [_modes_arrays(modes, "_low")[:3], _modes_arrays(modes, "_high")[:3]]
 
 
 def critical_depth_m(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np.ndarray,
                      frames: np.ndarray, spindle_rpm: np.ndarray, *,
-                     corners: bool = True) -> dict[str, np.ndarray] | None:
+                     corners: bool = True, absolute: bool = False
+                     ) -> dict[str, np.ndarray] | None:
     """Critical depth ``(B, S)`` [m] at postures ``q_rad`` ``(B, n)`` with cut frames
     ``frames`` ``(B, 3, 3)`` (columns feed, normal, axis): ``nominal``, ``low``, ``high``.
-    None when the modes or the coefficients were not measured."""
+    None when the modes or the coefficients were not measured. ``absolute``: the absolute
+    stability limit instead of the lobes at ``spindle_rpm`` (``(B, 1)``,
+    :func:`robomill.plan.extrapolation.absolute_depth_m`)."""
     if not (measured.has("modes") and measured.has("coefficients")):
         return None
     fn, zeta, k, shapes = _modes_arrays(measured.modes)
@@ -109,9 +136,12 @@ def critical_depth_m(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np
             ratio = directional_ratio(C, C_ref, shapes) if ok[0] else np.ones((B, fn.size))
             scalings[key] = np.where(robot_mode, ratio, 1.0)
 
-    def lobes(scale, cut):
-        args = (fn[None] * np.sqrt(scale), zeta, k[None] * scale, inplane, cut)
+    def lobes(scale, cut, modal=None):
+        f_, z_, k_ = (fn, zeta, k) if modal is None else modal
+        args = (f_[None] * np.sqrt(scale), z_, k_[None] * scale, inplane, cut)
         a_mc = batch_coupling_depth(*args)
+        if absolute:
+            return np.minimum(absolute_depth_m(*args), a_mc)[:, None]
         return np.minimum(batch_zoa_lobes(*args, spindle_rpm), a_mc[:, None])
 
     a_nom = lobes(scalings["nominal"], model(nom.Ktc, nom.Krc))
@@ -124,6 +154,8 @@ def critical_depth_m(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np
         for key in ("low", "high"):
             if key in scalings:
                 ends.append(lobes(scalings[key], model(nom.Ktc, nom.Krc)))
+        for modal in mode_ends(measured.modes):
+            ends.append(lobes(scalings["nominal"], model(nom.Ktc, nom.Krc), modal))
     stack = np.stack(ends)
     return {"nominal": a_nom,
             "low": stack.min(0) * nom.Ktc / max(cb["high"].Ktc, nom.Ktc),
@@ -139,6 +171,26 @@ def mean_forces_N(coeffs: CuttingCoefficients, req: PlanRequest, spindle_rpm, de
     c = v * 60.0 / (req.flutes * n)
     ent, ext = engagement(req)
     return mean_milling_forces(c, a, coeffs, flutes=req.flutes, entry_rad=ent, exit_rad=ext)
+
+
+def force_interval(measured: Measured, req: PlanRequest, nominal_N: np.ndarray
+                   ) -> dict[str, np.ndarray]:
+    """|F̄| ``(S, A, V)``: the nominal (from the coefficients) and the two ends of a new cut's
+    prediction interval at the measured level, evaluated at each candidate's chip load and
+    engagement (:func:`robomill.forces.prediction.predict_mean_force`: the coefficient
+    regression's residual scatter between cuts plus its coefficients' uncertainty)."""
+    from robomill.forces.prediction import predict_mean_force
+
+    n = np.asarray(req.spindle_rpm, float)[:, None, None]
+    a = np.asarray(req.depth_mm, float)[None, :, None]
+    v = np.asarray(req.feed_mm_s, float)[None, None, :]
+    c = v * 60.0 / (req.flutes * n)
+    ent, ext = engagement(req)
+    p = predict_mean_force(measured.force_regression, c, a, flutes=req.flutes, entry_rad=ent,
+                           exit_rad=ext, level=measured.level)
+    return {"nominal": nominal_N,
+            "low": np.maximum(nominal_N - (p["magnitude_N"] - p["low_N"]), 0.0),
+            "high": nominal_N + (p["high_N"] - p["magnitude_N"])}
 
 
 def _dims(*names):
@@ -192,6 +244,8 @@ def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
               for k in ("nominal", "low", "high")}
         mags = np.stack([np.linalg.norm(f, axis=-1) for f in Fc.values()])
         Fmag = {"nominal": mags[0], "low": mags.min(0), "high": mags.max(0)}
+        if measured.force_regression is not None:  # a new cut's prediction interval
+            Fmag = force_interval(measured, req, mags[0])
         if measured.has("joints"):
             cset = compliance_bounds(measured.joints)
             Fb = {k: np.einsum("dij,saj->dsai", frames, f.reshape(S, A * V, 3))
@@ -204,9 +258,16 @@ def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
                     if ck == "nominal":
                         stiff[ax] = np.where(ok, 1.0 / np.einsum("prdj,dj->prd", row,
                                                                  frames[:, :, col]), np.nan)
-                    for fk in ("nominal", "low", "high"):
+                    fks = (("nominal",) if measured.force_regression is not None
+                           else ("nominal", "low", "high"))
+                    for fk in fks:
                         vals.append(np.abs(np.einsum("prdj,dsavj->prdsav", row, Fb[fk])) * 1e6)
                 vals = np.stack(vals)
+                if measured.force_regression is not None:  # δ ∝ F: the force's ends scale it
+                    with np.errstate(divide="ignore", invalid="ignore"):
+                        r_lo = np.nan_to_num(Fmag["low"] / Fmag["nominal"], nan=1.0)
+                        r_hi = np.nan_to_num(Fmag["high"] / Fmag["nominal"], nan=1.0)
+                    vals = np.concatenate([vals[:1], vals * r_lo, vals * r_hi])
                 for k, v in (("nominal", vals[0]), ("low", vals.min(0)), ("high", vals.max(0))):
                     defl[(ax, k)] = np.where(ok[..., None, None, None], v, np.nan)
     for k, suffix in (("nominal", ""), ("low", "_low"), ("high", "_high")):
@@ -322,3 +383,32 @@ def station_scores(ds: xr.Dataset, row, req: PlanRequest, measured: Measured,
     else:
         score, what = np.zeros((St, R)), "none"
     return np.where(ok[None, :], score, -np.inf), what
+
+
+def apply_extrapolation(ds: xr.Dataset, req: PlanRequest, measured: Measured, cell: Cell,
+                        reach) -> xr.Dataset:
+    """Flag the candidates outside what the study measured and widen their intervals
+    (:mod:`robomill.plan.extrapolation`: the reasons, the stated rule; above the modal band
+    the pessimistic critical depth is at most the absolute limit of the measured modes at the
+    pose, :func:`critical_depth_m` with ``absolute``)."""
+    from robomill.plan.extrapolation import extrapolation_code, widen
+
+    code, excess = extrapolation_code(ds, req, reach)
+    a_abs = None
+    ok = ds["reachable"].values
+    if bool((code & 16).any()) and ok.any():
+        P, R, D = ok.shape
+        frames = cut_frames(req.direction_deg)
+        fb = np.broadcast_to(frames[None, None], (P, R, D, 3, 3))[ok]
+        q = np.deg2rad(ds["q_deg"].values)[ok]
+        a = critical_depth_m(measured, cell, req, q, fb, np.array([1.0]), corners=False,
+                             absolute=True)
+        if a is not None:  # at the lobes' pessimistic ratio over the request's speeds
+            with np.errstate(divide="ignore", invalid="ignore"):
+                r = ds["a_crit_low_mm"] / ds["a_crit_mm"]
+                ratio = r.where(np.isfinite(ds["a_crit_mm"])).min("spindle_rpm").values
+            full = np.full((P, R, D), np.inf)
+            full[ok] = a["nominal"][:, 0] * 1e3 * np.nan_to_num(ratio[ok], nan=1.0)
+            a_abs = xr.DataArray(full, dims=("placement", "rotation", "direction"))
+    out = widen(ds, code, excess, a_abs)
+    return form_error(out)

@@ -20,6 +20,12 @@ A request states the job and what counts as acceptable (issue 28):
       max_deflection_axial_um: 50
       max_waviness_um: 5
       max_force_N: 200
+    purpose: production              # production (largest removal rate, each cut on its own
+                                     # material) | learn
+    extrapolation:                   # robomill.plan.extrapolation
+      max_pose_distance_mm: 150      # farther from every study cut's midpoint: extrapolated
+      harmonics: 1                   # tooth-passing harmonics that must lie in the modal band
+      allow: true                    # false: extrapolated candidates are not planned
 
 Directions are names (``px``, ``py``, ``mx``, ``my``) or angles in degrees in the part frame,
 whose axes are parallel to the base frame's. Every problem is reported as one line naming the
@@ -42,6 +48,12 @@ CONSTRAINTS = ("min_stability_margin", "max_deflection_normal_um", "max_deflecti
 """Constraint keys of ``plan.yaml: constraints`` (each optional)."""
 
 MILLING = ("slot", "up", "down")
+
+PURPOSES = ("production", "learn")
+
+EXTRAPOLATION = {"max_pose_distance_mm": 150.0, "harmonics": 1, "allow": True}
+"""Keys of ``plan.yaml: extrapolation`` and their values when not given
+(:mod:`robomill.plan.extrapolation`)."""
 
 
 class PlanRequestError(ValueError):
@@ -77,6 +89,8 @@ class PlanRequest:
     robot_mode_max_hz: float = 200.0
     reference_point_mm: np.ndarray | None = None
     raw: dict[str, Any] = field(default_factory=dict)
+    purpose: str = "production"
+    extrapolation: dict[str, Any] = field(default_factory=lambda: dict(EXTRAPOLATION))
 
     @property
     def width_mm(self) -> float:
@@ -185,6 +199,29 @@ def _directions(path, value) -> tuple[np.ndarray, tuple[str, ...]]:
     return np.asarray(deg, float), tuple(names)
 
 
+def _extrapolation(path, value) -> dict[str, Any]:
+    out = dict(EXTRAPOLATION)
+    if value is None:
+        return out
+    if not isinstance(value, dict):
+        raise PlanRequestError(path, "extrapolation", "expected a mapping {"
+                               f"{', '.join(EXTRAPOLATION)}}}")
+    for k, v in value.items():
+        where = f"extrapolation.{k}"
+        if k not in EXTRAPOLATION:
+            raise PlanRequestError(path, where, f"unknown field (expected one of "
+                                   f"{', '.join(EXTRAPOLATION)})")
+        if k == "allow":
+            if not isinstance(v, bool):
+                raise PlanRequestError(path, where, f"expected true or false, got {v!r}")
+            out[k] = v
+        elif k == "harmonics":
+            out[k] = _number(path, where, v, positive=True, integer=True)
+        else:
+            out[k] = None if v is None else _number(path, where, v, positive=True)
+    return out
+
+
 def parse_request(data: Any, path: str | Path = "plan.yaml") -> PlanRequest:
     """Validate a request mapping (see the module docstring) and expand its grids."""
     if not isinstance(data, dict):
@@ -193,7 +230,8 @@ def parse_request(data: Any, path: str | Path = "plan.yaml") -> PlanRequest:
         raise PlanRequestError(path, "kind", f"expected 'plan', got {data.get('kind')!r}")
     known = {"kind", "operation", "tool", "placement", "rotations_deg", "spindle_rpm",
              "depth_mm", "feed_mm_s", "constraints", "n_cuts", "max_rotation_step_deg",
-             "path_stations", "robot_mode_max_hz", "reference_point_mm"}
+             "path_stations", "robot_mode_max_hz", "reference_point_mm", "purpose",
+             "extrapolation"}
     for k in data:
         if k not in known:
             raise PlanRequestError(path, str(k), f"unknown field (expected one of "
@@ -237,7 +275,12 @@ def parse_request(data: Any, path: str | Path = "plan.yaml") -> PlanRequest:
     for k in CONSTRAINTS:
         cons.setdefault(k, None)
     ref = data.get("reference_point_mm")
+    purpose = data.get("purpose", "production")
+    if purpose not in PURPOSES:
+        raise PlanRequestError(path, "purpose", f"expected one of {', '.join(PURPOSES)}, got "
+                               f"{purpose!r}")
     return PlanRequest(
+        purpose=purpose, extrapolation=_extrapolation(path, data.get("extrapolation")),
         path=str(path), milling=milling, radial_immersion=ae, length_mm=length,
         direction_deg=deg, direction_names=names, tool_diameter_mm=dia, flutes=flutes,
         placements_mm=_placements(path, data["placement"]), rotations_deg=rot,

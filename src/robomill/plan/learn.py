@@ -1,0 +1,230 @@
+"""Designs that learn (``plan.yaml: purpose: learn``): the next cuts chosen to narrow the
+predictions that bind a production plan, each with the reason it was chosen and the expected
+narrowing of the interval it aims at.
+
+* **Straddle the stability limit where it is least certain**: at the reachable pose and speed
+  whose critical-depth interval is widest relative to its nominal (the limit inside the
+  request's depths), one cut at the largest requested depth below the nominal limit and one at
+  the smallest above it (a parallel slot two tool diameters beside the first, on its own
+  material; the pose moves by that much). Their verdicts (stable, chatter) bracket the true
+  limit between the two depths: expected narrowing 1 − (d_above − d_below)/(a_high − a_low).
+* **The farthest pose**: the reachable placement farthest from the study's cuts, at a depth
+  the pessimistic margin still calls stable where one is; when the pose is extrapolated
+  (farther than ``extrapolation.max_pose_distance_mm``) it removes the widening factor w:
+  expected narrowing 1 − 1/w (0 otherwise: the pose's own check).
+* **A feed that separates edge and shearing coefficients**: the chip load of the request's
+  grid that, added to the identifying cuts, most shrinks the force's prediction interval at
+  the production plan's binding cut (largest removal rate): the half-width goes from
+  t s √(1 + a₀ (AᵀA)⁻¹ a₀ᵀ) to t s √(1 + a₀ (AᵀA + a aᵀ)⁻¹ a₀ᵀ) (the regression of
+  :mod:`robomill.forces.prediction`; the straight line in the chip load whose intercept is the
+  edge force and slope the shearing force).
+
+The request's constraints other than the stability margin apply (a cut above the limit is
+the point of the design); every cut lies on its own material (:mod:`robomill.plan.material`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from robomill.plan.choose import constraint_masks, feasible_table
+from robomill.plan.material import overlaps, slot_segment
+from robomill.plan.request import PlanRequest
+
+DIMS = ("placement", "rotation", "direction", "spindle_rpm", "depth_mm", "feed_mm_s")
+
+
+def _allowed(ds: xr.Dataset, req: PlanRequest) -> xr.DataArray:
+    m = ds["reachable"] & xr.ones_like(ds["mrr_mm3_s"], dtype=bool)
+    m = m & xr.ones_like(ds["feed_mark_um"], dtype=bool)
+    for key, mask in constraint_masks(ds, req).items():
+        if key != "min_stability_margin":
+            m = m & mask
+    return m.transpose(*DIMS)
+
+
+def _row(ds: xr.Dataset, idx: tuple[int, ...]) -> pd.DataFrame:
+    mask = xr.DataArray(np.zeros([ds.sizes[d] for d in DIMS], bool), dims=DIMS)
+    mask.values[idx] = True
+    return feasible_table(ds, mask)
+
+
+def _segment(r, req: PlanRequest) -> np.ndarray:
+    return slot_segment([r["placement_x_mm"], r["placement_y_mm"], r["placement_z_mm"]],
+                        r["direction_deg"], req.length_mm)
+
+
+def place_apart(r: pd.DataFrame, req: PlanRequest, taken: list, tries: int = 4) -> bool:
+    """Put the cut ``r`` (one row) on material no slot in ``taken`` has cut: as it is, or
+    moved sideways by 2, 4, … tool diameters (a parallel slot; the pose moves by that much and
+    its predictions are the unmoved one's); on success its segment joins ``taken``."""
+    seg = _segment(r.iloc[0], req)
+    u = (seg[1] - seg[0]) / np.linalg.norm(seg[1] - seg[0])
+    side = np.cross([0.0, 0.0, 1.0], u) * 2 * req.tool_diameter_mm
+    for k in range(tries):
+        shift = side * ((k + 1) // 2) * (1 if k % 2 else -1)
+        moved = seg + shift
+        if not overlaps(moved, taken, req.tool_diameter_mm):
+            for i, ax in enumerate("xyz"):
+                r[f"placement_{ax}_mm"] = r[f"placement_{ax}_mm"] + shift[i]
+            taken.append(moved)
+            return True
+    return False
+
+
+def straddle(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray,
+             taken: list, skip: set | None = None) -> list[pd.DataFrame]:
+    """The pair of cuts on both sides of the least certain predicted stability limit (not at
+    a speed and placement in ``skip``, to which the pair's own are added)."""
+    skip = set() if skip is None else skip
+    a = ds["a_crit_mm"].transpose(*DIMS[:4]).values
+    lo = ds["a_crit_low_mm"].transpose(*DIMS[:4]).values
+    hi = ds["a_crit_high_mm"].transpose(*DIMS[:4]).values
+    depths = ds["depth_mm"].values
+    ok = (np.isfinite(a) & np.isfinite(lo) & np.isfinite(hi) & (a > depths.min())
+          & (a < depths.max()) & allowed.any(("depth_mm", "feed_mm_s")).values)
+    if not ok.any():
+        return []
+    rel = np.where(ok, (hi - lo) / np.where(ok, a, 1.0), -np.inf)
+    for flat in np.argsort(rel, axis=None)[::-1][:50]:
+        pos = np.unravel_index(flat, rel.shape)
+        if not np.isfinite(rel[pos]):
+            break
+        if (pos[0], pos[3]) in skip:
+            continue
+        i_lo = int(np.flatnonzero(depths <= a[pos]).max())
+        i_hi = int(np.flatnonzero(depths > a[pos]).min())
+        feeds = np.flatnonzero(allowed.values[pos + (i_lo,)] & allowed.values[pos + (i_hi,)])
+        if feeds.size == 0:
+            continue
+        below = _row(ds, pos + (i_lo, int(feeds[0])))
+        above = _row(ds, pos + (i_hi, int(feeds[0])))
+        seg = _segment(below.iloc[0], req)
+        u = seg[1] - seg[0]
+        side = np.cross([0.0, 0.0, 1.0], u / np.linalg.norm(u)) * 2 * req.tool_diameter_mm
+        for k, ax in enumerate("xyz"):
+            above[f"placement_{ax}_mm"] = above[f"placement_{ax}_mm"] + side[k]
+        seg2 = _segment(above.iloc[0], req)
+        if overlaps(seg, taken, req.tool_diameter_mm) or overlaps(seg2, taken + [seg],
+                                                                   req.tool_diameter_mm):
+            continue
+        taken += [seg, seg2]
+        skip.add((pos[0], pos[3]))
+        width = hi[pos] - lo[pos]
+        gain = float(np.clip(1 - (depths[i_hi] - depths[i_lo]) / width, 0, 1)) if width > 0 \
+            else 0.0
+        where = (f"{float(ds['spindle_rpm'].values[pos[3]]):.6g} rpm, placement {pos[0]}, "
+                 f"rotation {float(ds['rotation'].values[pos[1]]):g} deg")
+        below["reason"] = (f"stability limit least certain here ({where}: a_crit "
+                           f"{lo[pos]:.3g}-{hi[pos]:.3g} mm): the depth below it")
+        above["reason"] = (f"stability limit least certain here ({where}): the depth above it, "
+                           f"a parallel slot {2 * req.tool_diameter_mm:g} mm beside")
+        for r in (below, above):
+            r["learn_target"] = "a_crit_mm"
+            r["expected_narrowing"] = gain
+        return [below, above]
+    return []
+
+
+def far_pose(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray, taken: list,
+             midpoints_mm: np.ndarray | None) -> list[pd.DataFrame]:
+    """One cut at the reachable placement farthest from the study's cuts."""
+    if midpoints_mm is None or not len(midpoints_mm):
+        return []
+    pts = np.stack([ds[f"placement_{a}_mm"].values for a in "xyz"], -1)
+    dist = np.linalg.norm(pts[:, None] - np.asarray(midpoints_mm)[None], axis=-1).min(1)
+    margin = ds["stability_margin_low"].transpose(*DIMS).values
+    for p in np.argsort(dist)[::-1]:
+        ok = allowed.values[p]
+        if not ok.any():
+            continue
+        idx = np.argwhere(ok)                                   # (n, 5): r, d, s, a, v
+        stable = np.nan_to_num(margin[p][ok], nan=-1.0) >= 0
+        pool = idx[stable] if stable.any() else idx
+        rest = pool[np.lexsort((pool[:, 4], -pool[:, 3]))[0]]   # deepest, then slowest feed
+        r = _row(ds, (int(p),) + tuple(int(i) for i in rest))
+        if not place_apart(r, req, taken):
+            continue
+        posed = "extrapolation_code" in r and int(r["extrapolation_code"].iloc[0]) & 8
+        w = float(r["interval_widening"].iloc[0]) if posed else 1.0
+        r["reason"] = f"pose farthest from the study's cuts ({dist[p]:.0f} mm)"
+        r["learn_target"] = "pose"
+        r["expected_narrowing"] = float(1 - 1 / w) if w > 1 else 0.0
+        return [r]
+    return []
+
+
+def separating_feed(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray, taken: list,
+                    regression, binding: pd.Series | None) -> list[pd.DataFrame]:
+    """One cut at the chip load that most shrinks the binding cut's force interval."""
+    from robomill.forces.prediction import design_rows
+    from robomill.plan.predict import engagement
+
+    if regression is None or binding is None:
+        return []
+    ent, ext = engagement(req)
+
+    def rows(c, a):
+        Ax, Ay, Az = design_rows(c, a, req.flutes, ent, ext)
+        return np.stack([Ax, Ay], -2), Az
+
+    c0 = float(binding["feed_per_tooth_mm"])
+    A0, z0 = rows(c0, float(binding["depth_mm"]))
+    inv_xy, inv_z = regression.xtx_inv_xy, regression.xtx_inv_z
+    q0 = float(np.trace(A0 @ inv_xy @ A0.T)) / 2 + float(z0 @ inv_z @ z0)
+    c_grid = ds["feed_per_tooth_mm"].transpose("spindle_rpm", "feed_mm_s").values
+    best = None
+    for s in range(c_grid.shape[0]):
+        for v in range(c_grid.shape[1]):
+            A, z = rows(float(c_grid[s, v]), float(ds["depth_mm"].values.max()))
+            nxy = np.linalg.inv(np.linalg.pinv(inv_xy) + A.T @ A)
+            nz = np.linalg.inv(np.linalg.pinv(inv_z) + np.outer(z, z))
+            q = float(np.trace(A0 @ nxy @ A0.T)) / 2 + float(z0 @ nz @ z0)
+            if best is None or q < best[0]:
+                best = (q, s, v)
+    q, s, v = best
+    ok = allowed.values[:, :, :, s, :, v]
+    if not ok.any():
+        return []
+    for flat in np.flatnonzero(ok.ravel())[::-1]:
+        p, r_, d, a = np.unravel_index(flat, ok.shape)
+        r = _row(ds, (int(p), int(r_), int(d), int(s), int(a), int(v)))
+        if not place_apart(r, req, taken):
+            continue
+        r["reason"] = (f"chip load {c_grid[s, v] * 1e3:.3g} um separates the edge and shearing "
+                       f"forces best for the binding cut's force interval (at "
+                       f"{c0 * 1e3:.3g} um)")
+        r["learn_target"] = "force_N"
+        r["expected_narrowing"] = float(1 - np.sqrt((1 + q) / (1 + q0)))
+        return [r]
+    return []
+
+
+def learn_design(ds: xr.Dataset, req: PlanRequest, *, occupied: Sequence[np.ndarray] = (),
+                 midpoints_mm: np.ndarray | None = None, regression=None,
+                 binding: pd.Series | None = None) -> pd.DataFrame:
+    """The learn cuts (module docstring), in the order straddle pair, far pose, separating
+    feed, then further straddle pairs at the next least certain speed and placement while two
+    more fit in ``n_cuts``; columns as the production plan's plus ``reason``,
+    ``learn_target`` and ``expected_narrowing``. Empty when nothing can be learnt."""
+    allowed = _allowed(ds, req)
+    taken = [np.asarray(o, float) for o in occupied]
+    done: set = set()
+    parts = straddle(ds, req, allowed, taken, done)
+    parts += far_pose(ds, req, allowed, taken, midpoints_mm)
+    parts += separating_feed(ds, req, allowed, taken, regression, binding)
+    while len(parts) + 2 <= req.n_cuts:          # more pairs where the limit is next least sure
+        more = straddle(ds, req, allowed, taken, done)
+        if not more:
+            break
+        parts += more
+    if not parts:
+        return pd.DataFrame()
+    out = pd.concat(parts, ignore_index=True).head(req.n_cuts)
+    out.insert(0, "rank", np.arange(1, len(out) + 1))
+    out.insert(0, "cut", [f"plan_{i:02d}" for i in out["rank"]])
+    return out

@@ -1,0 +1,165 @@
+"""Where the study does not reach (robomill.plan.extrapolation): the flags and their reasons,
+the stated widening, and a planted mode above the impact test's band that the plan must not
+claim to be stable against."""
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from robomill.chatter import CuttingModel, ModeXY, tool_from_modes, zoa_lobes
+from robomill.kinematics import robot_from_mapping
+from robomill.plan.choose import PlanInfeasible, choose
+from robomill.plan.extrapolation import StudyReach, reason_text
+from robomill.plan.measured import Measured
+from robomill.plan.predict import Cell, apply_extrapolation, predict_grid
+from robomill.plan.request import parse_request
+
+KTC, KRC = 800.0, 240.0
+MEASURED = ModeXY(40.0, 0.04, 1.0e6, (0.0, 1.0))     # inside the impact test's 10-100 Hz
+HIDDEN = ModeXY(400.0, 0.03, 2.0e6, (0.0, 1.0))      # above it: the test never saw it
+
+
+@pytest.fixture(scope="module")
+def cell():
+    cfg = yaml.safe_load(open("config.yaml"))["cell"]
+    return Cell(robot_from_mapping(cfg["robot"]), np.asarray(cfg["tool_rotation"], float),
+                np.deg2rad(cfg["q_home_deg"]), np.array([650.0, 0.0, 200.0]))
+
+
+def _coefficients():
+    rows = [("Ktc", KTC), ("Krc", KRC), ("Kac", 200.0), ("Kte", 25.0), ("Kre", 30.0),
+            ("Kae", 6.0)]
+    return pd.DataFrame({"name": [r[0] for r in rows], "value": [r[1] for r in rows],
+                         "ci_low": [r[1] * 0.99 for r in rows],
+                         "ci_high": [r[1] * 1.01 for r in rows]})
+
+
+def _modes(mode):
+    # the mode along the wall normal of a cut fed along base Y (normal: base X)
+    return pd.DataFrame({"f_n_hz": [mode.f_hz], "zeta": [mode.zeta],
+                         "k_modal_N_m": [mode.k_N_m], "shape_x": [1.0], "shape_y": [0.0],
+                         "shape_z": [0.0], "f_n_hz_low": [mode.f_hz * 0.995],
+                         "f_n_hz_high": [mode.f_hz * 1.005], "zeta_low": [mode.zeta * 0.95],
+                         "zeta_high": [mode.zeta * 1.05], "k_modal_N_m_low": [mode.k_N_m * 0.97],
+                         "k_modal_N_m_high": [mode.k_N_m * 1.03]})
+
+
+def _request(**extra):
+    return parse_request({"kind": "plan", "operation": {"length_mm": 20, "directions": ["py"]},
+                          "tool": {"diameter_mm": 6, "flutes": 2},
+                          "placement": {"points_mm": [[650, 0, 200], [650, 400, 200]]},
+                          "spindle_rpm": {"min": 1000, "max": 15000, "n": 57},
+                          "depth_mm": [0.05, 0.5], "feed_mm_s": [1, 4], **extra})
+
+
+def _plan(cell, req, reach):
+    m = Measured(modes=_modes(MEASURED), coefficients=_coefficients())
+    ds = predict_grid(req, m, cell)
+    return ds, apply_extrapolation(ds, req, m, cell, reach)
+
+
+def test_speeds_reaching_above_the_band_are_flagged_and_claim_no_narrow_margin(cell):
+    req = _request(extrapolation={"harmonics": 2})
+    reach = StudyReach(modal_band_hz=(10.0, 100.0))
+    before, ds = _plan(cell, req, reach)
+    rpm = ds["spindle_rpm"].values
+    # by hand: tooth passing N n / 60 and its second harmonic against the band's top
+    expected = 2 * 2 * rpm / 60.0 > 100.0
+    flagged = ds["extrapolation"].isel(placement=0, feed_mm_s=0).values
+    assert np.array_equal(flagged, expected)
+    assert expected.any() and not expected.all()
+    code = int(ds["extrapolation_code"].isel(placement=0, feed_mm_s=0).values[-1])
+    assert reason_text(code) == "modal band"
+    # the truth: the measured mode and the hidden one, the package's single-tool solver
+    cut = CuttingModel(2, KTC * 1e6, KRC / KTC, 0.0, np.pi)
+    a_true, _ = zoa_lobes(tool_from_modes([MEASURED, HIDDEN]), cut, rpm)
+    a = ds["a_crit_mm"].isel(placement=0, rotation=0, direction=0).values * 1e-3
+    lo = ds["a_crit_low_mm"].isel(placement=0, rotation=0, direction=0).values * 1e-3
+    hi = ds["a_crit_high_mm"].isel(placement=0, rotation=0, direction=0).values * 1e-3
+    wrong = expected & (a_true < 0.8 * a)             # where the measured modes mislead
+    assert wrong.sum() >= 3
+    assert np.all(lo[expected] <= a_true[expected] * 1.02)    # no stable claim beyond truth
+    fin = wrong & np.isfinite(a)                                # and not a narrow interval
+    assert fin.sum() >= 3 and np.all((hi - lo)[fin] / a[fin] > 0.5)
+    assert np.all(np.isfinite(lo[wrong & ~np.isfinite(a)]))      # "never chatters": not claimed
+    # inside the band: the interval as the identification gives it
+    lo0 = before["a_crit_low_mm"].isel(placement=0, rotation=0, direction=0).values * 1e-3
+    assert np.allclose(lo[~expected], lo0[~expected])
+    hi0 = before["a_crit_high_mm"].isel(placement=0, rotation=0, direction=0).values * 1e-3
+    assert np.allclose(hi[~expected], hi0[~expected])
+
+
+def test_ranges_and_poses_outside_the_study_widen_by_the_stated_rule(cell):
+    req = _request(extrapolation={"max_pose_distance_mm": 100})
+    reach = StudyReach(spindle_rpm=(1000.0, 10000.0), feed_per_tooth_mm=(0.002, 0.01),
+                       radial_immersion=(1.0, 1.0),
+                       midpoints_mm=np.array([[650.0, 20.0, 200.0]]))
+    before, ds = _plan(cell, req, reach)
+    sel = {"spindle_rpm": 15000.0, "feed_mm_s": 1.0}
+    # 15000 rpm is 50 % above the identified 10000; c = 1·60/(2·15000) = 0.002 mm: inside
+    assert reason_text(int(ds["extrapolation_code"].sel(placement=0, **sel))) == "spindle speed"
+    assert float(ds["interval_widening"].sel(placement=0, **sel)) == pytest.approx(3.0)
+    assert reason_text(int(ds["extrapolation_code"].sel(placement=1, **sel))) == \
+        "spindle speed; pose"
+    f, f0 = ds["force_high_N"].sel(depth_mm=0.5, **sel), before["force_high_N"].sel(
+        depth_mm=0.5, **sel)
+    nom = before["force_N"].sel(depth_mm=0.5, **sel)
+    assert float(f - nom) == pytest.approx(3.0 * float(f0 - nom), rel=1e-9)
+    # 4 mm/s at 1000 rpm: c = 0.12 mm, 11 times the identified 0.01 mm
+    c_sel = {"spindle_rpm": 1000.0, "feed_mm_s": 4.0}
+    assert "feed per tooth" in reason_text(int(ds["extrapolation_code"].sel(placement=0,
+                                                                              **c_sel)))
+    inside = {"spindle_rpm": 5000.0, "feed_mm_s": 1.0}       # c = 0.006 mm
+    assert not bool(ds["extrapolation"].sel(placement=0, **inside))
+
+
+def test_one_line_when_every_candidate_is_extrapolated_and_none_is_allowed(cell):
+    req = _request(extrapolation={"allow": False, "harmonics": 1})
+    _, ds = _plan(cell, req, StudyReach(spindle_rpm=(50.0, 100.0)))
+    with pytest.raises(PlanInfeasible) as e:
+        choose(ds, req)
+    msg = str(e.value)
+    assert "\n" not in msg and "extrapolated" in msg and "spindle speed" in msg
+
+
+def test_chapter_7_states_the_band_against_the_chosen_speeds():
+    from robomill.pipeline.prose import Prose, load_templates
+    from robomill.plan.extrapolation import reach_values
+
+    chosen = pd.DataFrame({"tooth_passing_hz": [933.3, 1000.0, 60.0],
+                           "extrapolation": [True, True, False],
+                           "extrapolation_reason": ["modal band", "spindle speed; modal band",
+                                                    ""]})
+    attrs = {"interval_level": 0.9, "modal_band_hz": [10.0, 100.0],
+             "extrapolation_harmonics": 1}
+    v = reach_values(chosen, attrs)
+    assert v["n_above_band"] == 2 and v["band_case"] == "above" and v["n_extrapolated"] == 2
+    assert v["reasons"] == "modal band, spindle speed"
+    text = Prose(load_templates("ch7"), v)("reach_level", "reach_extrapolated", "reach_band")
+    assert "90 %" in text and "10–100 Hz" in text and "60–1000 Hz" in text
+    inside = reach_values(chosen.iloc[2:], attrs)
+    assert inside["band_case"] == "inside" and inside["n_extrapolated"] == 0
+    assert "stays inside it" in Prose(load_templates("ch7"), inside)("reach_band")
+
+
+def test_the_modes_intervals_carry_into_the_critical_depth(cell):
+    """One mode, exact coefficients: the lobes' minimum scales with k ζ (1 + ζ) (Altintas 2012
+    §4.3: the most negative real part of an SDOF receptance is −1/(4kζ(1+ζ))), so the
+    pessimistic end of the critical depth's minimum over the speeds is that of ζ and k at
+    their low ends, by hand: 0.95 · 0.97 · (1 + 0.95 ζ)/(1 + ζ)."""
+    names = ["Ktc", "Krc", "Kac", "Kte", "Kre", "Kae"]
+    vals = [KTC, KRC, 200.0, 25.0, 30.0, 6.0]
+    coeffs = pd.DataFrame({"name": names, "value": vals, "ci_low": vals, "ci_high": vals})
+    req = _request()
+    m = Measured(modes=_modes(MEASURED), coefficients=coeffs)
+    ds = predict_grid(req, m, cell)
+    sel = {"placement": 0, "rotation": 0, "direction": 0}
+    a = ds["a_crit_mm"].isel(**sel).values
+    lo = ds["a_crit_low_mm"].isel(**sel).values
+    z = MEASURED.zeta
+    assert lo.min() / a.min() == pytest.approx(0.95 * 0.97 * (1 + 0.95 * z) / (1 + z),
+                                               rel=0.02)
+    bare = predict_grid(req, Measured(modes=_modes(MEASURED).iloc[:, :6], coefficients=coeffs),
+                        cell)
+    assert np.allclose(bare["a_crit_low_mm"].isel(**sel).values, a)   # no intervals: a point
