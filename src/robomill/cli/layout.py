@@ -210,20 +210,34 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
     return inf
 
 
-def data_files(raw_dir: Path) -> list[Path]:
+def ignored(rel_paths: list[str], patterns: list[str]) -> set[str]:
+    """The paths of ``rel_paths`` (relative, ``/``-separated) that ``patterns`` match, with
+    the rules of ``.gitignore`` (``pathspec.GitIgnoreSpec``: ``*.jpg`` anywhere, ``notes/``
+    a folder and all it holds, ``/x`` anchored at the raw folder, ``!keep`` re-includes)."""
+    if not patterns:
+        return set()
+    import pathspec
+
+    spec = pathspec.GitIgnoreSpec.from_lines(patterns)
+    return {r for r in rel_paths if spec.match_file(r)}
+
+
+def data_files(raw_dir: Path, ignore: list[str] | None = None) -> list[Path]:
     """Every data file of the raw folder (hidden files, the manifest and README/.gitkeep
-    excluded; the cell file too unless the manifest has a kind ``cell`` to list it), sorted."""
+    excluded; the cell file too unless the manifest has a kind ``cell`` to list it; files
+    matching the manifest's ``ignore`` patterns, :func:`ignored`), sorted."""
     from robomill.io.manifest import KIND_KEYS
 
-    ignored = [n for n in IGNORED_NAMES if not (n == "cell.yaml" and "cell" in KIND_KEYS)]
+    ignored_names = [n for n in IGNORED_NAMES if not (n == "cell.yaml" and "cell" in KIND_KEYS)]
     out = []
     for p in sorted(raw_dir.rglob("*")):
         rel = p.relative_to(raw_dir)
         if (p.is_file() and not any(part.startswith(".") for part in rel.parts)
-                and not (len(rel.parts) == 1 and p.name in ignored)
+                and not (len(rel.parts) == 1 and p.name in ignored_names)
                 and p.name not in ("README.md", ".gitkeep")):
             out.append(p)
-    return out
+    skip = ignored([p.relative_to(raw_dir).as_posix() for p in out], ignore or [])
+    return [p for p in out if p.relative_to(raw_dir).as_posix() not in skip]
 
 
 def cut_stub(cut_id: str) -> dict[str, Any]:
