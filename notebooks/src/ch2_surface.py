@@ -22,6 +22,7 @@ metrics: str = None  # results/surface/metrics.csv
 spectra: str = None  # results/surface/spectra.nc
 profiles: str = None  # results/surface/profiles.nc
 recovery: str = None  # results/surface/recovery.csv (synthetic data only)
+reference: str = None  # results/surface/reference_comparison.csv (files stating parameters)
 templates: str = None  # notebooks/templates/ch2.yaml: the sentences rendered from findings
 findings: str = None  # results/surface/findings.yaml: every number and verdict stated here
 settings: dict = None  # config surface section (the figures' frequency ranges)
@@ -93,6 +94,9 @@ num.figure("peak_mechanisms", "Spatial and temporal frequency of every peak agai
            "mechanism", number=23)
 if F["has_recovery"]:
     num.table("recovery", "Planted against recovered RMS per cut (synthetic data)")
+if F.get("has_reference"):
+    num.table("reference", "Ours against the parameters the profile files state about "
+              "themselves, with the filter of each")
 
 
 
@@ -186,6 +190,13 @@ display(Markdown(say("recovery", ref_recovery=num.ref("recovery") if F["has_reco
 if F["has_recovery"]:
     display(num.caption("recovery"))
     display(pd.read_csv(recovery).round(3))
+
+# %%
+if F.get("has_reference"):  # only where a profile file states its own parameters
+    display(Markdown("## Against the files' own parameters"))
+    display(Markdown(say("reference", ref_reference=num.ref("reference"))))
+    display(num.caption("reference"))
+    display(pd.read_csv(reference).round(4))
 
 # %% [markdown]
 # ## What it means

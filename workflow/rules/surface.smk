@@ -100,6 +100,33 @@ rule surface_gather:
         "../scripts/surface_gather.py"
 
 
+# Profiles whose file states its own parameters (SMATS XML ROUGHNESS_/WAVINESS_SURFACE_
+# PARAMETERS, kept in the manifest entry's `reference`): ours beside them, with the filter.
+SURFACE_REFERENCE = [c for c, f in SURFACE_FILES.items() if f.get("reference")]
+SURFACE_REFERENCE_CSV = "results/surface/reference_comparison.csv"
+if SURFACE_REFERENCE:
+
+    rule surface_reference:
+        input:
+            raw=[f"{RAW}/{SURFACE_FILES[c]['path']}" for c in SURFACE_REFERENCE],
+            study=STUDY,
+        output:
+            SURFACE_REFERENCE_CSV,
+        log:
+            "results/logs/surface/reference.log",
+        benchmark:
+            "results/benchmarks/rules/surface/reference.tsv"
+        conda:
+            ENV
+        params:
+            settings=config["surface"],
+            cuts=SURFACE_REFERENCE,
+            relpath=[SURFACE_FILES[c]["path"] for c in SURFACE_REFERENCE],
+            reference=[SURFACE_FILES[c]["reference"] for c in SURFACE_REFERENCE],
+        script:
+            "../scripts/surface_reference.py"
+
+
 rule surface_recovery:
     input:
         metrics="results/surface/metrics.csv",
@@ -123,6 +150,9 @@ rule surface_findings:
     input:
         unpack(
             lambda w: {"recovery": "results/surface/recovery.csv"} if SYNTHETIC else {}
+        ),
+        unpack(
+            lambda w: {"reference": SURFACE_REFERENCE_CSV} if SURFACE_REFERENCE else {}
         ),
         # Tables 2.1/2.2 and the thesis comparison (the scorecard reads the tables)
         **SURFACE_TABLES,
@@ -157,6 +187,7 @@ rule surface:
         "results/surface/metrics.csv",
         "results/surface/spectra.nc",
         optional_input(SYNTHETIC, "results/surface/recovery.csv"),
+        optional_input(bool(SURFACE_REFERENCE), SURFACE_REFERENCE_CSV),
 
 
 CHAPTER_PARAMETERS["ch2"] = {
@@ -169,6 +200,9 @@ use rule chapter as ch2 with:
     input:
         unpack(
             lambda w: {"recovery": "results/surface/recovery.csv"} if SYNTHETIC else {}
+        ),
+        unpack(
+            lambda w: {"reference": SURFACE_REFERENCE_CSV} if SURFACE_REFERENCE else {}
         ),
         **SURFACE_TABLES,
         notebook=notebook("ch2_surface.ipynb"),
