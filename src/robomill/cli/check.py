@@ -86,8 +86,15 @@ def _check_stiffness(path: Path, entry: Mapping[str, Any]) -> None:
     read_load_tests(path, n_joints)
 
 
+def _check_areal(path: Path, entry: Mapping[str, Any]) -> None:
+    from robomill.io.areal import read_areal
+
+    read_areal(path)
+
+
 CHECKERS: dict[str, Callable[[Path, Mapping[str, Any]], None]] = {
     "profile": _check_profile,
+    "areal": _check_areal,
     "force": _check_force,
     "tracker": _check_tracker,
     "impact": _check_impact,

@@ -19,6 +19,7 @@ from robomill.experiment import CUT_ID
 
 KIND_FOLDERS: dict[str, str] = {
     "profile": "profiles",
+    "areal": "areal",
     "force": "forces",
     "tracker": "tracker",
     "impact": "impact",
