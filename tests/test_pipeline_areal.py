@@ -66,3 +66,64 @@ def test_smats_xml_reference_parameters_in_chapter_2(tmp_path):
     assert "Against the files&#39; own parameters" in html or \
         "Against the files' own parameters" in html
     assert "CUTOFF 0.25 mm" in html
+
+
+def test_areal_x3p_folder_through_chapter_2(tmp_path):
+    """A folder of real areal X3P exports (the Sensofar scan, one cut measured by the scan
+    and by a stylus-like profile, one by the scan only) and a scan with only invalid points:
+    import, manifest, check (names the bad scan), ``snakemake ch2`` (one line for it, the
+    rest runs): Sq within 1 % of SurfaceTopography's, the instrument in the artefacts, the
+    scan-only cut analysed from its profile along the feed, the two ways compared."""
+    import numpy as np
+
+    from robomill.io.areal import write_areal
+
+    raw = tmp_path / "raw"
+    land = DATA / "real" / "x3p" / "sample-land.x3p"
+    steps = [("init", raw),
+             ("import", "x3p", land, "--to", raw, "--cut", "land_a", "--areal",
+              "--feed-angle-deg", "0"),
+             ("import", "x3p", land, "--to", raw, "--cut", "land_a", "--row", "128",
+              "--dropouts", "longest"),
+             ("import", "x3p", land, "--to", raw, "--cut", "land_b", "--areal")]
+    for args in steps:
+        proc = robomill(*args)
+        assert proc.returncode == 0, (args, proc.stdout, proc.stderr)
+    write_areal(raw / "areal" / "dropout.nc", np.full((8, 9), np.nan), 0.01, 0.01, {})
+    m = yaml.safe_load((raw / "manifest.yaml").read_text())
+    m["cuts"].append({"id": "dropout", "direction": None, "feed_mm_s": None, "depth_mm": None})
+    m["files"].append({"path": "areal/dropout.nc", "kind": "areal", "cut": "dropout",
+                       "feed_angle_deg": 0.0})
+    (raw / "manifest.yaml").write_text(yaml.safe_dump(m, sort_keys=False))
+    assert robomill("manifest", raw).returncode == 0
+    m = yaml.safe_load((raw / "manifest.yaml").read_text())
+    m["experiment"].update(spindle_rpm=6000, flutes=2)
+    for c in m["cuts"]:
+        c.update(feed_mm_s=1.0, depth_mm=0.25, direction="px")
+    (raw / "manifest.yaml").write_text(yaml.safe_dump(m, sort_keys=False))
+    assert robomill("manifest", raw).returncode == 0
+    check = robomill("check", raw)
+    assert check.returncode == 1 and "dropout.nc: z_um: the scan has only invalid points" in \
+        check.stdout, check.stdout
+    work = tmp_path / "work"
+    work.mkdir()
+    proc = run_snakemake(work, "-j2", "ch2", "--config", f"data={raw}",
+                         configfile=REPO / "config.yaml")
+    assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-6000:]
+    assert proc.stderr.count("dropout.nc: z_um: the scan has only invalid points") == 1
+    areal = pd.read_csv(work / "results/surface/areal.csv").set_index("cut")
+    assert sorted(areal.index) == ["land_a", "land_b"]
+    assert areal.loc["land_a", "Sq_um"] == pytest.approx(33.64027570219823, rel=0.01)
+    assert areal.loc["land_a", "instrument"] == "Sensofar Sneox1"
+    assert areal.loc["land_a", "profile_source"] == "stylus"
+    assert areal.loc["land_b", "profile_source"] == "areal"
+    metrics = pd.read_csv(work / "results/surface/metrics.csv")
+    assert sorted(metrics["cut"]) == ["land_a", "land_b"]  # land_b from its scan
+    vs = pd.read_csv(work / "results/surface/profile_vs_areal.csv")
+    assert set(vs["cut"]) == {"land_a"} and np.isfinite(vs["ratio"]).all()
+    import xarray as xr
+
+    with xr.open_dataset(work / "results/surface/areal/land_a.nc", engine="h5netcdf") as ds:
+        assert ds.attrs["probe"] == "Nikon - EPI 20X" and ds.attrs["serial"] == "350262016"
+    html = (work / "results/chapters/ch2_surface.html").read_text()
+    assert "Areal scans" in html and "Sensofar Sneox1" in html

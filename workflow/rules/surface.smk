@@ -3,10 +3,26 @@
 # One simulator job (virtual cell), one analysis job per cut (one for all the virtual cell's
 # cuts), then one gather job.
 SURFACE_FILES = {f["cut"]: f for f in RAW_FILES if f["kind"] == "profile"}
-SURFACE_CUTS = {c.id: c.as_dict() for c in CUTS if c.id in SURFACE_FILES}
+# Areal scans (kind areal): ISO 25178 parameters and spectra per scan; a cut with a scan and
+# no stylus profile gets the scan's profile along the feed as its profile. A scan that cannot
+# be analysed (only invalid points, unreadable) is left out with one line; the rest runs.
+AREAL_FILES = {}
+_AREAL = [f for f in RAW_FILES if f["kind"] == "areal"]
+if _AREAL:  # (xarray is imported only for a folder with scans)
+    from robomill.io.areal import scan_problem
+for _f in _AREAL:
+    _p = Path(f"{RAW}/{_f['path']}")
+    _why = scan_problem(_p) if _p.exists() else None
+    if _why is None:
+        AREAL_FILES[_f["cut"]] = _f
+    elif workflow.is_main_process:
+        print(f"robomill: {_why}: scan left out", file=sys.stderr)
+SURFACE_FROM_AREAL = [c for c in AREAL_FILES if c not in SURFACE_FILES]
+SURFACE_PROFILE_CUTS = [c.id for c in CUTS if c.id in SURFACE_FILES or c.id in AREAL_FILES]
+SURFACE_CUTS = {c.id: c.as_dict() for c in CUTS if c.id in SURFACE_PROFILE_CUTS}
 # the thesis design gets Tables 2.1/2.2 and the thesis comparison; any other design one
 # per-cut table grouped by what varies (robomill.surface.design_table)
-SURFACE_THESIS = is_thesis_design([c for c in CUTS if c.id in SURFACE_FILES])
+SURFACE_THESIS = is_thesis_design([c for c in CUTS if c.id in SURFACE_PROFILE_CUTS])
 SURFACE_TABLES = (
     {
         "waviness": "results/surface/table_2_1_waviness_rms.csv",
@@ -18,9 +34,38 @@ SURFACE_TABLES = (
 )
 
 
+def surface_profile_source(cut):
+    """The file a cut's profile is read from: its stylus profile (raw folder), or the
+    profile along the feed of its areal scan (rule surface_areal)."""
+    if cut in SURFACE_FILES:
+        return f"{RAW}/{SURFACE_FILES[cut]['path']}"
+    return f"results/surface/areal/{cut}_profile.csv"
+
+
+rule surface_areal:
+    input:
+        raw=lambda w: f"{RAW}/{AREAL_FILES[w.cut]['path']}",
+        study=STUDY,
+    output:
+        nc="results/surface/areal/{cut}.nc",
+        profile="results/surface/areal/{cut}_profile.csv",
+    log:
+        "results/logs/surface/areal_{cut}.log",
+    benchmark:
+        "results/benchmarks/rules/surface/areal_{cut}.tsv"
+    conda:
+        ENV
+    params:
+        settings=config["surface"],
+        relpath=lambda w: AREAL_FILES[w.cut]["path"],
+        entry=lambda w: AREAL_FILES[w.cut],
+    script:
+        "../scripts/surface_areal.py"
+
+
 rule surface_profile:
     input:
-        raw=lambda w: f"{RAW}/{SURFACE_FILES[w.cut]['path']}",
+        raw=lambda w: surface_profile_source(w.cut),
         study=STUDY,
     output:
         nc="results/surface/cuts/{cut}.nc",
@@ -33,7 +78,9 @@ rule surface_profile:
         ENV
     params:
         settings=config["surface"],
-        relpath=lambda w: [SURFACE_FILES[w.cut]["path"]],
+        # a stylus profile is read from the raw folder (sha256 checked); a scan's profile
+        # along the feed from its analysis (None: the input file itself)
+        relpath=lambda w: [SURFACE_FILES[w.cut]["path"] if w.cut in SURFACE_FILES else None],
         cut=lambda w: [SURFACE_CUTS[w.cut]],
     script:
         "../scripts/surface_profile.py"
@@ -69,9 +116,9 @@ if SYNTHETIC and SURFACE_FILES:
 
 rule surface_gather:
     input:
-        data=kind_input("surface", "profile"),
-        cuts=expand("results/surface/cuts/{cut}.nc", cut=SURFACE_FILES),
-        peaks=expand("results/surface/cuts/{cut}_peaks.csv", cut=SURFACE_FILES),
+        data=kind_input("surface", "profile" if SURFACE_FILES or not AREAL_FILES else "areal"),
+        cuts=expand("results/surface/cuts/{cut}.nc", cut=SURFACE_PROFILE_CUTS),
+        peaks=expand("results/surface/cuts/{cut}_peaks.csv", cut=SURFACE_PROFILE_CUTS),
         study=STUDY,
     output:
         **{
@@ -98,6 +145,37 @@ rule surface_gather:
         cuts=list(SURFACE_CUTS.values()),
     script:
         "../scripts/surface_gather.py"
+
+
+# Areal scans gathered: ISO 25178 parameters with each instrument's statements, the spectra,
+# and for cuts with both a stylus profile and a scan the two side by side.
+AREAL_OUTPUTS = {
+    "areal": "results/surface/areal.csv",
+    "areal_spectra": "results/surface/areal_spectra.nc",
+    "profile_vs_areal": "results/surface/profile_vs_areal.csv",
+}
+if AREAL_FILES:
+
+    rule surface_areal_gather:
+        input:
+            scans=expand("results/surface/areal/{cut}.nc", cut=AREAL_FILES),
+            profiles=expand("results/surface/areal/{cut}_profile.csv", cut=AREAL_FILES),
+            stylus=[f"results/surface/cuts/{c}.nc" for c in AREAL_FILES if c in SURFACE_FILES],
+        output:
+            **AREAL_OUTPUTS,
+        log:
+            "results/logs/surface/areal_gather.log",
+        benchmark:
+            "results/benchmarks/rules/surface/areal_gather.tsv"
+        conda:
+            ENV
+        params:
+            settings=config["surface"],
+            cuts=list(AREAL_FILES),
+            entries=list(AREAL_FILES.values()),
+            stylus_cuts=[c for c in AREAL_FILES if c in SURFACE_FILES],
+        script:
+            "../scripts/surface_areal_gather.py"
 
 
 # Profiles whose file states its own parameters (SMATS XML ROUGHNESS_/WAVINESS_SURFACE_
@@ -154,6 +232,7 @@ rule surface_findings:
         unpack(
             lambda w: {"reference": SURFACE_REFERENCE_CSV} if SURFACE_REFERENCE else {}
         ),
+        unpack(lambda w: AREAL_OUTPUTS if AREAL_FILES else {}),
         # Tables 2.1/2.2 and the thesis comparison (the scorecard reads the tables)
         **SURFACE_TABLES,
         metrics="results/surface/metrics.csv",
@@ -188,6 +267,7 @@ rule surface:
         "results/surface/spectra.nc",
         optional_input(SYNTHETIC, "results/surface/recovery.csv"),
         optional_input(bool(SURFACE_REFERENCE), SURFACE_REFERENCE_CSV),
+        optional_input(bool(AREAL_FILES), list(AREAL_OUTPUTS.values())),
 
 
 CHAPTER_PARAMETERS["ch2"] = {
@@ -204,6 +284,7 @@ use rule chapter as ch2 with:
         unpack(
             lambda w: {"reference": SURFACE_REFERENCE_CSV} if SURFACE_REFERENCE else {}
         ),
+        unpack(lambda w: AREAL_OUTPUTS if AREAL_FILES else {}),
         **SURFACE_TABLES,
         notebook=notebook("ch2_surface.ipynb"),
         templates=notebook("templates/ch2.yaml"),
@@ -221,4 +302,8 @@ use rule chapter as ch2 with:
         chapter_benchmark("ch2")
 
 
-add_chapter("2", "results/chapters/ch2_surface.html", needs=("profile",))
+add_chapter(
+    "2",
+    "results/chapters/ch2_surface.html",
+    needs=("profile",) if SURFACE_FILES or not AREAL_FILES else ("areal",),
+)

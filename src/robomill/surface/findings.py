@@ -50,7 +50,9 @@ def surface_findings(metrics: pd.DataFrame, peaks: pd.DataFrame, profiles: xr.Da
                      settings: Mapping[str, Any], thesis_layout: bool, synthetic: bool,
                      design: str | None = None, comparison: pd.DataFrame | None = None,
                      recovery: pd.DataFrame | None = None,
-                     reference: pd.DataFrame | None = None) -> Findings:
+                     reference: pd.DataFrame | None = None,
+                     areal: pd.DataFrame | None = None,
+                     profile_vs_areal: pd.DataFrame | None = None) -> Findings:
     """The findings of the surface stage.
 
     Parameters
@@ -87,6 +89,9 @@ def surface_findings(metrics: pd.DataFrame, peaks: pd.DataFrame, profiles: xr.Da
         ``results/surface/reference_comparison.csv`` (where profile files state their own
         parameters): :func:`robomill.surface.reference.add_reference_findings`, verdict
         ``reference_agreement`` against ``surface.reference_rtol``.
+    areal, profile_vs_areal
+        ``results/surface/areal.csv`` and ``profile_vs_areal.csv`` (where the folder has
+        areal scans): :func:`robomill.surface.areal_study.add_areal_findings`.
 
     Returns
     -------
@@ -254,5 +259,10 @@ def surface_findings(metrics: pd.DataFrame, peaks: pd.DataFrame, profiles: xr.Da
         from robomill.surface.reference import add_reference_findings
 
         add_reference_findings(found, reference, float(settings["reference_rtol"]))
+    # areal scans (where the folder has any), and stylus against scan for cuts with both
+    if areal is not None:
+        from robomill.surface.areal_study import add_areal_findings
+
+        add_areal_findings(found, areal, profile_vs_areal)
     return found
 
