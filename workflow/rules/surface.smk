@@ -17,8 +17,9 @@ for _f in _AREAL:
         AREAL_FILES[_f["cut"]] = _f
     elif workflow.is_main_process:
         print(f"robomill: {_why}: scan left out", file=sys.stderr)
-SURFACE_FROM_AREAL = [c for c in AREAL_FILES if c not in SURFACE_FILES]
-SURFACE_PROFILE_CUTS = [c.id for c in CUTS if c.id in SURFACE_FILES or c.id in AREAL_FILES]
+SURFACE_PROFILE_CUTS = [
+    c.id for c in CUTS if c.id in SURFACE_FILES or c.id in AREAL_FILES
+]
 SURFACE_CUTS = {c.id: c.as_dict() for c in CUTS if c.id in SURFACE_PROFILE_CUTS}
 # the thesis design gets Tables 2.1/2.2 and the thesis comparison; any other design one
 # per-cut table grouped by what varies (robomill.surface.design_table)
@@ -80,7 +81,9 @@ rule surface_profile:
         settings=config["surface"],
         # a stylus profile is read from the raw folder (sha256 checked); a scan's profile
         # along the feed from its analysis (None: the input file itself)
-        relpath=lambda w: [SURFACE_FILES[w.cut]["path"] if w.cut in SURFACE_FILES else None],
+        relpath=lambda w: [
+            SURFACE_FILES[w.cut]["path"] if w.cut in SURFACE_FILES else None
+        ],
         cut=lambda w: [SURFACE_CUTS[w.cut]],
     script:
         "../scripts/surface_profile.py"
@@ -116,7 +119,9 @@ if SYNTHETIC and SURFACE_FILES:
 
 rule surface_gather:
     input:
-        data=kind_input("surface", "profile" if SURFACE_FILES or not AREAL_FILES else "areal"),
+        data=kind_input(
+            "surface", "profile" if SURFACE_FILES or not AREAL_FILES else "areal"
+        ),
         cuts=expand("results/surface/cuts/{cut}.nc", cut=SURFACE_PROFILE_CUTS),
         peaks=expand("results/surface/cuts/{cut}_peaks.csv", cut=SURFACE_PROFILE_CUTS),
         study=STUDY,
@@ -160,7 +165,11 @@ if AREAL_FILES:
         input:
             scans=expand("results/surface/areal/{cut}.nc", cut=AREAL_FILES),
             profiles=expand("results/surface/areal/{cut}_profile.csv", cut=AREAL_FILES),
-            stylus=[f"results/surface/cuts/{c}.nc" for c in AREAL_FILES if c in SURFACE_FILES],
+            stylus=[
+                f"results/surface/cuts/{c}.nc"
+                for c in AREAL_FILES
+                if c in SURFACE_FILES
+            ],
         output:
             **AREAL_OUTPUTS,
         log:

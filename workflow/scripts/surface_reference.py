@@ -8,7 +8,7 @@ from robomill.io.profiles import read_profile
 from robomill.pipeline.runlog import setup
 from robomill.study import load_study
 from robomill.surface.options import settings
-from robomill.surface.reference import COLUMNS, reference_comparison
+from robomill.surface.reference import REFERENCE_COLUMNS, reference_comparison
 
 log = setup(snakemake.log[0], "surface_reference")
 p = snakemake.params
@@ -19,7 +19,7 @@ for cut, relpath, reference in zip(p.cuts, p.relpath, p.reference, strict=True):
     x, z, _ = read_profile(study.verify_file(relpath))
     tables.append(reference_comparison(x, z, reference, lambda_c_mm=opts["lambda_c_mm"],
                                        rtol=opts["reference_rtol"], cut=cut))
-table = pd.concat(tables, ignore_index=True) if tables else pd.DataFrame(columns=COLUMNS)
+table = pd.concat(tables, ignore_index=True) if tables else pd.DataFrame(columns=REFERENCE_COLUMNS)
 write_table(table, snakemake.output[0])
 log.info("%d parameters of %d files; %d within %g of the file's own", len(table), len(tables),
          int(table["within_tolerance"].sum()), opts["reference_rtol"])

@@ -28,7 +28,7 @@ import pandas as pd
 
 from robomill.surface.profile import detrend_profile, rz_um, split_profile
 
-COLUMNS = ["cut", "profile", "parameter", "unit", "file_value", "ours", "rel_diff",
+REFERENCE_COLUMNS = ["cut", "profile", "parameter", "unit", "file_value", "ours", "rel_diff",
            "within_tolerance", "lambda_c_mm", "filter"]
 """Columns of ``results/surface/reference_comparison.csv``."""
 
@@ -89,7 +89,7 @@ def reference_comparison(x_mm: np.ndarray, z_um: np.ndarray, reference: Mapping[
     Returns
     -------
     pandas.DataFrame
-        :data:`COLUMNS`, one row per stated parameter (``ours`` NaN for a type we do not
+        :data:`REFERENCE_COLUMNS`, one row per stated parameter (``ours`` NaN for a type we do not
         compute, e.g. Pc).
 
     Examples
@@ -129,7 +129,7 @@ def reference_comparison(x_mm: np.ndarray, z_um: np.ndarray, reference: Mapping[
                          "lambda_c_mm": lc if profile != "primary" else float("nan"),
                          "filter": ("none (least-squares line removed)" if profile == "primary"
                                     else _filter_text(section, lc, stated))})
-    return pd.DataFrame(rows, columns=COLUMNS)
+    return pd.DataFrame(rows, columns=REFERENCE_COLUMNS)
 
 
 _REFERENCE = "results/surface/reference_comparison.csv"
