@@ -15,7 +15,7 @@ import pytest
 from robomill.errors import RawDataError
 from robomill.importers.topography import read_topography_file
 from robomill.importers.x3p import read_x3p_grid
-from robomill.io.areal import read_areal, write_areal
+from robomill.io.areal import read_areal, scan_problem, write_areal
 from robomill.surface.areal import (
     analyse_scan,
     extract_lines,
@@ -113,6 +113,9 @@ def test_only_invalid_points_is_one_line(tmp_path):
     with pytest.raises(RawDataError, match=r"a\.nc: z_um: the scan has only invalid points "
                        r"\(5 × 4, all NaN\)"):
         read_areal(path)
+    assert "only invalid points" in scan_problem(path)  # the workflow's DAG-time check
+    good = write_areal(tmp_path / "g.nc", np.ones((3, 4)), 0.01, 0.01, {})
+    assert scan_problem(good) is None
     with pytest.raises(RawDataError, match=r"x\.sdf: file: not readable as an areal scan"):
         bad = tmp_path / "x.sdf"
         bad.write_text("not a scan\n")

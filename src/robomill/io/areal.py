@@ -7,7 +7,7 @@ sdf`` and the other areal formats), self-describing:
 * coordinates ``x`` and ``y`` [mm] (uniform, from 0): the scan's own frame;
 * attributes: ``source_file``, ``source_format`` and whatever the instrument's file states
   (``instrument``, ``manufacturer``, ``model``, ``serial``, ``probe``, ``date`` …), kept into
-  the chapter's artefacts.
+  the chapter's artefacts; ``valid_points`` (the number of measured points).
 
 The cut's feed direction in that frame is the manifest entry's ``feed_angle_deg`` (0: the
 feed runs along +x).
@@ -38,8 +38,9 @@ def write_areal(path: str | Path, z_um: np.ndarray, dx_mm: float, dy_mm: float,
                   {"units": "um", "long_name": "height (NaN: not measured)"})},
         coords={"x": ("x", np.arange(nx) * float(dx_mm), {"units": "mm"}),
                 "y": ("y", np.arange(ny) * float(dy_mm), {"units": "mm"})},
-        attrs={k: (str(v) if not isinstance(v, (int, float)) else v)
-               for k, v in attrs.items() if v is not None})
+        attrs={**{k: (str(v) if not isinstance(v, (int, float)) else v)
+                  for k, v in attrs.items() if v is not None},
+               "valid_points": int(np.isfinite(z).sum())})
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     ds.to_netcdf(path, engine="h5netcdf",
@@ -90,7 +91,19 @@ def read_areal(path: str | Path) -> tuple[np.ndarray, float, float, dict[str, An
 
 def scan_problem(path: str | Path) -> str | None:
     """One line saying why the scan at ``path`` cannot be analysed (:func:`read_areal`'s
-    error), or ``None``."""
+    error), or ``None``. Cheap for the files :func:`write_areal` wrote: their
+    ``valid_points`` attribute (with the variable's shape) answers without reading the
+    heights (the workflow asks for every scan while it builds the DAG)."""
+    try:
+        import h5py
+
+        with h5py.File(path, "r") as f:
+            n = f.attrs.get("valid_points")
+            if n is not None and int(n) > 0 and "z_um" in f and f["z_um"].ndim == 2 and min(
+                    f["z_um"].shape) >= 2:
+                return None
+    except (OSError, KeyError, ValueError, TypeError):
+        pass  # the full read below names the problem
     try:
         read_areal(path)
     except RawDataError as exc:
