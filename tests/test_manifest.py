@@ -265,3 +265,14 @@ def test_ignore_patterns_are_gitignore_style_and_kept_by_robomill_manifest(tmp_p
     (raw / "manifest.yaml").write_text(yaml.safe_dump(data, sort_keys=False))
     with pytest.raises(RawDataError, match=r"ignore: ignore is '\*\.jpg' \(expected a list"):
         load_manifest(raw / "manifest.yaml")
+
+
+def test_robomill_manifest_names_the_import_of_an_areal_export(tmp_path):
+    from robomill.cli.manifest import update_manifest
+
+    raw = _raw_dir(tmp_path)
+    (raw / "areal").mkdir()
+    (raw / "areal" / "scan.x3p").write_bytes(b"PK")
+    _, _, todo = update_manifest(raw)
+    assert any("areal/scan.x3p: native areal scan export: convert it with robomill import "
+               "x3p areal/scan.x3p --areal" in t for t in todo), todo

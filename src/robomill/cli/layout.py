@@ -150,6 +150,13 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
         inf.entry = {"path": rel, "kind": "cell"}    # lists it (kind `cell`)
         inf.missing = [k for k in KIND_KEYS["cell"] if k not in inf.entry]
         return inf
+    if Path(rel).parts[0] == KIND_FOLDERS["areal"] and path.suffix.lower() != ".nc":
+        # an instrument's own areal export put in areal/: the import writes the .nc
+        how = ("x3p FILE --areal" if path.suffix.lower() == ".x3p" else
+               "sdf FILE" if path.suffix.lower() == ".sdf" else "areal FILE")
+        inf.note = (f"native areal scan export: convert it with robomill import "
+                    f"{how.replace('FILE', rel)} --cut CUT --feed-angle-deg A --to {raw_dir}")
+        return inf
     native = NATIVE_SUFFIXES.get(path.suffix.lower())
     if native == "uff" and Path(rel).parts[0] == KIND_FOLDERS["impact"]:
         # UFF 58 in impact/ is a contract file (what `robomill import uff` writes there)
