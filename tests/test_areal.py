@@ -6,6 +6,7 @@ robomill.surface.areal)."""
 from __future__ import annotations
 
 import argparse
+import hashlib
 import zipfile
 from pathlib import Path
 
@@ -181,3 +182,34 @@ def test_analyse_scan_on_the_real_scan():
     assert 0.85 < float(ds["valid_share"]) < 0.95
     with pytest.raises(ValueError, match="no valid point"):
         analyse_scan(np.full((3, 3), np.nan), dx, dy, 0.0, {"areal_form_degree": 1})
+
+
+def test_x3p_areal_import_of_a_scan_with_only_invalid_points(tmp_path):
+    """The openGPS binary sample with every bit of valid.bin cleared: one line, no file."""
+    src = REAL / "x3p" / "ISO5436-sample1_bin.x3p"
+    bad = tmp_path / "dead.x3p"
+    with zipfile.ZipFile(src) as zin, zipfile.ZipFile(bad, "w") as zout:
+        for item in zin.infolist():
+            data = zin.read(item.filename)
+            if item.filename.endswith("valid.bin"):
+                old_md5 = hashlib.md5(data).hexdigest().encode()
+                data = bytes(len(data))
+                new_md5 = hashlib.md5(data).hexdigest().encode()
+            zout.writestr(item, data)
+    with pytest.raises(RawDataError, match=r"MD5ChecksumValidPoints: bindata/valid\.bin MD5 is"):
+        read_x3p_grid(bad)  # a valid.bin that is not the one main.xml describes
+    with zipfile.ZipFile(bad) as zin:  # main.xml states the new valid.bin's MD5
+        members = {i.filename: zin.read(i.filename) for i in zin.infolist()}
+    members["main.xml"] = members["main.xml"].replace(old_md5, new_md5)
+    with zipfile.ZipFile(bad, "w") as zout:
+        for name, data in members.items():
+            zout.writestr(name, data)
+    staging = tmp_path / "staging"
+    with pytest.raises(RawDataError, match=r"dead\.x3p: main\.xml: Record3: the scan has only "
+                       r"invalid points \(4 × 4\)"):
+        _import("x3p", [bad], staging, ["--areal"])
+    assert not staging.exists() or not any(p.is_file() for p in staging.rglob("*"))
+    # the same file, readable points: the 4 x 4 grid with its one invalid point
+    e = _import("x3p", [src], staging, ["--areal", "--cut", "s"])
+    z, *_ = read_areal(staging / e[0]["path"])
+    assert z.shape == (4, 4) and int(np.isnan(z).sum()) == 1

@@ -172,11 +172,20 @@ def _read_x3p(source: Path) -> dict:
                                    where="main.xml: Record3/DataLink/MD5ChecksumPointData",
                                    expected="an undamaged point data file")
             values = np.frombuffer(raw, dtype=_DTYPES[ztype]).astype(float)
-            vlink = _text(source, root, "Record3/ValidPointsLink", required=False)
+            # ISO 5436-2 puts the link in DataLink; older writers beside it
+            vlink = (_text(source, root, "Record3/DataLink/ValidPointsLink", required=False)
+                     or _text(source, root, "Record3/ValidPointsLink", required=False))
             vmember = None if vlink is None else (vlink if vlink in names else prefix + vlink)
             if vmember in names:
-                bits = np.unpackbits(np.frombuffer(zf.read(vmember), dtype=np.uint8),
-                                     bitorder="little")
+                vraw = zf.read(vmember)
+                want = _text(source, root, "Record3/DataLink/MD5ChecksumValidPoints",
+                             required=False)
+                if want and hashlib.md5(vraw).hexdigest().lower() != want.lower():
+                    raise RawDataError(source, f"{vlink} MD5 is {hashlib.md5(vraw).hexdigest()}"
+                                       f", main.xml says {want}",
+                                       where="main.xml: Record3/DataLink/MD5ChecksumValidPoints",
+                                       expected="an undamaged valid-points file")
+                bits = np.unpackbits(np.frombuffer(vraw, dtype=np.uint8), bitorder="little")
                 if bits.size >= npts:
                     valid = bits[:npts].astype(bool)
         else:
