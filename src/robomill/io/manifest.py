@@ -80,8 +80,6 @@ REDUNDANCY_LIMIT_DEG = 360.0
 KIND_KEYS: dict[str, dict[str, tuple[type, ...]]] = {
     # kind -> metadata keys every file of that kind must carry (besides path, kind, sha256)
     "profile": {"cut": (str,)},
-    # areal scans: the cut's feed direction in the scan's frame (robomill.io.areal)
-    "areal": {"cut": (str,), "feed_angle_deg": (int, float)},
     "force": {"cut": (str,), "fs_hz": (int, float)},
     "tracker": {"feed_mm_s": (int, float), "fs_hz": (int, float)},  # + direction(_deg)
     # impact: CSV hits need 'direction', UFF files need nothing; robomill.io.impact
@@ -91,6 +89,8 @@ KIND_KEYS: dict[str, dict[str, tuple[type, ...]]] = {
     "robot": {"robot": (str,)},
     "stiffness": {"robot": (str,)},
     "cell": {},
+    # areal scans: the cut's feed direction in the scan's frame (robomill.io.areal)
+    "areal": {"cut": (str,), "feed_angle_deg": (int, float)},
 }
 """Metadata keys required per file kind. Chapter issues extend their kind's entry."""
 
