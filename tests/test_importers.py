@@ -600,6 +600,17 @@ def test_smats_xml_nist_fields_bad_inputs(tmp_path, old, new, match):
               match=match)
 
 
+def test_smats_xml_units_as_attributes(tmp_path):
+    text = SMATS_NIST.read_text().replace("<SPACING>0.5 um<", '<SPACING unit="nm">500<')
+    text = text.replace("<PQ>1.442221 um<", '<PQ units="nm">1442.221<')
+    path = tmp_path / "attr.xml"
+    path.write_text(text)
+    x, _, meta = module("smats").read_smats_file(path)
+    x0, _, meta0 = module("smats").read_smats_file(SMATS_NIST)
+    np.testing.assert_allclose(x, x0, rtol=1e-12)
+    assert meta["reference"]["primary"]["Pq_um"] == pytest.approx(1.442221, rel=1e-12)
+
+
 def test_smats_xml_tags_in_any_case(tmp_path):
     text = SMATS_NIST.read_text()
     lower = re.sub(r"</?[A-Z_]+>", lambda m: m.group(0).lower(), text)

@@ -233,6 +233,16 @@ def _unit_um(unit: str) -> float | None:
     return XML_UNITS_UM.get(unit.strip().lower())
 
 
+def _attr_unit(el) -> str:
+    """The unit an element states as an attribute (``unit``/``units``, any case), or ``""``."""
+    if el is None:
+        return ""
+    for key, value in el.attrib.items():
+        if key.lower() in ("unit", "units") and value.strip():
+            return value.strip()
+    return ""
+
+
 def _xml_number(source: Path, datafile, where: str, tag: str) -> float:
     text = _xml_field(source, datafile, where, tag)
     got = number_unit(text)
@@ -247,6 +257,8 @@ def _xml_length_um(source: Path, datafile, where: str, tag: str, um_per_unit: fl
     """A length field in µm: a bare number in ``UNITS``, or a number with its own unit."""
     text = _xml_field(source, datafile, where, tag)
     got = number_unit(text)
+    if got is not None and not got[1]:  # a unit given as an attribute: <SPACING unit="um">
+        got = (got[0], _attr_unit(datafile.find(tag)))
     if got is None or (got[1] and _unit_um(got[1]) is None):
         raise RawDataError(source, f"{tag} {text!r} is not a length", where=f"{where}/{tag}",
                            expected=f"a number (in {unit}) or a number and a unit of "
@@ -323,6 +335,8 @@ def reference_parameters(source: Path, root, datafile, heights_um_per_unit: floa
                     settings[child.tag] = text
                 continue
             got = number_unit(text)
+            if got is not None and not got[1]:
+                got = (got[0], _attr_unit(child))
             name = child.tag[0] + child.tag[1:].lower()
             if got is None or (got[1] and _unit_um(got[1]) is None):
                 raise RawDataError(source, f"{child.tag} {text!r} is not a number with a "
