@@ -35,14 +35,6 @@ SURFACE_TABLES = (
 )
 
 
-def surface_profile_source(cut):
-    """The file a cut's profile is read from: its stylus profile (raw folder), or the
-    profile along the feed of its areal scan (rule surface_areal)."""
-    if cut in SURFACE_FILES:
-        return f"{RAW}/{SURFACE_FILES[cut]['path']}"
-    return f"results/surface/areal/{cut}_profile.csv"
-
-
 rule surface_areal:
     input:
         raw=lambda w: f"{RAW}/{AREAL_FILES[w.cut]['path']}",
@@ -66,7 +58,12 @@ rule surface_areal:
 
 rule surface_profile:
     input:
-        raw=lambda w: surface_profile_source(w.cut),
+        # a cut's stylus profile, or the profile along the feed of its areal scan
+        raw=lambda w: (
+            f"{RAW}/{SURFACE_FILES[w.cut]['path']}"
+            if w.cut in SURFACE_FILES
+            else f"results/surface/areal/{w.cut}_profile.csv"
+        ),
         study=STUDY,
     output:
         nc="results/surface/cuts/{cut}.nc",
