@@ -261,7 +261,8 @@ CASES = [
      r"manifest\.yaml: files\[path=profiles/s1_g1_px\.csv\]: "
      r"file listed in the manifest does not exist"),
     ("manifest", "manifest/present_but_unlisted/profiles/s1_g2_px.csv", "manifest+verify",
-     r"manifest\.yaml: files: file is present but not listed in the manifest"),
+     r"manifest\.yaml: files: 1 file\(s\) in a data folder are present but not listed in "
+     r"the manifest: profiles/s1_g2_px\.csv"),
     ("manifest", "manifest/sha256_mismatch/profiles/s1_g1_px.csv", "manifest+verify",
      r"manifest\.yaml: files\[path=profiles/s1_g1_px\.csv\]\.sha256: "
      r"sha256 is [0-9a-f]{64}, the manifest says [0-9a-f]{64}"),

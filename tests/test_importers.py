@@ -40,6 +40,7 @@ SDF = BUILT / "smats" / "two_profiles.sdf"
 MM11_INT = REAL / "smats" / "mm11_iso1_ascii_int32.sdf"
 MM11_F64 = REAL / "smats" / "mm11_iso1_ascii_binary64.sdf"
 SMATS_XML = BUILT / "smats" / "milled_profile.xml"
+SMATS_NIST = BUILT / "smats" / "nist_layout_reference.xml"
 
 FORMATS = ("dynoware", "tdms", "spatialanalyzer", "faro", "smats", "x3p")
 
@@ -536,6 +537,97 @@ def test_smats_xml_kcal_options(tmp_path):
     _, z_ignore = read(path, kcal="ignore")
     np.testing.assert_allclose(z_apply, 0.5 * z_ref)
     np.testing.assert_allclose(z_ignore, z_ref)
+
+
+def test_smats_xml_nist_header_fields_and_reference_parameters(tmp_path):
+    """SMATS XML with the header fields as NIST writes them (lengths with units, KCAL
+    '1.0000 um/um', UNITS 'micrometers') and the file's own parameter sections
+    (constructed: tests/data/constructed/smats/make_smats_reference_xml.py, whose values come
+    from the planted components and the filter's published transmission, not from our
+    filter): the entry carries them, and ours agree within 1 %, Pq of every profile among
+    them."""
+    from robomill.surface.reference import reference_comparison
+
+    e = run("smats", [SMATS_NIST], tmp_path, ["--cut", "c1"])
+    ref = e[0]["reference"]
+    assert set(ref) == {"primary", "roughness", "waviness"}
+    assert ref["roughness"]["lambda_c_mm"] == pytest.approx(0.25)
+    assert ref["roughness"]["filter"] == {"FILTER": "Gaussian", "CUTOFF": "0.25 mm"}
+    assert ref["primary"] == {"Pq_um": pytest.approx(np.sqrt(2.0**2 / 2 + 0.4**2 / 2))}
+    x, z, fs = read_profile(tmp_path / e[0]["path"])
+    assert x.size == 8000 and fs == pytest.approx(2000.0)  # 0.5 um written '0.5 um'
+    table = reference_comparison(x, z, ref, lambda_c_mm=0.8, rtol=0.01, cut="c1")
+    assert len(table) == 8 and table["within_tolerance"].all(), table
+    pq = table[table["parameter"] == "Pq"].set_index("profile")
+    assert set(pq.index) == {"primary", "roughness", "waviness"}
+    assert (pq["ours"] / pq["file_value"] - 1).abs().max() < 0.01
+    assert table.loc[table["profile"] == "roughness", "filter"].iloc[0] == (
+        "the file's: FILTER Gaussian, CUTOFF 0.25 mm")
+    # a section without a cut-off is computed at ours, and says so
+    ref2 = {"roughness": {"Pq_um": 0.28}}
+    row = reference_comparison(x, z, ref2, lambda_c_mm=0.8, rtol=0.01).iloc[0]
+    assert row["lambda_c_mm"] == 0.8 and "not stated in the file" in row["filter"]
+
+
+@pytest.mark.parametrize("kcal, argv, scale", [
+    ("1000 nm/um", (), 1.0),            # a length ratio equal to 1
+    ("0.5 nm/count", (), 0.5e-3),       # values are counts of 0.5 nm
+    ("0.998 um/um", ("--kcal", "apply"), 0.998),
+    ("0.998 um/um", ("--kcal", "ignore"), 1.0),
+])
+def test_smats_xml_unit_bearing_kcal(tmp_path, kcal, argv, scale):
+    path = tmp_path / "k.xml"
+    path.write_text(SMATS_NIST.read_text().replace("<KCAL>1.0000 um/um<", f"<KCAL>{kcal}<"))
+    _, z_ref = module("smats").read_smats(SMATS_NIST)
+    _, z = module("smats").read_smats(path, kcal=dict([argv]).get("--kcal", "refuse")
+                                      if argv else "refuse")
+    np.testing.assert_allclose(z, z_ref * scale, rtol=1e-12)
+
+
+@pytest.mark.parametrize("old, new, match", [
+    ("<KCAL>1.0000 um/um<", "<KCAL>0.998 um/um<",
+     r"DATA/DATAFILE/KCAL: KCAL is 0\.998 um/um: whether the heights are to be scaled"),
+    ("<KCAL>1.0000 um/um<", "<KCAL>1.0 kg/m<",
+     r"DATA/DATAFILE/KCAL: KCAL '1\.0 kg/m': unit 'kg/m' is not understood \(expected a "
+     r"number, a number and a ratio of lengths"),
+    ("<SPACING>0.5 um<", "<SPACING>0.5 parsec<",
+     r"DATA/DATAFILE/SPACING: SPACING '0\.5 parsec' is not a length"),
+    ("<PQ>1.442221 um<", "<PQ>n/a<",
+     r"PRIMARY_SURFACE_PARAMETERS/PQ: PQ 'n/a' is not a number with a length unit"),
+])
+def test_smats_xml_nist_fields_bad_inputs(tmp_path, old, new, match):
+    one_error("smats", _smats_xml_variant_of(SMATS_NIST, tmp_path, old, new), tmp_path,
+              match=match)
+
+
+def test_smats_xml_units_as_attributes(tmp_path):
+    text = SMATS_NIST.read_text().replace("<SPACING>0.5 um<", '<SPACING unit="nm">500<')
+    text = text.replace("<PQ>1.442221 um<", '<PQ units="nm">1442.221<')
+    path = tmp_path / "attr.xml"
+    path.write_text(text)
+    x, _, meta = module("smats").read_smats_file(path)
+    x0, _, meta0 = module("smats").read_smats_file(SMATS_NIST)
+    np.testing.assert_allclose(x, x0, rtol=1e-12)
+    assert meta["reference"]["primary"]["Pq_um"] == pytest.approx(1.442221, rel=1e-12)
+
+
+def test_smats_xml_tags_in_any_case(tmp_path):
+    text = SMATS_NIST.read_text()
+    lower = re.sub(r"</?[A-Z_]+>", lambda m: m.group(0).lower(), text)
+    path = tmp_path / "lower.xml"
+    path.write_text(lower)
+    x, z, meta = module("smats").read_smats_file(path)
+    x0, z0, meta0 = module("smats").read_smats_file(SMATS_NIST)
+    np.testing.assert_array_equal(z, z0)
+    assert meta == meta0
+
+
+def _smats_xml_variant_of(source, tmp_path, old, new):
+    text = source.read_text()
+    assert old in text
+    path = tmp_path / "variant.xml"
+    path.write_text(text.replace(old, new))
+    return path
 
 
 @pytest.mark.parametrize("path, zscale", [(MM11_INT, 1e-14), (MM11_F64, 1e-12)])

@@ -217,3 +217,62 @@ def test_tracker_runs_take_the_direction_forms_of_cuts(entry, message):
     else:
         with pytest.raises(RawDataError, match=message):
             parse_manifest(data, "manifest.yaml")
+
+
+def test_unlisted_files_in_a_data_folder_stop_ingestion_naming_all(tmp_path):
+    raw = _raw_dir(tmp_path)
+    for name in ("extra.csv", "more.csv"):
+        (raw / "profiles" / name).write_text("x_mm,z_um\n")
+    with pytest.raises(RawDataError, match=r"2 file\(s\) in a data folder.*"
+                       r"profiles/extra\.csv, profiles/more\.csv"):
+        load_manifest(raw / "manifest.yaml").verify_all()
+
+
+def test_unlisted_files_elsewhere_give_one_warning_line(tmp_path):
+    raw = _raw_dir(tmp_path)
+    (raw / "notes").mkdir()
+    (raw / "notes" / "lab book.txt").write_text("cut 1 went fine\n")
+    (raw / "photo.jpg").write_bytes(b"\xff\xd8")
+    warnings = load_manifest(raw / "manifest.yaml").verify_all()
+    assert len(warnings) == 1
+    assert "2 file(s) not listed" in warnings[0]
+    assert "notes/lab book.txt" in warnings[0] and "photo.jpg" in warnings[0]
+
+
+def test_ignore_patterns_are_gitignore_style_and_kept_by_robomill_manifest(tmp_path):
+    from robomill.cli.manifest import update_manifest
+
+    raw = _raw_dir(tmp_path)
+    (raw / "notes").mkdir()
+    (raw / "notes" / "a.txt").write_text("a\n")
+    (raw / "profiles" / "photo.jpg").write_bytes(b"\xff\xd8")
+    (raw / "profiles" / "project.mnt").write_bytes(b"\x00")
+    (raw / "keep.jpg").write_bytes(b"\xff\xd8")
+    data = yaml.safe_load((raw / "manifest.yaml").read_text())
+    data["ignore"] = ["notes/", "*.jpg", "/profiles/*.mnt", "!keep.jpg"]
+    (raw / "manifest.yaml").write_text(yaml.safe_dump(data, sort_keys=False))
+    # inside profiles/ both files are ignored (a pattern without a slash matches at any
+    # depth, an anchored one from the raw folder); keep.jpg is re-included by '!'
+    warnings = load_manifest(raw / "manifest.yaml").verify_all()
+    assert warnings == [w for w in warnings if "keep.jpg" in w] and len(warnings) == 1
+    assert "a.txt" not in warnings[0] and "photo.jpg" not in warnings[0]
+    out, _, todo = update_manifest(raw)
+    assert out["ignore"] == data["ignore"]
+    assert [f["path"] for f in out["files"]] == ["profiles/s1_g1_px.csv"]
+    assert not any("a.txt" in t or "photo" in t or "mnt" in t for t in todo)
+    assert any("keep.jpg" in t for t in todo)
+    data["ignore"] = "*.jpg"
+    (raw / "manifest.yaml").write_text(yaml.safe_dump(data, sort_keys=False))
+    with pytest.raises(RawDataError, match=r"ignore: ignore is '\*\.jpg' \(expected a list"):
+        load_manifest(raw / "manifest.yaml")
+
+
+def test_robomill_manifest_names_the_import_of_an_areal_export(tmp_path):
+    from robomill.cli.manifest import update_manifest
+
+    raw = _raw_dir(tmp_path)
+    (raw / "areal").mkdir()
+    (raw / "areal" / "scan.x3p").write_bytes(b"PK")
+    _, _, todo = update_manifest(raw)
+    assert any("areal/scan.x3p: native areal scan export: convert it with robomill import "
+               "x3p areal/scan.x3p --areal" in t for t in todo), todo

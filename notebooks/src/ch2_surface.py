@@ -22,6 +22,10 @@ metrics: str = None  # results/surface/metrics.csv
 spectra: str = None  # results/surface/spectra.nc
 profiles: str = None  # results/surface/profiles.nc
 recovery: str = None  # results/surface/recovery.csv (synthetic data only)
+reference: str = None  # results/surface/reference_comparison.csv (files stating parameters)
+areal: str = None  # results/surface/areal.csv (a folder with areal scans)
+areal_spectra: str = None  # results/surface/areal_spectra.nc (a folder with areal scans)
+profile_vs_areal: str = None  # results/surface/profile_vs_areal.csv (cuts measured both ways)
 templates: str = None  # notebooks/templates/ch2.yaml: the sentences rendered from findings
 findings: str = None  # results/surface/findings.yaml: every number and verdict stated here
 settings: dict = None  # config surface section (the figures' frequency ranges)
@@ -93,6 +97,17 @@ num.figure("peak_mechanisms", "Spatial and temporal frequency of every peak agai
            "mechanism", number=23)
 if F["has_recovery"]:
     num.table("recovery", "Planted against recovered RMS per cut (synthetic data)")
+if F.get("has_areal"):
+    num.table("areal", "Areal scans: ISO 25178-2 height parameters after form removal, with "
+              "what each instrument states")
+    num.figure("areal_psd", "Areal scans: radially averaged areal PSD, and PSDs along and "
+               "across the feed")
+if F.get("has_profile_vs_areal"):
+    num.table("profile_vs_areal", "Cuts measured both ways: the stylus profile's parameters "
+              "beside those of the scan's profile along the feed")
+if F.get("has_reference"):
+    num.table("reference", "Ours against the parameters the profile files state about "
+              "themselves, with the filter of each")
 
 
 
@@ -186,6 +201,27 @@ display(Markdown(say("recovery", ref_recovery=num.ref("recovery") if F["has_reco
 if F["has_recovery"]:
     display(num.caption("recovery"))
     display(pd.read_csv(recovery).round(3))
+
+# %%
+if F.get("has_areal"):  # only for a folder with areal scans
+    display(Markdown("## Areal scans"))
+    display(Markdown(say("areal", ref_areal=num.ref("areal"),
+                         ref_areal_psd=num.ref("areal_psd"))))
+    display(num.caption("areal"))
+    display(pd.read_csv(areal).round(4))
+    num.show(figures.areal_psd_figure(open_artefact(areal_spectra)), "areal_psd")
+if F.get("has_profile_vs_areal"):
+    display(Markdown(say("profile_vs_areal",
+                         ref_profile_vs_areal=num.ref("profile_vs_areal"))))
+    display(num.caption("profile_vs_areal"))
+    display(pd.read_csv(profile_vs_areal).round(4))
+
+# %%
+if F.get("has_reference"):  # only where a profile file states its own parameters
+    display(Markdown("## Against the files' own parameters"))
+    display(Markdown(say("reference", ref_reference=num.ref("reference"))))
+    display(num.caption("reference"))
+    display(pd.read_csv(reference).round(4))
 
 # %% [markdown]
 # ## What it means

@@ -3,10 +3,27 @@
 # One simulator job (virtual cell), one analysis job per cut (one for all the virtual cell's
 # cuts), then one gather job.
 SURFACE_FILES = {f["cut"]: f for f in RAW_FILES if f["kind"] == "profile"}
-SURFACE_CUTS = {c.id: c.as_dict() for c in CUTS if c.id in SURFACE_FILES}
+# Areal scans (kind areal): ISO 25178 parameters and spectra per scan; a cut with a scan and
+# no stylus profile gets the scan's profile along the feed as its profile. A scan that cannot
+# be analysed (only invalid points, unreadable) is left out with one line; the rest runs.
+AREAL_FILES = {}
+_AREAL = [f for f in RAW_FILES if f["kind"] == "areal"]
+if _AREAL:  # (xarray is imported only for a folder with scans)
+    from robomill.io.areal import scan_problem
+for _f in _AREAL:
+    _p = Path(f"{RAW}/{_f['path']}")
+    _why = scan_problem(_p) if _p.exists() else None
+    if _why is None:
+        AREAL_FILES[_f["cut"]] = _f
+    elif workflow.is_main_process:
+        print(f"robomill: {_why}: scan left out", file=sys.stderr)
+SURFACE_PROFILE_CUTS = [
+    c.id for c in CUTS if c.id in SURFACE_FILES or c.id in AREAL_FILES
+]
+SURFACE_CUTS = {c.id: c.as_dict() for c in CUTS if c.id in SURFACE_PROFILE_CUTS}
 # the thesis design gets Tables 2.1/2.2 and the thesis comparison; any other design one
 # per-cut table grouped by what varies (robomill.surface.design_table)
-SURFACE_THESIS = is_thesis_design([c for c in CUTS if c.id in SURFACE_FILES])
+SURFACE_THESIS = is_thesis_design([c for c in CUTS if c.id in SURFACE_PROFILE_CUTS])
 SURFACE_TABLES = (
     {
         "waviness": "results/surface/table_2_1_waviness_rms.csv",
@@ -18,9 +35,35 @@ SURFACE_TABLES = (
 )
 
 
+rule surface_areal:
+    input:
+        raw=lambda w: f"{RAW}/{AREAL_FILES[w.cut]['path']}",
+        study=STUDY,
+    output:
+        nc="results/surface/areal/{cut}.nc",
+        profile="results/surface/areal/{cut}_profile.csv",
+    log:
+        "results/logs/surface/areal_{cut}.log",
+    benchmark:
+        "results/benchmarks/rules/surface/areal_{cut}.tsv"
+    conda:
+        ENV
+    params:
+        settings=config["surface"],
+        relpath=lambda w: AREAL_FILES[w.cut]["path"],
+        entry=lambda w: AREAL_FILES[w.cut],
+    script:
+        "../scripts/surface_areal.py"
+
+
 rule surface_profile:
     input:
-        raw=lambda w: f"{RAW}/{SURFACE_FILES[w.cut]['path']}",
+        # a cut's stylus profile, or the profile along the feed of its areal scan
+        raw=lambda w: (
+            f"{RAW}/{SURFACE_FILES[w.cut]['path']}"
+            if w.cut in SURFACE_FILES
+            else f"results/surface/areal/{w.cut}_profile.csv"
+        ),
         study=STUDY,
     output:
         nc="results/surface/cuts/{cut}.nc",
@@ -33,7 +76,11 @@ rule surface_profile:
         ENV
     params:
         settings=config["surface"],
-        relpath=lambda w: [SURFACE_FILES[w.cut]["path"]],
+        # a stylus profile is read from the raw folder (sha256 checked); a scan's profile
+        # along the feed from its analysis (None: the input file itself)
+        relpath=lambda w: [
+            SURFACE_FILES[w.cut]["path"] if w.cut in SURFACE_FILES else None
+        ],
         cut=lambda w: [SURFACE_CUTS[w.cut]],
     script:
         "../scripts/surface_profile.py"
@@ -69,9 +116,11 @@ if SYNTHETIC and SURFACE_FILES:
 
 rule surface_gather:
     input:
-        data=kind_input("surface", "profile"),
-        cuts=expand("results/surface/cuts/{cut}.nc", cut=SURFACE_FILES),
-        peaks=expand("results/surface/cuts/{cut}_peaks.csv", cut=SURFACE_FILES),
+        data=kind_input(
+            "surface", "profile" if SURFACE_FILES or not AREAL_FILES else "areal"
+        ),
+        cuts=expand("results/surface/cuts/{cut}.nc", cut=SURFACE_PROFILE_CUTS),
+        peaks=expand("results/surface/cuts/{cut}_peaks.csv", cut=SURFACE_PROFILE_CUTS),
         study=STUDY,
     output:
         **{
@@ -100,6 +149,68 @@ rule surface_gather:
         "../scripts/surface_gather.py"
 
 
+# Areal scans gathered: ISO 25178 parameters with each instrument's statements, the spectra,
+# and for cuts with both a stylus profile and a scan the two side by side.
+AREAL_OUTPUTS = {
+    "areal": "results/surface/areal.csv",
+    "areal_spectra": "results/surface/areal_spectra.nc",
+    "profile_vs_areal": "results/surface/profile_vs_areal.csv",
+}
+if AREAL_FILES:
+
+    rule surface_areal_gather:
+        input:
+            scans=expand("results/surface/areal/{cut}.nc", cut=AREAL_FILES),
+            profiles=expand("results/surface/areal/{cut}_profile.csv", cut=AREAL_FILES),
+            stylus=[
+                f"results/surface/cuts/{c}.nc"
+                for c in AREAL_FILES
+                if c in SURFACE_FILES
+            ],
+        output:
+            **AREAL_OUTPUTS,
+        log:
+            "results/logs/surface/areal_gather.log",
+        benchmark:
+            "results/benchmarks/rules/surface/areal_gather.tsv"
+        conda:
+            ENV
+        params:
+            settings=config["surface"],
+            cuts=list(AREAL_FILES),
+            entries=list(AREAL_FILES.values()),
+            stylus_cuts=[c for c in AREAL_FILES if c in SURFACE_FILES],
+        script:
+            "../scripts/surface_areal_gather.py"
+
+
+# Profiles whose file states its own parameters (SMATS XML ROUGHNESS_/WAVINESS_SURFACE_
+# PARAMETERS, kept in the manifest entry's `reference`): ours beside them, with the filter.
+SURFACE_REFERENCE = [c for c, f in SURFACE_FILES.items() if f.get("reference")]
+SURFACE_REFERENCE_CSV = "results/surface/reference_comparison.csv"
+if SURFACE_REFERENCE:
+
+    rule surface_reference:
+        input:
+            raw=[f"{RAW}/{SURFACE_FILES[c]['path']}" for c in SURFACE_REFERENCE],
+            study=STUDY,
+        output:
+            SURFACE_REFERENCE_CSV,
+        log:
+            "results/logs/surface/reference.log",
+        benchmark:
+            "results/benchmarks/rules/surface/reference.tsv"
+        conda:
+            ENV
+        params:
+            settings=config["surface"],
+            cuts=SURFACE_REFERENCE,
+            relpath=[SURFACE_FILES[c]["path"] for c in SURFACE_REFERENCE],
+            reference=[SURFACE_FILES[c]["reference"] for c in SURFACE_REFERENCE],
+        script:
+            "../scripts/surface_reference.py"
+
+
 rule surface_recovery:
     input:
         metrics="results/surface/metrics.csv",
@@ -124,6 +235,10 @@ rule surface_findings:
         unpack(
             lambda w: {"recovery": "results/surface/recovery.csv"} if SYNTHETIC else {}
         ),
+        unpack(
+            lambda w: {"reference": SURFACE_REFERENCE_CSV} if SURFACE_REFERENCE else {}
+        ),
+        unpack(lambda w: AREAL_OUTPUTS if AREAL_FILES else {}),
         # Tables 2.1/2.2 and the thesis comparison (the scorecard reads the tables)
         **SURFACE_TABLES,
         metrics="results/surface/metrics.csv",
@@ -157,6 +272,8 @@ rule surface:
         "results/surface/metrics.csv",
         "results/surface/spectra.nc",
         optional_input(SYNTHETIC, "results/surface/recovery.csv"),
+        optional_input(bool(SURFACE_REFERENCE), SURFACE_REFERENCE_CSV),
+        optional_input(bool(AREAL_FILES), list(AREAL_OUTPUTS.values())),
 
 
 CHAPTER_PARAMETERS["ch2"] = {
@@ -170,6 +287,10 @@ use rule chapter as ch2 with:
         unpack(
             lambda w: {"recovery": "results/surface/recovery.csv"} if SYNTHETIC else {}
         ),
+        unpack(
+            lambda w: {"reference": SURFACE_REFERENCE_CSV} if SURFACE_REFERENCE else {}
+        ),
+        unpack(lambda w: AREAL_OUTPUTS if AREAL_FILES else {}),
         **SURFACE_TABLES,
         notebook=notebook("ch2_surface.ipynb"),
         templates=notebook("templates/ch2.yaml"),
@@ -187,4 +308,8 @@ use rule chapter as ch2 with:
         chapter_benchmark("ch2")
 
 
-add_chapter("2", "results/chapters/ch2_surface.html", needs=("profile",))
+add_chapter(
+    "2",
+    "results/chapters/ch2_surface.html",
+    needs=("profile",) if SURFACE_FILES or not AREAL_FILES else ("areal",),
+)

@@ -15,7 +15,8 @@ log = setup(snakemake.log[0], "surface_findings")
 inp, p = snakemake.input, snakemake.params
 metrics = pd.read_csv(inp.metrics)
 cuts = pd.read_csv(inp.cuts)
-optional = {k: pd.read_csv(inp[k]) for k in ("comparison", "recovery") if k in inp.keys()}
+optional = {k: pd.read_csv(inp[k]) for k in ("comparison", "recovery", "reference", "areal",
+                                            "profile_vs_areal") if k in inp.keys()}
 found = surface_findings(
     metrics, pd.read_csv(inp.peaks), open_artefact(inp.profiles),
     settings=settings(p.settings), thesis_layout=bool(p.thesis_layout),

@@ -1,5 +1,7 @@
 """Analyse stylus profiles: detrend, Gaussian split, spectra, segment RMS, peaks (one cut, or
-every cut of the virtual cell in one job: ``params.cut`` and the outputs in the same order)."""
+every cut of the virtual cell in one job: ``params.cut`` and the outputs in the same order).
+A cut with an areal scan and no stylus profile is analysed from the scan's profile along the
+feed."""
 
 from robomill.io import write_artefact, write_table
 from robomill.io.profiles import read_profile
@@ -19,9 +21,12 @@ log = setup(snakemake.log[0], "surface_profile")
 p = snakemake.params
 opts = settings(p.settings)
 study = load_study(snakemake.input.study)
-for relpath, cut, nc, peaks_csv in zip(p.relpath, p.cut, items(snakemake.output.nc),
-                                       items(snakemake.output.peaks), strict=True):
-    path = study.verify_file(relpath)
+for relpath, raw, cut, nc, peaks_csv in zip(p.relpath, items(snakemake.input.raw), p.cut,
+                                            items(snakemake.output.nc),
+                                            items(snakemake.output.peaks), strict=True):
+    # a stylus profile of the raw folder (sha256 checked), or an areal scan's profile along
+    # the feed (relpath None: written by rule surface_areal)
+    path = study.verify_file(relpath) if relpath is not None else raw
     x, z, fs = read_profile(path)
     ds = analyse_profile(x, z, opts)
     ds.attrs.update({"cut": cut["id"], "feed_mm_s": float(cut["feed_mm_s"])})

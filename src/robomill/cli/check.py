@@ -93,10 +93,17 @@ def _check_recording(path: Path, entry: Mapping[str, Any]) -> None:
     read_recording(path, entry["kind"], fs_hz=entry.get("fs_hz"), channels=entry.get("channels"))
 
 
+def _check_areal(path: Path, entry: Mapping[str, Any]) -> None:
+    from robomill.io.areal import read_areal
+
+    read_areal(path)
+
+
 CHECKERS: dict[str, Callable[[Path, Mapping[str, Any]], None]] = {
     "sound": _check_recording,
     "vibration": _check_recording,
     "profile": _check_profile,
+    "areal": _check_areal,
     "force": _check_force,
     "tracker": _check_tracker,
     "impact": _check_impact,
@@ -256,15 +263,23 @@ def cell_problems(raw_dir: Path) -> tuple[list[str], list[str]]:
     return [], []
 
 
-def unlisted_problems(raw_dir: Path, listed: Iterable[str]) -> list[str]:
-    """A line for every data file of the folder that the manifest does not list."""
-    from robomill.cli.layout import data_files, infer_file
+def unlisted_problems(raw_dir: Path, listed: Iterable[str],
+                      ignore: list[str] | None = None) -> tuple[list[str], list[str]]:
+    """Unlisted data files of the folder (those matching ``ignore``, the manifest's gitignore
+    patterns, left aside): a problem line for each one inside a kind's folder (ingestion
+    stops on them) and one note naming those elsewhere (ingestion warns and goes on)."""
+    from robomill.cli.layout import KIND_FOLDERS, data_files, infer_file
 
     listed = set(listed)
-    out = []
-    for p in data_files(raw_dir):
+    folders = set(KIND_FOLDERS.values()) | {Path(r).parts[0] for r in listed
+                                            if len(Path(r).parts) > 1}
+    out, elsewhere = [], []
+    for p in data_files(raw_dir, ignore):
         rel = p.relative_to(raw_dir).as_posix()
         if rel in listed:
+            continue
+        if not (rel == "cell.yaml" or len(Path(rel).parts) > 1 and Path(rel).parts[0] in folders):
+            elsewhere.append(rel)
             continue
         note = infer_file(raw_dir, p).note
         out.append(_line(RawDataError(
@@ -272,7 +287,10 @@ def unlisted_problems(raw_dir: Path, listed: Iterable[str]) -> list[str]:
             where="manifest.yaml: files",
             expected=note or "every raw data file listed with kind and sha256 "
                              "(robomill manifest adds it)")))
-    return out
+    notes = [f"{len(elsewhere)} file(s) outside the data folders not listed (left out of the "
+             f"study; list them under ignore: to silence this): {', '.join(elsewhere)}"
+             ] if elsewhere else []
+    return out, notes
 
 
 def check_folder(raw_dir: str | Path, *, jobs: int = 2) -> tuple[list[str], list[str]]:
@@ -311,9 +329,12 @@ def check_folder(raw_dir: str | Path, *, jobs: int = 2) -> tuple[list[str], list
     with ThreadPoolExecutor(max(1, jobs)) as pool:
         results = list(pool.map(lambda f: file_problem(raw_dir, f, mpath.name), valid))
     problems += [r for r in results if r]
-    problems += unlisted_problems(raw_dir, [f["path"] for f in files
-                                            if isinstance(f, Mapping) and "path" in f])
-    return problems, notes
+    ignore = data.get("ignore") if isinstance(data, Mapping) else None
+    unlisted, elsewhere = unlisted_problems(
+        raw_dir, [f["path"] for f in files if isinstance(f, Mapping) and "path" in f],
+        ignore if isinstance(ignore, list) and all(isinstance(q, str) for q in ignore)
+        else None)
+    return problems + unlisted, notes + elsewhere
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:

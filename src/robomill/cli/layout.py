@@ -19,6 +19,7 @@ from robomill.experiment import CUT_ID
 
 KIND_FOLDERS: dict[str, str] = {
     "profile": "profiles",
+    "areal": "areal",
     "force": "forces",
     "tracker": "tracker",
     "impact": "impact",
@@ -151,6 +152,13 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
         inf.entry = {"path": rel, "kind": "cell"}    # lists it (kind `cell`)
         inf.missing = [k for k in KIND_KEYS["cell"] if k not in inf.entry]
         return inf
+    if Path(rel).parts[0] == KIND_FOLDERS["areal"] and path.suffix.lower() != ".nc":
+        # an instrument's own areal export put in areal/: the import writes the .nc
+        how = ("x3p FILE --areal" if path.suffix.lower() == ".x3p" else
+               "sdf FILE" if path.suffix.lower() == ".sdf" else "areal FILE")
+        inf.note = (f"native areal scan export: convert it with robomill import "
+                    f"{how.replace('FILE', rel)} --cut CUT --feed-angle-deg A --to {raw_dir}")
+        return inf
     native = NATIVE_SUFFIXES.get(path.suffix.lower())
     if native == "uff" and Path(rel).parts[0] == KIND_FOLDERS["impact"]:
         # UFF 58 in impact/ is a contract file (what `robomill import uff` writes there)
@@ -214,20 +222,34 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
     return inf
 
 
-def data_files(raw_dir: Path) -> list[Path]:
+def ignored(rel_paths: list[str], patterns: list[str]) -> set[str]:
+    """The paths of ``rel_paths`` (relative, ``/``-separated) that ``patterns`` match, with
+    the rules of ``.gitignore`` (``pathspec.GitIgnoreSpec``: ``*.jpg`` anywhere, ``notes/``
+    a folder and all it holds, ``/x`` anchored at the raw folder, ``!keep`` re-includes)."""
+    if not patterns:
+        return set()
+    import pathspec
+
+    spec = pathspec.GitIgnoreSpec.from_lines(patterns)
+    return {r for r in rel_paths if spec.match_file(r)}
+
+
+def data_files(raw_dir: Path, ignore: list[str] | None = None) -> list[Path]:
     """Every data file of the raw folder (hidden files, the manifest and README/.gitkeep
-    excluded; the cell file too unless the manifest has a kind ``cell`` to list it), sorted."""
+    excluded; the cell file too unless the manifest has a kind ``cell`` to list it; files
+    matching the manifest's ``ignore`` patterns, :func:`ignored`), sorted."""
     from robomill.io.manifest import KIND_KEYS
 
-    ignored = [n for n in IGNORED_NAMES if not (n == "cell.yaml" and "cell" in KIND_KEYS)]
+    ignored_names = [n for n in IGNORED_NAMES if not (n == "cell.yaml" and "cell" in KIND_KEYS)]
     out = []
     for p in sorted(raw_dir.rglob("*")):
         rel = p.relative_to(raw_dir)
         if (p.is_file() and not any(part.startswith(".") for part in rel.parts)
-                and not (len(rel.parts) == 1 and p.name in ignored)
+                and not (len(rel.parts) == 1 and p.name in ignored_names)
                 and p.name not in ("README.md", ".gitkeep")):
             out.append(p)
-    return out
+    skip = ignored([p.relative_to(raw_dir).as_posix() for p in out], ignore or [])
+    return [p for p in out if p.relative_to(raw_dir).as_posix() not in skip]
 
 
 def cut_stub(cut_id: str) -> dict[str, Any]:

@@ -82,7 +82,13 @@ def update_manifest(raw_dir: str | Path) -> tuple[dict[str, Any], list[str], lis
             todo.append(f"manifest.yaml: files[{i}] is {f!r}, not an entry with a path: "
                         "dropped (list the file again)")
     entries: dict[str, dict[str, Any]] = {}
-    for p in data_files(raw_dir):
+    patterns = old.get("ignore")
+    if patterns is not None and not (isinstance(patterns, list)
+                                     and all(isinstance(q, str) for q in patterns)):
+        raise RawDataError(mpath, f"ignore is {patterns!r}", where="ignore",
+                           expected="a list of patterns as in .gitignore (fix it by hand; "
+                                    "it was not rewritten)")
+    for p in data_files(raw_dir, patterns):
         inf = infer_file(raw_dir, p)
         rel = inf.path
         if inf.note:
@@ -157,6 +163,7 @@ def update_manifest(raw_dir: str | Path) -> tuple[dict[str, Any], list[str], lis
             todo.append(f"manifest.yaml: cuts[{i}] ({c.get('id')}): direction not inferred "
                         "(write direction px, mx, py or my, or direction_deg)")
     out = {"experiment": experiment, "cuts": cuts, "files": files}
+    # unknown top-level keys stay, ignore: (the user's gitignore patterns) among them
     out.update({k: v for k, v in old.items() if k not in out})
     return out, changes, todo
 

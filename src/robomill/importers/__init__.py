@@ -28,6 +28,8 @@ FORMATS: dict[str, str] = {
     "faro": "robomill.importers.faro",
     "smats": "robomill.importers.smats",
     "x3p": "robomill.importers.x3p",
+    "sdf": "robomill.importers.sdf",
+    "areal": "robomill.importers.topography",
 }
 """Registered formats and the module implementing each (imported lazily)."""
 

@@ -25,9 +25,22 @@ documented on its "Data Format" page:
   profile; ``3D`` surfaces are refused) and ``<DATA_POINT_VALUES>`` (one height per line).
   The point count must equal ``NUMPOINTS``; the part name (and the process, measurement and
   file names when given) are kept in the manifest entry (``part``, ``process``,
-  ``measurement``, ``source_filename``). ``KCAL``, a calibration constant whose application
-  the layout does not state, must be 1 unless ``--kcal apply`` (heights × KCAL) or ``--kcal
-  ignore`` says what it means for the file.
+  ``measurement``, ``source_filename``). Tags are read in any letter case, and values as
+  NIST writes them: a number may carry its unit (``<SPACING>0.25 um</SPACING>``: that unit,
+  not ``UNITS``, applies), and ``KCAL`` may be a number followed by a unit ratio
+  (``1.0000 um/um``, ``0.1 nm/count``). ``KCAL`` (:func:`kcal_factor`): a ratio of two
+  lengths is a dimensionless factor, accepted as it is when it equals 1 and otherwise, as
+  for a bare number other than 1, applied only when ``--kcal apply`` (heights × KCAL) or
+  ignored with ``--kcal ignore``; a length per count (``count``, ``counts``, ``cnt``,
+  ``lsb``, ``bit``, ``digit``) states that the values are instrument counts, and is applied.
+* The file's own reference parameters, where present: ``<ROUGHNESS_SURFACE_PARAMETERS>``,
+  ``<WAVINESS_SURFACE_PARAMETERS>`` (and ``<PRIMARY_SURFACE_PARAMETERS>``), in the data file
+  or anywhere in the document, each holding parameters (``<PA>``, ``<PQ>``, ``<PZ>``,
+  ``<PSK>``, ``<PKU>``…, or R/W spellings), a number with an optional unit, and the filter
+  settings (``<CUTOFF>``/``<LAMBDA_C>`` with a unit, ``<FILTER>``…: every other child is
+  kept as text). They go into the manifest entry as ``reference``
+  (:func:`reference_parameters`), so that chapter 2 states ours beside them
+  (:func:`robomill.surface.reference.reference_comparison`).
 
 For an SDF with several profiles ``--profile`` picks one (default 0, the first in the file);
 for an SMATS XML file with several ``<DATAFILE>`` the same option picks the data file.
@@ -44,6 +57,7 @@ from __future__ import annotations
 import argparse
 import re
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -143,9 +157,25 @@ def _read_sdf(source: Path, lines: list[str], profile: int, *, crop: bool = True
 
 
 XML_UNITS_UM = {"um": 1.0, "µm": 1.0, "μm": 1.0, "micron": 1.0, "microns": 1.0,
-                "micrometer": 1.0, "micrometre": 1.0, "nm": 1e-3, "mm": 1e3, "m": 1e6,
-                "in": 25.4e3, "inch": 25.4e3, "uin": 25.4e-3, "µin": 25.4e-3}
+                "micrometer": 1.0, "micrometre": 1.0, "micrometers": 1.0,
+                "micrometres": 1.0, "nm": 1e-3, "nanometer": 1e-3, "nanometers": 1e-3,
+                "nanometre": 1e-3, "nanometres": 1e-3, "mm": 1e3, "millimeter": 1e3,
+                "millimeters": 1e3, "millimetre": 1e3, "millimetres": 1e3, "m": 1e6,
+                "meter": 1e6, "meters": 1e6, "metre": 1e6, "metres": 1e6, "in": 25.4e3,
+                "inch": 25.4e3, "inches": 25.4e3, "uin": 25.4e-3, "µin": 25.4e-3,
+                "microinch": 25.4e-3, "microinches": 25.4e-3}
 """SMATS XML ``<UNITS>`` (of the spacing and the heights) → µm per unit."""
+COUNT_UNITS = ("count", "counts", "cnt", "cnts", "lsb", "bit", "bits", "digit", "digits")
+"""Denominators of a ``KCAL`` that converts instrument counts into a length."""
+_NUMBER_UNIT = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
+PARAMETER_SECTIONS = {"ROUGHNESS_SURFACE_PARAMETERS": "roughness",
+                      "WAVINESS_SURFACE_PARAMETERS": "waviness",
+                      "PRIMARY_SURFACE_PARAMETERS": "primary"}
+"""The file's reference parameter sections and the profile each describes."""
+_PARAMETER = re.compile(r"^[PRW](A|Q|Z|T|P|V|C|SK|KU)$", re.IGNORECASE)
+_DIMENSIONLESS = ("SK", "KU")
+_CUTOFF_TAGS = ("CUTOFF", "LAMBDA_C", "LAMBDAC", "LC", "CUT_OFF", "LONG_CUTOFF",
+                "ROUGHNESS_CUTOFF", "WAVINESS_CUTOFF")
 _XML_WHAT = ("a SMATS XML profile: <DATA> with <DATAFILE> holding FILENAME, UNITS, NUMPOINTS, "
              "SPACING, KCAL, DATA_TYPE 2D, DATA_POINT_VALUES")
 _XML_META = (("PART", "part"), ("PROCESS", "process"), ("MEASUREMENT", "measurement"))
@@ -167,8 +197,8 @@ def _xml_root(source: Path, text: str):
         raise RawDataError(source, f"XML refused ({type(exc).__name__}: {exc})",
                            where="file", expected=_XML_WHAT) from None
     for el in root.iter():
-        if isinstance(el.tag, str) and "}" in el.tag:
-            el.tag = el.tag.split("}", 1)[1]
+        if isinstance(el.tag, str):
+            el.tag = el.tag.split("}", 1)[-1].upper()  # namespaces off; tags in any case
     return root
 
 
@@ -192,22 +222,155 @@ def _xml_field(source: Path, datafile, where: str, tag: str) -> str:
     return el.text.strip()
 
 
+def number_unit(text: str) -> tuple[float, str] | None:
+    """``"0.25 um"`` → ``(0.25, "um")``, ``"4000"`` → ``(4000.0, "")``; ``None`` when the
+    text does not start with a number."""
+    m = _NUMBER_UNIT.match(text or "")
+    return None if m is None else (float(m[1]), m[2])
+
+
+def _unit_um(unit: str) -> float | None:
+    return XML_UNITS_UM.get(unit.strip().lower())
+
+
+def _attr_unit(el) -> str:
+    """The unit an element states as an attribute (``unit``/``units``, any case), or ``""``."""
+    if el is None:
+        return ""
+    for key, value in el.attrib.items():
+        if key.lower() in ("unit", "units") and value.strip():
+            return value.strip()
+    return ""
+
+
 def _xml_number(source: Path, datafile, where: str, tag: str) -> float:
     text = _xml_field(source, datafile, where, tag)
-    try:
-        return float(text)
-    except ValueError:
+    got = number_unit(text)
+    if got is None or got[1]:
         raise RawDataError(source, f"{tag} {text!r} is not a number", where=f"{where}/{tag}",
                            expected="a number") from None
+    return got[0]
+
+
+def _xml_length_um(source: Path, datafile, where: str, tag: str, um_per_unit: float,
+                   unit: str) -> float:
+    """A length field in µm: a bare number in ``UNITS``, or a number with its own unit."""
+    text = _xml_field(source, datafile, where, tag)
+    got = number_unit(text)
+    if got is not None and not got[1]:  # a unit given as an attribute: <SPACING unit="um">
+        got = (got[0], _attr_unit(datafile.find(tag)))
+    if got is None or (got[1] and _unit_um(got[1]) is None):
+        raise RawDataError(source, f"{tag} {text!r} is not a length", where=f"{where}/{tag}",
+                           expected=f"a number (in {unit}) or a number and a unit of "
+                                    + ", ".join(dict.fromkeys(XML_UNITS_UM)))
+    return got[0] * (_unit_um(got[1]) if got[1] else um_per_unit)
+
+
+def kcal_factor(source: Path, text: str, where: str) -> tuple[float, bool]:
+    """``KCAL`` as NIST writes it → ``(factor, stated)``.
+
+    A bare number ``k`` → ``(k, False)``; a ratio of two lengths ``k A/B`` → ``(k·A/B,
+    False)`` (dimensionless: whether the heights are to be scaled by it is not stated);
+    a length per count ``k A/count`` → ``(k·A in the heights' unit, True)``: the values are
+    counts and the unit says how to convert them. ``False`` means: a factor other than 1
+    needs ``--kcal apply`` or ``--kcal ignore``.
+
+    Raises
+    ------
+    RawDataError
+        Not a number, or a unit that is neither a length ratio nor a length per count.
+    """
+    got = number_unit(text)
+    expected = ("a number, a number and a ratio of lengths (1.0 um/um) or a length per count "
+                "(0.1 nm/count)")
+    if got is None:
+        raise RawDataError(source, f"KCAL {text!r} is not a number", where=where,
+                           expected=expected)
+    k, unit = got
+    if not unit:
+        return k, False
+    num, slash, den = (u.strip().lower() for u in unit.partition("/"))
+    if slash and _unit_um(num) is not None and _unit_um(den) is not None:
+        return k * _unit_um(num) / _unit_um(den), False
+    if slash and _unit_um(num) is not None and den in COUNT_UNITS:
+        return k * _unit_um(num), True
+    raise RawDataError(source, f"KCAL {text!r}: unit {unit!r} is not understood", where=where,
+                       expected=expected)
+
+
+def reference_parameters(source: Path, root, datafile, heights_um_per_unit: float
+                         ) -> dict[str, dict[str, Any]]:
+    """The file's own parameter sections (:data:`PARAMETER_SECTIONS`) → ``{profile:
+    {"Pq_um": …, "Psk": …, "filter": {"CUTOFF": "0.8 mm", …}, "lambda_c_mm": 0.8}}``.
+
+    Sections inside the chosen ``<DATAFILE>`` come first; those elsewhere in the document
+    are read when the data file has none. Parameter names keep their letter (P, R or W) and
+    type (a, q, z, t, p, v, c, sk, ku); amplitudes are converted to µm (their own unit, or
+    ``UNITS``), sk and ku are dimensionless. Other children are the section's settings, kept
+    as text under ``filter``; a cut-off among them (``CUTOFF``, ``LAMBDA_C``…) with a length
+    unit (mm when none) also gives ``lambda_c_mm``.
+
+    Raises
+    ------
+    RawDataError
+        A parameter whose value is not a number, or has an unknown unit.
+    """
+    out: dict[str, dict[str, Any]] = {}
+    for tag, profile in PARAMETER_SECTIONS.items():
+        sec = datafile.find(f".//{tag}")
+        if sec is None:
+            sec = root.find(f".//{tag}")
+        if sec is None:
+            continue
+        where = f"{tag}"
+        values: dict[str, Any] = {}
+        settings: dict[str, str] = {}
+        for child in sec:
+            if not isinstance(child.tag, str):
+                continue
+            text = " ".join((child.text or "").split())
+            m = _PARAMETER.match(child.tag)
+            if m is None:
+                if text:
+                    settings[child.tag] = text
+                continue
+            got = number_unit(text)
+            if got is not None and not got[1]:
+                got = (got[0], _attr_unit(child))
+            name = child.tag[0] + child.tag[1:].lower()
+            if got is None or (got[1] and _unit_um(got[1]) is None):
+                raise RawDataError(source, f"{child.tag} {text!r} is not a number with a "
+                                   "length unit", where=f"{where}/{child.tag}",
+                                   expected="a number, optionally followed by a unit such as "
+                                            "um")
+            if m[1].upper() in _DIMENSIONLESS:
+                values[name] = got[0]
+            else:
+                scale = _unit_um(got[1]) if got[1] else heights_um_per_unit
+                values[f"{name}_um"] = got[0] * scale
+        if not values:
+            continue
+        if settings:
+            values["filter"] = settings
+        for key in _CUTOFF_TAGS:
+            if key in settings and (got := number_unit(settings[key])) is not None:
+                um = _unit_um(got[1]) if got[1] else 1e3
+                if um is not None and got[0] > 0:
+                    values["lambda_c_mm"] = got[0] * um * 1e-3
+                    break
+        out[profile] = values
+    return out
 
 
 def read_smats_xml(source: Path, text: str, *, profile: int = 0, kcal: str = "refuse"
-                   ) -> tuple[np.ndarray, np.ndarray, dict[str, str]]:
+                   ) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
     """Read one profile of a SMATS XML file: ``(x_mm (n,), z_um (n,), metadata)``.
 
-    ``metadata`` has ``part`` and, when present, ``process``, ``measurement`` and
-    ``source_filename`` (the ``<FILENAME>``). x = k·SPACING, z = value (× KCAL with
-    ``kcal="apply"``), both converted from ``<UNITS>`` to mm and µm.
+    ``metadata`` has ``part`` and, when present, ``process``, ``measurement``,
+    ``source_filename`` (the ``<FILENAME>``) and ``reference`` (the file's own parameters,
+    :func:`reference_parameters`). x = k·SPACING, z = value (× KCAL with ``kcal="apply"``,
+    or × the length per count of a KCAL such as ``0.1 nm/count``), both converted from
+    ``<UNITS>`` (or the value's own unit) to mm and µm.
 
     Raises
     ------
@@ -215,7 +378,9 @@ def read_smats_xml(source: Path, text: str, *, profile: int = 0, kcal: str = "re
         Unparsable XML; a root other than ``<DATA>`` or no ``<DATAFILE>``; ``profile`` out
         of range; a missing element; an unknown unit; a DATA_TYPE other than 2D; NUMPOINTS
         not a positive integer or different from the number of values; a spacing ≤ 0; a value
-        that is not a number; a KCAL other than 1 with ``kcal="refuse"``.
+        that is not a number; a KCAL other than 1 with ``kcal="refuse"``, or with a unit that is
+        neither a length ratio nor a length per count; a reference parameter that is not a
+        number.
     """
     root = _xml_root(source, text)
     if root.tag != "DATA" or root.find("DATAFILE") is None:
@@ -244,14 +409,19 @@ def read_smats_xml(source: Path, text: str, *, profile: int = 0, kcal: str = "re
         raise RawDataError(source, f"NUMPOINTS {npts_text!r}", where=f"{where}/NUMPOINTS",
                            expected="an integer ≥ 2")
     npts = int(npts_text)
-    spacing = _xml_number(source, df, where, "SPACING")
-    if not spacing > 0:
-        raise RawDataError(source, f"SPACING {spacing:g} {unit}", where=f"{where}/SPACING",
+    spacing_um = _xml_length_um(source, df, where, "SPACING", um, unit)
+    if not spacing_um > 0:
+        raise RawDataError(source, f"SPACING {spacing_um:g} µm", where=f"{where}/SPACING",
                            expected="a positive x spacing")
-    k = _xml_number(source, df, where, "KCAL")
-    if k != 1.0 and kcal == "refuse":
-        raise RawDataError(source, f"KCAL is {k:g}: whether the heights are to be scaled by it "
-                           "is not stated in the file", where=f"{where}/KCAL",
+    k_text = _xml_field(source, df, where, "KCAL")
+    k, stated = kcal_factor(source, k_text, f"{where}/KCAL")
+    if stated:  # a length per count: the values are counts, KCAL says how long one is
+        um, kcal = k, "stated"
+    elif abs(k - 1.0) < 1e-12:
+        k = 1.0
+    elif kcal == "refuse":
+        raise RawDataError(source, f"KCAL is {k_text}: whether the heights are to be scaled "
+                           "by it is not stated in the file", where=f"{where}/KCAL",
                            expected="KCAL 1, or --kcal apply (heights × KCAL) or --kcal ignore "
                                     "(heights already calibrated)")
     values = _xml_field(source, df, where, "DATA_POINT_VALUES").split()
@@ -269,7 +439,7 @@ def read_smats_xml(source: Path, text: str, *, profile: int = 0, kcal: str = "re
                            where=f"{where}/NUMPOINTS",
                            expected=f"{npts} heights, one per line")
     z = z * um * (k if kcal == "apply" else 1.0)
-    x = np.arange(npts) * spacing * um * 1e-3
+    x = np.arange(npts) * spacing_um * 1e-3
     meta = {key: label for tag, key in _XML_META
             if (label := _xml_label(root.find(tag))) is not None}
     if "part" not in meta:
@@ -278,6 +448,9 @@ def read_smats_xml(source: Path, text: str, *, profile: int = 0, kcal: str = "re
     name = df.find("FILENAME")
     if name is not None and name.text and name.text.strip():
         meta["source_filename"] = name.text.strip()
+    reference = reference_parameters(source, root, df, um)
+    if reference:
+        meta["reference"] = reference
     return x, z, meta
 
 
@@ -290,7 +463,7 @@ def read_smats(source: Path, *, profile: int = 0, crop: bool = True,
 
 def read_smats_file(source: Path, *, profile: int = 0, crop: bool = True,
                     dropouts: str = "refuse", kcal: str = "refuse"
-                    ) -> tuple[np.ndarray, np.ndarray, dict[str, str]]:
+                    ) -> tuple[np.ndarray, np.ndarray, dict[str, Any]]:
     """Read one profile: ``(x_mm (n,), z_um (n,), metadata)``, x from 0; ``metadata`` is
     empty except for SMATS XML (:func:`read_smats_xml`).
 
@@ -308,7 +481,7 @@ def read_smats_file(source: Path, *, profile: int = 0, crop: bool = True,
     text = read_text(source, WHAT)
     lines = text.splitlines()
     first = lines[0].strip() if lines else ""
-    meta: dict[str, str] = {}
+    meta: dict[str, Any] = {}
     if first.startswith("<"):
         if "ISO5436_2" in text[:4096]:
             raise RawDataError(source, "the main.xml of an X3P (ISO 25178-72) file",

@@ -1,4 +1,5 @@
-"""ISO 25178-72 X3P files (profiles, or one line of a surface) → ``profiles/<cut>.csv``.
+"""ISO 25178-72 X3P files (profiles, or one line of a surface) → ``profiles/<cut>.csv``; a
+whole surface with ``--areal`` → ``areal/<cut>.nc`` (kind ``areal``, :mod:`robomill.io.areal`).
 
 An X3P file (ISO 25178-72, successor of ISO 5436-2 XML; openGPS) is a zip archive holding
 ``main.xml`` and, for binary data, ``bindata/data.bin`` (plus an optional ``valid.bin``
@@ -16,7 +17,14 @@ The importer needs an incremental X axis (a uniform profile); it takes the profi
 for a surface the row ``--row`` (default: the middle row), converts x to mm and z to µm
 (``z = Offset + Increment·value`` for integer data, the value itself for float data), drops
 invalid points at the ends (``--crop``, default on) and refuses invalid points inside.
-The standard library reads it all (zipfile, xml.etree, numpy); no X3P package is needed.
+The standard library reads it all (zipfile, xml.etree, numpy). This reader is kept although
+SurfaceTopography and surfalize read X3P: both refuse real exports it reads — an archive with
+its files under a folder (``sample-land/main.xml``, as x3ptools writes them) and an empty
+``<Offset/>`` of the Z axis (``docs/data-contract.md``, "Areal scans: which reader").
+
+``--areal`` (a ``SUR`` file) keeps the whole grid (invalid points NaN) with the instrument's
+statements of ``Record2`` (manufacturer, model, serial, probing system) in the entry and the
+file; ``--feed-angle-deg`` gives the cut's feed direction in the scan's frame.
 """
 
 from __future__ import annotations
@@ -25,6 +33,7 @@ import argparse
 import hashlib
 import zipfile
 from pathlib import Path
+from typing import Any
 from xml.etree import ElementTree
 
 import numpy as np
@@ -34,13 +43,14 @@ from robomill.importers._common import cut_id, valid_run, write_csv
 
 FORMAT = "x3p"
 KIND = "profile"
-DESCRIPTION = "ISO 25178-72 X3P profile (or one row of a surface)"
+DESCRIPTION = ("ISO 25178-72 X3P profile, one row of a surface, or with --areal the whole "
+               "surface (areal/<cut>.nc)")
 
 _DTYPES = {"I": "<i2", "L": "<i4", "F": "<f4", "D": "<f8"}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    """``--row``, ``--no-crop``."""
+    """``--row``, ``--no-crop``, ``--dropouts``, ``--areal``, ``--feed-angle-deg``."""
     parser.add_argument("--row", type=int, default=None,
                         help="for a surface (SUR): the Y index of the line to take "
                              "(default the middle row)")
@@ -49,6 +59,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--dropouts", choices=("refuse", "longest"), default="refuse",
                         help="invalid points inside the profile: refuse (default) or keep the "
                              "longest run of valid points")
+    parser.add_argument("--areal", action="store_true",
+                        help="a surface (SUR): import the whole scan as an areal scan "
+                             "(areal/<cut>.nc, kind areal) instead of one row as a profile")
+    parser.add_argument("--feed-angle-deg", type=float, default=None,
+                        help="with --areal: the cut's feed direction in the scan's frame "
+                             "(0: along the scan's +x, 90: along +y; default 0)")
 
 
 def _strip_ns(root: ElementTree.Element) -> None:
@@ -78,22 +94,9 @@ def _number(source: Path, root, path: str, default: float | None = None) -> floa
                            expected="a number") from None
 
 
-def read_x3p(source: Path, *, row: int | None = None, crop: bool = True,
-             dropouts: str = "refuse") -> tuple[np.ndarray, np.ndarray, dict]:
-    """Read one profile: ``(x_mm (n,), z_um (n,), info)``.
-
-    ``info`` has ``feature`` (PRF/SUR), ``row``, ``size`` (x, y), ``cropped`` (points dropped
-    at the start and end) and ``dx_mm``. ``dropouts="longest"`` keeps the longest run of
-    valid points of the row instead of refusing interior invalid points.
-
-    Raises
-    ------
-    RawDataError
-        Not a zip / no ``main.xml`` (wrong format), unparsable XML, a missing element, a
-        point cloud or absolute X axis (not uniform), an unknown data type, a binary file of
-        the wrong size (truncated) or with a wrong MD5, a ``--row`` outside the surface, an
-        invalid point inside the profile, fewer than 2 valid points.
-    """
+def _read_x3p(source: Path) -> dict:
+    """Everything :func:`read_x3p` and :func:`read_x3p_grid` share: the header checks and the
+    point data as grids (first layer) ``grid`` [m] and ``vgrid`` (valid points)."""
     source = Path(source)
     if not source.is_file():
         raise RawDataError(source, "file does not exist", expected="an X3P file")
@@ -169,11 +172,20 @@ def read_x3p(source: Path, *, row: int | None = None, crop: bool = True,
                                    where="main.xml: Record3/DataLink/MD5ChecksumPointData",
                                    expected="an undamaged point data file")
             values = np.frombuffer(raw, dtype=_DTYPES[ztype]).astype(float)
-            vlink = _text(source, root, "Record3/ValidPointsLink", required=False)
+            # ISO 5436-2 puts the link in DataLink; older writers beside it
+            vlink = (_text(source, root, "Record3/DataLink/ValidPointsLink", required=False)
+                     or _text(source, root, "Record3/ValidPointsLink", required=False))
             vmember = None if vlink is None else (vlink if vlink in names else prefix + vlink)
             if vmember in names:
-                bits = np.unpackbits(np.frombuffer(zf.read(vmember), dtype=np.uint8),
-                                     bitorder="little")
+                vraw = zf.read(vmember)
+                want = _text(source, root, "Record3/DataLink/MD5ChecksumValidPoints",
+                             required=False)
+                if want and hashlib.md5(vraw).hexdigest().lower() != want.lower():
+                    raise RawDataError(source, f"{vlink} MD5 is {hashlib.md5(vraw).hexdigest()}"
+                                       f", main.xml says {want}",
+                                       where="main.xml: Record3/DataLink/MD5ChecksumValidPoints",
+                                       expected="an undamaged valid-points file")
+                bits = np.unpackbits(np.frombuffer(vraw, dtype=np.uint8), bitorder="little")
                 if bits.size >= npts:
                     valid = bits[:npts].astype(bool)
         else:
@@ -208,6 +220,44 @@ def read_x3p(source: Path, *, row: int | None = None, crop: bool = True,
     valid &= np.isfinite(z_m)
     grid = z_m.reshape(nz, ny, nx)[0]
     vgrid = valid.reshape(nz, ny, nx)[0]
+    cy = "Record1/Axes/CY"
+    dy_m = (_number(source, root, f"{cy}/Increment", dx_m)
+            if (_text(source, root, f"{cy}/AxisType", required=False) or "I").upper() == "I"
+            else float("nan"))
+    meta = {k: v for k, v in (
+        ("manufacturer", _text(source, root, "Record2/Instrument/Manufacturer", required=False)),
+        ("model", _text(source, root, "Record2/Instrument/Model", required=False)),
+        ("serial", _text(source, root, "Record2/Instrument/Serial", required=False)),
+        ("probe", _text(source, root, "Record2/ProbingSystem/Identification",
+                        required=False)),
+        ("probe_type", _text(source, root, "Record2/ProbingSystem/Type", required=False)),
+        ("date", _text(source, root, "Record2/Date", required=False)),
+        ("creator", _text(source, root, "Record2/Creator", required=False)),
+    ) if v}
+    return {"feature": feature, "grid": grid, "vgrid": vgrid, "dx_m": dx_m, "dy_m": dy_m,
+            "x0_m": x0_m, "nx": nx, "ny": ny, "meta": meta}
+
+
+def read_x3p(source: Path, *, row: int | None = None, crop: bool = True,
+             dropouts: str = "refuse") -> tuple[np.ndarray, np.ndarray, dict]:
+    """Read one profile: ``(x_mm (n,), z_um (n,), info)``.
+
+    ``info`` has ``feature`` (PRF/SUR), ``row``, ``size`` (x, y), ``cropped`` (points dropped
+    at the start and end) and ``dx_mm``. ``dropouts="longest"`` keeps the longest run of
+    valid points of the row instead of refusing interior invalid points.
+
+    Raises
+    ------
+    RawDataError
+        Not a zip / no ``main.xml`` (wrong format), unparsable XML, a missing element, a
+        point cloud or absolute X axis (not uniform), an unknown data type, a binary file of
+        the wrong size (truncated) or with a wrong MD5, a ``--row`` outside the surface, an
+        invalid point inside the profile, fewer than 2 valid points.
+    """
+    d = _read_x3p(Path(source))
+    source = Path(source)
+    feature, grid, vgrid = d["feature"], d["grid"], d["vgrid"]
+    nx, ny, dx_m, x0_m = d["nx"], d["ny"], d["dx_m"], d["x0_m"]
     if feature == "SUR":
         r = ny // 2 if row is None else row
         if not 0 <= r < ny:
@@ -226,15 +276,78 @@ def read_x3p(source: Path, *, row: int | None = None, crop: bool = True,
     return x_mm - x_mm[0], z_um, info
 
 
+def read_x3p_grid(source: Path) -> tuple[np.ndarray, float, float, dict[str, Any]]:
+    """Read a surface (``FeatureType SUR``): ``(z_um (ny, nx), dx_mm, dy_mm, meta)``, NaN at
+    invalid points (``valid.bin``, empty ``Datum``, non-finite values).
+
+    ``meta``: ``feature`` and what ``Record2`` states (``manufacturer``, ``model``,
+    ``serial``, ``probe`` (the probing system's identification: the objective), ``probe_type``,
+    ``date``, ``creator``), for the manifest entry.
+
+    Raises
+    ------
+    RawDataError
+        As :func:`read_x3p`; a profile (``PRF``) or a Y axis that is not incremental.
+    """
+    source = Path(source)
+    d = _read_x3p(source)
+    if d["feature"] != "SUR":
+        raise RawDataError(source, f"feature type is {d['feature']} (a profile)",
+                           where="main.xml: Record1/FeatureType",
+                           expected="SUR (a surface) for an areal scan; import a profile "
+                                    "without --areal")
+    if not d["dy_m"] > 0:
+        raise RawDataError(source, "the Y axis is not incremental with a positive spacing",
+                           where="main.xml: Record1/Axes/CY",
+                           expected="AxisType I and a positive Increment")
+    z = np.where(d["vgrid"], d["grid"] * 1e6, np.nan)
+    return z, d["dx_m"] * 1e3, d["dy_m"] * 1e3, {"feature": "SUR", **d["meta"]}
+
+
+def areal_entry(cut: str, feed_angle_deg: float | None, dx_mm: float, dy_mm: float,
+                meta: dict[str, Any], source: Path, fmt: str) -> dict[str, Any]:
+    """The manifest entry of an imported areal scan: ``cut``, ``feed_angle_deg`` and the
+    instrument's own statements (``instrument``, ``probe``, ``lateral_spacing_um``…)."""
+    instrument = " ".join(v for v in (meta.get("manufacturer"), meta.get("model")) if v)
+    entry = {"path": f"areal/{cut}.nc", "kind": "areal", "cut": cut,
+             "feed_angle_deg": 0.0 if feed_angle_deg is None else float(feed_angle_deg),
+             "instrument": meta.get("instrument") or instrument or None,
+             "probe": meta.get("probe"),
+             "lateral_spacing_um": [round(dx_mm * 1e3, 9), round(dy_mm * 1e3, 9)],
+             "lateral_resolution_um": meta.get("lateral_resolution_um"),
+             "source_file": source.name, "source_format": fmt}
+    return {k: v for k, v in entry.items() if v not in (None, "")}
+
+
 def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> list[dict]:
-    """Write ``staging/profiles/<cut>.csv`` per source; return the manifest entries."""
+    """Write ``staging/profiles/<cut>.csv`` per source (or with ``--areal``
+    ``staging/areal/<cut>.nc``, :func:`robomill.io.areal.write_areal`); return the manifest
+    entries."""
     entries = []
+    if getattr(args, "feed_angle_deg", None) is not None and not getattr(args, "areal", False):
+        raise RawDataError(Path(sources[0]), "--feed-angle-deg without --areal",
+                           where="option --feed-angle-deg",
+                           expected="--areal (the angle is the feed direction in a scan)")
     for src in sources:
         src = Path(src)
+        cut = cut_id(args, src, len(sources))
+        if getattr(args, "areal", False):
+            from robomill.io.areal import write_areal
+
+            z_um, dx_mm, dy_mm, meta = read_x3p_grid(src)
+            if not np.isfinite(z_um).any():
+                raise RawDataError(src, f"the scan has only invalid points ({z_um.shape[1]} "
+                                   f"× {z_um.shape[0]})", where="main.xml: Record3",
+                                   expected="a scan with measured points")
+            entry = areal_entry(cut, getattr(args, "feed_angle_deg", None), dx_mm, dy_mm,
+                                meta, src, FORMAT)
+            write_areal(staging / entry["path"], z_um, dx_mm, dy_mm,
+                        {**meta, "source_file": src.name, "source_format": "x3p"})
+            entries.append(entry)
+            continue
         x_mm, z_um, _info = read_x3p(src, row=getattr(args, "row", None),
                                      crop=getattr(args, "crop", True),
                                      dropouts=getattr(args, "dropouts", "refuse"))
-        cut = cut_id(args, src, len(sources))
         rel = f"profiles/{cut}.csv"
         write_csv(staging / rel, ("x_mm", "z_um"), (x_mm, z_um), ("%.9g", "%.6g"))
         entries.append({"path": rel, "kind": KIND, "cut": cut})

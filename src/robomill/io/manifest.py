@@ -93,6 +93,8 @@ KIND_KEYS: dict[str, dict[str, tuple[type, ...]]] = {
     # cut's design), fs_hz (CSV), channels (TDMS)
     "sound": {"cut": (str,)},
     "vibration": {"cut": (str,)},
+    # areal scans: the cut's feed direction in the scan's frame (robomill.io.areal)
+    "areal": {"cut": (str,), "feed_angle_deg": (int, float)},
 }
 """Metadata keys required per file kind. Chapter issues extend their kind's entry."""
 
@@ -152,19 +154,58 @@ class Manifest:
                                         "(restore it, or update the manifest on purpose)")
         return full
 
-    def verify_all(self) -> None:
-        """Verify every listed file, and that no data file in the folder is unlisted."""
+    def ignore_patterns(self) -> list[str]:
+        """The manifest's ``ignore:`` patterns (gitignore syntax), ``[]`` when it has none."""
+        return list(self.extra.get("ignore") or [])
+
+    def verify_all(self) -> list[str]:
+        """Verify every listed file and look for files the manifest does not list.
+
+        A raw folder holds more than data (notes, photos, an instrument's project files).
+        Files matching the manifest's ``ignore:`` patterns (gitignore syntax,
+        :func:`robomill.cli.layout.ignored`) are skipped. An unlisted file inside a kind's
+        folder (``profiles/``, ``forces/``, ``areal/`` …: the folders of
+        :data:`robomill.cli.layout.KIND_FOLDERS` and the top folders of the listed files; the
+        cell file ``cell.yaml``) stops ingestion, naming every such file: it is data that would
+        silently be left out. Unlisted files elsewhere are returned, one line in all, for the
+        caller to warn with.
+
+        Returns
+        -------
+        list[str]
+            ``[]``, or one warning line naming the unlisted files outside the kind folders.
+
+        Raises
+        ------
+        RawDataError
+            A listed file is missing or changed (sha256); unlisted files in a kind folder.
+        """
+        from robomill.cli.layout import KIND_FOLDERS, data_files
+
         for f in self.files:
             self.verify_file(f["path"])
         listed = {f["path"] for f in self.files}
-        for p in sorted(self.raw_dir.rglob("*")):
-            rel = p.relative_to(self.raw_dir).as_posix()
-            if (p.is_file() and p != self.path and not rel.startswith(".")
-                    and p.name not in ("README.md", ".gitkeep") and rel not in listed):
-                raise RawDataError(p, "file is present but not listed in the manifest",
-                                   where=f"{self.path.name}: files",
-                                   expected="every raw data file listed with kind and sha256 "
-                                            "(or removed from the raw folder)")
+        folders = set(KIND_FOLDERS.values()) | {
+            Path(f["path"]).parts[0] for f in self.files if len(Path(f["path"]).parts) > 1}
+        unlisted = [p.relative_to(self.raw_dir).as_posix()
+                    for p in data_files(self.raw_dir, self.ignore_patterns())]
+        unlisted = [r for r in unlisted if r not in listed and r != self.path.name]
+        inside = [r for r in unlisted if r == "cell.yaml"
+                  or (len(Path(r).parts) > 1 and Path(r).parts[0] in folders)]
+        if inside:
+            raise RawDataError(self.raw_dir / inside[0],
+                               f"{len(inside)} file(s) in a data folder are present but not "
+                               f"listed in the manifest: {_names(inside)}",
+                               where=f"{self.path.name}: files",
+                               expected="every raw data file listed with kind and sha256 "
+                                        "(robomill manifest lists them), removed from the raw "
+                                        "folder, or matched by an ignore: pattern")
+        outside = [r for r in unlisted if r not in inside]
+        if not outside:
+            return []
+        return [f"{self.raw_dir}: {len(outside)} file(s) not listed in {self.path.name} "
+                f"left out of the study: {_names(outside)} (list them under ignore: to "
+                "silence this)"]
 
     def to_dict(self) -> dict[str, Any]:
         return {
@@ -173,6 +214,22 @@ class Manifest:
             "files": [dict(f) for f in self.files],
             **self.extra,
         }
+
+
+def _names(paths: list[str], most: int = 8) -> str:
+    """``a, b, c`` (and ``… and N more`` past ``most``)."""
+    shown = ", ".join(paths[:most])
+    return shown + (f" and {len(paths) - most} more" if len(paths) > most else "")
+
+
+def _check_ignore(path: Path, patterns: Any) -> None:
+    """``ignore:`` is a list of gitignore patterns (strings)."""
+    if patterns is None:
+        return
+    if not isinstance(patterns, list) or not all(isinstance(p, str) for p in patterns):
+        raise RawDataError(path, f"ignore is {patterns!r}", where="ignore",
+                           expected="a list of patterns as in .gitignore, e.g. "
+                                    "['notes/', '*.jpg']")
 
 
 def _check_keys(path: Path, where: str, obj: Any, keys: Mapping[str, tuple[type, ...]]) -> None:
@@ -428,6 +485,7 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True,
                                expected="at most one file of kind cell (cell.yaml)")
         paths[f["path"]] = i
         files.append(dict(f))
+    _check_ignore(path, data.get("ignore"))
     extra = {k: v for k, v in data.items() if k not in ("experiment", "cuts", "files")}
     # a key written null (robomill manifest writes what it could not infer) is absent
     return Manifest(path, {k: v for k, v in exp.items() if v is not None}, cuts, files, extra)

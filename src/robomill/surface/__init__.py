@@ -24,7 +24,10 @@ amplitude parameters), :mod:`~robomill.surface.psd` (one profile's analysis and 
 (gathering the cuts), :mod:`~robomill.surface.tables` (chapter tables),
 :mod:`~robomill.surface.findings` (what chapter 2 states), :mod:`~robomill.surface.figures`
 (chapter 2's figures),
-:mod:`~robomill.surface.recovery` (against the planted truth) and
+:mod:`~robomill.surface.recovery` (against the planted truth),
+:mod:`~robomill.surface.reference` (ours beside the parameters a file states about itself),
+:mod:`~robomill.surface.areal` (one areal scan: ISO 25178-2 parameters, areal PSD, profiles
+along the feed), :mod:`~robomill.surface.areal_study` (the scans gathered) and
 :mod:`~robomill.surface.options` (settings). The public names are importable from this
 package, loaded from their submodule on first use (importing the package imports nothing);
 rule scripts and notebooks import from the submodules.
@@ -78,6 +81,25 @@ _EXPORTS = {  # public name → submodule
     "load_thesis_tables": "tables",
     "path_direction": "tables",
     "rms_table": "tables",
+    "common_join": "psd",
+    "areal_psd_figure": "figures",
+    "REFERENCE_COLUMNS": "reference",
+    "add_reference_findings": "reference",
+    "profile_parameter": "reference",
+    "reference_comparison": "reference",
+    "PARAMETERS": "areal",
+    "analyse_scan": "areal",
+    "central_profile": "areal",
+    "extract_lines": "areal",
+    "height_parameters": "areal",
+    "line_psd": "areal",
+    "psd_2d": "areal",
+    "radial_psd": "areal",
+    "remove_form": "areal",
+    "AREAL_COLUMNS": "areal_study",
+    "COMPARED": "areal_study",
+    "add_areal_findings": "areal_study",
+    "gather_areal": "areal_study",
     "table_column": "tables",
 }
 

@@ -142,3 +142,25 @@ def peak_mechanisms_figure(peaks: pd.DataFrame):
         ax.set_xlabel("feed [mm/s]")
         ax.legend(fontsize=7)
     return fig
+
+
+def areal_psd_figure(spectra: xr.Dataset):
+    """Areal scans (``areal_spectra.nc``): the radially averaged areal PSD of every scan
+    (left) and its PSDs along and across the feed (right), log-log."""
+    fig, axs = plt.subplots(1, 2, figsize=(9, 3.6))
+    for cut in spectra.cut.values:
+        s = spectra.sel(cut=cut)
+        r = s.psd_radial.dropna("k_radial")
+        axs[0].loglog(r.k_radial[1:], r[1:], lw=0.8, label=str(cut))
+        for name, style in (("along", "-"), ("across", "--")):
+            v = s[f"psd_{name}"].dropna(f"k_{name}")
+            line, = axs[1].loglog(v[f"k_{name}"][1:], v[1:], style, lw=0.8,
+                                  label=f"{cut}, {name} the feed")
+    axs[0].set_ylabel("C(|k|) [µm² mm²]")
+    axs[1].set_ylabel("P(k) [µm² mm]")
+    _xlabels(axs, "spatial frequency [mm⁻¹]")
+    for ax in axs:
+        ax.legend(fontsize=7)
+    axs[0].set_title("radially averaged", fontsize=9)
+    axs[1].set_title("along (—) and across (--) the feed", fontsize=9)
+    return fig

@@ -49,7 +49,10 @@ def _mechanism_verdict(band: pd.DataFrame, share_min: float) -> tuple[str, dict[
 def surface_findings(metrics: pd.DataFrame, peaks: pd.DataFrame, profiles: xr.Dataset, *,
                      settings: Mapping[str, Any], thesis_layout: bool, synthetic: bool,
                      design: str | None = None, comparison: pd.DataFrame | None = None,
-                     recovery: pd.DataFrame | None = None) -> Findings:
+                     recovery: pd.DataFrame | None = None,
+                     reference: pd.DataFrame | None = None,
+                     areal: pd.DataFrame | None = None,
+                     profile_vs_areal: pd.DataFrame | None = None) -> Findings:
     """The findings of the surface stage.
 
     Parameters
@@ -82,6 +85,13 @@ def surface_findings(metrics: pd.DataFrame, peaks: pd.DataFrame, profiles: xr.Da
         ``within_<f>x`` of the thesis' value and the median ratio.
     recovery
         ``results/surface/recovery.csv`` (synthetic data only): recovered over planted RMS.
+    reference
+        ``results/surface/reference_comparison.csv`` (where profile files state their own
+        parameters): :func:`robomill.surface.reference.add_reference_findings`, verdict
+        ``reference_agreement`` against ``surface.reference_rtol``.
+    areal, profile_vs_areal
+        ``results/surface/areal.csv`` and ``profile_vs_areal.csv`` (where the folder has
+        areal scans): :func:`robomill.surface.areal_study.add_areal_findings`.
 
     Returns
     -------
@@ -244,5 +254,15 @@ def surface_findings(metrics: pd.DataFrame, peaks: pd.DataFrame, profiles: xr.Da
                       artefact=_COMPARISON, what=f"{within}[table = {table}]")
             found.add(f"{band}_median_ratio", float(rows["ratio"].median()) if len(rows)
                       else None, artefact=_COMPARISON, what=f"median ratio[table = {table}]")
+    # ours against the parameters profile files state about themselves (where any do)
+    if reference is not None:
+        from robomill.surface.reference import add_reference_findings
+
+        add_reference_findings(found, reference, float(settings["reference_rtol"]))
+    # areal scans (where the folder has any), and stylus against scan for cuts with both
+    if areal is not None:
+        from robomill.surface.areal_study import add_areal_findings
+
+        add_areal_findings(found, areal, profile_vs_areal)
     return found
 

@@ -107,10 +107,21 @@ def segment_lengths_mm(length_mm: float, opts: Mapping[str, Any]) -> tuple[dict[
     return ({k: min(v, float(length_mm)) for k, v in asked.items()},
             [k for k, v in asked.items() if v > length_mm])
 
+def common_join(per_cut: Sequence[xr.Dataset], dim: str) -> str:
+    """``"override"`` when every dataset has the same ``dim`` coordinate, else ``"outer"``."""
+    first = per_cut[0][dim].to_numpy()
+    same = all(d.sizes[dim] == first.size and np.allclose(d[dim].to_numpy(), first, rtol=1e-9)
+               for d in per_cut[1:])
+    return "override" if same else "outer"
+
+
 def spectra_dataset(per_cut: Sequence[xr.Dataset], cut_ids: Sequence[str]) -> xr.Dataset:
-    """Stack the spectra of every cut along ``cut`` (profiles of equal length and sampling)."""
+    """Stack the spectra of every cut along ``cut``: on the common frequency axis when the
+    profiles have equal length and sampling (the virtual cell, one instrument), else on the
+    union of the frequencies, NaN where a cut has none (a lab's profiles of several lengths,
+    or a stylus profile beside an areal scan's profile)."""
     keep = ["amplitude", "power", "power_waviness", "power_roughness"]
     ds = xr.concat([d[keep] for d in per_cut], dim="cut", coords="minimal",
-                   compat="override", join="override")
+                   compat="override", join=common_join(per_cut, "f"))
     ds = ds.assign_coords(cut=("cut", list(cut_ids), attrs("1", "cut identifier")))
     return ds

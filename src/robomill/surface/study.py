@@ -12,7 +12,7 @@ import pandas as pd
 import xarray as xr
 
 from robomill.surface.peaks import attribute_mechanisms
-from robomill.surface.psd import spectra_dataset
+from robomill.surface.psd import common_join, spectra_dataset
 from robomill.surface.tables import (
     compare_with_thesis,
     design_table,
@@ -115,7 +115,7 @@ def gather_surface(per_cut: Sequence[xr.Dataset], cuts: pd.DataFrame,
     out["spectra"] = spectra_dataset(per_cut, ids)
     keep = ["z_measured", "z", "waviness", "roughness"]
     profiles = xr.concat([d[keep].astype("float32") for d in per_cut], dim="cut",
-                         join="override", compat="override", coords="minimal")
+                         join=common_join(per_cut, "x"), compat="override", coords="minimal")
     for k in keep:
         profiles[k].attrs = per_cut[0][k].attrs
     profiles = profiles.assign_coords(cut=("cut", ids, {"units": "1", "long_name": "cut"}))
