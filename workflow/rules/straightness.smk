@@ -6,6 +6,20 @@
 TRACKER_RUNS = {tracker_run(f): f for f in RAW_FILES if f["kind"] == "tracker"}
 
 
+def tracker_run_spec(run):
+    """What the analysis of tracker run ``run`` needs from its manifest entry."""
+    f = TRACKER_RUNS[run]
+    return {
+        "run": run,
+        "relpath": f["path"],
+        "direction": tracker_direction(f),
+        "feed_mm_s": f["feed_mm_s"],
+        "fs_hz": f.get("fs_hz"),
+        "time_base": f.get("time_base", "time"),
+        "cut": f.get("cut", ""),
+    }
+
+
 rule straightness_run:
     input:
         raw=lambda w: f"{RAW}/{TRACKER_RUNS[w.run]['path']}",
@@ -149,13 +163,9 @@ rule straightness:
         "results/straightness/truth_check.csv",
 
 
-CHAPTER_PARAMETERS["ch3_straightness"] = {"settings": config["straightness"]}
-
-
 use rule chapter as ch3_straightness with:
     input:
-        notebook=notebook("ch3_2_straightness.ipynb"),
-        templates=notebook("templates/ch3_2.yaml"),
+        **chapter_files("ch3_straightness"),
         findings="results/straightness/findings.yaml",
         peaks="results/straightness/peaks.csv",
         gears="results/straightness/gears.csv",
@@ -168,8 +178,3 @@ use rule chapter as ch3_straightness with:
         chapter_log("ch3_straightness"),
     benchmark:
         chapter_benchmark("ch3_straightness")
-
-
-add_chapter(
-    "3.2", "results/chapters/ch3_2_straightness.html", needs=("tracker", "profile")
-)

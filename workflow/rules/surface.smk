@@ -159,20 +159,13 @@ rule surface:
         optional_input(SYNTHETIC, "results/surface/recovery.csv"),
 
 
-CHAPTER_PARAMETERS["ch2"] = {
-    "settings": config["surface"],
-    **EXPERIMENT_PARAM,
-}
-
-
 use rule chapter as ch2 with:
     input:
         unpack(
             lambda w: {"recovery": "results/surface/recovery.csv"} if SYNTHETIC else {}
         ),
         **SURFACE_TABLES,
-        notebook=notebook("ch2_surface.ipynb"),
-        templates=notebook("templates/ch2.yaml"),
+        **chapter_files("ch2"),
         findings="results/surface/findings.yaml",
         cuts="results/ingest/cuts.csv",
         peaks="results/surface/peaks.csv",
@@ -185,6 +178,3 @@ use rule chapter as ch2 with:
         chapter_log("ch2"),
     benchmark:
         chapter_benchmark("ch2")
-
-
-add_chapter("2", "results/chapters/ch2_surface.html", needs=("profile",))

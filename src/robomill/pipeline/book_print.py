@@ -2,8 +2,9 @@
 
 :func:`print_document` joins the chapters into one page (``book_print.html``): a title page
 with the study's one-line description (:func:`robomill.pipeline.design_tables.describe_design`),
-a contents list in two parts, the study's chapters and the reference studies (chapter 6: the
-source papers' reproductions that use no data of the study, :func:`book_part`), whose entries
+a contents list in two parts, the study's chapters and the reference studies (the source
+papers' reproductions that use no data of the study; the chapter registry's ``part``,
+:func:`book_part`), whose entries
 link to the chapters and carry their page numbers, then each chapter on a new page, the
 reference studies behind a part title page. The print style keeps a heading with what follows it
 (``break-after: avoid``), does not split figures, tables or table rows, wraps table cells
@@ -30,6 +31,8 @@ import subprocess
 import tempfile
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+
+from robomill.registry import PARTS, book_order, by_notebook
 
 #: executable names tried, in order, by :func:`find_chromium` (``$ROBOMILL_CHROMIUM`` first)
 CHROMIUM_NAMES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
@@ -103,27 +106,23 @@ def chapter_title(html_text: str, fallback: str) -> str:
     return text or fallback
 
 
-#: the chapter whose pages form the book's second part, :data:`REFERENCE_PART`: the source
-#: papers' reproductions that use no data of the study (seeds 001-004, published lobe cases)
-REFERENCE_CHAPTER = 6
-STUDY_PART = "The study"
-REFERENCE_PART = "Reference studies"
+#: the book's two parts (the chapter registry's ``part``: ``study``, ``reference``)
+STUDY_PART = PARTS["study"]
+REFERENCE_PART = PARTS["reference"]
 
 
 def chapter_key(stem: str) -> tuple:
-    """Book order of a chapter file name: the study's chapters (``ch2_surface`` <
-    ``ch3_1_forces`` < ``ch7_plan``), then the reference studies (``ch6_1_chatter`` <
-    ``ch6_3_hexapod``), then names that are not chapters."""
-    m = re.match(r"ch(\d+)(?:_(\d+))?", stem)
-    if not m:
-        return (2, 999, 0)
-    return (int(int(m[1]) == REFERENCE_CHAPTER), int(m[1]), int(m[2] or 0))
+    """Book order of a chapter page (file stem ``ch3_1_forces``): the study's chapters, then
+    the reference studies, each in the chapter registry's order
+    (:func:`robomill.registry.book_order`); pages that are no chapter last."""
+    return book_order(stem)
 
 
 def book_part(stem: str) -> str:
     """The part of the book a chapter page belongs to (:data:`STUDY_PART` or
-    :data:`REFERENCE_PART`)."""
-    return REFERENCE_PART if chapter_key(stem)[0] == 1 else STUDY_PART
+    :data:`REFERENCE_PART`: the registry row's ``part``)."""
+    row = by_notebook().get(stem)
+    return PARTS[row.part] if row is not None else STUDY_PART
 
 
 def print_document(chapter_html: Sequence[str | Path], out_html: str | Path, *,
