@@ -30,5 +30,6 @@ rule chapter:
         failed_copy=chapter_failed_copy,
         figure_cache=chapter_figure_cache,
         parameters=chapter_parameters,
+        shown=chapter_shown_parameters,
     script:
         "../scripts/render_chapter.py"

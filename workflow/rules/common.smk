@@ -309,6 +309,17 @@ def chapter_parameters(wildcards, output):
     return shown
 
 
+def chapter_shown_parameters(wildcards, output):
+    """The page's table "Parameters of this run": the chapter's notebook parameters besides
+    its inputs (the study's settings and experiment), else the configuration section of the
+    stage whose artefacts it reads (registry field `stage`); never the artefacts' paths."""
+    shown = chapter_parameters(wildcards, output)
+    stage = CHAPTERS[chapter_target(wildcards, output)].stage
+    if not shown and stage in config:
+        shown = {"settings": config[stage]}
+    return shown
+
+
 def chapter_failed_copy(wildcards, output):
     """Where a failing chapter's executed notebook is kept (beside its log)."""
     return f"results/logs/chapters/{chapter_target(wildcards, output)}.failed.ipynb"

@@ -7,7 +7,8 @@ papers' reproductions that use no data of the study; the chapter registry's ``pa
 :func:`book_part`), whose entries
 link to the chapters and carry their page numbers, then each chapter on a new page, the
 reference studies behind a part title page. The print style keeps a heading with what follows it
-(``break-after: avoid``), does not split figures, tables or table rows, wraps table cells
+(``break-after: avoid``), a table's caption with its table (the caption above it) and a figure
+with its caption (below it), does not split figures, tables or table rows, wraps table cells
 instead of clipping them behind a scroll bar, prints a table of more than
 :data:`WIDE_TABLE_COLUMNS` columns on a landscape page (:func:`landscape_wide_tables`), folds
 the code away and numbers the pages.
@@ -84,6 +85,10 @@ section.part .part-title{font-size:2em;font-weight:bold}
  h1,h2,h3,h4,h5,h6{break-after:avoid-page;break-inside:avoid-page}
  .jp-Cell:has(.jp-RenderedMarkdown>:is(h1,h2,h3,h4,h5,h6):last-child){break-after:avoid-page}
  .jp-Cell{break-inside:avoid-page}
+ p.caption{break-inside:avoid-page;break-after:avoid-page}
+ .jp-OutputArea-child:has(p.caption){break-after:avoid-page}
+ .jp-OutputArea-child:is(:has(img),:has(.jp-RenderedImage))+.jp-OutputArea-child:has(p.caption){
+  break-before:avoid-page}
  figure,img,tr,pre,.jp-RenderedImage{break-inside:avoid-page}
  img{max-width:100%!important;height:auto}
  .jp-OutputArea-output,.jp-RenderedHTMLCommon,.jp-RenderedHTML,div{overflow:visible!important}
