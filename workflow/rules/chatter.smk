@@ -7,7 +7,9 @@ CHATTER_CASES = {c["name"]: c for c in config["chatter"]["cases"]}
 # Why the force cuts' design cannot identify the cutting coefficients (one feed per tooth,
 # fewer than 3 cuts), or None: the study's lobes need them (the registry's design condition
 # cutting_coefficients, robomill.registry; forces_gather writes them as NaN with the reason).
-COEFFICIENTS_UNMET = unmet_requirement("cutting_coefficients", CUTS, EXPERIMENT, RAW_FILES)
+COEFFICIENTS_UNMET = unmet_requirement(
+    "cutting_coefficients", CUTS, EXPERIMENT, RAW_FILES
+)
 
 
 wildcard_constraints:
@@ -84,9 +86,7 @@ rule chatter_thesis:
 # the study's robot (chapter 4) only where the folder has its modes and forces and the force
 # cuts identify the cutting coefficients; the reference studies (chapter 6.1: the configured
 # cases and seed 002) in any run
-CHATTER_ROBOT = (
-    has_kind("impact") and has_kind("force") and not COEFFICIENTS_UNMET
-)
+CHATTER_ROBOT = has_kind("impact") and has_kind("force") and not COEFFICIENTS_UNMET
 
 
 rule chatter_findings:

@@ -312,7 +312,8 @@ def chapter_parameters(wildcards, output):
 def chapter_shown_parameters(wildcards, output):
     """The page's table "Parameters of this run": the chapter's notebook parameters besides
     its inputs (the study's settings and experiment), else the configuration section of the
-    stage whose artefacts it reads (registry field `stage`); never the artefacts' paths."""
+    stage whose artefacts it reads (registry field `stage`); never the artefacts' paths.
+    """
     shown = chapter_parameters(wildcards, output)
     stage = CHAPTERS[chapter_target(wildcards, output)].stage
     if not shown and stage in config:
@@ -328,3 +329,16 @@ def chapter_failed_copy(wildcards, output):
 def chapter_figure_cache(wildcards, output):
     """The folder of a chapter's figure cache (``chapters.figure_cache``)."""
     return f"results/.cache/figures/{chapter_target(wildcards, output)}"
+
+
+def tracker_run_spec(run, f):
+    """What the analysis of tracker run ``run`` needs from its manifest entry ``f``."""
+    return {
+        "run": run,
+        "relpath": f["path"],
+        "direction": tracker_direction(f),
+        "feed_mm_s": f["feed_mm_s"],
+        "fs_hz": f.get("fs_hz"),
+        "time_base": f.get("time_base", "time"),
+        "cut": f.get("cut", ""),
+    }

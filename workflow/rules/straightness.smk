@@ -6,20 +6,6 @@
 TRACKER_RUNS = {tracker_run(f): f for f in RAW_FILES if f["kind"] == "tracker"}
 
 
-def tracker_run_spec(run):
-    """What the analysis of tracker run ``run`` needs from its manifest entry."""
-    f = TRACKER_RUNS[run]
-    return {
-        "run": run,
-        "relpath": f["path"],
-        "direction": tracker_direction(f),
-        "feed_mm_s": f["feed_mm_s"],
-        "fs_hz": f.get("fs_hz"),
-        "time_base": f.get("time_base", "time"),
-        "cut": f.get("cut", ""),
-    }
-
-
 rule straightness_run:
     input:
         raw=lambda w: f"{RAW}/{TRACKER_RUNS[w.run]['path']}",
@@ -40,7 +26,7 @@ rule straightness_run:
     params:
         settings=config["straightness"],
         cell_relpath=CELL_RELPATH,
-        runs=lambda w: [tracker_run_spec(w.run)],
+        runs=lambda w: [tracker_run_spec(w.run, TRACKER_RUNS[w.run])],
     script:
         "../scripts/straightness_run.py"
 
@@ -68,7 +54,7 @@ if SYNTHETIC and TRACKER_RUNS:
         params:
             settings=config["straightness"],
             cell_relpath=CELL_RELPATH,
-            runs=[tracker_run_spec(r) for r in TRACKER_RUNS],
+            runs=[tracker_run_spec(r, f) for r, f in TRACKER_RUNS.items()],
         script:
             "../scripts/straightness_run.py"
 
