@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import ast
 import copy
+import re
 from pathlib import Path
 
 import pytest
@@ -120,6 +121,26 @@ def test_no_module_carries_a_default_the_schema_states():
         found += [h for h in copies_of_schema_defaults(Path(rel), f.read_text(), defaults)
                   if (rel, h[2]) not in ALLOWED]
     assert found == [], "defaults written beside the schema's:\n" + "\n".join(map(str, found))
+
+
+def test_no_workflow_file_reads_a_key_with_a_default_the_schema_states():
+    """The workflow reads the validated configuration, whose keys the schema filled: no
+    ``config.get("key", default)`` repeating a schema default in the Snakefile or a rule
+    file."""
+    defaults = _schema_defaults()
+    get = re.compile(r"\.get\(\s*\"(\w+)\",\s*([^()]+?)\s*\)")
+    found = []
+    for f in [REPO / "Snakefile", *sorted((REPO / "workflow" / "rules").glob("*.smk"))]:
+        for n, line in enumerate(f.read_text().splitlines(), 1):
+            for key, value in get.findall(line):
+                try:
+                    literal = ast.literal_eval(value)
+                except (ValueError, SyntaxError):
+                    continue
+                if any(_same(literal, d) for d in defaults.get(key, [])):
+                    found.append((f.name, n, key, literal))
+    assert found == [], found
+    assert get.findall('x = cfg.get("map_robot", "kr360")') == [("map_robot", '"kr360"')]
 
 
 def test_the_walk_finds_each_kind_of_copy():

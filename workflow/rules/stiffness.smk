@@ -15,15 +15,15 @@ STIFF_REL = {
     if f["kind"] in ("robot", "stiffness")
 }
 STIFF_ROBOTS = FOLDER_ROBOTS  # the robots the folder holds, the cell's first
-STIFF_CFG = config.get("stiffness", {})
-MAP_ROBOT = folder_robot(STIFF_CFG.get("map_robot", "kr360"))
-THESIS_ROBOT = folder_robot(STIFF_CFG.get("thesis_robot", "irb1600"))
+STIFF_CFG = config["stiffness"]  # validated: the schema's defaults filled
+MAP_ROBOT = folder_robot(STIFF_CFG["map_robot"])
+THESIS_ROBOT = folder_robot(STIFF_CFG["thesis_robot"])
 MAP_JOBS = [
     (int(round(h)), int(round(a)))
-    for h in STIFF_CFG.get("map", {}).get("heights_mm", [])
-    for a in STIFF_CFG.get("map", {}).get("redundancy_deg", [])
+    for h in STIFF_CFG["map"]["heights_mm"]
+    for a in STIFF_CFG["map"]["redundancy_deg"]
 ]
-STIFF_SEED = int(STIFF_CFG.get("seed", 20240601))
+STIFF_SEED = int(STIFF_CFG["seed"])
 
 
 rule stiffness_identify:
