@@ -43,6 +43,21 @@ ALLOWED = {
         "an attribute of an frf.nc written before the window was stored in it",
     ("src/robomill/modal/frf.py", "exponential_end"): "as force_window_s",
 }
+#: files whose functions' keyword defaults still repeat schema defaults (57 in all, e.g.
+#: ``lscf(..., max_order=40)``): a mechanical follow-up, left while these files are edited on
+#: other branches (the chatter, modal, plan, forces and surface modules, the chapter renderer)
+KEYWORD_DEFAULTS_LEFT = {
+    "src/robomill/chatter/lobes_sdm.py", "src/robomill/chatter/modal_timedomain.py",
+    "src/robomill/chatter/thesis.py", "src/robomill/chatter/timedomain.py",
+    "src/robomill/forces/coefficients.py", "src/robomill/forces/model.py",
+    "src/robomill/forces/study.py", "src/robomill/io/forces.py", "src/robomill/modal/band.py",
+    "src/robomill/modal/hits.py", "src/robomill/modal/identification.py",
+    "src/robomill/modal/lscf.py", "src/robomill/modal/peaks.py", "src/robomill/modal/tables.py",
+    "src/robomill/pipeline/chapters.py", "src/robomill/plan/check.py",
+    "src/robomill/plan/measured.py", "src/robomill/plan/noise.py",
+    "src/robomill/straightness/findings.py", "src/robomill/straightness/study.py",
+    "src/robomill/surface/peaks.py",
+}
 #: whole files left as they are, with the reason
 ALLOWED_FILES = {
     "src/robomill/synth/plancuts.py":
@@ -81,8 +96,8 @@ def _same(a, b) -> bool:
 
 def copies_of_schema_defaults(path: Path, text: str, defaults: dict[str, list]) -> list[tuple]:
     """``(file, line, key, value)`` of each mapping entry, annotated assignment (a dataclass
-    field) and ``.get(key, value)`` in ``text`` whose key names a schema key and whose value
-    is a default the schema states for it."""
+    field), ``.get(key, value)`` and function keyword default in ``text`` whose key (or
+    argument) names a schema key and whose value is a default the schema states for it."""
     out = []
     for node in ast.walk(ast.parse(text)):
         pairs = []
@@ -96,6 +111,14 @@ def copies_of_schema_defaults(path: Path, text: str, defaults: dict[str, list]) 
                 and node.func.attr == "get" and len(node.args) == 2 \
                 and isinstance(node.args[0], ast.Constant):
             pairs = [(node.args[0].value, node.args[1])]
+        elif isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef):
+            args = node.args
+            positional = [*args.posonlyargs, *args.args]
+            pairs = [(a.arg, d) for a, d in zip(positional[len(positional)
+                                                           - len(args.defaults):],
+                                                args.defaults, strict=True)]
+            pairs += [(a.arg, d) for a, d in zip(args.kwonlyargs, args.kw_defaults, strict=True)
+                      if d is not None]
         for key, value in pairs:
             if key not in defaults:
                 continue
@@ -106,7 +129,9 @@ def copies_of_schema_defaults(path: Path, text: str, defaults: dict[str, list]) 
             if isinstance(literal, tuple):
                 literal = list(literal)
             if any(_same(literal, d) for d in defaults[key]):
-                out.append((str(path), node.lineno, key, literal))
+                out.append((str(path), node.lineno, key, literal,
+                            "keyword" if isinstance(node, ast.FunctionDef | ast.AsyncFunctionDef)
+                            else "value"))
     return out
 
 
@@ -119,7 +144,8 @@ def test_no_module_carries_a_default_the_schema_states():
         if rel in ALLOWED_FILES:
             continue
         found += [h for h in copies_of_schema_defaults(Path(rel), f.read_text(), defaults)
-                  if (rel, h[2]) not in ALLOWED]
+                  if (rel, h[2]) not in ALLOWED
+                  and not (h[4] == "keyword" and rel in KEYWORD_DEFAULTS_LEFT)]
     assert found == [], "defaults written beside the schema's:\n" + "\n".join(map(str, found))
 
 
@@ -144,13 +170,16 @@ def test_no_workflow_file_reads_a_key_with_a_default_the_schema_states():
 
 
 def test_the_walk_finds_each_kind_of_copy():
-    """The check can fail: a DEFAULTS table, a dataclass field and a .get default, each the
-    tracker's 815 Hz of synth.tracker.fs_hz, are found; another value or key is not."""
+    """The check can fail: a DEFAULTS table, a dataclass field, a .get default and keyword
+    defaults, each the tracker's 815 Hz of synth.tracker.fs_hz (or its 13 Hz ripple), are
+    found; another value or key is not."""
     text = ('DEFAULTS = {"fs_hz": 815.0, "noise_std_um": 4.0}\n'
             "class S:\n    fs_hz: float = 815.0\n    other_hz: float = 815.0\n"
-            'rate = section.get("fs_hz", 815.0)\n')
+            'rate = section.get("fs_hz", 815.0)\n'
+            "def f(x, fs_hz=815.0, *, noise_std_um=4.0, ripple_hz=13.0):\n    pass\n")
     hits = copies_of_schema_defaults(Path("m.py"), text, _schema_defaults())
-    assert [(h[1], h[2]) for h in hits] == [(1, "fs_hz"), (3, "fs_hz"), (5, "fs_hz")]
+    assert sorted((h[1], h[2]) for h in hits) == [
+        (1, "fs_hz"), (3, "fs_hz"), (5, "fs_hz"), (6, "fs_hz"), (6, "ripple_hz")]
 
 
 def test_every_allowed_entry_is_still_there():
