@@ -80,6 +80,10 @@ section.part .part-title{font-size:2em;font-weight:bold}
  nav.robomill,details.robomill-code{display:none!important}
  section.chapter{break-before:page}
  div.wide-table{page:wide}
+ .jp-OutputArea-child:has(p.caption):has(+.jp-OutputArea-child div.wide-table){page:wide}
+ .jp-Cell:has(.jp-RenderedMarkdown>:is(h1,h2,h3,h4,h5,h6):last-child):has(
+  +.jp-Cell .jp-OutputArea-child:first-child p.caption):has(
+  +.jp-Cell .jp-OutputArea-child:first-child+.jp-OutputArea-child div.wide-table){page:wide}
  div.wide-table table{max-width:none!important}
  div.wide-table td,div.wide-table th{overflow-wrap:normal}
  h1,h2,h3,h4,h5,h6{break-after:avoid-page;break-inside:avoid-page}
