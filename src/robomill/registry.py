@@ -168,7 +168,8 @@ def _load(path: str) -> tuple[Chapter, ...]:
     import yaml
 
     try:
-        rows = yaml.safe_load(Path(path).read_text())
+        rows = yaml.load(Path(path).read_text(),  # libyaml's loader where PyYAML has it
+                         Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
     except (OSError, yaml.YAMLError) as exc:
         raise RegistryError(f"{path}: cannot be read as YAML ({exc})") from None
     if not isinstance(rows, list) or not rows:
