@@ -183,3 +183,88 @@ def test_no_heading_alone_at_the_foot_of_a_page_and_wide_tables_print_whole(
     assert loose != book_print._PRINT_CSS
     (tmp_path / "loose").mkdir()
     assert _headings_at_foot(_print_sections(tmp_path / "loose", loose, monkeypatch))
+
+
+def _captioned_tables_chapter(path, n_cells=8):
+    """A chapter of notebook cells as nbconvert renders them, each longer than a page: three
+    tables of 14 rows, each under its caption (``<p class="caption">``, a display output of
+    its own before the table's), with prose of uneven length between them, so that captions
+    fall at every height of a page."""
+    cells = []
+    for k in range(n_cells):
+        outputs = []
+        for j in range(3):
+            words = 20 + (k * 53 + j * 31) % 140
+            rows = "".join(f"<tr><td>r{r}</td><td>{k}.{j}.{r}</td></tr>" for r in range(14))
+            outputs += [
+                f"<div class='jp-OutputArea-child'><p>{'Prose ' * words}</p></div>",
+                f"<div class='jp-OutputArea-child'><p class='caption'><b>Table 9.{3 * k + j}"
+                f"</b> — caption {k}-{j}.</p></div>",
+                f"<div class='jp-OutputArea-child'><table>{rows}</table></div>"]
+        cells.append(f"<div class='jp-Cell'><div class='jp-OutputArea'>{''.join(outputs)}"
+                     "</div></div>")
+        # a section whose first output is the caption of a table too wide for a portrait
+        # page (printed on a landscape page of its own, caption and heading with it)
+        head = "".join(f"<th>c{c}</th>" for c in range(16))
+        rows = "".join("<tr>" + "".join(f"<td>w{k}r{r}c{c}</td>" for c in range(16))
+                       + "</tr>" for r in range(4))
+        cells.append(
+            "<div class='jp-Cell jp-MarkdownCell'><div class='jp-RenderedMarkdown'>"
+            f"<h2>Wide section {k}</h2></div></div>"
+            "<div class='jp-Cell'><div class='jp-OutputArea'>"
+            f"<div class='jp-OutputArea-child'><p class='caption'><b>Table 9.{50 + k}</b> — "
+            f"wide caption {k}.</p></div><div class='jp-OutputArea-child'><table><tr>{head}"
+            f"</tr>{rows}</table></div></div></div>")
+    path.write_text("<!DOCTYPE html><html><head><meta charset='utf-8'></head><body>"
+                    f"<h1>Chapter Nine</h1>{''.join(cells)}</body></html>")
+    return path
+
+
+def _captions_at_foot(texts):
+    """Pages whose last line of text (the page number left out) is a table's caption."""
+    feet = []
+    for k, t in enumerate(texts, 1):
+        lines = [ln.strip() for ln in t.splitlines() if ln.strip()]
+        if lines and lines[-1].isdigit():
+            lines = lines[:-1]
+        if lines and re.match(r"Table 9\.\d+ — caption", lines[-1]):
+            feet.append((k, lines[-1]))
+    return feet
+
+
+@pytest.mark.browser
+def test_a_table_caption_is_printed_on_the_page_of_its_table(tmp_path, monkeypatch):
+    """Printed, no page ends with a table's caption (it goes to the next page with its
+    table), even in a cell longer than a page, which the print style cannot keep whole; a
+    table printed on a landscape page takes its caption and its section's heading with it.
+    The same chapter printed without the caption rules leaves a caption at a page foot and
+    a wide table's caption on the page before it."""
+    if not book_print.find_chromium():
+        missing_system_package("chromium not installed (Debian package chromium)")
+    if not (shutil.which("pdftotext") and shutil.which("pdfinfo")):
+        missing_system_package("pdftotext/pdfinfo not installed (Debian package poppler-utils)")
+
+    def printed(folder, css=None):
+        folder.mkdir()
+        if css is not None:
+            monkeypatch.setattr(book_print, "_PRINT_CSS", css)
+        page = book_print.print_document(
+            [_captioned_tables_chapter(folder / "ch9_tables.html")], folder / "book_print.html")
+        book_print.print_pdf(page, folder / "book.pdf")
+        return _page_texts(folder / "book.pdf")
+
+    texts = printed(tmp_path / "book")
+    assert len(texts) > 6
+    assert sum(t.count("— caption") for t in texts) == 24  # every caption printed once
+    assert _captions_at_foot(texts) == []
+    for k in range(8):  # a wide table's page holds its heading and caption
+        page = next(t for t in texts if f"w{k}r0c15" in t)
+        assert f"wide caption {k}." in page and f"Wide section {k}" in page, k
+    head, media = book_print._PRINT_CSS.split("@media print{", 1)
+    rules = re.findall(r"[^{}]+\{[^{}]*\}", media)
+    loose = head + "@media print{" + "".join(r for r in rules if "caption" not in r) + "\n}\n"
+    assert loose != book_print._PRINT_CSS and "caption" not in loose
+    texts = printed(tmp_path / "loose", loose)
+    assert _captions_at_foot(texts)
+    assert any(f"wide caption {k}." not in next(t for t in texts if f"w{k}r0c15" in t)
+               for k in range(8))

@@ -45,6 +45,22 @@ def test_good_chapter_renders_with_parameter_table(tmp_path):
     assert (out / "figs" / "f.png").exists()
 
 
+def test_the_parameter_table_shows_the_study_parameters_not_the_artefact_paths(tmp_path):
+    """With ``shown`` (the workflow passes the chapter's settings and experiment), the table
+    holds those, nested keys as rows, and none of the files the notebook reads."""
+    nb = _notebook(tmp_path, "print('read', data)")
+    out = tmp_path / "out"
+    render_chapter(nb, out / "c.ipynb", out / "c.html", out / "figs",
+                   {"data": "results/forces/findings.yaml", "n": 2},
+                   failed_copy=tmp_path / "logs" / "c.failed.ipynb", start_timeout_s=120,
+                   shown={"settings": {"lambda_c_mm": 0.8}, "n": 2})
+    html = (out / "c.html").read_text()
+    table = html[html.index("Parameters of this run"):html.index("</table>")]
+    assert "settings.lambda_c_mm" in table and "0.8" in table and "<code>n</code>" in table
+    assert "findings.yaml" not in table and "fig_dir" not in table
+    assert "read results/forces/findings.yaml" in html  # the notebook still got its input
+
+
 def test_the_page_is_the_same_from_a_warmed_exporter_and_from_run_to_run():
     """The exporter readied in the background while the kernel runs (WarmExporter) has
     already converted its warm-up notebook; the page it writes must not carry anything of

@@ -97,7 +97,7 @@ def test_analyse_profile_recovers_split_components():
     wv = pk[pk.band == "waviness"].iloc[0]
     assert wv["resolution_per_mm"] == pytest.approx(1 / L)
     assert not pk.loc[pk.band == "roughness", "below_resolution"].any()
-    assert bool(wv["below_resolution"]) is (0.4 * L < sf.DEFAULTS["min_peak_cycles"])
+    assert bool(wv["below_resolution"]) is (0.4 * L < sf.settings({})["min_peak_cycles"])
 
 
 @pytest.mark.parametrize(("length_mm", "flagged"), [(4.0, True), (6.0, False), (15.0, False),

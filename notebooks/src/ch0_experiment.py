@@ -32,7 +32,7 @@ v = found.values()
 THESIS_LAYOUT = v["thesis_layout"]  # sets x U segments (+Y, +X, -Y)
 table = pd.read_csv(cuts)
 
-num = Numbering("0", fig_dir=fig_dir)
+num = Numbering.for_chapter("ch0", fig_dir=fig_dir)
 num.table("plan", say("caption_plan", grouped_by=say("grouped_by")))
 num.figure("feed_per_tooth", say("caption_feed_per_tooth"))
 

@@ -40,7 +40,7 @@ from robomill.pipeline.prose import Prose, comparison_table, load_templates
 found = read_findings(findings)
 say = Prose(load_templates("ch1", templates), found)
 JOINT, TURN = figures.CIRCLE_JOINT, figures.VECTOR_TURN_DEG
-num = Numbering("1", fig_dir=fig_dir)
+num = Numbering.for_chapter("ch1", fig_dir=fig_dir)
 num.figure("joint_circle", f"Single-joint method: the circle of joint {JOINT} in its plane and "
            "the distance of every joint's targets from their fitted circle", number=4)
 num.figure("vector_model", "The vector model: centres O_i, vectors a'_i and axes e_i at home "

@@ -61,7 +61,7 @@ def part(i, n):
     return "abcdefghijklmnopqrstuvwxyz"[i] if n > 1 else ""
 
 
-num = Numbering("2", fig_dir=fig_dir)
+num = Numbering.for_chapter("ch2", fig_dir=fig_dir)
 num.figure("detrend", "A measured profile and the same profile detrended (stylus tilt "
            "removed)", number=9)
 num.figure("waviness", f"Waviness of that profile: the ISO 16610-21 Gaussian filter, "

@@ -61,7 +61,7 @@ CUTS, DIRS, THESIS_LAYOUT = F["figure_cuts"], F["figure_directions"], F["thesis_
 IDENTIFIED = not F.get("coefficients_not_identified")
 
 # thesis numbers (Figs 3.2–3.11, Tables 3.1, 3.3, 3.4; Table 3.2 is in chapter 3.2)
-num = Numbering("3", fig_dir=fig_dir)
+num = Numbering.for_chapter("ch3_forces", fig_dir=fig_dir)
 if IDENTIFIED:
     num.figure("model_force_shape", f"The model's force shape over two revolutions of a "
                f"{say('model_shape')}, with the coefficients identified below (eq. 3.1)",

@@ -56,7 +56,7 @@ pk = read_peaks(peaks)
 MAIN, EXTRA, HIGH = F["main_directions"], F["extra_directions"], F["high_band_direction"]
 
 # the thesis' numbers (Figs 3.12–3.17, Tables 3.2, 3.5–3.8; 3.1, 3.3, 3.4 are in chapter 3.1)
-num = Numbering("3", fig_dir=fig_dir)
+num = Numbering.for_chapter("ch3_straightness", fig_dir=fig_dir)
 for key, (number, part, stem) in figure_numbers(F["directions"], F["thesis_layout"]).items():
     kind, d = key.split("_", 1)
     num.figure(key, say(f"cap_{kind}", direction=direction_text(d)), number=number,

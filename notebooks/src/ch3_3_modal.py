@@ -61,7 +61,7 @@ TOOLTIP_LAYOUT = bool(F["tooltip_layout"])
 band_hz = F["band_hz"]
 HAS_TRACES = "time" in tr.dims
 
-num = Numbering("3", fig_dir=fig_dir)
+num = Numbering.for_chapter("ch3_modal", fig_dir=fig_dir)
 if HAS_TRACES:
     num.figure("impact_test", "The test: the tool tip, the three hammer directions and the "
                "accelerometer; force and accelerations of an accepted hit and of every "

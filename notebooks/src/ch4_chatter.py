@@ -34,7 +34,7 @@ say = Prose(load_templates("ch4", templates), found)
 th = open_artefact(lobes)
 rec = pd.read_csv(recommendations)
 
-num = Numbering("4", fig_dir=fig_dir)
+num = Numbering.for_chapter("ch4", fig_dir=fig_dir)
 num.figure("thesis_lobes", "The identified robot: lobes per slot direction with the "
            "spectral element's error band; red: the configured depths, dotted: its spindle "
            "speed")

@@ -34,7 +34,7 @@ say = Prose(load_templates("ch5", templates), found)
 v = found.values()
 SLOTS, CUTS_K = v["has_slots"], v["has_cut_stiffness"]
 
-num = Numbering("5", fig_dir=fig_dir)
+num = Numbering.for_chapter("ch5", fig_dir=fig_dir)
 if CUTS_K:
     num.table("cut_stiffness", "The cell's robot (joint model): stiffness along each cut's "
               "feed, in-plane normal and tool axis at the middle of the cut, grouped by what "

@@ -38,8 +38,8 @@ case_ds = load_cases(cases or [], open_artefact)
 bench = case_ds.get(F.get("bench_case"))
 slot = case_ds.get("insperger2004_slot") if F.get("has_slot") else None
 
-# chapter 6 is numbered across its three pages: this one holds Figures 6.1-6.6, Table 6.1
-num = Numbering("6", fig_dir=fig_dir)
+# chapter 6 is numbered across its three pages (the chapter registry's first_figure/first_table)
+num = Numbering.for_chapter("ch6_chatter", fig_dir=fig_dir)
 if bench is not None:
     num.figure("benchmark_lobes", f"Stability lobes of case {F['bench_case']}: zero-order and "
                "spectral element, flip lobes marked", number=1, part="a")

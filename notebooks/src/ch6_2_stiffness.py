@@ -55,12 +55,11 @@ mp = open_artefact(maps)
 opt = pd.read_csv(optimal)
 heights = mp["height_mm"].values
 
-# chapter 6 is numbered across its three pages: 6.1 holds Figures 6.1-6.6 and Table 6.1
-num = Numbering("6", fig_dir=fig_dir)
-num.table("workspace_ranges", "Workspace ranges: seed 001 against our Monte-Carlo workspace",
-          number=2)
+# chapter 6 is numbered across its three pages (the chapter registry's first_figure/first_table)
+num = Numbering.for_chapter("ch6_stiffness", fig_dir=fig_dir)
+num.table("workspace_ranges", "Workspace ranges: seed 001 against our Monte-Carlo workspace")
 num.figure("workspace", "Monte-Carlo workspace: X–Z projection of the 3-D workspace and the "
-           "X–Z plane", number=7)
+           "X–Z plane")
 num.table("joints", "Identified joint stiffnesses with 95 % intervals, per model, beside the "
           "seed's 3-D and plane values")
 num.table("identification", "The identifications: poses used, condition number, residual")

@@ -41,12 +41,12 @@ from robomill.pipeline.prose import Prose, comparison_table, load_templates
 
 found = read_findings(findings)
 say = Prose(load_templates("ch6_3", templates), found)
-# chapter 6 is numbered across its three pages: 6.1 ends at Table 6.1, 6.2 at Figure 6.10/Table 6.7
-num = Numbering("6", fig_dir=fig_dir)
+# chapter 6 is numbered across its three pages (the chapter registry's first_figure/first_table)
+num = Numbering.for_chapter("ch6_hexapod", fig_dir=fig_dir)
 num.table("seed_table1", "High-speed against conventional ball-end milling, as printed in "
-          "seed 003's Table 1", number=8)
+          "seed 003's Table 1")
 num.figure("trajectory", "The seed's acceleration programme through the inverse dynamics and "
-           "its open-loop replay (left), and the round-trip error (right)", number=11)
+           "its open-loop replay (left), and the round-trip error (right)")
 num.figure("actuator_forces", "Actuator forces of the programme (seed Fig. 4)")
 num.figure("drift_vs_exact", "The vertical move with exact forces and with one actuator's "
            "force off (seed Fig. 5): height, drift and Euler angles")

@@ -39,7 +39,7 @@ from robomill.pipeline.prose import Prose, load_templates
 from robomill.plan.compare import comparison_values
 from robomill.plan.extrapolation import reach_values
 
-num = Numbering("7", fig_dir=fig_dir)
+num = Numbering.for_chapter("ch7", fig_dir=fig_dir)
 num.figure("pareto", "Removal rate against the predicted form error (upper bound): the "
            "plan's Pareto front and the study's own cuts")
 num.figure("pose_map", "Pose map: the largest pessimistic critical depth over the speed range "

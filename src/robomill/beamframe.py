@@ -18,6 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from robomill.kinematics import SerialRobot
+from robomill.settings import schema_defaults
 from robomill.xrvars import attrs
 
 
@@ -156,8 +157,13 @@ def wheel_forces_N(F_n_N: float, mu: float, normal: np.ndarray,
     return F_n_N * N - mu * F_n_N * v
 
 
-def vibration_sigma(t_s: np.ndarray, delta_sum_m: np.ndarray, *, a: float = 1.3e4,
-                    decay_per_s: float = 0.01, offset: float = 0.6) -> np.ndarray:
+#: eq. 17's constants, as the schema states them (config ``stiffness.beamframe.sigma``)
+SIGMA = schema_defaults("stiffness.beamframe.sigma")
+
+
+def vibration_sigma(t_s: np.ndarray, delta_sum_m: np.ndarray, *, a: float = SIGMA["a"],
+                    decay_per_s: float = SIGMA["decay_per_s"],
+                    offset: float = SIGMA["offset"]) -> np.ndarray:
     """Vibration predictor of seed 004 eq. 17: σ(t) = a (e^{−0.01 t} + 1) δ_sum(t) + 0.6
     (δ_sum in m; σ in the unit of the seed's accelerometer standard deviation)."""
     t = np.asarray(t_s, float)

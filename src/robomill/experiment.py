@@ -277,13 +277,15 @@ def missing_data(files: Iterable[Mapping], cuts: Sequence[Cut], needs: Sequence[
                  ) -> str | None:
     """Why a chapter cannot be built from this raw folder, or None if it can.
 
-    ``needs`` lists raw-data kinds (``profile``, ``force``, ``impact`` …) and/or ``cuts``; the
+    ``needs`` lists raw-data kinds (``profile``, ``force``, ``impact`` …; ``profile|areal`` for
+    either) and/or ``cuts``; the
     reason names what the manifest lacks: ``no impact files in manifest.yaml``."""
     kinds = {f["kind"] for f in files}
-    lacking = [k for k in needs if (not cuts if k == "cuts" else k not in kinds)]
+    lacking = [k for k in needs
+               if (not cuts if k == "cuts" else not any(a in kinds for a in k.split("|")))]
     if not lacking:
         return None
-    names = ["cuts" if k == "cuts" else f"{k} files" for k in lacking]
+    names = ["cuts" if k == "cuts" else f"{k.replace('|', ' or ')} files" for k in lacking]
     return f"no {' and no '.join(names)} in manifest.yaml"
 
 

@@ -1,14 +1,104 @@
-"""Settings dataclasses from configuration mappings: the one constructor that takes a config
-section's keys that a dataclass has as fields (the rest left at the dataclass' defaults).
+"""A stage's settings, read one way: from the configuration as its schema fills it.
+
+Every default of a configuration key is written once, in the schemas
+(``workflow/schemas/config.schema.yaml`` and ``workflow/schemas/config/<section>.schema.yaml``).
+The workflow validates the configuration, which fills them; a stage reads its section with
+:func:`config_section` (a mapping: the simulators, the surface analysis, the plan) or
+:func:`settings_from` (its settings dataclass), which fill from the same schema whatever a
+configuration given by hand leaves out (a test's, a notebook's). A settings dataclass whose
+fields have defaults takes them from the schema (:func:`schema_default`), never a literal of
+its own.
 """
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 from collections.abc import Mapping
+from functools import cache
+from pathlib import Path
 from typing import Any, TypeVar
 
 T = TypeVar("T")
+
+#: the repository's configuration schemas (the top-level one and a folder of sections)
+SCHEMAS = Path(__file__).resolve().parents[2] / "workflow" / "schemas"
+
+
+@cache
+def _schema_file(path: str) -> dict[str, Any]:
+    import yaml
+
+    with open(path) as fh:
+        return yaml.load(fh, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
+
+
+@cache
+def _section_schema(section: str) -> dict[str, Any]:
+    """The schema of config section ``section`` (``"synth.tracker"``, ``"plan.simulate"``):
+    the section's own schema file where it has one, else the part of the schema of the
+    nearest section above it (the top-level schema for ``plan``)."""
+    from robomill.pipeline.config import SECTIONS
+
+    files = {".".join(keys): name for keys, name in SECTIONS}
+    keys = section.split(".") if section else []
+    for n in range(len(keys), -1, -1):
+        head = ".".join(keys[:n])
+        if n == 0 or head in files:
+            path = SCHEMAS / ("config.schema.yaml" if n == 0
+                              else f"config/{files[head]}.schema.yaml")
+            node = _schema_file(str(path))
+            for k in keys[n:]:
+                try:
+                    node = node["properties"][k]
+                except (KeyError, TypeError):
+                    raise KeyError(f"no config section {section!r} in the schemas") from None
+            return node
+    raise KeyError(section)  # unreachable: n == 0 always matches
+
+
+def _fill(value: Any, schema: Mapping[str, Any]) -> Any:
+    """``value`` with every key its ``schema`` states a default for and it lacks, filled
+    (in nested mappings too, as the workflow's validation fills them)."""
+    props = schema.get("properties") if isinstance(schema, Mapping) else None
+    if not isinstance(value, dict) or not isinstance(props, Mapping):
+        return value
+    for key, sub in props.items():
+        if key not in value and isinstance(sub, Mapping) and "default" in sub:
+            value[key] = copy.deepcopy(sub["default"])
+        if key in value:
+            value[key] = _fill(value[key], sub)
+    return value
+
+
+def schema_defaults(section: str) -> dict[str, Any]:
+    """The defaults the schema states for the keys of config section ``section``."""
+    return _fill({}, _section_schema(section))
+
+
+def schema_default(section: str, key: str) -> Any:
+    """The default the schema states for ``<section>.<key>`` (a settings dataclass' field
+    default: ``welch_nperseg: int = schema_default("forces", "welch_nperseg")``)."""
+    defaults = schema_defaults(section)
+    if key not in defaults:
+        raise KeyError(f"the schema states no default for config key {section}.{key}")
+    return defaults[key]
+
+
+def section_settings(values: Mapping[str, Any] | None, section: str) -> dict[str, Any]:
+    """The ``values`` of config section ``section`` (``"surface"``), every key its schema
+    gives a default for filled where ``values`` lacks it; a copy."""
+    return _fill(copy.deepcopy(dict(values or {})), _section_schema(section))
+
+
+def config_section(config: Mapping[str, Any], section: str) -> dict[str, Any]:
+    """Config section ``section`` (``"synth.tracker"``) of ``config``, every key its schema
+    gives a default for filled where ``config`` lacks it (a validated configuration lacks
+    none); a copy."""
+    node: Any = config
+    for k in section.split("."):
+        node = node.get(k) if isinstance(node, Mapping) else None
+    return section_settings(node, section)
 
 
 def dataclass_from_mapping(cls: type[T], section: Mapping[str, Any], *,
@@ -29,6 +119,12 @@ def dataclass_from_mapping(cls: type[T], section: Mapping[str, Any], *,
             raise ConfigError(f"{strict}: unknown key(s) {unknown}; expected some of "
                               f"{sorted(names)}")
     return cls(**{k: section[k] for k in names if k in section})
+
+
+def settings_from(cls: type[T], config: Mapping[str, Any], section: str) -> T:
+    """The settings dataclass ``cls`` of config section ``section`` (:func:`config_section`:
+    the schema's defaults where ``config`` lacks a key)."""
+    return dataclass_from_mapping(cls, config_section(config, section))
 
 
 class FromMapping:

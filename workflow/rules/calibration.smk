@@ -90,8 +90,7 @@ rule calibration:
 
 use rule chapter as ch1 with:
     input:
-        notebook=notebook("ch1_calibration.ipynb"),
-        templates=notebook("templates/ch1.yaml"),
+        **chapter_files("ch1"),
         findings="results/calibration/findings.yaml",
         model="results/calibration/model.nc",
         accuracy="results/calibration/accuracy.csv",
@@ -106,6 +105,3 @@ use rule chapter as ch1 with:
         chapter_log("ch1"),
     benchmark:
         chapter_benchmark("ch1")
-
-
-add_chapter("1", "results/chapters/ch1_calibration.html", needs=("ctrack",))

@@ -1,8 +1,9 @@
 # The one chapter rule. Every chapter is this rule used under its target's name
 # (`use rule chapter as ch2 with:`), so that `snakemake -j2 ch2` keeps working: its stage file
 # gives only the chapter's inputs (each named input is a notebook parameter) and its other
-# notebook parameters (CHAPTER_PARAMETERS); outputs, log and benchmark come from the table
-# CHAPTERS (common.smk).
+# notebook parameters come from the chapter registry (robomill.registry, CHAPTERS of
+# common.smk), as do its outputs, log and benchmark. A chapter whose registry row lists its
+# `inputs` needs no stage file: chapters.smk makes its rule.
 # The notebook is an input; the executed .ipynb, the .html and the figure folder are outputs.
 
 
@@ -11,7 +12,7 @@
 # copy's (results/figures/ch2) Snakemake picks the copy, a rule without wildcards.
 rule chapter:
     input:
-        notebook=lambda w: notebook(f"{CHAPTERS[w.target][0]}.ipynb"),
+        notebook=lambda w: chapter_files(w.target)["notebook"],
     output:
         ipynb="results/chapters/{target}.ipynb",
         html="results/chapters/{target}.html",
@@ -29,5 +30,6 @@ rule chapter:
         failed_copy=chapter_failed_copy,
         figure_cache=chapter_figure_cache,
         parameters=chapter_parameters,
+        shown=chapter_shown_parameters,
     script:
         "../scripts/render_chapter.py"

@@ -1,29 +1,39 @@
-# Chapter 0 (the experiment) and the chapter 3 target. Every chapter is the one rule of
-# chapter.smk used under its target's name; each chapter's lives with its stage file.
+# The chapters the registry describes whole (a row with `inputs`: chapter 0, and any chapter
+# added by one row, a notebook and a template: docs/chapters.md), and the targets that build
+# several chapters (a row's `groups`: `ch3`, `ch6`). The other chapters' rules live with their
+# stage files (`use rule chapter as ch2 with:`), for inputs that depend on the raw folder.
+for _c in CHAPTERS.values():
+    if _c.inputs is None:
+        continue
+
+    rule:
+        name:
+            _c.id
+        input:
+            **chapter_files(_c.id),
+            **_c.inputs,
+        output:
+            **chapter_outputs(_c.id),
+        log:
+            chapter_log(_c.id),
+        benchmark:
+            chapter_benchmark(_c.id)
+        conda:
+            ENV
+        params:
+            options=config["chapters"],
+            failed_copy=chapter_failed_copy,
+            figure_cache=chapter_figure_cache,
+            parameters=chapter_parameters,
+            shown=chapter_shown_parameters,
+        script:
+            "../scripts/render_chapter.py"
 
 
-CHAPTER_PARAMETERS["ch0"] = EXPERIMENT_PARAM
+for _group in dict.fromkeys(g for c in CHAPTERS.values() for g in c.groups):
 
-
-use rule chapter as ch0 with:
-    input:
-        notebook=notebook("ch0_experiment.ipynb"),
-        templates=notebook("templates/ch0.yaml"),
-        findings="results/ingest/findings.yaml",
-        cuts="results/ingest/cuts.csv",
-    output:
-        **chapter_outputs("ch0"),
-    log:
-        chapter_log("ch0"),
-    benchmark:
-        chapter_benchmark("ch0")
-
-
-add_chapter("0", "results/chapters/ch0_experiment.html", needs=("cuts",))
-
-
-rule ch3:
-    input:
-        "results/chapters/ch3_1_forces.html",
-        "results/chapters/ch3_2_straightness.html",
-        "results/chapters/ch3_3_modal.html",
+    rule:
+        name:
+            _group
+        input:
+            [c.page for c in CHAPTERS.values() if _group in c.groups],

@@ -16,6 +16,12 @@ from robomill.experiment import (
 from robomill.io.cell import peek_robot_name
 from robomill.io.errors import RawDataError
 from robomill.io.manifest import load_manifest, parse_manifest
+from robomill.registry import (
+    REGISTRY_ENV,
+    REQUIREMENT_WORDS,
+    chapters as registry_chapters,
+    unmet_requirement,
+)
 from robomill.synth.plan import synthetic_manifest
 
 REPO = Path(workflow.basedir)
@@ -24,6 +30,11 @@ RAW = "results/synthetic/raw" if SYNTHETIC else config["data"]["raw_dir"]
 MANIFEST = f"{RAW}/manifest.yaml"
 STUDY = "results/ingest/study.yaml"
 ENV = "../envs/robomill.yaml"
+
+# The chapter registry (src/robomill/data/chapters.yaml; robomill.registry): this
+# repository's table, for the DAG and for every job (they inherit the variable).
+os.environ[REGISTRY_ENV] = str(REPO / "src" / "robomill" / "data" / "chapters.yaml")
+CHAPTERS = {c.id: c for c in registry_chapters()}
 
 # The study plan, one parser in both modes: the raw folder's manifest.yaml, or for synthetic
 # data the manifest the simulators will write (planned from the configuration without
@@ -118,9 +129,6 @@ def design_input(stage, what, why):
 # varies (robomill.pipeline.design_tables).
 THESIS_DESIGN = is_thesis_design(CUTS)
 THESIS_STUDY = is_thesis_study(CUTS, EXPERIMENT)
-# the parameter of the chapters that tabulate the cuts: the experiment's defaults
-EXPERIMENT_PARAM = {"experiment": dict(EXPERIMENT)}
-
 
 # The robots (chapter 5): the cell's own robot, and those the folder holds (a robot file),
 # the cell's first.
@@ -158,19 +166,27 @@ STUDY_EXPERIMENT = {"layout": config["experiment"].get("layout"), **EXPERIMENT}
 STUDY_DEPTHS_MM = sorted({c.depth_mm for c in CUTS if c.depth_mm is not None})
 
 
-def add_chapter(label, html, needs=(), cannot=None):
-    """Build chapter `label` (its .html) in `all` if the raw folder has the kinds it `needs`
-    and the design does not exclude it (`cannot`: why not, e.g. chapter 4 without
-    identifiable cutting coefficients); otherwise skip it with one line (`chapter 3.3: no
-    impact files in manifest.yaml`).
-    """
-    why = missing_data(RAW_FILES, CUTS, needs) or cannot
+def add_chapter(c):
+    """Build chapter `c` (a registry row) in `all` if the raw folder has the kinds it needs
+    and the design meets what it requires (e.g. chapter 4: identifiable cutting
+    coefficients); otherwise skip it with one line (`chapter 3.3: no impact files in
+    manifest.yaml`)."""
+    why = missing_data(RAW_FILES, CUTS, c.needs.kinds)
+    for name in c.requires:
+        unmet = why is None and unmet_requirement(name, CUTS, EXPERIMENT, RAW_FILES)
+        if unmet:
+            why = f"{REQUIREMENT_WORDS[name]}, {unmet}"
     if why is None:
-        ALL_TARGETS.append(html)
+        ALL_TARGETS.append(c.page)
     else:
-        SKIPPED[label] = why
+        SKIPPED[c.label] = why
         if workflow.is_main_process:
-            print(f"chapter {label}: {why}", file=sys.stderr)
+            print(f"chapter {c.label}: {why}", file=sys.stderr)
+
+
+for _chapter in CHAPTERS.values():
+    if _chapter.in_all:
+        add_chapter(_chapter)
 
 
 def all_targets(wildcards):
@@ -234,54 +250,36 @@ def derive_code_inputs(rules):
     save_cache(cache)
 
 
-# The chapters (the one chapter rule, chapter.smk, is used under each target's name).
-# target: (notebook and page stem, figure folder under results/figures/, report caption
-# under workflow/report/, report category)
-CHAPTERS = {
-    "ch0": ("ch0_experiment", "ch0", "ch0", "Chapter 0"),
-    "ch1": ("ch1_calibration", "ch1", "ch1", "Chapter 1"),
-    "ch2": ("ch2_surface", "ch2", "ch2", "Chapter 2"),
-    "ch3_forces": ("ch3_1_forces", "ch3/forces", "ch3_1_forces", "Chapter 3"),
-    "ch3_straightness": (
-        "ch3_2_straightness",
-        "ch3/straightness",
-        "ch3_2_straightness",
-        "Chapter 3",
-    ),
-    "ch3_modal": ("ch3_3_modal", "ch3/modal", "ch3_3_modal", "Chapter 3"),
-    "ch4": ("ch4_chatter", "ch4", "ch4", "Chapter 4"),
-    "ch5": ("ch5_stiffness", "ch5", "ch5", "Chapter 5"),
-    # chapter 6, "Reference studies": the seeds' reproductions that use no data of the study
-    "ch6_chatter": ("ch6_1_chatter", "ch6/chatter", "ch6_1_chatter", "Chapter 6"),
-    "ch6_stiffness": (
-        "ch6_2_stiffness",
-        "ch6/stiffness",
-        "ch6_2_stiffness",
-        "Chapter 6",
-    ),
-    "ch6_hexapod": ("ch6_3_hexapod", "ch6/hexapod", "ch6_3_hexapod", "Chapter 6"),
-    "ch7": ("ch7_plan", "ch7", "ch7", "Chapter 7"),
-}
-# target: notebook parameters besides the inputs (each stage file sets its chapter's)
-CHAPTER_PARAMETERS = {}
+# The chapters (the one chapter rule, chapter.smk, is used under each target's name): their
+# outputs, notebook, template and parameters from the registry (CHAPTERS above).
 # the target of each chapter page (the rule's params are looked up by its output)
-CHAPTER_OF_PAGE = {f"results/chapters/{v[0]}.html": k for k, v in CHAPTERS.items()}
+CHAPTER_OF_PAGE = {c.page: c.id for c in CHAPTERS.values()}
 
 
 def chapter_outputs(target):
     """The outputs of chapter `target`: executed notebook, page and figure folder."""
-    stem, figures, caption, category = CHAPTERS[target]
-    rst = f"../report/{caption}.rst"
+    c = CHAPTERS[target]
+    rst = f"../report/{c.report}.rst"
+    category = f"Chapter {c.figure_prefix}"
     return {
-        "ipynb": f"results/chapters/{stem}.ipynb",
-        "html": report(f"results/chapters/{stem}.html", caption=rst, category=category),
+        "ipynb": f"results/chapters/{c.notebook}.ipynb",
+        "html": report(c.page, caption=rst, category=category),
         "figures": report(
-            directory(f"results/figures/{figures}"),
+            directory(f"results/figures/{c.figures}"),
             patterns=["{name}.png"],
             caption=rst,
             category=category,
             subcategory="Figures",
         ),
+    }
+
+
+def chapter_files(target):
+    """The chapter's notebook and its prose template (named inputs `notebook`, `templates`)."""
+    c = CHAPTERS[target]
+    return {
+        "notebook": notebook(f"{c.notebook}.ipynb"),
+        "templates": notebook(f"templates/{c.template}.yaml"),
     }
 
 
@@ -299,7 +297,28 @@ def chapter_target(wildcards, output):
 
 
 def chapter_parameters(wildcards, output):
-    return CHAPTER_PARAMETERS.get(chapter_target(wildcards, output), {})
+    """The chapter's notebook parameters besides its inputs (registry field `parameters`):
+    `settings`, the configuration section named, and `experiment`, the study's experiment
+    defaults."""
+    wanted = CHAPTERS[chapter_target(wildcards, output)].parameters
+    shown = {}
+    if wanted.get("settings"):
+        shown["settings"] = config[wanted["settings"]]
+    if wanted.get("experiment"):
+        shown["experiment"] = dict(EXPERIMENT)
+    return shown
+
+
+def chapter_shown_parameters(wildcards, output):
+    """The page's table "Parameters of this run": the chapter's notebook parameters besides
+    its inputs (the study's settings and experiment), else the configuration section of the
+    stage whose artefacts it reads (registry field `stage`); never the artefacts' paths.
+    """
+    shown = chapter_parameters(wildcards, output)
+    stage = CHAPTERS[chapter_target(wildcards, output)].stage
+    if not shown and stage in config:
+        shown = {"settings": config[stage]}
+    return shown
 
 
 def chapter_failed_copy(wildcards, output):
@@ -312,10 +331,8 @@ def chapter_figure_cache(wildcards, output):
     return f"results/.cache/figures/{chapter_target(wildcards, output)}"
 
 
-def tracker_run_spec(run):
-    """What the analysis of tracker run ``run`` needs from its manifest entry
-    (``TRACKER_RUNS`` of straightness.smk)."""
-    f = TRACKER_RUNS[run]
+def tracker_run_spec(run, f):
+    """What the analysis of tracker run ``run`` needs from its manifest entry ``f``."""
     return {
         "run": run,
         "relpath": f["path"],

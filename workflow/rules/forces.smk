@@ -2,13 +2,7 @@
 # mean forces -> peaks table, spectra and the identified cutting coefficients.
 # One simulator job (virtual cell), one analysis job per cut (one for all the virtual cell's
 # cuts), then one gather job.
-from robomill.forces.coefficients import design_not_identified
-
 FORCE_FILES = {f["cut"]: f for f in RAW_FILES if f["kind"] == "force"}
-# Why the force cuts' design cannot identify the cutting coefficients (one feed per tooth,
-# fewer than 3 cuts), or None: forces_gather then writes them as NaN with the reason, and what
-# needs them (chapter 4's lobes) is left out with this line (robomill.forces.coefficients).
-COEFFICIENTS_NOT_IDENTIFIED = design_not_identified(CUTS, EXPERIMENT, FORCE_FILES)
 
 
 # the manifest entry of a cut's record; the planted truth input (synthetic runs only)
@@ -141,18 +135,11 @@ rule forces:
         "results/forces/harmonics.csv",
 
 
-CHAPTER_PARAMETERS["ch3_forces"] = {
-    "settings": config["forces"],
-    **EXPERIMENT_PARAM,
-}
-
-
 use rule chapter as ch3_forces with:
     input:
         unpack(forces_truth_input),
         **({"modes": "results/modal/modes.csv"} if has_kind("impact") else {}),
-        notebook=notebook("ch3_1_forces.ipynb"),
-        templates=notebook("templates/ch3_1.yaml"),
+        **chapter_files("ch3_forces"),
         findings="results/forces/findings.yaml",
         spectra="results/forces/spectra.nc",
         peaks="results/forces/peaks.csv",
@@ -167,6 +154,3 @@ use rule chapter as ch3_forces with:
         chapter_log("ch3_forces"),
     benchmark:
         chapter_benchmark("ch3_forces")
-
-
-add_chapter("3.1", "results/chapters/ch3_1_forces.html", needs=("force",))

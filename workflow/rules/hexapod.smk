@@ -111,8 +111,7 @@ rule hexapod:
 
 use rule chapter as ch6_hexapod with:
     input:
-        notebook=notebook("ch6_3_hexapod.ipynb"),
-        templates=notebook("templates/ch6_3.yaml"),
+        **chapter_files("ch6_hexapod"),
         findings="results/hexapod/findings.yaml",
         trajectory="results/hexapod/trajectory.nc",
         forces="results/hexapod/forces.nc",
@@ -124,6 +123,3 @@ use rule chapter as ch6_hexapod with:
         chapter_log("ch6_hexapod"),
     benchmark:
         chapter_benchmark("ch6_hexapod")
-
-
-add_chapter("6.3", "results/chapters/ch6_3_hexapod.html")

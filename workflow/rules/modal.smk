@@ -133,8 +133,7 @@ rule modal:
 
 use rule chapter as ch3_modal with:
     input:
-        notebook=notebook("ch3_3_modal.ipynb"),
-        templates=notebook("templates/ch3_3.yaml"),
+        **chapter_files("ch3_modal"),
         frf="results/modal/frf.nc",
         synth="results/modal/frf_synth.nc",
         traces="results/modal/hits.nc",
@@ -155,6 +154,3 @@ use rule chapter as ch3_modal with:
         chapter_log("ch3_modal"),
     benchmark:
         chapter_benchmark("ch3_modal")
-
-
-add_chapter("3.3", "results/chapters/ch3_3_modal.html", needs=("impact",))

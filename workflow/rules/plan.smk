@@ -5,7 +5,7 @@
 
 from robomill.plan import NEXT_RUN_DIR
 
-PLAN_REQUEST = config.get("plan", {}).get("request", "plan.yaml")
+PLAN_REQUEST = config["plan"]["request"]
 PLAN_MEASURED = {
     **(
         {"modes": "results/modal/modes.csv", "modal_fit": "results/modal/frf_synth.nc"}
@@ -22,7 +22,7 @@ PLAN_MEASURED = {
     ),
     **(
         {"joints": f"results/stiffness/{CELL_ROBOT}/joint_stiffness.csv"}
-        if CELL_ROBOT in STIFF_ROBOTS
+        if CELL_ROBOT in FOLDER_ROBOTS
         else {}
     ),
     # the gear lines and, for their component amplitudes, the runs' spectra
@@ -76,7 +76,7 @@ rule plan_make:
         ENV
     params:
         experiment=STUDY_EXPERIMENT,
-        waviness_noise=config.get("plan", {}).get("waviness_noise", {}),
+        waviness_noise=config["plan"]["waviness_noise"],
         fmin_cycles=config["straightness"]["fmin_cycles"],
         level=config["plan"]["interval_level"],
     script:
@@ -124,13 +124,11 @@ rule plan_check:
     conda:
         ENV
     params:
-        tolerance=config.get("plan", {}).get("check_tolerance", 0.25),
+        tolerance=config["plan"]["check_tolerance"],
         # a folder, not a prefix of the inputs (they exist only once the run has made them)
         next_run=lambda w: NEXT_RUN_DIR,
-        chatter_fraction_of_mean=config.get("plan", {}).get(
-            "chatter_fraction_of_mean", 0.05
-        ),
-        waviness_noise=config.get("plan", {}).get("waviness_noise", {}),
+        chatter_fraction_of_mean=config["plan"]["chatter_fraction_of_mean"],
+        waviness_noise=config["plan"]["waviness_noise"],
         fmin_cycles=config["straightness"]["fmin_cycles"],
     script:
         "../scripts/plan_check.py"
@@ -138,7 +136,7 @@ rule plan_check:
 
 use rule chapter as ch7 with:
     input:
-        notebook=notebook("ch7_plan.ipynb"),
+        **chapter_files("ch7"),
         candidates=PLAN_OUTPUTS["candidates"],
         pose_map=PLAN_OUTPUTS["pose_map"],
         plan=PLAN_OUTPUTS["plan"],
@@ -147,7 +145,6 @@ use rule chapter as ch7 with:
         comparison=PLAN_OUTPUTS["comparison"],
         check="results/plan/check.csv",
         check_summary="results/plan/check_summary.csv",
-        templates=notebook("templates/ch7.yaml"),
     output:
         **chapter_outputs("ch7"),
     log:

@@ -15,15 +15,15 @@ STIFF_REL = {
     if f["kind"] in ("robot", "stiffness")
 }
 STIFF_ROBOTS = FOLDER_ROBOTS  # the robots the folder holds, the cell's first
-STIFF_CFG = config.get("stiffness", {})
-MAP_ROBOT = folder_robot(STIFF_CFG.get("map_robot", "kr360"))
-THESIS_ROBOT = folder_robot(STIFF_CFG.get("thesis_robot", "irb1600"))
+STIFF_CFG = config["stiffness"]  # validated: the schema's defaults filled
+MAP_ROBOT = folder_robot(STIFF_CFG["map_robot"])
+THESIS_ROBOT = folder_robot(STIFF_CFG["thesis_robot"])
 MAP_JOBS = [
     (int(round(h)), int(round(a)))
-    for h in STIFF_CFG.get("map", {}).get("heights_mm", [])
-    for a in STIFF_CFG.get("map", {}).get("redundancy_deg", [])
+    for h in STIFF_CFG["map"]["heights_mm"]
+    for a in STIFF_CFG["map"]["redundancy_deg"]
 ]
-STIFF_SEED = int(STIFF_CFG.get("seed", 20240601))
+STIFF_SEED = int(STIFF_CFG["seed"])
 
 
 rule stiffness_identify:
@@ -252,16 +252,12 @@ rule stiffness:
         STIFF_OUTPUTS,
 
 
-CHAPTER_PARAMETERS["ch5"] = EXPERIMENT_PARAM
-
-
 use rule chapter as ch5 with:
     input:
         **THESIS_SLOTS,
         **CUT_STIFFNESS,
         **({"cuts": "results/ingest/cuts.csv"} if CUT_STIFFNESS else {}),
-        notebook=notebook("ch5_stiffness.ipynb"),
-        templates=notebook("templates/ch5.yaml"),
+        **chapter_files("ch5"),
         findings="results/stiffness/findings.yaml",
     output:
         **chapter_outputs("ch5"),
@@ -271,15 +267,11 @@ use rule chapter as ch5 with:
         chapter_benchmark("ch5")
 
 
-add_chapter("5", "results/chapters/ch5_stiffness.html", needs=("robot", "stiffness"))
-
-
 # Chapter 6.2 (reference studies): seed 001's joint-stiffness study on its robot (workspace,
 # identification, maps, optimal pose) and seed 004's beam frame.
 use rule chapter as ch6_stiffness with:
     input:
-        notebook=notebook("ch6_2_stiffness.ipynb"),
-        templates=notebook("templates/ch6_2.yaml"),
+        **chapter_files("ch6_stiffness"),
         findings="results/stiffness/findings.yaml",
         maps="results/stiffness/maps.nc",
         optimal="results/stiffness/optimal_poses.csv",
@@ -293,15 +285,3 @@ use rule chapter as ch6_stiffness with:
         chapter_log("ch6_stiffness"),
     benchmark:
         chapter_benchmark("ch6_stiffness")
-
-
-add_chapter(
-    "6.2", "results/chapters/ch6_2_stiffness.html", needs=("robot", "stiffness")
-)
-
-
-rule ch6:
-    input:
-        "results/chapters/ch6_1_chatter.html",
-        "results/chapters/ch6_2_stiffness.html",
-        "results/chapters/ch6_3_hexapod.html",

@@ -26,7 +26,7 @@ rule straightness_run:
     params:
         settings=config["straightness"],
         cell_relpath=CELL_RELPATH,
-        runs=lambda w: [tracker_run_spec(w.run)],
+        runs=lambda w: [tracker_run_spec(w.run, TRACKER_RUNS[w.run])],
     script:
         "../scripts/straightness_run.py"
 
@@ -54,7 +54,7 @@ if SYNTHETIC and TRACKER_RUNS:
         params:
             settings=config["straightness"],
             cell_relpath=CELL_RELPATH,
-            runs=[tracker_run_spec(r) for r in TRACKER_RUNS],
+            runs=[tracker_run_spec(r, f) for r, f in TRACKER_RUNS.items()],
         script:
             "../scripts/straightness_run.py"
 
@@ -149,13 +149,9 @@ rule straightness:
         "results/straightness/truth_check.csv",
 
 
-CHAPTER_PARAMETERS["ch3_straightness"] = {"settings": config["straightness"]}
-
-
 use rule chapter as ch3_straightness with:
     input:
-        notebook=notebook("ch3_2_straightness.ipynb"),
-        templates=notebook("templates/ch3_2.yaml"),
+        **chapter_files("ch3_straightness"),
         findings="results/straightness/findings.yaml",
         peaks="results/straightness/peaks.csv",
         gears="results/straightness/gears.csv",
@@ -168,8 +164,3 @@ use rule chapter as ch3_straightness with:
         chapter_log("ch3_straightness"),
     benchmark:
         chapter_benchmark("ch3_straightness")
-
-
-add_chapter(
-    "3.2", "results/chapters/ch3_2_straightness.html", needs=("tracker", "profile")
-)

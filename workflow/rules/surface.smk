@@ -276,12 +276,6 @@ rule surface:
         optional_input(bool(AREAL_FILES), list(AREAL_OUTPUTS.values())),
 
 
-CHAPTER_PARAMETERS["ch2"] = {
-    "settings": config["surface"],
-    **EXPERIMENT_PARAM,
-}
-
-
 use rule chapter as ch2 with:
     input:
         unpack(
@@ -292,8 +286,7 @@ use rule chapter as ch2 with:
         ),
         unpack(lambda w: AREAL_OUTPUTS if AREAL_FILES else {}),
         **SURFACE_TABLES,
-        notebook=notebook("ch2_surface.ipynb"),
-        templates=notebook("templates/ch2.yaml"),
+        **chapter_files("ch2"),
         findings="results/surface/findings.yaml",
         cuts="results/ingest/cuts.csv",
         peaks="results/surface/peaks.csv",
@@ -306,10 +299,3 @@ use rule chapter as ch2 with:
         chapter_log("ch2"),
     benchmark:
         chapter_benchmark("ch2")
-
-
-add_chapter(
-    "2",
-    "results/chapters/ch2_surface.html",
-    needs=("profile",) if SURFACE_FILES or not AREAL_FILES else ("areal",),
-)

@@ -44,7 +44,7 @@ table = check_table(
     profiles=dataset("profiles"),
     waviness_min_cycles=waviness_min_cycles(
         snakemake.params.fmin_cycles,
-        float(dict(snakemake.params.waviness_noise or {}).get("exclude_bins", 2.0))))
+        float(snakemake.params.waviness_noise["exclude_bins"])))
 write_table(table, snakemake.output.check)
 summary = check_summary(table, float(snakemake.params.tolerance))
 write_table(summary_table(summary), snakemake.output.summary)

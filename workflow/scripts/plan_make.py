@@ -39,23 +39,23 @@ def table(name):
 
 
 gears = None
-noise = dict(p.waviness_noise or {})  # config plan.waviness_noise (robomill.plan.noise)
+noise = p.waviness_noise  # config plan.waviness_noise, filled by its schema (robomill.plan.noise)
 if "peaks" in inp.keys() and placed:
     poses = cut_mid_poses(cell.robot, cuts, experiment, tool_rotation=cell.R0,
                           q0_rad=cell.q_seed_rad)
     profiles = xr.load_dataset(inp.profiles) if "profiles" in inp.keys() else None
     gears = gear_joint_amplitudes(
         pd.read_csv(inp.peaks), cell.robot, poses, profiles=profiles,
-        noise_band_bins=float(noise.get("band_bins", 20.0)),
-        noise_exclude_bins=float(noise.get("exclude_bins", 2.0)), level=float(p.level))
+        noise_band_bins=float(noise["band_bins"]),
+        noise_exclude_bins=float(noise["exclude_bins"]), level=float(p.level))
     log.info("gear elements (joint amplitudes, tracker noise):\n%s", gears.to_string())
 regression = regression_from_means(table("means"), int(experiment.get("flutes", req.flutes)))
 measured = Measured(modes=table("modes"), coefficients=table("coefficients"),
                     joints=table("joints"), gears=gears, force_regression=regression,
                     level=float(p.level),
-                    waviness_coverage=float(noise.get("coverage", 0.95)),
+                    waviness_coverage=float(noise["coverage"]),
                     waviness_min_cycles=waviness_min_cycles(
-                        p.fmin_cycles, float(noise.get("exclude_bins", 2.0))))
+                        p.fmin_cycles, float(noise["exclude_bins"])))
 # what the study measured: the identifying cuts' ranges, the cuts' midpoints, the modal band
 band = None
 if "modal_fit" in inp.keys():

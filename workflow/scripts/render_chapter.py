@@ -25,6 +25,7 @@ def main(snakemake) -> None:
         figure_workers=opts["figure_workers"],
         figure_cache=snakemake.params.figure_cache if opts["figure_cache"] else None,
         failed_copy=snakemake.params.failed_copy,
+        shown=snakemake.params.shown,
     )
     log.info("rendered %s", snakemake.output.html)
 

@@ -24,6 +24,7 @@ from robomill.calibration.compliance import (
 from robomill.calibration.geometry import CircleFit, VectorModel, fit_circle
 from robomill.calibration.gravity import MassModel, gravity_torques_Nm, no_masses
 from robomill.calibration.joint_errors import JointErrorFit, fit_joint_error, step_errors
+from robomill.settings import schema_default
 
 
 @dataclass
@@ -99,7 +100,8 @@ GRAVITY_NONE = ("none: the cell file states no mass_model, so the identification
 def identify(circles: pd.DataFrame, home: pd.DataFrame, steps: pd.DataFrame,
              loads: pd.DataFrame, base: pd.DataFrame, *, masses: MassModel | None,
              fixture_offset_mm: np.ndarray, orders: Mapping[int, Sequence[float]],
-             max_degree: int = 3, holdout_every: int = 4, iterations: int = 3
+             max_degree: int = 3, holdout_every: int = 4,
+             iterations: int = schema_default("calibration", "iterations")
              ) -> Identification:
     """The whole chapter-1 identification from the C-Track tables.
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from robomill.chatter.verdicts import comb_mask
+from robomill.settings import schema_default
 
 
 def chatter_indicator(force_N: np.ndarray, fs_hz: float, tooth_hz: float,
@@ -76,11 +77,12 @@ class SlidingDetector:
     fs_hz: float
     tooth_hz: float
     window_s: float = 0.5
-    band_hz: tuple[float, float] = (20.0, 1000.0)
+    band_hz: tuple[float, float] = tuple(schema_default("chatter.seed.detector", "band_hz"))
     harmonic_halfwidth_hz: float = 4.0
-    growth_ratio: float = 3.0
-    rising_windows: int = 3
-    min_fraction_of_mean: float = 0.05
+    growth_ratio: float = schema_default("chatter.seed.detector", "growth_ratio")
+    rising_windows: int = schema_default("chatter.seed.detector", "rising_windows")
+    min_fraction_of_mean: float = schema_default("chatter.seed.detector",
+                                                 "min_fraction_of_mean")
     persist_ratio: float = 0.7
     history: list = field(default_factory=list)
     armed_at: int = 0

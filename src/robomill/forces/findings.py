@@ -33,6 +33,7 @@ from robomill.forces.coefficients import (
 )
 from robomill.forces.peaks import nearest_modes
 from robomill.forces.tables import figure_cuts, process_table
+from robomill.settings import section_settings
 
 _PEAKS = "results/forces/peaks.csv"
 _MODES = "results/modal/modes.csv"
@@ -164,12 +165,13 @@ def _records(found: Findings, spectra: xr.Dataset, means: pd.DataFrame | None,
     ``forces.full_band_min_hz`` (``full_band_peak_cut``, ``full_band_peak_hz``) and its ratio
     to that cut's tooth-passing frequency (``full_band_peak_harmonic``).
     """
+    filled = section_settings(settings, "forces")  # the schema's defaults where it lacks one
     found.add("n_samples_total", int(spectra["n_samples"].sum()), artefact=_SPECTRA,
               what="n_samples, summed over the cuts")
     tp = np.unique(spectra["tooth_passing_hz"].values.astype(float))
     found.add("tooth_passing_hz_values", tp, "Hz", artefact=_SPECTRA,
               what="tooth_passing_hz, each value once (sorted)")
-    sel = figure_cuts(spectra, figure_set=int(settings.get("figure_set", 3)),
+    sel = figure_cuts(spectra, figure_set=int(filled["figure_set"]),
                       thesis_design=thesis_design)
     found.add("thesis_layout", sel.thesis_layout, artefact=_SPECTRA,
               what="the thesis' design and a set per cut: one set shown as the thesis")
@@ -185,7 +187,7 @@ def _records(found: Findings, spectra: xr.Dataset, means: pd.DataFrame | None,
         found.add("model_milling", str(first["milling"]), artefact=_MEANS, what="milling")
         found.add("model_radial_immersion", float(first["radial_immersion"]), artefact=_MEANS,
                   what="radial_immersion")
-    min_hz = float(settings.get("full_band_min_hz", 500.0))
+    min_hz = float(filled["full_band_min_hz"])
     cut = sel.cuts[0]
     f = spectra["frequency"].values
     psd = spectra["psd"].sel(cut=cut).sum("axis").values

@@ -1,12 +1,13 @@
 """Settings of the per-cut force analysis (config section ``forces``): the streaming
-spectra's parameters and those of the peak search.
+spectra's parameters and those of the peak search. Their defaults are the schema's
+(``workflow/schemas/config/forces.schema.yaml``; :func:`robomill.settings.schema_default`).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from robomill.settings import FromMapping
+from robomill.settings import FromMapping, schema_default
 
 
 @dataclass
@@ -18,13 +19,13 @@ class ForceAnalysisSettings(FromMapping):
     ``fs/decimation > 2 × lowband_hz``.
     """
 
-    welch_nperseg: int = 16384
-    decimation: int | None = None
-    lowband_hz: float = 250.0
-    fir_atten_db: float = 120.0
-    envelope_blocks: int = 400
-    excerpt_samples: int = 1000
-    lowband_max_s: float = 300.0
+    welch_nperseg: int = schema_default("forces", "welch_nperseg")
+    decimation: int | None = schema_default("forces", "decimation")
+    lowband_hz: float = schema_default("forces", "lowband_hz")
+    fir_atten_db: float = schema_default("forces", "fir_atten_db")
+    envelope_blocks: int = schema_default("forces", "envelope_blocks")
+    excerpt_samples: int = schema_default("forces", "excerpt_samples")
+    lowband_max_s: float = schema_default("forces", "lowband_max_s")
 
 
 @dataclass
@@ -37,10 +38,12 @@ class ForcePeakSettings(FromMapping):
     ``±*_floor_halfwidth`` of it (:func:`robomill.spectra.prominent_peaks`).
     """
 
-    dominant_band_hz: tuple[float, float] = (15.0, 250.0)
-    kinematic_band_per_mm: tuple[float, float] = (0.3, 1.0)
-    dominant_prominence_db: float = 12.0
-    dominant_floor_halfwidth_hz: float = 25.0
-    kinematic_prominence_db: float = 10.0
-    kinematic_floor_halfwidth_per_mm: float = 0.25
-    min_peak_cycles: float = 10.0
+    dominant_band_hz: tuple[float, float] = tuple(schema_default("forces", "dominant_band_hz"))
+    kinematic_band_per_mm: tuple[float, float] = tuple(
+        schema_default("forces", "kinematic_band_per_mm"))
+    dominant_prominence_db: float = schema_default("forces", "dominant_prominence_db")
+    dominant_floor_halfwidth_hz: float = schema_default("forces", "dominant_floor_halfwidth_hz")
+    kinematic_prominence_db: float = schema_default("forces", "kinematic_prominence_db")
+    kinematic_floor_halfwidth_per_mm: float = schema_default(
+        "forces", "kinematic_floor_halfwidth_per_mm")
+    min_peak_cycles: float = schema_default("forces", "min_peak_cycles")

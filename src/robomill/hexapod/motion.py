@@ -21,6 +21,10 @@ from scipy.spatial.transform import Rotation
 
 from robomill.hexapod.dynamics import forward_acceleration, inverse_dynamics
 from robomill.hexapod.geometry import Hexapod, euler_to_matrix, vcross
+from robomill.settings import schema_defaults
+
+#: the ODE solver's defaults, as the schema states them (config ``hexapod.solver``)
+SOLVER = schema_defaults("hexapod.solver")
 
 
 def _quat_dot(q: np.ndarray, w: np.ndarray) -> np.ndarray:
@@ -62,9 +66,9 @@ class Simulation:
 
 
 def simulate(hx: Hexapod, y0: np.ndarray, forces: ForceLaw, t_eval: np.ndarray,
-             breakpoints: Sequence[float] = (), rtol: float = 1e-10, atol: float = 1e-12,
-             method: str = "DOP853", stop: Callable[[float, np.ndarray], float] | None = None
-             ) -> Simulation:
+             breakpoints: Sequence[float] = (), rtol: float = SOLVER["rtol"],
+             atol: float = SOLVER["atol"], method: str = SOLVER["method"],
+             stop: Callable[[float, np.ndarray], float] | None = None) -> Simulation:
     """Integrate the forward dynamics (seed eq. 6) with ``scipy.integrate.solve_ivp``.
 
     The integration restarts at every ``breakpoint`` (a jump of the commanded acceleration),
@@ -170,9 +174,9 @@ def programme_forces(hx: Hexapod, prog: Programme) -> ForceLaw:
 
 
 def run_programme(hx: Hexapod, prog: Programme, t_eval: np.ndarray,
-                  force_scale: np.ndarray | None = None, rtol: float = 1e-10,
-                  atol: float = 1e-12, stop_error_m: float | None = None,
-                  method: str = "DOP853") -> Simulation:
+                  force_scale: np.ndarray | None = None, rtol: float = SOLVER["rtol"],
+                  atol: float = SOLVER["atol"], stop_error_m: float | None = None,
+                  method: str = SOLVER["method"]) -> Simulation:
     """Forward dynamics under the programme's inverse-dynamics forces, each actuator's force
     multiplied by ``force_scale`` (6,) (1 = exact; 1.01 = +1 % error).
 
@@ -210,8 +214,8 @@ def vertical_programme(start_m: Sequence[float], rise_m: float, duration_s: floa
 
 
 def force_error_drift(hx: Hexapod, prog: Programme, actuator: int, error_pct: float,
-                      n_eval: int = 2, rtol: float = 1e-10, atol: float = 1e-12,
-                      method: str = "DOP853") -> tuple[np.ndarray, np.ndarray]:
+                      n_eval: int = 2, rtol: float = SOLVER["rtol"], atol: float = SOLVER["atol"],
+                      method: str = SOLVER["method"]) -> tuple[np.ndarray, np.ndarray]:
     """Final position error (m) and rotation vector (rad) when actuator ``actuator`` (1–6)
     delivers ``(1 + error_pct/100)`` times its inverse-dynamics force (seed: actuator 1 at
     +1 %)."""

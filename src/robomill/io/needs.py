@@ -1,7 +1,8 @@
 """What each chapter needs from a raw folder: the file kinds that feed it and the experiment and
-cut keys of the manifest it reads (issue 32 point 3).
+cut keys of the manifest it reads, as the chapter registry (:mod:`robomill.registry`) states
+them.
 
-One table, :data:`CHAPTER_NEEDS`, read by the manifest validator
+:data:`CHAPTER_NEEDS`, read by the manifest validator
 (:func:`robomill.io.manifest.parse_manifest`), ``robomill manifest``, ``robomill check`` and
 the workflow (``workflow/rules/common.smk``): a folder is asked only for the keys of the
 chapters its kinds feed, so that an impact-test-only folder needs no spindle speed.
@@ -12,10 +13,13 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
 
+from robomill.registry import chapters
+
 
 @dataclass(frozen=True)
 class ChapterNeeds:
-    """What one chapter reads from the raw folder.
+    """What one chapter reads from the raw folder (:class:`robomill.registry.Needs`, with the
+    chapter's target).
 
     ``kinds``: raw-data kinds (``cuts`` for the manifest's cut list) that must all be present
     for the chapter to be built; ``experiment``: keys of the manifest's ``experiment`` it
@@ -30,29 +34,12 @@ class ChapterNeeds:
 
 
 CHAPTER_NEEDS: dict[str, ChapterNeeds] = {
-    # the cut table: feed per tooth and tooth passing of every cut
-    "0": ChapterNeeds("ch0", ("cuts",), ("spindle_rpm", "flutes"), ("feed_mm_s", "depth_mm")),
-    "1": ChapterNeeds("ch1", ("ctrack",)),
-    # waviness/roughness per cut; peaks named by tooth passing and feed per tooth
-    "2": ChapterNeeds("ch2", ("profile",), ("spindle_rpm", "flutes"),
-                      ("feed_mm_s", "depth_mm")),
-    # the chip model of the coefficient fit: speed, flutes, tool diameter, feed and depth
-    "3.1": ChapterNeeds("ch3_forces", ("force",), ("spindle_rpm", "flutes", "tool_diameter_mm"),
-                        ("feed_mm_s", "depth_mm")),
-    # tracker runs carry their own feed and direction; the surface peaks beside them
-    "3.2": ChapterNeeds("ch3_straightness", ("tracker", "profile")),
-    "3.3": ChapterNeeds("ch3_modal", ("impact",)),
-    # lobes at the study's spindle speed and flutes, recommendations at its depths
-    "4": ChapterNeeds("ch4", ("impact", "force"), ("spindle_rpm", "flutes"), ("depth_mm",)),
-    # the robots' joint stiffness; with cuts, the stiffness at the middle of every cut
-    "5": ChapterNeeds("ch5", ("robot", "stiffness"), experiment_with_cuts=("cut_length_mm",)),
-    # chapter 6, the reference studies: seed 002 and the published lobe cases, seed 001's
-    # robot and seed 004's frame (their load tests), seed 003's hexapod
-    "6.1": ChapterNeeds("ch6_chatter", ()),
-    "6.2": ChapterNeeds("ch6_stiffness", ("robot", "stiffness")),
-    "6.3": ChapterNeeds("ch6_hexapod", ()),
+    c.label: ChapterNeeds(c.id, c.needs.kinds, c.needs.experiment, c.needs.cut,
+                          c.needs.experiment_with_cuts)
+    for c in chapters() if c.in_all
 }
-"""Chapter label → what it needs (the chapters' own inputs follow from their rules)."""
+"""Chapter label → what it needs, for the chapters ``all`` builds (the chapter registry's rows;
+the chapters' own inputs follow from their rules)."""
 
 STAGE_KINDS: dict[str, tuple[str, ...]] = {
     "calibration": ("ctrack",),
@@ -66,16 +53,23 @@ STAGE_KINDS: dict[str, tuple[str, ...]] = {
 """The kinds each stage's analysis reads (``results/<stage>/``; target ``<stage>``)."""
 
 
+def kind_present(kind: str, have: Iterable[str]) -> bool:
+    """Whether ``have`` holds ``kind``; ``profile|areal`` is met by either alternative."""
+    have = set(have)
+    return any(k in have for k in kind.split("|"))
+
+
 def fed_chapters(kinds: Iterable[str], has_cuts: bool) -> list[str]:
     """The chapters a folder with files of ``kinds`` (and cuts if ``has_cuts``) feeds."""
     have = set(kinds) | ({"cuts"} if has_cuts else set())
-    return [label for label, n in CHAPTER_NEEDS.items() if set(n.kinds) <= have]
+    return [label for label, n in CHAPTER_NEEDS.items()
+            if all(kind_present(k, have) for k in n.kinds)]
 
 
 def missing_kinds(needs: Iterable[str], kinds: Iterable[str], has_cuts: bool) -> list[str]:
     """The kinds of ``needs`` that a folder with ``kinds`` (and cuts if ``has_cuts``) lacks."""
     have = set(kinds) | ({"cuts"} if has_cuts else set())
-    return [k for k in needs if k not in have]
+    return [k for k in needs if not kind_present(k, have)]
 
 
 def chapter_list(labels: Iterable[str]) -> str:

@@ -2,11 +2,13 @@
 
 :func:`print_document` joins the chapters into one page (``book_print.html``): a title page
 with the study's one-line description (:func:`robomill.pipeline.design_tables.describe_design`),
-a contents list in two parts, the study's chapters and the reference studies (chapter 6: the
-source papers' reproductions that use no data of the study, :func:`book_part`), whose entries
+a contents list in two parts, the study's chapters and the reference studies (the source
+papers' reproductions that use no data of the study; the chapter registry's ``part``,
+:func:`book_part`), whose entries
 link to the chapters and carry their page numbers, then each chapter on a new page, the
 reference studies behind a part title page. The print style keeps a heading with what follows it
-(``break-after: avoid``), does not split figures, tables or table rows, wraps table cells
+(``break-after: avoid``), a table's caption with its table (the caption above it) and a figure
+with its caption (below it), does not split figures, tables or table rows, wraps table cells
 instead of clipping them behind a scroll bar, prints a table of more than
 :data:`WIDE_TABLE_COLUMNS` columns on a landscape page (:func:`landscape_wide_tables`), folds
 the code away and numbers the pages.
@@ -30,6 +32,8 @@ import subprocess
 import tempfile
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+
+from robomill.registry import PARTS, book_order, by_notebook
 
 #: executable names tried, in order, by :func:`find_chromium` (``$ROBOMILL_CHROMIUM`` first)
 CHROMIUM_NAMES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
@@ -76,11 +80,19 @@ section.part .part-title{font-size:2em;font-weight:bold}
  nav.robomill,details.robomill-code{display:none!important}
  section.chapter{break-before:page}
  div.wide-table{page:wide}
+ .jp-OutputArea-child:has(p.caption):has(+.jp-OutputArea-child div.wide-table){page:wide}
+ .jp-Cell:has(.jp-RenderedMarkdown>:is(h1,h2,h3,h4,h5,h6):last-child):has(
+  +.jp-Cell .jp-OutputArea-child:first-child p.caption):has(
+  +.jp-Cell .jp-OutputArea-child:first-child+.jp-OutputArea-child div.wide-table){page:wide}
  div.wide-table table{max-width:none!important}
  div.wide-table td,div.wide-table th{overflow-wrap:normal}
  h1,h2,h3,h4,h5,h6{break-after:avoid-page;break-inside:avoid-page}
  .jp-Cell:has(.jp-RenderedMarkdown>:is(h1,h2,h3,h4,h5,h6):last-child){break-after:avoid-page}
  .jp-Cell{break-inside:avoid-page}
+ p.caption{break-inside:avoid-page;break-after:avoid-page}
+ .jp-OutputArea-child:has(p.caption){break-after:avoid-page}
+ .jp-OutputArea-child:is(:has(img),:has(.jp-RenderedImage))+.jp-OutputArea-child:has(p.caption){
+  break-before:avoid-page}
  figure,img,tr,pre,.jp-RenderedImage{break-inside:avoid-page}
  img{max-width:100%!important;height:auto}
  .jp-OutputArea-output,.jp-RenderedHTMLCommon,.jp-RenderedHTML,div{overflow:visible!important}
@@ -103,27 +115,23 @@ def chapter_title(html_text: str, fallback: str) -> str:
     return text or fallback
 
 
-#: the chapter whose pages form the book's second part, :data:`REFERENCE_PART`: the source
-#: papers' reproductions that use no data of the study (seeds 001-004, published lobe cases)
-REFERENCE_CHAPTER = 6
-STUDY_PART = "The study"
-REFERENCE_PART = "Reference studies"
+#: the book's two parts (the chapter registry's ``part``: ``study``, ``reference``)
+STUDY_PART = PARTS["study"]
+REFERENCE_PART = PARTS["reference"]
 
 
 def chapter_key(stem: str) -> tuple:
-    """Book order of a chapter file name: the study's chapters (``ch2_surface`` <
-    ``ch3_1_forces`` < ``ch7_plan``), then the reference studies (``ch6_1_chatter`` <
-    ``ch6_3_hexapod``), then names that are not chapters."""
-    m = re.match(r"ch(\d+)(?:_(\d+))?", stem)
-    if not m:
-        return (2, 999, 0)
-    return (int(int(m[1]) == REFERENCE_CHAPTER), int(m[1]), int(m[2] or 0))
+    """Book order of a chapter page (file stem ``ch3_1_forces``): the study's chapters, then
+    the reference studies, each in the chapter registry's order
+    (:func:`robomill.registry.book_order`); pages that are no chapter last."""
+    return book_order(stem)
 
 
 def book_part(stem: str) -> str:
     """The part of the book a chapter page belongs to (:data:`STUDY_PART` or
-    :data:`REFERENCE_PART`)."""
-    return REFERENCE_PART if chapter_key(stem)[0] == 1 else STUDY_PART
+    :data:`REFERENCE_PART`: the registry row's ``part``)."""
+    row = by_notebook().get(stem)
+    return PARTS[row.part] if row is not None else STUDY_PART
 
 
 def print_document(chapter_html: Sequence[str | Path], out_html: str | Path, *,

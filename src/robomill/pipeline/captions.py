@@ -54,6 +54,9 @@ class Numbering:
 
     chapter: str
     fig_dir: str | None = None
+    #: kind ("Figure", "Table") -> the numbers this page may use, (first, end) with end
+    #: excluded or None: a chapter printed across pages (:meth:`for_chapter`)
+    ranges: dict[str, tuple[int, int | None]] = field(default_factory=dict)
     _items: dict[str, _Item] = field(default_factory=dict)
     #: figures being drawn by the job's figure workers: (key, display id, shown dpi, pickle)
     _drawing: list[tuple[str, str, float, bytes]] = field(default_factory=list)
@@ -67,9 +70,15 @@ class Numbering:
         if key in self._items:
             raise ValueError(f"{kind.lower()} {key!r} is declared twice in chapter "
                              f"{self.chapter}")
+        first, end = self.ranges.get(kind, (1, None))
         if number is None:
             used = [i.number for i in self._items.values() if i.kind == kind]
-            number = max(used, default=0) + 1
+            number = max(used, default=first - 1) + 1
+        if number < first or (end is not None and number >= end):
+            last = f"{self.chapter}.{end - 1}" if end is not None else "on"
+            raise ValueError(f"{kind} {self.chapter}.{number} ({key!r}) is outside this "
+                             f"page's numbers, {kind} {self.chapter}.{first} to {last} "
+                             "(the chapter registry's first_figure/first_table)")
         label = (kind, int(number), part)
         for other in self._items.values():
             if (other.kind, other.number, other.part) == label:
@@ -77,6 +86,18 @@ class Numbering:
                                  f"{other.key!r} and {key!r}")
         self._items[key] = _Item(kind, key, caption, int(number), part, stem)
         return self.label(key)
+
+    @classmethod
+    def for_chapter(cls, chapter_id: str, fig_dir: str | None = None) -> Numbering:
+        """The numbering of chapter ``chapter_id`` as the chapter registry gives it
+        (:mod:`robomill.registry`): labels prefixed by its chapter number (page 3.1:
+        ``Figure 3.12``), and on a page of a chapter printed across pages (6.1-6.3) only the
+        figure and table numbers of that page (:func:`robomill.registry.figure_range`)."""
+        from robomill.registry import chapter, figure_range
+
+        return cls(chapter(chapter_id).figure_prefix, fig_dir=fig_dir, ranges={
+            "Figure": figure_range(chapter_id, "figure"),
+            "Table": figure_range(chapter_id, "table")})
 
     def figure(self, key: str, caption: str, number: int | None = None, part: str = "",
                stem: str | None = None) -> str:

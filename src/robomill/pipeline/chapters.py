@@ -130,6 +130,9 @@ def parameter_rows(name: str, value: Any, declared_type: str = "",
 
 def _parameter_table(parameters: Mapping[str, Any], declared: Mapping[str, str],
                      root: str | Path | None = None) -> str:
+    if not parameters:
+        return ("**Parameters of this run**\n\nnone: the chapter reports the study's artefacts "
+                "only")
     rows = ["| parameter | value | type |", "|---|---|---|"]
     for name, value in parameters.items():
         for key, shown, kind in parameter_rows(name, value, declared.get(name, ""), root):
@@ -250,8 +253,13 @@ def render_chapter(
     cwd: str | Path | None = None,
     figure_workers: int = 0,
     figure_cache: str | Path | None = None,
+    shown: Mapping[str, Any] | None = None,
 ) -> None:
     """Execute ``notebook`` with ``parameters`` (plus ``fig_dir``) and render it.
+
+    The page's table "Parameters of this run" shows ``shown``: the study's parameters that
+    the chapter reports (its settings, the experiment), not the artefacts it reads; None
+    shows every parameter but ``fig_dir``.
 
     ``figure_workers`` processes (``chapters.figure_workers``) draw the chapter's figures
     beside the kernel (:mod:`robomill.pipeline.figure_workers`); 0 draws them in the kernel.
@@ -335,7 +343,8 @@ def render_chapter(
             figures.keep_only_used()
             log.info("chapter %s: %d figure(s) drawn, %d unchanged since the last run (from "
                      "%s)", notebook, figures.drawn, figures.reused, figures.cache.folder)
-        shown = {k: v for k, v in params.items() if k != "fig_dir"}
+        if shown is None:
+            shown = {k: v for k, v in params.items() if k != "fig_dir"}
         root = Path(cwd) if cwd else Path.cwd()
         body = document_html(nb, _parameter_table(shown, declared, root), replace={
             str(staged_figs.resolve()): shown_value(str(fig_dir.resolve()), root),

@@ -15,7 +15,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from robomill.kinematics import SerialRobot
+from robomill.settings import schema_default
 from robomill.stiffness.model import design_matrix, jacobian_m, predict_deflection_m
+
+#: the confidence level of the intervals (config ``stiffness.identification.level``)
+LEVEL = schema_default("stiffness.identification", "level")
 
 
 @dataclass
@@ -57,7 +61,7 @@ class Identification:
 
 def identify_joint_stiffness(J_m: np.ndarray, force_N: np.ndarray, deflection_m: np.ndarray,
                              *, rtol: float = 1e-8, null_share: float = 0.05,
-                             level: float = 0.95) -> Identification:
+                             level: float = LEVEL) -> Identification:
     """Joint stiffness by least squares in the task space (seed 001 eqs. 9–10).
 
     Solves X = A(J, F) c for the joint compliances c. Observability comes from the SVD of
@@ -141,7 +145,7 @@ def pose_group(pose: str) -> str:
 
 
 def identify_from_tests(robot: SerialRobot, tests, *, rtol: float = 1e-8,
-                        level: float = 0.95) -> dict:
+                        level: float = LEVEL) -> dict:
     """Identify K_θ from a load-test table (``robomill.io.robots.read_load_tests``) and
     predict its validate rows (seed 001 §3.2).
 

@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from robomill.settings import section_settings
 from robomill.straightness.attribution import element_label, parse_candidates
 
 
@@ -141,5 +142,6 @@ def truth_check(peaks: pd.DataFrame | None, truth: xr.Dataset | None,
     ev = evaluate_attribution(peaks, planted_gear_elements(truth), runs,
                               threshold=options["threshold"], tol_bins=options["tol_bins"],
                               fmax_per_mm=options["fmax_per_mm"],
-                              margin=float(options.get("truth_margin", 2.0)))
+                              margin=float(section_settings(options, "straightness")[
+                                  "truth_margin"]))
     return ev[TRUTH_CHECK_COLUMNS]

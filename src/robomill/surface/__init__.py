@@ -36,7 +36,6 @@ rule scripts and notebooks import from the submodules.
 from robomill._lazy import lazy_exports
 
 _EXPORTS = {  # public name → submodule
-    "DEFAULTS": "options",
     "settings": "options",
     "MECHANISMS": "peaks",
     "attribute_mechanisms": "peaks",

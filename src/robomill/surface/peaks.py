@@ -16,7 +16,7 @@ from robomill.spectra import (
     below_resolution,
     find_peaks_spectrum,
 )
-from robomill.surface.options import DEFAULTS
+from robomill.surface.options import settings
 
 MECHANISMS = ("kinematic", "dynamic", "unclassified")
 
@@ -41,10 +41,11 @@ def profile_peaks(ds: xr.Dataset, opts: Mapping[str, Any]) -> pd.DataFrame:
     fewer than ``min_peak_cycles`` periods in that length
     (:func:`robomill.spectra.below_resolution`)."""
     rows = []
+    opts = settings(opts)
     n, ratio = int(opts["n_peaks"]), float(opts["peak_prominence_ratio"])
-    local = float(opts.get("local_prominence_ratio", DEFAULTS["local_prominence_ratio"]))
-    half = int(opts.get("local_floor_halfwidth_bins", DEFAULTS["local_floor_halfwidth_bins"]))
-    cycles = float(opts.get("min_peak_cycles", DEFAULTS["min_peak_cycles"]))
+    local = float(opts["local_prominence_ratio"])
+    half = int(opts["local_floor_halfwidth_bins"])
+    cycles = float(opts["min_peak_cycles"])
     for band, f_name, p_name in (("waviness", "f", "power"),
                                  ("roughness", "f_peak", "power_peak")):
         lo, hi = opts[f"{band}_band_per_mm"]

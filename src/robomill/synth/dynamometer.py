@@ -42,30 +42,17 @@ from typing import Any
 
 import numpy as np
 
+from robomill.settings import config_section
+
 INSTRUMENT_NUMBER = 2
 """Stream number of this instrument in per-file random generators."""
 
-DEFAULTS: dict[str, Any] = {
-    "format": "h5",
-    "fs_hz": 25000.0,
-    "record_length_mm": None,
-    "chunk_samples": 262144,
-    "vibration_fs_hz": 2000.0,
-    "excitation_ratio": 0.3,
-    "noise_N": 0.1,
-    "dynamometer_f_n_hz": 10300.0,
-    "dynamometer_zeta": 0.02,
-    "path_step_mm": 0.01,
-    "ik_points": 41,
-    "dtype": "float32",
-    "anti_alias_fraction": 0.45,
-}
-"""Defaults of ``synth.dynamometer`` (the schema fills the same values)."""
 
 
 def settings(config: Mapping[str, Any]) -> dict[str, Any]:
-    """``synth.dynamometer`` with defaults filled."""
-    return {**DEFAULTS, **dict(config["synth"].get("dynamometer", {}) or {})}
+    """``synth.dynamometer``, the schema's defaults filled
+    (:func:`robomill.settings.config_section`)."""
+    return config_section(config, "synth.dynamometer")
 
 
 def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:

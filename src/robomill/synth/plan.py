@@ -17,6 +17,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from robomill.experiment import Cut, plan_cuts, tracker_run_id
+from robomill.settings import config_section
 
 SIMULATORS = ("profilometer", "dynamometer", "tracker", "impact", "ctrack", "loadtests")
 """The six simulator modules of :mod:`robomill.synth` (none imported by planning)."""
@@ -27,15 +28,11 @@ CTRACK_TABLES = ("circles", "home", "steps", "base", "loads", "accuracy")
 IMPACT_DIRECTIONS = ("X", "Y", "Z")
 """Impact hit directions (base axes)."""
 
-PLAN_DEFAULTS = {  # the planning keys of the instruments (their schemas' defaults)
-    "dynamometer": {"format": "h5", "fs_hz": 25000.0},
-    "tracker": {"fs_hz": 815.0, "directions": None, "feeds_mm_s": None},
-    "impact": {"hits_per_direction": 5, "force_range_N": 2000.0, "accel_range_ms2": 50.0},
-}
-
 
 def _settings(config: Mapping[str, Any], instrument: str) -> dict[str, Any]:
-    return {**PLAN_DEFAULTS[instrument], **dict(config["synth"].get(instrument) or {})}
+    """``synth.<instrument>``, the schema's defaults filled
+    (:func:`robomill.settings.config_section`)."""
+    return config_section(config, f"synth.{instrument}")
 
 
 def synthetic_cuts(config: Mapping[str, Any]) -> list[Cut]:

@@ -53,6 +53,7 @@ import pandas as pd
 import xarray as xr
 
 from robomill.experiment import DIRECTION_DEG, Cut, cut_process
+from robomill.settings import config_section
 
 INSTRUMENT_NUMBER = 1
 """Stream number of this instrument in the per-file random generators."""
@@ -61,33 +62,12 @@ WAVINESS_SEGMENT_MM = 2.5
 ROUGHNESS_SEGMENT_MM = 0.25
 ALPHA = float(np.sqrt(np.log(2.0) / np.pi))
 
-DEFAULTS: dict[str, Any] = {
-    "fs_per_mm": 800.0,
-    "n_samples": 12000,
-    "start_mm": 12.5,
-    "ik_step_mm": 0.1,
-    "joint1_wobble_ratio": 0.5,
-    "waviness": {
-        "px": {"level_um": 2.2, "v0_mm_s": 2.5},
-        "py": {"level_um": 6.4, "v0_mm_s": 1.6},
-        "my": {"level_um": 2.4, "v0_mm_s": 0.7},
-    },
-    "roughness": {
-        "px": {"level_um": 0.18, "knee_mm_s": 6.0, "exponent": 3.0},
-        "py": {"level_um": 0.6, "knee_mm_s": 8.0, "exponent": 2.0},
-        "my": {"level_um": 0.27, "knee_mm_s": 7.0, "exponent": 4.0},
-    },
-    "feed_mark_um": 0.05,
-    "stylus_lambda_s_mm": 0.0025,
-    "tilt_um_per_mm": [-2.0, 2.0],
-    "noise_um": 0.01,
-}
-"""Defaults of ``synth.profilometer`` (the schema fills the same values)."""
 
 
 def settings(config: Mapping[str, Any]) -> dict[str, Any]:
-    """``synth.profilometer`` with defaults filled."""
-    return {**DEFAULTS, **dict(config["synth"].get("profilometer") or {})}
+    """``synth.profilometer``, the schema's defaults filled
+    (:func:`robomill.settings.config_section`)."""
+    return config_section(config, "synth.profilometer")
 
 
 def _cuts(config: Mapping[str, Any]) -> list[Cut]:

@@ -27,27 +27,17 @@ import pandas as pd
 import xarray as xr
 
 from robomill.experiment import Cut, tracker_run_id
+from robomill.settings import config_section
 
 INSTRUMENT_NUMBER = 3
 """Stream number of this instrument in the per-file random generators."""
 
-DEFAULTS: dict[str, Any] = {
-    "fs_hz": 815.0,
-    "noise_std_um": 5.0,
-    "ripple_hz": 13.0,
-    "ripple_amplitude_um": 2.0,
-    "ripple_direction": [0.5, 0.5, 0.7],
-    "accel_mm_s2": 100.0,
-    "path_step_mm": 0.1,
-    "directions": None,
-    "feeds_mm_s": None,
-}
-"""Defaults of ``synth.tracker`` (the schema fills the same values)."""
 
 
 def settings(config: Mapping[str, Any]) -> dict[str, Any]:
-    """``synth.tracker`` with defaults filled."""
-    return {**DEFAULTS, **dict(config["synth"].get("tracker") or {})}
+    """``synth.tracker``, the schema's defaults filled
+    (:func:`robomill.settings.config_section`)."""
+    return config_section(config, "synth.tracker")
 
 
 def run_id(direction: str, feed_mm_s: float) -> str:
