@@ -56,7 +56,7 @@ from typing import Any
 
 import numpy as np
 
-from robomill.settings import FromMapping
+from robomill.settings import FromMapping, schema_default
 
 VERDICTS = ("stable", "chatter", "undetermined")
 """The verdicts, in the order the tables list them."""
@@ -219,7 +219,9 @@ def refine_comb_hz(f: np.ndarray, power: np.ndarray, comb_hz: float, s: VerdictS
 
 
 def recommended_speeds_rpm(chatter_hz: float, flutes: int, speed_range_rpm: tuple[float, float],
-                           spindle_rpm: float | None = None, max_speeds: int = 6) -> list[float]:
+                           spindle_rpm: float | None = None,
+                           max_speeds: int = schema_default("chatter", "verdicts")["max_speeds"],
+                           ) -> list[float]:
     """Spindle speeds that put a tooth-passing harmonic on the chatter frequency,
     ``n_k = 60 f_c / (Z k)``, k = 1, 2, … [Schmitz & Smith 2009, ch. 4], within
     ``speed_range_rpm``; nearest to ``spindle_rpm`` first (else highest first), at most

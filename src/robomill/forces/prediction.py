@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from robomill.forces.model import _window_integrals
+from robomill.settings import schema_default
 
 
 def design_rows(feed_per_tooth_mm, depth_mm, flutes, entry_rad, exit_rad
@@ -64,7 +65,7 @@ class ForceRegression:
         return int(min(self.dof_xy, self.dof_z))
 
 
-def fit_force_regression(feed_per_tooth_mm, depth_mm, mean_forces_N, *, flutes=2,
+def fit_force_regression(feed_per_tooth_mm, depth_mm, mean_forces_N, *, flutes,
                          entry_rad=0.0, exit_rad=np.pi) -> ForceRegression:
     """Ordinary least squares of eq. 2.25 over the identifying cuts (the regression of
     :func:`robomill.forces.coefficients.identify_cutting_coefficients_general`).
@@ -99,8 +100,9 @@ def fit_force_regression(feed_per_tooth_mm, depth_mm, mean_forces_N, *, flutes=2
     return ForceRegression(t_xy, inv_xy, s2_xy, d_xy, t_z, inv_z, s2_z, d_z, m)
 
 
-def predict_mean_force(reg: ForceRegression, feed_per_tooth_mm, depth_mm, *, flutes=2,
-                       entry_rad=0.0, exit_rad=np.pi, level: float = 0.95
+def predict_mean_force(reg: ForceRegression, feed_per_tooth_mm, depth_mm, *, flutes,
+                       entry_rad=0.0, exit_rad=np.pi,
+                       level: float = schema_default("plan", "interval_level")
                        ) -> dict[str, np.ndarray]:
     """Mean force of new cuts and its prediction interval (module docstring).
 

@@ -31,6 +31,7 @@ from robomill.modal.layout import points
 from robomill.modal.lscf import _frf_rows, correct_window_damping, pole_f_zeta
 from robomill.modal.synthesis import modal_constants
 from robomill.modal.tables import modes_table
+from robomill.settings import schema_default
 
 INTERVAL_COLUMNS = ("f_n_hz_low", "f_n_hz_high", "zeta_low", "zeta_high", "k_modal_N_m_low",
                     "k_modal_N_m_high")
@@ -84,7 +85,8 @@ def _poles_at(ds_rep: xr.Dataset, band_hz, orders: np.ndarray, f_ref: np.ndarray
 
 def mode_intervals(ds: xr.Dataset, modes: pd.DataFrame, selected: pd.DataFrame, *,
                    band_hz: Sequence[float], synth: np.ndarray | None = None,
-                   level: float = 0.95, n_boot: int = 30, seed: int = 0,
+                   level: float = schema_default("plan", "interval_level"), n_boot: int = 30,
+                   seed: int = 0,
                    tol: float = 0.05) -> pd.DataFrame:
     """``modes`` with :data:`INTERVAL_COLUMNS` from the bootstrap of the module docstring.
 

@@ -19,6 +19,7 @@ from robomill.forces import CuttingCoefficients
 from robomill.forces.coefficients import identification_status, not_identified_sentence
 from robomill.kinematics import SerialRobot
 from robomill.plan.noise import noise_floor_um, read_interval_um, record_duration_s, run_duration_s
+from robomill.settings import schema_default
 from robomill.stiffness import jacobian_m
 from robomill.straightness import perpendicular_axes
 
@@ -57,7 +58,7 @@ class Measured:
     """The coefficient regression of the identifying cuts
     (:class:`robomill.forces.prediction.ForceRegression`), for the force's prediction
     interval; None: the coefficients' confidence corners."""
-    level: float = 0.95
+    level: float = schema_default("plan", "interval_level")
     """Nominal two-sided level of the plan's intervals (config ``plan.interval_level``)."""
 
     def has(self, name: str) -> bool:
