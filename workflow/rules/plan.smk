@@ -37,7 +37,10 @@ PLAN_OUTPUTS = {
     "comparison": "results/plan/comparison.csv",
     "manifest": "results/plan/next/manifest.yaml",
     "config": "results/plan/next/config.yaml",
+    "pose_failures": "results/plan/pose_failures.csv",
 }
+# the controller program of the planned cuts and its stations.csv (robomill.plan.program)
+PLAN_PROGRAM = "results/plan/next/program"
 # The planned cuts' own run (snakemake all --configfile results/plan/next/config.yaml, which
 # writes under NEXT_RUN_DIR): its outcomes are inputs of plan_check once it has made them
 # (another run of the workflow makes them, not this one).
@@ -61,6 +64,7 @@ rule plan_make:
         study=STUDY,
     output:
         **PLAN_OUTPUTS,
+        program=directory(PLAN_PROGRAM),
     log:
         "results/logs/plan/make.log",
     benchmark:
@@ -137,6 +141,7 @@ use rule chapter as ch7 with:
         pareto=PLAN_OUTPUTS["pareto"],
         study=PLAN_OUTPUTS["study"],
         comparison=PLAN_OUTPUTS["comparison"],
+        pose_failures=PLAN_OUTPUTS["pose_failures"],
         check="results/plan/check.csv",
         check_summary="results/plan/check_summary.csv",
         templates=notebook("templates/ch7.yaml"),
@@ -152,6 +157,7 @@ use rule chapter as ch7 with:
 rule plan:
     input:
         *PLAN_OUTPUTS.values(),
+        PLAN_PROGRAM,
         "results/plan/check.csv",
         "results/plan/check_summary.csv",
         "results/chapters/ch7_plan.html",

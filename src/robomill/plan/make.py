@@ -4,7 +4,7 @@ smooth redundancy angle along its path, and put the plan beside the study's own 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -14,10 +14,19 @@ import xarray as xr
 from robomill.experiment import Cut
 from robomill.plan.choose import check_needs, choose, smooth_rotation
 from robomill.plan.compare import comparison_table, rotation_effect_pct, study_cuts_table
+from robomill.plan.cutpath import plan_cut_path
 from robomill.plan.measured import Measured, missing_predictions
 from robomill.plan.outputs import next_config, next_manifest, plan_table, pose_map
+from robomill.plan.pathout import (
+    floor_starts,
+    manifest_path,
+    path_columns,
+    path_map,
+    pose_failure_table,
+)
 from robomill.plan.predict import Cell, predict_grid, station_scores
 from robomill.plan.request import PlanRequest
+from robomill.plan.workobject import BASE
 
 
 @dataclass
@@ -32,6 +41,8 @@ class Plan:
     comparison: pd.DataFrame
     manifest: dict[str, Any]
     config: dict[str, Any]
+    paths: list = field(default_factory=list)
+    pose_failures: pd.DataFrame | None = None
 
 
 def redundancy_paths(candidates: xr.Dataset, chosen: pd.DataFrame, req: PlanRequest,
@@ -58,21 +69,28 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     check_needs(req, missing)
     cand = predict_grid(req, measured, cell)
     chosen, front = choose(cand, req, robot_name)
-    paths = redundancy_paths(cand, chosen, req, measured, cell)
+    cut_paths = [plan_cut_path(str(r["cut"]), np.array([r["placement_x_mm"],
+                                                        r["placement_y_mm"],
+                                                        r["placement_z_mm"]], float),
+                               float(r["direction_deg"]), float(r["depth_mm"]),
+                               float(r["feed_mm_s"]), float(r["spindle_rpm"]), req, measured,
+                               cell, req.work_object or BASE)
+                 for _, r in chosen.iterrows()]
+    paths = [manifest_path(p, cand["station"].values) for p in cut_paths]
     q = [cand["q_deg"].isel(placement=int(r["i_placement"]), rotation=int(r["i_rotation"]),
                             direction=int(r["i_direction"])).values
          for _, r in chosen.iterrows()]
-    table = plan_table(chosen)
-    table["redundancy_path_deg"] = [";".join(f"{a:g}" for a in p["redundancy_path_deg"])
-                                    for p in paths]
+    table = path_columns(plan_table(chosen), cut_paths)
     study = study_cuts_table(cuts, experiment, req, measured, cell)
     manifest = next_manifest(chosen, req, dict(experiment), cand.attrs["missing_predictions"],
                              np.asarray(q), paths)
+    floor_starts(manifest, cut_paths)
     cand.attrs["request"] = req.path
     cand.attrs["constraints"] = "; ".join(f"{k}={v}" for k, v in req.constraints.items()
                                           if v is not None)
-    pmap = pose_map(cand, chosen.iloc[0])
+    pmap = path_map(pose_map(cand, chosen.iloc[0]), cut_paths[0] if cut_paths else None, req,
+                    measured, cell)
     return Plan(cand, pmap, table, plan_table(front), study,
                 comparison_table(table, study, rotation_effect_pct(pmap),
                                  pmap.sizes["rotation"]), manifest,
-                next_config(manifest))
+                next_config(manifest), cut_paths, pose_failure_table(cand))

@@ -1,0 +1,118 @@
+"""The planned paths as the plan's artefacts: per-station angles and path columns in
+``plan.csv``, each cut's path in the next manifest, slot starts on the slot floor, the path
+over the rotation × station plane in the pose map, and the candidates' pose failures counted
+by reason (``results/plan/pose_failures.csv``)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from robomill.plan.feasible import REASONS
+from robomill.xrvars import attrs
+
+MARGIN = "stability_margin_low"
+STIFFNESS = "k_normal_low_N_m"
+
+
+def manifest_path(p, station_mm) -> dict[str, Any]:
+    """A cut's path for the next manifest's ``plan.cuts[id]``."""
+    st = p.stations
+    cut = st[st["move"] == "cut"] if len(st) else st
+    out = {"station_mm": [float(s) for s in (cut["s_mm"] if len(cut) else station_mm)],
+           "redundancy_path_deg": [float(a) for a in cut["rotation_deg"]] if len(cut) else [],
+           "redundancy_path_score": p.summary.get("score", "none"),
+           "configuration": p.summary.get("configuration", "")}
+    if p.refused:
+        out["refused"] = p.refused
+    return out
+
+
+def path_columns(table: pd.DataFrame, paths: Sequence) -> pd.DataFrame:
+    """``plan.csv`` with each cut's path: ``configuration``, ``redundancy_path_deg`` (the
+    rotation at each station, ``;``-separated), the best fixed rotation, the worst pessimistic
+    margin and stiffness along the path and at that fixed rotation, their ratios
+    (``path_gain_a_crit`` = (1 + margin) ratio, the critical depth's; ``path_gain_stiffness``),
+    the smallest wrist angle, joint-limit clearance and σ_min along the path, and why a cut is
+    refused (empty when it runs)."""
+    t = table.copy()
+    rows = []
+    for p in paths:
+        s = p.summary
+        r = {"configuration": s.get("configuration", ""),
+             "redundancy_path_deg": s.get("rotation_path_deg", ""),
+             "fixed_rotation_deg": s.get("fixed_rotation_deg", np.nan)}
+        for name, short in ((MARGIN, "margin"), (STIFFNESS, "k_normal_N_m")):
+            pw, fw = s.get(f"path_worst_{name}", np.nan), s.get(f"fixed_worst_{name}", np.nan)
+            r[f"path_worst_{short}"], r[f"fixed_worst_{short}"] = pw, fw
+        r["path_gain_a_crit"] = _ratio(1 + r["path_worst_margin"], 1 + r["fixed_worst_margin"])
+        r["path_gain_stiffness"] = _ratio(r["path_worst_k_normal_N_m"],
+                                          r["fixed_worst_k_normal_N_m"])
+        r.update({k: s.get(k, np.nan) for k in ("min_wrist_angle_deg", "min_limit_clearance_deg",
+                                                "min_sigma")})
+        r["path_refused"] = p.refused or ""
+        rows.append(r)
+    extra = pd.DataFrame(rows, index=t.index)
+    for c in extra:
+        t[c] = extra[c]
+    return t
+
+
+def _ratio(a: float, b: float) -> float:
+    return float(a / b) if np.isfinite(a) and np.isfinite(b) and b > 0 else np.nan
+
+
+def floor_starts(manifest: dict[str, Any], paths: Sequence) -> None:
+    """Each planned cut's ``start_mm`` in the manifest set to its path's first station on the
+    slot floor (base frame; refused cuts keep theirs)."""
+    for entry, p in zip(manifest["cuts"], paths, strict=True):
+        st = p.stations
+        if p.refused or not len(st):
+            continue
+        first = st[st["move"] == "cut"].iloc[0]
+        entry["start_mm"] = [round(float(first[f"{a}_base_mm"]), 6) for a in "xyz"]
+
+
+def path_map(pmap: xr.Dataset, p, req, measured, cell) -> xr.Dataset:
+    """The pose map with the best cut's stations × rotations: its scores, the feasible nodes
+    and the chosen rotation at each station (``path_rotation_deg``; NaN when refused)."""
+    if p is None or not p.nodes:
+        return pmap
+    nd = p.nodes
+    out = pmap.copy()
+    out = out.assign_coords(path_station_mm=("path_station_mm", np.asarray(nd["s_mm"], float),
+                                             attrs("mm", "station along the best cut")))
+    dims = ("path_station_mm", "rotation")
+    if not np.array_equal(np.asarray(nd["rotation_deg"]), out["rotation"].values):
+        return pmap
+    for name, what in ((MARGIN, "pessimistic stability margin"),
+                       (STIFFNESS, "pessimistic stiffness normal to the wall [N/m]")):
+        if name in nd:
+            out[f"path_{name}"] = (dims, np.asarray(nd[name], float),
+                                   attrs("1" if name == MARGIN else "N/m",
+                                         f"{what} at each station and rotation of the best cut"))
+    out["path_feasible"] = (dims, np.asarray(nd["feasible"], bool),
+                            attrs("1", "feasible pose (limits, wrist) at the station"))
+    rot = (np.full(len(nd["s_mm"]), np.nan) if nd["path"] is None
+           else np.asarray(nd["rotation_deg"], float)[nd["path"]])
+    out["path_rotation_deg"] = (("path_station_mm",), rot,
+                                attrs("deg", "chosen rotation about the tool axis at each "
+                                      "station of the best cut"))
+    out.attrs["path_cut"] = p.cut
+    return out
+
+
+def pose_failure_table(cand: xr.Dataset) -> pd.DataFrame:
+    """``pose_failures.csv``: the candidate cuts (placement × rotation × direction) by pose
+    status (:data:`robomill.plan.feasible.REASONS`), count and share."""
+    if "pose_status" not in cand:
+        return pd.DataFrame({"reason": list(REASONS), "count": 0, "share": np.nan})
+    st = np.asarray(cand["pose_status"].values).ravel()
+    n = max(st.size, 1)
+    counts = [int(np.sum(st == i)) for i in range(len(REASONS))]
+    return pd.DataFrame({"reason": list(REASONS), "count": counts,
+                         "share": [c / n for c in counts]})
