@@ -24,7 +24,8 @@ simulators (``docs/data-contract.md``, section *The cell*)::
 controller are those of :mod:`robomill.io.tool_frame`. ``base_from_instrument[k]``
 registers instrument k's frame to the robot base:
 ``p_base = rotation · p_instrument + translation_mm``; an absent entry means the instrument
-already measures in the base frame. ``mass_model`` places point masses on the links (``link`` 1..n, centre of mass ``com_mm`` at the zero configuration in the base
+already measures in the base frame. ``mass_model`` places point masses on the links
+(``link`` 1..n, centre of mass ``com_mm`` at the zero configuration in the base
 frame) and the spindle and tool on the last link: the gravity model of the calibration's
 compliance terms (chapter 1); a cell without one is calibrated without the gravity term
 (``docs/data-contract.md``). Every problem raises one
