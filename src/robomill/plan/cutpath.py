@@ -18,7 +18,7 @@ import pandas as pd
 
 from robomill.kinematics import ik_batch
 from robomill.plan.feasible import (
-    configuration,
+    REASONS,
     configuration_name,
     into_limits,
     pose_checks,
@@ -95,6 +95,20 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
                       min_wrist_angle_deg=req.min_wrist_angle_deg)
     node_ok = chk["status"] == 0
     cfg = chk["configuration"]
+    # approach and retract above the top face over the first and last station, at that
+    # station's rotation: a path may start or end only where they are feasible too
+    lift = depth_mm + wobj.top_z_offset_mm(mid_mm) + req.clearance_mm
+    ends = {}
+    for i, kind in ((0, "approach"), (S - 1, "retract")):
+        Te = np.broadcast_to(np.eye(4), (R, 4, 4)).copy()
+        Te[:, :3, :3], Te[:, :3, 3] = Rt, pts[i] + lift * zp
+        qe, ok = ik_batch(robot, Te, q[i])
+        qe = into_limits(qe, lim, q[i])
+        ce = pose_checks(robot, qe, ok, limits_deg=lim,
+                         limit_margin_deg=req.joint_limit_margin_deg,
+                         min_wrist_angle_deg=req.min_wrist_angle_deg)
+        node_ok[i] &= (ce["status"] == 0) & (ce["configuration"] == cfg[i])
+        ends[kind] = (qe, Te[:, :3, 3])
     sc = _scores(measured, cell, req, q, frame, spindle_rpm, depth_mm)
     names = list(sc)
     scores = [sc[k] for k in names]
@@ -114,10 +128,11 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
              **sc, "path": None}
     if best is None:
         reasons = np.unique(chk["status"][~node_ok])
-        why = ("no path keeps one configuration within the joint limits, the wrist angle and "
-               "the rotation step" if node_ok.any() else
-               "no station is feasible at any rotation (status codes "
-               f"{', '.join(map(str, reasons))})")
+        why = ("no path keeps one configuration within the joint limits, the wrist angle, the "
+               "axis speeds and the rotation step from the approach to the retract"
+               if node_ok.any() else
+               "no station is feasible at any rotation ("
+               + ", ".join(REASONS[int(r)] for r in reasons if r > 0) + ")")
         return CutPath(cut, feed_mm_s, spindle_rpm, pd.DataFrame(), summary, refused=why,
                        nodes=nodes)
     idx = best[0]
@@ -138,32 +153,16 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
         fw = fixed_worst[k] if fixed_r is not None else np.nan
         summary[f"path_worst_{name}"] = pw
         summary[f"fixed_worst_{name}"] = fw
-    # approach and retract above the top face, at the first and last station's rotation
-    top = wobj.top_z_offset_mm(mid_mm)
-    ends = []
-    for i, kind in ((0, "approach"), (S - 1, "retract")):
-        p = pts[i] + (depth_mm + top + req.clearance_mm) * zp
-        Te = np.eye(4)
-        Te[:3, :3], Te[:3, 3] = Rt[idx[i]], p
-        qe, ok = ik_batch(robot, Te[None], qp[i])
-        qe = into_limits(qe[0], lim, qp[i])
-        ce = pose_checks(robot, qe[None], ok, limits_deg=lim,
-                         limit_margin_deg=req.joint_limit_margin_deg,
-                         min_wrist_angle_deg=req.min_wrist_angle_deg)
-        if ce["status"][0] != 0 or int(configuration(robot, qe)) != best_cfg:
-            return CutPath(cut, feed_mm_s, spindle_rpm, pd.DataFrame(), summary,
-                           refused=f"the {kind} point above the part is not reachable in "
-                                   f"configuration {configuration_name(best_cfg)}",
-                           nodes=nodes)
-        ends.append((kind, p, qe, idx[i]))
-    rows = [_row(robot, wobj, ends[0][0], np.nan, th[ends[0][3]], ends[0][2], None)]
+    app, ret = ends["approach"][0][idx[0]], ends["retract"][0][idx[-1]]
+    app, ret = into_limits(app, lim, qp[0]), into_limits(ret, lim, qp[-1])
+    rows = [_row(robot, wobj, "approach", np.nan, th[idx[0]], app, None)]
     for i in range(S):
         extra = {name: float(sc[name][i, idx[i]]) for name in names}
         extra.update({"wrist_angle_deg": float(chk["wrist_deg"][i, idx[i]]),
                       "limit_clearance_deg": float(chk["clearance_deg"][i, idx[i]]),
                       "sigma_min": float(chk["sigma_min"][i, idx[i]])})
         rows.append(_row(robot, wobj, "cut", float(s_mm[i]), th[idx[i]], qp[i], extra))
-    rows.append(_row(robot, wobj, ends[1][0], np.nan, th[ends[1][3]], ends[1][2], None))
+    rows.append(_row(robot, wobj, "retract", np.nan, th[idx[-1]], ret, None))
     st = pd.DataFrame(rows)
     st.insert(0, "cut", cut)
     st.insert(1, "configuration", configuration_name(best_cfg))
