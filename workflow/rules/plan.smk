@@ -37,7 +37,7 @@ PLAN_OUTPUTS = {
     "comparison": "results/plan/comparison.csv",
     "manifest": "results/plan/next/manifest.yaml",
     "config": "results/plan/next/config.yaml",
-    "pose_failures": "results/plan/pose_failures.csv",
+    "path_summary": "results/plan/path_summary.csv",
 }
 # the controller program of the planned cuts and its stations.csv (robomill.plan.program)
 PLAN_PROGRAM = "results/plan/next/program"
@@ -141,7 +141,7 @@ use rule chapter as ch7 with:
         pareto=PLAN_OUTPUTS["pareto"],
         study=PLAN_OUTPUTS["study"],
         comparison=PLAN_OUTPUTS["comparison"],
-        pose_failures=PLAN_OUTPUTS["pose_failures"],
+        path_summary=PLAN_OUTPUTS["path_summary"],
         check="results/plan/check.csv",
         check_summary="results/plan/check_summary.csv",
         templates=notebook("templates/ch7.yaml"),

@@ -64,7 +64,7 @@ write_table(plan.plan, out.plan)
 write_table(plan.pareto, out.pareto)
 write_table(plan.study, out.study)
 write_table(plan.comparison, out.comparison)
-write_table(plan.pose_failures, out.pose_failures)
+write_table(plan.path_summary, out.path_summary)
 wobj = req.work_object or BASE
 header = (f"robomill plan of {req.path}: the planned cuts, ranked by removal rate; "
           f"robot {cell.robot.name}\ncheck it in the offline programming tool before running")

@@ -22,6 +22,7 @@ from robomill.plan.pathout import (
     manifest_path,
     path_columns,
     path_map,
+    path_summary,
     pose_failure_table,
 )
 from robomill.plan.predict import Cell, predict_grid, station_scores
@@ -42,7 +43,7 @@ class Plan:
     manifest: dict[str, Any]
     config: dict[str, Any]
     paths: list = field(default_factory=list)
-    pose_failures: pd.DataFrame | None = None
+    path_summary: pd.DataFrame | None = None
 
 
 def redundancy_paths(candidates: xr.Dataset, chosen: pd.DataFrame, req: PlanRequest,
@@ -90,7 +91,8 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
                                           if v is not None)
     pmap = path_map(pose_map(cand, chosen.iloc[0]), cut_paths[0] if cut_paths else None, req,
                     measured, cell)
+    effect = rotation_effect_pct(pmap)
     return Plan(cand, pmap, table, plan_table(front), study,
-                comparison_table(table, study, rotation_effect_pct(pmap),
-                                 pmap.sizes["rotation"]), manifest,
-                next_config(manifest), cut_paths, pose_failure_table(cand))
+                comparison_table(table, study, effect, pmap.sizes["rotation"]), manifest,
+                next_config(manifest), cut_paths,
+                path_summary(pose_failure_table(cand), table, effect))

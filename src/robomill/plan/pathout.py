@@ -116,3 +116,36 @@ def pose_failure_table(cand: xr.Dataset) -> pd.DataFrame:
     counts = [int(np.sum(st == i)) for i in range(len(REASONS))]
     return pd.DataFrame({"reason": list(REASONS), "count": counts,
                          "share": [c / n for c in counts]})
+
+
+def path_summary(failures: pd.DataFrame, plan: pd.DataFrame, rotation_effect_pct: float
+                 ) -> pd.DataFrame:
+    """``results/plan/path_summary.csv`` (``key, value``), what chapter 7 says of the paths:
+    the candidates by pose status (``candidates``, ``candidates_<reason>``), the planned cuts
+    that run and that are refused, the largest path gain over the best fixed rotation (critical
+    depth and stiffness ratios, and the cut), the tie resolution ``tie_rel`` and the case of
+    the chosen rotations: ``nominal_tie`` (every cut at 0° everywhere and no rotation changes a
+    prediction by more than the tie resolution: the spindle sits on the flange axis),
+    ``nominal_best`` (every cut at 0°, the rotation mattering elsewhere) or ``turned``."""
+    from robomill.plan.path import TIE_REL
+
+    rows: list[tuple[str, Any]] = [("candidates", int(failures["count"].sum()))]
+    rows += [(f"candidates_{r}", int(c)) for r, c in zip(failures["reason"], failures["count"],
+                                                         strict=True)]
+    runs = plan["path_refused"].fillna("").astype(str) == "" if len(plan) else pd.Series([])
+    rows += [("cuts_planned", int(len(plan))), ("cuts_runnable", int(runs.sum())),
+             ("cuts_refused", int((~runs).sum()))]
+    for col in ("path_gain_a_crit", "path_gain_stiffness"):
+        v = plan[col].astype(float) if col in plan else pd.Series(dtype=float)
+        ok = v[np.isfinite(v)]
+        rows.append((f"{col}_max", float(ok.max()) if len(ok) else np.nan))
+        rows.append((f"{col}_cut", str(plan.loc[ok.idxmax(), "cut"]) if len(ok) else ""))
+    angles = [float(a) for s in plan.get("redundancy_path_deg", pd.Series([], dtype=str))
+              .fillna("").astype(str) for a in s.split(";") if a != ""]
+    at_zero = bool(angles) and all(a == 0.0 for a in angles)
+    effect = rotation_effect_pct / 100.0 if np.isfinite(rotation_effect_pct) else np.nan
+    case = ("turned" if not at_zero else
+            "nominal_tie" if np.isfinite(effect) and effect <= TIE_REL else "nominal_best")
+    rows += [("tie_rel", TIE_REL), ("rotation_effect_pct", rotation_effect_pct),
+             ("rotation_case", case)]
+    return pd.DataFrame(rows, columns=["key", "value"])
