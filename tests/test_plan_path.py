@@ -330,3 +330,52 @@ def test_every_program_target_lands_on_its_cartesian_target(tmp_path, tool):
     src, dat = (f.read_text() for f in kuka[1:])
     assert _check_kuka(src, dat, cs["robot"]) == len(st)
     assert "$VEL.CP=0.005" in src and "SetSpindle(20000)" in src
+
+
+# ---- the part and the slots -----------------------------------------------------------------
+def test_segment_distance_by_hand():
+    from robomill.plan.slots import segment_distance_mm
+
+    assert segment_distance_mm([0, 0], [10, 0], [5, -5], [5, 5]) == 0.0          # crossing
+    assert segment_distance_mm([0, 0], [10, 0], [0, 3], [10, 3]) == pytest.approx(3.0)
+    assert segment_distance_mm([0, 0], [10, 0], [13, 4], [20, 4]) == pytest.approx(5.0)  # 3-4-5
+
+
+def test_planned_slots_lie_on_the_block_and_cross_nothing():
+    """The whole plan on a small grid: every planned slot's floor stations lie inside the
+    block at their depth, and no two slots (nor a slot and the study's cut placed across the
+    best placement) come closer than a tool diameter."""
+    from robomill.experiment import Cut
+    from robomill.plan.make import make_plan
+    from robomill.plan.slots import segment_distance_mm
+
+    cs, cf, _, m, _ = _setup(None)
+    reqd = yaml.safe_load(open("plan.yaml"))
+    reqd.update({"spindle_rpm": {"min": 10000.0, "max": 30000.0, "n": 20},
+                 "rotations_deg": [-20.0, 0.0, 20.0]})
+    reqd["constraints"]["max_waviness_um"] = None
+    req = parse_request(reqd, "plan.yaml")
+    study = [Cut(id="study_1", set=None, segment=None, feed_mm_s=1.0, depth_mm=0.25,
+                 direction="px", spindle_rpm=1e4,
+                 flutes=2, tool_diameter_mm=6.0, start_mm=(680.0, 90.0, 199.75))]
+    cell = cell_of(cf, req, None)
+    plan = make_plan(req, m, cell, study, {"cut_length_mm": 100.0, "tool_diameter_mm": 6.0})
+    wobj = req.work_object
+    slots = [((680.0, 90.0), (780.0, 90.0))]
+    for p in plan.paths:
+        assert p.refused is None
+        cut = p.stations[p.stations["move"] == "cut"]
+        part = cut[["x_part_mm", "y_part_mm", "z_part_mm"]].to_numpy()
+        depth = float(plan.plan.set_index("cut").loc[p.cut, "depth_mm"])
+        assert np.allclose(part[:, 2], wobj.block_max_mm[2] - depth, atol=1e-6)
+        assert np.all(part[:, :2] - 3.0 >= wobj.block_min_mm[:2] - 1e-6)
+        assert np.all(part[:, :2] + 3.0 <= wobj.block_max_mm[:2] + 1e-6)
+        slots.append((tuple(cut[["x_base_mm", "y_base_mm"]].iloc[0]),
+                      tuple(cut[["x_base_mm", "y_base_mm"]].iloc[-1])))
+    for i in range(len(slots)):
+        for j in range(i):
+            assert segment_distance_mm(*slots[i], *slots[j]) >= 6.0 - 1e-6
+    starts = [c["start_mm"] for c in plan.manifest["cuts"]]
+    for s, p in zip(starts, plan.paths, strict=True):
+        first = p.stations[p.stations["move"] == "cut"].iloc[0]
+        assert np.allclose(s, first[["x_base_mm", "y_base_mm", "z_base_mm"]].to_numpy(float))

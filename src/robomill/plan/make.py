@@ -1,5 +1,7 @@
 """One plan from one request: predict every candidate, refuse or choose, give each chosen cut a
-smooth redundancy angle along its path, and put the plan beside the study's own cuts."""
+free place on the block (:mod:`robomill.plan.slots`) and a path a robot can run, its rotation
+about the tool axis chosen station by station (:mod:`robomill.plan.cutpath`), and put the plan
+beside the study's own cuts."""
 
 from __future__ import annotations
 
@@ -12,7 +14,7 @@ import pandas as pd
 import xarray as xr
 
 from robomill.experiment import Cut
-from robomill.plan.choose import check_needs, choose, smooth_rotation
+from robomill.plan.choose import PlanInfeasible, check_needs, choose
 from robomill.plan.compare import comparison_table, rotation_effect_pct, study_cuts_table
 from robomill.plan.cutpath import plan_cut_path
 from robomill.plan.measured import Measured, missing_predictions
@@ -25,8 +27,9 @@ from robomill.plan.pathout import (
     path_summary,
     pose_failure_table,
 )
-from robomill.plan.predict import Cell, predict_grid, station_scores
+from robomill.plan.predict import Cell, predict_grid
 from robomill.plan.request import PlanRequest
+from robomill.plan.slots import separate_slots, study_slots
 from robomill.plan.workobject import BASE
 
 
@@ -46,22 +49,6 @@ class Plan:
     path_summary: pd.DataFrame | None = None
 
 
-def redundancy_paths(candidates: xr.Dataset, chosen: pd.DataFrame, req: PlanRequest,
-                     measured: Measured, cell: Cell) -> list[dict[str, Any]]:
-    """Per chosen cut, the redundancy angle at each station along it
-    (:func:`robomill.plan.choose.smooth_rotation` on :func:`station_scores`)."""
-    out = []
-    rot = candidates["rotation"].values
-    for _, r in chosen.iterrows():
-        score, what = station_scores(candidates, r, req, measured, cell)
-        idx = smooth_rotation(score, rot, req.max_rotation_step_deg,
-                              prefer_deg=float(r["rotation_deg"]))
-        out.append({"station_mm": [float(s) for s in candidates["station"].values],
-                    "redundancy_path_deg": [float(rot[i]) for i in idx],
-                    "redundancy_path_score": what})
-    return out
-
-
 def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[Cut],
               experiment: Mapping[str, Any], *, robot_name: str = "the robot") -> Plan:
     """The whole plan (raises :class:`robomill.plan.choose.PlanInfeasible` with one line when a
@@ -70,12 +57,19 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     check_needs(req, missing)
     cand = predict_grid(req, measured, cell)
     chosen, front = choose(cand, req, robot_name)
+    wobj = req.work_object or BASE
+    chosen, slot_notes = separate_slots(chosen, cand, req, study_slots(cuts, experiment, wobj),
+                                        wobj)
+    if not len(chosen):
+        raise PlanInfeasible(f"{req.path}: no chosen cut has a free place on the block: every "
+                             "slot would cross the study's or leave the block "
+                             "(work_object.block_mm)")
     cut_paths = [plan_cut_path(str(r["cut"]), np.array([r["placement_x_mm"],
                                                         r["placement_y_mm"],
                                                         r["placement_z_mm"]], float),
                                float(r["direction_deg"]), float(r["depth_mm"]),
                                float(r["feed_mm_s"]), float(r["spindle_rpm"]), req, measured,
-                               cell, req.work_object or BASE)
+                               cell, wobj)
                  for _, r in chosen.iterrows()]
     paths = [manifest_path(p, cand["station"].values) for p in cut_paths]
     q = [cand["q_deg"].isel(placement=int(r["i_placement"]), rotation=int(r["i_rotation"]),
@@ -95,4 +89,4 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     return Plan(cand, pmap, table, plan_table(front), study,
                 comparison_table(table, study, effect, pmap.sizes["rotation"]), manifest,
                 next_config(manifest), cut_paths,
-                path_summary(pose_failure_table(cand), table, effect))
+                path_summary(pose_failure_table(cand), table, effect, slot_notes))

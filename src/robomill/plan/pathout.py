@@ -118,11 +118,13 @@ def pose_failure_table(cand: xr.Dataset) -> pd.DataFrame:
                          "share": [c / n for c in counts]})
 
 
-def path_summary(failures: pd.DataFrame, plan: pd.DataFrame, rotation_effect_pct: float
-                 ) -> pd.DataFrame:
+def path_summary(failures: pd.DataFrame, plan: pd.DataFrame, rotation_effect_pct: float,
+                 slot_notes: Sequence[str] = ()) -> pd.DataFrame:
     """``results/plan/path_summary.csv`` (``key, value``), what chapter 7 says of the paths:
     the candidates by pose status (``candidates``, ``candidates_<reason>``), the planned cuts
-    that run and that are refused, the largest path gain over the best fixed rotation (critical
+    that run and that are refused, the chosen cuts moved or dropped so that no slot crosses
+    another or leaves the block (``slots_moved``, ``slots_dropped``;
+    :mod:`robomill.plan.slots`), the largest path gain over the best fixed rotation (critical
     depth and stiffness ratios, and the cut), the tie resolution ``tie_rel`` and the case of
     the chosen rotations: ``nominal_tie`` (every cut at 0° everywhere and no rotation changes a
     prediction by more than the tie resolution: the spindle sits on the flange axis),
@@ -146,6 +148,20 @@ def path_summary(failures: pd.DataFrame, plan: pd.DataFrame, rotation_effect_pct
     effect = rotation_effect_pct / 100.0 if np.isfinite(rotation_effect_pct) else np.nan
     case = ("turned" if not at_zero else
             "nominal_tie" if np.isfinite(effect) and effect <= TIE_REL else "nominal_best")
+    rows += [("slots_moved", sum("moved" in n for n in slot_notes)),
+             ("slots_dropped", sum("dropped" in n for n in slot_notes))]
     rows += [("tie_rel", TIE_REL), ("rotation_effect_pct", rotation_effect_pct),
              ("rotation_case", case)]
     return pd.DataFrame(rows, columns=["key", "value"])
+
+
+def summary_values(table: pd.DataFrame) -> dict[str, Any]:
+    """``path_summary.csv`` as the fields of chapter 7's sentences (numbers as floats, the
+    rest as text; empty text as None)."""
+    out: dict[str, Any] = {}
+    for k, v in zip(table["key"], table["value"], strict=True):
+        try:
+            out[str(k)] = float(v)
+        except (TypeError, ValueError):
+            out[str(k)] = None if v is None or str(v) in ("", "nan") else str(v)
+    return out
