@@ -12,8 +12,9 @@ one named arm/elbow/wrist configuration.
   1985]). A posture with β below the stated minimum is refused; σ_min is reported.
 * **Configuration.** Three binary choices name the inverse-kinematics branch, in the terms
   robot controllers use [ABB RAPID reference, *confdata*]: the wrist centre in front of or
-  behind joint 1's axis (``front``/``back``), on the zero posture's side of the lower arm or
-  the other (``up``/``down``), and the sign of the wrist bend about joint 5 (``w+``/``w-``).
+  behind joint 1's axis (``front``/``back``), the elbow above or below the line from the
+  shoulder to the wrist centre (``up``/``down``), and the sign of the wrist bend about joint 5
+  (``w+``/``w-``).
   A path keeps one configuration: a change between stations is a flip through a singularity
   that the controller cannot make along a straight cut.
 """
@@ -73,19 +74,13 @@ def sigma_min(robot: SerialRobot, q_rad: np.ndarray) -> np.ndarray:
     return np.linalg.svd(J, compute_uv=False)[..., -1]
 
 
-def _zero_side(robot: SerialRobot) -> float:
-    z, o = robot.joint_axes(np.zeros(robot.n_joints))
-    s = np.dot(np.cross(o[2] - o[1], o[4] - o[1]), z[1])
-    return 1.0 if s >= 0 else -1.0
-
-
 def configuration(robot: SerialRobot, q_rad: np.ndarray) -> np.ndarray:
     """Configuration code ``(...)`` in 0..7: 4·back + 2·down + wrist− (module docstring).
 
     * back: the wrist centre (on joint 5's axis) lies behind joint 1's axis, i.e. against the
       direction of frame 1's x axis;
-    * down: the wrist centre lies on the other side of the lower arm (joint 2 → joint 3) than
-      at the zero posture, about joint 2's axis;
+    * down: the elbow (joint 3's axis) lies below the line from the shoulder (joint 2's axis)
+      to the wrist centre (the base z component of its offset from that line is negative);
     * wrist−: the wrist bends the negative way about joint 5's axis, (z₄ × z₆)·z₅ < 0.
     """
     q = np.asarray(q_rad, float)
@@ -94,9 +89,11 @@ def configuration(robot: SerialRobot, q_rad: np.ndarray) -> np.ndarray:
     wc = o[..., 4, :]
     x1 = F[..., 1, :3, 0]
     back = np.einsum("...i,...i->...", wc - o[..., 0, :], x1) < 0
-    side = np.einsum("...i,...i->...", np.cross(o[..., 2, :] - o[..., 1, :], wc - o[..., 1, :]),
-                     z[..., 1, :])
-    down = side * _zero_side(robot) < 0
+    line = wc - o[..., 1, :]
+    elbow = o[..., 2, :] - o[..., 1, :]
+    t = (np.einsum("...i,...i->...", elbow, line)
+         / np.maximum(np.einsum("...i,...i->...", line, line), 1e-300))
+    down = (elbow - t[..., None] * line)[..., 2] < 0
     bend = np.einsum("...i,...i->...", np.cross(z[..., 3, :], z[..., 5, :]), z[..., 4, :])
     return 4 * back.astype(int) + 2 * down.astype(int) + (bend < 0).astype(int)
 
