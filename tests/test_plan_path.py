@@ -379,3 +379,27 @@ def test_planned_slots_lie_on_the_block_and_cross_nothing():
     for s, p in zip(starts, plan.paths, strict=True):
         first = p.stations[p.stations["move"] == "cut"].iloc[0]
         assert np.allclose(s, first[["x_base_mm", "y_base_mm", "z_base_mm"]].to_numpy(float))
+
+
+@pytest.mark.parametrize("value, msg", [
+    ({"frame": {"xyz_mm": [0, 0]}}, r"p\.yaml: work_object\.frame\.xyz_mm: expected \[x, y, z\]"),
+    ({"frame": {"xyz_mm": [0, 0, 0], "rpy_deg": [10, 0, 0]}},
+     r"work_object\.frame\.rpy_deg: expected roll = pitch = 0"),
+    ({"frame": {"xyz_mm": [0, 0, 0]}, "block_mm": {"min": [0, 0, 0], "max": [1, 1, 0]}},
+     r"work_object\.block_mm\.max: expected every coordinate above min's"),
+    ({"block_mm": {}}, r"work_object: expected a mapping \{frame"),
+])
+def test_bad_work_object_is_one_line(value, msg):
+    from robomill.plan.request import PlanRequestError
+
+    reqd = yaml.safe_load(open("plan.yaml"))
+    reqd["work_object"] = value
+    with pytest.raises(PlanRequestError, match=msg) as e:
+        parse_request(reqd, "p.yaml")
+    assert "\n" not in str(e.value)
+
+
+def test_the_nominal_rotation_is_always_a_candidate():
+    reqd = yaml.safe_load(open("plan.yaml"))
+    reqd["rotations_deg"] = {"min": -55.0, "max": 55.0, "n": 12}     # 0 is not on this grid
+    assert 0.0 in parse_request(reqd, "p.yaml").rotations_deg
