@@ -403,3 +403,33 @@ def test_the_nominal_rotation_is_always_a_candidate():
     reqd = yaml.safe_load(open("plan.yaml"))
     reqd["rotations_deg"] = {"min": -55.0, "max": 55.0, "n": 12}     # 0 is not on this grid
     assert 0.0 in parse_request(reqd, "p.yaml").rotations_deg
+
+
+def test_path_summary_says_why_the_rotation_stays_nominal():
+    from robomill.plan.pathout import path_summary, pose_failure_table, summary_values
+
+    failures = pd.DataFrame({"reason": ["ok", "ik", "joint_limit", "singularity",
+                                        "configuration_change"], "count": [8, 0, 1, 2, 1]})
+    plan = pd.DataFrame({"cut": ["plan_01", "plan_02"], "redundancy_path_deg": ["0;0;0", "0;0"],
+                         "path_gain_a_crit": [1.0, 1.0], "path_gain_stiffness": [1.0, 1.0],
+                         "path_refused": ["", "no path"]})
+    v = summary_values(path_summary(failures, plan, 4.9e-7, ["plan_02: moved to placement 3"]))
+    assert v["rotation_case"] == "nominal_tie" and v["path_gain_case"] == "none"
+    assert v["candidates"] == 12 and v["candidates_singularity"] == 2
+    assert v["cuts_runnable"] == 1 and v["cuts_refused"] == 1 and v["slots_moved"] == 1
+    # the rotation matters (0.5 %) but 0° is still best; a turned path
+    assert summary_values(path_summary(failures, plan, 0.5))["rotation_case"] == "nominal_best"
+    plan.loc[0, "redundancy_path_deg"] = "0;10;10"
+    plan.loc[0, "path_gain_stiffness"] = 1.03
+    v = summary_values(path_summary(failures, plan, 0.5))
+    assert v["rotation_case"] == "turned" and v["path_gain_case"] == "gain"
+    assert v["path_gain_stiffness_cut"] == "plan_01"
+    assert pose_failure_table(xr_status(np.array([0, 0, 3, 4, 2]))).set_index("reason")[
+        "count"].to_dict() == {"ok": 2, "ik": 0, "joint_limit": 1, "singularity": 1,
+                               "configuration_change": 1}
+
+
+def xr_status(codes):
+    import xarray as xr
+
+    return xr.Dataset({"pose_status": (("placement",), codes)})

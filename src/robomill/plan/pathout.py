@@ -142,6 +142,10 @@ def path_summary(failures: pd.DataFrame, plan: pd.DataFrame, rotation_effect_pct
         ok = v[np.isfinite(v)]
         rows.append((f"{col}_max", float(ok.max()) if len(ok) else np.nan))
         rows.append((f"{col}_cut", str(plan.loc[ok.idxmax(), "cut"]) if len(ok) else ""))
+    gains = [v for k, v in rows if k in ("path_gain_a_crit_max", "path_gain_stiffness_max")
+             and np.isfinite(v)]
+    rows.append(("path_gain_case", "" if not gains else
+                 "gain" if max(gains) > 1 + TIE_REL else "none"))
     angles = [float(a) for s in plan.get("redundancy_path_deg", pd.Series([], dtype=str))
               .fillna("").astype(str) for a in s.split(";") if a != ""]
     at_zero = bool(angles) and all(a == 0.0 for a in angles)
