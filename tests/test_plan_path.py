@@ -240,6 +240,12 @@ def test_quaternions_and_kuka_angles_by_hand():
     assert np.allclose(quaternion_wxyz(_rz(math.radians(90))), [s, 0, 0, s])
     assert np.allclose(quaternion_wxyz(_ry(math.radians(90))), [s, 0, s, 0])
     assert np.allclose(quaternion_wxyz(np.diag([-1.0, -1.0, 1.0])), [0, 0, 0, 1])
+    # half turn about (cos 20°, −sin 20°, 0): written with its first non-zero part positive
+    c, sn = math.cos(math.radians(20)), math.sin(math.radians(20))
+    ax = np.array([c, -sn, 0.0])
+    R = 2 * np.outer(ax, ax) - np.eye(3)
+    assert np.allclose(quaternion_wxyz(R), [0, c, -sn, 0])
+    assert np.allclose(quaternion_wxyz(2 * np.outer(-ax, -ax) - np.eye(3)), [0, c, -sn, 0])
     # 120° about (1, 1, 1)/√3: w = cos 60° = 0.5, (x, y, z) = sin 60°/√3 = 0.5 each
     R = np.array([[0.0, 0.0, 1.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]])
     assert np.allclose(quaternion_wxyz(R), [0.5, 0.5, 0.5, 0.5])

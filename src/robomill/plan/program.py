@@ -28,7 +28,8 @@ SPINDLE_PROC = "SetSpindle"
 
 def quaternion_wxyz(R: np.ndarray) -> np.ndarray:
     """Unit quaternion [w, x, y, z] of a rotation matrix, w ≥ 0 (Shepperd's method, the
-    largest of the four diagonal combinations for accuracy [Shepperd 1978])."""
+    largest of the four diagonal combinations for accuracy [Shepperd 1978]); for a half turn
+    (w = 0) the first non-zero of x, y, z is positive, so one orientation is written one way."""
     R = np.asarray(R, float)
     tr = np.trace(R)
     d = np.array([tr, R[0, 0], R[1, 1], R[2, 2]])
@@ -46,6 +47,10 @@ def quaternion_wxyz(R: np.ndarray) -> np.ndarray:
         w = (R[m, j] - R[j, m]) / (4 * v[i])
         q = np.array([w, *v])
     q = q / np.linalg.norm(q)
+    if abs(q[0]) < 1e-12:        # a half turn: w = 0, the first non-zero of x, y, z made > 0
+        q[0] = 0.0
+        lead = q[1:][np.abs(q[1:]) > 1e-12]
+        return -q if lead.size and lead[0] < 0 else q
     return -q if q[0] < 0 else q
 
 
