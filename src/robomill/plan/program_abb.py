@@ -26,15 +26,20 @@ APPROACH_SPEED = "v100"
 
 
 def _num(x: float) -> str:
-    return f"{float(x):.6f}".rstrip("0").rstrip(".") if np.isfinite(x) else "0"
+    return (f"{round(float(x), 6) + 0.0:.6f}".rstrip("0").rstrip(".")  # no "-0"
+            if np.isfinite(x) else "0")
 
 
 def _vec(v) -> str:
     return "[" + ",".join(_num(x) for x in v) + "]"
 
 
+def _q9(x: float) -> str:
+    return f"{round(float(x), 9) + 0.0:.9f}"
+
+
 def _quat(R) -> str:
-    return "[" + ",".join(f"{x:.9f}" for x in quaternion_wxyz(R)) + "]"
+    return "[" + ",".join(_q9(x) for x in quaternion_wxyz(R)) + "]"
 
 
 def _name(cut: str, k: int, move: str) -> str:
@@ -71,7 +76,7 @@ def rapid_module(paths: Sequence, pc: ProgramCell, *, header: str) -> str:
             pos = [r["x_part_mm"], r["y_part_mm"], r["z_part_mm"]]
             quat = [r["qw_part"], r["qx_part"], r["qy_part"], r["qz_part"]]
             L.append(f"  CONST robtarget p_{name} := [{_vec(pos)},"
-                     f"[{','.join(f'{x:.9f}' for x in quat)}],{_conf(q, code)},{EXT}];")
+                     f"[{','.join(_q9(x) for x in quat)}],{_conf(q, code)},{EXT}];")
     L.append("")
     L.append(f"  PROC {SPINDLE_PROC}(num rpm)")
     L.append("    ! the lab maps this to its spindle I/O, e.g. SetAO aoSpindle, rpm; and waits "

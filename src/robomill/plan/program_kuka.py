@@ -20,7 +20,7 @@ from robomill.plan.program import PROGRAM_NAME, SPINDLE_PROC, ProgramCell, zyx_a
 
 
 def _num(x: float) -> str:
-    return f"{float(x):.6f}".rstrip("0").rstrip(".")
+    return f"{round(float(x), 6) + 0.0:.6f}".rstrip("0").rstrip(".")  # no "-0"
 
 
 def _frame(pos, R) -> str:
