@@ -149,7 +149,9 @@ if "path_rotation_deg" in pmap:
         z = pmap[score].where(pmap["path_feasible"]).transpose("rotation", "path_station_mm")
         im = ax.pcolormesh(pmap["path_station_mm"].values, pmap["rotation"].values, z.values,
                            shading="nearest")
-        fig.colorbar(im, ax=ax, label=pmap[score].attrs.get("long_name", score)[:40])
+        fig.colorbar(im, ax=ax, label=("pessimistic margin a_crit/a − 1"
+                                       if score == "path_stability_margin_low"
+                                       else "stiffness normal to the wall (low) [N/m]"))
     ax.plot(pmap["path_station_mm"].values, pmap["path_rotation_deg"].values, "o-", color="w",
             mec="k", label="chosen rotation")
     ax.set_xlabel("station along the cut [mm]")
