@@ -155,14 +155,22 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
         summary[f"fixed_worst_{name}"] = fw
     app, ret = ends["approach"][0][idx[0]], ends["retract"][0][idx[-1]]
     app, ret = into_limits(app, lim, qp[0]), into_limits(ret, lim, qp[-1])
-    rows = [_row(robot, wobj, "approach", np.nan, th[idx[0]], app, None)]
+    def target(p_mm, i_rot):
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = Rt[i_rot], p_mm
+        return T
+
+    rows = [_row(wobj, "approach", np.nan, th[idx[0]], app,
+                 target(ends["approach"][1][idx[0]], idx[0]), None)]
     for i in range(S):
         extra = {name: float(sc[name][i, idx[i]]) for name in names}
         extra.update({"wrist_angle_deg": float(chk["wrist_deg"][i, idx[i]]),
                       "limit_clearance_deg": float(chk["clearance_deg"][i, idx[i]]),
                       "sigma_min": float(chk["sigma_min"][i, idx[i]])})
-        rows.append(_row(robot, wobj, "cut", float(s_mm[i]), th[idx[i]], qp[i], extra))
-    rows.append(_row(robot, wobj, "retract", np.nan, th[idx[-1]], ret, None))
+        rows.append(_row(wobj, "cut", float(s_mm[i]), th[idx[i]], qp[i],
+                         target(pts[i], idx[i]), extra))
+    rows.append(_row(wobj, "retract", np.nan, th[idx[-1]], ret,
+                     target(ends["retract"][1][idx[-1]], idx[-1]), None))
     st = pd.DataFrame(rows)
     st.insert(0, "cut", cut)
     st.insert(1, "configuration", configuration_name(best_cfg))
@@ -186,13 +194,13 @@ def _better(key, other, scores) -> bool:
     return key[1] > other[1]
 
 
-def _row(robot, wobj: WorkObject, move: str, s_mm: float, rot_deg: float, q_rad: np.ndarray,
-         extra: dict | None) -> dict:
-    """One stations.csv row: joints, TCP pose in the base and the part frame (position and
-    quaternion w, x, y, z), rotation, and the scores at the station."""
+def _row(wobj: WorkObject, move: str, s_mm: float, rot_deg: float, q_rad: np.ndarray,
+         T: np.ndarray, extra: dict | None) -> dict:
+    """One stations.csv row: the joint target, the Cartesian target T it reaches (the TCP
+    pose, position and quaternion w, x, y, z) in the base and the part frame, the rotation,
+    and the scores at the station."""
     from robomill.plan.program import quaternion_wxyz
 
-    T = robot.fk(q_rad)
     Tp = wobj.to_part(T)
     row = {"move": move, "s_mm": s_mm, "rotation_deg": float(rot_deg)}
     row.update({f"q{j + 1}_deg": float(np.rad2deg(v)) for j, v in enumerate(q_rad)})
