@@ -439,3 +439,15 @@ def xr_status(codes):
     import xarray as xr
 
     return xr.Dataset({"pose_status": (("placement",), codes)})
+
+
+def test_an_unbounded_margin_is_the_best_score_not_an_unusable_node():
+    """+inf (no finite critical depth) ranks above every finite score; NaN stays unusable."""
+    th = np.array([0.0, 10.0, 20.0])
+    score = np.array([[1.0, np.inf, 2.0], [1.0, np.inf, np.nan], [1.0, np.inf, 2.0]])
+    E = edges(th, np.zeros((3, 3, 6)), np.zeros((3, 3), int), max_step_deg=10.0, dt_s=None,
+              speed_limits_deg_s=None)
+    idx, worst = best_path([score], np.ones((3, 3), bool), E, th)
+    assert list(th[idx]) == [10.0, 10.0, 10.0] and worst == [np.inf]
+    r, _ = best_fixed([score], np.ones((3, 3), bool), np.ones(3, bool), th)
+    assert th[r] == 10.0

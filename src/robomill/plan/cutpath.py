@@ -149,7 +149,7 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
                     "rotation_path_deg": ";".join(f"{a:g}" for a in th[idx]),
                     "fixed_rotation_deg": np.nan if fixed_r is None else float(th[fixed_r])})
     for k, name in enumerate(names):
-        pw = float(sc[name][ar, idx].min())
+        pw = float(sc[name][ar, idx].min())          # +inf: no finite limit along the path
         fw = fixed_worst[k] if fixed_r is not None else np.nan
         summary[f"path_worst_{name}"] = pw
         summary[f"fixed_worst_{name}"] = fw
@@ -183,10 +183,10 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
 
 def _better(key, other, scores) -> bool:
     """Lexicographic comparison of (worst scores, −Σ|θ|) with the scores' tie tolerance."""
-    from robomill.plan.path import tie_tolerance
+    from robomill.plan.path import tie_tolerance, usable
 
     for a, b, sc in zip(key[0], other[0], scores, strict=True):
-        tol = tie_tolerance(sc)
+        tol = tie_tolerance(usable(sc))
         if a > b + tol:
             return True
         if a < b - tol:

@@ -40,6 +40,17 @@ def tie_tolerance(score: np.ndarray) -> float:
     return TIE_REL * float(np.max(np.abs(fin))) if fin.size else 0.0
 
 
+def usable(score: np.ndarray) -> np.ndarray:
+    """A score array with +inf (e.g. a margin with no finite critical depth: unconditionally
+    stable) replaced by a finite value above every finite one (ties among themselves); NaN
+    and −inf stay unusable."""
+    s = np.asarray(score, float).copy()
+    fin = s[np.isfinite(s)]
+    top = min(2.0 * float(np.max(np.abs(fin))) + 1.0, np.finfo(float).max) if fin.size else 1.0
+    s[np.isposinf(s)] = top
+    return s
+
+
 def bottleneck_value(score: np.ndarray, allowed: np.ndarray, edge_ok: np.ndarray) -> float:
     """max over allowed paths of min over stations of ``score`` ``(S, R)``; −inf when no path.
 
@@ -84,18 +95,19 @@ def best_path(scores: Sequence[np.ndarray], allowed: np.ndarray, edge_ok: np.nda
     Parameters
     ----------
     scores
-        ``(S, R)`` arrays in priority order (non-finite: unusable node).
+        ``(S, R)`` arrays in priority order (NaN or −inf: unusable node; +inf: above every
+        finite value, :func:`usable`).
     allowed
         ``(S, R)`` feasible nodes.
     edge_ok
         ``(S−1, R, R)`` allowed steps.
     """
+    raw = [np.asarray(sc, float) for sc in scores]
+    scores = [usable(sc) for sc in raw]
     ok = np.asarray(allowed, bool).copy()
     for sc in scores:
-        sc = np.asarray(sc, float)
         ok &= np.isfinite(sc)
     for sc in scores:
-        sc = np.asarray(sc, float)
         W = bottleneck_value(sc, ok, edge_ok)
         if not np.isfinite(W):
             return None, []
@@ -105,7 +117,7 @@ def best_path(scores: Sequence[np.ndarray], allowed: np.ndarray, edge_ok: np.nda
     if path is None:
         return None, []
     idx = np.arange(len(path))
-    return path, [float(np.asarray(sc, float)[idx, path].min()) for sc in scores]
+    return path, [float(sc[idx, path].min()) for sc in raw]
 
 
 def best_fixed(scores: Sequence[np.ndarray], allowed: np.ndarray, same_config: np.ndarray,
@@ -113,6 +125,8 @@ def best_fixed(scores: Sequence[np.ndarray], allowed: np.ndarray, same_config: n
                ) -> tuple[int | None, list[float]]:
     """The best single rotation held along the whole cut, by the same lexicographic rule as
     :func:`best_path` (the comparison the path must beat): index and worst scores."""
+    raw = [np.asarray(sc, float) for sc in scores]
+    scores = [usable(sc) for sc in raw]
     ok = np.all(allowed, axis=0) & np.asarray(same_config, bool)
     for sc in scores:
         ok &= np.all(np.isfinite(np.asarray(sc, float)), axis=0)
@@ -124,7 +138,7 @@ def best_fixed(scores: Sequence[np.ndarray], allowed: np.ndarray, same_config: n
         ok &= worst >= W - tie_tolerance(np.where(ok, worst, np.nan))
     cost = np.where(ok, np.abs(np.asarray(rotations_deg, float) - nominal_deg), np.inf)
     r = int(np.argmin(cost))
-    return r, [float(np.asarray(sc, float)[:, r].min()) for sc in scores]
+    return r, [float(sc[:, r].min()) for sc in raw]
 
 
 def edges(rotations_deg: np.ndarray, q_rad: np.ndarray, config: np.ndarray, *,
