@@ -67,9 +67,11 @@ def _scores(measured, cell, req, q, frame, rpm, depth_mm):
 
 def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: float,
                   feed_mm_s: float, spindle_rpm: float, req, measured, cell,
-                  wobj: WorkObject) -> CutPath:
+                  wobj: WorkObject, allowed_rotations: np.ndarray | None = None) -> CutPath:
     """The path of one chosen cut (module docstring). ``mid_mm``: the placement point on the
-    top face in the base frame; ``cell``: :class:`robomill.plan.predict.Cell`."""
+    top face in the base frame; ``cell``: :class:`robomill.plan.predict.Cell`;
+    ``allowed_rotations`` ``(R,)``: the rotations at which the cut meets every constraint of
+    the request (None: all)."""
     robot = cell.robot
     lim = getattr(cell, "joint_limits_deg", None)
     speeds = getattr(cell, "joint_speed_limits_deg_s", None)
@@ -94,6 +96,8 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
                       limit_margin_deg=req.joint_limit_margin_deg,
                       min_wrist_angle_deg=req.min_wrist_angle_deg)
     node_ok = chk["status"] == 0
+    if allowed_rotations is not None:
+        node_ok &= np.asarray(allowed_rotations, bool)[None, :]
     cfg = chk["configuration"]
     # approach and retract above the top face over the first and last station, at that
     # station's rotation: a path may start or end only where they are feasible too

@@ -14,18 +14,20 @@ import pandas as pd
 import xarray as xr
 
 from robomill.experiment import Cut
-from robomill.plan.choose import PlanInfeasible, check_needs, choose
+from robomill.plan.choose import PlanInfeasible, check_needs, choose, feasible
 from robomill.plan.compare import comparison_table, rotation_effect_pct, study_cuts_table
 from robomill.plan.cutpath import plan_cut_path
 from robomill.plan.measured import Measured, missing_predictions
 from robomill.plan.outputs import next_config, next_manifest, plan_table, pose_map
 from robomill.plan.pathout import (
     floor_starts,
+    follow_paths,
     manifest_path,
     path_columns,
     path_map,
     path_summary,
     pose_failure_table,
+    rotations_meeting_constraints,
 )
 from robomill.plan.predict import Cell, predict_grid
 from robomill.plan.request import PlanRequest
@@ -64,13 +66,15 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
         raise PlanInfeasible(f"{req.path}: no chosen cut has a free place on the block: every "
                              "slot would cross the study's or leave the block "
                              "(work_object.block_mm)")
+    mask = feasible(cand, req)
     cut_paths = [plan_cut_path(str(r["cut"]), np.array([r["placement_x_mm"],
                                                         r["placement_y_mm"],
                                                         r["placement_z_mm"]], float),
                                float(r["direction_deg"]), float(r["depth_mm"]),
                                float(r["feed_mm_s"]), float(r["spindle_rpm"]), req, measured,
-                               cell, wobj)
+                               cell, wobj, rotations_meeting_constraints(mask, r))
                  for _, r in chosen.iterrows()]
+    chosen = follow_paths(chosen, cand, mask, cut_paths)
     paths = [manifest_path(p, cand["station"].values) for p in cut_paths]
     q = [cand["q_deg"].isel(placement=int(r["i_placement"]), rotation=int(r["i_rotation"]),
                             direction=int(r["i_direction"])).values

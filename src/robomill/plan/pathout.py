@@ -169,3 +169,42 @@ def summary_values(table: pd.DataFrame) -> dict[str, Any]:
         except (TypeError, ValueError):
             out[str(k)] = None if v is None or str(v) in ("", "nan") else str(v)
     return out
+
+
+def _index(mask: xr.DataArray, row) -> dict[str, int]:
+    return {d: int(row[f"i_{d}"]) for d in mask.dims if d != "rotation"}
+
+
+def rotations_meeting_constraints(mask: xr.DataArray, row) -> np.ndarray:
+    """``(R,)``: the rotations at which a chosen cut (its placement, direction, speed, depth
+    and feed) meets every constraint of the request (the feasible mask of the choice)."""
+    return np.asarray(mask.isel(_index(mask, row)).transpose("rotation").values, bool)
+
+
+def follow_paths(chosen: pd.DataFrame, ds: xr.Dataset, mask: xr.DataArray,
+                 paths: Sequence) -> pd.DataFrame:
+    """The chosen cuts with each row's rotation (and so its predictions, the manifest's
+    ``redundancy_deg`` and the virtual cell's cut) moved to its path's rotation at the middle
+    station; a refused cut keeps its own."""
+    from robomill.plan.choose import feasible_table
+
+    rows = []
+    rot = ds["rotation"].values
+    for (_, r), p in zip(chosen.iterrows(), paths, strict=True):
+        st = p.stations
+        if p.refused or not len(st):
+            rows.append(r)
+            continue
+        cut = st[st["move"] == "cut"]
+        mid = float(cut["rotation_deg"].iloc[len(cut) // 2])
+        i_rot = int(np.flatnonzero(rot == mid)[0])
+        if i_rot == int(r["i_rotation"]):
+            rows.append(r)
+            continue
+        one = xr.zeros_like(mask)
+        one[{**_index(mask, r), "rotation": i_rot}] = True
+        new = feasible_table(ds, one & mask).iloc[0]
+        new = new.reindex(r.index)
+        new["rank"], new["cut"] = r["rank"], r["cut"]
+        rows.append(new)
+    return pd.DataFrame(rows).reset_index(drop=True)[chosen.columns]
