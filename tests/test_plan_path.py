@@ -451,3 +451,14 @@ def test_an_unbounded_margin_is_the_best_score_not_an_unusable_node():
     assert list(th[idx]) == [10.0, 10.0, 10.0] and worst == [np.inf]
     r, _ = best_fixed([score], np.ones((3, 3), bool), np.ones(3, bool), th)
     assert th[r] == 10.0
+
+
+def test_a_station_below_the_margin_constraint_refuses_the_cut():
+    """The pessimistic margin is checked at every station, not only at the cut's middle."""
+    cs, cf, p = _plan(None, rotations=(-20.0, 20.0, 5), length=40.0, stations=5)
+    worst = p.summary["path_worst_stability_margin_low"]
+    best = max(p.stations["stability_margin_low"].dropna())
+    assert worst < best
+    cs, cf, p = _plan(None, rotations=(-20.0, 20.0, 5), length=40.0, stations=5,
+                      constraints={"min_stability_margin": (worst + best) / 2})
+    assert p.refused is not None and "stability margin at every station" in p.refused

@@ -71,7 +71,9 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
     """The path of one chosen cut (module docstring). ``mid_mm``: the placement point on the
     top face in the base frame; ``cell``: :class:`robomill.plan.predict.Cell`;
     ``allowed_rotations`` ``(R,)``: the rotations at which the cut meets every constraint of
-    the request (None: all)."""
+    the request (checked, as every candidate is, at its middle: they bound the middle
+    station's rotation; None: all); the pessimistic margin meets ``min_stability_margin`` at
+    every station."""
     robot = cell.robot
     lim = getattr(cell, "joint_limits_deg", None)
     speeds = getattr(cell, "joint_speed_limits_deg_s", None)
@@ -96,8 +98,8 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
                       limit_margin_deg=req.joint_limit_margin_deg,
                       min_wrist_angle_deg=req.min_wrist_angle_deg)
     node_ok = chk["status"] == 0
-    if allowed_rotations is not None:
-        node_ok &= np.asarray(allowed_rotations, bool)[None, :]
+    if allowed_rotations is not None:       # the middle station: the cut's row of the plan
+        node_ok[S // 2] &= np.asarray(allowed_rotations, bool)
     cfg = chk["configuration"]
     # approach and retract above the top face over the first and last station, at that
     # station's rotation: a path may start or end only where they are feasible too
@@ -114,6 +116,9 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
         node_ok[i] &= (ce["status"] == 0) & (ce["configuration"] == cfg[i])
         ends[kind] = (qe, Te[:, :3, 3])
     sc = _scores(measured, cell, req, q, frame, spindle_rpm, depth_mm)
+    lim_margin = req.constraints.get("min_stability_margin")
+    if lim_margin is not None and "stability_margin_low" in sc:   # at every station
+        node_ok &= ~(sc["stability_margin_low"] < lim_margin)
     names = list(sc)
     scores = [sc[k] for k in names]
     dt = (s_mm[1] - s_mm[0]) / feed_mm_s
@@ -133,7 +138,8 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
     if best is None:
         reasons = np.unique(chk["status"][~node_ok])
         why = ("no path keeps one configuration within the joint limits, the wrist angle, the "
-               "axis speeds and the rotation step from the approach to the retract"
+               "axis speeds, the rotation step and the request's constraints (the stability "
+               "margin at every station) from the approach to the retract"
                if node_ok.any() else
                "no station is feasible at any rotation ("
                + ", ".join(REASONS[int(r)] for r in reasons if r > 0) + ")")
