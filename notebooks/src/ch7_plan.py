@@ -23,6 +23,7 @@ plan: str = None  # results/plan/plan.csv
 pareto: str = None  # results/plan/pareto.csv
 study: str = None  # results/plan/study_cuts.csv
 comparison: str = None  # results/plan/comparison.csv
+path_summary: str = None  # results/plan/path_summary.csv
 check: str = None  # results/plan/check.csv
 check_summary: str = None  # results/plan/check_summary.csv
 templates: str = None  # notebooks/templates/ch7.yaml: the sentences rendered from check_summary
@@ -38,6 +39,7 @@ from robomill.pipeline.captions import Numbering
 from robomill.pipeline.prose import Prose, load_templates
 from robomill.plan.compare import comparison_values
 from robomill.plan.extrapolation import reach_values
+from robomill.plan.pathout import summary_values
 
 num = Numbering.for_chapter("ch7", fig_dir=fig_dir)
 num.figure("pareto", "Removal rate against the predicted form error (upper bound): the "
@@ -46,6 +48,8 @@ num.figure("pose_map", "Pose map: the largest pessimistic critical depth over th
            "(top) and the upper deflection normal to the wall at the best cut's speed, depth "
            "and feed (bottom), over placement × rotation about the tool axis")
 num.table("plan", "The chosen cuts, ranked by removal rate (results/plan/plan.csv)")
+num.table("paths", "The chosen cuts' paths: configuration, rotation at each station, the best "
+          "fixed rotation and the path's gain over it (results/plan/plan.csv)")
 num.table("comparison", "The plan's best removal rate beside the study's best at equal "
           "constraints (results/plan/comparison.csv)")
 num.table("check", "Each prediction beside the outcome recorded under the same cut id "
@@ -60,6 +64,7 @@ cmp_ = pd.read_csv(comparison).set_index("quantity")
 chk = pd.read_csv(check)
 summary = pd.read_csv(check_summary).set_index("key")["value"].to_dict()
 say = Prose(load_templates("ch7", templates), summary)
+paths_say = Prose(load_templates("ch7", templates), summary_values(pd.read_csv(path_summary)))
 
 # %% [markdown]
 # ## What the plan could predict
@@ -136,6 +141,49 @@ display(chosen[[c for c in cols if c in chosen]])
 # %%
 display(Markdown(Prose(load_templates("ch7", templates), reach_values(chosen, cand.attrs))(
     "reach_level", "reach_extrapolated", "reach_band")))
+
+# %% [markdown]
+# ## A path a robot can run
+#
+# Every candidate pose is checked against the cell's joint limits (less a margin), the wrist
+# singularity (the angle between the axes of joints 4 and 6) and its arm/elbow/wrist
+# configuration; a chosen cut then gets its rotation about the tool axis station by station,
+# by dynamic programming over stations × rotations: the path's worst pessimistic stability
+# margin first, then its worst stiffness normal to the wall, then the smallest change from
+# the nominal tool orientation, within the request's rotation step and the axes' speeds
+# (`robomill.plan.path`). The program for the cell's controller and every station's joints and
+# poses are in `results/plan/next/program/`.
+
+# %%
+display(Markdown(paths_say("pose_checks", "path_cuts", "path_gain", "rotation_case")))
+if "path_rotation_deg" in pmap:
+    num.figure("path", "The best cut's path: the pessimistic score over station × rotation "
+               "about the tool axis, and the chosen rotation at each station")
+    score = next((v for v in ("path_stability_margin_low", "path_k_normal_low_N_m")
+                  if v in pmap), None)
+    fig, ax = plt.subplots(figsize=(7, 4))
+    if score is not None:
+        z = pmap[score].where(pmap["path_feasible"]).transpose("rotation", "path_station_mm")
+        im = ax.pcolormesh(pmap["path_station_mm"].values, pmap["rotation"].values, z.values,
+                           shading="nearest")
+        fig.colorbar(im, ax=ax, label=("pessimistic margin a_crit/a − 1"
+                                       if score == "path_stability_margin_low"
+                                       else "stiffness normal to the wall (low) [N/m]"))
+    ax.plot(pmap["path_station_mm"].values, pmap["path_rotation_deg"].values, "o-", color="w",
+            mec="k", label="chosen rotation")
+    ax.set_xlabel("station along the cut [mm]")
+    ax.set_ylabel("rotation about the tool axis [deg]")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    num.show(fig, "path")
+    display(Markdown(paths_say("path_map", ref_path=num.ref("path"),
+                               path_cut=pmap.attrs.get("path_cut", ""))))
+display(Markdown(paths_say("paths_table", ref_paths=num.ref("paths"))))
+display(num.caption("paths"))
+pcols = ["cut", "configuration", "redundancy_path_deg", "fixed_rotation_deg",
+         "path_worst_margin", "fixed_worst_margin", "path_gain_a_crit", "path_gain_stiffness",
+         "min_wrist_angle_deg", "min_limit_clearance_deg", "path_refused"]
+display(chosen[[c for c in pcols if c in chosen]])
 
 # %% [markdown]
 # ## The plan beside the study

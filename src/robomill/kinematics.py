@@ -90,6 +90,10 @@ class SerialRobot:
         One entry per joint, base to flange.
     tool_mm
         TCP in the flange frame.
+    tool_R
+        Orientation of the tool frame (z: the spindle axis) in the flange frame; identity for a
+        spindle on the flange axis (the tool frame of ``cell.yaml``'s ``robot.tool``,
+        :mod:`robomill.io.tool_frame`).
     base
         4×4 transform of the robot base in the world frame (identity by default).
     """
@@ -102,11 +106,13 @@ class SerialRobot:
     theta_offset_rad: np.ndarray
     tool_mm: np.ndarray = field(default_factory=lambda: np.zeros(3))
     base: np.ndarray = field(default_factory=lambda: np.eye(4))
+    tool_R: np.ndarray = field(default_factory=lambda: np.eye(3))
 
     def __post_init__(self):
         if self.convention not in ("dh", "mdh"):
             raise ValueError(f"convention must be 'dh' or 'mdh', not {self.convention!r}")
-        for name in ("a_mm", "alpha_rad", "d_mm", "theta_offset_rad", "tool_mm", "base"):
+        for name in ("a_mm", "alpha_rad", "d_mm", "theta_offset_rad", "tool_mm", "base",
+                     "tool_R"):
             setattr(self, name, np.asarray(getattr(self, name), dtype=float))
         n = self.n_joints
         for name in ("alpha_rad", "d_mm", "theta_offset_rad"):
@@ -150,8 +156,8 @@ class SerialRobot:
         return self._tcp(self.frames(q))
 
     def _tcp(self, F: np.ndarray) -> np.ndarray:
-        """TCP pose from the frames of :meth:`frames`."""
-        return F[..., -1, :, :] @ _homog(np.eye(3), self.tool_mm)
+        """TCP pose from the frames of :meth:`frames` (flange pose times the tool frame)."""
+        return F[..., -1, :, :] @ _homog(self.tool_R, self.tool_mm)
 
     def joint_axes(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Joint axis directions and points ``(..., n, 3)`` in the world frame.
@@ -223,11 +229,15 @@ def robot_from_mapping(spec: Mapping[str, Any]) -> SerialRobot:
     """Build a :class:`SerialRobot` from the robot-file mapping (data contract, kind ``robot``).
 
     ``{name, convention: dh|mdh, length_unit: mm|m, angle_unit: deg|rad, joints: [{a, alpha, d,
-    theta_offset}], tool: [x, y, z]}``.
+    theta_offset}], tool: [x, y, z] | {xyz_mm, rpy_deg}}`` (the tool frame,
+    :func:`robomill.io.tool_frame.tool_frame`).
     """
+    from robomill.io.tool_frame import tool_frame
+
     length = {"mm": 1.0, "m": 1000.0}[spec.get("length_unit", "mm")]
     angle = {"deg": np.pi / 180.0, "rad": 1.0}[spec.get("angle_unit", "deg")]
     joints = spec["joints"]
+    tool_mm, tool_R = tool_frame(spec.get("tool"), length_mm=length)
     return SerialRobot(
         name=str(spec.get("name", "robot")),
         convention=str(spec.get("convention", "dh")),
@@ -235,7 +245,7 @@ def robot_from_mapping(spec: Mapping[str, Any]) -> SerialRobot:
         alpha_rad=np.array([j["alpha"] for j in joints], float) * angle,
         d_mm=np.array([j["d"] for j in joints], float) * length,
         theta_offset_rad=np.array([j.get("theta_offset", 0.0) for j in joints], float) * angle,
-        tool_mm=np.asarray(spec.get("tool", [0.0, 0.0, 0.0]), float) * length,
+        tool_mm=tool_mm, tool_R=tool_R,
     )
 
 

@@ -44,7 +44,10 @@ PLAN_OUTPUTS = {
     "comparison": "results/plan/comparison.csv",
     "manifest": "results/plan/next/manifest.yaml",
     "config": "results/plan/next/config.yaml",
+    "path_summary": "results/plan/path_summary.csv",
 }
+# the controller program of the planned cuts and its stations.csv (robomill.plan.program)
+PLAN_PROGRAM = "results/plan/next/program"
 # The planned cuts' own run (snakemake all --configfile results/plan/next/config.yaml, which
 # writes under NEXT_RUN_DIR): its outcomes are inputs of plan_check once it has made them
 # (another run of the workflow makes them, not this one).
@@ -68,6 +71,7 @@ rule plan_make:
         study=STUDY,
     output:
         **PLAN_OUTPUTS,
+        program=directory(PLAN_PROGRAM),
     log:
         "results/logs/plan/make.log",
     benchmark:
@@ -143,6 +147,7 @@ use rule chapter as ch7 with:
         pareto=PLAN_OUTPUTS["pareto"],
         study=PLAN_OUTPUTS["study"],
         comparison=PLAN_OUTPUTS["comparison"],
+        path_summary=PLAN_OUTPUTS["path_summary"],
         check="results/plan/check.csv",
         check_summary="results/plan/check_summary.csv",
     output:
@@ -157,6 +162,7 @@ use rule chapter as ch7 with:
 rule plan:
     input:
         *PLAN_OUTPUTS.values(),
+        PLAN_PROGRAM,
         "results/plan/check.csv",
         "results/plan/check_summary.csv",
         "results/chapters/ch7_plan.html",

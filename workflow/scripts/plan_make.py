@@ -17,7 +17,9 @@ from robomill.plan.extrapolation import reach_from_means
 from robomill.plan.make import make_plan
 from robomill.plan.measured import Measured, cut_mid_poses, gear_joint_amplitudes
 from robomill.plan.outputs import cell_of, compact
+from robomill.plan.program import program_cell, write_program
 from robomill.plan.request import read_request
+from robomill.plan.workobject import BASE
 from robomill.study import load_study
 
 log = setup(snakemake.log[0], "plan")
@@ -75,6 +77,18 @@ write_table(plan.plan, out.plan)
 write_table(plan.pareto, out.pareto)
 write_table(plan.study, out.study)
 write_table(plan.comparison, out.comparison)
+write_table(plan.path_summary, out.path_summary)
+wobj = req.work_object or BASE
+header = (f"robomill plan of {req.path}: the planned cuts, ranked by removal rate; "
+          f"robot {cell.robot.name}\ncheck it in the offline programming tool before running")
+program = write_program(plan.paths, cell_file.controller,
+                        program_cell(cell.robot, wobj.T_base_part, cell_file.mass_model),
+                        out.program, header=header)
+log.info("program (%s): %s", cell_file.controller or "no controller named: stations only",
+         ", ".join(str(f) for f in program))
+for p in plan.paths:
+    if p.refused:
+        log.info("cut %s refused: %s", p.cut, p.refused)
 for path, data in ((out.manifest, plan.manifest), (out.config, plan.config)):
     with atomic_path(path) as tmp:
         tmp.write_text(yaml.safe_dump(data, sort_keys=False))

@@ -6,7 +6,9 @@ simulators (``docs/data-contract.md``, section *The cell*)::
 
     robot: {name: irb1600, convention: dh, length_unit: mm, angle_unit: deg,
             joints: [{a: 150.0, alpha: -90.0, d: 486.5, theta_offset: 0.0}, ...],
-            tool: [0.0, 0.0, 180.0]}
+            tool: {xyz_mm: [0.0, 0.0, 180.0], rpy_deg: [0.0, 0.0, 0.0]},   # or [x, y, z]
+            joint_limits_deg: [[-180, 180], ...], joint_speed_limits_deg_s: [150, ...],
+            controller: abb}                   # the last three optional
     q_home_deg: [0, 20, 10, 0, 60, 0]          # IK seed (the posture branch)
     tool_rotation: [[1, 0, 0], [0, -1, 0], [0, 0, -1]]   # TCP orientation while cutting
     transmissions:                             # nominal gear trains (no error amplitudes)
@@ -18,10 +20,12 @@ simulators (``docs/data-contract.md``, section *The cell*)::
       tool: {mass_kg: 5.0, com_mm: [880.0, 10.0, 1186.5]}
 
 ``robot`` follows the robot-file schema of the stiffness section
-(:func:`robomill.io.robots.parse_robot`). ``base_from_instrument[k]`` registers instrument k's
-frame to the robot base: ``p_base = rotation · p_instrument + translation_mm``; an absent entry
-means the instrument already measures in the base frame. ``mass_model`` places point masses
-on the links (``link`` 1..n, centre of mass ``com_mm`` at the zero configuration in the base
+(:func:`robomill.io.robots.parse_robot`); its tool frame, working range, axis speeds and
+controller are those of :mod:`robomill.io.tool_frame`. ``base_from_instrument[k]``
+registers instrument k's frame to the robot base:
+``p_base = rotation · p_instrument + translation_mm``; an absent entry means the instrument
+already measures in the base frame. ``mass_model`` places point masses on the links
+(``link`` 1..n, centre of mass ``com_mm`` at the zero configuration in the base
 frame) and the spindle and tool on the last link: the gravity model of the calibration's
 compliance terms (chapter 1); a cell without one is calibrated without the gravity term
 (``docs/data-contract.md``). Every problem raises one
@@ -137,6 +141,23 @@ class Cell:
     @property
     def q_home_rad(self) -> np.ndarray:
         return np.deg2rad(self.q_home_deg)
+
+    @property
+    def joint_limits_deg(self) -> np.ndarray | None:
+        """``(n, 2)`` working range [deg] (``robot.joint_limits_deg``), None when not stated."""
+        lim = self.robot_spec.get("joint_limits_deg")
+        return None if lim is None else np.asarray(lim, float)
+
+    @property
+    def joint_speed_limits_deg_s(self) -> np.ndarray | None:
+        """``(n,)`` axis speeds [deg/s] (``robot.joint_speed_limits_deg_s``), None if absent."""
+        v = self.robot_spec.get("joint_speed_limits_deg_s")
+        return None if v is None else np.asarray(v, float)
+
+    @property
+    def controller(self) -> str | None:
+        """``robot.controller`` (abb | kuka), None when the cell names none."""
+        return self.robot_spec.get("controller")
 
     def to_base_mm(self, instrument: str, points_mm: np.ndarray) -> np.ndarray:
         """Points measured by ``instrument`` expressed in the robot base frame [mm] (unchanged

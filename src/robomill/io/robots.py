@@ -2,7 +2,9 @@
 
 * kind ``robot`` — ``stiffness/<robot>.yaml``: name, convention (dh | mdh), length_unit
   (mm | m), angle_unit (deg | rad), joints (one mapping {a, alpha, d, theta_offset} per joint,
-  base to flange), tool [x, y, z] (TCP in the flange frame);
+  base to flange), tool [x, y, z] (TCP in the flange frame) or {xyz_mm, rpy_deg} (the tool
+  frame, :mod:`robomill.io.tool_frame`), optional joint_limits_deg, joint_speed_limits_deg_s,
+  controller;
 * kind ``stiffness`` — ``stiffness/load_tests_<robot>.csv``: columns ``pose, role,
   q1_deg … qN_deg, Fx_N, Fy_N, Fz_N, dx_mm, dy_mm, dz_mm`` (force at the TCP and TCP
   deflection in the base frame; role ``identify`` or ``validate``).
@@ -22,7 +24,18 @@ import yaml
 
 from robomill.errors import RawDataError
 from robomill.io.tables import read_numeric_csv
+from robomill.io.tool_frame import (
+    parse_controller,
+    parse_joint_limits,
+    parse_speed_limits,
+    parse_tool,
+)
 from robomill.kinematics import SerialRobot, robot_from_mapping
+
+ROBOT_KEYS = ("name", "convention", "length_unit", "angle_unit", "joints", "tool",
+              "joint_limits_deg", "joint_speed_limits_deg_s", "controller")
+"""Keys of a robot mapping (the last three optional: the cell's working range, axis speeds
+and controller, :mod:`robomill.io.tool_frame`)."""
 
 CONVENTIONS = ("dh", "mdh")
 LENGTH_UNITS = ("mm", "m")
@@ -88,11 +101,19 @@ def parse_robot(data: Any, path: str | Path, *, n_joints: int | None = 6) -> dic
         rows.append({k: _number(path, f"joints[{i}].{k}", j.get(k, 0.0))
                      for k in ("a", "alpha", "d", "theta_offset")})
     out["joints"] = rows
-    tool = data.get("tool", [0.0, 0.0, 0.0])
-    if not isinstance(tool, list) or len(tool) != 3:
-        raise RawDataError(path, f"tool is {tool!r}", where="tool",
-                           expected="[x, y, z] of the TCP in the flange frame")
-    out["tool"] = [_number(path, f"tool[{i}]", v) for i, v in enumerate(tool)]
+    out["tool"] = parse_tool(data.get("tool", [0.0, 0.0, 0.0]), path)
+    n = len(rows)
+    if data.get("joint_limits_deg") is not None:
+        out["joint_limits_deg"] = parse_joint_limits(data["joint_limits_deg"], path, n)
+    if data.get("joint_speed_limits_deg_s") is not None:
+        out["joint_speed_limits_deg_s"] = parse_speed_limits(data["joint_speed_limits_deg_s"],
+                                                             path, n)
+    if data.get("controller") is not None:
+        out["controller"] = parse_controller(data["controller"], path)
+    unknown = sorted(set(map(str, data)) - set(ROBOT_KEYS))
+    if unknown:
+        raise RawDataError(path, f"unknown key(s) {', '.join(unknown)}", where="<robot>",
+                           expected="keys " + ", ".join(ROBOT_KEYS))
     return out
 
 

@@ -17,6 +17,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from robomill.plan.path import prefer_nominal
 from robomill.plan.request import PlanRequest
 
 CONSTRAINT_VARS = {
@@ -180,7 +181,7 @@ def choose(ds: xr.Dataset, req: PlanRequest, robot_name: str = "the robot",
     mask = feasible(ds, req)
     if not bool(mask.any()):
         raise PlanInfeasible(binding_constraint(ds, req, robot_name))
-    t = feasible_table(ds, mask)
+    t = prefer_nominal(feasible_table(ds, mask))  # rotation ties: the nominal orientation
     margin = t["stability_margin_low"].fillna(np.inf)
     t = t.assign(_m=-margin, _r=t["rotation_deg"].abs()).sort_values(
         ["mrr_mm3_s", "form_error_high_um", "_m", "_r"], ascending=[False, True, True, True],

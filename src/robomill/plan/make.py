@@ -1,10 +1,12 @@
 """One plan from one request: predict every candidate, refuse or choose, give each chosen cut a
-smooth redundancy angle along its path, and put the plan beside the study's own cuts."""
+free place on the block (:mod:`robomill.plan.slots`) and a path a robot can run, its rotation
+about the tool axis chosen station by station (:mod:`robomill.plan.cutpath`), and put the plan
+beside the study's own cuts."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -12,12 +14,26 @@ import pandas as pd
 import xarray as xr
 
 from robomill.experiment import Cut
-from robomill.plan.choose import PlanInfeasible, check_needs, choose, smooth_rotation
+from robomill.plan.choose import PlanInfeasible, check_needs, choose, feasible
 from robomill.plan.compare import comparison_table, rotation_effect_pct, study_cuts_table
+from robomill.plan.cutpath import plan_cut_path
 from robomill.plan.measured import Measured, missing_predictions
 from robomill.plan.outputs import next_config, next_manifest, plan_table, pose_map
-from robomill.plan.predict import Cell, apply_extrapolation, predict_grid, station_scores
+from robomill.plan.pathout import (
+    floor_starts,
+    follow_paths,
+    manifest_path,
+    path_columns,
+    path_map,
+    path_summary,
+    pose_failure_table,
+    rotations_meeting_constraints,
+)
+from robomill.plan.predict import Cell, apply_extrapolation, predict_grid
 from robomill.plan.request import PlanRequest
+from robomill.plan.slots import separate_slots
+from robomill.plan.slots import study_slots as study_slot_segments
+from robomill.plan.workobject import BASE
 
 
 @dataclass
@@ -32,22 +48,8 @@ class Plan:
     comparison: pd.DataFrame
     manifest: dict[str, Any]
     config: dict[str, Any]
-
-
-def redundancy_paths(candidates: xr.Dataset, chosen: pd.DataFrame, req: PlanRequest,
-                     measured: Measured, cell: Cell) -> list[dict[str, Any]]:
-    """Per chosen cut, the redundancy angle at each station along it
-    (:func:`robomill.plan.choose.smooth_rotation` on :func:`station_scores`)."""
-    out = []
-    rot = candidates["rotation"].values
-    for _, r in chosen.iterrows():
-        score, what = station_scores(candidates, r, req, measured, cell)
-        idx = smooth_rotation(score, rot, req.max_rotation_step_deg,
-                              prefer_deg=float(r["rotation_deg"]))
-        out.append({"station_mm": [float(s) for s in candidates["station"].values],
-                    "redundancy_path_deg": [float(rot[i]) for i in idx],
-                    "redundancy_path_score": what})
-    return out
+    paths: list = field(default_factory=list)
+    path_summary: pd.DataFrame | None = None
 
 
 def learn_plan(cand: xr.Dataset, req: PlanRequest, measured: Measured, occupied, reach,
@@ -94,18 +96,32 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
         chosen, front = learn_plan(cand, req, measured, occupied, reach, robot_name)
     else:
         chosen, front = choose(cand, req, robot_name, occupied=occupied)
-    pmap = pose_map(cand, chosen.iloc[0])
-    paths = redundancy_paths(cand, chosen, req, measured, cell)
+    wobj = req.work_object or BASE
+    chosen, slot_notes = separate_slots(chosen, cand, req,
+                                        study_slot_segments(cuts, experiment, wobj), wobj)
+    if not len(chosen):
+        raise PlanInfeasible(f"{req.path}: no chosen cut has a free place on the block: every "
+                             "slot would cross the study's or leave the block "
+                             "(work_object.block_mm)")
+    mask = feasible(cand, req)
+    cut_paths = [plan_cut_path(str(r["cut"]), np.array([r["placement_x_mm"],
+                                                        r["placement_y_mm"],
+                                                        r["placement_z_mm"]], float),
+                               float(r["direction_deg"]), float(r["depth_mm"]),
+                               float(r["feed_mm_s"]), float(r["spindle_rpm"]), req, measured,
+                               cell, wobj, rotations_meeting_constraints(mask, r))
+                 for _, r in chosen.iterrows()]
+    chosen = follow_paths(chosen, cand, mask, cut_paths)
+    paths = [manifest_path(p, cand["station"].values) for p in cut_paths]
     q = [cand["q_deg"].isel(placement=int(r["i_placement"]), rotation=int(r["i_rotation"]),
                             direction=int(r["i_direction"])).values
          for _, r in chosen.iterrows()]
     chosen["tooth_passing_hz"] = chosen["spindle_rpm"].to_numpy(float) * req.flutes / 60.0
-    table = plan_table(chosen)
-    table["redundancy_path_deg"] = [";".join(f"{a:g}" for a in p["redundancy_path_deg"])
-                                    for p in paths]
+    table = path_columns(plan_table(chosen), cut_paths)
     study = study_cuts_table(cuts, experiment, req, measured, cell, reach)
     manifest = next_manifest(chosen, req, dict(experiment), cand.attrs["missing_predictions"],
                              np.asarray(q), paths)
+    floor_starts(manifest, cut_paths)
     cand.attrs["request"] = req.path
     cand.attrs["interval_level"] = float(measured.level)
     cand.attrs["purpose"] = req.purpose
@@ -114,7 +130,10 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
         cand.attrs["modal_band_hz"] = np.asarray(reach.modal_band_hz, float)
     cand.attrs["constraints"] = "; ".join(f"{k}={v}" for k, v in req.constraints.items()
                                           if v is not None)
+    pmap = path_map(pose_map(cand, chosen.iloc[0]), cut_paths[0] if cut_paths else None, req,
+                    measured, cell)
+    effect = rotation_effect_pct(pmap)
     return Plan(cand, pmap, table, plan_table(front), study,
-                comparison_table(table, study, rotation_effect_pct(pmap),
-                                 pmap.sizes["rotation"]), manifest,
-                next_config(manifest))
+                comparison_table(table, study, effect, pmap.sizes["rotation"]), manifest,
+                next_config(manifest), cut_paths,
+                path_summary(pose_failure_table(cand), table, effect, slot_notes))

@@ -140,7 +140,9 @@ def cell_of(cell_file, req: PlanRequest, cuts_mid_mm: np.ndarray | None) -> Cell
 
     orders = {(j, st, o): m for j, st, o, m in gear_orders(cell_file.transmissions)}
     return Cell(cell_file.robot, np.asarray(cell_file.tool_rotation, float),
-                cell_file.q_home_rad, np.asarray(ref, float), orders)
+                cell_file.q_home_rad, np.asarray(ref, float), orders,
+                getattr(cell_file, "joint_limits_deg", None),
+                getattr(cell_file, "joint_speed_limits_deg_s", None))
 
 
 def pose_map(cand: xr.Dataset, best: pd.Series) -> xr.Dataset:

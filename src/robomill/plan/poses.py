@@ -52,6 +52,9 @@ class PoseGrid:
     q_rad: np.ndarray
     reachable: np.ndarray
     s_mm: np.ndarray
+    checks: dict | None = None
+    """Per station ``(P, R, D, S)`` (:func:`robomill.plan.feasible.pose_checks`) and
+    ``path_status`` ``(P, R, D)`` (:data:`robomill.plan.feasible.REASONS`)."""
 
     @property
     def mid(self) -> int:
@@ -64,9 +67,15 @@ class PoseGrid:
 
 def solve_grid(robot: SerialRobot, placements_mm: np.ndarray, rotations_deg: np.ndarray,
                direction_deg: np.ndarray, length_mm: float, *, R0: np.ndarray,
-               q_seed_rad: np.ndarray, stations: int = 3) -> PoseGrid:
+               q_seed_rad: np.ndarray, stations: int = 3, limits_deg: np.ndarray | None = None,
+               limit_margin_deg: float = 0.0, min_wrist_angle_deg: float = 0.0) -> PoseGrid:
     """Inverse kinematics of every candidate cut at ``stations`` (≥ 2 → start … end; odd so a
-    station is the middle) points along it (:func:`robomill.stiffness.solve_poses`)."""
+    station is the middle) points along it (:func:`robomill.stiffness.solve_poses`), each
+    posture turned into the joint limits and checked (:mod:`robomill.plan.feasible`): a cut is
+    reachable when every station converges inside the limits with ``limit_margin_deg``, with
+    its wrist angle at least ``min_wrist_angle_deg``, all in one configuration."""
+    from robomill.plan.feasible import into_limits, path_status, pose_checks
+
     P = np.asarray(placements_mm, float).reshape(-1, 3)
     th = np.deg2rad(np.asarray(rotations_deg, float))
     u = direction_vectors(direction_deg)
@@ -79,10 +88,13 @@ def solve_grid(robot: SerialRobot, placements_mm: np.ndarray, rotations_deg: np.
     Rb = np.broadcast_to(R[None, :, None, None], pts.shape[:-1] + (3, 3))
     seed = np.asarray(q_seed_rad, float)
     q, ok = solve_poses(robot, pts.reshape(-1, 3), Rb.reshape(-1, 3, 3), seed)
+    q = into_limits(q, limits_deg, seed)
     n = robot.n_joints
     q = q.reshape(pts.shape[:-1] + (n,))
-    ok = ok.reshape(pts.shape[:-1]).all(-1)
-    return PoseGrid(q, ok, s)
+    chk = pose_checks(robot, q, ok.reshape(pts.shape[:-1]), limits_deg=limits_deg,
+                      limit_margin_deg=limit_margin_deg, min_wrist_angle_deg=min_wrist_angle_deg)
+    chk["path_status"] = path_status(chk["status"], chk["configuration"])
+    return PoseGrid(q, chk["path_status"] == 0, s, chk)
 
 
 def compliance_grid(robot: SerialRobot, q_rad: np.ndarray, compliance: np.ndarray) -> np.ndarray:

@@ -35,6 +35,7 @@ from robomill.chatter.model import CuttingModel, immersion_angles
 from robomill.forces import CuttingCoefficients, mean_milling_forces
 from robomill.kinematics import SerialRobot
 from robomill.plan.extrapolation import absolute_depth_m
+from robomill.plan.feasible import pose_check_vars
 from robomill.plan.lobes import batch_coupling_depth, batch_zoa_lobes
 from robomill.plan.measured import (
     Measured,
@@ -64,6 +65,8 @@ class Cell:
     q_seed_rad: np.ndarray
     reference_point_mm: np.ndarray
     gear_orders: dict | None = None
+    joint_limits_deg: np.ndarray | None = None
+    joint_speed_limits_deg_s: np.ndarray | None = None
 
 
 def engagement(req: PlanRequest) -> tuple[float, float]:
@@ -205,7 +208,9 @@ def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
     missing = missing_predictions(measured)
     poses = solve_grid(cell.robot, req.placements_mm, req.rotations_deg, req.direction_deg,
                        req.length_mm, R0=cell.R0, q_seed_rad=cell.q_seed_rad,
-                       stations=req.path_stations)
+                       stations=req.path_stations, limits_deg=cell.joint_limits_deg,
+                       limit_margin_deg=req.joint_limit_margin_deg,
+                       min_wrist_angle_deg=req.min_wrist_angle_deg)
     P, R, D = poses.reachable.shape
     S, A, V = len(req.spindle_rpm), len(req.depth_mm), len(req.feed_mm_s)
     frames = cut_frames(req.direction_deg)                                  # (D, 3, 3)
@@ -218,6 +223,7 @@ def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
     data["q_deg"] = var(prd + ("joint",), np.rad2deg(q), "deg", "posture at the cut's middle")
     data["q_path_deg"] = var(prd + ("station", "joint"), np.rad2deg(poses.q_rad), "deg",
                              "posture at each station along the cut")
+    data.update(pose_check_vars(poses.checks, prd))
     # stability
     a_crit = None
     if ok.any():

@@ -26,7 +26,12 @@ A request states the job and what counts as acceptable (issue 28):
       max_pose_distance_mm: 150      # farther from every study cut's midpoint: extrapolated
       harmonics: 1                   # tooth-passing harmonics that must lie in the modal band
       allow: true                    # false: extrapolated candidates are not planned
+    joint_limit_margin_deg: 5        # every pose this far inside the cell's joint limits
+    min_wrist_angle_deg: 5           # and its wrist at least this far from the singularity
+    clearance_mm: 10                 # approach and retract this far above the part
+    work_object: {frame: {xyz_mm, rpy_deg}, block_mm: {min, max}}   # optional (plan.workobject)
 
+The rotation grid always holds 0 (the cell's nominal tool orientation).
 Directions are names (``px``, ``py``, ``mx``, ``my``) or angles in degrees in the part frame,
 whose axes are parallel to the base frame's. Every problem is reported as one line naming the
 file, the field and what was expected (:class:`PlanRequestError`).
@@ -88,6 +93,10 @@ class PlanRequest:
     path_stations: int = 5
     robot_mode_max_hz: float = 200.0
     reference_point_mm: np.ndarray | None = None
+    joint_limit_margin_deg: float = 5.0
+    min_wrist_angle_deg: float = 5.0
+    clearance_mm: float = 10.0
+    work_object: Any = None
     raw: dict[str, Any] = field(default_factory=dict)
     purpose: str = "production"
     extrapolation: dict[str, Any] = field(default_factory=lambda: dict(EXTRAPOLATION))
@@ -231,7 +240,8 @@ def parse_request(data: Any, path: str | Path = "plan.yaml") -> PlanRequest:
     known = {"kind", "operation", "tool", "placement", "rotations_deg", "spindle_rpm",
              "depth_mm", "feed_mm_s", "constraints", "n_cuts", "max_rotation_step_deg",
              "path_stations", "robot_mode_max_hz", "reference_point_mm", "purpose",
-             "extrapolation"}
+             "extrapolation", "joint_limit_margin_deg", "min_wrist_angle_deg", "clearance_mm",
+             "work_object"}
     for k in data:
         if k not in known:
             raise PlanRequestError(path, str(k), f"unknown field (expected one of "
@@ -261,6 +271,7 @@ def parse_request(data: Any, path: str | Path = "plan.yaml") -> PlanRequest:
     dia = _number(path, "tool.diameter_mm", tool.get("diameter_mm"), positive=True)
     flutes = _number(path, "tool.flutes", tool.get("flutes"), positive=True, integer=True)
     rot = _grid(path, "rotations_deg", data.get("rotations_deg", [0.0]), positive=False)
+    rot = np.union1d(rot, [0.0])  # the nominal orientation is always a candidate
     cons_in = data.get("constraints") or {}
     if not isinstance(cons_in, dict):
         raise PlanRequestError(path, "constraints", "expected a mapping")
@@ -295,7 +306,23 @@ def parse_request(data: Any, path: str | Path = "plan.yaml") -> PlanRequest:
         robot_mode_max_hz=_number(path, "robot_mode_max_hz",
                                   data.get("robot_mode_max_hz", 200.0), positive=True),
         reference_point_mm=None if ref is None else _point(path, "reference_point_mm", ref),
+        joint_limit_margin_deg=_number(path, "joint_limit_margin_deg",
+                                       data.get("joint_limit_margin_deg", 5.0), minimum=0.0),
+        min_wrist_angle_deg=_number(path, "min_wrist_angle_deg",
+                                    data.get("min_wrist_angle_deg", 5.0), minimum=0.0),
+        clearance_mm=_number(path, "clearance_mm", data.get("clearance_mm", 10.0),
+                             positive=True),
+        work_object=_work_object(path, data.get("work_object")),
         raw=data)
+
+
+def _work_object(path, value):
+    from robomill.plan.workobject import WorkObjectError, parse_work_object
+
+    try:
+        return None if value is None else parse_work_object(value, str(path))
+    except WorkObjectError as e:
+        raise PlanRequestError(path, e.where, e.problem) from None
 
 
 def read_request(path: str | Path) -> PlanRequest:

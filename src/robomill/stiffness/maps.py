@@ -97,7 +97,7 @@ def workspace_dataset(robot: SerialRobot, limits_deg, n: int, rng: np.random.Gen
     _, P = monte_carlo_workspace(robot, lim, n, rng)
     lim_xz = lim.copy()
     lim_xz[[0, 4, 5]] = 0.0
-    flange = dataclasses.replace(robot, tool_mm=np.zeros(3))
+    flange = dataclasses.replace(robot, tool_mm=np.zeros(3), tool_R=np.eye(3))
     _, Pxz = monte_carlo_workspace(flange, lim_xz, n, rng)
     ds = xr.Dataset(
         {"workspace_mm": (("sample", "axis3"), P, attrs("mm", "Monte-Carlo TCP positions")),

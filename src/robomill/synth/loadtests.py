@@ -151,7 +151,9 @@ def write_robot_file(config: Mapping[str, Any], name: str, path: str | Path) -> 
     out = {k: spec[k] for k in ("name", "convention", "length_unit", "angle_unit")}
     out["joints"] = [{k: float(j.get(k, 0.0)) for k in ("a", "alpha", "d", "theta_offset")}
                      for j in spec["joints"]]
-    out["tool"] = [float(v) for v in spec.get("tool", [0, 0, 0])]
+    tool = spec.get("tool", [0, 0, 0])
+    out["tool"] = (tool if isinstance(tool, Mapping)  # the tool frame {xyz_mm, rpy_deg}
+                   else [float(v) for v in tool])
     path = Path(path)
     with atomic_path(path) as tmp:
         Path(tmp).write_text("# robot file (kind robot), written by robomill.synth.loadtests\n"
