@@ -1,7 +1,6 @@
 """Each chapter notebook the pipeline runs holds exactly the cells of its jupytext source
 (notebooks/src/<name>.py, percent format); `make notebooks` rebuilds the pairs."""
 
-import re
 
 import jupytext
 import nbformat
@@ -10,11 +9,10 @@ from conftest import REPO
 
 
 def _pipeline_notebooks() -> list[str]:
-    """Notebook names the rules run (``notebook("chN_x.ipynb")`` in workflow/rules)."""
-    names = set()
-    for smk in (REPO / "workflow" / "rules").glob("*.smk"):
-        names.update(re.findall(r'notebook\("([^"]+\.ipynb)"\)', smk.read_text()))
-    return sorted(names)
+    """Notebook names the rules run: every row of the chapter registry."""
+    from robomill.registry import chapters
+
+    return sorted(f"{c.notebook}.ipynb" for c in chapters())
 
 
 def _cells(nb):
