@@ -96,11 +96,14 @@ def _rng(cell: Any, run: str) -> np.random.Generator:
 
 
 def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
-                 feed_mm_s: float, cut: Cut) -> pd.DataFrame:
+                 feed_mm_s: float, cut: Cut, pass_: str = "loaded") -> pd.DataFrame:
     """One tracker record ``t_s, x_mm, y_mm, z_mm`` along ``cut``'s path at ``feed_mm_s``.
 
     Joint angles come from inverse kinematics on a grid of ``path_step_mm`` (cubic spline in
-    between); the gear errors act through the Jacobian at every sample.
+    between); the gear errors act through the Jacobian at every sample. ``pass_`` (manifest
+    key ``pass``): ``loaded`` while cutting, ``air`` the same path without material, with its
+    own noise and ripple phase (this simulator's path carries no cutting load, so the two
+    passes differ by those only).
     """
     tr = settings(config)
     fs = float(tr["fs_hz"])
@@ -113,7 +116,7 @@ def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
     q = scipy.interpolate.CubicSpline(s_grid, q_grid, axis=0)(s)
     nominal = cell.cut_path_mm(cut, s)
     gear_err = cell.tcp_error_mm(q)
-    rng = _rng(cell, run_id(direction, feed_mm_s))
+    rng = _rng(cell, run_id(direction, feed_mm_s) + ("_air" if pass_ == "air" else ""))
     e = np.asarray(tr["ripple_direction"], float)
     e = e / np.linalg.norm(e)
     phase = rng.uniform(0, 2 * np.pi)
