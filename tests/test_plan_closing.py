@@ -245,3 +245,25 @@ def test_chapter_7_states_the_request_and_what_it_could_not_predict():
     two = say("request", "missing_predictions", request="p.yaml",
               constraints="max_force_N=100.0", missing_predictions="")
     assert two == "Request `p.yaml`, constraints max_force_N=100.0. Every prediction could be made."
+
+
+def test_chapter_7_states_the_coverage_against_the_nominal_level():
+    """The coverage sentence follows check_summary.csv (templates/ch7.yaml): the counts held
+    out-of-sample, the nominal level and, below it, that the intervals are too narrow."""
+    from robomill.pipeline.prose import Prose, load_templates
+    from robomill.plan.check import check_summary
+    from robomill.plan.evidence import coverage_case
+
+    s = check_summary(check(), tolerance=0.25, nominal_coverage=0.9)
+    say = Prose(load_templates("ch7"), {**s, "coverage_case": coverage_case(s)})
+    text = say("check_coverage")
+    assert "6 of 8 outcomes fell inside" in text and "**75 %**" in text
+    assert "nominal 90 %: consistent" in text and "In-sample, 2 of 2." in text
+    low = {**s, "n_held_oos": 2.0, "coverage_oos_percent": 25.0}
+    text = Prose(load_templates("ch7"), {**low, "coverage_case": coverage_case(low)})(
+        "check_coverage")
+    assert "narrower than the truth" in text and "fewer than the 5" in text
+    none = check_summary(check_table(PRED, study=STUDY, identified_cuts=["s1"]))
+    text = Prose(load_templates("ch7"), {**none, "coverage_case": coverage_case(none)})(
+        "check_coverage")
+    assert text.startswith("No out-of-sample outcome has been judged yet")
