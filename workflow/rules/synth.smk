@@ -114,8 +114,9 @@ rule straightness_synth_tracker:
                 "feed_mm_s": f["feed_mm_s"],
                 "cut": f["cut"],
                 "pass": tracker_pass(f),
+                "run": run,
             }
-            for f in SYNTH_TRACKER_RUNS.values()
+            for run, f in SYNTH_TRACKER_RUNS.items()
         ],
     script:
         "../scripts/straightness_synth_tracker.py"

@@ -41,6 +41,7 @@ DEFAULTS: dict[str, Any] = {
     "path_step_mm": 0.1,
     "directions": None,
     "feeds_mm_s": None,
+    "while_cutting": False,
 }
 """Defaults of ``synth.tracker`` (the schema fills the same values)."""
 
@@ -96,14 +97,17 @@ def _rng(cell: Any, run: str) -> np.random.Generator:
 
 
 def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
-                 feed_mm_s: float, cut: Cut, pass_: str = "loaded") -> pd.DataFrame:
+                 feed_mm_s: float, cut: Cut, pass_: str = "loaded",
+                 run: str | None = None) -> pd.DataFrame:
     """One tracker record ``t_s, x_mm, y_mm, z_mm`` along ``cut``'s path at ``feed_mm_s``.
 
     Joint angles come from inverse kinematics on a grid of ``path_step_mm`` (cubic spline in
     between); the gear errors act through the Jacobian at every sample. ``pass_`` (manifest
-    key ``pass``): ``loaded`` while cutting, ``air`` the same path without material, with its
-    own noise and ripple phase (this simulator's path carries no cutting load, so the two
-    passes differ by those only).
+    key ``pass``): ``loaded``, recorded while the tool cuts when ``while_cutting`` (the path
+    then carries the cut's static deflection, :func:`robomill.synth.load.static_deflection_mm`;
+    otherwise the robot moves along the path without cutting, as the thesis' runs), or
+    ``air``, the same path without material. ``run``: the run's id, which seeds its noise and
+    ripple phase (default ``<dir>_f<feed>``).
     """
     tr = settings(config)
     fs = float(tr["fs_hz"])
@@ -116,7 +120,7 @@ def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
     q = scipy.interpolate.CubicSpline(s_grid, q_grid, axis=0)(s)
     nominal = cell.cut_path_mm(cut, s)
     gear_err = cell.tcp_error_mm(q)
-    rng = _rng(cell, run_id(direction, feed_mm_s) + ("_air" if pass_ == "air" else ""))
+    rng = _rng(cell, run or run_id(direction, feed_mm_s))
     e = np.asarray(tr["ripple_direction"], float)
     e = e / np.linalg.norm(e)
     phase = rng.uniform(0, 2 * np.pi)
@@ -124,6 +128,10 @@ def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
         np.sin(2 * np.pi * float(tr["ripple_hz"]) * t + phase), e)
     noise = 1e-3 * float(tr["noise_std_um"]) * rng.standard_normal((t.size, 3))
     p = nominal + gear_err + ripple + noise
+    if pass_ == "loaded" and tr["while_cutting"]:
+        from robomill.synth.load import static_deflection_mm
+
+        p = p + static_deflection_mm(config, cell, cut, q)
     return pd.DataFrame({"t_s": t, "x_mm": p[:, 0], "y_mm": p[:, 1], "z_mm": p[:, 2]})
 
 
