@@ -6,6 +6,9 @@
 from robomill.plan import NEXT_RUN_DIR
 
 PLAN_REQUEST = config.get("plan", {}).get("request", "plan.yaml")
+# every cut's chatter verdict, one row per cut and recording (columns cut, verdict, chatter_hz,
+# source, evidence): the stability outcome of a run's cuts
+STUDY_VERDICTS = "results/chatter/verdicts.csv"
 PLAN_MEASURED = {
     **({"modes": "results/modal/modes.csv"} if has_kind("impact") else {}),
     **(
@@ -95,7 +98,13 @@ rule plan_check:
             if has_kind("tracker")
             else {}
         ),
-        # the study's stability outcome: its force spectrum
+        # the study's stability outcome: its chatter verdicts where a rule makes them, else
+        # its force spectrum
+        **(
+            {"verdicts": STUDY_VERDICTS}
+            if any(STUDY_VERDICTS in map(str, r.output) for r in workflow.rules)
+            else {}
+        ),
         **(
             {"force_peaks": "results/forces/peaks.csv"}
             if has_kind("force")
