@@ -267,3 +267,13 @@ def test_chapter_7_states_the_coverage_against_the_nominal_level():
     text = Prose(load_templates("ch7"), {**none, "coverage_case": coverage_case(none)})(
         "check_coverage")
     assert text.startswith("No out-of-sample outcome has been judged yet")
+
+
+def test_a_cut_without_a_prediction_has_no_row_even_with_an_outcome():
+    """The study tracked s1 loaded and in the air, but the plan made no deflection prediction
+    for it (NaN): no row, rather than a miss."""
+    study = RunOutcomes(mean_forces=MEAN, deflection=pd.DataFrame(
+        {"cut": ["s1"], "loaded_run": ["r"], "air_run": ["a"],
+         "deflection_normal_um": [4.0], "deflection_axial_um": [1.0]}))
+    t = check_table(PRED, study=study).set_index(["cut", "quantity"])
+    assert ("s1", "deflection_normal") not in t.index and ("s1", "force") in t.index

@@ -314,8 +314,10 @@ def check_table(predicted: pd.DataFrame, *, study: RunOutcomes | None = None,
         for name, unit, series, source in outcomes:
             if cut not in series.index or f"{name}_{unit}" not in r or name in done:
                 continue
-            done.add(name)
             p = float(r[f"{name}_{unit}"])
+            if not np.isfinite(p):  # no prediction, no row
+                continue
+            done.add(name)
             lo, hi = float(r[f"{name}_low_{unit}"]), float(r[f"{name}_high_{unit}"])
             o = float(series[cut])
             inside = bool(lo - _rounding(lo) <= o <= hi + _rounding(hi))
