@@ -1,6 +1,7 @@
-"""Closing the loop (issue 28): the time-domain check agrees with the planner's stability
-prediction on a planted tool, and results/plan/check.csv puts the stability and deflection
-outcomes beside their predictions."""
+"""Closing the loop: the time-domain check agrees with the planner's stability prediction on a
+planted tool, and results/plan/check.csv puts the outcomes a run's files recorded (chatter
+verdicts, loaded-minus-air tracker deflections, mean forces) beside their predictions, says
+which rows are in-sample and counts how often the out-of-sample intervals held."""
 
 import numpy as np
 import pandas as pd
@@ -8,7 +9,7 @@ import pytest
 
 from robomill.chatter.modal_timedomain import ModalCut, simulate_modal_cut, stability_verdict
 from robomill.chatter.model import CuttingModel
-from robomill.plan.check import check_table
+from robomill.plan.check import RunOutcomes, check_table
 from robomill.plan.lobes import batch_coupling_depth, batch_zoa_lobes
 
 # one mode along the wall normal, slot milling with two teeth (no edge forces)
@@ -74,44 +75,103 @@ PRED = pd.DataFrame({
     "deflection_axial_high_um": [2.2, 1.1, np.nan],
     "force_N": [15.0, 12.0, 7.0], "force_low_N": [14.9, 11.9, 6.9],
     "force_high_N": [15.1, 12.1, 7.1]})
-SIM = pd.DataFrame({"cut": ["plan_01", "plan_02", "s1"], "stable": [True, True, False],
-                    "deflection_normal_um": [10.5, 7.0, 3.0],
-                    "deflection_axial_um": [2.1, 1.0, 0.5], "force_N": [15.05, 12.0, 7.0]})
+NEXT = "results/plan/next/run"
+# the planned cuts' own run: chatter verdicts (plan_02 heard twice, one recording
+# undetermined), loaded-minus-air deflections (signed: the planner predicts magnitudes)
+PLANNED = RunOutcomes(
+    NEXT,
+    mean_forces=pd.DataFrame({"cut": ["plan_01", "plan_02"], "Fx_N": [0.0, 0.0],
+                              "Fy_N": [15.05, 12.0], "Fz_N": [0.0, 0.0]}),
+    verdicts=pd.DataFrame({"cut": ["plan_01", "plan_02", "plan_02"],
+                           "verdict": ["stable", "stable", "undetermined"],
+                           "chatter_hz": [np.nan] * 3,
+                           "source": ["forces/plan_01.h5", "forces/plan_02.h5", "mic/p2.wav"],
+                           "evidence": ["", "", ""]}),
+    deflection=pd.DataFrame({"cut": ["plan_01", "plan_02"], "loaded_run": ["plan_01", "plan_02"],
+                             "air_run": ["plan_01_air", "plan_02_air"],
+                             "deflection_normal_um": [-10.5, 7.0],
+                             "deflection_axial_um": [2.1, -1.0]}))
 MEAN = pd.DataFrame({"cut": ["s1"], "Fx_N": [3.0], "Fy_N": [6.0], "Fz_N": [2.0]})
+# the study: s1's force spectrum has a 1 N line on 7 N, above 5 %: chatter
+STUDY = RunOutcomes(mean_forces=MEAN,
+                    force_peaks=pd.DataFrame({"cut": ["s1"], "dominant_power": [1.0]}))
+
+
+def check():
+    return check_table(PRED, study=STUDY, planned_run=PLANNED, identified_cuts=["s1"])
 
 
 def test_check_rows_for_stability_and_deflection():
-    t = check_table(PRED, mean_forces=MEAN, simulated=SIM).set_index(["cut", "quantity"])
+    t = check().set_index(["cut", "quantity"])
     s = t.loc[("plan_01", "stability")]
     assert (s["predicted"], s["low"], s["high"], s["outcome"]) == (0.8, 0.6, 1.0, 1.0)
-    assert s["within_interval"] and s["within_tolerance"] and s["unit"] == "1"
-    s = t.loc[("plan_02", "stability")]  # predicted chatter, simulated stable: both miss
+    assert s["within_interval"] and s["within_tolerance"] and s["unit"] == "1" and s["held"]
+    s = t.loc[("plan_02", "stability")]  # predicted chatter, measured stable: both miss
     assert s["outcome"] == 1.0 and not s["within_interval"] and not s["within_tolerance"]
+    assert not s["held"]
     s = t.loc[("s1", "stability")]       # interval straddles 0: chatter admitted, nominal wrong
     assert s["outcome"] == 0.0 and s["within_interval"] and not s["within_tolerance"]
+    assert s["held"] and s["source"] == "results/forces/peaks.csv"
     d = t.loc[("plan_01", "deflection_normal")]
-    assert d["unit"] == "um" and d["outcome"] == 10.5 and d["within_interval"]
+    assert d["unit"] == "um" and d["outcome"] == 10.5 and d["within_interval"] and d["held"]
     d = t.loc[("plan_02", "deflection_normal")]  # 7 um outside 4-6 and 2/7 > 25 %
-    assert not d["within_interval"] and not d["within_tolerance"]
-    assert t.loc[("plan_02", "deflection_axial"), "within_interval"]
+    assert not d["within_interval"] and not d["within_tolerance"] and not d["held"]
+    assert t.loc[("plan_02", "deflection_axial"), "held"]      # |-1.0| inside 0.9-1.1
     assert ("s1", "deflection_normal") not in t.index        # no prediction, no row
-    # force: the dynamometer's where it recorded the cut, the simulation's elsewhere
     assert t.loc[("s1", "force"), "source"] == "results/forces/mean_forces.csv"
     assert t.loc[("s1", "force"), "outcome"] == pytest.approx(7.0)
-    assert t.loc[("plan_01", "force"), "source"] == "results/plan/simulated.csv"
-    assert set(t.loc[("plan_01", "stability"), ["source"]]) == {"results/plan/simulated.csv"}
+    # the planned cuts: every outcome from their own run's files
+    for q, f in (("force", "results/forces/mean_forces.csv"),
+                 ("stability", "results/chatter/verdicts.csv"),
+                 ("deflection_normal", "results/straightness/deflection.csv"),
+                 ("deflection_axial", "results/straightness/deflection.csv")):
+        assert set(t.loc[(["plan_01", "plan_02"], q), "source"]) == {f"{NEXT}/{f}"}
+    # in-sample: the study's cut only
+    assert t["in_sample"].groupby(level="cut").all().to_dict() == {
+        "plan_01": False, "plan_02": False, "s1": True}
+
+
+def test_an_undetermined_verdict_leaves_the_row_unjudged():
+    verdicts = pd.DataFrame({"cut": ["plan_01", "plan_02", "plan_02"],
+                             "verdict": ["undetermined", "stable", "chatter"],
+                             "chatter_hz": [np.nan, np.nan, 31.0], "source": "f",
+                             "evidence": ""})
+    run = RunOutcomes(NEXT, verdicts=verdicts)
+    t = check_table(PRED, planned_run=run).set_index(["cut", "quantity"])
+    a = t.loc[("plan_01", "stability")]
+    assert np.isnan(a["outcome"]) and pd.isna(a["held"]) and pd.isna(a["within_interval"])
+    b = t.loc[("plan_02", "stability")]   # one recording chatters: the cut chattered
+    assert b["outcome"] == 0.0 and b["held"]
+
+
+def test_a_verdicts_file_off_its_contract_is_one_line(tmp_path):
+    from robomill.errors import RawDataError
+    from robomill.plan.evidence import read_verdicts
+
+    f = tmp_path / "verdicts.csv"
+    f.write_text("cut,verdict,chatter_hz,source,evidence\nplan_01,stable,,a,\n"
+                 "plan_02,wobbly,,b,\n")
+    with pytest.raises(RawDataError, match=r"verdicts.csv: row 3, column verdict: verdict "
+                                           r"is 'wobbly' \(expected stable \| chatter"):
+        read_verdicts(f)
+    f.write_text("cut,verdict\nplan_01,stable\n")
+    with pytest.raises(RawDataError, match="chatter_hz, source, evidence missing"):
+        read_verdicts(f)
+    f.write_text("cut,verdict,chatter_hz,source,evidence\nplan_01,chatter,31.5,a,line\n")
+    assert read_verdicts(f)["chatter_hz"].tolist() == [31.5]
 
 
 def test_real_data_stability_from_the_force_spectrum():
     peaks = pd.DataFrame({"cut": ["s1", "plan_01"], "dominant_power": [0.25, 1.0]})
     mean = pd.DataFrame({"cut": ["s1", "plan_01"], "Fx_N": [3.0, 0.0], "Fy_N": [6.0, 15.0],
                          "Fz_N": [2.0, 0.0]})
+    study = RunOutcomes(mean_forces=mean, force_peaks=peaks)
     # s1: line 0.5 N on 7 N (7 %) -> chatter; plan_01: 1 N on 15 N (6.7 %) at a 10 % limit
-    t = check_table(PRED, mean_forces=mean, force_peaks=peaks,
+    t = check_table(PRED, study=study,
                     chatter_fraction_of_mean=0.1).set_index(["cut", "quantity"])
     assert t.loc[("s1", "stability"), "outcome"] == 1.0
     assert t.loc[("plan_01", "stability"), "outcome"] == 1.0
-    t = check_table(PRED, mean_forces=mean, force_peaks=peaks,
+    t = check_table(PRED, study=study,
                     chatter_fraction_of_mean=0.05).set_index(["cut", "quantity"])
     assert t.loc[("s1", "stability"), "outcome"] == 0.0
     assert t.loc[("plan_01", "stability"), "outcome"] == 0.0
@@ -122,7 +182,7 @@ def test_summary_counts_and_the_chapter_follows_them():
     from robomill.pipeline.prose import Prose, load_templates
     from robomill.plan.check import check_summary
 
-    t = check_table(PRED, mean_forces=MEAN, simulated=SIM)
+    t = check()
     s = check_summary(t, tolerance=0.25)
     # plan_01 predicted stable and stable; plan_02 predicted chatter; s1 predicted stable, chattered
     assert s["n_predicted_stable_plan"] == 1 and s["n_predicted_stable_stable_plan"] == 1
@@ -138,60 +198,39 @@ def test_summary_counts_and_the_chapter_follows_them():
     assert empty("check_stability_plan") == "No planned cut has a stability outcome yet."
 
 
-def test_the_cells_modes_move_with_the_pose_only_below_the_robot_limit():
-    from pathlib import Path
+def test_out_of_sample_rows_are_counted_apart_with_their_coverage():
+    from robomill.plan.check import check_summary
+    from robomill.plan.evidence import coverage_case
 
-    import yaml
-
-    from robomill.kinematics import robot_from_mapping
-    from robomill.synth.cell import Mode, VirtualCell
-    from robomill.synth.plancuts import modes_at_poses
-
-    cfg = yaml.safe_load((Path(__file__).parents[1] / "config.yaml").read_text())
-    robot = robot_from_mapping(cfg["cell"]["robot"])
-    cell = VirtualCell(robot, [], [Mode(20.0, 0.04, 8e5, (0.0, 1.0, 0.0)),
-                                   Mode(900.0, 0.02, 5e7, (0.0, 1.0, 0.0))], {}, {}, 0)
-    q_ref = np.deg2rad([0.0, 20.0, 10.0, 0.0, 60.0, 0.0])
-    q = np.stack([q_ref, np.deg2rad([30.0, 40.0, -10.0, 0.0, 50.0, 0.0])])
-    c = 1.0 / np.array([1e6, 8e5, 4e5, 6e4, 5e4, 2e4])
-    f, z, k, _ = modes_at_poses(cell, q, q_ref, c, 200.0)
-    np.testing.assert_allclose(f[0], [20.0, 900.0])          # the reference pose: as measured
-    np.testing.assert_allclose(k[0], [8e5, 5e7])
-    assert not np.isclose(k[1, 0], 8e5) and k[1, 1] == 5e7   # the robot's mode moves
-    np.testing.assert_allclose(f[1, 0] / 20.0, np.sqrt(k[1, 0] / 8e5))   # modal mass kept
-    f0, _, k0, _ = modes_at_poses(cell, q, q_ref, None, 200.0)
-    np.testing.assert_allclose(k0, [[8e5, 5e7]] * 2)
+    t = check()
+    s = check_summary(t, tolerance=0.25, nominal_coverage=0.9)
+    # out of sample: plan_01 force 15.05 in 14.9-15.1, stability held, deflection both held;
+    # plan_02 force 12.0 in 11.9-12.1, stability missed, normal 7 missed, axial held: 6 of 8
+    assert (s["n_oos"], s["n_judged_oos"], s["n_held_oos"]) == (8, 8, 6)
+    assert s["coverage_oos_percent"] == pytest.approx(75.0)
+    assert s["n_stability_oos"] == 2 and s["n_stability_held_oos"] == 1
+    # in sample: s1 force 7.0 in 6.9-7.1 and its stability (straddling interval): 2 of 2
+    assert (s["n_in"], s["n_held_in"]) == (2, 2)
+    assert s["nominal_coverage_percent"] == pytest.approx(90.0)
+    # binomial(8, 0.9): 2.5 % and 97.5 % quantiles 5 and 8 (by hand: P(X <= 5) = 0.038)
+    assert (s["held_range_low_oos"], s["held_range_high_oos"]) == (5.0, 8.0)
+    assert coverage_case(s) == "consistent"
+    assert coverage_case({**s, "n_held_oos": 4.0}) == "below"
+    assert coverage_case({"n_judged_oos": 0.0}) == "none"
 
 
-def test_a_planned_cut_is_cut_on_the_virtual_cell_at_its_pose():
-    from pathlib import Path
+def test_the_table_written_and_read_back_keeps_empty_verdicts_unjudged(tmp_path):
+    from robomill.io import write_table
+    from robomill.plan.check import check_summary
 
-    import yaml
-
-    from robomill.forces import CuttingCoefficients, mean_milling_forces
-    from robomill.synth.cell import cell_from_config
-    from robomill.synth.plancuts import planned_cuts, planted_compliance, simulate_cuts
-
-    cfg = yaml.safe_load((Path(__file__).parents[1] / "config.yaml").read_text())
-    cell = cell_from_config(cfg)
-    cut = {"id": "plan_01", "feed_mm_s": 10.0, "depth_mm": 0.2, "direction": "px",
-           "spindle_rpm": 30000.0, "flutes": 2, "tool_diameter_mm": 6.0,
-           "radial_immersion": 1.0, "milling": "slot", "start_mm": [580.0, 50.0, 200.0]}
-    manifest = {"experiment": {"cut_length_mm": 40.0, "spindle_rpm": 30000.0, "flutes": 2},
-                "cuts": [cut], "plan": {"cuts": {"plan_01": {"redundancy_deg": 45.0}}}}
-    posed = planned_cuts(manifest)
-    assert posed[0].redundancy_deg == 45.0
-    np.testing.assert_allclose(posed[0].middle_mm, [600.0, 50.0, 200.0])
-    t = simulate_cuts(posed, cell, planted_compliance(cfg), np.array([700.0, -50.0, 200.0]),
-                      {"duration_s": 1.5})
-    r = t.iloc[0]
-    assert r["reachable"] and r["stable"]
-    c = cfg["synth"]["cutting"]
-    truth = CuttingCoefficients(c["Ktc_N_mm2"], c["Krc_N_mm2"], c["Kac_N_mm2"], c["Kte_N_mm"],
-                                c["Kre_N_mm"], c["Kae_N_mm"])
-    F = mean_milling_forces(10.0 * 60 / (2 * 30000.0), 0.2, truth)
-    assert r["force_N"] == pytest.approx(np.linalg.norm(F), rel=0.01)
-    assert 0 < r["deflection_normal_um"] < 50 and 0 < r["deflection_axial_um"] < 50
+    verdicts = PLANNED.verdicts.assign(verdict=["undetermined", "stable", "stable"])
+    t = check_table(PRED, study=STUDY, identified_cuts=["s1"],
+                    planned_run=RunOutcomes(NEXT, verdicts=verdicts))
+    write_table(t, tmp_path / "check.csv")
+    back = pd.read_csv(tmp_path / "check.csv")
+    a, b = check_summary(t), check_summary(back)
+    assert a == pytest.approx(b, nan_ok=True)
+    assert a["n_stability_judged_oos"] == 1 and a["n_stability_oos"] == 2
 
 
 def test_chapter_7_states_the_request_and_what_it_could_not_predict():
@@ -206,3 +245,35 @@ def test_chapter_7_states_the_request_and_what_it_could_not_predict():
     two = say("request", "missing_predictions", request="p.yaml",
               constraints="max_force_N=100.0", missing_predictions="")
     assert two == "Request `p.yaml`, constraints max_force_N=100.0. Every prediction could be made."
+
+
+def test_chapter_7_states_the_coverage_against_the_nominal_level():
+    """The coverage sentence follows check_summary.csv (templates/ch7.yaml): the counts held
+    out-of-sample, the nominal level and, below it, that the intervals are too narrow."""
+    from robomill.pipeline.prose import Prose, load_templates
+    from robomill.plan.check import check_summary
+    from robomill.plan.evidence import coverage_case
+
+    s = check_summary(check(), tolerance=0.25, nominal_coverage=0.9)
+    say = Prose(load_templates("ch7"), {**s, "coverage_case": coverage_case(s)})
+    text = say("check_coverage")
+    assert "6 of 8 outcomes fell inside" in text and "**75 %**" in text
+    assert "nominal 90 %: consistent" in text and "In-sample, 2 of 2." in text
+    low = {**s, "n_held_oos": 2.0, "coverage_oos_percent": 25.0}
+    text = Prose(load_templates("ch7"), {**low, "coverage_case": coverage_case(low)})(
+        "check_coverage")
+    assert "narrower than the truth" in text and "fewer than the 5" in text
+    none = check_summary(check_table(PRED, study=STUDY, identified_cuts=["s1"]))
+    text = Prose(load_templates("ch7"), {**none, "coverage_case": coverage_case(none)})(
+        "check_coverage")
+    assert text.startswith("No out-of-sample outcome has been judged yet")
+
+
+def test_a_cut_without_a_prediction_has_no_row_even_with_an_outcome():
+    """The study tracked s1 loaded and in the air, but the plan made no deflection prediction
+    for it (NaN): no row, rather than a miss."""
+    study = RunOutcomes(mean_forces=MEAN, deflection=pd.DataFrame(
+        {"cut": ["s1"], "loaded_run": ["r"], "air_run": ["a"],
+         "deflection_normal_um": [4.0], "deflection_axial_um": [1.0]}))
+    t = check_table(PRED, study=study).set_index(["cut", "quantity"])
+    assert ("s1", "deflection_normal") not in t.index and ("s1", "force") in t.index

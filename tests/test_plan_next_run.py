@@ -33,7 +33,9 @@ def test_the_next_config_names_its_own_run_folder_inside_the_plan():
     assert not folder.is_absolute()
     assert folder.parts[:3] == ("results", "plan", "next") and len(folder.parts) > 3
     assert [c["id"] for c in cfg["experiment"]["cuts"]] == ["plan_01", "plan_02"]
-    assert cfg["synth"] == {"tracker": {"per_cut": True}}  # each planned cut tracked
+    # each planned cut tracked on its own, loaded and in the air
+    assert cfg["synth"] == {"tracker": {"per_cut": True, "air_pass": True,
+                                        "while_cutting": True}}
 
 
 def test_per_cut_tracking_gives_each_cut_its_own_run():
@@ -52,9 +54,21 @@ def test_per_cut_tracking_gives_each_cut_its_own_run():
     assert [f["cut"] for f in shared] == ["plan_02"] and "run" not in shared[0]
     update_config(base, overlay)
     own = instrument_files(base, "tracker")
-    assert [(f["cut"], tracker_run(f), f["path"]) for f in own] == [
-        ("plan_01", "plan_01", "tracker/plan_01.csv"),
-        ("plan_02", "plan_02", "tracker/plan_02.csv")]
+    assert [(f["cut"], tracker_run(f), f["path"], f["pass"]) for f in own] == [
+        ("plan_01", "plan_01", "tracker/plan_01.csv", "loaded"),
+        ("plan_01", "plan_01_air", "tracker/plan_01_air.csv", "air"),
+        ("plan_02", "plan_02", "tracker/plan_02.csv", "loaded"),
+        ("plan_02", "plan_02_air", "tracker/plan_02_air.csv", "air")]
+    # the manifest of the planned cuts' files reads them as the contract says
+    from robomill.experiment import tracker_pass_pairs
+    from robomill.io.manifest import parse_manifest
+    from robomill.synth.plan import synthetic_manifest
+
+    m = parse_manifest(synthetic_manifest(base), "next", require_sha256=False)
+    runs = {tracker_run(f): f for f in m.files if f["kind"] == "tracker"}
+    assert tracker_pass_pairs(runs) == [
+        {"cut": "plan_01", "loaded_run": "plan_01", "air_run": "plan_01_air"},
+        {"cut": "plan_02", "loaded_run": "plan_02", "air_run": "plan_02_air"}]
 
 
 def test_run_folder_keeps_a_relative_raw_folder_where_it_was(tmp_path, monkeypatch):
@@ -106,56 +120,61 @@ PRED = pd.DataFrame({
     "force_high_N": [16.0, 13.0, 8.0],
     "waviness_um": [1.0, 1.0, np.nan], "waviness_low_um": [0.8, 0.8, np.nan],
     "waviness_high_um": [1.2, 1.2, np.nan]})
-SIM = pd.DataFrame({"cut": ["plan_01", "s1"], "stable": [True, False],
-                    "deflection_normal_um": [1.0, 1.0], "deflection_axial_um": [1.0, 1.0],
-                    "force_N": [20.0, 7.0]})
+NEXT_GEARS = pd.DataFrame({"run": ["r1", "r1", "r2", "r2", "a1", "a1"],
+                           "cut": ["plan_01", "plan_01", "plan_02", "plan_02", "plan_01",
+                                   "plan_01"],
+                           "joint": [2, 3, 2, 3, 2, 3], "stage": "motor", "order": "mesh",
+                           "f_spatial_per_mm": [0.3, 0.5, 0.3, 0.5, 0.3, 0.5]})
 NEXT = RunOutcomes(
     NEXT_RUN_DIR,
     mean_forces=pd.DataFrame({"cut": ["plan_01", "plan_02"], "Fx_N": [0.0, 0.0],
                               "Fy_N": [15.5, 12.0], "Fz_N": [0.0, 0.0]}),
     force_peaks=pd.DataFrame({"cut": ["plan_01", "plan_02"], "dominant_power": [4.0, 4.0]}),
     # tracker spectra of the planned runs: plan_01 has lateral lines 0.5 and 0.6 µm at the
-    # two predicted gear lines, plan_02 only a 9 µm vertical line there (lateral 0)
-    run_gears=pd.DataFrame({"run": ["r1", "r1", "r2", "r2"],
-                            "cut": ["plan_01", "plan_01", "plan_02", "plan_02"],
-                            "joint": [2, 3, 2, 3], "stage": "motor", "order": "mesh",
-                            "f_spatial_per_mm": [0.3, 0.5, 0.3, 0.5]}),
+    # two predicted gear lines, plan_02 only a 9 µm vertical line there (lateral 0); a1 is
+    # plan_01's air pass (5 µm lines: not the wall the cut left, not read)
+    run_gears=NEXT_GEARS,
     profiles=xr.Dataset(
         {"amplitude_um": (("run", "component", "f"),
                           [[[0, 0, 0.5, 0, 0.6, 0], [0] * 6],
-                           [[0] * 6, [0, 0, 0, 0, 9.0, 0]]])},
-        coords={"run": ["r1", "r2"], "component": ["lateral", "vertical"],
+                           [[0] * 6, [0, 0, 0, 0, 9.0, 0]],
+                           [[0, 0, 5.0, 0, 5.0, 0], [0] * 6]])},
+        coords={"run": ["r1", "r2", "a1"], "component": ["lateral", "vertical"],
                 "f": [0.1, 0.2, 0.3, 0.4, 0.5, 0.6],
-                "length_mm": ("run", [40.0, 40.0]),
-                "resolution_per_mm": ("run", [0.025, 0.025])}))
+                "length_mm": ("run", [40.0, 40.0, 40.0]),
+                "resolution_per_mm": ("run", [0.025, 0.025, 0.025])}),
+    deflection=pd.DataFrame({"cut": ["plan_01"], "loaded_run": ["r1"], "air_run": ["a1"],
+                             "deflection_normal_um": [3.0], "deflection_axial_um": [1.0]}))
 STUDY_PEAKS = pd.DataFrame({"mechanism": "gear", "joint": [2, 3], "stage": "motor",
                             "order": "mesh", "component": "vertical"})
+STUDY = RunOutcomes(mean_forces=pd.DataFrame({"cut": ["s1", "plan_01"], "Fx_N": [7.0, 20.0],
+                                              "Fy_N": 0.0, "Fz_N": 0.0}))
 
 
 def test_the_planned_runs_outcomes_come_first_one_row_per_cut_and_quantity():
-    t = check_table(PRED, simulated=SIM, planned_run=NEXT, peaks=STUDY_PEAKS)
+    t = check_table(PRED, study=STUDY, planned_run=NEXT, peaks=STUDY_PEAKS)
     assert not t.duplicated(["cut", "quantity"]).any()
     t = t.set_index(["cut", "quantity"])
-    # force: the planned run's dynamometer (15.5 N), not the simulation's 20 N
+    # force: the planned run's dynamometer (15.5 N), not the study's 20 N under that id
     f = t.loc[("plan_01", "force")]
     assert f["outcome"] == pytest.approx(15.5) and f["within_interval"]
     assert f["source"] == f"{NEXT_RUN_DIR}/results/forces/mean_forces.csv"
-    # waviness: in-phase sum of the lateral spectrum at the predicted gear lines, 0.5 + 0.6 um
+    # waviness: in-phase sum of the loaded pass' lateral spectrum at the predicted gear
+    # lines, 0.5 + 0.6 um (the air pass a1 not read)
     w = t.loc[("plan_01", "waviness")]
     assert w["outcome"] == pytest.approx(1.1) and w["within_interval"]
     assert w["source"] == f"{NEXT_RUN_DIR}/results/straightness/profiles.nc"
     # no lateral line there: measured 0 µm (the vertical 9 µm is not the wall normal)
     assert t.loc[("plan_02", "waviness"), "outcome"] == 0.0
-    # stability: the time-domain simulation where it cut the cut, else the planned run's
-    # force spectrum: line √4 = 2 N on 12 N is 17 % > 5 % of the mean -> chatter
-    assert t.loc[("plan_01", "stability"), "source"] == "results/plan/simulated.csv"
+    # stability without verdicts: the planned run's force spectrum: line √4 = 2 N on 12 N
+    # is 17 % > 5 % of the mean -> chatter
     s = t.loc[("plan_02", "stability")]
     assert s["outcome"] == 0.0 and s["source"] == f"{NEXT_RUN_DIR}/results/forces/peaks.csv"
     # the study's cut keeps the study's sources
-    assert t.loc[("s1", "force"), "source"] == "results/plan/simulated.csv"
+    assert t.loc[("s1", "force"), "source"] == "results/forces/mean_forces.csv"
 
 
 def test_without_a_planned_run_the_table_is_as_before():
-    a = check_table(PRED, simulated=SIM)
-    b = check_table(PRED, simulated=SIM, planned_run=RunOutcomes(NEXT_RUN_DIR))
+    a = check_table(PRED, study=STUDY)
+    b = check_table(PRED, study=STUDY, planned_run=RunOutcomes(NEXT_RUN_DIR))
     pd.testing.assert_frame_equal(a, b)

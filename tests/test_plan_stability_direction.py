@@ -17,17 +17,15 @@ import pytest
 
 from robomill.chatter.modal_timedomain import ModalCut, simulate_modal_cut, stability_verdict
 from robomill.chatter.model import CuttingModel
-from robomill.experiment import Cut
 from robomill.plan.lobes import batch_coupling_depth, batch_zoa_lobes
 from robomill.plan.poses import cut_frames
-from robomill.synth.plancuts import cut_frame
 
 TEETH = 2
 
 
 def verdict(f_hz, zeta, k_N_m, shape_xy, rpm, entry, exit_, c_m, depth_m, Kt, Kr, *,
             duration_s=0.6, steps=256, band_hz=(100.0, 5000.0)):
-    """The virtual cell's verdict (the two runs of robomill.synth.plancuts)."""
+    """The time-domain verdict (a regenerative and a delay-free run)."""
     runs = [simulate_modal_cut(
         ModalCut(np.asarray(f_hz, float), np.asarray(zeta, float), np.asarray(k_N_m, float),
                  np.asarray(shape_xy, float), rpm, TEETH, entry, exit_, c_m, depth_m, Kt,
@@ -55,12 +53,10 @@ F2, Z2, K2 = np.array([1800.0, 2300.0]), np.array([0.03, 0.03]), np.array([2.0e7
 
 def test_reversing_the_feed_gives_the_same_stability_in_prediction_and_simulation():
     frames_plan = cut_frames(np.array([90.0, 270.0]))                     # the planner's
-    frames_sim = [cut_frame(Cut("a", None, None, d, 1.0, 1.0)) for d in ("py", "my")]
-    for frames in (frames_plan, frames_sim):
-        py, my = (BASE_SHAPES @ R[:, :2] for R in frames)
-        np.testing.assert_allclose(my, -py, atol=1e-12)            # both components negated
-        np.testing.assert_allclose(np.einsum("mi,mj->mij", my, my),
-                                   np.einsum("mi,mj->mij", py, py), atol=1e-12)
+    py, my = (BASE_SHAPES @ R[:, :2] for R in frames_plan)
+    np.testing.assert_allclose(my, -py, atol=1e-12)                # both components negated
+    np.testing.assert_allclose(np.einsum("mi,mj->mij", my, my),
+                               np.einsum("mi,mj->mij", py, py), atol=1e-12)
     py, my = (BASE_SHAPES @ R[:, :2] for R in frames_plan)
     Kt, Kr, rpm = 6.0e8, 0.3, 6000.0
     a = [critical_depth_m(F2, Z2, K2, s, rpm, 0.0, np.pi, Kt, Kr) for s in (py, my)]

@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 from conftest import default_cell_posture
 
-from robomill.plan.check import check_table, waviness_elements, waviness_outcomes
+from robomill.plan.check import RunOutcomes, check_table, waviness_elements, waviness_outcomes
 from robomill.plan.measured import gear_joint_amplitudes
 from robomill.straightness import profile_spectrum, spectrum_peaks
 from robomill.straightness.profile import Profile, profile_dataset
@@ -87,8 +87,9 @@ def test_check_table_compares_the_spectrum_outcome_with_the_prediction():
     pred = pd.DataFrame({"cut": ["plan_01", "s2_g1", "s9"], "waviness_um": [1.0, 3.0, 1.0],
                          "waviness_low_um": [0.9, 2.5, 0.9],
                          "waviness_high_um": [1.1, 3.5, 1.1]})
-    t = check_table(pred, peaks=ELEMENTS_PEAKS, run_gears=gears,
-                    profiles=profiles).set_index(["cut", "quantity"])
+    t = check_table(pred, peaks=ELEMENTS_PEAKS,
+                    study=RunOutcomes(run_gears=gears, profiles=profiles)
+                    ).set_index(["cut", "quantity"])
     a = t.loc[("plan_01", "waviness")]
     assert a["outcome"] == pytest.approx(1.05, abs=0.03)
     assert a["within_interval"] and a["within_tolerance"]
@@ -132,7 +133,7 @@ def test_a_point_interval_admits_its_outcome_within_the_tables_rounding():
                          "force_high_N": 0.473841})
     mean = pd.DataFrame({"cut": ["a", "b"], "Fx_N": [0.47384114, 0.4738425], "Fy_N": 0.0,
                          "Fz_N": 0.0})
-    t = check_table(pred, mean_forces=mean).set_index("cut")
+    t = check_table(pred, study=RunOutcomes(mean_forces=mean)).set_index("cut")
     assert t.loc["a", "within_interval"] and not t.loc["b", "within_interval"]
 
 

@@ -38,6 +38,7 @@ from robomill.io import open_artefact
 from robomill.pipeline.captions import Numbering
 from robomill.pipeline.prose import Prose, load_templates
 from robomill.plan.compare import comparison_values
+from robomill.plan.evidence import coverage_case
 from robomill.plan.extrapolation import reach_values
 from robomill.plan.pathout import summary_values
 
@@ -198,25 +199,31 @@ display(Markdown(Prose(load_templates("ch7", templates), comparison_values(cmp_)
 # %% [markdown]
 # ## Closing the loop
 #
-# Each prediction beside the outcome recorded under the same cut id. On the virtual cell every
-# planned cut and the study's own are cut at their poses (`plan_simulate`): stability in the
-# seed-002 time-domain model on the modes the cell's truth gives at that pose (once with the
-# regenerative chip, once delay-free: the two mechanisms of the predicted critical depth), and
-# the static deflection from the planted joint stiffness under the simulated mean force; the
-# dynamometer and the tracker give force and waviness once the planned cuts are run
-# (`snakemake -j2 all --configfile results/plan/next/config.yaml`, in their own folder
-# `results/plan/next/run/`, beside the study). On real data the lab
-# imports the measurements under the planned ids, and stability is read from the cut's force
-# spectrum. A `stability` row gives the predicted margin a_crit/a − 1 with its interval and
-# the outcome 1 (stable) or 0 (chatter).
+# Each prediction beside the outcome its run's files recorded under the same cut id. The planned
+# cuts are cut as any study's (`snakemake -j2 all --configfile results/plan/next/config.yaml`,
+# in their own folder `results/plan/next/run/`, beside the study; on the virtual cell, or from
+# a lab's files of the planned cuts), each planned path tracked twice, loaded and in the air;
+# the next `snakemake -j2 plan` reads that run's files only: stability from its chatter
+# verdicts (else its force spectrum), force from its dynamometer's means, deflection from the
+# loaded minus the air tracker path, waviness from its loaded tracker runs. A `stability` row
+# gives the predicted margin a_crit/a − 1 with its interval and the outcome 1 (stable) or 0
+# (chatter); `held` says whether the outcome fell inside the stated interval, `in_sample`
+# whether its data identified a model the prediction rests on.
 
 # %%
 display(Markdown(say("check_stability_plan", "check_stability_study", "check_deflection",
                      "check_force", "check_waviness")))
+display(Markdown(Prose(load_templates("ch7", templates),
+                       {**summary, "coverage_case": coverage_case(summary)})(
+    "check_evidence", "check_coverage")))
 display(Markdown(say("check_table", ref_check=num.ref("check"))))
 display(num.caption("check"))
 if len(chk):
     display(chk)
+    misses = chk[~chk["in_sample"].astype(bool) & chk["held"].eq(False)]
+    display(Markdown(say("check_misses" if len(misses) else "check_no_misses")))
+    if len(misses):
+        display(misses)
 else:
     display(Markdown(say("check_none")))
 num.check()

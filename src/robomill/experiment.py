@@ -71,6 +71,31 @@ def tracker_run(entry: Mapping[str, Any]) -> str:
     return tracker_run_id(tracker_direction(entry), entry["feed_mm_s"])
 
 
+TRACKER_PASSES = ("loaded", "air")
+"""The passes of a tracker run along a cut's path (manifest key ``pass``): ``loaded`` while the
+tool cuts (the default), ``air`` the same path without material. The static deflection under
+the cutting force is the loaded path minus the air path
+(:func:`robomill.straightness.deflection.pass_deflection_um`)."""
+
+
+def tracker_pass(entry: Mapping[str, Any]) -> str:
+    """The pass of a tracker run (manifest entry of kind ``tracker``): its ``pass`` key, else
+    ``loaded`` (:data:`TRACKER_PASSES`)."""
+    return str(entry.get("pass") or "loaded")
+
+
+def tracker_pass_pairs(entries: Mapping[str, Mapping[str, Any]]) -> list[dict[str, str]]:
+    """The air passes of a study's tracker runs (``run`` → manifest entry) each with the loaded
+    pass of the same cut (the first listed; ``loaded_run`` "" where the cut has none): keys
+    ``cut, loaded_run, air_run``."""
+    loaded: dict[str, str] = {}
+    for run, f in entries.items():
+        if tracker_pass(f) == "loaded" and f.get("cut"):
+            loaded.setdefault(str(f["cut"]), run)
+    return [{"cut": str(f["cut"]), "loaded_run": loaded.get(str(f["cut"]), ""), "air_run": run}
+            for run, f in entries.items() if tracker_pass(f) == "air"]
+
+
 @dataclass(frozen=True)
 class Cut:
     """One straight cut: its identity and process parameters.

@@ -6,6 +6,9 @@
 from robomill.plan import NEXT_RUN_DIR
 
 PLAN_REQUEST = config["plan"]["request"]
+# every cut's chatter verdict, one row per cut and recording (columns cut, verdict, chatter_hz,
+# source, evidence): the stability outcome of a run's cuts
+STUDY_VERDICTS = "results/chatter/verdicts.csv"
 PLAN_MEASURED = {
     **(
         {"modes": "results/modal/modes.csv", "modal_fit": "results/modal/frf_synth.nc"}
@@ -49,13 +52,16 @@ PLAN_OUTPUTS = {
 # the controller program of the planned cuts and its stations.csv (robomill.plan.program)
 PLAN_PROGRAM = "results/plan/next/program"
 # The planned cuts' own run (snakemake all --configfile results/plan/next/config.yaml, which
-# writes under NEXT_RUN_DIR): its outcomes are inputs of plan_check once it has made them
-# (another run of the workflow makes them, not this one).
+# writes under NEXT_RUN_DIR; on the virtual cell, or a lab's files of the planned cuts): its
+# outcomes are inputs of plan_check once it has made them (another run of the workflow makes
+# them, not this one). The planned cuts' outcomes come from these files only.
 PLAN_NEXT_OUTCOMES = {
     name: f"{NEXT_RUN_DIR}/{path}"
     for name, path in (
         ("next_mean_forces", "results/forces/mean_forces.csv"),
         ("next_force_peaks", "results/forces/peaks.csv"),
+        ("next_verdicts", "results/chatter/verdicts.csv"),
+        ("next_deflection", "results/straightness/deflection.csv"),
         ("next_gears", "results/straightness/gears.csv"),
         ("next_profiles", "results/straightness/profiles.nc"),
     )
@@ -104,16 +110,23 @@ rule plan_check:
             if has_kind("tracker")
             else {}
         ),
-        # synthetic: the virtual cell cuts the planned cuts (synth.smk: plan_simulate);
-        # real data: the stability outcome from the measured force spectrum
+        # the study's stability outcome: its chatter verdicts where a rule makes them, else
+        # its force spectrum
         **(
-            {"simulated": "results/plan/simulated.csv"}
-            if SYNTHETIC
-            else (
-                {"force_peaks": "results/forces/peaks.csv"}
-                if has_kind("force")
-                else {}
-            )
+            {"verdicts": STUDY_VERDICTS}
+            if any(STUDY_VERDICTS in map(str, r.output) for r in workflow.rules)
+            else {}
+        ),
+        **(
+            {"force_peaks": "results/forces/peaks.csv"}
+            if has_kind("force")
+            else {}
+        ),
+        # the study's static deflection, where it tracked a cut loaded and in the air
+        **(
+            {"deflection": "results/straightness/deflection.csv"}
+            if TRACKER_PAIRS
+            else {}
         ),
         **PLAN_NEXT_OUTCOMES,
         plan=PLAN_OUTPUTS["plan"],
@@ -132,6 +145,7 @@ rule plan_check:
         # a folder, not a prefix of the inputs (they exist only once the run has made them)
         next_run=lambda w: NEXT_RUN_DIR,
         chatter_fraction_of_mean=config["plan"]["chatter_fraction_of_mean"],
+        nominal_coverage=config["plan"]["interval_level"],
         waviness_noise=config["plan"]["waviness_noise"],
         fmin_cycles=config["straightness"]["fmin_cycles"],
     script:

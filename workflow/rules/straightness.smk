@@ -3,6 +3,8 @@
 # One simulator job (virtual cell), one analysis job per tracker run (one for all the virtual
 # cell's runs), then one gather job.
 # (keyed by the run id of robomill.experiment.tracker_run: the one key of a run downstream)
+from robomill.experiment import tracker_pass_pairs
+
 TRACKER_RUNS = {tracker_run(f): f for f in RAW_FILES if f["kind"] == "tracker"}
 
 
@@ -87,6 +89,40 @@ rule straightness_gather:
         runs=[{"run": r} for r in TRACKER_RUNS],
     script:
         "../scripts/straightness_gather.py"
+
+
+# The static deflection under the cutting force (a cut tracked twice: the loaded pass while
+# cutting, the air pass along the same path without material; manifest key pass): the loaded
+# path minus the air path. Built by `all` where the raw folder has an air pass.
+TRACKER_PAIRS = tracker_pass_pairs(TRACKER_RUNS)
+TRACKER_PAIRED = list(
+    dict.fromkeys(
+        r for p in TRACKER_PAIRS for r in (p["loaded_run"], p["air_run"]) if r
+    )
+)
+
+if TRACKER_PAIRS:
+
+    rule straightness_deflection:
+        input:
+            raw=[f"{RAW}/{TRACKER_RUNS[r]['path']}" for r in TRACKER_PAIRED],
+            study=STUDY,
+        output:
+            deflection="results/straightness/deflection.csv",
+        log:
+            "results/logs/straightness/deflection.log",
+        benchmark:
+            "results/benchmarks/rules/straightness/deflection.tsv"
+        conda:
+            ENV
+        params:
+            settings=config["straightness"],
+            pairs=TRACKER_PAIRS,
+            specs=[tracker_run_spec(r) for r in TRACKER_PAIRED],
+        script:
+            "../scripts/straightness_deflection.py"
+
+    ALL_TARGETS.append("results/straightness/deflection.csv")
 
 
 rule straightness_truth_check:

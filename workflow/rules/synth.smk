@@ -2,6 +2,8 @@
 # synthetic raw files. The only rules that read config["synth"] (a test enforces it): the
 # analyses read the raw folder (results/synthetic/raw/: manifest.yaml, cell.yaml, data files)
 # exactly as they read real data.
+from robomill.experiment import tracker_pass
+
 SYNTH_CFG = {
     "cell": config["cell"],
     "synth": config["synth"],
@@ -107,8 +109,14 @@ rule straightness_synth_tracker:
     params:
         cfg=SYNTH_CFG,
         runs=[
-            {"direction": f["direction"], "feed_mm_s": f["feed_mm_s"], "cut": f["cut"]}
-            for f in SYNTH_TRACKER_RUNS.values()
+            {
+                "direction": f["direction"],
+                "feed_mm_s": f["feed_mm_s"],
+                "cut": f["cut"],
+                "pass": tracker_pass(f),
+                "run": run,
+            }
+            for run, f in SYNTH_TRACKER_RUNS.items()
         ],
     script:
         "../scripts/straightness_synth_tracker.py"
@@ -206,26 +214,3 @@ rule synth_manifest:
         raw_dir=lambda w, output: os.path.dirname(output[0]),
     script:
         "../scripts/synth_manifest.py"
-
-
-# Closing the loop of the plan (issue 28): the virtual cell cuts the planned cuts (and the
-# study's own) at their poses; stability in the time domain and static deflection from the
-# planted truth. Read by plan_check only (not part of `all`).
-rule plan_simulate:
-    input:
-        manifest="results/plan/next/manifest.yaml",
-        study=STUDY,
-    output:
-        simulated="results/plan/simulated.csv",
-    log:
-        "results/logs/plan/simulate.log",
-    benchmark:
-        "results/benchmarks/rules/plan/simulate.tsv"
-    conda:
-        ENV
-    params:
-        cfg=SYNTH_CFG,
-        settings=config.get("plan", {}).get("simulate", {}),
-        experiment=STUDY_EXPERIMENT,
-    script:
-        "../scripts/plan_simulate.py"

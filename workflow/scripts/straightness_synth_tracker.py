@@ -13,7 +13,8 @@ cell = cell_from_config(cfg)
 cuts = {c.id: c for c in synthetic_cuts(cfg)}
 for run, path in zip(p.runs, snakemake.output, strict=True):
     cut = cuts[run["cut"]]
-    df = simulate_run(cfg, cell, run["direction"], float(run["feed_mm_s"]), cut)
+    df = simulate_run(cfg, cell, run["direction"], float(run["feed_mm_s"]), cut,
+                      run["pass"], run["run"])
     write_run(df, path)
-    log.info("tracker run %s_f%g along %s: %d samples, %.2f s", run["direction"],
-             run["feed_mm_s"], cut.id, len(df), df["t_s"].iloc[-1])
+    log.info("tracker run %s_f%g along %s (%s): %d samples, %.2f s", run["direction"],
+             run["feed_mm_s"], cut.id, run["pass"], len(df), df["t_s"].iloc[-1])

@@ -27,6 +27,7 @@ from robomill.experiment import (
     DIRECTION_VECTORS,
     FREE_CUT_ID,
     MILLING,
+    TRACKER_PASSES,
     Cut,
     tracker_run,
 )
@@ -320,6 +321,18 @@ def _check_tracker_run(path: Path, where: str, f: Mapping[str, Any],
                                         "direction and feed")
 
 
+def _check_tracker_pass(path: Path, where: str, f: Mapping[str, Any]) -> None:
+    """A tracker run's ``pass`` (optional): ``loaded`` (default) or ``air``; an air pass names
+    the ``cut`` whose path it follows (its loaded pass is that cut's)."""
+    value = f.get("pass")
+    if value is not None and value not in TRACKER_PASSES:
+        raise RawDataError(path, f"pass is {value!r}", where=f"{where}.pass",
+                           expected="one of " + ", ".join(TRACKER_PASSES))
+    if value == "air" and f.get("cut") is None:
+        raise RawDataError(path, "an air pass names no cut", where=f"{where}.cut",
+                           expected="the id of the cut whose path the air pass follows")
+
+
 def _parse_cut(path: Path, where: str, c: Mapping[str, Any], seen: Mapping[str, int]) -> Cut:
     """One ``cuts`` entry: required keys, optional grouping/direction/process keys."""
     unknown = sorted(set(c) - set(CUT_KEYS) - set(CUT_OPTIONAL_KEYS))
@@ -407,7 +420,7 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True,
     """Validate a manifest mapping (as loaded from YAML) and return a :class:`Manifest`.
 
     ``require_sha256=False`` validates a *plan*: the synthetic study's manifest before its
-    files exist (:func:`robomill.synth.plan.synthetic_manifest`), through the same checks.
+    files exist (the virtual cell's ``synthetic_manifest``), through the same checks.
     The experiment and cut keys required are those of the chapters the folder's file kinds
     feed (:mod:`robomill.io.needs`); ``kinds`` gives the folder's kinds when ``data`` is a
     part of its manifest (``robomill check`` validates entry by entry)."""
@@ -463,6 +476,7 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True,
         if f["kind"] == "tracker":
             _check_tracker_direction(path, f"{where} ({f['path']})", f)
             _check_tracker_run(path, f"{where} ({f['path']})", f, files)
+            _check_tracker_pass(path, f"{where} ({f['path']})", f)
             if f.get("time_base", "none") != "none":
                 raise RawDataError(path, f"time_base is {f['time_base']!r}",
                                    where=f"{where} ({f['path']}).time_base",

@@ -1,32 +1,33 @@
-"""Closing the loop: each prediction beside the outcome of the cut it was made for.
+"""Closing the loop: each prediction beside the outcome of the cut it was made for, read only
+from the files of a run of the cuts.
 
-An outcome is whatever the run measured (or simulated) under the cut's id: the mean cutting
-force of ``results/forces/mean_forces.csv`` (magnitude of Fx, Fy, Fz) and the waviness of the
-tracker run along the cut (:func:`waviness_outcomes`: its measured spectrum read at the gear
-lines the prediction used, detected as peaks or not). Cuts without an outcome are left out; a
-prediction is judged within its interval and within a relative tolerance (the issue's 25 %).
+An outcome is what a run's instruments recorded under the cut's id, read by the pipeline's own
+analyses of that run: the mean cutting force of ``results/forces/mean_forces.csv`` (magnitude
+of Fx, Fy, Fz); the waviness of the tracker run along the cut (:func:`waviness_outcomes`: its
+measured spectrum read at the gear lines the prediction used; the loaded pass); the static
+deflection along the wall normal and the tool axis (quantities ``deflection_normal``,
+``deflection_axial`` [µm]) from the loaded tracker pass minus the air pass along the same
+path (``results/straightness/deflection.csv``); and the stability from the run's chatter
+verdicts (``results/chatter/verdicts.csv``, :mod:`robomill.plan.evidence`), else from its
+force spectrum (``results/forces/peaks.csv``: chatter when the dominant modal-band line,
+√(bin power), exceeds ``chatter_fraction_of_mean`` of the mean force).
 
-On a synthetic run the virtual cell also cuts every planned cut and the study's own at their
-poses (``results/plan/simulated.csv``, :mod:`robomill.synth.plancuts`): the static deflection
-along the wall normal and the tool axis (quantities ``deflection_normal``,
-``deflection_axial`` [µm]), the mean force of the cuts no dynamometer recorded, and the
-stability outcome. On real data the stability outcome is read from the measured force
-spectrum of the cut (``results/forces/peaks.csv``): chatter when its dominant modal-band line,
-√(bin power), exceeds ``chatter_fraction_of_mean`` of the mean force.
+The planned cuts' own run (``snakemake all --configfile results/plan/next/config.yaml``,
+written under ``results/plan/next/run``: :data:`robomill.plan.NEXT_RUN_DIR`; on the virtual
+cell or a lab's files of the planned cuts alike) gives the outcomes of the planned cuts; the
+study's own run those of its cuts (in-sample: the data that identified the models). Nothing
+here is computed from a planted parameter. Cuts without an outcome are left out; a
+prediction is judged within its interval and within a relative tolerance (25 %).
 
-The planned cuts' own pipeline run (``snakemake all --configfile
-results/plan/next/config.yaml``, written under ``results/plan/next/run``:
-:data:`robomill.plan.NEXT_RUN_DIR`) gives, once it has run, the outcomes of the planned
-cuts as the lab's instruments record them: the mean force of its dynamometer, the waviness of its
-tracker runs and, for cuts without a time-domain simulation, the stability from its force
-spectrum; these are preferred to the study's and the simulation's (one row per cut and
-quantity, the ``source`` column says which).
+Columns ``in_sample`` (:func:`robomill.plan.evidence.in_sample`) and ``held``: the outcome
+inside the stated interval (for stability, the interval's verdict matching); empty where the
+outcome is undetermined (a chatter verdict ``undetermined``).
 
 Encoding of the ``stability`` rows (unit ``1``): ``predicted``, ``low``, ``high`` are the
 stability margin a_crit/a − 1 and its interval (> 0 predicts stable); ``outcome`` is 1 when
-the cut was stable, 0 when it chattered. ``within_interval``: the interval admits the outcome
-(stable needs ``high`` > 0, chatter ``low`` < 0); ``within_tolerance``: the nominal verdict
-(``predicted`` > 0) is the outcome.
+the cut was stable, 0 when it chattered, NaN when undetermined. ``within_interval``: the
+interval admits the outcome (stable needs ``high`` > 0, chatter ``low`` < 0);
+``within_tolerance``: the nominal verdict (``predicted`` > 0) is the outcome.
 """
 
 from __future__ import annotations
@@ -37,10 +38,18 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from robomill.plan.evidence import (
+    air_runs,
+    coverage_summary,
+    deflection_outcomes,
+    in_sample,
+    stated_verdict_held,
+    verdict_stability,
+)
 from robomill.plan.measured import spectrum_amplitude_um
 
 CHECK_COLUMNS = ["cut", "quantity", "unit", "predicted", "low", "high", "outcome",
-                 "within_interval", "within_tolerance", "source"]
+                 "within_interval", "within_tolerance", "held", "in_sample", "source"]
 
 
 def force_outcomes(mean_forces: pd.DataFrame) -> pd.Series:
@@ -83,7 +92,8 @@ def waviness_elements(peaks: pd.DataFrame | None) -> pd.DataFrame:
 
 def waviness_outcomes(elements: pd.DataFrame, run_gears: pd.DataFrame, profiles,
                       *, min_cycles: float = WAVINESS_MIN_CYCLES,
-                      halfwidth_bins: float = 0.5, merge_bins: float = 2.0) -> pd.Series:
+                      halfwidth_bins: float = 0.5, merge_bins: float = 2.0,
+                      skip_runs: frozenset[str] | set[str] = frozenset()) -> pd.Series:
     """Measured waviness normal to the wall per cut [µm], the quantity
     :func:`robomill.plan.measured.waviness_um` predicts: Σ_e A_lat(f_e), the in-phase sum over
     the predicted gear elements e (``elements``, :func:`waviness_elements`) of the run's
@@ -125,6 +135,8 @@ def waviness_outcomes(elements: pd.DataFrame, run_gears: pd.DataFrame, profiles,
         from the lowest to the highest of their frequencies (± the half width), not once per
         element (a coherent sum of close lines is at most the in-phase sum the prediction
         makes).
+    skip_runs
+        Runs not read (the air passes: the wall a cut leaves is its loaded pass').
 
     Returns
     -------
@@ -139,7 +151,7 @@ def waviness_outcomes(elements: pd.DataFrame, run_gears: pd.DataFrame, profiles,
     out: dict[str, list[float]] = {}
     for k, run in enumerate(runs):
         g = run_gears[run_gears["run"].astype(str) == run]
-        if g.empty:
+        if g.empty or run in skip_runs:
             continue
         length = float(profiles["length_mm"].values[k])
         res = float(profiles["resolution_per_mm"].values[k])
@@ -160,16 +172,23 @@ def waviness_outcomes(elements: pd.DataFrame, run_gears: pd.DataFrame, profiles,
 
 @dataclass(frozen=True)
 class RunOutcomes:
-    """The outcomes of one pipeline run of the planned cuts (the next experiment's own run,
-    in ``folder``: :data:`robomill.plan.NEXT_RUN_DIR`): its mean forces, force
-    spectrum peaks, tracker gear frequencies (``gears.csv``) and profiles (``profiles.nc``);
-    each None where that run has none)."""
+    """The outcome files of one pipeline run of cuts (``folder``: "" for the study's own run,
+    :data:`robomill.plan.NEXT_RUN_DIR` for the planned cuts' run): its mean forces, force
+    spectrum peaks, chatter verdicts (``results/chatter/verdicts.csv``), tracker gear
+    frequencies (``gears.csv``), profiles (``profiles.nc``) and loaded-minus-air deflections
+    (``deflection.csv``); each None where that run has none."""
 
-    folder: str
+    folder: str = ""
     mean_forces: pd.DataFrame | None = None
     force_peaks: pd.DataFrame | None = None
+    verdicts: pd.DataFrame | None = None
     run_gears: pd.DataFrame | None = None
     profiles: Any = None
+    deflection: pd.DataFrame | None = None
+
+    def path(self, artefact: str) -> str:
+        """Where ``artefact`` (``results/...``) of this run lies, from the study's folder."""
+        return f"{self.folder}/{artefact}" if self.folder else artefact
 
 
 def _present(table: pd.DataFrame | None) -> bool:
@@ -188,35 +207,21 @@ def spectrum_stability(force_peaks: pd.DataFrame, mean_forces: pd.DataFrame,
     return (line[common] / F[common] <= chatter_fraction_of_mean).astype(float)
 
 
-def stability_outcomes(*, simulated: pd.DataFrame | None = None,
-                       force_peaks: pd.DataFrame | None = None,
-                       mean_forces: pd.DataFrame | None = None,
-                       chatter_fraction_of_mean: float = 0.05) -> tuple[pd.Series, str]:
-    """1 (stable) or 0 (chatter) per cut, and where it comes from: the time-domain simulation
-    of the virtual cell when given, else the measured force spectrum
-    (:func:`spectrum_stability`)."""
-    if _present(simulated):
-        s = simulated[simulated["stable"].notna()]
-        return (pd.Series(s["stable"].astype(str).str.lower().isin(["true", "1", "1.0"])
-                          .astype(float).to_numpy(), index=s["cut"].astype(str)),
-                "results/plan/simulated.csv")
-    if not _present(force_peaks) or mean_forces is None:
-        return pd.Series(dtype=float), ""
-    return (spectrum_stability(force_peaks, mean_forces, chatter_fraction_of_mean),
-            "results/forces/peaks.csv")
-
-
 def _stability_row(cut: str, r: pd.Series, outcome: float, source: str) -> dict | None:
     p = float(r.get("stability_margin", np.nan))
     if not np.isfinite(p):
         return None
     lo = float(r.get("stability_margin_low", p))
     hi = float(r.get("stability_margin_high", p))
-    stable = outcome >= 0.5
-    return {"cut": cut, "quantity": "stability", "unit": "1", "predicted": p, "low": lo,
-            "high": hi, "outcome": float(stable),
-            "within_interval": bool(hi > 0 if stable else lo < 0),
-            "within_tolerance": bool((p > 0) == stable), "source": source}
+    row = {"cut": cut, "quantity": "stability", "unit": "1", "predicted": p, "low": lo,
+           "high": hi, "outcome": outcome, "within_interval": None, "within_tolerance": None,
+           "held": None, "source": source}
+    if np.isfinite(outcome):
+        stable = outcome >= 0.5
+        inside = stated_verdict_held(lo, hi, stable)
+        row.update({"outcome": float(stable), "within_interval": inside,
+                    "within_tolerance": bool((p > 0) == stable), "held": inside})
+    return row
 
 
 def _rounding(x: float) -> float:
@@ -231,72 +236,55 @@ Outcome = tuple[str, str, pd.Series, str]
 """An outcome source: quantity, unit, the outcomes indexed by cut, and where they come from."""
 
 
-def _outcomes(mean_forces, peaks, simulated, planned_run: RunOutcomes | None,
-              run_gears=None, profiles=None,
+def _outcomes(runs: list[RunOutcomes], peaks,
               min_cycles: float = WAVINESS_MIN_CYCLES) -> list[Outcome]:
-    """Every outcome source, first preferred for a cut and quantity: the planned cuts' own
-    run, then the study's run (dynamometer, tracker), then the virtual cell's cuts of
-    plan_simulate (deflection; force where no dynamometer recorded the cut). The waviness
-    of either run is read at the gear lines the study's tracker peaks attributed (those the
-    prediction carries, :func:`waviness_elements`)."""
+    """Every force, deflection and waviness outcome source of ``runs``, first preferred for a
+    cut and quantity. The waviness is read at the gear lines the study's tracker peaks
+    attributed (those the prediction carries, :func:`waviness_elements`), on the loaded
+    passes."""
     out: list[Outcome] = []
     elements = waviness_elements(peaks)
-    if planned_run is not None:
-        f = planned_run.folder
-        if _present(planned_run.mean_forces):
-            out.append(("force", "N", force_outcomes(planned_run.mean_forces),
-                        f"{f}/results/forces/mean_forces.csv"))
-        if _present(planned_run.run_gears) and planned_run.profiles is not None:
+    for run in runs:
+        if _present(run.mean_forces):
+            out.append(("force", "N", force_outcomes(run.mean_forces),
+                        run.path("results/forces/mean_forces.csv")))
+        if _present(run.deflection):
+            for name, series in deflection_outcomes(run.deflection).items():
+                out.append((name, "um", series,
+                            run.path("results/straightness/deflection.csv")))
+        if _present(run.run_gears) and run.profiles is not None:
             out.append(("waviness", "um",
-                        waviness_outcomes(elements, planned_run.run_gears,
-                                          planned_run.profiles, min_cycles=min_cycles),
-                        f"{f}/results/straightness/profiles.nc"))
-    if _present(mean_forces):
-        out.append(("force", "N", force_outcomes(mean_forces),
-                    "results/forces/mean_forces.csv"))
-    if _present(run_gears) and profiles is not None:
-        out.append(("waviness", "um", waviness_outcomes(elements, run_gears, profiles,
-                                                        min_cycles=min_cycles),
-                    "results/straightness/profiles.nc"))
-    if _present(simulated):
-        sim = simulated.set_index(simulated["cut"].astype(str))
-        for name, col in (("deflection_normal", "deflection_normal_um"),
-                          ("deflection_axial", "deflection_axial_um"), ("force", "force_N")):
-            out.append((name, col.rsplit("_", 1)[1], sim[col].astype(float).dropna(),
-                        "results/plan/simulated.csv"))
+                        waviness_outcomes(elements, run.run_gears, run.profiles,
+                                          min_cycles=min_cycles,
+                                          skip_runs=air_runs(run.deflection)),
+                        run.path("results/straightness/profiles.nc")))
     return out
 
 
-def _stabilities(simulated, force_peaks, mean_forces, planned_run: RunOutcomes | None,
+def _stabilities(runs: list[RunOutcomes],
                  chatter_fraction_of_mean: float) -> list[tuple[pd.Series, str]]:
-    """The stability outcome sources, first preferred: the time-domain simulation (synthetic
-    runs), else the study's force spectrum; then the planned cuts' own force spectrum."""
+    """The stability outcome sources of ``runs``, first preferred: each run's chatter verdicts,
+    else its force spectrum."""
     out = []
-    stab, source = stability_outcomes(simulated=simulated, force_peaks=force_peaks,
-                                      mean_forces=mean_forces,
-                                      chatter_fraction_of_mean=chatter_fraction_of_mean)
-    if len(stab):
-        out.append((stab, source))
-    if (planned_run is not None and _present(planned_run.force_peaks)
-            and planned_run.mean_forces is not None):
-        out.append((spectrum_stability(planned_run.force_peaks, planned_run.mean_forces,
-                                       chatter_fraction_of_mean),
-                    f"{planned_run.folder}/results/forces/peaks.csv"))
+    for run in runs:
+        if _present(run.verdicts):
+            out.append((verdict_stability(run.verdicts),
+                        run.path("results/chatter/verdicts.csv")))
+        elif _present(run.force_peaks) and _present(run.mean_forces):
+            out.append((spectrum_stability(run.force_peaks, run.mean_forces,
+                                           chatter_fraction_of_mean),
+                        run.path("results/forces/peaks.csv")))
     return out
 
 
-def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = None,
-                peaks: pd.DataFrame | None = None, tolerance: float = 0.25,
-                simulated: pd.DataFrame | None = None,
-                force_peaks: pd.DataFrame | None = None,
+def check_table(predicted: pd.DataFrame, *, study: RunOutcomes | None = None,
+                planned_run: RunOutcomes | None = None, peaks: pd.DataFrame | None = None,
+                identified_cuts=(), tolerance: float = 0.25,
                 chatter_fraction_of_mean: float = 0.05,
-                planned_run: RunOutcomes | None = None,
-                run_gears: pd.DataFrame | None = None, profiles: Any = None,
                 waviness_min_cycles: float = WAVINESS_MIN_CYCLES) -> pd.DataFrame:
-    """Rows ``cut, quantity, unit, predicted, low, high, outcome, within_interval,
-    within_tolerance, source`` for every predicted cut with an outcome (the ``stability``
+    """Rows :data:`CHECK_COLUMNS` for every predicted cut with an outcome (the ``stability``
     encoding in the module's docstring): one row per cut and quantity, its outcome from the
-    first source that has the cut (:func:`_outcomes`).
+    first source that has the cut: the planned cuts' own run, then the study's.
 
     Parameters
     ----------
@@ -304,26 +292,21 @@ def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = N
         Rows with ``cut`` and the prediction columns (``force_N``, ``force_low_N``,
         ``force_high_N``, ``waviness_um``, ``stability_margin``, ``deflection_normal_um``, …):
         ``plan.csv`` and ``study_cuts.csv``.
-    simulated
-        ``results/plan/simulated.csv`` (synthetic runs): stability, deflection and, for cuts
-        without a dynamometer record, force outcomes.
-    force_peaks
-        ``results/forces/peaks.csv`` (real data: the stability outcome when no simulation).
-    peaks
-        ``results/straightness/peaks.csv``: its gear-attributed lines are the elements whose
-        waviness is read (:func:`waviness_elements`).
-    run_gears, profiles
-        ``results/straightness/gears.csv`` and ``profiles.nc`` of the study's tracker runs:
-        the waviness outcome of a study cut (:func:`waviness_outcomes`).
+    study
+        The study's own run (``folder`` ""): its outcomes judge the study's cuts.
     planned_run
         The outcomes of the planned cuts' own pipeline run
-        (``snakemake all --configfile results/plan/next/config.yaml``), preferred for force and
-        waviness; its force spectrum gives the stability of the cuts without one above.
+        (``snakemake all --configfile results/plan/next/config.yaml``).
+    peaks
+        ``results/straightness/peaks.csv`` of the study: its gear-attributed lines are the
+        elements whose waviness is read (:func:`waviness_elements`).
+    identified_cuts
+        The cuts whose data identified the models (the study's own): their rows are
+        ``in_sample``.
     """
-    outcomes = _outcomes(mean_forces, peaks, simulated, planned_run, run_gears, profiles,
-                         waviness_min_cycles)
-    stabilities = _stabilities(simulated, force_peaks, mean_forces, planned_run,
-                               chatter_fraction_of_mean)
+    runs = [r for r in (planned_run, study) if r is not None]
+    outcomes = _outcomes(runs, peaks, waviness_min_cycles)
+    stabilities = _stabilities(runs, chatter_fraction_of_mean)
     rows = []
     for _, r in predicted.iterrows():
         cut = str(r["cut"])
@@ -332,48 +315,58 @@ def check_table(predicted: pd.DataFrame, *, mean_forces: pd.DataFrame | None = N
             if cut not in series.index or f"{name}_{unit}" not in r or name in done:
                 continue
             p = float(r[f"{name}_{unit}"])
-            if source == "results/plan/simulated.csv" and not np.isfinite(p):
+            if not np.isfinite(p):  # no prediction, no row
                 continue
             done.add(name)
             lo, hi = float(r[f"{name}_low_{unit}"]), float(r[f"{name}_high_{unit}"])
             o = float(series[cut])
+            inside = bool(lo - _rounding(lo) <= o <= hi + _rounding(hi))
             rows.append({"cut": cut, "quantity": name, "unit": unit, "predicted": p,
-                         "low": lo, "high": hi, "outcome": o,
-                         "within_interval": bool(lo - _rounding(lo) <= o
-                                                 <= hi + _rounding(hi)),
+                         "low": lo, "high": hi, "outcome": o, "within_interval": inside,
                          "within_tolerance": bool(abs(o - p) <= tolerance * abs(o)),
-                         "source": source})
+                         "held": inside, "source": source})
         for series, source in stabilities:
             if cut in series.index:
                 row = _stability_row(cut, r, float(series[cut]), source)
                 if row is not None:
                     rows.append(row)
                 break
-    return pd.DataFrame(rows, columns=CHECK_COLUMNS)
+    table = pd.DataFrame(rows, columns=CHECK_COLUMNS)
+    table["in_sample"] = in_sample(table["cut"], identified_cuts)
+    for col in ("within_interval", "within_tolerance", "held"):
+        table[col] = table[col].astype("boolean")
+    return table
 
 
-def check_summary(check: pd.DataFrame, tolerance: float = 0.25) -> dict[str, float]:
+def check_summary(check: pd.DataFrame, tolerance: float = 0.25,
+                  nominal_coverage: float = 0.95) -> dict[str, float]:
     """Chapter 7's numbers about ``check.csv``, over the planned cuts (``plan_*``) and the
     study's own: per quantity q the rows ``n_<q>``, those within the interval
     ``n_<q>_in_interval`` and within the tolerance ``n_<q>_in_tolerance`` (``_plan`` suffix:
     planned cuts only); for stability the cuts predicted stable (nominal margin > 0)
     ``n_predicted_stable`` and those of them stable in the outcome
     ``n_predicted_stable_stable`` (also with ``_plan``), and ``n_stability_agree`` (nominal
-    verdict = outcome); ``tolerance_percent`` the relative tolerance."""
+    verdict = outcome); ``tolerance_percent`` the relative tolerance; the out-of-sample and
+    in-sample counts and the coverage against ``nominal_coverage``
+    (:func:`robomill.plan.evidence.coverage_summary`)."""
     out: dict[str, float] = {"tolerance_percent": 100.0 * float(tolerance)}
     plan = check["cut"].astype(str).str.startswith("plan_")
+
+    def true(col: pd.Series) -> pd.Series:
+        return col.astype("boolean").fillna(False).astype(bool)
+
     for suffix, rows in (("", check), ("_plan", check[plan])):
         for q, g in rows.groupby("quantity"):
             out[f"n_{q}{suffix}"] = float(len(g))
-            out[f"n_{q}_in_interval{suffix}"] = float(g["within_interval"].astype(bool).sum())
-            out[f"n_{q}_in_tolerance{suffix}"] = float(
-                g["within_tolerance"].astype(bool).sum())
+            out[f"n_{q}_in_interval{suffix}"] = float(true(g["within_interval"]).sum())
+            out[f"n_{q}_in_tolerance{suffix}"] = float(true(g["within_tolerance"]).sum())
         s = rows[rows["quantity"] == "stability"]
         pred = s["predicted"].astype(float) > 0
         out[f"n_predicted_stable{suffix}"] = float(pred.sum())
         out[f"n_predicted_stable_stable{suffix}"] = float(
             (pred & (s["outcome"].astype(float) >= 0.5)).sum())
-        out[f"n_stability_agree{suffix}"] = float(s["within_tolerance"].astype(bool).sum())
+        out[f"n_stability_agree{suffix}"] = float(true(s["within_tolerance"]).sum())
+    out.update(coverage_summary(check, nominal_coverage))
     return out
 
 

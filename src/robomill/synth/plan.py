@@ -87,8 +87,10 @@ def tracker_runs(config: Mapping[str, Any]) -> list[dict[str, Any]]:
     """The tracker runs: one per (direction, feed) of the experiment (``synth.tracker``
     ``directions``/``feeds_mm_s`` select; null = all), each following the path of the last
     cut with that direction and feed; with ``synth.tracker.per_cut`` one per tracked cut, its
-    id the cut's. Keys ``run, direction, feed_mm_s, cut`` (a :class:`Cut`; ``per_cut`` True
-    for a cut's own run)."""
+    id the cut's. With ``synth.tracker.air_pass`` each run twice: ``pass`` ``loaded`` and
+    ``air`` (run id ``<run>_air``), the same path without material. Keys ``run, direction,
+    feed_mm_s, cut`` (a :class:`Cut`; ``per_cut`` True where the manifest carries the run id;
+    ``pass`` with ``air_pass``)."""
     exp = config["experiment"]
     tr = _settings(config, "tracker")
     dirs = tr["directions"] or list(exp.get("directions") or ("py", "px", "my", "mx"))
@@ -97,18 +99,24 @@ def tracker_runs(config: Mapping[str, Any]) -> list[dict[str, Any]]:
                if c.direction in dirs and (feeds is None or any(
                    math.isclose(c.feed_mm_s, f, rel_tol=1e-5, abs_tol=1e-8) for f in feeds))]
     if tr.get("per_cut"):  # one run per cut, keyed by the cut's id (manifest key run)
-        return [{"run": c.id, "direction": c.direction, "feed_mm_s": c.feed_mm_s, "cut": c,
+        runs = [{"run": c.id, "direction": c.direction, "feed_mm_s": c.feed_mm_s, "cut": c,
                  "per_cut": True} for c in tracked]
-    chosen: dict[tuple[str, float], Cut] = {}
-    for c in tracked:
-        chosen[(c.direction, c.feed_mm_s)] = c
-    runs = []
-    for d in dirs:
-        for (dd, feed), c in sorted(chosen.items(), key=lambda kv: kv[0][1]):
-            if dd == d:
-                runs.append({"run": tracker_run_id(d, feed), "direction": d,
-                             "feed_mm_s": feed, "cut": c})
-    return runs
+    else:
+        chosen: dict[tuple[str, float], Cut] = {}
+        for c in tracked:
+            chosen[(c.direction, c.feed_mm_s)] = c
+        runs = []
+        for d in dirs:
+            for (dd, feed), c in sorted(chosen.items(), key=lambda kv: kv[0][1]):
+                if dd == d:
+                    runs.append({"run": tracker_run_id(d, feed), "direction": d,
+                                 "feed_mm_s": feed, "cut": c})
+    if not tr.get("air_pass"):
+        return runs
+    # each run twice: loaded (while cutting) and air (the same path without material)
+    return [p for r in runs for p in ({**r, "pass": "loaded"},
+                                      {**r, "run": f"{r['run']}_air", "pass": "air",
+                                       "per_cut": True})]
 
 
 def loadtest_robots(config: Mapping[str, Any]) -> list[str]:
@@ -130,7 +138,8 @@ def instrument_files(config: Mapping[str, Any], instrument: str) -> list[dict[st
         return [{"path": f"tracker/{r['run']}.csv", "kind": "tracker",
                  "direction": r["direction"], "feed_mm_s": float(r["feed_mm_s"]),
                  "fs_hz": fs, "cut": r["cut"].id, **({"run": r["run"]} if r.get("per_cut")
-                                                      else {})}
+                                                      else {}),
+                 **({"pass": r["pass"]} if "pass" in r else {})}
                 for r in tracker_runs(config)]
     if instrument == "impact":
         if "impact" not in config["synth"]:

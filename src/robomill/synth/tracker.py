@@ -86,11 +86,17 @@ def _rng(cell: Any, run: str) -> np.random.Generator:
 
 
 def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
-                 feed_mm_s: float, cut: Cut) -> pd.DataFrame:
+                 feed_mm_s: float, cut: Cut, pass_: str = "loaded",
+                 run: str | None = None) -> pd.DataFrame:
     """One tracker record ``t_s, x_mm, y_mm, z_mm`` along ``cut``'s path at ``feed_mm_s``.
 
     Joint angles come from inverse kinematics on a grid of ``path_step_mm`` (cubic spline in
-    between); the gear errors act through the Jacobian at every sample.
+    between); the gear errors act through the Jacobian at every sample. ``pass_`` (manifest
+    key ``pass``): ``loaded``, recorded while the tool cuts when ``while_cutting`` (the path
+    then carries the cut's static deflection, :func:`robomill.synth.load.static_deflection_mm`;
+    otherwise the robot moves along the path without cutting, as the thesis' runs), or
+    ``air``, the same path without material. ``run``: the run's id, which seeds its noise and
+    ripple phase (default ``<dir>_f<feed>``).
     """
     tr = settings(config)
     fs = float(tr["fs_hz"])
@@ -103,7 +109,7 @@ def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
     q = scipy.interpolate.CubicSpline(s_grid, q_grid, axis=0)(s)
     nominal = cell.cut_path_mm(cut, s)
     gear_err = cell.tcp_error_mm(q)
-    rng = _rng(cell, run_id(direction, feed_mm_s))
+    rng = _rng(cell, run or run_id(direction, feed_mm_s))
     e = np.asarray(tr["ripple_direction"], float)
     e = e / np.linalg.norm(e)
     phase = rng.uniform(0, 2 * np.pi)
@@ -111,6 +117,10 @@ def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
         np.sin(2 * np.pi * float(tr["ripple_hz"]) * t + phase), e)
     noise = 1e-3 * float(tr["noise_std_um"]) * rng.standard_normal((t.size, 3))
     p = nominal + gear_err + ripple + noise
+    if pass_ == "loaded" and tr["while_cutting"]:
+        from robomill.synth.load import static_deflection_mm
+
+        p = p + static_deflection_mm(config, cell, cut, q)
     return pd.DataFrame({"t_s": t, "x_mm": p[:, 0], "y_mm": p[:, 1], "z_mm": p[:, 2]})
 
 
