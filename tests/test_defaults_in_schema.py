@@ -27,12 +27,9 @@ ALLOWED = {
     ("src/robomill/experiment.py", "flutes"): "THESIS_PROCESS, as spindle_rpm",
     ("src/robomill/pipeline/config.py", "source"):
         "the `data: synthetic` shorthand written out (normalize_data), not a default",
-    ("src/robomill/plan/request.py", "robot_mode_max_hz"):
-        "a key of the plan request file plan.yaml, not of the configuration",
     ("src/robomill/kinematics.py", "length_unit"):
         "a robot file's optional key (docs/data-contract.md), read where no configuration is",
     ("src/robomill/kinematics.py", "angle_unit"): "a robot file's optional key, as length_unit",
-    ("src/robomill/kinematics.py", "tool"): "a robot file's optional key, as length_unit",
     ("src/robomill/io/robots.py", "tool"): "a robot file's optional key, as length_unit",
     ("src/robomill/synth/loadtests.py", "tool"): "a robot file's optional key, as length_unit",
     ("src/robomill/synth/cell.py", "tool_rotation"):

@@ -3,6 +3,7 @@
 # folder has the measurements behind it (the plan says which prediction is missing).
 
 
+from robomill.experiment import tracker_pass
 from robomill.plan import NEXT_RUN_DIR
 
 PLAN_REQUEST = config["plan"]["request"]
@@ -125,7 +126,9 @@ rule plan_check:
         # the study's static deflection, where it tracked a cut loaded and in the air
         **(
             {"deflection": "results/straightness/deflection.csv"}
-            if TRACKER_PAIRS
+            if any(
+                f["kind"] == "tracker" and tracker_pass(f) == "air" for f in RAW_FILES
+            )
             else {}
         ),
         **PLAN_NEXT_OUTCOMES,

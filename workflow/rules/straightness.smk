@@ -118,7 +118,7 @@ if TRACKER_PAIRS:
         params:
             settings=config["straightness"],
             pairs=TRACKER_PAIRS,
-            specs=[tracker_run_spec(r) for r in TRACKER_PAIRED],
+            specs=[tracker_run_spec(r, TRACKER_RUNS[r]) for r in TRACKER_PAIRED],
         script:
             "../scripts/straightness_deflection.py"
 
