@@ -206,29 +206,26 @@ def _layer_offences(path: Path, text: str | None = None) -> list[str]:
 
 def test_science_imports_no_tooling_and_only_the_readers_it_is_allowed():
     files = _science_files()
-    assert len(files) > 25 and PKG / "spectra.py" in files and PKG / "_imports.py" in files
+    assert len(files) > 25 and PKG / "spectra.py" in files and PKG / "lazy.py" in files
     offenders = {str(p.relative_to(REPO)): _layer_offences(p) for p in files}
     assert {k: v for k, v in offenders.items() if v} == {}
 
 
 def test_nobody_imports_error_types_from_io():
-    allowed = {PKG / "io" / "errors.py"}  # the re-export for older code
     offenders = {}
     for p in sorted(PKG.rglob("*.py")):
-        if p in allowed:
-            continue
         bad = [f"{m}: {', '.join(n)}" for m, n in _imports(p)
                if m == "robomill.io.errors"
                or (m == "robomill.io" and (ERROR_TYPES & set(n) or "errors" in n))]
         if bad:
             offenders[str(p.relative_to(REPO))] = bad
     assert offenders == {}
-    assert (PKG / "errors.py").exists()
+    assert (PKG / "errors.py").exists() and not (PKG / "io" / "errors.py").exists()
 
 
 def test_the_package_top_level_imports_no_submodule():
     found = [m for m, _ in _imports(PKG / "__init__.py", top_level_only=True)]
-    assert all(m in {"importlib", "__future__"} for m in found), found
+    assert all(m in {"__future__", "robomill.lazy"} for m in found), found
 
 
 def test_no_import_cycle_within_synth():
@@ -306,7 +303,7 @@ def test_import_robomill_loads_nothing_heavy_and_still_offers_the_artefact_funct
 
 
 def test_importing_every_science_module_loads_no_tooling():
-    names = sorted({_module_name(p) for p in _science_files()} - {"robomill._imports"})
+    names = sorted({_module_name(p) for p in _science_files()})
     assert _python(SCIENCE_CHECK.format(names=names))[0] == "none"
 
 

@@ -6,7 +6,7 @@ import copy
 import numpy as np
 import pytest
 
-from robomill.io.errors import ConfigError
+from robomill.errors import ConfigError
 from robomill.synth.plan import synthetic_cuts, synthetic_manifest
 
 SERIES = [  # a spindle-speed series with a 3-flute tool, -X and 45 deg slots

@@ -21,7 +21,7 @@ import pytest
 import yaml
 from conftest import REPO, run_snakemake
 
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 from robomill.io.manifest import parse_manifest
 from robomill.io.needs import CHAPTER_NEEDS, required_cut_keys, required_experiment_keys
 

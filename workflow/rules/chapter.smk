@@ -27,7 +27,6 @@ rule chapter:
     params:
         options=config["chapters"],
         failed_copy=chapter_failed_copy,
-        figure_cache=chapter_figure_cache,
         parameters=chapter_parameters,
     script:
         "../scripts/render_chapter.py"

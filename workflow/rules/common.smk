@@ -14,7 +14,7 @@ from robomill.experiment import (
     tracker_run,
 )
 from robomill.io.cell import peek_robot_name
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 from robomill.io.manifest import load_manifest, parse_manifest
 from robomill.synth.plan import synthetic_manifest
 
@@ -305,11 +305,6 @@ def chapter_parameters(wildcards, output):
 def chapter_failed_copy(wildcards, output):
     """Where a failing chapter's executed notebook is kept (beside its log)."""
     return f"results/logs/chapters/{chapter_target(wildcards, output)}.failed.ipynb"
-
-
-def chapter_figure_cache(wildcards, output):
-    """The folder of a chapter's figure cache (``chapters.figure_cache``)."""
-    return f"results/.cache/figures/{chapter_target(wildcards, output)}"
 
 
 def tracker_run_spec(run):

@@ -11,7 +11,6 @@ come from one place in both modes.
 
 from __future__ import annotations
 
-import importlib
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -175,11 +174,3 @@ def synthetic_manifest(config: Mapping[str, Any]) -> dict[str, Any]:
             "cuts": [c.as_dict() for c in synthetic_cuts(config)],
             "files": planned_files(config)}
 
-
-def __getattr__(name: str) -> Any:
-    """``instruments`` (now :func:`robomill.synth.truth.instruments`, its one user), looked up
-    on first use: importing it here would import every simulator, and each imports this module
-    (a cycle)."""
-    if name == "instruments":
-        return importlib.import_module("robomill.synth.truth").instruments
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
