@@ -70,7 +70,7 @@ PLAN_CHECK = """
 import sys
 from robomill.pipeline.config import load_config
 from robomill.io.manifest import parse_manifest
-from robomill.synth.plan import SIMULATORS, synthetic_manifest
+from robomill.synth.layout import SIMULATORS, synthetic_manifest
 plan = parse_manifest(synthetic_manifest(load_config({config!r})), "manifest.yaml",
                       require_sha256=False)
 print(len(plan.cuts), len(plan.files), plan.cell_file)
@@ -248,7 +248,7 @@ def test_no_import_cycle_within_synth():
     for node in sorted(graph):
         if node not in state:
             visit(node, [node])
-    assert "robomill.synth.plan" in graph and graph["robomill.synth.truth"]
+    assert "robomill.synth.layout" in graph and graph["robomill.synth.truth"]
     assert cycles == []
 
 
@@ -349,3 +349,14 @@ def test_the_configured_design_is_read_by_the_simulators_alone():
     (where, line), = readers.items()
     assert where.startswith("common.smk:") and '.get("layout")' in line
     assert READS_EXPERIMENT.search(SYNTH_RULES.read_text())
+
+
+def test_the_synthetic_layout_is_one_module_and_no_simulator_wraps_it():
+    """``robomill.plan`` is the planner; the virtual study's raw-file layout is
+    ``robomill.synth.layout``, and no simulator keeps a ``plan()`` that only forwards to it."""
+    synth = PKG / "synth"
+    assert (synth / "layout.py").exists() and not (synth / "plan.py").exists()
+    wrappers = [p.name for p in sorted(synth.glob("*.py"))
+                for node in ast.parse(p.read_text()).body
+                if isinstance(node, ast.FunctionDef) and node.name == "plan"]
+    assert wrappers == []

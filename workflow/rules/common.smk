@@ -16,7 +16,7 @@ from robomill.experiment import (
 from robomill.io.cell import peek_robot_name
 from robomill.errors import RawDataError
 from robomill.io.manifest import load_manifest, parse_manifest
-from robomill.synth.plan import synthetic_manifest
+from robomill.synth.layout import synthetic_manifest
 
 REPO = Path(workflow.basedir)
 SYNTHETIC = config["data"]["source"] == "synthetic"
@@ -27,7 +27,7 @@ ENV = "../envs/robomill.yaml"
 
 # The study plan, one parser in both modes: the raw folder's manifest.yaml, or for synthetic
 # data the manifest the simulators will write (planned from the configuration without
-# importing a simulator; robomill.synth.plan).
+# importing a simulator; robomill.synth.layout).
 # A bad manifest stops the run with its one line (file: where: problem (expected ...)),
 # not a Python stack.
 try:

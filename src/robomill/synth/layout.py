@@ -1,9 +1,9 @@
-"""The plan of the synthetic study: which raw files the instrument simulators write, as a
-manifest (without sha256), computed from the configuration alone.
+"""The layout of the synthetic study's raw folder: which raw files the instrument simulators
+write, as a manifest (without sha256), computed from the configuration alone.
 
 Snakemake plans its DAG from here at every start (``workflow/rules/common.smk``), so this
 module imports no simulator (the simulators import it; :mod:`robomill.synth.truth` imports
-them): each instrument's ``plan(config)`` delegates to the functions below, and the plan goes
+them): :func:`instrument_files` lays out each instrument's files, and the layout goes
 through the same parser as a real folder's ``manifest.yaml``
 (:func:`robomill.io.manifest.parse_manifest` with ``require_sha256=False``): cuts and files
 come from one place in both modes.
