@@ -6,7 +6,8 @@ import sys
 
 from robomill.pipeline.book_print import find_chromium
 
-CHROMIUM = find_chromium()  # $ROBOMILL_CHROMIUM, else the first browser of CHROMIUM_NAMES
+# $ROBOMILL_CHROMIUM, else the first browser of book_print.CHROMIUM_NAMES found
+CHROMIUM = find_chromium()
 # config book.pdf: false leaves the print out of `all` (the index does not link it)
 PRINT_BOOK = config["book"]["pdf"]
 
