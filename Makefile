@@ -55,7 +55,7 @@ bench: $(STAMP)
 # Regenerate the pinned, hashed lock from pyproject.toml (needs network access to PyPI).
 UV ?= $(shell command -v uv || echo $(BIN)/uv)
 lock:
-	$(UV) pip compile pyproject.toml --extra dev --generate-hashes --universal --python-version 3.11 -q -o environment.lock
+	$(UV) pip compile pyproject.toml --extra dev --excludes environment.excludes --generate-hashes --universal --python-version 3.11 -q -o environment.lock
 
 # Chapter notebooks: the pipeline runs notebooks/<name>.ipynb, built with jupytext from the
 # percent-format source notebooks/src/<name>.py (edit the source, then `make notebooks`, commit both;

@@ -252,3 +252,13 @@ def test_the_title_page_states_this_studys_experiment_not_the_thesis():
                            "depth_mm": [0.25, 0.25, 0.5, 0.5]})
     assert experiment_line(thesis) == ("4 cuts in 2 sets; spindle 28000 rpm; feed 1–10 mm/s; "
                                        "depth 0.25–0.5 mm")
+
+
+def test_the_workflow_finds_chromium_as_the_printer_does():
+    """One Chromium lookup: the workflow asks robomill.pipeline.book_print.find_chromium, and
+    names no browser of its own."""
+    from pathlib import Path
+
+    rules = (Path(__file__).resolve().parents[1] / "workflow" / "rules" / "book.smk").read_text()
+    assert "find_chromium()" in rules
+    assert "shutil.which" not in rules and '"chromium' not in rules

@@ -70,7 +70,7 @@ PLAN_CHECK = """
 import sys
 from robomill.pipeline.config import load_config
 from robomill.io.manifest import parse_manifest
-from robomill.synth.plan import SIMULATORS, synthetic_manifest
+from robomill.synth.layout import SIMULATORS, synthetic_manifest
 plan = parse_manifest(synthetic_manifest(load_config({config!r})), "manifest.yaml",
                       require_sha256=False)
 print(len(plan.cuts), len(plan.files), plan.cell_file)
@@ -206,29 +206,26 @@ def _layer_offences(path: Path, text: str | None = None) -> list[str]:
 
 def test_science_imports_no_tooling_and_only_the_readers_it_is_allowed():
     files = _science_files()
-    assert len(files) > 25 and PKG / "spectra.py" in files and PKG / "_imports.py" in files
+    assert len(files) > 25 and PKG / "spectra.py" in files and PKG / "lazy.py" in files
     offenders = {str(p.relative_to(REPO)): _layer_offences(p) for p in files}
     assert {k: v for k, v in offenders.items() if v} == {}
 
 
 def test_nobody_imports_error_types_from_io():
-    allowed = {PKG / "io" / "errors.py"}  # the re-export for older code
     offenders = {}
     for p in sorted(PKG.rglob("*.py")):
-        if p in allowed:
-            continue
         bad = [f"{m}: {', '.join(n)}" for m, n in _imports(p)
                if m == "robomill.io.errors"
                or (m == "robomill.io" and (ERROR_TYPES & set(n) or "errors" in n))]
         if bad:
             offenders[str(p.relative_to(REPO))] = bad
     assert offenders == {}
-    assert (PKG / "errors.py").exists()
+    assert (PKG / "errors.py").exists() and not (PKG / "io" / "errors.py").exists()
 
 
 def test_the_package_top_level_imports_no_submodule():
     found = [m for m, _ in _imports(PKG / "__init__.py", top_level_only=True)]
-    assert all(m in {"importlib", "__future__"} for m in found), found
+    assert all(m in {"__future__", "robomill.lazy"} for m in found), found
 
 
 def test_no_import_cycle_within_synth():
@@ -251,7 +248,7 @@ def test_no_import_cycle_within_synth():
     for node in sorted(graph):
         if node not in state:
             visit(node, [node])
-    assert "robomill.synth.plan" in graph and graph["robomill.synth.truth"]
+    assert "robomill.synth.layout" in graph and graph["robomill.synth.truth"]
     assert cycles == []
 
 
@@ -306,7 +303,7 @@ def test_import_robomill_loads_nothing_heavy_and_still_offers_the_artefact_funct
 
 
 def test_importing_every_science_module_loads_no_tooling():
-    names = sorted({_module_name(p) for p in _science_files()} - {"robomill._imports"})
+    names = sorted({_module_name(p) for p in _science_files()})
     assert _python(SCIENCE_CHECK.format(names=names))[0] == "none"
 
 
@@ -352,3 +349,14 @@ def test_the_configured_design_is_read_by_the_simulators_alone():
     (where, line), = readers.items()
     assert where.startswith("common.smk:") and '.get("layout")' in line
     assert READS_EXPERIMENT.search(SYNTH_RULES.read_text())
+
+
+def test_the_synthetic_layout_is_one_module_and_no_simulator_wraps_it():
+    """``robomill.plan`` is the planner; the virtual study's raw-file layout is
+    ``robomill.synth.layout``, and no simulator keeps a ``plan()`` that only forwards to it."""
+    synth = PKG / "synth"
+    assert (synth / "layout.py").exists() and not (synth / "plan.py").exists()
+    wrappers = [p.name for p in sorted(synth.glob("*.py"))
+                for node in ast.parse(p.read_text()).body
+                if isinstance(node, ast.FunctionDef) and node.name == "plan"]
+    assert wrappers == []

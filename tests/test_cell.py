@@ -286,7 +286,7 @@ def test_bad_mass_model_is_named(cell_cfg, value, message):
 
 
 def test_old_configurations_setting_the_moved_mass_model_are_refused_with_the_fix():
-    from robomill.io.errors import ConfigError
+    from robomill.errors import ConfigError
     from robomill.pipeline.config import validate_config
 
     cfg = yaml.safe_load((REPO / "config.yaml").read_text())

@@ -141,3 +141,30 @@ def test_sdm_scan_stops_at_the_first_unstable_depth_and_reuses_nothing_but_exact
     kept = sdm_spectral_radius(tool, cut, 7000.0, pair, m=20)
     assert len(lobes_sdm._EIGEN_CACHE) >= 1
     np.testing.assert_array_equal(fresh[1], kept[1])
+
+
+def test_one_zero_order_routine_serves_one_tool_and_the_planners_batches():
+    """zoa_lobes is zoa_envelope for one tool: the same depths as the planner's batch
+    routine given the same receptance and frequency grid, and the chatter frequency of the
+    envelope's branch lies on the grid's span."""
+    from robomill.chatter.lobes_zoa import default_frequency_grid, zoa_envelope
+    from robomill.plan.lobes import batch_zoa_lobes
+
+    modes = [ModeXY(**MODE, shape=(1.0, 0.0)), ModeXY(500.0, 0.02, 5e6, (0.3, 1.0))]
+    tool = tool_from_modes(modes)
+    cut = CuttingModel.from_immersion(3, 7e8, 0.4, 0.5, "up")
+    rpm = np.linspace(12000.0, 3000.0, 91)  # descending: results come back in this order
+    f = default_frequency_grid(tool)
+    a, fc = zoa_lobes(tool, cut, rpm, f_hz=f)
+    env = zoa_envelope(np.moveaxis(tool.frf(f), -1, 0)[None], f, cut, rpm)
+    batch = batch_zoa_lobes([[m.f_hz for m in modes]], [m.zeta for m in modes],
+                            [[m.k_N_m for m in modes]], [[m.shape for m in modes]], cut, rpm,
+                            f_hz=f)
+    ok = np.isfinite(a)
+    assert ok.sum() > 80
+    np.testing.assert_array_equal(env[0][ok], a[ok])
+    np.testing.assert_allclose(batch[0][ok], a[ok], rtol=1e-9)
+    assert (fc[ok] >= f.min()).all() and (fc[ok] <= f.max()).all()
+    # the same speeds in ascending order give the same depths, reversed
+    a_up, _ = zoa_lobes(tool, cut, rpm[::-1], f_hz=f)
+    np.testing.assert_array_equal(a_up[::-1][ok], a[ok])

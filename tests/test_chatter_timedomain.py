@@ -13,7 +13,7 @@ from robomill.chatter.detection import (
     run_adaptive,
 )
 from robomill.chatter.lobes_sdm import critical_depth, sdm_spectral_radius
-from robomill.chatter.study import classify_run
+from robomill.chatter.seed import classify_run
 from robomill.chatter.timedomain import SeedParams, SeedSimulation, horizontal_tool
 
 DET = {"window_s": 0.5, "band_hz": [20.0, 1000.0], "harmonic_halfwidth_hz": 10.0,

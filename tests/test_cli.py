@@ -286,7 +286,7 @@ FAKE = '''
 """A fake importer for the tests: each source line 't,fx,fy,fz' -> a force CSV."""
 from pathlib import Path
 
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 
 FORMAT = "fake"
 KIND = "force"

@@ -60,10 +60,6 @@ def test_every_public_name_loads_from_its_submodule():
         assert getattr(modal, name) is getattr(sub, name), name
     with pytest.raises(AttributeError, match="no_such_name"):
         modal.no_such_name  # noqa: B018
-    from robomill.io.impact import write_frf_uff  # moved to robomill.modal.uff, still here
-    from robomill.modal.uff import write_frf_uff as moved
-
-    assert write_frf_uff is moved
 
 
 def test_scripts_and_notebooks_import_modal_submodules_only():

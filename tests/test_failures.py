@@ -26,7 +26,7 @@ def test_summary_names_jobs_errors_logs_and_notebooks(tmp_path):
                     " 'x'; executed notebook kept at results/logs/chapters/ch2.failed.ipynb\n")
     log2 = tmp_path / "p.log"
     log2.write_text("INFO start\nTraceback (most recent call last):\n  File y\n"
-                    "robomill.io.errors.RawDataError: profiles/s1_g1_px.csv: row 5, column z_um:"
+                    "robomill.errors.RawDataError: profiles/s1_g1_px.csv: row 5, column z_um:"
                     " value 'abc' is not a number (expected a finite number)\n")
     slog = tmp_path / "snakemake.log"
     slog.write_text(LOG.format(log1=log1, log2=log2))

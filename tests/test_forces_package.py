@@ -26,8 +26,10 @@ def test_import_is_inert():
 @pytest.mark.parametrize("name", sorted(forces.__all__))
 def test_every_public_name_resolves_to_its_module(name):
     obj = getattr(forces, name)
-    mod = forces._MODULE[name]
-    full = mod if mod.startswith("robomill.") else f"robomill.forces.{mod}"
+    from robomill.lazy import module_name
+
+    mod = next(m for m, names in forces._EXPORTS.items() if name in names)
+    full = module_name("robomill.forces", mod)
     assert getattr(sys.modules[full], name) is obj
     assert name in dir(forces)
 

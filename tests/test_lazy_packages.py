@@ -61,10 +61,47 @@ def test_what_the_workflow_imports_while_parsed_stays_light():
     """The Snakefile and its rule files import these on every snakemake call, before any job:
     none may pull in the science stack (plan/outputs.py did: ~1 s per call)."""
     code = ("import sys; import robomill.plan, robomill.pipeline.codedeps, robomill.experiment, "
-            "robomill.io.manifest, robomill.io.cell, robomill.synth.plan, "
+            "robomill.io.manifest, robomill.io.cell, robomill.synth.layout, "
             "robomill.pipeline.config; "
             "print(sorted(m for m in sys.modules if m.split('.')[0] in ('scipy', 'xarray', "
             "'matplotlib') or m.startswith(('robomill.plan.', 'robomill.straightness.'))))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True).stdout.strip()
     assert out == "[]", out
+
+
+def test_a_table_of_single_strings_is_refused_not_spelt_out():
+    """A module mapped to one string would export its letters; it is a TypeError instead."""
+    from robomill.lazy import lazy_exports
+
+    with pytest.raises(TypeError, match="maps a module to a list of names; 'model' maps to"):
+        lazy_exports("robomill.chatter", {"model": "CuttingModel"})
+    with pytest.raises(ValueError, match="'fit' is exported from both"):
+        lazy_exports("robomill.chatter", {"model": ("fit",), "figures": ("fit",)})
+
+
+def test_every_package_uses_the_one_lazy_helper():
+    """No package writes its own ``__getattr__``: each binds :func:`robomill.lazy.lazy_exports`
+    (the only module-level ``def __getattr__`` is the helper's own, inside it)."""
+    import ast
+    from pathlib import Path
+
+    src = Path(__file__).resolve().parents[1] / "src" / "robomill"
+    own = [str(p.relative_to(src)) for p in sorted(src.rglob("*.py"))
+           for node in ast.parse(p.read_text()).body
+           if isinstance(node, ast.FunctionDef) and node.name == "__getattr__"]
+    assert own == []
+
+
+def test_rules_follow_a_lazily_exported_name_to_its_module(tmp_path):
+    """``from robomill.io import write_artefact`` ties a rule to ``io/artefacts.py``."""
+    from pathlib import Path
+
+    from robomill.pipeline.codedeps import code_files
+
+    src = Path(__file__).resolve().parents[1] / "src"
+    script = tmp_path / "script.py"
+    script.write_text("from robomill.io import write_artefact\n")
+    files = {Path(f).relative_to(src).as_posix() for f in code_files([script], src)}
+    assert "robomill/io/artefacts.py" in files
+    assert "robomill/pipeline/catalog.py" not in files

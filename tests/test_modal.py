@@ -10,7 +10,8 @@ import xarray as xr
 
 from robomill import modal
 from robomill.io import RawDataError
-from robomill.io.impact import read_frf_uff, read_hit, write_frf_uff
+from robomill.io.impact import read_frf_uff, read_hit
+from robomill.modal.uff import write_frf_uff
 from robomill.synth import impact as synth_impact
 from robomill.synth.cell import cell_from_config
 

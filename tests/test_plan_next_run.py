@@ -45,7 +45,7 @@ def test_per_cut_tracking_gives_each_cut_its_own_run():
 
     from robomill.experiment import tracker_run
     from robomill.pipeline.config import load_config
-    from robomill.synth.plan import instrument_files
+    from robomill.synth.layout import instrument_files
 
     base = load_config(REPO / "config.yaml")
     overlay = next_config(MANIFEST)

@@ -13,8 +13,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from robomill.errors import RawDataError
 from robomill.importers import spatialanalyzer
-from robomill.io.errors import RawDataError
 from robomill.io.manifest import parse_manifest
 from robomill.io.tracker import read_tracker
 from robomill.straightness.attribution import classify_peaks

@@ -5,10 +5,11 @@ import numpy as np
 from robomill.io.robots import read_load_tests, read_robot_file
 from robomill.stiffness import identify_from_tests
 from robomill.synth import loadtests
+from robomill.synth.layout import instrument_files
 
 
 def test_plan_lists_robot_and_load_tests(tiny_config):
-    files = loadtests.plan(tiny_config)
+    files = instrument_files(tiny_config, "loadtests")
     kinds = {(f["kind"], f["robot"]) for f in files}
     assert {("robot", "kr360"), ("stiffness", "kr360"), ("robot", "irb1600"),
             ("stiffness", "irb1600")} <= kinds

@@ -9,6 +9,7 @@ import pytest
 from robomill.io import RawDataError
 from robomill.io.tracker import read_tracker
 from robomill.synth import tracker
+from robomill.synth.layout import instrument_files
 
 
 def _write(tmp_path, df, name="py_f2.csv"):
@@ -42,7 +43,7 @@ def test_bad_files_are_refused_with_a_clear_error(tmp_path, change, match):
 
 
 def test_plan_lists_every_direction_and_feed(config, tiny_config):
-    files = tracker.plan(config)
+    files = instrument_files(config, "tracker")
     feeds = sorted({f for s in config["experiment"]["sets"] for f in s["feeds_mm_s"]})
     assert len(files) == 3 * len(feeds)
     for f in files:
@@ -50,7 +51,7 @@ def test_plan_lists_every_direction_and_feed(config, tiny_config):
         assert f["path"] == f"tracker/{f['direction']}_f{f['feed_mm_s']:g}.csv"
     # feeds 2..10 follow set 3 (thesis Figs 3.12-3.15)
     assert {f["cut"][:2] for f in files if f["feed_mm_s"] in (6.0, 8.0, 10.0, 2.0)} == {"s3"}
-    assert len(tracker.plan(tiny_config)) == 2
+    assert len(instrument_files(tiny_config, "tracker")) == 2
 
 
 def test_simulated_run_follows_the_contract(tmp_path, tiny_config):

@@ -2,7 +2,7 @@
 
 They live at the package's top level so that the science modules, the readers, the importers
 and the pipeline's tooling all raise the same types without importing one another
-(:mod:`robomill.io.errors` re-exports them for older imports). Every reader in
+(:mod:`robomill.io` re-exports them). Every reader in
 :mod:`robomill.io` raises :class:`RawDataError` when a file does not follow
 ``docs/data-contract.md``. The message always names the file, where in it the problem is
 (row, column or key) and what was expected, so that a user can fix the file without reading

@@ -107,7 +107,7 @@ def dataclass_from_mapping(cls: type[T], section: Mapping[str, Any], *,
 
     Keys that are not fields are ignored (a config section that also holds other settings),
     unless ``strict`` names the section (e.g. ``"chatter.seed.params"``): then an unknown key
-    (a misspelt one) is a :class:`robomill.io.errors.ConfigError` naming the section, the
+    (a misspelt one) is a :class:`robomill.errors.ConfigError` naming the section, the
     keys and the fields expected.
     """
     names = {f.name for f in dataclasses.fields(cls)}

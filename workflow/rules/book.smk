@@ -2,21 +2,12 @@
 # the whole book as one print-ready PDF, results/thesis/book.pdf (headless Chromium). Without
 # a Chromium `all` leaves the PDF out with one warning line; asking for book.pdf fails naming
 # the package to install.
-import shutil
 import sys
 
-CHROMIUM = next(
-    (
-        shutil.which(n)
-        for n in (
-            os.environ.get("ROBOMILL_CHROMIUM") or "chromium",
-            "chromium-browser",
-            "google-chrome",
-        )
-        if shutil.which(n)
-    ),
-    None,
-)
+from robomill.pipeline.book_print import find_chromium
+
+# $ROBOMILL_CHROMIUM, else the first browser of book_print.CHROMIUM_NAMES found
+CHROMIUM = find_chromium()
 # config book.pdf: false leaves the print out of `all` (the index does not link it)
 PRINT_BOOK = config["book"]["pdf"]
 

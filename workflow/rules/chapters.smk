@@ -23,7 +23,6 @@ for _c in CHAPTERS.values():
         params:
             options=config["chapters"],
             failed_copy=chapter_failed_copy,
-            figure_cache=chapter_figure_cache,
             parameters=chapter_parameters,
             shown=chapter_shown_parameters,
         script:

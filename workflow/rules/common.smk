@@ -14,7 +14,7 @@ from robomill.experiment import (
     tracker_run,
 )
 from robomill.io.cell import peek_robot_name
-from robomill.io.errors import RawDataError
+from robomill.errors import RawDataError
 from robomill.io.manifest import load_manifest, parse_manifest
 from robomill.registry import (
     REGISTRY_ENV,
@@ -22,7 +22,7 @@ from robomill.registry import (
     chapters as registry_chapters,
     unmet_requirement,
 )
-from robomill.synth.plan import synthetic_manifest
+from robomill.synth.layout import synthetic_manifest
 
 REPO = Path(workflow.basedir)
 SYNTHETIC = config["data"]["source"] == "synthetic"
@@ -38,7 +38,7 @@ CHAPTERS = {c.id: c for c in registry_chapters()}
 
 # The study plan, one parser in both modes: the raw folder's manifest.yaml, or for synthetic
 # data the manifest the simulators will write (planned from the configuration without
-# importing a simulator; robomill.synth.plan).
+# importing a simulator; robomill.synth.layout).
 # A bad manifest stops the run with its one line (file: where: problem (expected ...)),
 # not a Python stack.
 try:
@@ -324,11 +324,6 @@ def chapter_shown_parameters(wildcards, output):
 def chapter_failed_copy(wildcards, output):
     """Where a failing chapter's executed notebook is kept (beside its log)."""
     return f"results/logs/chapters/{chapter_target(wildcards, output)}.failed.ipynb"
-
-
-def chapter_figure_cache(wildcards, output):
-    """The folder of a chapter's figure cache (``chapters.figure_cache``)."""
-    return f"results/.cache/figures/{chapter_target(wildcards, output)}"
 
 
 def tracker_run_spec(run, f):

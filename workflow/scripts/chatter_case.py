@@ -9,7 +9,7 @@ from robomill.pipeline.runlog import Progress, setup  # noqa: E402
 
 log = setup(snakemake.log[0], "chatter")
 
-from robomill.chatter.study import run_case  # noqa: E402
+from robomill.chatter.cases import run_case  # noqa: E402
 from robomill.io import write_artefact  # noqa: E402
 
 p = snakemake.params

@@ -5,7 +5,7 @@ import os
 for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
     os.environ[_v] = "1"
 
-from robomill.chatter.study import run_seed  # noqa: E402
+from robomill.chatter.seed import run_seed  # noqa: E402
 from robomill.io import write_artefact  # noqa: E402
 from robomill.pipeline.runlog import setup  # noqa: E402
 

@@ -7,7 +7,7 @@ for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import pandas as pd  # noqa: E402
 
-from robomill.chatter.study import run_thesis  # noqa: E402
+from robomill.chatter.thesis_study import run_thesis  # noqa: E402
 from robomill.io import write_artefact, write_table  # noqa: E402
 from robomill.pipeline.runlog import setup  # noqa: E402
 

@@ -3,7 +3,7 @@ the other in this process (one output per run, in the order of ``params.runs``).
 
 from robomill.pipeline.runlog import setup
 from robomill.synth.cell import cell_from_config
-from robomill.synth.plan import synthetic_cuts
+from robomill.synth.layout import synthetic_cuts
 from robomill.synth.tracker import simulate_run, write_run
 
 log = setup(snakemake.log[0], "straightness_synth_tracker")

@@ -19,7 +19,8 @@ Modules
 -------
 :mod:`~robomill.chatter.model`      linear tool models (modes → state space), directional
                                     matrix W(φ), immersion angles
-:mod:`~robomill.chatter.lobes_zoa`  zero-order analytical lobes (Altintas & Budak 1995)
+:mod:`~robomill.chatter.lobes_zoa`  zero-order analytical lobes (Altintas & Budak 1995), the
+                                    one routine for one tool and for the planner's batches
 :mod:`~robomill.chatter.lobes_sdm`  first-order semi-discretization (Insperger & Stépán 2004;
                                     the seed-002 diagram and the benchmark's baseline)
 :mod:`~robomill.chatter.lobes_sem`  spectral element with exact free flight (Khasawneh & Mann
@@ -29,6 +30,11 @@ Modules
 :mod:`~robomill.chatter.modal_timedomain` the seed-002 chip and force law on a modal tool
                                     (regenerative and delay-free): the plan's stability check
 :mod:`~robomill.chatter.thesis`     thesis robot: slot frames, mode coupling, recommendations
+:mod:`~robomill.chatter.lobe_maps`  lobe diagrams as datasets (zoa beside sdm or sem)
+:mod:`~robomill.chatter.cases`      the configured lobe cases
+:mod:`~robomill.chatter.seed`       the seed-002 study (lobes, time domain, onset check)
+:mod:`~robomill.chatter.thesis_study` the thesis robot's slots: lobes, mode coupling,
+                                    recommendations
 :mod:`~robomill.chatter.findings`   chapter 4's findings from the stage's artefacts
 :mod:`~robomill.chatter.tables`     chapter 4's tables (onset checks, mode coupling)
 :mod:`~robomill.chatter.figures`    chapter 4's figures

@@ -10,6 +10,14 @@ writing 1/λ = u + jv:
 which is Altintas' a_lim = −2πΛ_R(1 + κ²)/(N K_t), ψ = atan κ, ε = π − 2ψ, τ = (ε + 2kπ)/ω_c
 written with the eigenvalue of W̄G (W̄ = N K_t α/(4π)). For a single mode in one direction it
 reduces to the closed form a_lim = 1/(2 W̄_dd Re G_dd).
+
+One routine computes the lobes, :func:`zoa_envelope`, for a stack of receptances (one per
+tool model) on a chatter-frequency grid the caller chooses: the 2 × 2 eigenvalues are taken in
+closed form, each branch (lobe k, eigenvalue) is a curve (n(f), a(f)), and the lobe diagram is
+the lower envelope of every branch, found by scattering each branch segment onto the spindle
+speeds it spans (linear interpolation along the segment). :func:`zoa_lobes` is it for one
+:class:`~robomill.chatter.model.LinearTool` on :func:`default_frequency_grid`;
+:func:`robomill.plan.lobes.batch_zoa_lobes` for many modal tool models on the planner's grid.
 """
 
 from __future__ import annotations
@@ -19,42 +27,129 @@ import numpy as np
 from robomill.chatter.model import CuttingModel, LinearTool, lobe_parameters
 
 
-def _track(lam: np.ndarray) -> np.ndarray:
-    """Order the two eigenvalues at each frequency so each column is a continuous branch
-    (eigvals returns them in arbitrary order; a swap would join points of different lobes)."""
-    out = lam.copy()
-    for i in range(1, len(out)):
-        keep = abs(out[i, 0] - out[i - 1, 0]) + abs(out[i, 1] - out[i - 1, 1])
-        swap = abs(out[i, 1] - out[i - 1, 0]) + abs(out[i, 0] - out[i - 1, 1])
-        if swap < keep:
-            out[i] = out[i, ::-1]
+def _left_multiply(W: np.ndarray, G: np.ndarray) -> np.ndarray:
+    """W G for one real 2 × 2 ``W`` and a stack ``(..., 2, 2)``, written out (faster than a
+    general product for 2 × 2 blocks)."""
+    out = np.empty_like(G)
+    for i in range(2):
+        for j in range(2):
+            out[..., i, j] = W[i, 0] * G[..., 0, j] + W[i, 1] * G[..., 1, j]
     return out
 
 
-def zoa_branches(tool: LinearTool, cut: CuttingModel, f_hz: np.ndarray, n_lobes: int):
-    """Lobe branches: for every chatter frequency f, eigenvalue e and lobe k the spindle speed
-    and the limiting depth.
+#: an eigenvalue below this fraction of the larger one is zero (the closed form's rounding)
+EIG_ZERO = 16 * np.finfo(float).eps
 
-    Returns
-    -------
-    rpm, a_m : ndarray ``(n_lobes, n_eig, nf)``; a_m is +inf where no chatter is possible
-        (u ≤ 0).
+
+def _eig2(A: np.ndarray) -> np.ndarray:
+    """Eigenvalues ``(..., 2)`` of 2 × 2 matrices ``(..., 2, 2)`` in closed form.
+
+    An eigenvalue within rounding of zero (below :data:`EIG_ZERO` times the larger one: a
+    rank-one W̄G, a tool with modes in one direction only) is returned as exactly zero, as a
+    general eigensolver finds it; left at its rounding residue it would be a spurious branch
+    of near-infinite depth, joined by the tracking to real branch points."""
+    tr = A[..., 0, 0] + A[..., 1, 1]
+    det = A[..., 0, 0] * A[..., 1, 1] - A[..., 0, 1] * A[..., 1, 0]
+    disc = np.sqrt(tr**2 / 4 - det + 0j)
+    lam = np.stack([tr / 2 + disc, tr / 2 - disc], -1)
+    size = np.abs(lam)
+    return np.where(size <= EIG_ZERO * size.max(-1, keepdims=True), 0.0, lam)
+
+
+def _track(lam: np.ndarray) -> np.ndarray:
+    """Order the two eigenvalues along the frequency axis (axis 1 of ``(B, nf, 2)``) so each
+    column is a continuous branch (a swap would join points of different lobes): at each
+    frequency the pair is swapped when that brings it closer to the previous one.
+
+    Swapping at frequency i is decided by comparing the raw pairs i and i − 1; since a swap at
+    i − 1 exchanges both costs, the output is flipped wherever an odd number of raw steps
+    preferred the swap: a cumulative parity, without a loop over frequencies."""
+    d = lam[:, 1:] - lam[:, :-1]
+    keep = np.abs(d[..., 0]) + np.abs(d[..., 1])
+    swap = np.abs(lam[:, 1:, 1] - lam[:, :-1, 0]) + np.abs(lam[:, 1:, 0] - lam[:, :-1, 1])
+    flip = np.concatenate([np.zeros((lam.shape[0], 1), bool),
+                           (np.cumsum(swap < keep, axis=1) % 2).astype(bool)], axis=1)
+    return np.where(flip[..., None], lam[..., ::-1], lam)
+
+
+def _scatter_min(env: np.ndarray, rpm: np.ndarray, a: np.ndarray, n_t: np.ndarray,
+                 f_hz: np.ndarray, chatter_hz: np.ndarray | None) -> None:
+    """Lower the envelope ``env`` ``(b, ns)`` with every branch segment (consecutive
+    frequencies of ``rpm``, ``a`` ``(b, nf, e)``) at the sorted speeds ``n_t`` it spans, by
+    linear interpolation along the segment; where a segment lowers it, ``chatter_hz`` (when
+    given) gets the chatter frequency interpolated the same way."""
+    n0, n1 = rpm[:, :-1], rpm[:, 1:]
+    a0, a1 = a[:, :-1], a[:, 1:]
+    ok = np.isfinite(a0) & np.isfinite(a1) & np.isfinite(n0) & np.isfinite(n1)
+    lo, hi = np.minimum(n0, n1), np.maximum(n0, n1)
+    ok &= (hi >= n_t[0]) & (lo <= n_t[-1])
+    bi, fi, ei = np.nonzero(ok)
+    if bi.size == 0:
+        return
+    lo_s, hi_s = lo[bi, fi, ei], hi[bi, fi, ei]
+    i0 = np.searchsorted(n_t, lo_s, "left")
+    i1 = np.searchsorted(n_t, hi_s, "right")
+    cnt = i1 - i0
+    keep = cnt > 0
+    if not keep.any():
+        return
+    bi, fi, ei, i0, cnt = bi[keep], fi[keep], ei[keep], i0[keep], cnt[keep]
+    rep = np.repeat(np.arange(bi.size), cnt)
+    offs = np.arange(rep.size) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+    ti = i0[rep] + offs
+    b, f_, e = bi[rep], fi[rep], ei[rep]
+    N0, N1 = n0[b, f_, e], n1[b, f_, e]
+    A0, A1 = a0[b, f_, e], a1[b, f_, e]
+    span = N1 - N0
+    w = np.where(span != 0, (n_t[ti] - N0) / np.where(span != 0, span, 1.0), 0.0)
+    values = A0 + w * (A1 - A0)
+    if chatter_hz is None:
+        np.minimum.at(env, (b, ti), values)
+        return
+    before = env[b, ti]
+    np.minimum.at(env, (b, ti), values)
+    lowered = (values < before) & (values == env[b, ti])
+    f0 = f_hz[f_[lowered]]
+    f1 = f_hz[f_[lowered] + 1]
+    chatter_hz[b[lowered], ti[lowered]] = f0 + w[lowered] * (f1 - f0)
+
+
+def zoa_envelope(G: np.ndarray, f_hz: np.ndarray, cut: CuttingModel,
+                 spindle_rpm: np.ndarray, *, chatter_frequency: bool = False
+                 ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
+    """Zero-order critical axial depth ``(B, len(spindle_rpm))`` [m] of B tool models whose
+    receptances ``G`` ``(B, nf, 2, 2)`` [m/N] are given on the chatter frequencies ``f_hz``
+    ``(nf,)``: the lower envelope of every lobe and eigenvalue branch (module docstring), +inf
+    where no branch reaches a speed (no regenerative chatter possible there).
+
+    With ``chatter_frequency``, also the chatter frequency [Hz] of the branch that sets each
+    depth (NaN where the depth is +inf).
     """
     f = np.asarray(f_hz, float)
-    G = tool.frf(f)  # (2, 2, nf)
-    WG = np.einsum("ij,jkf->fik", cut.mean_matrix(), G)
-    lam = _track(np.linalg.eigvals(WG))  # (nf, 2), continuous branches
+    rpm_in = np.atleast_1d(np.asarray(spindle_rpm, float))
+    order = np.argsort(rpm_in)
+    n_t = rpm_in[order]
+    n_lobes = int(np.ceil(f.max() * 60.0 / (cut.teeth * n_t.min()))) + 2
+    lam = _track(_eig2(_left_multiply(cut.mean_matrix(), np.asarray(G))))  # (B, nf, 2)
     with np.errstate(divide="ignore", invalid="ignore"):
         inv = 1.0 / np.where(np.abs(lam) > 0, lam, np.nan)
-    u, v = inv.real, inv.imag
-    with np.errstate(divide="ignore", invalid="ignore"):
+        u, v = inv.real, inv.imag
         a = np.where(u > 0, (u**2 + v**2) / (2 * u), np.inf)
-    eps = 2 * np.arctan2(u, v)  # in (0, π·2) when u > 0
-    k = np.arange(n_lobes)[:, None, None]
-    tau = (eps.T[None] + 2 * np.pi * k) / (2 * np.pi * f[None, None, :])
-    rpm = 60.0 / (cut.teeth * tau)
-    a = np.broadcast_to(np.nan_to_num(a.T, nan=np.inf), rpm.shape)
-    return rpm, a
+    a = np.nan_to_num(a, nan=np.inf)
+    eps = 2 * np.arctan2(u, v)
+    env = np.full((lam.shape[0], n_t.size), np.inf)
+    hz = np.full(env.shape, np.nan) if chatter_frequency else None
+    for k in range(n_lobes):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rpm = 60.0 * 2 * np.pi * f[None, :, None] / (cut.teeth * (eps + 2 * np.pi * k))
+        _scatter_min(env, rpm, a, n_t, f, hz)
+    depth = np.empty_like(env)
+    depth[:, order] = env
+    if hz is None:
+        return depth
+    freq = np.empty_like(hz)
+    freq[:, order] = hz
+    return depth, freq
 
 
 def default_frequency_grid(tool: LinearTool, n: int = 3000) -> np.ndarray:
@@ -69,11 +164,8 @@ def default_frequency_grid(tool: LinearTool, n: int = 3000) -> np.ndarray:
 @lobe_parameters
 def zoa_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray,
               f_hz: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Critical axial depth and chatter frequency on a spindle-speed grid (zero-order method).
-
-    Every branch (lobe k, eigenvalue e) is a curve (n(f), a(f)); the lobe diagram is the lower
-    envelope of all branches, evaluated at each requested speed by linear interpolation along
-    the branch segments that cross it.
+    """Critical axial depth and chatter frequency on a spindle-speed grid (zero-order method,
+    :func:`zoa_envelope` for this one tool).
 
     Parameters
     ----------
@@ -83,7 +175,7 @@ def zoa_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray,
 
     Returns
     -------
-    a_crit_m, chatter_hz : ndarray ``(len(spindle_rpm),)``.
+    a_crit_m, chatter_hz : ndarray ``(len(spindle_rpm),)``; NaN where no lobe reaches a speed.
 
     Examples
     --------
@@ -94,38 +186,9 @@ def zoa_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray,
     >>> bool((a > 0).all() and (fc > 500).all())
     True
     """
-    n_t = np.atleast_1d(np.asarray(spindle_rpm, float))
     f = default_frequency_grid(tool) if f_hz is None else np.asarray(f_hz, float)
-    n_lobes = int(np.ceil(f.max() * 60.0 / (cut.teeth * n_t.min()))) + 2
-    rpm, a = zoa_branches(tool, cut, f, n_lobes)
-    best_a = np.full(n_t.shape, np.inf)
-    best_f = np.full(n_t.shape, np.nan)
-    for k in range(rpm.shape[0]):
-        for e in range(rpm.shape[1]):
-            n0, n1 = rpm[k, e, :-1], rpm[k, e, 1:]
-            a0, a1 = a[k, e, :-1], a[k, e, 1:]
-            ok = np.isfinite(a0) & np.isfinite(a1)
-            if not ok.any():
-                continue
-            n0, n1, a0, a1 = n0[ok], n1[ok], a0[ok], a1[ok]
-            f0, f1 = f[:-1][ok], f[1:][ok]
-            lo, hi = np.minimum(n0, n1), np.maximum(n0, n1)
-            if hi.max() < n_t.min() or lo.min() > n_t.max():
-                continue
-            inside = (n_t[:, None] >= lo[None]) & (n_t[:, None] <= hi[None])
-            ti, si = np.nonzero(inside)
-            if ti.size == 0:
-                continue
-            span = n1[si] - n0[si]
-            w = np.where(span != 0, (n_t[ti] - n0[si]) / np.where(span != 0, span, 1), 0.0)
-            a_i = a0[si] + w * (a1[si] - a0[si])
-            f_i = f0[si] + w * (f1[si] - f0[si])
-            order = np.lexsort((a_i, ti))
-            ti, a_i, f_i = ti[order], a_i[order], f_i[order]
-            first = np.r_[True, ti[1:] != ti[:-1]]
-            ti, a_i, f_i = ti[first], a_i[first], f_i[first]
-            better = a_i < best_a[ti]
-            best_a[ti[better]] = a_i[better]
-            best_f[ti[better]] = f_i[better]
-    best_a[~np.isfinite(best_a)] = np.nan
-    return best_a, best_f
+    G = np.moveaxis(tool.frf(f), -1, 0)[None]  # (1, nf, 2, 2)
+    a, hz = zoa_envelope(G, f, cut, spindle_rpm, chatter_frequency=True)
+    a = a[0]
+    a[~np.isfinite(a)] = np.nan
+    return a, hz[0]

@@ -38,9 +38,6 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command; returns the exit status (0 ok, 1 problems found or nothing done,
     2 usage error)."""
-    from robomill._imports import apply_startup_patches
-
-    apply_startup_patches()  # the command's start-up, as the pipeline's (robomill._imports)
     parser = build_parser()
     args = parser.parse_args(sys.argv[1:] if argv is None else list(argv))
     return int(args.run(args))

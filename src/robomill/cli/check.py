@@ -337,7 +337,7 @@ def check_folder(raw_dir: str | Path, *, jobs: int = 2) -> tuple[list[str], list
     return problems + unlisted, notes + elsewhere
 
 
-def add_parser(sub: argparse._SubParsersAction) -> None:
+def add_parser(sub: Any) -> None:  # what ArgumentParser.add_subparsers() returns
     p = sub.add_parser("check", help=HELP, description=HELP + ". Each line reads "
                        "'file: where: problem (expected ...)'.")
     p.add_argument("dir", type=Path, metavar="DIR", help="the raw folder")

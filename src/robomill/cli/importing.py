@@ -316,7 +316,7 @@ def format_parser(fmt: str, module) -> argparse.ArgumentParser:
     return p
 
 
-def add_parser(sub: argparse._SubParsersAction) -> None:
+def add_parser(sub: Any) -> None:  # what ArgumentParser.add_subparsers() returns
     p = sub.add_parser("import", help=HELP, description=HELP + ". `robomill import FORMAT "
                        "--help` shows a format's options. " + DESIGN_HELP, add_help=False)
     p.add_argument("-h", "--help", action="store_true", dest="import_help",

@@ -163,7 +163,7 @@ def init_folder(raw_dir: str | Path, experiment: dict[str, Any] | None = None) -
     return lines
 
 
-def add_parser(sub: argparse._SubParsersAction) -> None:
+def add_parser(sub: Any) -> None:  # what ArgumentParser.add_subparsers() returns
     p = sub.add_parser("init", help=HELP, description=HELP + " (existing files are kept).")
     p.add_argument("dir", type=Path, metavar="DIR", help="the raw folder to make")
     p.add_argument("--experiment", action="append", metavar="KEY=VALUE",

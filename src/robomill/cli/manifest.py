@@ -177,7 +177,7 @@ def write_manifest_text(manifest: dict[str, Any], path: Path, header: str = "") 
     return path
 
 
-def add_parser(sub: argparse._SubParsersAction) -> None:
+def add_parser(sub: Any) -> None:  # what ArgumentParser.add_subparsers() returns
     p = sub.add_parser("manifest", help=HELP, description=HELP + ". What you already wrote is "
                        "kept; what could not be inferred is listed (and written as null).")
     p.add_argument("dir", type=Path, metavar="DIR", help="the raw folder")

@@ -15,6 +15,7 @@ import json
 import subprocess
 import sys
 from pathlib import Path
+from typing import Any
 
 HELP = "plan the next cuts (pose, speed, depth, feed) from a study's measurements"
 
@@ -71,7 +72,7 @@ def last_reason(log: Path) -> str | None:
     return None
 
 
-def add_parser(sub: argparse._SubParsersAction) -> None:
+def add_parser(sub: Any) -> None:  # what ArgumentParser.add_subparsers() returns
     p = sub.add_parser("plan", help=HELP, description=HELP + ": runs snakemake's plan target "
                        "(results/plan/, chapter 7).")
     p.add_argument("dir", type=Path, metavar="DIR",

@@ -23,9 +23,9 @@ modules themselves, so that the workflow ties a rule only to the modules it uses
 
 from __future__ import annotations
 
-import importlib
+from robomill.lazy import lazy_exports
 
-_WHERE = {
+_EXPORTS = {  # module → its public names
     "model": ("AXES", "BASIS", "COEFFICIENT_UNITS", "MILLING_MODES", "CuttingCoefficients",
               "SlotForceTables", "cut_frame", "engagement_angles_rad", "mean_milling_forces",
               "mean_slot_forces", "slot_force_tables", "slot_forces",
@@ -46,20 +46,4 @@ _WHERE = {
                          "decimate_whole", "lowpass_fir"),
     "robomill.experiment": ("feed_per_tooth_mm", "tooth_passing_hz"),
 }
-_MODULE = {name: mod for mod, names in _WHERE.items() for name in names}
-
-__all__ = sorted(_MODULE)
-
-
-def __getattr__(name: str):
-    mod = _MODULE.get(name)
-    if mod is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    full = mod if mod.startswith("robomill.") else f"{__name__}.{mod}"
-    value = getattr(importlib.import_module(full), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__, __all__ = lazy_exports(__name__, _EXPORTS)

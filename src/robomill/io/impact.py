@@ -445,12 +445,3 @@ def load_impact_test(manifest, entries: Sequence[Mapping[str, Any]]) -> ImpactTe
         hits.append((rec, {**meta, "path": f["path"], "hit": meta["hit"]}))
     return ImpactTest(hits, frfs, paths)
 
-
-def __getattr__(name: str):
-    """``write_frf_uff`` and ``write_modes_uff``, moved to :mod:`robomill.modal.uff`, loaded
-    from there on first use (PEP 562) so that importing this reader does not load them."""
-    if name in ("write_frf_uff", "write_modes_uff"):
-        from robomill.modal import uff
-
-        return getattr(uff, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

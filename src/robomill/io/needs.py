@@ -66,12 +66,6 @@ def fed_chapters(kinds: Iterable[str], has_cuts: bool) -> list[str]:
             if all(kind_present(k, have) for k in n.kinds)]
 
 
-def missing_kinds(needs: Iterable[str], kinds: Iterable[str], has_cuts: bool) -> list[str]:
-    """The kinds of ``needs`` that a folder with ``kinds`` (and cuts if ``has_cuts``) lacks."""
-    have = set(kinds) | ({"cuts"} if has_cuts else set())
-    return [k for k in needs if not kind_present(k, have)]
-
-
 def chapter_list(labels: Iterable[str]) -> str:
     """``chapter 2`` / ``chapters 0, 2`` for a message."""
     labels = list(labels)

@@ -9,11 +9,4 @@ beamframe, hexapod, kinematics, spectra, io, synth — lives beside this package
 :mod:`robomill` and imports nothing from it (a test checks this); the package's top level
 re-exports :func:`robomill.pipeline.catalog.list_artefacts` for notebooks (looked up lazily).
 
-Importing this package applies the start-up patches of :mod:`robomill._imports`: the
-Snakefile and every rule script import it first, so jsonschema and SciPy load fast there
-(``import robomill`` itself stays inert).
 """
-
-from robomill._imports import apply_startup_patches
-
-apply_startup_patches()

@@ -20,7 +20,6 @@ panels of one thesis figure share its number and carry a letter (``part="a"``).
 
 from __future__ import annotations
 
-import uuid
 from dataclasses import dataclass, field
 
 
@@ -58,8 +57,6 @@ class Numbering:
     #: excluded or None: a chapter printed across pages (:meth:`for_chapter`)
     ranges: dict[str, tuple[int, int | None]] = field(default_factory=dict)
     _items: dict[str, _Item] = field(default_factory=dict)
-    #: figures being drawn by the job's figure workers: (key, display id, shown dpi, pickle)
-    _drawing: list[tuple[str, str, float, bytes]] = field(default_factory=list)
 
     def __post_init__(self) -> None:
         if self.fig_dir is not None:  # a chapter: its figure style and inline backend apply
@@ -154,60 +151,20 @@ class Numbering:
 
     def show(self, fig, key: str) -> None:
         """Save ``fig`` as ``<fig_dir>/<file(key)>.png``
-        (:func:`robomill.plotting.save_figure`), show it inline and put its caption under
-        it.
-
-        In a chapter job the figure is drawn by a figure worker
-        (:mod:`robomill.pipeline.figure_workers`) while the notebook goes on: a placeholder
-        with a display id stands where the image goes until :meth:`check` replaces it."""
+        (:func:`robomill.plotting.save_figure`), show that file inline (not drawn a second
+        time) and put its caption under it."""
         import matplotlib.pyplot as plt
         from IPython.display import display
 
-        from robomill.pipeline.figure_workers import BEING_DRAWN, client
         from robomill.plotting import save_figure, saved_image
 
         if self.fig_dir is None:
             raise ValueError(f"chapter {self.chapter}: Numbering(fig_dir=...) is needed to save "
                              f"figure {key!r}")
-        workers = client()
-        display_id = f"robomill-figure-{uuid.uuid4().hex}"
-        blob = workers.send(display_id, fig, self.fig_dir, self.file(key)) if workers else None
-        if blob is not None:
-            display({"text/plain": f"{self.label(key)} (being drawn)"}, raw=True,
-                    metadata={BEING_DRAWN: key}, display_id=display_id)
-            self._drawing.append((key, display_id, fig.dpi, blob))
-            self.caption_text(key)  # marks it shown, as the image's alternative text does
-        else:
-            path = save_figure(fig, self.fig_dir, self.file(key))
-            display(saved_image(path, fig.dpi, alt=self.caption_text(key)))
+        path = save_figure(fig, self.fig_dir, self.file(key))
+        display(saved_image(path, fig.dpi, alt=self.caption_text(key)))
         plt.close(fig)
         display(self.caption(key))
-
-    def finish_figures(self) -> None:
-        """Wait for the figures the workers are drawing and put each image where its
-        placeholder stands (:meth:`show`). A figure whose worker failed is drawn here, from
-        the same pickle, so that a drawing error is raised (``RuntimeError`` naming the
-        figure) as it would be without workers. :meth:`check` calls it."""
-        if not self._drawing:
-            return
-        from IPython.display import update_display
-
-        from robomill.pipeline.figure_workers import client, draw, drawing_rc
-        from robomill.plotting import saved_image
-
-        drawing, self._drawing = self._drawing, []
-        outcomes = client().wait()
-        for key, display_id, dpi, blob in drawing:
-            if outcomes.get(display_id, "not drawn") is not None:
-                try:
-                    draw(blob, self.fig_dir, self.file(key), drawing_rc())
-                except Exception as exc:
-                    raise RuntimeError(f"chapter {self.chapter}: {self.label(key)} ({key!r}) "
-                                       f"could not be drawn: {type(exc).__name__}: {exc}"
-                                       ) from exc
-            path = f"{self.fig_dir}/{self.file(key)}.png"
-            update_display(saved_image(path, dpi, alt=self.caption_text(key)),
-                           display_id=display_id)
 
     def labels(self) -> list[str]:
         """Every declared label, in declaration order."""
@@ -215,9 +172,7 @@ class Numbering:
 
     def check(self) -> None:
         """Raise ``ValueError`` naming every declared figure or table that was never shown
-        (:meth:`caption`) or never referred to (:meth:`ref`); call it in the last cell.
-        Figures still being drawn are waited for and shown first (:meth:`finish_figures`)."""
-        self.finish_figures()
+        (:meth:`caption`) or never referred to (:meth:`ref`); call it in the last cell."""
         problems = [f"{self.label(i.key)} ({i.key!r}) never " +
                     " and never ".join(w for w, bad in (("shown", not i.shown),
                                                         ("referred to", not i.referred)) if bad)

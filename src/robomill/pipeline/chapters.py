@@ -220,23 +220,10 @@ def _kernel_never_ran(staged_nb: Path) -> bool:
 
 
 def notebook_errors(nb: nbformat.NotebookNode) -> list[str]:
-    """Error outputs of an executed notebook, as ``"cell N: EName: value"`` lines; in a
-    notebook without any, every figure placeholder that no image replaced (a chapter whose
-    last cell is not ``num.check()`` while figure workers draw its figures,
-    :mod:`robomill.pipeline.figure_workers`)."""
-    from robomill.pipeline.figure_workers import BEING_DRAWN
-
-    errors, placeholders = [], []
-    for i, cell in enumerate(nb.cells):
-        for out in cell.get("outputs", []):
-            if out.get("output_type") == "error":
-                errors.append(f"cell {i}: {out.get('ename')}: {out.get('evalue')}")
-            elif BEING_DRAWN in out.get("metadata", {}):
-                placeholders.append(
-                    f"cell {i}: figure {out['metadata'][BEING_DRAWN]!r} was never shown: the "
-                    "chapter's last cell must call num.check(), which waits for the figures "
-                    "being drawn")
-    return errors or placeholders
+    """Error outputs of an executed notebook, as ``"cell N: EName: value"`` lines."""
+    return [f"cell {i}: {out.get('ename')}: {out.get('evalue')}"
+            for i, cell in enumerate(nb.cells) for out in cell.get("outputs", [])
+            if out.get("output_type") == "error"]
 
 
 def render_chapter(
@@ -251,41 +238,31 @@ def render_chapter(
     execution_timeout_s: int = 1200,
     failed_copy: str | Path | None = None,
     cwd: str | Path | None = None,
-    figure_workers: int = 0,
-    figure_cache: str | Path | None = None,
     shown: Mapping[str, Any] | None = None,
 ) -> None:
-    """Execute ``notebook`` with ``parameters`` (plus ``fig_dir``) and render it.
+    """Execute ``notebook`` with ``parameters`` (plus ``fig_dir``) and render it: papermill
+    executes it (on the kernel of :func:`robomill.pipeline.kernels.start_kernel`), nbconvert
+    writes the page (:func:`document_html`). The notebook draws and saves its own figures.
 
     The page's table "Parameters of this run" shows ``shown``: the study's parameters that
     the chapter reports (its settings, the experiment), not the artefacts it reads; None
     shows every parameter but ``fig_dir``.
-
-    ``figure_workers`` processes (``chapters.figure_workers``) draw the chapter's figures
-    beside the kernel (:mod:`robomill.pipeline.figure_workers`); 0 draws them in the kernel.
-    With workers, a figure the folder ``figure_cache`` holds from an earlier run is copied
-    rather than drawn (:mod:`robomill.pipeline.figure_cache`); None draws every figure.
 
     Raises
     ------
     ChapterError
         If execution fails or any cell holds an error output.
     """
-    from robomill.pipeline.figure_cache import FigureCache
-    from robomill.pipeline.figure_workers import FigureServer
-    from robomill.pipeline.kernels import register_engine, start_kernel, stop_kernel
+    from robomill.pipeline.kernels import start_kernel, stop_kernel
 
     out_ipynb, out_html, fig_dir = Path(out_ipynb), Path(out_html), Path(fig_dir)
     out_ipynb.parent.mkdir(parents=True, exist_ok=True)
     fig_dir.parent.mkdir(parents=True, exist_ok=True)
     stage = Path(tempfile.mkdtemp(prefix=f".{out_ipynb.stem}.", dir=out_ipynb.parent))
-    server_dir = Path(tempfile.mkdtemp(prefix="robomill-figures-"))  # short: a socket path
-    figures = FigureServer(figure_workers, server_dir,
-                           FigureCache(figure_cache) if figure_cache is not None else None)
     # the kernel first: it starts and imports while this job does its own start-up below
-    sockets = Path(tempfile.mkdtemp(prefix="robomill-kernel-"))
+    sockets = Path(tempfile.mkdtemp(prefix="robomill-kernel-"))  # short: a socket path
     try:
-        manager = start_kernel(kernel, sockets, figures.environment(), cwd)
+        manager = start_kernel(kernel, sockets, cwd)
     except Exception:  # noqa: BLE001 - started again below, where a failure is reported
         manager = None
     try:
@@ -298,31 +275,30 @@ def render_chapter(
         declared = check_parameters(notebook, params)
         exporter = WarmExporter()  # readies the page's exporter while the kernel runs
         error: Exception | None = None
-        with figures:
-            for attempt in range(1, KERNEL_START_ATTEMPTS + 1):
-                error = executed = None
-                try:
-                    if manager is None:  # a kernel started again
-                        shutil.rmtree(sockets, ignore_errors=True)
-                        sockets = Path(tempfile.mkdtemp(prefix="robomill-kernel-"))
-                        manager = start_kernel(kernel, sockets, figures.environment(), cwd)
-                    executed = pm.execute_notebook(
-                        str(notebook), str(staged_nb), parameters=params, kernel_name=kernel,
-                        km=manager, engine_name=register_engine(), start_timeout=start_timeout_s,
-                        execution_timeout=execution_timeout_s,
-                        cwd=str(cwd) if cwd else None, progress_bar=False, log_output=False,
-                    )
-                except Exception as exc:  # papermill raises PapermillExecutionError, others
-                    error = exc
-                finally:
-                    if manager is not None:
-                        stop_kernel(manager)
-                        manager = None
+        for attempt in range(1, KERNEL_START_ATTEMPTS + 1):
+            error = executed = None
+            try:
+                if manager is None:  # a kernel started again
                     shutil.rmtree(sockets, ignore_errors=True)
-                if error is None or not _kernel_never_ran(staged_nb):
-                    break
-                log.warning("chapter %s: kernel did not start (%s), attempt %d of %d",
-                            notebook, error, attempt, KERNEL_START_ATTEMPTS)
+                    sockets = Path(tempfile.mkdtemp(prefix="robomill-kernel-"))
+                    manager = start_kernel(kernel, sockets, cwd)
+                executed = pm.execute_notebook(
+                    str(notebook), str(staged_nb), parameters=params, kernel_name=kernel,
+                    km=manager, start_timeout=start_timeout_s,
+                    execution_timeout=execution_timeout_s,
+                    cwd=str(cwd) if cwd else None, progress_bar=False, log_output=False,
+                )
+            except Exception as exc:  # papermill raises PapermillExecutionError, others
+                error = exc
+            finally:
+                if manager is not None:
+                    stop_kernel(manager)
+                    manager = None
+                shutil.rmtree(sockets, ignore_errors=True)
+            if error is None or not _kernel_never_ran(staged_nb):
+                break
+            log.warning("chapter %s: kernel did not start (%s), attempt %d of %d",
+                        notebook, error, attempt, KERNEL_START_ATTEMPTS)
         # the executed notebook as papermill returns it (the same as the file it wrote), or
         # what was written of it when execution failed
         nb = executed if error is None and executed is not None else (
@@ -339,10 +315,6 @@ def render_chapter(
                 f"chapter notebook {notebook} failed: {first.splitlines()[0]}"
                 + (f"; executed notebook kept at {kept}" if kept else "")
             )
-        if figures.cache is not None:
-            figures.keep_only_used()
-            log.info("chapter %s: %d figure(s) drawn, %d unchanged since the last run (from "
-                     "%s)", notebook, figures.drawn, figures.reused, figures.cache.folder)
         if shown is None:
             shown = {k: v for k, v in params.items() if k != "fig_dir"}
         root = Path(cwd) if cwd else Path.cwd()
@@ -362,4 +334,3 @@ def render_chapter(
             stop_kernel(manager)
         shutil.rmtree(sockets, ignore_errors=True)
         shutil.rmtree(stage, ignore_errors=True)
-        shutil.rmtree(server_dir, ignore_errors=True)

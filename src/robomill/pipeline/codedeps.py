@@ -4,7 +4,8 @@ Snakemake reruns a job when its script changes, but not when a library module th
 imports changes. The workflow therefore declares, as inputs of every rule, the files of the
 ``robomill`` modules its script and notebook import — followed through the import graph
 (a module's own ``robomill`` imports, lazy ones inside functions included, and the
-``__init__.py`` of every package on the way, which Python runs on import). Editing any of
+``__init__.py`` of every package on the way, which Python runs on import; a name a package
+exports lazily, :mod:`robomill.lazy`, leads to the module its table names). Editing any of
 them makes ``make why`` list the rule ("input changed").
 
 Only :mod:`ast` and the standard library are used (no module is imported), and every
@@ -140,7 +141,35 @@ def module_file(name: str, src_root: str | Path) -> Path | None:
     return None
 
 
+def lazy_table(init: Path, package: str) -> dict[str, str]:
+    """``{public name: full module name}`` of the ``lazy_exports(__name__, TABLE)`` call in
+    ``init``, the ``__init__.py`` of ``package`` (``TABLE`` a dict literal, inline or bound
+    at module level); empty for a package without one. Read with :mod:`ast`, not imported."""
+    try:
+        tree = ast.parse(init.read_text())
+    except (OSError, SyntaxError):
+        return {}
+    bound = {t.id: node.value for node in tree.body if isinstance(node, ast.Assign)
+             for t in node.targets if isinstance(t, ast.Name)}
+    found: dict[str, str] = {}
+    for node in ast.walk(tree):
+        if not (isinstance(node, ast.Call) and getattr(node.func, "id", None) == "lazy_exports"
+                and len(node.args) == 2):
+            continue
+        table = node.args[1]
+        table = bound.get(table.id, table) if isinstance(table, ast.Name) else table
+        try:
+            literal = ast.literal_eval(table)
+        except ValueError:
+            continue
+        for module, names in literal.items():
+            full = module if "." in module else f"{package}.{module}"
+            found.update({name: full for name in names if isinstance(names, list | tuple)})
+    return found
+
+
 _DEPS: dict[tuple[str, Path], tuple[Path | None, frozenset[str]]] = {}
+_lazy_tables: dict[Path, dict[str, str]] = {}
 
 
 def _direct(name: str, src_root: Path) -> tuple[Path | None, frozenset[str]]:
@@ -153,6 +182,12 @@ def _direct(name: str, src_root: Path) -> tuple[Path | None, frozenset[str]]:
         f = module_file(name, src_root)
         if f is not None:
             deps |= set(file_imports(f, src_root))
+        elif len(parts) > 1:  # an attribute of a package: lazily exported from its module?
+            init = module_file(".".join(parts[:-1]), src_root)
+            if init is not None and init.name == "__init__.py":
+                lazy = _lazy_tables.setdefault(init, lazy_table(init, ".".join(parts[:-1])))
+                if parts[-1] in lazy:
+                    deps.add(lazy[parts[-1]])
         _DEPS[key] = (f, frozenset(deps - {name}))
     return _DEPS[key]
 

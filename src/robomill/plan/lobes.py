@@ -1,12 +1,10 @@
-"""Zero-order stability lobes of many tool-tip models at once (the planner's fast grid).
+"""Stability limits of many tool-tip models at once (the planner's fast grid).
 
-The same method as :mod:`robomill.chatter.lobes_zoa` (Altintas & Budak 1995; Altintas 2012
-§4.3): for each eigenvalue λ of W̄ G(jω), 1/λ = u + jv, a sustained chatter at ω needs
-a_lim = (u² + v²)/(2u) (u > 0) at the spindle speed n = 60/(N τ), ωτ = 2 atan2(u, v) + 2kπ;
-the lobe diagram is the lower envelope of all branches. Here every array carries a leading
-batch axis (one tool model per robot pose), the 2 × 2 eigenvalues are taken in closed form,
-and the envelope is found by scattering each branch segment onto the speeds it spans, so a
-grid of poses × speeds costs a few array passes instead of one solver call per pose.
+Zero-order lobes (Altintas & Budak 1995; Altintas 2012 §4.3) by the one routine,
+:func:`robomill.chatter.lobes_zoa.zoa_envelope`, given here every pose's modal-sum receptance
+(one tool model per robot pose) on the planner's frequency grid (:func:`frequency_grid`), so
+a grid of poses × speeds costs a few array passes instead of one solver call per pose; and
+the delay-free mode-coupling depth (:func:`batch_coupling_depth`).
 
 The receptance of modes (f_r, ζ_r, k_r, in-plane shape φ_r) is the modal sum
 G(jω) = Σ_r φ_r φ_rᵀ / (k_r (1 − ρ² + 2jζ_r ρ)), ρ = ω/ω_r (the FRF of
@@ -17,6 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from robomill.chatter.lobes_zoa import zoa_envelope
 from robomill.chatter.model import CuttingModel
 
 
@@ -42,39 +41,6 @@ def receptance(f_hz: np.ndarray, fn_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.
     phi = np.asarray(shape, float)
     outer = (phi[:, :, :, None] * phi[:, :, None, :]).reshape(phi.shape[0], phi.shape[1], 4)
     return np.einsum("bfm,bmi->bfi", h, outer).reshape(h.shape[:2] + (2, 2))
-
-
-def _left_multiply(W: np.ndarray, G: np.ndarray) -> np.ndarray:
-    """W G for one real 2 × 2 ``W`` and a stack ``(..., 2, 2)``, written out (faster than a
-    general product for 2 × 2 blocks)."""
-    out = np.empty_like(G)
-    for i in range(2):
-        for j in range(2):
-            out[..., i, j] = W[i, 0] * G[..., 0, j] + W[i, 1] * G[..., 1, j]
-    return out
-
-
-def _eig2(A: np.ndarray) -> np.ndarray:
-    """Eigenvalues ``(..., 2)`` of 2 × 2 matrices ``(..., 2, 2)`` in closed form."""
-    tr = A[..., 0, 0] + A[..., 1, 1]
-    det = A[..., 0, 0] * A[..., 1, 1] - A[..., 0, 1] * A[..., 1, 0]
-    disc = np.sqrt(tr**2 / 4 - det + 0j)
-    return np.stack([tr / 2 + disc, tr / 2 - disc], -1)
-
-
-def _track(lam: np.ndarray) -> np.ndarray:
-    """Order the two eigenvalues along the frequency axis (axis 1 of ``(B, nf, 2)``) so each
-    column is a continuous branch (the rule of :func:`robomill.chatter.lobes_zoa._track`).
-
-    Swapping at frequency i is decided by comparing the raw pairs i and i − 1; since a swap at
-    i − 1 exchanges both costs, the output is flipped wherever an odd number of raw steps
-    preferred the swap: a cumulative parity, without a loop over frequencies."""
-    d = lam[:, 1:] - lam[:, :-1]
-    keep = np.abs(d[..., 0]) + np.abs(d[..., 1])
-    swap = np.abs(lam[:, 1:, 1] - lam[:, :-1, 0]) + np.abs(lam[:, 1:, 0] - lam[:, :-1, 1])
-    flip = np.concatenate([np.zeros((lam.shape[0], 1), bool),
-                           (np.cumsum(swap < keep, axis=1) % 2).astype(bool)], axis=1)
-    return np.where(flip[..., None], lam[..., ::-1], lam)
 
 
 def frequency_grid(fn_hz: np.ndarray, n: int = 3000, n_fine: int = 300) -> np.ndarray:
@@ -108,64 +74,11 @@ def batch_zoa_lobes(fn_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.ndarray, shap
     fn = np.atleast_2d(np.asarray(fn_hz, float))
     k = np.atleast_2d(np.asarray(k_N_m, float))
     shape = np.asarray(shape, float).reshape(fn.shape + (2,))
-    n_t = np.sort(np.atleast_1d(np.asarray(spindle_rpm, float)))
-    order = np.argsort(np.atleast_1d(np.asarray(spindle_rpm, float)))
     f = frequency_grid(fn) if f_hz is None else np.asarray(f_hz, float)
-    W = cut.mean_matrix()
-    n_lobes = int(np.ceil(f.max() * 60.0 / (cut.teeth * n_t.min()))) + 2
-    out = np.full((fn.shape[0], n_t.size), np.inf)
     z = np.broadcast_to(np.asarray(zeta, float), fn.shape)
-    for b0 in range(0, fn.shape[0], chunk):
-        sl = slice(b0, b0 + chunk)
-        G = receptance(f, fn[sl], z[sl], k[sl], shape[sl])
-        lam = _track(_eig2(_left_multiply(W, G)))               # (b, nf, 2)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            inv = 1.0 / np.where(np.abs(lam) > 0, lam, np.nan)
-            u, v = inv.real, inv.imag
-            a = np.where(u > 0, (u**2 + v**2) / (2 * u), np.inf)
-        a = np.nan_to_num(a, nan=np.inf)
-        eps = 2 * np.arctan2(u, v)
-        nb = lam.shape[0]
-        env = np.full((nb, n_t.size), np.inf)
-        for kk in range(n_lobes):
-            with np.errstate(divide="ignore", invalid="ignore"):
-                rpm = 60.0 * 2 * np.pi * f[None, :, None] / (cut.teeth * (eps + 2 * np.pi * kk))
-            _scatter_min(env, rpm, a, n_t)
-        out[sl] = env
-    res = np.empty_like(out)
-    res[:, order] = out
-    return res
-
-
-def _scatter_min(env: np.ndarray, rpm: np.ndarray, a: np.ndarray, n_t: np.ndarray) -> None:
-    """Lower the envelope ``env`` ``(b, ns)`` with every branch segment (consecutive
-    frequencies of ``rpm``, ``a`` ``(b, nf, e)``) at the sorted speeds ``n_t`` it spans, by
-    linear interpolation along the segment (as :func:`robomill.chatter.lobes_zoa.zoa_lobes`)."""
-    n0, n1 = rpm[:, :-1], rpm[:, 1:]
-    a0, a1 = a[:, :-1], a[:, 1:]
-    ok = np.isfinite(a0) & np.isfinite(a1) & np.isfinite(n0) & np.isfinite(n1)
-    lo, hi = np.minimum(n0, n1), np.maximum(n0, n1)
-    ok &= (hi >= n_t[0]) & (lo <= n_t[-1])
-    bi, fi, ei = np.nonzero(ok)
-    if bi.size == 0:
-        return
-    lo_s, hi_s = lo[bi, fi, ei], hi[bi, fi, ei]
-    i0 = np.searchsorted(n_t, lo_s, "left")
-    i1 = np.searchsorted(n_t, hi_s, "right")
-    cnt = i1 - i0
-    keep = cnt > 0
-    if not keep.any():
-        return
-    bi, fi, ei, i0, cnt = bi[keep], fi[keep], ei[keep], i0[keep], cnt[keep]
-    rep = np.repeat(np.arange(bi.size), cnt)
-    offs = np.arange(rep.size) - np.repeat(np.cumsum(cnt) - cnt, cnt)
-    ti = i0[rep] + offs
-    b, f_, e = bi[rep], fi[rep], ei[rep]
-    N0, N1 = n0[b, f_, e], n1[b, f_, e]
-    A0, A1 = a0[b, f_, e], a1[b, f_, e]
-    span = N1 - N0
-    w = np.where(span != 0, (n_t[ti] - N0) / np.where(span != 0, span, 1.0), 0.0)
-    np.minimum.at(env, (b, ti), A0 + w * (A1 - A0))
+    out = [zoa_envelope(receptance(f, fn[sl], z[sl], k[sl], shape[sl]), f, cut, spindle_rpm)
+           for sl in (slice(b0, b0 + chunk) for b0 in range(0, fn.shape[0], chunk))]
+    return np.concatenate(out, axis=0)
 
 
 def state_space(fn_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.ndarray, shape: np.ndarray

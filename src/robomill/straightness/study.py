@@ -73,7 +73,7 @@ def analyse_tracker_run(t_s: np.ndarray | None, points_mm: np.ndarray, cell: Any
     orientation and the gear trains are the cell's; the tool turned by the cut's
     ``redundancy_deg`` about its axis, R0 Rz(θ) (the manifest's cut key, 0 by default). A path
     out of the robot's reach raises
-    :class:`~robomill.io.errors.RawDataError` naming ``data_file`` and pointing at
+    :class:`~robomill.errors.RawDataError` naming ``data_file`` and pointing at
     ``base_from_instrument`` (not the inverse kinematics' ``RuntimeError``).
     """
     from robomill.errors import RawDataError

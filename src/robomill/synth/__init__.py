@@ -1,7 +1,8 @@
 """Instrument simulators drawing from one virtual cell (:mod:`robomill.synth.cell`).
 
-Each instrument module exposes ``plan(config) -> list[dict]`` (the raw files it writes, with
-their manifest metadata, paths relative to the synthetic raw folder) and a ``simulate_*``
-function that writes one file in the contract format. :func:`robomill.synth.plan.planned_files`
-gathers every instrument's plan.
+The raw files each instrument writes (with their manifest metadata, paths relative to the
+synthetic raw folder) are laid out from the configuration alone by
+:mod:`robomill.synth.layout` (``instrument_files(config, instrument)``, every instrument's in
+``planned_files``), which imports no simulator; each instrument module has a ``simulate_*``
+function that writes one file in the contract format.
 """

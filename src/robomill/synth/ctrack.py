@@ -46,20 +46,13 @@ from robomill.calibration.geometry import VectorModel, vector_model_from_serial
 from robomill.calibration.gravity import MassModel, gravity_torques_Nm, mass_model_from_mapping
 from robomill.io.atomic import atomic_path
 from robomill.kinematics import rodrigues
-from robomill.synth.plan import CTRACK_TABLES
+from robomill.synth.layout import CTRACK_TABLES
 
 TABLES = CTRACK_TABLES
 INSTRUMENT = 5
 ARCSEC = np.pi / (180.0 * 3600.0)
 XYZ = ["x_mm", "y_mm", "z_mm"]
 
-
-def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """The C-Track tables of the synthetic study, one file per table
-    (:func:`robomill.synth.plan.instrument_files`)."""
-    from robomill.synth.plan import instrument_files
-
-    return instrument_files(config, "ctrack")
 
 
 @dataclass

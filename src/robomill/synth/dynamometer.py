@@ -55,13 +55,6 @@ def settings(config: Mapping[str, Any]) -> dict[str, Any]:
     return config_section(config, "synth.dynamometer")
 
 
-def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """One record per cut: ``forces/<cut>.<format>``, kind ``force``, keys ``cut``, ``fs_hz``
-    (:func:`robomill.synth.plan.instrument_files`)."""
-    from robomill.synth.plan import instrument_files
-
-    return instrument_files(config, "dynamometer")
-
 
 def truth(config: Mapping[str, Any], cell) -> Any:
     """Planted dynamometer parameters for ``truth.nc``."""

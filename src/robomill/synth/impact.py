@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill.synth.plan import IMPACT_DIRECTIONS, hit_path
+from robomill.synth.layout import IMPACT_DIRECTIONS, hit_path, instrument_files
 
 DIRECTIONS = IMPACT_DIRECTIONS
 """Hit directions (base axes)."""
@@ -42,13 +42,6 @@ INSTRUMENT_NUMBER = 6
 COLUMNS = ("t_s", "force_N", "ax_ms2", "ay_ms2", "az_ms2")
 """Columns of an impact file (``docs/data-contract.md``)."""
 
-
-def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """Raw files of the impact test: ``hits_per_direction`` hits along X, Y and Z
-    (:func:`robomill.synth.plan.instrument_files`)."""
-    from robomill.synth.plan import instrument_files
-
-    return instrument_files(config, "impact")
 
 
 def _rng(seed: int, direction: str, hit: int) -> np.random.Generator:
@@ -142,7 +135,7 @@ def truth(config: Mapping[str, Any], cell) -> xr.Dataset:
     """Planted impact-test truth: the defect of every hit (``impact_defect``)."""
     if "impact" not in config["synth"]:
         return xr.Dataset()
-    files = plan(config)
+    files = instrument_files(config, "impact")
     defects = [planted_defect(config, f["direction"], f["hit"]) for f in files]
     return xr.Dataset(
         {"impact_defect": ("impact_file", np.array(defects, dtype=object),

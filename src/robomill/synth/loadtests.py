@@ -54,13 +54,6 @@ def robot_entry(config: Mapping[str, Any], name: str) -> dict[str, Any]:
     raise KeyError(f"no synth.loadtests robot named {name!r}")
 
 
-def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """Raw files this instrument writes: per robot, its robot file and its load tests
-    (:func:`robomill.synth.plan.instrument_files`)."""
-    from robomill.synth.plan import instrument_files
-
-    return instrument_files(config, "loadtests")
-
 
 def _plane_centres(e: Mapping[str, Any]) -> np.ndarray:
     """Centres of ``count`` squares of side ``square_mm`` nearest ``center_mm`` in z = H."""

@@ -71,17 +71,10 @@ def settings(config: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def _cuts(config: Mapping[str, Any]) -> list[Cut]:
-    from robomill.synth.plan import synthetic_cuts
+    from robomill.synth.layout import synthetic_cuts
 
     return synthetic_cuts(config)
 
-
-def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """One profile per cut: ``{path: profiles/<cut>.csv, kind: profile, cut}``
-    (:func:`robomill.synth.plan.instrument_files`)."""
-    from robomill.synth.plan import instrument_files
-
-    return instrument_files(config, "profilometer")
 
 
 def _rng(cell, cut: Cut, stream: int) -> np.random.Generator:

@@ -28,6 +28,7 @@ import xarray as xr
 
 from robomill.experiment import Cut, tracker_run_id
 from robomill.settings import config_section
+from robomill.synth.layout import tracker_runs
 
 INSTRUMENT_NUMBER = 3
 """Stream number of this instrument in the per-file random generators."""
@@ -44,21 +45,6 @@ def run_id(direction: str, feed_mm_s: float) -> str:
     """Run identifier ``<dir>_f<feed>`` (:func:`robomill.experiment.tracker_run_id`)."""
     return tracker_run_id(direction, feed_mm_s)
 
-
-def tracker_runs(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """The tracker runs (:func:`robomill.synth.plan.tracker_runs`)."""
-    from robomill.synth import plan as _plan
-
-    return _plan.tracker_runs(config)
-
-
-def plan(config: Mapping[str, Any]) -> list[dict[str, Any]]:
-    """Raw files of the synthetic study: ``tracker/<dir>_f<feed>.csv`` for every direction
-    and feed (kind ``tracker``; metadata ``direction, feed_mm_s, fs_hz`` and ``cut``, the
-    cut whose path the run follows; :func:`robomill.synth.plan.instrument_files`)."""
-    from robomill.synth.plan import instrument_files
-
-    return instrument_files(config, "tracker")
 
 
 def motion_law(length_mm: float, feed_mm_s: float, accel_mm_s2: float,

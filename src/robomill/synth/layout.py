@@ -1,9 +1,9 @@
-"""The plan of the synthetic study: which raw files the instrument simulators write, as a
-manifest (without sha256), computed from the configuration alone.
+"""The layout of the synthetic study's raw folder: which raw files the instrument simulators
+write, as a manifest (without sha256), computed from the configuration alone.
 
 Snakemake plans its DAG from here at every start (``workflow/rules/common.smk``), so this
 module imports no simulator (the simulators import it; :mod:`robomill.synth.truth` imports
-them): each instrument's ``plan(config)`` delegates to the functions below, and the plan goes
+them): :func:`instrument_files` lays out each instrument's files, and the layout goes
 through the same parser as a real folder's ``manifest.yaml``
 (:func:`robomill.io.manifest.parse_manifest` with ``require_sha256=False``): cuts and files
 come from one place in both modes.
@@ -11,7 +11,6 @@ come from one place in both modes.
 
 from __future__ import annotations
 
-import importlib
 import math
 from collections.abc import Mapping
 from typing import Any
@@ -181,11 +180,3 @@ def synthetic_manifest(config: Mapping[str, Any]) -> dict[str, Any]:
             "cuts": [c.as_dict() for c in synthetic_cuts(config)],
             "files": planned_files(config)}
 
-
-def __getattr__(name: str) -> Any:
-    """``instruments`` (now :func:`robomill.synth.truth.instruments`, its one user), looked up
-    on first use: importing it here would import every simulator, and each imports this module
-    (a cycle)."""
-    if name == "instruments":
-        return importlib.import_module("robomill.synth.truth").instruments
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
