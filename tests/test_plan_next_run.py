@@ -62,7 +62,7 @@ def test_per_cut_tracking_gives_each_cut_its_own_run():
     # the manifest of the planned cuts' files reads them as the contract says
     from robomill.experiment import tracker_pass_pairs
     from robomill.io.manifest import parse_manifest
-    from robomill.synth.plan import synthetic_manifest
+    from robomill.synth.layout import synthetic_manifest
 
     m = parse_manifest(synthetic_manifest(base), "next", require_sha256=False)
     runs = {tracker_run(f): f for f in m.files if f["kind"] == "tracker"}
