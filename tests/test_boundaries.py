@@ -143,7 +143,14 @@ SCIENCE_MAY_READ = {"robomill.io.forces", "robomill.io.impact", "robomill.io.cel
                     "robomill.io.robots", "robomill.io.tables", "robomill.io.profiles",
                     "robomill.io.tracker", "robomill.io.ctrack",
                     # the atomic file write (temporary file, then rename) of the UFF writers
-                    "robomill.io.atomic"}
+                    "robomill.io.atomic",
+                    # the recordings of the cut (sound, vibration) the verdicts judge
+                    "robomill.io.recordings",
+                    # the tool frame of a cell file (translation and roll-pitch-yaw), read by
+                    # the kinematics that carry it
+                    "robomill.io.tool_frame",
+                    # the CSV table writer of the plan's program folder (stations.csv)
+                    "robomill.io.artefacts"}
 ERROR_TYPES = {"RawDataError", "ConfigError"}
 
 

@@ -86,6 +86,12 @@ def test_every_rule_derives_its_code_inputs_and_none_is_hand_kept():
             if nb:
                 sources.append(REPO / "notebooks" / nb[1])
             scripts[m[1] or m[2]] = set(codedeps.code_files(sources, src))
+    from robomill.registry import chapters
+
+    for c in chapters():  # a chapter: its registry row's notebook, run by the chapter rule
+        scripts[c.id] = set(codedeps.code_files(
+            [REPO / "workflow" / "scripts" / "render_chapter.py",
+             REPO / "notebooks" / f"{c.notebook}.ipynb"], src))
     assert len(scripts) > 30
 
     def has(rule, module):

@@ -29,9 +29,8 @@ from robomill.io.impact import (
     load_impact_test,
     read_frf_uff,
     read_hits_uff,
-    write_frf_uff,
-    write_modes_uff,
 )
+from robomill.modal.uff import write_frf_uff, write_modes_uff
 
 REAL = Path(__file__).parent / "data" / "real" / "uff"
 MEASUREMENT = REAL / "pyuff_measurement_roving_hammer.uff"

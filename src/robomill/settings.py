@@ -33,13 +33,38 @@ def _schema_file(path: str) -> dict[str, Any]:
         return yaml.load(fh, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
 
 
+SECTIONS: tuple[tuple[tuple[str, ...], str], ...] = (
+    (("data",), "data"),
+    (("cell",), "cell"),
+    (("experiment",), "experiment"),
+    (("synth",), "synth"),
+    (("synth", "profilometer"), "synth_profilometer"),
+    (("synth", "dynamometer"), "synth_dynamometer"),
+    (("synth", "tracker"), "synth_tracker"),
+    (("synth", "impact"), "synth_impact"),
+    (("synth", "ctrack"), "synth_ctrack"),
+    (("synth", "loadtests"), "synth_loadtests"),
+    (("chapters",), "chapters"),
+    (("book",), "book"),
+    (("calibration",), "calibration"),
+    (("surface",), "surface"),
+    (("forces",), "forces"),
+    (("straightness",), "straightness"),
+    (("modal",), "modal"),
+    (("chatter",), "chatter"),
+    (("stiffness",), "stiffness"),
+    (("hexapod",), "hexapod"),
+)
+"""Config sections and their schema files ``workflow/schemas/config/<name>.schema.yaml``,
+validated in this order after the top-level ``config.schema.yaml``
+(:func:`robomill.pipeline.config.validate_config`, which the Snakefile calls)."""
+
+
 @cache
 def _section_schema(section: str) -> dict[str, Any]:
     """The schema of config section ``section`` (``"synth.tracker"``, ``"plan.simulate"``):
     the section's own schema file where it has one, else the part of the schema of the
     nearest section above it (the top-level schema for ``plan``)."""
-    from robomill.pipeline.config import SECTIONS
-
     files = {".".join(keys): name for keys, name in SECTIONS}
     keys = section.split(".") if section else []
     for n in range(len(keys), -1, -1):

@@ -118,11 +118,7 @@ rule plan_check:
             if any(STUDY_VERDICTS in map(str, r.output) for r in workflow.rules)
             else {}
         ),
-        **(
-            {"force_peaks": "results/forces/peaks.csv"}
-            if has_kind("force")
-            else {}
-        ),
+        **({"force_peaks": "results/forces/peaks.csv"} if has_kind("force") else {}),
         # the study's static deflection, where it tracked a cut loaded and in the air
         **(
             {"deflection": "results/straightness/deflection.csv"}

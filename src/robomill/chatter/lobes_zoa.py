@@ -56,6 +56,13 @@ def _eig2(A: np.ndarray) -> np.ndarray:
     return np.where(size <= EIG_ZERO * size.max(-1, keepdims=True), 0.0, lam)
 
 
+def oriented_eigenvalues(W: np.ndarray, G: np.ndarray) -> np.ndarray:
+    """Eigenvalues ``(..., 2)`` of W̄ G(jω) for the mean directional matrix ``W`` (2 × 2) and a
+    stack of receptances ``G`` ``(..., 2, 2)``: the zero-order characteristic equation's
+    eigenvalues [Altintas & Budak 1995], untracked."""
+    return _eig2(_left_multiply(W, np.asarray(G)))
+
+
 def _track(lam: np.ndarray) -> np.ndarray:
     """Order the two eigenvalues along the frequency axis (axis 1 of ``(B, nf, 2)``) so each
     column is a continuous branch (a swap would join points of different lobes): at each

@@ -56,7 +56,7 @@ from typing import Any
 
 import numpy as np
 
-from robomill.settings import FromMapping, schema_default
+from robomill.settings import FromMapping, schema_default, schema_defaults
 
 VERDICTS = ("stable", "chatter", "undetermined")
 """The verdicts, in the order the tables list them."""
@@ -83,9 +83,7 @@ class VerdictSettings(FromMapping):
 
 def default_settings() -> VerdictSettings:
     """The settings as the schema fills them (``chatter.verdicts`` with no key given)."""
-    from robomill.pipeline.config import section_defaults
-
-    return VerdictSettings.from_mapping(section_defaults("chatter")["verdicts"])
+    return VerdictSettings.from_mapping(schema_defaults("chatter")["verdicts"])
 
 
 @dataclass

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 from robomill.errors import RawDataError
 
@@ -15,7 +16,7 @@ HELP = ("chatter verdict of one recording (WAV/FLAC/MP3 sound, accelerometer CSV
         "stable | chatter | undetermined, the chatter frequency and the speeds to try")
 
 
-def add_parser(sub: argparse._SubParsersAction) -> None:
+def add_parser(sub: Any) -> None:  # what ArgumentParser.add_subparsers() returns
     p = sub.add_parser("listen", help=HELP, description=HELP + ".")
     p.add_argument("file", type=Path, metavar="FILE", help="the recording")
     p.add_argument("--rpm", type=float, default=None,

@@ -20,6 +20,7 @@ from typing import Any
 import yaml
 
 from robomill.errors import ConfigError
+from robomill.settings import SECTIONS
 
 
 def _load_yaml(path: Path) -> Any:
@@ -29,31 +30,6 @@ def _load_yaml(path: Path) -> Any:
         return yaml.load(fh, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
 
 
-SECTIONS: tuple[tuple[tuple[str, ...], str], ...] = (
-    (("data",), "data"),
-    (("cell",), "cell"),
-    (("experiment",), "experiment"),
-    (("synth",), "synth"),
-    (("synth", "profilometer"), "synth_profilometer"),
-    (("synth", "dynamometer"), "synth_dynamometer"),
-    (("synth", "tracker"), "synth_tracker"),
-    (("synth", "impact"), "synth_impact"),
-    (("synth", "ctrack"), "synth_ctrack"),
-    (("synth", "loadtests"), "synth_loadtests"),
-    (("chapters",), "chapters"),
-    (("book",), "book"),
-    (("calibration",), "calibration"),
-    (("surface",), "surface"),
-    (("forces",), "forces"),
-    (("straightness",), "straightness"),
-    (("modal",), "modal"),
-    (("chatter",), "chatter"),
-    (("stiffness",), "stiffness"),
-    (("hexapod",), "hexapod"),
-)
-"""Config sections and their schema files ``workflow/schemas/config/<name>.schema.yaml``,
-validated in this order after the top-level ``config.schema.yaml`` (:func:`validate_config`,
-which the Snakefile calls)."""
 
 
 def _validator(schema_path: Path):
@@ -382,11 +358,3 @@ def run_folder(config: dict[str, Any]) -> str | None:
     return str(folder)
 
 
-def section_defaults(name: str) -> dict[str, Any]:
-    """The config section ``name`` (``workflow/schemas/config/<name>.schema.yaml``) as its
-    schema fills it when no key is given: the defaults a library user or a command outside
-    the pipeline (``robomill listen``) runs with."""
-    section: dict[str, Any] = {}
-    _check(section, repo_root() / "workflow" / "schemas" / "config" / f"{name}.schema.yaml",
-           (name,))
-    return section

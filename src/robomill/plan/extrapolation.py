@@ -30,8 +30,9 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from robomill.chatter.lobes_zoa import oriented_eigenvalues
 from robomill.chatter.model import CuttingModel
-from robomill.plan.lobes import _eig2, _left_multiply, frequency_grid, receptance
+from robomill.plan.lobes import frequency_grid, receptance
 from robomill.xrvars import var
 
 REASONS = {1: "spindle speed", 2: "feed per tooth", 4: "radial immersion", 8: "pose",
@@ -125,7 +126,7 @@ def absolute_depth_m(fn_hz, zeta, k_N_m, shape, cut: CuttingModel) -> np.ndarray
     fn = np.atleast_2d(np.asarray(fn_hz, float))
     G = receptance(frequency_grid(fn, n=800, n_fine=150), fn, zeta, np.atleast_2d(k_N_m),
                    shape)
-    lam = _eig2(_left_multiply(cut.mean_matrix(), G))
+    lam = oriented_eigenvalues(cut.mean_matrix(), G)
     with np.errstate(divide="ignore", invalid="ignore"):
         inv = 1.0 / np.where(np.abs(lam) > 0, lam, np.nan)
         u, v = inv.real, inv.imag

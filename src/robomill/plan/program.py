@@ -95,7 +95,7 @@ def write_program(paths: Sequence, controller: str | None, pcell: ProgramCell, o
     """Write ``stations.csv`` and the controller program of the planned cuts'
     :class:`robomill.plan.cutpath.CutPath` objects (refused cuts are left out) into
     ``out_dir``; the files written. No controller: only ``stations.csv``."""
-    from robomill.io import write_table
+    from robomill.io.artefacts import write_table
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)

@@ -53,6 +53,7 @@ _EXPORTS = {  # submodule → its public names
                "direction_text", "mesh_table", "read_peaks", "run_summary_table",
                "run_values_table", "surface_cross_check", "surface_tolerance_per_mm", "truth_table",
                "with_labels"),
+    "deflection": ("DEFLECTION_COLUMNS", "deflection_table", "pass_deflection_um"),
     "truth": ("TRUTH_CHECK_COLUMNS", "attribution_counts", "evaluate_attribution",
               "planted_gear_elements", "truth_check"),
 }

@@ -28,7 +28,7 @@ import pandas as pd
 
 from robomill.straightness.profile import TRIM_MAX_FRACTION, fit_line, resample_uniform
 
-COLUMNS = ["cut", "loaded_run", "air_run", "deflection_normal_um", "deflection_axial_um",
+DEFLECTION_COLUMNS = ["cut", "loaded_run", "air_run", "deflection_normal_um", "deflection_axial_um",
            "stderr_normal_um", "stderr_axial_um", "length_mm"]
 """Columns of ``results/straightness/deflection.csv``."""
 
@@ -102,6 +102,6 @@ def pass_deflection_um(loaded_mm: np.ndarray, air_mm: np.ndarray, *, ds_mm: floa
 
 
 def deflection_table(rows: Sequence[Mapping[str, Any]]) -> pd.DataFrame:
-    """``results/straightness/deflection.csv`` from one mapping per air pass (:data:`COLUMNS`;
+    """``results/straightness/deflection.csv`` from one mapping per air pass (:data:`DEFLECTION_COLUMNS`;
     NaN deflection where the air pass has no loaded pass)."""
-    return pd.DataFrame(list(rows), columns=COLUMNS)
+    return pd.DataFrame(list(rows), columns=DEFLECTION_COLUMNS)
