@@ -102,6 +102,6 @@ def pass_deflection_um(loaded_mm: np.ndarray, air_mm: np.ndarray, *, ds_mm: floa
 
 
 def deflection_table(rows: Sequence[Mapping[str, Any]]) -> pd.DataFrame:
-    """``results/straightness/deflection.csv`` from one mapping per air pass (:data:`DEFLECTION_COLUMNS`;
-    NaN deflection where the air pass has no loaded pass)."""
+    """``results/straightness/deflection.csv`` from one mapping per air pass
+    (:data:`DEFLECTION_COLUMNS`; NaN deflection where the air pass has no loaded pass)."""
     return pd.DataFrame(list(rows), columns=DEFLECTION_COLUMNS)
