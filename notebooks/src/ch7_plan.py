@@ -23,6 +23,7 @@ plan: str = None  # results/plan/plan.csv
 pareto: str = None  # results/plan/pareto.csv
 study: str = None  # results/plan/study_cuts.csv
 comparison: str = None  # results/plan/comparison.csv
+binding: str = None  # results/plan/binding.csv
 check: str = None  # results/plan/check.csv
 check_summary: str = None  # results/plan/check_summary.csv
 templates: str = None  # notebooks/templates/ch7.yaml: the sentences rendered from check_summary
@@ -136,6 +137,20 @@ display(chosen[[c for c in cols if c in chosen]])
 # %%
 display(Markdown(Prose(load_templates("ch7", templates), reach_values(chosen, cand.attrs))(
     "reach_level", "reach_extrapolated", "reach_band")))
+
+# %% [markdown]
+# ## What a learn round narrows
+#
+# The production plan is bound by the prediction whose pessimistic end lies closest to its
+# limit at its largest-removal-rate cut (`robomill.plan.binding`). The cuts of a learn plan
+# (`purpose: learn`), once run, join the identification (their raw folder added to
+# `data.raw_dirs`), and the next production plan states the same prediction's interval again.
+
+# %%
+from robomill.plan.binding import binding_values
+
+display(Markdown(Prose(load_templates("ch7", templates),
+                       binding_values(pd.read_csv(binding)))("binding")))
 
 # %% [markdown]
 # ## The plan beside the study

@@ -44,7 +44,11 @@ PLAN_OUTPUTS = {
     "comparison": "results/plan/comparison.csv",
     "manifest": "results/plan/next/manifest.yaml",
     "config": "results/plan/next/config.yaml",
+    # the production plan's binding interval (robomill.plan.binding), beside an earlier plan's
+    "binding": "results/plan/binding.csv",
 }
+# an earlier plan's results/plan/binding.csv (config plan.binding_before; "" none)
+PLAN_BINDING_BEFORE = config["plan"]["binding_before"]
 # The planned cuts' own run (snakemake all --configfile results/plan/next/config.yaml, which
 # writes under NEXT_RUN_DIR): its outcomes are inputs of plan_check once it has made them
 # (another run of the workflow makes them, not this one).
@@ -66,6 +70,7 @@ rule plan_make:
         request=PLAN_REQUEST,
         cell=CELL,
         study=STUDY,
+        **({"binding_before": PLAN_BINDING_BEFORE} if PLAN_BINDING_BEFORE else {}),
     output:
         **PLAN_OUTPUTS,
     log:
@@ -79,6 +84,7 @@ rule plan_make:
         waviness_noise=config.get("plan", {}).get("waviness_noise", {}),
         fmin_cycles=config["straightness"]["fmin_cycles"],
         level=config["plan"]["interval_level"],
+        raw_folders=len(RAW_DIRS),
     script:
         "../scripts/plan_make.py"
 
@@ -145,6 +151,7 @@ use rule chapter as ch7 with:
         pareto=PLAN_OUTPUTS["pareto"],
         study=PLAN_OUTPUTS["study"],
         comparison=PLAN_OUTPUTS["comparison"],
+        binding=PLAN_OUTPUTS["binding"],
         check="results/plan/check.csv",
         check_summary="results/plan/check_summary.csv",
         templates=notebook("templates/ch7.yaml"),

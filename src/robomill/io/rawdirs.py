@@ -52,8 +52,8 @@ def raw_folders(data: dict[str, Any]) -> list[str]:
     """
     named = [str(d) for d in data.get("raw_dirs") or []]
     if data.get("source") == "synthetic":
-        return [SYNTHETIC_RAW_DIR] + [d for d in named
-                                      if os.path.normpath(d) != SYNTHETIC_RAW_DIR]
+        own = os.path.abspath(SYNTHETIC_RAW_DIR)  # also as a run's folder names it (workdir)
+        return [SYNTHETIC_RAW_DIR] + [d for d in named if os.path.abspath(d) != own]
     return named or [str(data["raw_dir"])]
 
 
@@ -104,12 +104,12 @@ def merge_manifests(manifests: Sequence[Manifest]) -> Manifest:
     where_cut = {c.id: first for c in first.cuts}
     kinds = {f["kind"] for f in first.files if "cut" not in f}
     cell_of = first if first.cell_file else None
-    seen_dirs = {os.path.normpath(root)}
+    seen_dirs = {os.path.abspath(root)}
     for m in later:
-        if os.path.normpath(m.raw_dir) in seen_dirs:
+        if os.path.abspath(m.raw_dir) in seen_dirs:
             raise RawDataError(m.path, "raw folder named twice", where="data.raw_dirs",
                                expected="each raw folder once")
-        seen_dirs.add(os.path.normpath(m.raw_dir))
+        seen_dirs.add(os.path.abspath(m.raw_dir))
         taken = set()
         for i, c in enumerate(m.cuts):
             if c.id in where_cut:

@@ -12,6 +12,7 @@ import pandas as pd
 import xarray as xr
 
 from robomill.experiment import Cut
+from robomill.plan.binding import binding_interval
 from robomill.plan.choose import PlanInfeasible, check_needs, choose, smooth_rotation
 from robomill.plan.compare import comparison_table, rotation_effect_pct, study_cuts_table
 from robomill.plan.measured import Measured, missing_predictions
@@ -32,6 +33,7 @@ class Plan:
     comparison: pd.DataFrame
     manifest: dict[str, Any]
     config: dict[str, Any]
+    binding: dict[str, Any]
 
 
 def redundancy_paths(candidates: xr.Dataset, chosen: pd.DataFrame, req: PlanRequest,
@@ -51,10 +53,10 @@ def redundancy_paths(candidates: xr.Dataset, chosen: pd.DataFrame, req: PlanRequ
 
 
 def learn_plan(cand: xr.Dataset, req: PlanRequest, measured: Measured, occupied, reach,
-               robot_name: str) -> tuple[pd.DataFrame, pd.DataFrame]:
+               robot_name: str) -> tuple[pd.DataFrame, pd.DataFrame, pd.Series | None]:
     """The learn design (:func:`robomill.plan.learn.learn_design`) aimed at the production
-    plan's binding cut (its largest removal rate; none when no candidate is feasible), and the
-    production Pareto front beside it (empty then)."""
+    plan's binding cut (its largest removal rate; none when no candidate is feasible), the
+    production Pareto front beside it (empty then) and that binding cut."""
     from robomill.plan.extrapolation import reason_text
     from robomill.plan.learn import learn_design
 
@@ -72,18 +74,20 @@ def learn_plan(cand: xr.Dataset, req: PlanRequest, measured: Measured, occupied,
                              "feed within the other constraints)")
     if "extrapolation_code" in chosen:
         chosen["extrapolation_reason"] = [reason_text(c) for c in chosen["extrapolation_code"]]
-    return chosen, front
+    return chosen, front, None if prod is None or prod.empty else prod.iloc[0]
 
 
 def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[Cut],
               experiment: Mapping[str, Any], *, robot_name: str = "the robot",
-              reach=None, study_slots=None) -> Plan:
+              reach=None, study_slots=None, binding_constraint: str | None = None) -> Plan:
     """The whole plan (raises :class:`robomill.plan.choose.PlanInfeasible` with one line when a
     constraint needs a missing measurement, no candidate meets the constraints, or every
     candidate is extrapolated and the request does not allow it). ``reach``
     (:class:`robomill.plan.extrapolation.StudyReach`): flag and widen what lies outside it;
     ``study_slots``: the study's cuts as segments ``(2, 3)`` [mm], which no planned slot may
-    overlap (:mod:`robomill.plan.material`)."""
+    overlap (:mod:`robomill.plan.material`); ``binding_constraint``: the constraint whose
+    interval :attr:`Plan.binding` measures (an earlier plan's; default the one that binds,
+    :func:`robomill.plan.binding.binding_interval`)."""
     missing = missing_predictions(measured)
     check_needs(req, missing)
     cand = predict_grid(req, measured, cell)
@@ -91,9 +95,13 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
         cand = apply_extrapolation(cand, req, measured, cell, reach)
     occupied = [] if study_slots is None else list(study_slots)
     if req.purpose == "learn":
-        chosen, front = learn_plan(cand, req, measured, occupied, reach, robot_name)
+        chosen, front, prod_first = learn_plan(cand, req, measured, occupied, reach,
+                                               robot_name)
     else:
         chosen, front = choose(cand, req, robot_name, occupied=occupied)
+        prod_first = chosen.iloc[0]
+    binding = ({} if prod_first is None
+               else binding_interval(cand, req, prod_first, binding_constraint))
     pmap = pose_map(cand, chosen.iloc[0])
     paths = redundancy_paths(cand, chosen, req, measured, cell)
     q = [cand["q_deg"].isel(placement=int(r["i_placement"]), rotation=int(r["i_rotation"]),
@@ -117,4 +125,4 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     return Plan(cand, pmap, table, plan_table(front), study,
                 comparison_table(table, study, rotation_effect_pct(pmap),
                                  pmap.sizes["rotation"]), manifest,
-                next_config(manifest))
+                next_config(manifest), binding)
