@@ -48,6 +48,32 @@ def test_the_binding_interval_is_the_prediction_closest_to_its_limit():
                                                             "deflection_normal_high_um")
 
 
+def test_the_binding_prediction_is_the_one_a_deeper_cut_breaks():
+    """At the chosen depth the force is closer to its limit (slack 0.1 against the margin's
+    0.5), but the next depth of the grid breaks the margin (0.15 < 0.2) and not the force
+    (95 < 100): the margin binds the removal rate."""
+    coords = {"placement": [0, 1], "depth_mm": [0.2, 0.3]}
+
+    def v(values):
+        return xr.DataArray(np.array(values, float), dims=("placement", "depth_mm"),
+                            coords=coords)
+    ds = xr.Dataset({"stability_margin_low": v([[1, 1], [0.30, 0.15]]),
+                     "stability_margin_high": v([[2, 2], [0.70, 0.40]]),
+                     "force_low_N": v([[1, 1], [70.0, 80.0]]),
+                     "force_high_N": v([[2, 2], [90.0, 95.0]])})
+    req = SimpleNamespace(constraints={"min_stability_margin": 0.2, "max_force_N": 100.0})
+    row = pd.Series({"cut": "P1", "i_placement": 1, "depth_mm": 0.2})
+    b = binding_interval(ds, req, row)
+    assert b["constraint"] == "min_stability_margin" and b["binds"] == "depth_mm=0.3"
+    assert (b["low"], b["high"]) == pytest.approx((0.30, 0.70))
+    # at the grid's largest depth nothing larger is cut: the least slack binds (the margin's
+    # (0.15 − 0.2)/0.2 = −0.25 against the force's 0.05)
+    top = binding_interval(ds, req, pd.Series({"cut": "P1", "i_placement": 1,
+                                               "depth_mm": 0.3}))
+    assert top["constraint"] == "min_stability_margin" and top["binds"] == "closest to its limit"
+    assert top["slack"] == pytest.approx(-0.25)
+
+
 def test_the_narrowing_is_stated_only_on_the_same_prediction():
     before = binding_table({"constraint": "max_force_N", "width": 40.0, "low": 60.0,
                             "high": 100.0}, "production", 45, 1)

@@ -2,11 +2,16 @@
 
 The production plan's binding cut is its largest-removal-rate cut (rank 1). Of the
 predictions the request constrains (:data:`robomill.plan.choose.CONSTRAINT_VARS`), the one
-that binds it is the one whose pessimistic end lies closest to its limit, in the limit's
-units relative to the limit:
+that binds it is the one that stops a larger removal rate: at the cut's pose and speed, the
+next larger depth of the request's grid (else the next larger feed) breaks it, by the largest
+relative excess where several break. Where no larger depth or feed breaks one (the cut is at
+the grid's end), it is the one whose pessimistic end lies closest to its limit. Both in the
+limit's units relative to the limit:
 
     slack = (p_pess − L) / |L|   (a lower limit: the stability margin)
     slack = (L − p_pess) / |L|   (an upper limit: deflection, waviness, force)
+
+(the excess is −slack at the larger cut).
 
 Its **binding interval** is that prediction's interval at the binding cut, ``[low, high]``,
 of width ``w = high − low`` (the level of ``plan.interval_level``). A learn round (the cuts
@@ -32,7 +37,7 @@ from robomill.plan.choose import CONSTRAINT_VARS
 from robomill.plan.request import PlanRequest
 
 COLUMNS = ("when", "purpose", "cut", "constraint", "prediction", "limit", "low", "high",
-           "width", "pessimistic", "slack", "study_cuts", "raw_folders", "narrowing")
+           "width", "pessimistic", "slack", "binds", "study_cuts", "raw_folders", "narrowing")
 """Columns of ``results/plan/binding.csv``."""
 
 
@@ -55,12 +60,51 @@ def _value(ds: xr.Dataset, name: str, row: pd.Series) -> float:
     return float(v.isel(pos).sel(lab).values)
 
 
+def _slacks(ds: xr.Dataset, req: PlanRequest, row: pd.Series) -> dict[str, float]:
+    """Relative slack of each constrained prediction's pessimistic end at ``row``."""
+    out = {}
+    for key, (name, kind, _) in CONSTRAINT_VARS.items():
+        lim = req.constraints.get(key)
+        if lim is None or name not in ds:
+            continue
+        pess = _value(ds, name, row)
+        out[key] = ((pess - lim) if kind == "min" else (lim - pess)) / max(abs(float(lim)),
+                                                                          1e-12)
+    return out
+
+
+def limiting_constraint(ds: xr.Dataset, req: PlanRequest, row: pd.Series
+                        ) -> tuple[str, str] | None:
+    """The constraint the next larger depth (else feed) of the grid breaks at ``row``'s pose
+    and speed, by the largest relative excess, and where (``depth_mm=0.3``); None where no
+    larger one breaks any."""
+    for dim in ("depth_mm", "feed_mm_s"):
+        if dim not in ds.coords:
+            continue
+        grid = np.asarray(ds[dim].values, float)
+        larger = grid[grid > float(row[dim]) + 1e-12]
+        if not larger.size:
+            continue
+        nxt = row.copy()
+        nxt[dim] = float(larger.min())
+        broken = {k: -v for k, v in _slacks(ds, req, nxt).items() if np.isfinite(v) and v < 0}
+        if broken:
+            return max(broken, key=broken.get), f"{dim}={nxt[dim]:g}"
+    return None
+
+
 def binding_interval(ds: xr.Dataset, req: PlanRequest, row: pd.Series,
                      constraint: str | None = None) -> dict[str, object]:
     """The binding prediction's interval at the production plan's binding cut ``row`` (a row
     of the chosen table, with its ``i_placement``/``i_rotation``/``i_direction`` indices):
-    the constraint with the least slack, or the given ``constraint`` (the earlier plan's, for
-    a narrowing measured on the same prediction). Empty without a constrained prediction."""
+    the constraint a larger removal rate breaks (:func:`limiting_constraint`), else the one
+    with the least slack, or the given ``constraint`` (the earlier plan's, for a narrowing
+    measured on the same prediction); ``binds`` says which. Empty without a constrained
+    prediction."""
+    binds = "given"
+    if constraint is None:
+        found = limiting_constraint(ds, req, row)
+        constraint, binds = found if found else (None, "closest to its limit")
     best = None
     for key, (name, kind, what) in CONSTRAINT_VARS.items():
         lim = req.constraints.get(key)
@@ -74,7 +118,7 @@ def binding_interval(ds: xr.Dataset, req: PlanRequest, row: pd.Series,
         lo, hi = _value(ds, lo_name, row), _value(ds, hi_name, row)
         cand = {"cut": str(row["cut"]), "constraint": key, "prediction": what,
                 "limit": float(lim), "low": lo, "high": hi, "width": hi - lo,
-                "pessimistic": pess, "slack": float(slack)}
+                "pessimistic": pess, "slack": float(slack), "binds": binds}
         if best is None or cand["slack"] < best["slack"]:
             best = cand
     return best or {}
