@@ -149,3 +149,11 @@ def test_chapter_7_states_before_after_and_the_narrowing():
     assert "**75 %**" in text and "51 cuts from 2 raw folders" in text
     alone = Prose(templates, binding_values(before))("binding")
     assert "[60, 100] (width 40, limit 100)" in alone and "narrowed" not in alone
+
+
+def test_planned_ids_number_on_after_an_earlier_plans_cuts_in_the_study():
+    from robomill.plan.make import after_study_ids
+
+    assert after_study_ids(["plan_01", "plan_02"], ["S1", "S2"]) == ["plan_01", "plan_02"]
+    assert after_study_ids(["plan_01", "plan_02"], ["S1", "plan_01", "plan_04"]) == [
+        "plan_05", "plan_06"]

@@ -141,8 +141,9 @@ display(Markdown(Prose(load_templates("ch7", templates), reach_values(chosen, ca
 # %% [markdown]
 # ## What a learn round narrows
 #
-# The production plan is bound by the prediction whose pessimistic end lies closest to its
-# limit at its largest-removal-rate cut (`robomill.plan.binding`). The cuts of a learn plan
+# The production plan is bound by the prediction that stops a larger removal rate at its
+# largest-removal-rate cut: the one the grid's next depth (else feed) breaks there
+# (`robomill.plan.binding`). The cuts of a learn plan
 # (`purpose: learn`), once run, join the identification (their raw folder added to
 # `data.raw_dirs`), and the next production plan states the same prediction's interval again.
 

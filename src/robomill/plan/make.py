@@ -3,6 +3,7 @@ smooth redundancy angle along its path, and put the plan beside the study's own 
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -50,6 +51,16 @@ def redundancy_paths(candidates: xr.Dataset, chosen: pd.DataFrame, req: PlanRequ
                     "redundancy_path_deg": [float(rot[i]) for i in idx],
                     "redundancy_path_score": what})
     return out
+
+
+def after_study_ids(ids: Sequence[str], study_ids: Sequence[str]) -> list[str]:
+    """The planned cut ids ``plan_NN`` numbered on after the study's own ``plan_NN`` cuts (a
+    study that merged an earlier plan's run, ``data.raw_dirs``), so that no planned id names a
+    cut of the study; unchanged where the study has none."""
+    taken = [int(m.group(1)) for s in study_ids if (m := re.fullmatch(r"plan_(\d+)", s))]
+    k = max(taken, default=0)
+    return [f"plan_{k + int(c[len('plan_'):]):02d}" if k and re.fullmatch(r"plan_\d+", c)
+            else c for c in ids]
 
 
 def learn_plan(cand: xr.Dataset, req: PlanRequest, measured: Measured, occupied, reach,
@@ -100,6 +111,11 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     else:
         chosen, front = choose(cand, req, robot_name, occupied=occupied)
         prod_first = chosen.iloc[0]
+    study_ids = [c.id for c in cuts]
+    chosen["cut"] = after_study_ids(list(chosen["cut"].astype(str)), study_ids)
+    if prod_first is not None:
+        prod_first = prod_first.copy()
+        prod_first["cut"] = after_study_ids([str(prod_first["cut"])], study_ids)[0]
     binding = ({} if prod_first is None
                else binding_interval(cand, req, prod_first, binding_constraint))
     pmap = pose_map(cand, chosen.iloc[0])
