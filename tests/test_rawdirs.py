@@ -104,3 +104,15 @@ def test_raw_folders_default_and_synthetic():
     assert raw_folders({"source": "synthetic", "raw_dir": "data/raw",
                         "raw_dirs": ["results/synthetic/raw/", "r/run"]}) == [
         "results/synthetic/raw", "r/run"]
+
+
+def test_a_first_folder_reached_through_a_link_still_finds_the_later_files(tmp_path):
+    a = _folder(tmp_path / "disk" / "deep", "study", ["c1"])  # one level deeper than the link
+    (tmp_path / "data").mkdir()
+    (tmp_path / "data" / "raw").symlink_to(a, target_is_directory=True)
+    b = _folder(tmp_path, "run", ["p1"])
+    m = load_study_manifest([tmp_path / "data" / "raw" / "manifest.yaml", b / "manifest.yaml"])
+    p1 = m.files_of("force", cut="p1")[0]["path"]
+    assert m.verify_file(p1).read_text() == (b / "force" / "p1.csv").read_text()
+    back = load_study(write_study(m, tmp_path / "study.yaml"))
+    assert [c.id for c in back.cuts] == ["c1", "p1"]

@@ -352,7 +352,7 @@ def _in_own_folder(raw_dir: Path, f: Mapping[str, Any]) -> bool:
     folder = f.get("folder")
     if not isinstance(folder, str):
         return False
-    full, own = os.path.abspath(raw_dir / f["path"]), os.path.abspath(folder)
+    full, own = os.path.realpath(raw_dir / f["path"]), os.path.realpath(folder)
     return os.path.commonpath([full, own]) == own
 
 

@@ -142,7 +142,10 @@ def merge_manifests(manifests: Sequence[Manifest]) -> Manifest:
                 if f["kind"] in kinds:
                     continue  # the first folder that has this kind gives it
                 new_kinds.add(f["kind"])
-            rel = Path(os.path.relpath(m.raw_dir / f["path"], root)).as_posix()
+            # physical paths: <first folder>/<rel> is opened as the OS resolves it, through
+            # any link in the first folder's path
+            rel = Path(os.path.relpath(os.path.realpath(m.raw_dir / f["path"]),
+                                       os.path.realpath(root))).as_posix()
             files.append({**f, "path": rel, "folder": m.raw_dir.as_posix()})
         kinds |= new_kinds
     return Manifest(first.path, dict(first.experiment), cuts, files, dict(first.extra))
