@@ -118,7 +118,7 @@ def test_command_line_numbers_are_converted_and_bad_ones_get_the_fix(repo, confi
     cfg["data"] = over["data"]
     out = validate_config(cfg, repo / "workflow/schemas/config.schema.yaml")
     assert out["forces"]["decimation"] == 10 and out["forces"]["lowband_hz"] == 250.0
-    assert out["data"] == {"source": "raw", "raw_dir": "/some/folder"}
+    assert out["data"] == {"source": "raw", "raw_dir": "/some/folder", "raw_dirs": []}
     cfg["forces"]["decimation"] = "10.5"
     with pytest.raises(ConfigError, match=re.escape(
             "config key 'forces.decimation': '10.5' is not an integer or null (expected an "
@@ -133,9 +133,9 @@ def test_command_line_numbers_are_converted_and_bad_ones_get_the_fix(repo, confi
 
 
 @pytest.mark.parametrize(("value", "expected"), [
-    ("/data/run1", {"source": "raw", "raw_dir": "/data/run1"}),
-    ("synthetic", {"source": "synthetic", "raw_dir": "data/raw"}),
-    ({"source": "raw", "raw_dir": "x"}, {"source": "raw", "raw_dir": "x"}),
+    ("/data/run1", {"source": "raw", "raw_dir": "/data/run1", "raw_dirs": []}),
+    ("synthetic", {"source": "synthetic", "raw_dir": "data/raw", "raw_dirs": []}),
+    ({"source": "raw", "raw_dir": "x"}, {"source": "raw", "raw_dir": "x", "raw_dirs": []}),
 ])
 def test_data_folder_shorthand(repo, config, value, expected):
     cfg = copy.deepcopy(config)

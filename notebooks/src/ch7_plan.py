@@ -24,6 +24,7 @@ pareto: str = None  # results/plan/pareto.csv
 study: str = None  # results/plan/study_cuts.csv
 comparison: str = None  # results/plan/comparison.csv
 path_summary: str = None  # results/plan/path_summary.csv
+binding: str = None  # results/plan/binding.csv
 check: str = None  # results/plan/check.csv
 check_summary: str = None  # results/plan/check_summary.csv
 templates: str = None  # notebooks/templates/ch7.yaml: the sentences rendered from check_summary
@@ -185,6 +186,21 @@ pcols = ["cut", "configuration", "redundancy_path_deg", "fixed_rotation_deg",
          "path_worst_margin", "fixed_worst_margin", "path_gain_a_crit", "path_gain_stiffness",
          "min_wrist_angle_deg", "min_limit_clearance_deg", "path_refused"]
 display(chosen[[c for c in pcols if c in chosen]])
+
+# %% [markdown]
+# ## What a learn round narrows
+#
+# The production plan is bound by the prediction that stops a larger removal rate at its
+# largest-removal-rate cut: the one the grid's next depth (else feed) breaks there
+# (`robomill.plan.binding`). The cuts of a learn plan
+# (`purpose: learn`), once run, join the identification (their raw folder added to
+# `data.raw_dirs`), and the next production plan states the same prediction's interval again.
+
+# %%
+from robomill.plan.binding import binding_values
+
+display(Markdown(Prose(load_templates("ch7", templates),
+                       binding_values(pd.read_csv(binding)))("binding")))
 
 # %% [markdown]
 # ## The plan beside the study

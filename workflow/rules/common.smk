@@ -16,6 +16,7 @@ from robomill.experiment import (
 from robomill.io.cell import peek_robot_name
 from robomill.errors import RawDataError
 from robomill.io.manifest import load_manifest, parse_manifest
+from robomill.io.rawdirs import merge_manifests, raw_folders
 from robomill.registry import (
     REGISTRY_ENV,
     REQUIREMENT_WORDS,
@@ -26,7 +27,9 @@ from robomill.synth.layout import synthetic_manifest
 
 REPO = Path(workflow.basedir)
 SYNTHETIC = config["data"]["source"] == "synthetic"
-RAW = "results/synthetic/raw" if SYNTHETIC else config["data"]["raw_dir"]
+RAW = raw_folders(config["data"])[
+    0
+]  # the first raw folder (synthetic: the virtual cell's)
 MANIFEST = f"{RAW}/manifest.yaml"
 STUDY = "results/ingest/study.yaml"
 ENV = "../envs/robomill.yaml"
@@ -47,12 +50,17 @@ try:
         if SYNTHETIC
         else load_manifest(MANIFEST)
     )
+    # the study: the first folder's cuts and files with those of every later raw folder
+    # (config data.raw_dirs in order; robomill.io.rawdirs states the merge rule)
+    RAW_DIRS = raw_folders(config["data"])
+    MANIFESTS = [MANIFEST] + [f"{d}/manifest.yaml" for d in RAW_DIRS[1:]]
+    STUDY_PLAN = merge_manifests([PLAN] + [load_manifest(m) for m in MANIFESTS[1:]])
 except RawDataError as exc:
     print(exc, file=sys.stderr)
     sys.exit(1)
-CUTS = PLAN.cuts
-RAW_FILES = PLAN.files
-EXPERIMENT = PLAN.experiment
+CUTS = STUDY_PLAN.cuts
+RAW_FILES = STUDY_PLAN.files
+EXPERIMENT = STUDY_PLAN.experiment
 CUT_IDS = [c.id for c in CUTS]
 
 # The cell (robot, home posture, tool orientation, gear trains): the raw folder's cell.yaml

@@ -5,7 +5,7 @@
 
 rule ingest_manifest:
     input:
-        manifest=MANIFEST,
+        manifest=MANIFESTS,
     output:
         cuts="results/ingest/cuts.csv",
         files="results/ingest/files.csv",
@@ -38,7 +38,7 @@ rule ingest_cell:
 # (robomill.study); every analysis rule reads it (input `study`), none the manifest.
 rule ingest_study:
     input:
-        manifest=MANIFEST,
+        manifest=MANIFESTS,
     output:
         STUDY,
     log:

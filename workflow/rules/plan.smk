@@ -49,9 +49,13 @@ PLAN_OUTPUTS = {
     "manifest": "results/plan/next/manifest.yaml",
     "config": "results/plan/next/config.yaml",
     "path_summary": "results/plan/path_summary.csv",
+    # the production plan's binding interval (robomill.plan.binding), beside an earlier plan's
+    "binding": "results/plan/binding.csv",
 }
 # the controller program of the planned cuts and its stations.csv (robomill.plan.program)
 PLAN_PROGRAM = "results/plan/next/program"
+# an earlier plan's results/plan/binding.csv (config plan.binding_before; "" none)
+PLAN_BINDING_BEFORE = config["plan"]["binding_before"]
 # The planned cuts' own run (snakemake all --configfile results/plan/next/config.yaml, which
 # writes under NEXT_RUN_DIR; on the virtual cell, or a lab's files of the planned cuts): its
 # outcomes are inputs of plan_check once it has made them (another run of the workflow makes
@@ -73,6 +77,7 @@ PLAN_NEXT_OUTCOMES = {
 rule plan_make:
     input:
         **PLAN_MEASURED,
+        **({"binding_before": PLAN_BINDING_BEFORE} if PLAN_BINDING_BEFORE else {}),
         request=PLAN_REQUEST,
         cell=CELL,
         study=STUDY,
@@ -90,6 +95,7 @@ rule plan_make:
         waviness_noise=config["plan"]["waviness_noise"],
         fmin_cycles=config["straightness"]["fmin_cycles"],
         level=config["plan"]["interval_level"],
+        raw_folders=len(RAW_DIRS),
     script:
         "../scripts/plan_make.py"
 
@@ -161,6 +167,7 @@ use rule chapter as ch7 with:
         study=PLAN_OUTPUTS["study"],
         comparison=PLAN_OUTPUTS["comparison"],
         path_summary=PLAN_OUTPUTS["path_summary"],
+        binding=PLAN_OUTPUTS["binding"],
         check="results/plan/check.csv",
         check_summary="results/plan/check_summary.csv",
     output:

@@ -12,9 +12,10 @@ SYNTH_CFG = {
 SYNTH_FORCE_FORMAT = config["synth"]["dynamometer"]["format"]
 
 
-# the planned synthetic raw files of each kind (none in raw mode)
+# the planned synthetic raw files of each kind (none in raw mode; PLAN: the virtual cell's
+# folder only, not the later raw folders of data.raw_dirs)
 SYNTH_FILES = {}
-for _f in RAW_FILES if SYNTHETIC else []:
+for _f in PLAN.files if SYNTHETIC else []:
     SYNTH_FILES.setdefault(_f["kind"], []).append(_f)
 SYNTH_TRACKER_RUNS = {tracker_run(f): f for f in SYNTH_FILES.get("tracker", [])}
 
@@ -197,7 +198,7 @@ rule synth_loadtests:
 
 rule synth_manifest:
     input:
-        files=[f"results/synthetic/raw/{f['path']}" for f in RAW_FILES],
+        files=[f"results/synthetic/raw/{f['path']}" for f in PLAN.files],
         truth="results/synthetic/truth.nc",
     output:
         "results/synthetic/raw/manifest.yaml",
@@ -209,8 +210,8 @@ rule synth_manifest:
         ENV
     params:
         experiment=EXPERIMENT,
-        cuts=[c.as_dict() for c in CUTS],
-        files=RAW_FILES,
+        cuts=[c.as_dict() for c in PLAN.cuts],
+        files=PLAN.files,
         raw_dir=lambda w, output: os.path.dirname(output[0]),
     script:
         "../scripts/synth_manifest.py"

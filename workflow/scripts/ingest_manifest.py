@@ -6,11 +6,11 @@ import pandas as pd
 
 from robomill.experiment import cuts_table
 from robomill.io import write_table
-from robomill.io.manifest import load_manifest
+from robomill.io.rawdirs import load_study_manifest
 from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "ingest_manifest")
-m = load_manifest(snakemake.input.manifest)
+m = load_study_manifest(list(snakemake.input.manifest))
 for line in m.verify_all():  # unlisted files outside the data folders: one line
     log.warning(line)
     print(f"warning: {line}", file=sys.__stderr__)

@@ -12,6 +12,7 @@ from robomill.io import write_artefact, write_table
 from robomill.io.atomic import atomic_path
 from robomill.io.cell import read_cell
 from robomill.pipeline.runlog import setup
+from robomill.plan.binding import binding_table, read_before
 from robomill.plan.check import waviness_min_cycles
 from robomill.plan.extrapolation import reach_from_means
 from robomill.plan.make import make_plan
@@ -66,8 +67,12 @@ if "modal_fit" in inp.keys():
 reach = reach_from_means(table("means"), experiment, mids, band)
 log.info("study reach: %s", reach)
 slots = [np.asarray(cut_endpoints_mm(c, experiment), float) for c in cuts] if placed else None
+# an earlier plan's binding interval (config plan.binding_before): the narrowing is measured
+# on its binding prediction
+before = read_before(inp.binding_before) if "binding_before" in inp.keys() else None
 plan = make_plan(req, measured, cell, cuts, experiment, robot_name=cell.robot.name,
-                 reach=reach, study_slots=slots)
+                 reach=reach, study_slots=slots,
+                 binding_constraint=None if before is None else str(before["constraint"].iloc[-1]))
 inputs = [str(f) for f in inp]
 write_artefact(compact(plan.candidates), out.candidates, rule="plan_make", inputs=inputs,
                config_section=req.raw)
@@ -89,6 +94,8 @@ log.info("program (%s): %s", cell_file.controller or "no controller named: stati
 for p in plan.paths:
     if p.refused:
         log.info("cut %s refused: %s", p.cut, p.refused)
+write_table(binding_table(plan.binding, req.purpose, len(cuts), int(p.raw_folders), before),
+            out.binding)
 for path, data in ((out.manifest, plan.manifest), (out.config, plan.config)):
     with atomic_path(path) as tmp:
         tmp.write_text(yaml.safe_dump(data, sort_keys=False))

@@ -14,6 +14,7 @@ Ingestion checks each file against its sha256 and never writes into the raw dire
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -415,6 +416,16 @@ def _parse_cut(path: Path, where: str, c: Mapping[str, Any], seen: Mapping[str, 
                redundancy_deg=None if theta is None else float(theta))
 
 
+def _in_own_folder(raw_dir: Path, f: Mapping[str, Any]) -> bool:
+    """Whether a file of a study merged from several raw folders (its entry carries the
+    ``folder`` it was listed in; :mod:`robomill.io.rawdirs`) lies inside that folder."""
+    folder = f.get("folder")
+    if not isinstance(folder, str):
+        return False
+    full, own = os.path.realpath(raw_dir / f["path"]), os.path.realpath(folder)
+    return os.path.commonpath([full, own]) == own
+
+
 def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True,
                    kinds: Iterable[str] | None = None) -> Manifest:
     """Validate a manifest mapping (as loaded from YAML) and return a :class:`Manifest`.
@@ -486,7 +497,8 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True,
             first = paths[f["path"]]
             raise RawDataError(path, f"duplicate path {f['path']!r} (also files[{first}])",
                                where=f"{where}.path", expected="each file listed once")
-        if Path(f["path"]).is_absolute() or ".." in Path(f["path"]).parts:
+        if ((Path(f["path"]).is_absolute() or ".." in Path(f["path"]).parts)
+                and not _in_own_folder(path.parent, f)):
             raise RawDataError(path, f"path {f['path']!r} leaves the raw folder",
                                where=f"{where}.path", expected="a path relative to the manifest")
         if "cut" in f and f["cut"] not in seen:

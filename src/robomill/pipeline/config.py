@@ -345,9 +345,9 @@ def run_folder(config: dict[str, Any]) -> str | None:
     changes into it; with ``snakemake --directory D`` it is taken inside D), so that a run of
     other cuts leaves this study's results as they are: the next experiment's configuration
     (``results/plan/next/config.yaml``) names ``results/plan/next/run``
-    (:data:`robomill.plan.NEXT_RUN_DIR`). A relative ``data.raw_dir`` keeps meaning a
-    folder relative to where the run started: it is made absolute here, in place, before the
-    working directory changes.
+    (:data:`robomill.plan.NEXT_RUN_DIR`). A relative ``data.raw_dir`` (each of
+    ``data.raw_dirs``) keeps meaning a folder relative to where the run started: it is made
+    absolute here, in place, before the working directory changes.
     """
     folder = config.get("workdir")
     if not folder:
@@ -355,6 +355,8 @@ def run_folder(config: dict[str, Any]) -> str | None:
     data = config.get("data")
     if isinstance(data, dict) and data.get("raw_dir"):
         data["raw_dir"] = str(Path(data["raw_dir"]).resolve())
+    if isinstance(data, dict) and data.get("raw_dirs"):
+        data["raw_dirs"] = [str(Path(d).resolve()) for d in data["raw_dirs"]]
     return str(folder)
 
 

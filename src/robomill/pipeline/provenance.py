@@ -8,12 +8,14 @@ from typing import Any
 
 from robomill.io.artefacts import git_commit, package_version
 from robomill.io.hashing import config_digest, sha256_file
+from robomill.io.rawdirs import raw_folders
 
 
 def run_provenance(config: Mapping[str, Any], manifest: str | Path | None) -> dict[str, str]:
     """Package version, git commit, config digest, data source (and the manifest's digest)."""
     source = config["data"]["source"]
-    where = config["data"]["raw_dir"] if source == "raw" else "results/synthetic/raw (virtual cell)"
+    where = (", ".join(raw_folders(config["data"])) if source == "raw"
+             else "results/synthetic/raw (virtual cell)")
     out = {
         "robomill version": package_version(),
         "git commit": git_commit(),

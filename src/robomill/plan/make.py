@@ -5,6 +5,7 @@ beside the study's own cuts."""
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -14,6 +15,7 @@ import pandas as pd
 import xarray as xr
 
 from robomill.experiment import Cut
+from robomill.plan.binding import binding_interval
 from robomill.plan.choose import PlanInfeasible, check_needs, choose, feasible
 from robomill.plan.compare import comparison_table, rotation_effect_pct, study_cuts_table
 from robomill.plan.cutpath import plan_cut_path
@@ -50,13 +52,24 @@ class Plan:
     config: dict[str, Any]
     paths: list = field(default_factory=list)
     path_summary: pd.DataFrame | None = None
+    binding: dict[str, Any] = field(default_factory=dict)
+
+
+def after_study_ids(ids: Sequence[str], study_ids: Sequence[str]) -> list[str]:
+    """The planned cut ids ``plan_NN`` numbered on after the study's own ``plan_NN`` cuts (a
+    study that merged an earlier plan's run, ``data.raw_dirs``), so that no planned id names a
+    cut of the study; unchanged where the study has none."""
+    taken = [int(m.group(1)) for s in study_ids if (m := re.fullmatch(r"plan_(\d+)", s))]
+    k = max(taken, default=0)
+    return [f"plan_{k + int(c[len('plan_'):]):02d}" if k and re.fullmatch(r"plan_\d+", c)
+            else c for c in ids]
 
 
 def learn_plan(cand: xr.Dataset, req: PlanRequest, measured: Measured, occupied, reach,
-               robot_name: str) -> tuple[pd.DataFrame, pd.DataFrame]:
+               robot_name: str) -> tuple[pd.DataFrame, pd.DataFrame, pd.Series | None]:
     """The learn design (:func:`robomill.plan.learn.learn_design`) aimed at the production
-    plan's binding cut (its largest removal rate; none when no candidate is feasible), and the
-    production Pareto front beside it (empty then)."""
+    plan's binding cut (its largest removal rate; none when no candidate is feasible), the
+    production Pareto front beside it (empty then) and that binding cut."""
     from robomill.plan.extrapolation import reason_text
     from robomill.plan.learn import learn_design
 
@@ -74,18 +87,20 @@ def learn_plan(cand: xr.Dataset, req: PlanRequest, measured: Measured, occupied,
                              "feed within the other constraints)")
     if "extrapolation_code" in chosen:
         chosen["extrapolation_reason"] = [reason_text(c) for c in chosen["extrapolation_code"]]
-    return chosen, front
+    return chosen, front, None if prod is None or prod.empty else prod.iloc[0]
 
 
 def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[Cut],
               experiment: Mapping[str, Any], *, robot_name: str = "the robot",
-              reach=None, study_slots=None) -> Plan:
+              reach=None, study_slots=None, binding_constraint: str | None = None) -> Plan:
     """The whole plan (raises :class:`robomill.plan.choose.PlanInfeasible` with one line when a
     constraint needs a missing measurement, no candidate meets the constraints, or every
     candidate is extrapolated and the request does not allow it). ``reach``
     (:class:`robomill.plan.extrapolation.StudyReach`): flag and widen what lies outside it;
     ``study_slots``: the study's cuts as segments ``(2, 3)`` [mm], which no planned slot may
-    overlap (:mod:`robomill.plan.material`)."""
+    overlap (:mod:`robomill.plan.material`); ``binding_constraint``: the constraint whose
+    interval :attr:`Plan.binding` measures (an earlier plan's; default the one that binds,
+    :func:`robomill.plan.binding.binding_interval`)."""
     missing = missing_predictions(measured)
     check_needs(req, missing)
     cand = predict_grid(req, measured, cell)
@@ -93,9 +108,18 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
         cand = apply_extrapolation(cand, req, measured, cell, reach)
     occupied = [] if study_slots is None else list(study_slots)
     if req.purpose == "learn":
-        chosen, front = learn_plan(cand, req, measured, occupied, reach, robot_name)
+        chosen, front, prod_first = learn_plan(cand, req, measured, occupied, reach,
+                                               robot_name)
     else:
         chosen, front = choose(cand, req, robot_name, occupied=occupied)
+        prod_first = chosen.iloc[0]
+    study_ids = [c.id for c in cuts]
+    chosen["cut"] = after_study_ids(list(chosen["cut"].astype(str)), study_ids)
+    if prod_first is not None:
+        prod_first = prod_first.copy()
+        prod_first["cut"] = after_study_ids([str(prod_first["cut"])], study_ids)[0]
+    binding = ({} if prod_first is None
+               else binding_interval(cand, req, prod_first, binding_constraint))
     wobj = req.work_object or BASE
     chosen, slot_notes = separate_slots(chosen, cand, req,
                                         study_slot_segments(cuts, experiment, wobj), wobj)
@@ -136,4 +160,4 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     return Plan(cand, pmap, table, plan_table(front), study,
                 comparison_table(table, study, effect, pmap.sizes["rotation"]), manifest,
                 next_config(manifest), cut_paths,
-                path_summary(pose_failure_table(cand), table, effect, slot_notes))
+                path_summary(pose_failure_table(cand), table, effect, slot_notes), binding)

@@ -1,0 +1,196 @@
+"""The binding interval of a production plan, and how much a learn round narrowed it.
+
+The production plan's binding cut is its largest-removal-rate cut (rank 1). Of the
+predictions the request constrains (:data:`robomill.plan.choose.CONSTRAINT_VARS`), the one
+that binds it is the one that stops a larger removal rate: at the cut's pose and speed, the
+next larger depth of the request's grid (else the next larger feed) breaks it, by the largest
+relative excess where several break. Where no larger depth or feed breaks one (the cut is at
+the grid's end), it is the one whose pessimistic end lies closest to its limit. Both in the
+limit's units relative to the limit:
+
+    slack = (p_pess − L) / |L|   (a lower limit: the stability margin)
+    slack = (L − p_pess) / |L|   (an upper limit: deflection, waviness, force)
+
+(the excess is −slack at the larger cut).
+
+Its **binding interval** is that prediction's interval at the binding cut, ``[low, high]``,
+of width ``w = high − low`` (the level of ``plan.interval_level``). A learn round (the cuts
+of ``purpose: learn`` run, their raw folder added to ``data.raw_dirs``) narrows it by
+
+    narrowing = 1 − w_after / w_before
+
+measured on the same prediction (the binding prediction of the earlier plan, taken at the
+new plan's binding cut), so that a change of which constraint binds does not pass for a
+narrowing.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from robomill.errors import RawDataError
+from robomill.plan.choose import CONSTRAINT_VARS
+from robomill.plan.request import PlanRequest
+
+COLUMNS = ("when", "purpose", "cut", "constraint", "prediction", "limit", "low", "high",
+           "width", "pessimistic", "slack", "binds", "study_cuts", "raw_folders", "narrowing")
+"""Columns of ``results/plan/binding.csv``."""
+
+
+def interval_names(checked: str) -> tuple[str, str]:
+    """The low and high variables of the prediction whose pessimistic end is ``checked``
+    (``stability_margin_low`` → ``stability_margin_low``, ``stability_margin_high``)."""
+    if "_low" in checked:
+        return checked, checked.replace("_low", "_high", 1)
+    return checked.replace("_high", "_low", 1), checked
+
+
+def _value(ds: xr.Dataset, name: str, row: pd.Series) -> float:
+    """Variable ``name`` of the candidates at the chosen cut ``row`` (its grid indices)."""
+    v = ds[name]
+    at = {d: int(row[f"i_{d}"]) for d in ("placement", "rotation", "direction") if d in v.dims}
+    at.update({d: float(row[d]) for d in ("spindle_rpm", "depth_mm", "feed_mm_s")
+               if d in v.dims})
+    pos = {d: at[d] for d in ("placement", "rotation", "direction") if d in at}
+    lab = {d: at[d] for d in ("spindle_rpm", "depth_mm", "feed_mm_s") if d in at}
+    return float(v.isel(pos).sel(lab).values)
+
+
+def _slacks(ds: xr.Dataset, req: PlanRequest, row: pd.Series) -> dict[str, float]:
+    """Relative slack of each constrained prediction's pessimistic end at ``row``."""
+    out = {}
+    for key, (name, kind, _) in CONSTRAINT_VARS.items():
+        lim = req.constraints.get(key)
+        if lim is None or name not in ds:
+            continue
+        pess = _value(ds, name, row)
+        out[key] = ((pess - lim) if kind == "min" else (lim - pess)) / max(abs(float(lim)),
+                                                                          1e-12)
+    return out
+
+
+def limiting_constraint(ds: xr.Dataset, req: PlanRequest, row: pd.Series
+                        ) -> tuple[str, str] | None:
+    """The constraint the next larger depth (else feed) of the grid breaks at ``row``'s pose
+    and speed, by the largest relative excess, and where (``depth_mm=0.3``); None where no
+    larger one breaks any."""
+    for dim in ("depth_mm", "feed_mm_s"):
+        if dim not in ds.coords:
+            continue
+        grid = np.asarray(ds[dim].values, float)
+        larger = grid[grid > float(row[dim]) + 1e-12]
+        if not larger.size:
+            continue
+        nxt = row.copy()
+        nxt[dim] = float(larger.min())
+        broken = {k: -v for k, v in _slacks(ds, req, nxt).items() if np.isfinite(v) and v < 0}
+        if broken:
+            return max(broken, key=broken.get), f"{dim}={nxt[dim]:g}"
+    return None
+
+
+def binding_interval(ds: xr.Dataset, req: PlanRequest, row: pd.Series,
+                     constraint: str | None = None) -> dict[str, object]:
+    """The binding prediction's interval at the production plan's binding cut ``row`` (a row
+    of the chosen table, with its ``i_placement``/``i_rotation``/``i_direction`` indices):
+    the constraint a larger removal rate breaks (:func:`limiting_constraint`), else the one
+    with the least slack, or the given ``constraint`` (the earlier plan's, for a narrowing
+    measured on the same prediction); ``binds`` says which. Empty without a constrained
+    prediction."""
+    binds = "given"
+    if constraint is None:
+        found = limiting_constraint(ds, req, row)
+        constraint, binds = found if found else (None, "closest to its limit")
+    best = None
+    for key, (name, kind, what) in CONSTRAINT_VARS.items():
+        lim = req.constraints.get(key)
+        if lim is None or name not in ds or (constraint and key != constraint):
+            continue
+        lo_name, hi_name = interval_names(name)
+        if lo_name not in ds or hi_name not in ds:
+            continue
+        pess = _value(ds, name, row)
+        slack = ((pess - lim) if kind == "min" else (lim - pess)) / max(abs(float(lim)), 1e-12)
+        lo, hi = _value(ds, lo_name, row), _value(ds, hi_name, row)
+        cand = {"cut": str(row["cut"]), "constraint": key, "prediction": what,
+                "limit": float(lim), "low": lo, "high": hi, "width": hi - lo,
+                "pessimistic": pess, "slack": float(slack), "binds": binds}
+        if best is None or cand["slack"] < best["slack"]:
+            best = cand
+    return best or {}
+
+
+def binding_table(now: dict[str, object], purpose: str, study_cuts: int, raw_folders: int,
+                  before: pd.DataFrame | None = None) -> pd.DataFrame:
+    """``results/plan/binding.csv``: the row ``now`` (this plan's binding interval) and, where
+    an earlier plan's ``binding.csv`` is given, its ``now`` row as ``before``; ``narrowing``
+    1 − w_now / w_before on the row ``now`` (NaN without an earlier plan, or when the earlier
+    plan's binding constraint is not the one measured now)."""
+    rows = []
+    narrowing = np.nan
+    if before is not None and not before.empty:
+        b = before.iloc[-1].to_dict()
+        b.update({"when": "before", "narrowing": np.nan})
+        rows.append(b)
+        if (now.get("constraint") == b.get("constraint") and float(b["width"]) > 0):
+            narrowing = 1.0 - float(now["width"]) / float(b["width"])
+    rows.append({"when": "now", "purpose": purpose, **now, "study_cuts": int(study_cuts),
+                 "raw_folders": int(raw_folders), "narrowing": narrowing})
+    return pd.DataFrame(rows).reindex(columns=list(COLUMNS))
+
+
+def read_before(path: str | Path) -> pd.DataFrame:
+    """An earlier plan's ``binding.csv`` (config ``plan.binding_before``).
+
+    Raises
+    ------
+    RawDataError
+        One line when the file cannot be read or lacks the columns of :data:`COLUMNS`.
+    """
+    try:
+        t = pd.read_csv(path)
+    except (OSError, pd.errors.ParserError, pd.errors.EmptyDataError) as exc:
+        raise RawDataError(path, f"cannot read ({' '.join(str(exc).split())})",
+                           where="plan.binding_before",
+                           expected="results/plan/binding.csv of an earlier plan") from None
+    missing = [c for c in ("constraint", "width", "low", "high") if c not in t]
+    if missing or t.empty:
+        raise RawDataError(path, f"no binding interval (missing {', '.join(missing) or 'rows'})",
+                           where="plan.binding_before",
+                           expected="results/plan/binding.csv of an earlier plan")
+    return t
+
+
+def binding_values(table: pd.DataFrame) -> dict[str, object]:
+    """What chapter 7 states about the binding interval (``binding.csv``): this plan's
+    binding prediction, cut, interval and width, the study's cuts and raw folders; with an
+    earlier plan's row its interval and width and the narrowing [%]. ``binding_case``:
+    ``narrowed`` (an earlier plan's row, same prediction), ``changed`` (an earlier row whose
+    prediction no longer is the one measured), ``now`` (no earlier plan) or ``none`` (no
+    constrained prediction at the binding cut)."""
+    now = table[table["when"] == "now"]
+    if now.empty or not isinstance(now["constraint"].iloc[-1], str):
+        return {"binding_case": "none"}
+    r = now.iloc[-1]
+    out = {k: r[k] for k in ("purpose", "cut", "constraint", "prediction")}
+    out.update({k: float(r[k]) for k in ("low", "high", "width", "limit")})
+    out.update({"study_cuts": int(r["study_cuts"]), "raw_folders": int(r["raw_folders"])})
+    before = table[table["when"] == "before"]
+    if before.empty:
+        out["binding_case"] = "now"
+        return out
+    b = before.iloc[-1]
+    out.update({"before_low": float(b["low"]), "before_high": float(b["high"]),
+                "before_width": float(b["width"]), "before_cut": b["cut"],
+                "before_study_cuts": int(b["study_cuts"]),
+                "before_constraint": b["constraint"]})
+    if np.isfinite(float(r["narrowing"])):
+        out["narrowing_pct"] = 100.0 * float(r["narrowing"])
+        out["binding_case"] = "narrowed"
+    else:
+        out["binding_case"] = "changed"
+    return out

@@ -1,0 +1,159 @@
+"""The production plan's binding interval (robomill.plan.binding) and what a learn round does to
+it: on a planted cutting law, the cuts a learn round adds narrow the binding force interval
+towards the planted scatter of a new cut."""
+
+from types import SimpleNamespace
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+
+from robomill.forces.model import CuttingCoefficients, mean_milling_forces
+from robomill.forces.prediction import fit_force_regression, predict_mean_force
+from robomill.plan.binding import binding_interval, binding_table, interval_names
+
+
+def _candidates():
+    """Two placements × two speeds; the chosen cut at placement 1, 20 000 rpm."""
+    dims = ("placement", "spindle_rpm")
+    coords = {"placement": [0, 1], "spindle_rpm": [10000.0, 20000.0]}
+
+    def v(values):
+        return xr.DataArray(np.array(values, float), dims=dims, coords=coords)
+    return xr.Dataset({
+        "stability_margin_low": v([[0.5, 0.5], [0.5, 0.30]]),
+        "stability_margin_high": v([[0.9, 0.9], [0.9, 0.70]]),
+        "force_low_N": v([[10, 10], [10, 70.0]]),
+        "force_high_N": v([[20, 20], [20, 90.0]]),
+    })
+
+
+ROW = pd.Series({"cut": "P1", "i_placement": 1, "spindle_rpm": 20000.0})
+
+
+def test_the_binding_interval_is_the_prediction_closest_to_its_limit():
+    req = SimpleNamespace(constraints={"min_stability_margin": 0.2, "max_force_N": 100.0,
+                                       "max_deflection_normal_um": None})
+    b = binding_interval(_candidates(), req, ROW)
+    # margin: (0.30 − 0.2)/0.2 = 0.5 of slack; force: (100 − 90)/100 = 0.1: the force binds
+    assert b["constraint"] == "max_force_N"
+    assert b["slack"] == pytest.approx(0.1)
+    assert (b["low"], b["high"], b["width"]) == pytest.approx((70.0, 90.0, 20.0))
+    # measured on a given constraint (an earlier plan's): the margin's interval at that cut
+    m = binding_interval(_candidates(), req, ROW, "min_stability_margin")
+    assert (m["low"], m["high"], m["width"]) == pytest.approx((0.30, 0.70, 0.40))
+    assert m["slack"] == pytest.approx(0.5)
+    assert interval_names("deflection_normal_high_um") == ("deflection_normal_low_um",
+                                                            "deflection_normal_high_um")
+
+
+def test_the_binding_prediction_is_the_one_a_deeper_cut_breaks():
+    """At the chosen depth the force is closer to its limit (slack 0.1 against the margin's
+    0.5), but the next depth of the grid breaks the margin (0.15 < 0.2) and not the force
+    (95 < 100): the margin binds the removal rate."""
+    coords = {"placement": [0, 1], "depth_mm": [0.2, 0.3]}
+
+    def v(values):
+        return xr.DataArray(np.array(values, float), dims=("placement", "depth_mm"),
+                            coords=coords)
+    ds = xr.Dataset({"stability_margin_low": v([[1, 1], [0.30, 0.15]]),
+                     "stability_margin_high": v([[2, 2], [0.70, 0.40]]),
+                     "force_low_N": v([[1, 1], [70.0, 80.0]]),
+                     "force_high_N": v([[2, 2], [90.0, 95.0]])})
+    req = SimpleNamespace(constraints={"min_stability_margin": 0.2, "max_force_N": 100.0})
+    row = pd.Series({"cut": "P1", "i_placement": 1, "depth_mm": 0.2})
+    b = binding_interval(ds, req, row)
+    assert b["constraint"] == "min_stability_margin" and b["binds"] == "depth_mm=0.3"
+    assert (b["low"], b["high"]) == pytest.approx((0.30, 0.70))
+    # at the grid's largest depth nothing larger is cut: the least slack binds (the margin's
+    # (0.15 − 0.2)/0.2 = −0.25 against the force's 0.05)
+    top = binding_interval(ds, req, pd.Series({"cut": "P1", "i_placement": 1,
+                                               "depth_mm": 0.3}))
+    assert top["constraint"] == "min_stability_margin" and top["binds"] == "closest to its limit"
+    assert top["slack"] == pytest.approx(-0.25)
+
+
+def test_the_narrowing_is_stated_only_on_the_same_prediction():
+    before = binding_table({"constraint": "max_force_N", "width": 40.0, "low": 60.0,
+                            "high": 100.0}, "production", 45, 1)
+    after = binding_table({"constraint": "max_force_N", "width": 10.0, "low": 75.0,
+                           "high": 85.0}, "production", 51, 2, before)
+    assert list(after["when"]) == ["before", "now"]
+    assert after["narrowing"].iloc[-1] == pytest.approx(1 - 10.0 / 40.0)
+    assert after["raw_folders"].iloc[-1] == 2 and after["study_cuts"].iloc[-1] == 51
+    other = binding_table({"constraint": "min_stability_margin", "width": 0.1}, "production",
+                          51, 2, before)
+    assert np.isnan(other["narrowing"].iloc[-1])
+
+
+def test_a_learn_round_narrows_the_binding_force_interval_to_the_planted_scatter():
+    """Planted law (eq. 2.25 with known coefficients) and planted scatter σ per component.
+    The study cut only small chip loads; the production plan's binding cut is at a chip load
+    five times the study's largest. The learn round's cuts at and between them (the chip load
+    that separates edge and shearing forces) join the identification. Truths from the plant,
+    not the estimator: the planted mean lies inside both intervals; after the round the
+    interval is no wider than 1.5× the ideal 2·z·σ of a new cut about a known law, and
+    narrower than before by at least half."""
+    truth = CuttingCoefficients(Ktc=700.0, Krc=250.0, Kac=150.0, Kte=25.0, Kre=20.0, Kae=5.0)
+    sigma_N, depth_mm, c0 = 2.0, 1.0, 0.06
+    rng = np.random.default_rng(7)
+
+    def measure(c):
+        c = np.asarray(c, float)
+        F = mean_milling_forces(c, depth_mm, truth, flutes=2)
+        return F + rng.normal(0.0, sigma_N, F.shape)
+
+    study_c = np.repeat([0.010, 0.011, 0.012], 3)
+    learn_c = np.repeat([0.035, 0.06], 4)
+
+    def width(cs, forces):
+        reg = fit_force_regression(cs, depth_mm, forces, flutes=2)
+        p = predict_mean_force(reg, c0, depth_mm, flutes=2)
+        return float(p["low_N"]), float(p["high_N"])
+
+    F_study = measure(study_c)
+    lo_b, hi_b = width(study_c, F_study)
+    lo_a, hi_a = width(np.concatenate([study_c, learn_c]),
+                       np.vstack([F_study, measure(learn_c)]))
+    planted = float(np.linalg.norm(mean_milling_forces(c0, depth_mm, truth, flutes=2)))
+    assert lo_b <= planted <= hi_b and lo_a <= planted <= hi_a
+    ideal = 2 * 1.96 * sigma_N
+    assert hi_a - lo_a <= 1.5 * ideal
+    narrowing = binding_table({"constraint": "max_force_N", "width": hi_a - lo_a},
+                              "production", 17, 2,
+                              binding_table({"constraint": "max_force_N",
+                                             "width": hi_b - lo_b}, "production", 9, 1)
+                              )["narrowing"].iloc[-1]
+    assert narrowing >= 0.5
+    # control: as many more cuts at the study's own chip loads do not get there
+    lo_c, hi_c = width(np.concatenate([study_c, study_c[:8]]),
+                       np.vstack([F_study, measure(study_c[:8])]))
+    assert hi_c - lo_c > 1.5 * ideal
+
+
+def test_chapter_7_states_before_after_and_the_narrowing():
+    from pathlib import Path
+
+    from robomill.pipeline.prose import Prose, load_templates
+    from robomill.plan.binding import binding_values
+
+    row = {"cut": "P1", "prediction": "mean cutting force [N]", "limit": 100.0}
+    before = binding_table({**row, "constraint": "max_force_N", "low": 60.0, "high": 100.0,
+                            "width": 40.0}, "production", 45, 1)
+    after = binding_table({**row, "constraint": "max_force_N", "low": 75.0, "high": 85.0,
+                           "width": 10.0}, "production", 51, 2, before)
+    templates = load_templates("ch7", Path("notebooks/templates/ch7.yaml"))
+    text = Prose(templates, binding_values(after))("binding")
+    assert "[60, 100] (width 40)" in text and "[75, 85] at P1 (width 10)" in text
+    assert "**75 %**" in text and "51 cuts from 2 raw folders" in text
+    alone = Prose(templates, binding_values(before))("binding")
+    assert "[60, 100] (width 40, limit 100)" in alone and "narrowed" not in alone
+
+
+def test_planned_ids_number_on_after_an_earlier_plans_cuts_in_the_study():
+    from robomill.plan.make import after_study_ids
+
+    assert after_study_ids(["plan_01", "plan_02"], ["S1", "S2"]) == ["plan_01", "plan_02"]
+    assert after_study_ids(["plan_01", "plan_02"], ["S1", "plan_01", "plan_04"]) == [
+        "plan_05", "plan_06"]
