@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 import yaml
 from conftest import REPO, run_snakemake
+
 from robomill.synth.layout import synthetic_manifest
 
 pytestmark = pytest.mark.pipeline
