@@ -39,27 +39,12 @@ ALLOWED = {
     ("src/robomill/modal/frf.py", "force_window_s"):
         "an attribute of an frf.nc written before the window was stored in it",
     ("src/robomill/modal/frf.py", "exponential_end"): "as force_window_s",
-}
-#: files whose functions' keyword defaults still repeat schema defaults (57 in all, e.g.
-#: ``lscf(..., max_order=40)``): a mechanical follow-up, left while these files are edited on
-#: other branches (the chatter, modal, plan, forces and surface modules, the chapter renderer)
-KEYWORD_DEFAULTS_LEFT = {
-    "src/robomill/chatter/lobes_sdm.py", "src/robomill/chatter/modal_timedomain.py",
-    "src/robomill/chatter/thesis.py", "src/robomill/chatter/timedomain.py",
-    "src/robomill/forces/coefficients.py", "src/robomill/forces/model.py",
-    "src/robomill/forces/study.py", "src/robomill/io/forces.py", "src/robomill/modal/band.py",
-    "src/robomill/modal/hits.py", "src/robomill/modal/identification.py",
-    "src/robomill/modal/lscf.py", "src/robomill/modal/peaks.py", "src/robomill/modal/tables.py",
-    "src/robomill/pipeline/chapters.py", "src/robomill/plan/check.py",
-    "src/robomill/plan/measured.py", "src/robomill/plan/noise.py",
-    "src/robomill/straightness/findings.py", "src/robomill/straightness/study.py",
-    "src/robomill/surface/peaks.py",
+    ("src/robomill/straightness/study.py", "ik_points"):
+        "inverse-kinematics samples along a tracker path in the straightness analysis, not "
+        "the dynamometer simulator's synth.dynamometer.ik_points along a cut",
 }
 #: whole files left as they are, with the reason
-ALLOWED_FILES = {
-    "src/robomill/synth/plancuts.py":
-        "the simulation of planned cuts (plan.simulate), removed with plan_simulate",
-}
+ALLOWED_FILES: dict[str, str] = {}
 
 
 def _schema_defaults() -> dict[str, list]:
@@ -141,8 +126,7 @@ def test_no_module_carries_a_default_the_schema_states():
         if rel in ALLOWED_FILES:
             continue
         found += [h for h in copies_of_schema_defaults(Path(rel), f.read_text(), defaults)
-                  if (rel, h[2]) not in ALLOWED
-                  and not (h[4] == "keyword" and rel in KEYWORD_DEFAULTS_LEFT)]
+                  if (rel, h[2]) not in ALLOWED]
     assert found == [], "defaults written beside the schema's:\n" + "\n".join(map(str, found))
 
 

@@ -24,6 +24,7 @@ import numpy as np
 import scipy.linalg
 
 from robomill.chatter.model import CuttingModel, LinearTool, lobe_parameters
+from robomill.settings import schema_default
 
 STEPS_PER_PERIOD = 40
 """Default steps per tooth period (the value of Insperger & Stépán 2004 and Ding et al. 2010).
@@ -184,7 +185,8 @@ def reference_frequencies_hz(tool: LinearTool, n_speeds: int,
 
 def critical_depth(tool: LinearTool, cut: CuttingModel, spindle_rpm: float, *,
                    depth_max_m: float, m: int = STEPS_PER_PERIOD, n_scan: int = 16,
-                   rtol: float = 0.005, depth_min_m: float | None = None
+                   rtol: float = schema_default("chatter.seed", "rtol"),
+                   depth_min_m: float | None = None
                    ) -> tuple[float, complex]:
     """Smallest unstable axial depth at one speed: a geometric scan of ``n_scan`` depths up to
     ``depth_max_m`` finds the first unstable one (so unstable islands above a stable band are
@@ -220,7 +222,8 @@ def critical_depth(tool: LinearTool, cut: CuttingModel, spindle_rpm: float, *,
 @lobe_parameters
 def sdm_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray, *,
               depth_max_m: float, m: int = STEPS_PER_PERIOD, n_scan: int = 16,
-              rtol: float = 0.005, f_ref_hz: np.ndarray | None = None,
+              rtol: float = schema_default("chatter.seed", "rtol"),
+              f_ref_hz: np.ndarray | None = None,
               progress=None):
     """Semi-discretization lobe diagram on a speed grid.
 

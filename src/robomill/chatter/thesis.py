@@ -14,6 +14,7 @@ import numpy as np
 import pandas as pd
 
 from robomill.chatter.model import CuttingModel, LinearTool, ModeXY, tool_from_modes
+from robomill.settings import schema_default
 
 DIRECTIONS = {"px": (1.0, 0.0), "py": (0.0, 1.0), "my": (0.0, -1.0)}
 """Feed unit vectors (base X, Y) of the thesis slots."""
@@ -70,7 +71,7 @@ def _max_real(tool: LinearTool, cut: CuttingModel, a: np.ndarray) -> tuple[np.nd
 
 
 def mode_coupling(modes: list[ModeXY], cut: CuttingModel, *, depth_max_m: float,
-                  rtol: float = 0.005) -> dict:
+                  rtol: float = schema_default("chatter.seed", "rtol")) -> dict:
     """Mode-coupling check: the 2-D model without delay, ṡ = (A + a B W̄ C) s (the oriented
     cutting stiffness a W̄ acting on the current displacement; Tlusty's mode coupling, Pan et
     al. 2006 for robots). The non-symmetric stiffness can merge two modes into a flutter pair

@@ -31,6 +31,7 @@ import numba
 import numpy as np
 
 from robomill.chatter.model import CuttingModel, LinearTool
+from robomill.settings import schema_default
 
 G_M_S2 = 9.81
 
@@ -269,7 +270,8 @@ class SeedSimulation:
         Keep every k-th step in the record.
     """
 
-    def __init__(self, params: SeedParams, depth_m: float, *, steps_per_tooth: int = 256,
+    def __init__(self, params: SeedParams, depth_m: float, *,
+                 steps_per_tooth: int = schema_default("chatter.seed", "steps_per_tooth"),
                  duration_s: float = 5.0, record_every: int = 4,
                  start_at_contact: bool = True):
         self.p = params

@@ -11,6 +11,7 @@ import numpy as np
 import pandas as pd
 
 from robomill.forces.model import COEFFICIENT_UNITS, _window_integrals
+from robomill.settings import schema_default
 
 _SLOPE_FACTOR = {"x": -4.0, "y": 4.0, "z": np.pi}
 _INTERCEPT_FACTOR = {"x": -np.pi, "y": np.pi, "z": 2.0}
@@ -223,8 +224,10 @@ def not_physical_reasons(table: pd.DataFrame) -> list[str]:
 
 
 def identify_cutting_coefficients(feed_per_tooth_mm: np.ndarray, depth_mm: np.ndarray,
-                                  mean_forces_N: np.ndarray, *, flutes=2,
-                                  confidence: float = 0.95, entry_rad=None,
+                                  mean_forces_N: np.ndarray, *,
+                                  flutes: int = schema_default("experiment", "flutes"),
+                                  confidence: float = schema_default("forces", "confidence"),
+                                  entry_rad=None,
                                   exit_rad=None) -> pd.DataFrame:
     """Shearing and edge coefficients from the mean forces of slots at several feeds.
 
@@ -300,7 +303,8 @@ def identify_cutting_coefficients(feed_per_tooth_mm: np.ndarray, depth_mm: np.nd
 
 def identify_cutting_coefficients_general(feed_per_tooth_mm, depth_mm, mean_forces_N, *,
                                           flutes, entry_rad, exit_rad,
-                                          confidence: float = 0.95) -> pd.DataFrame:
+                                          confidence: float = schema_default("forces", "confidence")
+                                          ) -> pd.DataFrame:
     """Cutting coefficients from the mean forces of cuts of any immersion and milling mode.
 
     The mean force of every cut is linear in the six coefficients (Altintas 2012, eq. 2.25;

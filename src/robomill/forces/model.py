@@ -28,6 +28,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from robomill.settings import schema_default
+
 AXES = ("Fx", "Fy", "Fz")
 """Force channels of the dynamometer (base / block axes X, Y, Z)."""
 
@@ -114,7 +116,8 @@ def _is_slot(entry_rad: float, exit_rad: float) -> bool:
 
 
 def slot_forces(phi_rad: np.ndarray, feed_per_tooth_mm: float | np.ndarray, depth_mm: float |
-                np.ndarray, coeffs: CuttingCoefficients, *, flutes: int = 2,
+                np.ndarray, coeffs: CuttingCoefficients, *,
+                flutes: int = schema_default("experiment", "flutes"),
                 cross_feed_mm: float | np.ndarray = 0.0, entry_rad: float = 0.0,
                 exit_rad: float = np.pi) -> np.ndarray:
     """Milling forces on the tool in the cut frame (thesis eq. 3.1, h = c sin φ); a slot by
@@ -175,7 +178,8 @@ def slot_forces(phi_rad: np.ndarray, feed_per_tooth_mm: float | np.ndarray, dept
 
 
 def mean_slot_forces(feed_per_tooth_mm: float | np.ndarray, depth_mm: float | np.ndarray,
-                     coeffs: CuttingCoefficients, *, flutes: int = 2) -> np.ndarray:
+                     coeffs: CuttingCoefficients, *,
+                     flutes: int = schema_default("experiment", "flutes")) -> np.ndarray:
     """Closed-form mean forces of a full slot (φ from 0 to π), cut frame, on the tool [N].
 
     Averaging eq. 3.1 over a revolution (Altintas 2012, eq. 2.25 for φ_st = 0, φ_ex = π):
@@ -207,7 +211,8 @@ def _window_integrals(entry_rad, exit_rad) -> dict[str, np.ndarray]:
 
 
 def mean_milling_forces(feed_per_tooth_mm, depth_mm, coeffs: CuttingCoefficients, *,
-                        flutes=2, entry_rad=0.0, exit_rad=np.pi) -> np.ndarray:
+                        flutes: int = schema_default("experiment", "flutes"), entry_rad=0.0,
+                        exit_rad=np.pi) -> np.ndarray:
     """Closed-form mean forces of a cut engaged from φ_st to φ_ex, cut frame, on the tool [N].
 
     Altintas 2012, eq. 2.25: the force of eq. 3.1 averaged over one revolution,

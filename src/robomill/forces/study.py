@@ -26,6 +26,7 @@ from robomill.forces.model import (
 )
 from robomill.forces.peaks import cut_peaks, harmonic_powers
 from robomill.forces.settings import ForcePeakSettings
+from robomill.settings import schema_default
 from robomill.xrvars import var
 
 
@@ -139,7 +140,8 @@ def force_cut_dataset(result: Mapping[str, np.ndarray], *, cut: Mapping, fs_hz: 
 
 
 
-def gather_force_study(cut_datasets: list, *, flutes: int, confidence: float = 0.95,
+def gather_force_study(cut_datasets: list, *, flutes: int,
+                       confidence: float = schema_default("forces", "confidence"),
                        model_feed_per_tooth_mm: float | None = None,
                        model_depth_mm: float | None = None,
                        processes: Mapping[str, Mapping] | None = None):

@@ -21,6 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from robomill.errors import RawDataError
+from robomill.settings import schema_default
 
 COLUMNS = ("t_s", "Fx_N", "Fy_N", "Fz_N")
 """Required columns (CSV) or datasets (HDF5), in this order."""
@@ -41,7 +42,9 @@ class ForceRecord:
     """Largest distance of a CSV time stamp from the grid ``t0 + k/fs_hz`` when ``t_s`` was
     printed with limited precision (0 when every step is exact to :data:`RTOL`)."""
 
-    def chunks(self, chunk_samples: int = 262_144) -> Iterator[tuple[np.ndarray, np.ndarray]]:
+    def chunks(self,
+               chunk_samples: int = schema_default("forces", "chunk_samples")
+               ) -> Iterator[tuple[np.ndarray, np.ndarray]]:
         """Yield ``(t_s (n,), force_N (n, 3))`` blocks in order, each validated: finite values,
         strictly increasing time with step ``1/fs_hz`` (across block boundaries too)."""
         step = 1.0 / self.fs_hz
@@ -239,7 +242,7 @@ def read_forces(path: str | Path, fs_hz: float) -> tuple[np.ndarray, np.ndarray]
 
 
 def write_forces_h5(path: str | Path, n_samples: int, fs_hz: float, blocks, *,
-                    dtype: str = "float32") -> Path:
+                    dtype: str = schema_default("synth.dynamometer", "dtype")) -> Path:
     """Write a record in the contract's HDF5 layout from an iterator of ``(t_s, force_N)``
     blocks, never holding more than one block (used by the simulator)."""
     import h5py

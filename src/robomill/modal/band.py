@@ -10,9 +10,12 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
+from robomill.settings import schema_default
+
 
 def band_from_data(ds: xr.Dataset, *, force_spectrum: np.ndarray | None = None,
-                   coherence_min: float = 0.75, force_drop_db: float = 10.0,
+                   coherence_min: float = schema_default("modal", "coherence_min"),
+                   force_drop_db: float = 10.0,
                    smooth_hz: float = 2.0,
                    no_coherence_low_fraction: float = 0.02) -> tuple[float, float]:
     """The analysis band from the data: where the hammer excited the structure and the
@@ -95,7 +98,8 @@ def band_coverage(band_hz: Sequence[float], data_band_hz: Sequence[float]) -> fl
 
 def choose_band(ds: xr.Dataset, *, band_hz: Sequence[float] | None = None,
                 experiment_band_hz: Sequence[float] | None = None,
-                force_spectrum: np.ndarray | None = None, coherence_min: float = 0.75,
+                force_spectrum: np.ndarray | None = None,
+                coherence_min: float = schema_default("modal", "coherence_min"),
                 coverage_min: float = BAND_COVERAGE_MIN) -> BandChoice:
     """The modal analysis band, in order: ``band_hz`` (``config.yaml: modal.band_hz``) if
     set, else ``experiment_band_hz`` (the manifest's ``experiment.modal_band_hz``: the band

@@ -22,6 +22,7 @@ import scipy.signal
 import xarray as xr
 
 from robomill.modal.layout import point_label
+from robomill.settings import schema_default
 
 CHANNELS = ("force_N", "ax_ms2", "ay_ms2", "az_ms2")
 """Channels of an impact record."""
@@ -43,8 +44,10 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
 
 
 def check_hit(force_N: np.ndarray, accel_ms2: np.ndarray, fs_hz: float, *,
-              trigger_fraction: float = 0.05, double_hit_fraction: float = 0.1,
-              overload_samples: int = 3, flat_rtol: float = 1e-4,
+              trigger_fraction: float = schema_default("modal", "trigger_fraction"),
+              double_hit_fraction: float = schema_default("modal", "double_hit_fraction"),
+              overload_samples: int = schema_default("modal", "overload_samples"),
+              flat_rtol: float = 1e-4,
               force_range_N: float | None = None,
               accel_range_ms2: float | None = None,
               channels: Sequence[str] | None = None) -> HitCheck:
@@ -160,8 +163,10 @@ class HitGroup:
     hits: list = field(default_factory=list)
 
 
-def check_and_group(hits: Sequence, *, trigger_fraction: float = 0.05,
-                    double_hit_fraction: float = 0.1, overload_samples: int = 3,
+def check_and_group(hits: Sequence, *,
+                    trigger_fraction: float = schema_default("modal", "trigger_fraction"),
+                    double_hit_fraction: float = schema_default("modal", "double_hit_fraction"),
+                    overload_samples: int = schema_default("modal", "overload_samples"),
                     force_range_N: float | None = None,
                     accel_range_ms2: float | None = None) -> tuple[pd.DataFrame, list[HitGroup]]:
     """Check every hit (:func:`check_hit`) and group the accepted ones by reference point and

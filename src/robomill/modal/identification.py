@@ -15,6 +15,7 @@ from robomill.modal.lscf import correct_window_damping, pole_f_zeta, select_pole
 from robomill.modal.shapes import ModeShapes, mac_matrix
 from robomill.modal.synthesis import modal_constants
 from robomill.modal.tables import modes_table
+from robomill.settings import schema_default
 
 
 def coherence_at(ds: xr.Dataset, f_hz: Sequence[float]) -> np.ndarray:
@@ -46,10 +47,15 @@ class Identification:
     mac: np.ndarray | None = None
 
 
-def identify(ds: xr.Dataset, *, band_hz: Sequence[float], max_order: int = 40,
-             tol_f: float = 0.01, tol_zeta: float = 0.05, mac_min: float = 0.95,
-             zeta_max: float = 0.2, cluster_tol: float = 0.01,
-             min_stable: int = 5, coherence_min: float = 0.75) -> Identification:
+def identify(ds: xr.Dataset, *, band_hz: Sequence[float],
+             max_order: int = schema_default("modal", "max_order"),
+             tol_f: float = schema_default("modal", "tol_f"),
+             tol_zeta: float = schema_default("modal", "tol_zeta"),
+             mac_min: float = schema_default("modal", "mac_min"),
+             zeta_max: float = schema_default("modal", "zeta_max"),
+             cluster_tol: float = schema_default("modal", "cluster_tol"),
+             min_stable: int = schema_default("modal", "min_stable"),
+             coherence_min: float = schema_default("modal", "coherence_min")) -> Identification:
     """Stabilization chart over all measured FRFs → selected poles → residues (LSFD) →
     window-corrected modes, shapes over the measured points, MAC matrix, sanity flags."""
     stab = stabilization(ds, band_hz=band_hz, max_order=max_order, tol_f=tol_f,

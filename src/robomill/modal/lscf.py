@@ -21,6 +21,7 @@ import pandas as pd
 import xarray as xr
 
 from robomill.modal.shapes import _mac
+from robomill.settings import schema_default
 
 
 def _frf_rows(ds: xr.Dataset, var: str = "H") -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -56,9 +57,12 @@ def pole_f_zeta(poles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return wn / (2 * np.pi), -p.real / wn
 
 
-def stabilization(ds: xr.Dataset, *, band_hz: Sequence[float], max_order: int = 40,
-                  tol_f: float = 0.01, tol_zeta: float = 0.05, mac_min: float = 0.95,
-                  zeta_max: float = 0.2) -> pd.DataFrame:
+def stabilization(ds: xr.Dataset, *, band_hz: Sequence[float],
+                  max_order: int = schema_default("modal", "max_order"),
+                  tol_f: float = schema_default("modal", "tol_f"),
+                  tol_zeta: float = schema_default("modal", "tol_zeta"),
+                  mac_min: float = schema_default("modal", "mac_min"),
+                  zeta_max: float = schema_default("modal", "zeta_max")) -> pd.DataFrame:
     """Stabilization chart: LSCF poles (sdypy-EMA) at every model order, with their status.
 
     For each order (denominator degree 2, 4, …, 2·``max_order``) the poles with positive
@@ -113,8 +117,8 @@ def stabilization(ds: xr.Dataset, *, band_hz: Sequence[float], max_order: int = 
                                        "status"])
 
 
-def select_poles(stab: pd.DataFrame, *, cluster_tol: float = 0.01,
-                 min_stable: int = 5) -> pd.DataFrame:
+def select_poles(stab: pd.DataFrame, *, cluster_tol: float = schema_default("modal", "cluster_tol"),
+                 min_stable: int = schema_default("modal", "min_stable")) -> pd.DataFrame:
     """Physical poles from a stabilization chart.
 
     Stable poles are sorted by frequency and split into groups where consecutive

@@ -11,6 +11,7 @@ import scipy.signal
 import xarray as xr
 
 from robomill import references
+from robomill.settings import schema_default
 
 PEAK_COLUMNS = ["output", "input", "f_hz", "f_line_hz", "prominence_db", "imag_extremum_m_N",
                 "real_below_m_N", "real_above_m_N", "coherence", "real_sign_change",
@@ -30,9 +31,10 @@ def interpolated_peak_hz(f_hz: np.ndarray, magnitude: np.ndarray, k: int) -> flo
     return interpolate_peak(f_hz, magnitude, k)  # the same vertex, written once
 
 
-def peak_picking(ds: xr.Dataset, *, band_hz: Sequence[float], coherence_min: float = 0.75,
+def peak_picking(ds: xr.Dataset, *, band_hz: Sequence[float],
+                 coherence_min: float = schema_default("modal", "coherence_min"),
                  prominence: float = 0.05, floor_db: float = 3.0,
-                 real_window_hz: float = 3.0) -> pd.DataFrame:
+                 real_window_hz: float = schema_default("modal", "real_window_hz")) -> pd.DataFrame:
     """Natural-frequency candidates by the thesis' criteria, on each measured FRF.
 
     A candidate is an extremum of Im H that stands out of its neighbourhood: a local maximum

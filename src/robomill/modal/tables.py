@@ -11,6 +11,7 @@ import pandas as pd
 from robomill.modal.layout import TOOLTIP, _is_tooltip, point_label
 from robomill.modal.lscf import pole_f_zeta
 from robomill.modal.shapes import ModeShapes, mode_shapes
+from robomill.settings import schema_default
 
 MODE_COLUMNS = ["mode", "f_n_hz", "zeta", "k_modal_N_m", "m_modal_kg", "shape_x", "shape_y",
                 "shape_z", "zeta_windowed", "rank1", "n_stable", "driving_point", "coherence",
@@ -24,7 +25,8 @@ def modes_table(poles: np.ndarray, residues: np.ndarray, *,
                 outputs: Sequence[tuple[int, int]] = TOOLTIP,
                 inputs: Sequence[tuple[int, int]] = TOOLTIP,
                 coherence: Sequence[float] | None = None,
-                coherence_min: float = 0.75) -> tuple[pd.DataFrame, ModeShapes]:
+                coherence_min: float = schema_default("modal", "coherence_min")
+                ) -> tuple[pd.DataFrame, ModeShapes]:
     """Modal parameters from (window-corrected) poles and residues, and the mode shapes.
 
     The 3×3 tool-tip matrix (outputs = inputs = node 1 +X, +Y, +Z): ``R = 2jω_d A_r`` ≈

@@ -21,6 +21,8 @@ from typing import Any
 
 import nbformat
 
+from robomill.settings import schema_default
+
 log = logging.getLogger(__name__)
 
 #: a kernel that never answered is started afresh this many times in all
@@ -233,9 +235,9 @@ def render_chapter(
     fig_dir: str | Path,
     parameters: Mapping[str, Any],
     *,
-    kernel: str = "python3",
-    start_timeout_s: int = 300,
-    execution_timeout_s: int = 1200,
+    kernel: str = schema_default("chapters", "kernel"),
+    start_timeout_s: int = schema_default("chapters", "start_timeout_s"),
+    execution_timeout_s: int = schema_default("chapters", "execution_timeout_s"),
     failed_copy: str | Path | None = None,
     cwd: str | Path | None = None,
     shown: Mapping[str, Any] | None = None,

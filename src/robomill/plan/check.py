@@ -47,6 +47,7 @@ from robomill.plan.evidence import (
     verdict_stability,
 )
 from robomill.plan.measured import spectrum_amplitude_um
+from robomill.settings import schema_default
 
 CHECK_COLUMNS = ["cut", "quantity", "unit", "predicted", "low", "high", "outcome",
                  "within_interval", "within_tolerance", "held", "in_sample", "source"]
@@ -92,7 +93,8 @@ def waviness_elements(peaks: pd.DataFrame | None) -> pd.DataFrame:
 
 def waviness_outcomes(elements: pd.DataFrame, run_gears: pd.DataFrame, profiles,
                       *, min_cycles: float = WAVINESS_MIN_CYCLES,
-                      halfwidth_bins: float = 0.5, merge_bins: float = 2.0,
+                      halfwidth_bins: float = 0.5,
+                      merge_bins: float = schema_default("straightness", "merge_bins"),
                       skip_runs: frozenset[str] | set[str] = frozenset()) -> pd.Series:
     """Measured waviness normal to the wall per cut [µm], the quantity
     :func:`robomill.plan.measured.waviness_um` predicts: Σ_e A_lat(f_e), the in-phase sum over
@@ -196,7 +198,8 @@ def _present(table: pd.DataFrame | None) -> bool:
 
 
 def spectrum_stability(force_peaks: pd.DataFrame, mean_forces: pd.DataFrame,
-                       chatter_fraction_of_mean: float = 0.05) -> pd.Series:
+                       chatter_fraction_of_mean: float = schema_default(
+                           "plan", "chatter_fraction_of_mean")) -> pd.Series:
     """1 (stable) or 0 (chatter) per cut from its force spectrum: chatter when the dominant
     modal-band line √P exceeds ``chatter_fraction_of_mean`` × |F̄| (a cut without a dominant
     line is stable)."""
@@ -280,7 +283,8 @@ def _stabilities(runs: list[RunOutcomes],
 def check_table(predicted: pd.DataFrame, *, study: RunOutcomes | None = None,
                 planned_run: RunOutcomes | None = None, peaks: pd.DataFrame | None = None,
                 identified_cuts=(), tolerance: float = 0.25,
-                chatter_fraction_of_mean: float = 0.05,
+                chatter_fraction_of_mean: float = schema_default(
+                    "plan", "chatter_fraction_of_mean"),
                 waviness_min_cycles: float = WAVINESS_MIN_CYCLES) -> pd.DataFrame:
     """Rows :data:`CHECK_COLUMNS` for every predicted cut with an outcome (the ``stability``
     encoding in the module's docstring): one row per cut and quantity, its outcome from the

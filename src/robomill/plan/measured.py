@@ -146,8 +146,11 @@ def spectrum_amplitude_um(profiles, run: str, component: str, f_lo_per_mm: float
 def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
                           poses: Mapping[str, tuple[np.ndarray, np.ndarray]], *,
                           min_sensitivity: float = 0.02, profiles=None,
-                          noise_band_bins: float = 20.0,
-                          noise_exclude_bins: float = 2.0, level: float = 0.95
+                          noise_band_bins: float = schema_default(
+                              "plan.waviness_noise", "band_bins"),
+                          noise_exclude_bins: float = schema_default(
+                              "plan.waviness_noise", "exclude_bins"),
+                          level: float = schema_default("plan", "interval_level")
                           ) -> pd.DataFrame:
     """Joint-angle amplitude of every gear element seen on the tracker paths.
 
@@ -244,7 +247,8 @@ def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
                 gears: pd.DataFrame, *, direction: np.ndarray | None = None,
                 length_mm: float | None = None, orders: Mapping | None = None,
                 min_cycles: float = 4.5, feed_mm_s: np.ndarray | None = None,
-                coverage: float = 0.95) -> dict[str, np.ndarray]:
+                coverage: float = schema_default("plan.waviness_noise", "coverage")
+                ) -> dict[str, np.ndarray]:
     """Path waviness normal to the wall at postures ``q_rad`` ``(..., n)``: each gear element's
     joint amplitude carried through the Jacobian, A = δq_j |nᵀ J_v[:, j](q)|, summed over the
     elements (lines adding in phase: a bound on the peak waviness) [µm]; nominal, low, high

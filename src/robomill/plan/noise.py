@@ -56,6 +56,8 @@ from collections.abc import Iterable
 
 import numpy as np
 
+from robomill.settings import schema_default
+
 RAYLEIGH_MEDIAN = float(np.sqrt(np.log(2.0)))
 """Median of |N| / σ for complex Gaussian N with E|N|² = σ² (Rayleigh)."""
 
@@ -77,8 +79,10 @@ def record_duration_s(length_mm, feed_mm_s):
 
 
 def noise_floor_um(profiles, run: str, f_per_mm: float, *, component: str = "lateral",
-                   exclude_per_mm: Iterable[float] = (), band_bins: float = 20.0,
-                   exclude_bins: float = 2.0) -> float:
+                   exclude_per_mm: Iterable[float] = (),
+                   band_bins: float = schema_default("plan.waviness_noise", "band_bins"),
+                   exclude_bins: float = schema_default("plan.waviness_noise", "exclude_bins")
+                   ) -> float:
     """Per-bin noise level σ (RMS of the complex noise amplitude, E|N|² = σ²) of one component
     of a tracker run's amplitude spectrum near ``f_per_mm`` [µm]: σ̂ = median(|A|)/√(ln 2)
     over ± ``band_bins`` resolution bins 1/L around it, above the run's ``fmin_per_mm``,

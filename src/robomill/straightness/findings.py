@@ -24,6 +24,7 @@ import xarray as xr
 
 from robomill import references
 from robomill.findings import Findings
+from robomill.settings import schema_default
 from robomill.straightness.attribution import NO_TIME_BASE
 from robomill.straightness.tables import (
     band_floor_table,
@@ -60,7 +61,8 @@ def quiet_band(surface_band_per_mm: Sequence[float], fmax_store_per_mm: float
 def straightness_findings(profiles: xr.Dataset, peaks: pd.DataFrame, *,
                           surface_band_per_mm: Sequence[float], fmax_store_per_mm: float,
                           threshold: float, surface_peaks: pd.DataFrame | None = None,
-                          truth_check: pd.DataFrame | None = None, tol_bins: float = 0.5,
+                          truth_check: pd.DataFrame | None = None,
+                          tol_bins: float = schema_default("straightness", "tol_bins"),
                           fmin_cycles: float | None = None, truth_margin: float | None = None,
                           thesis_design: bool | None = None) -> Findings:
     """The findings of the straightness stage.

@@ -13,6 +13,7 @@ import pandas as pd
 import xarray as xr
 
 from robomill.kinematics import SerialRobot
+from robomill.settings import schema_default
 from robomill.straightness.attribution import PEAK_COLUMNS, classify_peaks, match_peaks_to_gears
 from robomill.straightness.gears import gear_spatial_frequencies, joint_path_for_line
 from robomill.straightness.profile import (
@@ -31,7 +32,8 @@ def analyse_run(t_s: np.ndarray | None, points_mm: np.ndarray, *, robot: SerialR
                 gears: Sequence[Any], tool_rotation: np.ndarray, q0_rad: np.ndarray,
                 ds_mm: float, trim_mm: float, nfft: int, fmin_cycles: float,
                 fmax_per_mm: float, threshold: float, n_peaks: int, tol_bins: float,
-                detrend_order: int = 1, ik_points: int = 41, merge_bins: float = 2.0,
+                detrend_order: int = 1, ik_points: int = 41,
+                merge_bins: float = schema_default("straightness", "merge_bins"),
                 local_prominence_ratio: float = 0.0, local_floor_halfwidth_bins: float = 0.0
                 ) -> tuple[Profile, ProfileSpectrum, pd.DataFrame, pd.DataFrame]:
     """Profile, spectrum, gear frequencies and gear-matched peaks of one tracker run.

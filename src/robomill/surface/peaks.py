@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from robomill.settings import schema_default
 from robomill.spectra import (
     below_resolution,
     find_peaks_spectrum,
@@ -64,7 +65,7 @@ def profile_peaks(ds: xr.Dataset, opts: Mapping[str, Any]) -> pd.DataFrame:
     return df
 
 def attribute_mechanisms(peaks: pd.DataFrame, cuts: pd.DataFrame, *, tolerance: float = 0.2,
-                         min_feed_ratio: float = 1.5,
+                         min_feed_ratio: float = schema_default("surface", "min_feed_ratio"),
                          group_by: Sequence[str] = ("set", "direction")) -> pd.DataFrame:
     """Classify each peak as kinematic, dynamic or unclassified, with the evidence.
 
