@@ -87,6 +87,12 @@ class VirtualCell:
     q_home_rad: np.ndarray = field(default_factory=lambda: np.zeros(6))
     tool_rotation_matrix: np.ndarray = field(
         default_factory=lambda: np.array([[1.0, 0, 0], [0, -1.0, 0], [0, 0, -1.0]]))
+    spindle_modes: list[Mode] = field(default_factory=list)
+    """Pose-independent modes of the spindle and tool (``synth.process.spindle_modes``)."""
+    joint_stiffness_Nm_rad: np.ndarray | None = None
+    """Planted joint stiffness K_θ of the robot (:mod:`robomill.synth.structure`)."""
+    q_reference_rad: np.ndarray | None = None
+    """The pose at which :attr:`modes` are the robot's modes (the impact test's pose)."""
 
     # ---- geometry of the cuts -------------------------------------------------------------
     def cut_endpoints_mm(self, cut: Cut, set_index: int | None = None) -> tuple[np.ndarray,
@@ -289,16 +295,30 @@ def cell_from_config(config: Mapping[str, Any]) -> VirtualCell:
     syn, facts = config["synth"], config["cell"]
     rng = np.random.default_rng(int(syn["seed"]))
     robot = robot_from_mapping(facts["robot"])
+    modes = _modes_from_config(syn["modes"])
+    q_home = np.deg2rad(np.asarray(facts.get("q_home_deg", [0, 0, 0, 0, 0, 0]), float))
+    gears = _gears_from_config(facts["transmissions"], syn["gears"], rng)
+    R = np.asarray(facts.get("tool_rotation", [[1, 0, 0], [0, -1, 0], [0, 0, -1]]), float)
+    from robomill.synth.structure import joint_stiffness_Nm_rad, reference_pose_rad
+
+    process = syn.get("process") or {}
+    cell = VirtualCell(robot=robot, gears=gears, modes=modes,
+                       cutting={k: float(v) for k, v in syn["cutting"].items()},
+                       experiment=dict(config["experiment"]), seed=int(syn["seed"]),
+                       config=dict(config), q_home_rad=q_home, tool_rotation_matrix=R,
+                       spindle_modes=_modes_from_config(process.get("spindle_modes") or []),
+                       joint_stiffness_Nm_rad=joint_stiffness_Nm_rad(config))
+    if cell.joint_stiffness_Nm_rad is not None and "process" in syn:
+        cell.q_reference_rad = reference_pose_rad(cell, config)
+    return cell
+
+
+def _modes_from_config(entries: Sequence[Mapping]) -> list[Mode]:
+    """Modes ``{f_hz, zeta, k_N_m, shape}`` of the configuration, shapes normalized."""
     modes = []
-    for m in syn["modes"]:
+    for m in entries:
         shape = np.asarray(m["shape"], float)
         shape = shape / np.linalg.norm(shape)
         modes.append(Mode(float(m["f_hz"]), float(m["zeta"]), float(m["k_N_m"]),
                           tuple(float(x) for x in shape)))
-    q_home = np.deg2rad(np.asarray(facts.get("q_home_deg", [0, 0, 0, 0, 0, 0]), float))
-    gears = _gears_from_config(facts["transmissions"], syn["gears"], rng)
-    R = np.asarray(facts.get("tool_rotation", [[1, 0, 0], [0, -1, 0], [0, 0, -1]]), float)
-    return VirtualCell(robot=robot, gears=gears, modes=modes,
-                       cutting={k: float(v) for k, v in syn["cutting"].items()},
-                       experiment=dict(config["experiment"]), seed=int(syn["seed"]),
-                       config=dict(config), q_home_rad=q_home, tool_rotation_matrix=R)
+    return modes
