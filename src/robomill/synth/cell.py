@@ -6,7 +6,8 @@ the planted truth of ``config.yaml: synth``: the gear eccentricities, the tool-t
 model, the cutting coefficients and the seed. Every simulator takes its physics from here, so
 that instruments agree the way real ones do: the same eccentric gears make the tracker's
 straightness error and the surface waviness; the same modes ring in the impact test and in
-the cutting forces.
+the cut (:mod:`robomill.synth.structure` moves them with the pose; every instrument of a cut
+reads the one closed-loop cut of :mod:`robomill.synth.process`).
 
 Geometry of the experiment (``config.yaml: experiment.layout``): the block frame R0 has its
 origin at ``block_origin_mm`` in the robot base frame and axes parallel to the base axes; the
@@ -175,38 +176,6 @@ class VirtualCell:
             H += np.einsum("i,j,f->ijf", phi, phi, 1.0 / (m.k_N_m * (1 - r**2 + 2j * m.zeta * r)))
         return H
 
-    def tool_response_m(self, force_N: np.ndarray, fs_hz: float) -> np.ndarray:
-        """Tool-tip displacement ``(n, 3)`` [m] of the modal model driven by a force history
-        ``(n, 3)`` [N] (base axes), sampled at ``fs_hz``.
-
-        Each mode is a single-DOF oscillator in its modal coordinate,
-        η'' + 2ζω_n η' + ω_n² η = φᵀF / m_r, discretized with the bilinear transform
-        (frequency-prewarped at ω_n); x = Σ_r φ_r η_r. Used by every simulator that needs the
-        cell's vibration (forces, surface roughness marks), so all see the same modes.
-        """
-        import scipy.signal
-
-        force = np.asarray(force_N, float)
-        x = np.zeros_like(force)
-        for m in self.modes:
-            phi = np.asarray(m.shape)
-            wn = 2 * np.pi * m.f_hz
-            num, den = [1.0 / m.m_kg], [1.0, 2 * m.zeta * wn, wn**2]
-            b, a = scipy.signal.bilinear(num, den, fs=fs_hz) if wn >= np.pi * fs_hz else \
-                scipy.signal.bilinear(*_prewarp(num, den, wn, fs_hz), fs=fs_hz)
-            eta = scipy.signal.lfilter(b, a, force @ phi)
-            x += np.outer(eta, phi)
-        return x
-
-    def random_vibration_m(self, n: int, fs_hz: float, force_std_N: float,
-                           rng: np.random.Generator) -> np.ndarray:
-        """Tool-tip vibration ``(n, 3)`` [m]: the modes' response to a white random force of
-        standard deviation ``force_std_N`` per axis (the broadband part of the cutting force).
-        A settling lead of 10 periods of the lowest mode is simulated and discarded."""
-        lead = int(10 * fs_hz / min(m.f_hz for m in self.modes))
-        force = rng.normal(0.0, force_std_N, size=(n + lead, 3))
-        return self.tool_response_m(force, fs_hz)[lead:]
-
     # ---- truth --------------------------------------------------------------------------
     def truth(self) -> xr.Dataset:
         """The planted ground truth as a labelled dataset (``results/synthetic/truth.nc``)."""
@@ -252,13 +221,6 @@ class VirtualCell:
             ds[f"cutting_{name}"] = ((), float(value), {"units": unit,
                                                         "long_name": f"cutting coefficient {name}"})
         return ds
-
-
-def _prewarp(num, den, wn, fs_hz):
-    """Scale a 2nd-order analog filter so the bilinear transform keeps ω_n exact."""
-    wd = 2 * fs_hz * np.tan(wn / (2 * fs_hz))
-    g = wd / wn
-    return [num[0] * g**2], [den[0], den[1] * g, den[2] * g**2]
 
 
 def _gears_from_config(transmissions: Sequence[Mapping], errors: Sequence[Mapping],
