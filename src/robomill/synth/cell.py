@@ -216,6 +216,16 @@ class VirtualCell:
             },
             attrs={"seed": self.seed, "robot": self.robot.name},
         )
+        if self.spindle_modes:
+            sm = self.spindle_modes
+            ds["spindle_mode_f_hz"] = v("spindle_mode", [m.f_hz for m in sm], "Hz",
+                                        "spindle/tool natural frequency")
+            ds["spindle_mode_zeta"] = v("spindle_mode", [m.zeta for m in sm], "1",
+                                        "spindle/tool damping ratio")
+            ds["spindle_mode_k_N_m"] = v("spindle_mode", [m.k_N_m for m in sm], "N/m",
+                                         "spindle/tool modal stiffness at the tool tip")
+            ds["spindle_mode_shape"] = (("spindle_mode", "axis"), np.array([m.shape for m in sm]),
+                                        {"units": "1", "long_name": "unit spindle mode shape"})
         for name, value in self.cutting.items():
             unit = "N/mm^2" if name.endswith("N_mm2") else "N/mm"
             ds[f"cutting_{name}"] = ((), float(value), {"units": unit,
