@@ -106,9 +106,11 @@ def test_a_deep_cut_of_the_default_design_chatters_at_the_thesis_speed(default_s
     config, cell = default_study
     design = simulate_cut(cell, _cut(config, "s1_g3_px"), config)
     deep = simulate_cut(cell, _cut(config, "s1_g3_px", depth_mm=4.0), config)
-    assert design.teeth_out < 0.005
+    # at the design depth the arm's forced vibration lets a tooth leave now and then, but
+    # no line grows: the largest one away from the spindle harmonics stays a few % of the force
+    assert design.teeth_out < 0.05
     amp, _ = _spindle_non_harmonic_line(design)
-    assert amp < 0.02 * float(np.linalg.norm(design.force_N.mean(axis=0)))
+    assert amp < 0.05 * float(np.linalg.norm(design.force_N.mean(axis=0)))
     assert deep.teeth_out > 0.3
     amp, f = _spindle_non_harmonic_line(deep)
     assert amp > 0.2 * float(np.linalg.norm(deep.force_N.mean(axis=0))), (amp, f)
@@ -153,8 +155,11 @@ def test_an_air_pass_has_no_force_and_the_tracker_sees_the_deflection(default_st
     config, cell = default_study
     cut = _cut(config, "s3_g5_px")
     air = simulate_cut(cell, cut, config, cutting=False)
-    assert not air.force_N.any() and not air.deflection_m.any()
     loaded = simulate_cut(cell, cut, config)
+    assert not air.force_N.any()
+    # in the air the arm only vibrates under its own servos: no static deflection
+    assert np.all(np.abs(air.deflection_m.mean(axis=0)) < 0.05 * np.abs(
+        loaded.deflection_m.mean(axis=0)).max())
     np.testing.assert_array_equal(air.path_error_m, loaded.path_error_m[:air.t_s.size])
     run_l = simulate_run(config, cell, cut.direction, cut.feed_mm_s, cut)
     run_a = simulate_run(config, cell, cut.direction, cut.feed_mm_s, cut, loaded=False)

@@ -21,13 +21,17 @@ motion changing the next chip (regeneration):
 * **force** on the tool (Altintas 2012, eq. 2.25, edge terms included, only while the tooth
   cuts), at the axial depth the tool's axial motion leaves, ``a = max(a₀ − d_z, 0)``:
 
-  .. math:: F_t = a(κ K_{tc} h + K_{te}),\\ F_r = a(κ K_{rc} h + K_{re}),\\
-            F_a = a(κ K_{ac} h + K_{ae}),\\
+  .. math:: F_t = κ a(K_{tc} h + K_{te}),\\ F_r = κ a(K_{rc} h + K_{re}),\\
+            F_a = κ a(K_{ac} h + K_{ae}),\\
             F_x = Σ −F_t \\cos φ − F_r \\sin φ,\\ F_y = Σ F_t \\sin φ − F_r \\cos φ,\\ F_z = Σ F_a
 
   κ = 1 + σξ per tooth pass (ξ standard normal): the process noise of the material and the
   chip formation (``synth.process.coefficient_scatter``, *assumed*), the broadband excitation a
   stable cut damps and an unstable one grows from;
+* **the robot's own excitation**: its servos and motors shake the arm whether it cuts or
+  not (torque ripple, servo noise): a white force of ``synth.process.servo_force_N`` per axis
+  (band 0–1 kHz, *assumed*) drives the modes beside the cutting force; the dynamometer, under
+  the workpiece, does not measure it (it sees the arm's vibration only through the chip);
 * **structure**: the modes of the robot at the cut's pose and of the spindle and tool
   (:func:`robomill.synth.structure.modes_at`), d = Σ φ_r η_r + path error, each modal
   coordinate an oscillator η̈ + 2ζω η̇ + ω² η = φ_rᵀF / m_r advanced exactly over a step
@@ -35,7 +39,9 @@ motion changing the next chip (regeneration):
   mean force.
 
 The integration step is ``synth.process.oversample`` steps per dynamometer sample (the
-delayed surface interpolated linearly between steps); the force and the displacement are
+delayed surface interpolated linearly between steps; the force held over a step is the mean
+over ``synth.process.substeps`` cutter angles within it, so that a tooth entering or leaving
+the cut between steps counts by its share); the force and the displacement are
 then low-pass filtered (FIR, cut-off ``synth.dynamometer.anti_alias_fraction`` × fs: the
 acquisition's anti-alias filter) and decimated to the dynamometer's rate. The whole cut is
 integrated (``experiment.cut_length_mm`` at the cut's feed). The integration is seeded per
@@ -56,6 +62,8 @@ import numpy as np
 
 STREAM = 7
 """Stream number of the closed-loop process in the per-cut random generators."""
+SERVO_FS_HZ = 2000.0
+"""Rate of the robot's own white excitation (``synth.process.servo_force_N``): band 0–1 kHz."""
 
 
 @dataclass(frozen=True)
@@ -110,17 +118,26 @@ def modal_steps(f_hz, zeta, k_N_m, dt_s: float) -> tuple[np.ndarray, np.ndarray]
 
 
 @numba.njit(cache=True)
-def _integrate(k0, n, dt, omega, phase0, teeth, phst, phex, c, a0, coef, kappa, runout,
-               Phi, Gam, shape, eta, W, delay, path, path_dt, F_out, d_out, counts):
+def _integrate(k0, n, dt, substeps, omega, phase0, teeth, phst, phex, c, a0, coef, kappa,
+               runout, Phi, Gam, shape, eta, W, delay, path, path_dt, servo, servo_dt,
+               cutting, F_out, d_out, counts):
     """Advance the closed loop ``n`` steps from global step ``k0`` (state ``eta`` and the
     surface ring ``W`` (L, teeth) carried between calls); write the force and the structure's
-    displacement of every step into ``F_out``/``d_out``; count deep passages and teeth out."""
+    displacement of every step into ``F_out``/``d_out``; count deep passages and teeth out.
+
+    The force held over a step is the mean of the force at ``substeps`` equally spaced cutter
+    angles within it (the displacement held): a tooth entering or leaving the cut between two
+    steps then contributes its share of the step, not all or nothing, which keeps the edge
+    force's jumps from aliasing into lines of the record. ``servo`` ``(m, 3)`` is the robot's
+    own excitation on a grid of ``servo_dt`` (linear in between): it drives the modes with the
+    cutting force but is not part of ``F_out`` (the dynamometer does not see it). Without
+    ``cutting`` no tooth touches material (an air pass)."""
     M = Phi.shape[0]
     L = W.shape[0]
     two_pi = 2.0 * np.pi
-    m0 = int(np.floor(delay))
-    frac = delay - m0
     npath = path.shape[0]
+    nservo = servo.shape[0]
+    inv_s = 1.0 / substeps
     for i in range(n):
         k = k0 + i
         t = k * dt
@@ -146,41 +163,54 @@ def _integrate(k0, n, dt, omega, phase0, teeth, phst, phex, c, a0, coef, kappa, 
         Fx = 0.0
         Fy = 0.0
         Fz = 0.0
-        for j in range(teeth):
-            turns = (omega * t + phase0 + two_pi * j / teeth) / two_pi
-            phi = (turns - np.floor(turns)) * two_pi
-            sp = np.sin(phi)
-            cp = np.cos(phi)
-            w = dx * sp + dy * cp + runout[j]
-            if phi > phst and phi < phex:
-                jp = (j + 1) % teeth
-                if k - m0 - 1 >= 0:
-                    Wp = (1.0 - frac) * W[(k - m0) % L, jp] + frac * W[(k - m0 - 1) % L, jp]
-                else:
-                    Wp = w - runout[j] + runout[jp]
-                h = c * sp + w - Wp
-                deep = sp > 0.5
-                if deep:
-                    counts[0] += 1
-                if h > 0.0:
+        for sub in range(substeps if cutting else 0):
+            ts = t + sub * inv_s * dt
+            pos = k + sub * inv_s - delay  # the previous tooth's passage, in steps
+            i0 = int(np.floor(pos))
+            fr = pos - i0
+            for j in range(teeth):
+                turns = (omega * ts + phase0 + two_pi * j / teeth) / two_pi
+                phi = (turns - np.floor(turns)) * two_pi
+                sp = np.sin(phi)
+                cp = np.cos(phi)
+                w = dx * sp + dy * cp + runout[j]
+                if phi > phst and phi < phex:
+                    jp = (j + 1) % teeth
+                    if i0 >= 0:
+                        Wp = (1.0 - fr) * W[i0 % L, jp] + fr * W[(i0 + 1) % L, jp]
+                    else:
+                        Wp = w - runout[j] + runout[jp]
+                    h = c * sp + w - Wp
+                    if sub == 0:
+                        deep = sp > 0.5
+                        if deep:
+                            counts[0] += 1
+                        if h > 0.0:
+                            W[k % L, j] = w
+                        else:
+                            W[k % L, j] = Wp - c * sp
+                            if deep:
+                                counts[1] += 1
+                    if h > 0.0:
+                        pas = min(int(np.floor(turns)) * teeth + j, kappa.size - 1)
+                        kap = kappa[pas]
+                        Ft = kap * a * (coef[0] * h + coef[3])
+                        Fr = kap * a * (coef[1] * h + coef[4])
+                        Fa = kap * a * (coef[2] * h + coef[5])
+                        Fx += inv_s * (-Ft * cp - Fr * sp)
+                        Fy += inv_s * (Ft * sp - Fr * cp)
+                        Fz += inv_s * Fa
+                elif sub == 0:
                     W[k % L, j] = w
-                    pas = min(int(np.floor(turns)) * teeth + j, kappa.size - 1)
-                    kap = kappa[pas]
-                    Ft = a * (coef[0] * kap * h + coef[3])
-                    Fr = a * (coef[1] * kap * h + coef[4])
-                    Fa = a * (coef[2] * kap * h + coef[5])
-                    Fx += -Ft * cp - Fr * sp
-                    Fy += Ft * sp - Fr * cp
-                    Fz += Fa
-                else:
-                    W[k % L, j] = Wp - c * sp
-                    if deep:
-                        counts[1] += 1
-            else:
-                W[k % L, j] = w
         F_out[i, 0] = Fx
         F_out[i, 1] = Fy
         F_out[i, 2] = Fz
+        u = t / servo_dt
+        s0 = min(int(u), nservo - 2)
+        w1 = min(u - s0, 1.0)
+        Fx += (1 - w1) * servo[s0, 0] + w1 * servo[s0 + 1, 0]
+        Fy += (1 - w1) * servo[s0, 1] + w1 * servo[s0 + 1, 1]
+        Fz += (1 - w1) * servo[s0, 2] + w1 * servo[s0 + 1, 2]
         for r in range(M):
             f = shape[r, 0] * Fx + shape[r, 1] * Fy + shape[r, 2] * Fz
             e0 = Phi[r, 0, 0] * eta[r, 0] + Phi[r, 0, 1] * eta[r, 1] + Gam[r, 0] * f
@@ -275,6 +305,9 @@ def _simulate(cell, cut, config: Mapping[str, Any], cutting: bool,
     runout[:min(teeth, len(r_um))] = r_um[:teeth]
     runout *= 1e-6
     path, path_dt = path_error_cut_m(cell, cut, config, L_mm, frame)
+    servo_rng = np.random.default_rng([cell.seed, STREAM, zlib.crc32(cut.id.encode()), 1])
+    servo = float(proc_cfg["servo_force_N"]) * servo_rng.standard_normal(
+        (int(np.ceil(duration * SERVO_FS_HZ)) + 2, 3))
     delay = tau / dt
     W = np.zeros((int(np.floor(delay)) + 3, teeth))
     chunk = max(int(dyn["chunk_samples"]), 1024) * down
@@ -291,8 +324,9 @@ def _simulate(cell, cut, config: Mapping[str, Any], cutting: bool,
         m = min(chunk, n_in - k0)
         if k0:
             F_buf[:P], d_buf[:P] = F_buf[m_prev:m_prev + P], d_buf[m_prev:m_prev + P]
-        _integrate(k0, m, dt, omega, phase0, teeth, float(st), float(ex), c_m, a0_m, coef,
-                   kappa, runout, Phi, Gam, shape, eta, W, delay, path, path_dt,
+        _integrate(k0, m, dt, int(proc_cfg["substeps"]), omega, phase0, teeth, float(st),
+                   float(ex), c_m, a0_m, coef, kappa, runout, Phi, Gam, shape, eta, W,
+                   delay, path, path_dt, servo, 1.0 / SERVO_FS_HZ, bool(cutting),
                    F_buf[P:], d_buf[P:], counts)
         if not k0:  # at rest before the first sample: the filters start settled
             F_buf[:P], d_buf[:P] = F_buf[P], d_buf[P]
@@ -319,30 +353,6 @@ def _simulate(cell, cut, config: Mapping[str, Any], cutting: bool,
                         n_full=int(round(duration * fs)))
 
 
-def _air_pass(cell, cut, config: Mapping[str, Any]) -> SimulatedCut:
-    """The cut's path without material: no force, the structure at rest, the gear error."""
-    from robomill.experiment import cut_process, feed_direction
-    from robomill.forces.model import cut_frame
-    from robomill.synth.dynamometer import settings
-    from robomill.synth.structure import modes_at
-
-    fs = float(settings(config)["fs_hz"])
-    L_mm = float(cell.experiment["cut_length_mm"])
-    n = int(round(L_mm / cut.feed_mm_s * fs))
-    frame = cut_frame(feed_direction(cut))
-    path, path_dt = path_error_cut_m(cell, cut, config, L_mm, frame)
-    t = np.arange(n) / fs
-    u = np.clip(t / path_dt, 0, path.shape[0] - 1)
-    path_t = np.column_stack([np.interp(u, np.arange(path.shape[0]), path[:, i])
-                              for i in range(3)])
-    q_mid = cell.joint_path_rad(cut, np.array([0.5 * L_mm]))[0]
-    return SimulatedCut(cut_id=cut.id, fs_hz=fs, t_s=t, force_N=np.zeros((n, 3)),
-                        deflection_m=np.zeros((n, 3)), path_error_m=path_t, frame=frame,
-                        feed_mm_s=float(cut.feed_mm_s),
-                        tooth_hz=float(cut_process(cut, cell.experiment)["tooth_passing_hz"]),
-                        modes=tuple(modes_at(cell, q_mid)), teeth_out=0.0, n_full=n)
-
-
 _CACHE: OrderedDict = OrderedDict()
 
 
@@ -352,7 +362,8 @@ def simulate_cut(cell, cut, config: Mapping[str, Any], *, cutting: bool = True,
     ``length_mm`` (None: the whole cut; a prefix is the same as the whole cut's start).
 
     ``cutting=False``: the same path with the cutting force switched off (an air pass: the
-    robot moves along the cut's path without material, only the gear path error remains).
+    robot moves along the cut's path without material; the gear path error and the arm's
+    vibration under its own servo excitation remain, no static deflection).
     The last two results are kept in memory (the instruments of one job share them)."""
     key = (id(cell), cut.id, cut.feed_mm_s, cut.depth_mm, bool(cutting))
     if key in _CACHE and _CACHE[key][0] is cell:
@@ -361,8 +372,7 @@ def simulate_cut(cell, cut, config: Mapping[str, Any], *, cutting: bool = True,
                 length_mm is not None and done.t_s[-1] * cut.feed_mm_s >= float(length_mm)):
             _CACHE.move_to_end(key)
             return done
-    result = (_simulate(cell, cut, config, True, length_mm) if cutting
-              else _air_pass(cell, cut, config))
+    result = _simulate(cell, cut, config, bool(cutting), length_mm)
     _CACHE[key] = (cell, result)
     while len(_CACHE) > 2:
         _CACHE.popitem(last=False)

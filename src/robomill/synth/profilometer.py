@@ -62,6 +62,8 @@ INSTRUMENT_NUMBER = 1
 
 WAVINESS_SEGMENT_MM = 2.5
 ROUGHNESS_SEGMENT_MM = 0.25
+ROUGHNESS_CUTOFF_MM = 0.8
+"""Roughness cut-off wavelength λc of the vibration marks' band (ISO 4288, 0.8 mm)."""
 ALPHA = float(np.sqrt(np.log(2.0) / np.pi))
 
 DEFAULTS: dict[str, Any] = {
@@ -166,9 +168,11 @@ def _unit_segment_rms(z: np.ndarray, fs: float, segment_mm: float) -> np.ndarray
 
 
 def floor_vibration_um(cell, cut: Cut, p: Mapping[str, Any]) -> np.ndarray:
-    """The tool's vertical vibration [µm] (deflection about its mean, base Z) where the tool
-    passed each stylus position, low-pass filtered at the stylus tip's cut-off wavelength
-    (2nd-order Butterworth, zero phase, at ``feed / stylus_lambda_s_mm`` Hz)."""
+    """The tool's vertical vibration [µm] (deflection, base Z) where the tool passed each
+    stylus position, in the roughness band: band-pass filtered (2nd-order Butterworth, zero
+    phase) between the roughness cut-off wavelength λc = 0.8 mm (ISO 4288; the slow static
+    deflection changes along the cut belong to the waviness) and the stylus tip's
+    ``stylus_lambda_s_mm``, at ``feed / λc`` to ``feed / λs`` Hz."""
     import scipy.signal
 
     from robomill.synth.process import simulate_cut
@@ -176,8 +180,10 @@ def floor_vibration_um(cell, cut: Cut, p: Mapping[str, Any]) -> np.ndarray:
     s_mm = float(p["start_mm"]) + x_mm(p)
     sim = simulate_cut(cell, cut, cell.config, length_mm=float(s_mm[-1]))
     z = sim.deflection_m[:, 2] - sim.deflection_m[:, 2].mean()
-    f_c = min(cut.feed_mm_s / float(p["stylus_lambda_s_mm"]), 0.45 * sim.fs_hz)
-    z = scipy.signal.sosfiltfilt(scipy.signal.butter(2, f_c, fs=sim.fs_hz, output="sos"), z)
+    f_hi = min(cut.feed_mm_s / float(p["stylus_lambda_s_mm"]), 0.45 * sim.fs_hz)
+    f_lo = cut.feed_mm_s / ROUGHNESS_CUTOFF_MM
+    sos = scipy.signal.butter(2, [f_lo, f_hi], btype="bandpass", fs=sim.fs_hz, output="sos")
+    z = scipy.signal.sosfiltfilt(sos, z)
     return 1e6 * np.interp(s_mm / cut.feed_mm_s, sim.t_s, z)
 
 
