@@ -234,9 +234,7 @@ def path_error_cut_m(cell, cut, config: Mapping[str, Any], length_mm: float,
     before cutting, thesis §2.1), and that grid's step in time [s] at the cut's feed."""
     from scipy.interpolate import CubicSpline
 
-    from robomill.synth.dynamometer import settings
-
-    s = settings(config)
+    s = config["synth"]["dynamometer"]
     step = float(s["path_step_mm"])
     s_ik = np.linspace(0.0, length_mm, int(s["ik_points"]))
     spline = CubicSpline(s_ik, cell.joint_path_rad(cut, s_ik), axis=0)
@@ -257,11 +255,10 @@ def _simulate(cell, cut, config: Mapping[str, Any], cutting: bool,
         engagement_angles_rad,
         mean_milling_forces,
     )
-    from robomill.synth.dynamometer import settings
     from robomill.synth.structure import modes_at
 
     proc_cfg = config["synth"]["process"]
-    dyn = settings(config)
+    dyn = config["synth"]["dynamometer"]
     rng = np.random.default_rng([cell.seed, STREAM, zlib.crc32(cut.id.encode())])
     proc = cut_process(cut, cell.experiment)
     teeth, rpm = int(proc["flutes"]), float(proc["spindle_rpm"])

@@ -64,7 +64,7 @@ def robot_modes_at(cell, q_rad: np.ndarray) -> list:
     """The robot's modes at pose q (module docstring); the planted modes themselves where the
     cell has no joint stiffness or q is the reference pose."""
 
-    from robomill.synth.cell import Mode
+    import dataclasses
 
     if cell.joint_stiffness_Nm_rad is None or cell.q_reference_rad is None:
         return list(cell.modes)
@@ -77,7 +77,8 @@ def robot_modes_at(cell, q_rad: np.ndarray) -> list:
     for m in cell.modes:
         phi = np.asarray(m.shape, float)
         k_q = m.k_N_m * float(phi @ C_ref @ phi) / float(phi @ C_q @ phi)
-        out.append(Mode(float(np.sqrt(k_q / m.m_kg) / (2 * np.pi)), m.zeta, k_q, m.shape))
+        out.append(dataclasses.replace(m, f_hz=float(np.sqrt(k_q / m.m_kg) / (2 * np.pi)),
+                                       k_N_m=k_q))
     return out
 
 
