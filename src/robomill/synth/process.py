@@ -41,9 +41,10 @@ motion changing the next chip (regeneration):
 The integration step is ``synth.process.oversample`` steps per dynamometer sample (the
 delayed surface interpolated linearly between steps; the force held over a step is the mean
 over ``synth.process.substeps`` cutter angles within it, so that a tooth entering or leaving
-the cut between steps counts by its share); the force and the displacement are
-then low-pass filtered (FIR, cut-off ``synth.dynamometer.anti_alias_fraction`` × fs: the
-acquisition's anti-alias filter) and decimated to the dynamometer's rate. The whole cut is
+the cut between steps counts by its share); the force is then low-pass filtered (FIR,
+cut-off ``synth.dynamometer.anti_alias_fraction`` × fs: the acquisition's anti-alias filter)
+and decimated to the dynamometer's rate (the displacement, smooth, is decimated as it is).
+The whole cut is
 integrated (``experiment.cut_length_mm`` at the cut's feed). The integration is seeded per
 cut (``[seed, 7, crc32(cut)]``): every instrument's job that needs the cut integrates it again
 and gets the same cut, bit for bit (:func:`simulate_cut` keeps the last few in memory).
@@ -163,19 +164,28 @@ def _integrate(k0, n, dt, substeps, omega, phase0, teeth, phst, phex, c, a0, coe
         Fx = 0.0
         Fy = 0.0
         Fz = 0.0
-        for sub in range(substeps if cutting else 0):
-            ts = t + sub * inv_s * dt
-            pos = k + sub * inv_s - delay  # the previous tooth's passage, in steps
-            i0 = int(np.floor(pos))
-            fr = pos - i0
-            for j in range(teeth):
-                turns = (omega * ts + phase0 + two_pi * j / teeth) / two_pi
-                phi = (turns - np.floor(turns)) * two_pi
-                sp = np.sin(phi)
-                cp = np.cos(phi)
+        dphi = omega * dt * inv_s  # cutter rotation per sub-step
+        cd = np.cos(dphi)
+        sd = np.sin(dphi)
+        for j in range(teeth if cutting else 0):
+            turns0 = (omega * t + phase0 + two_pi * j / teeth) / two_pi
+            base = np.floor(turns0)
+            phi = (turns0 - base) * two_pi
+            sp = np.sin(phi)
+            cp = np.cos(phi)
+            jp = (j + 1) % teeth
+            for sub in range(substeps):
+                if sub > 0:  # rotate (sin, cos) by one sub-step
+                    sp, cp = sp * cd + cp * sd, cp * cd - sp * sd
+                    phi += dphi
+                    if phi >= two_pi:
+                        phi -= two_pi
+                        base += 1.0
                 w = dx * sp + dy * cp + runout[j]
                 if phi > phst and phi < phex:
-                    jp = (j + 1) % teeth
+                    pos = k + sub * inv_s - delay  # the previous tooth's passage, in steps
+                    i0 = int(np.floor(pos))
+                    fr = pos - i0
                     if i0 >= 0:
                         Wp = (1.0 - fr) * W[i0 % L, jp] + fr * W[(i0 + 1) % L, jp]
                     else:
@@ -192,7 +202,7 @@ def _integrate(k0, n, dt, substeps, omega, phase0, teeth, phst, phex, c, a0, coe
                             if deep:
                                 counts[1] += 1
                     if h > 0.0:
-                        pas = min(int(np.floor(turns)) * teeth + j, kappa.size - 1)
+                        pas = min(int(base) * teeth + j, kappa.size - 1)
                         kap = kappa[pas]
                         Ft = kap * a * (coef[0] * h + coef[3])
                         Fr = kap * a * (coef[1] * h + coef[4])
@@ -332,13 +342,12 @@ def _simulate(cell, cut, config: Mapping[str, Any], cutting: bool,
         lo, hi = P // down, (P + m - 1) // down + 1
         force[o:o + hi - lo] = scipy.signal.upfirdn(fir, F_buf[:P + m], down=down,
                                                     axis=0)[lo:hi]
-        defl[o:o + hi - lo] = scipy.signal.upfirdn(fir, d_buf[:P + m], down=down,
-                                                   axis=0)[lo:hi]
+        defl[o:o + hi - lo] = d_buf[P:P + m:down]  # smooth (the modes < 5 kHz): no filter
         o += hi - lo
-    # the FIR's group delay ((taps − 1)/2 input steps = whole output samples): shift back
+    # the force FIR's group delay ((taps − 1)/2 input steps = whole output samples): shift back
     if lag:
-        force[:-lag], defl[:-lag] = force[lag:].copy(), defl[lag:].copy()
-        force[-lag:], defl[-lag:] = force[-lag - 1], defl[-lag - 1]
+        force[:-lag] = force[lag:].copy()
+        force[-lag:] = force[-lag - 1]
     t = np.arange(n_out) / fs
     u = np.clip(t / path_dt, 0, path.shape[0] - 1)
     path_t = np.column_stack([np.interp(u, np.arange(path.shape[0]), path[:, i])
