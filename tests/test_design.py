@@ -68,7 +68,9 @@ def test_each_simulated_record_carries_its_own_tooth_passing_line(tiny_config, t
         def line(hz, F=F, f=f):
             return F[np.abs(f - hz) <= 2.5].max()
 
-        assert line(f_tp) > 50 * floor and line(2 * f_tp) > 50 * floor  # its own N n
+        # its own N n (20 x the floor: the closed-loop cut's process noise and the arm's
+        # vibration raise the broadband floor a dynamometer alone would have)
+        assert line(f_tp) > 20 * floor and line(2 * f_tp) > 10 * floor
         assert line(f_tp) > 10 * line(2800 / 3)  # not at the experiment's 933 Hz
 
 
@@ -93,6 +95,12 @@ def test_a_partial_immersion_cut_is_simulated_with_its_own_chip_model(tiny_confi
     cfg = _design(tiny_config, cuts)
     cfg["synth"]["dynamometer"] = {**cfg["synth"]["dynamometer"], "record_length_mm": 2.0,
                                    "format": "csv"}
+    # the chip model alone: a rigid, quiet cell (the closed loop's static retreat along the
+    # tool axis and its vibration would move the mean, as in a real cell)
+    cfg["synth"]["modes"] = [{"f_hz": 50.0, "zeta": 0.05, "k_N_m": 1e13, "shape": [0, 1, 0]}]
+    cfg["synth"]["process"] = {**cfg["synth"]["process"], "spindle_modes": [],
+                               "runout_um": [0.0], "coefficient_scatter": 0.0,
+                               "servo_force_N": 0.0}
     cut = synthetic_cuts(cfg)[0]
     cell = cell_from_config(cfg)
     rec = open_force_record(simulate_file(cfg, cut, tmp_path / "f.csv", cell=cell), 25000.0)

@@ -34,8 +34,7 @@ def test_the_next_config_names_its_own_run_folder_inside_the_plan():
     assert folder.parts[:3] == ("results", "plan", "next") and len(folder.parts) > 3
     assert [c["id"] for c in cfg["experiment"]["cuts"]] == ["plan_01", "plan_02"]
     # each planned cut tracked on its own, loaded and in the air
-    assert cfg["synth"] == {"tracker": {"per_cut": True, "air_pass": True,
-                                        "while_cutting": True}}
+    assert cfg["synth"] == {"tracker": {"per_cut": True, "air_pass": True}}
 
 
 def test_per_cut_tracking_gives_each_cut_its_own_run():

@@ -120,12 +120,11 @@ def next_config(manifest: dict[str, Any], workdir: str = NEXT_RUN_DIR) -> dict[s
     run's folder ``workdir`` (:data:`NEXT_RUN_DIR`; config ``workdir``), not over the study,
     with one tracker run per planned cut (``synth.tracker.per_cut``: each cut has its own pose
     and its own predicted waviness, which one run per direction and feed would check for the
-    last cut only), each run loaded, recorded while the tool cuts
-    (``synth.tracker.while_cutting``), and in the air (``synth.tracker.air_pass``): the
-    deflection is the loaded path minus the air path."""
+    last cut only), each run loaded (recorded while the tool cuts) and in the air
+    (``synth.tracker.air_pass``): the deflection is the loaded path minus the air path."""
     return {"workdir": workdir,
             "experiment": {**manifest["experiment"], "cuts": manifest["cuts"]},
-            "synth": {"tracker": {"per_cut": True, "air_pass": True, "while_cutting": True}}}
+            "synth": {"tracker": {"per_cut": True, "air_pass": True}}}
 
 
 def cell_of(cell_file, req: PlanRequest, cuts_mid_mm: np.ndarray | None) -> Cell:

@@ -6,7 +6,8 @@ the planted truth of ``config.yaml: synth``: the gear eccentricities, the tool-t
 model, the cutting coefficients and the seed. Every simulator takes its physics from here, so
 that instruments agree the way real ones do: the same eccentric gears make the tracker's
 straightness error and the surface waviness; the same modes ring in the impact test and in
-the cutting forces.
+the cut (:mod:`robomill.synth.structure` moves them with the pose; every instrument of a cut
+reads the one closed-loop cut of :mod:`robomill.synth.process`).
 
 Geometry of the experiment (``config.yaml: experiment.layout``): the block frame R0 has its
 origin at ``block_origin_mm`` in the robot base frame and axes parallel to the base axes; the
@@ -87,6 +88,12 @@ class VirtualCell:
     q_home_rad: np.ndarray = field(default_factory=lambda: np.zeros(6))
     tool_rotation_matrix: np.ndarray = field(
         default_factory=lambda: np.array([[1.0, 0, 0], [0, -1.0, 0], [0, 0, -1.0]]))
+    spindle_modes: list[Mode] = field(default_factory=list)
+    """Pose-independent modes of the spindle and tool (``synth.process.spindle_modes``)."""
+    joint_stiffness_Nm_rad: np.ndarray | None = None
+    """Planted joint stiffness K_θ of the robot (:mod:`robomill.synth.structure`)."""
+    q_reference_rad: np.ndarray | None = None
+    """The pose at which :attr:`modes` are the robot's modes (the impact test's pose)."""
 
     # ---- geometry of the cuts -------------------------------------------------------------
     def cut_endpoints_mm(self, cut: Cut, set_index: int | None = None) -> tuple[np.ndarray,
@@ -169,38 +176,6 @@ class VirtualCell:
             H += np.einsum("i,j,f->ijf", phi, phi, 1.0 / (m.k_N_m * (1 - r**2 + 2j * m.zeta * r)))
         return H
 
-    def tool_response_m(self, force_N: np.ndarray, fs_hz: float) -> np.ndarray:
-        """Tool-tip displacement ``(n, 3)`` [m] of the modal model driven by a force history
-        ``(n, 3)`` [N] (base axes), sampled at ``fs_hz``.
-
-        Each mode is a single-DOF oscillator in its modal coordinate,
-        η'' + 2ζω_n η' + ω_n² η = φᵀF / m_r, discretized with the bilinear transform
-        (frequency-prewarped at ω_n); x = Σ_r φ_r η_r. Used by every simulator that needs the
-        cell's vibration (forces, surface roughness marks), so all see the same modes.
-        """
-        import scipy.signal
-
-        force = np.asarray(force_N, float)
-        x = np.zeros_like(force)
-        for m in self.modes:
-            phi = np.asarray(m.shape)
-            wn = 2 * np.pi * m.f_hz
-            num, den = [1.0 / m.m_kg], [1.0, 2 * m.zeta * wn, wn**2]
-            b, a = scipy.signal.bilinear(num, den, fs=fs_hz) if wn >= np.pi * fs_hz else \
-                scipy.signal.bilinear(*_prewarp(num, den, wn, fs_hz), fs=fs_hz)
-            eta = scipy.signal.lfilter(b, a, force @ phi)
-            x += np.outer(eta, phi)
-        return x
-
-    def random_vibration_m(self, n: int, fs_hz: float, force_std_N: float,
-                           rng: np.random.Generator) -> np.ndarray:
-        """Tool-tip vibration ``(n, 3)`` [m]: the modes' response to a white random force of
-        standard deviation ``force_std_N`` per axis (the broadband part of the cutting force).
-        A settling lead of 10 periods of the lowest mode is simulated and discarded."""
-        lead = int(10 * fs_hz / min(m.f_hz for m in self.modes))
-        force = rng.normal(0.0, force_std_N, size=(n + lead, 3))
-        return self.tool_response_m(force, fs_hz)[lead:]
-
     # ---- truth --------------------------------------------------------------------------
     def truth(self) -> xr.Dataset:
         """The planted ground truth as a labelled dataset (``results/synthetic/truth.nc``)."""
@@ -241,18 +216,21 @@ class VirtualCell:
             },
             attrs={"seed": self.seed, "robot": self.robot.name},
         )
+        if self.spindle_modes:
+            sm = self.spindle_modes
+            ds["spindle_mode_f_hz"] = v("spindle_mode", [m.f_hz for m in sm], "Hz",
+                                        "spindle/tool natural frequency")
+            ds["spindle_mode_zeta"] = v("spindle_mode", [m.zeta for m in sm], "1",
+                                        "spindle/tool damping ratio")
+            ds["spindle_mode_k_N_m"] = v("spindle_mode", [m.k_N_m for m in sm], "N/m",
+                                         "spindle/tool modal stiffness at the tool tip")
+            ds["spindle_mode_shape"] = (("spindle_mode", "axis"), np.array([m.shape for m in sm]),
+                                        {"units": "1", "long_name": "unit spindle mode shape"})
         for name, value in self.cutting.items():
             unit = "N/mm^2" if name.endswith("N_mm2") else "N/mm"
             ds[f"cutting_{name}"] = ((), float(value), {"units": unit,
                                                         "long_name": f"cutting coefficient {name}"})
         return ds
-
-
-def _prewarp(num, den, wn, fs_hz):
-    """Scale a 2nd-order analog filter so the bilinear transform keeps ω_n exact."""
-    wd = 2 * fs_hz * np.tan(wn / (2 * fs_hz))
-    g = wd / wn
-    return [num[0] * g**2], [den[0], den[1] * g, den[2] * g**2]
 
 
 def _gears_from_config(transmissions: Sequence[Mapping], errors: Sequence[Mapping],
@@ -289,16 +267,30 @@ def cell_from_config(config: Mapping[str, Any]) -> VirtualCell:
     syn, facts = config["synth"], config["cell"]
     rng = np.random.default_rng(int(syn["seed"]))
     robot = robot_from_mapping(facts["robot"])
+    modes = _modes_from_config(syn["modes"])
+    q_home = np.deg2rad(np.asarray(facts.get("q_home_deg", [0, 0, 0, 0, 0, 0]), float))
+    gears = _gears_from_config(facts["transmissions"], syn["gears"], rng)
+    R = np.asarray(facts.get("tool_rotation", [[1, 0, 0], [0, -1, 0], [0, 0, -1]]), float)
+    from robomill.synth.structure import joint_stiffness_Nm_rad, reference_pose_rad
+
+    process = syn.get("process") or {}
+    cell = VirtualCell(robot=robot, gears=gears, modes=modes,
+                       cutting={k: float(v) for k, v in syn["cutting"].items()},
+                       experiment=dict(config["experiment"]), seed=int(syn["seed"]),
+                       config=dict(config), q_home_rad=q_home, tool_rotation_matrix=R,
+                       spindle_modes=_modes_from_config(process.get("spindle_modes") or []),
+                       joint_stiffness_Nm_rad=joint_stiffness_Nm_rad(config))
+    if cell.joint_stiffness_Nm_rad is not None and "process" in syn:
+        cell.q_reference_rad = reference_pose_rad(cell, config)
+    return cell
+
+
+def _modes_from_config(entries: Sequence[Mapping]) -> list[Mode]:
+    """Modes ``{f_hz, zeta, k_N_m, shape}`` of the configuration, shapes normalized."""
     modes = []
-    for m in syn["modes"]:
+    for m in entries:
         shape = np.asarray(m["shape"], float)
         shape = shape / np.linalg.norm(shape)
         modes.append(Mode(float(m["f_hz"]), float(m["zeta"]), float(m["k_N_m"]),
                           tuple(float(x) for x in shape)))
-    q_home = np.deg2rad(np.asarray(facts.get("q_home_deg", [0, 0, 0, 0, 0, 0]), float))
-    gears = _gears_from_config(facts["transmissions"], syn["gears"], rng)
-    R = np.asarray(facts.get("tool_rotation", [[1, 0, 0], [0, -1, 0], [0, 0, -1]]), float)
-    return VirtualCell(robot=robot, gears=gears, modes=modes,
-                       cutting={k: float(v) for k, v in syn["cutting"].items()},
-                       experiment=dict(config["experiment"]), seed=int(syn["seed"]),
-                       config=dict(config), q_home_rad=q_home, tool_rotation_matrix=R)
+    return modes

@@ -4,7 +4,8 @@ The thesis' impact test (§3.3, Fig 3.18): a force-sensing hammer hits the tool 
 X, Y or Z; a triaxial accelerometer beside the tip records the response. ``hits_per_direction``
 hits per direction (thesis: 5). Each file holds ``t_s, force_N, ax_ms2, ay_ms2, az_ms2``.
 
-Physics (all from the virtual cell's modal model, :attr:`VirtualCell.modes`):
+Physics (all from the virtual cell's structure at the test pose: the robot's modes there,
+:attr:`VirtualCell.modes`, and the spindle's and tool's, :func:`test_modes`):
 
 * hammer pulse: a half-sine of contact time ``pulse_duration_s`` (a hard tip: 1–3 ms, whose
   force spectrum is flat to within 3 dB up to ≈ 0.6/T ≈ 300 Hz),
@@ -89,6 +90,17 @@ def modal_acceleration_ms2(modes, force_N: np.ndarray, fs_hz: float) -> np.ndarr
     return acc
 
 
+def test_modes(cell, fs_hz: float) -> list:
+    """The structure's modes at the test pose (:func:`robomill.synth.structure.modes_at` at
+    the cell's reference pose) that the acquisition passes: those below 0.4 × ``fs_hz`` (the
+    analyzer's anti-alias filter removes the response of the others, which the hammer's
+    pulse hardly excites either)."""
+    from robomill.synth.structure import modes_at
+
+    q = cell.q_reference_rad if cell.q_reference_rad is not None else cell.q_home_rad
+    return [m for m in modes_at(cell, q) if m.f_hz < 0.4 * float(fs_hz)]
+
+
 def simulate_hit(config: Mapping[str, Any], cell, direction: str, hit: int) -> pd.DataFrame:
     """One hit's record (columns :data:`COLUMNS`), defect as :func:`planted_defect` says."""
     imp = config["synth"]["impact"]
@@ -111,7 +123,7 @@ def simulate_hit(config: Mapping[str, Any], cell, direction: str, hit: int) -> p
         f = f + half_sine_pulse(t, t0 + width + delay, width, ratio * peak)
     force = np.zeros((n, 3))
     force[:, DIRECTIONS.index(direction)] = f
-    acc = modal_acceleration_ms2(cell.modes, force, fs)
+    acc = modal_acceleration_ms2(test_modes(cell, fs), force, fs)
     f_meas = f + rng.normal(0.0, float(imp["force_noise_N"]), n)
     acc = acc + rng.normal(0.0, float(imp["accel_noise_ms2"]), (n, 3))
     f_meas = np.clip(f_meas, -float(imp["force_range_N"]), float(imp["force_range_N"]))

@@ -22,10 +22,13 @@ cut. The simulated height is the sum of
   This is modelled by scaling the kinematic shape to a segment-method RMS of
   ``level_um · (1 − exp(−v / v0_mm_s))`` per direction (``waviness.<dir>``, assumed values
   chosen to land near thesis Table 2.1: X smallest, +Y largest, growing with feed);
-* **roughness marks** — the base-Z tool-tip vibration of the cell's modes driven by the
-  broadband cutting force (:meth:`VirtualCell.random_vibration_m`) at constant *temporal*
-  frequencies (sampled at ``fs_per_mm · feed`` Hz, so their wavelength scales with feed),
-  scaled to a segment-method RMS (0.25 mm segments) of
+* **roughness marks** — the tool's vertical vibration in the cut itself
+  (:func:`robomill.synth.process.simulate_cut`: the structure at the cut's pose shaken by the
+  closed-loop cutting force, the same cut the dynamometer records), read where the tool
+  passed each stylus position (time = position / feed, so the marks of a mode keep their
+  temporal frequency and their wavelength scales with feed), low-pass filtered by the stylus
+  tip (cut-off wavelength ``stylus_lambda_s_mm``) and its shape scaled to a segment-method
+  RMS (0.25 mm segments) of
   ``level_um · (1 + (v / knee_mm_s)^exponent)`` per direction (``roughness.<dir>``: the
   broadband excitation grows with chip load and, above a knee feed, fast as the process
   approaches its stability limit; assumed values near thesis Table 2.2);
@@ -60,6 +63,8 @@ INSTRUMENT_NUMBER = 1
 
 WAVINESS_SEGMENT_MM = 2.5
 ROUGHNESS_SEGMENT_MM = 0.25
+ROUGHNESS_CUTOFF_MM = 0.8
+"""Roughness cut-off wavelength λc of the vibration marks' band (ISO 4288, 0.8 mm)."""
 ALPHA = float(np.sqrt(np.log(2.0) / np.pi))
 
 
@@ -135,17 +140,42 @@ def _unit_segment_rms(z: np.ndarray, fs: float, segment_mm: float) -> np.ndarray
     return z / rms if rms > 0 else z
 
 
+def floor_vibration_um(cell, cut: Cut, p: Mapping[str, Any]) -> np.ndarray:
+    """The tool's vertical vibration [µm] (deflection, base Z) where the tool passed each
+    stylus position, in the roughness band: band-pass filtered (2nd-order Butterworth, zero
+    phase) between the roughness cut-off wavelength λc = 0.8 mm (ISO 4288; the slow static
+    deflection changes along the cut belong to the waviness) and the stylus tip's
+    ``stylus_lambda_s_mm``, at ``feed / λc`` to ``feed / λs`` Hz."""
+    import scipy.signal
+
+    from robomill.synth.process import simulate_cut
+
+    s_mm = float(p["start_mm"]) + x_mm(p)
+    sim = simulate_cut(cell, cut, cell.config, length_mm=float(s_mm[-1]))
+    z = sim.deflection_m[:, 2] - sim.deflection_m[:, 2].mean()
+    f_hi = min(cut.feed_mm_s / float(p["stylus_lambda_s_mm"]), 0.45 * sim.fs_hz)
+    f_lo = cut.feed_mm_s / ROUGHNESS_CUTOFF_MM
+    sos = scipy.signal.butter(2, [f_lo, f_hi], btype="bandpass", fs=sim.fs_hz, output="sos")
+    z = scipy.signal.sosfiltfilt(sos, z)
+    return 1e6 * np.interp(s_mm / cut.feed_mm_s, sim.t_s, z)
+
+
+def feed_mark_height_um(cell, cut: Cut, p: Mapping[str, Any]) -> float:
+    """Feed-mark amplitude after the stylus tip [µm]: ``feed_mark_um · exp(−π(α λs / c)²)``."""
+    c_mm = cut_process(cut, cell.experiment)["feed_per_tooth_mm"]  # the cut's own speed, flutes
+    return float(p["feed_mark_um"]) * float(
+        np.exp(-np.pi * (ALPHA * float(p["stylus_lambda_s_mm"]) / c_mm) ** 2))
+
+
 def roughness_component_um(cell, cut: Cut, p: Mapping[str, Any]) -> np.ndarray:
     """Vibration marks + feed marks [µm] (no tilt, no noise)."""
     x = x_mm(p)
     fs = float(p["fs_per_mm"])
-    fs_t = fs * cut.feed_mm_s  # temporal sampling [Hz]: the stylus sample spacing in time
-    vib = cell.random_vibration_m(x.size, fs_t, 1.0, _rng(cell, cut, 0))[:, 2]
+    vib = floor_vibration_um(cell, cut, p)
     vib = roughness_level_um(p, cut) * _unit_segment_rms(vib, fs, ROUGHNESS_SEGMENT_MM)
-    c_mm = cut_process(cut, cell.experiment)["feed_per_tooth_mm"]  # the cut's own speed, flutes
-    transmission = np.exp(-np.pi * (ALPHA * float(p["stylus_lambda_s_mm"]) / c_mm) ** 2)
+    c_mm = cut_process(cut, cell.experiment)["feed_per_tooth_mm"]
     phase = _rng(cell, cut, 3).uniform(0, 2 * np.pi)
-    marks = float(p["feed_mark_um"]) * transmission * np.sin(2 * np.pi * x / c_mm + phase)
+    marks = feed_mark_height_um(cell, cut, p) * np.sin(2 * np.pi * x / c_mm + phase)
     return vib + marks
 
 
@@ -190,8 +220,9 @@ def truth(config: Mapping[str, Any], cell) -> xr.Dataset:
 
     from robomill.spectra import segment_rms
 
-    for c in cuts:
-        rough.append(segment_rms(roughness_component_um(cell, c, p), fs, ROUGHNESS_SEGMENT_MM))
+    for c in cuts:  # the vibration marks' level and the feed marks' RMS, in quadrature
+        rough.append(float(np.hypot(roughness_level_um(p, c),
+                                    feed_mark_height_um(cell, c, p) / np.sqrt(2.0))))
         wav.append(waviness_level_um(p, c))
         kin = scipy.signal.detrend(kinematic_waviness_um(cell, c, p))
         rigid.append(segment_rms(kin, fs, WAVINESS_SEGMENT_MM))
@@ -205,7 +236,8 @@ def truth(config: Mapping[str, Any], cell) -> xr.Dataset:
             "surface_planted_waviness_rms_um": v(wav, "um", "planted waviness RMS "
                                                  "(2.5 mm segment method)"),
             "surface_planted_roughness_rms_um": v(rough, "um", "planted roughness RMS "
-                                                  "(0.25 mm segment method)"),
+                                                  "(vibration level (0.25 mm segment method) "
+                                                  "and feed marks in quadrature)"),
             "surface_rigid_waviness_rms_um": v(rigid, "um", "rigid-model floor deviation RMS "
                                                "(2.5 mm segments), before load scaling"),
             "surface_feed_mm_s": v([c.feed_mm_s for c in cuts], "mm/s", "feed of the cut"),

@@ -1,15 +1,20 @@
 """FARO laser tracker: tracker/<dir>_f<feed>.csv (t_s, x_mm, y_mm, z_mm).
 
-The robot moves (without cutting) along the path of a cut at that cut's feed while the
-tracker samples its target at 815 Hz (thesis §3.2). For every direction and every feed of
-the experiment one run is simulated, along the path of the last cut (in machining order)
-with that direction and feed (so the feeds 2–10 mm/s follow set 3, as in thesis Figs
-3.12–3.15). Coordinates are in the robot base frame (the tracker registered to the robot,
-the target's offset to the TCP removed).
+The robot moves along the path of a cut at that cut's feed while the tracker samples its
+target at 815 Hz (thesis §3.2): a *loaded* pass is the cut itself
+(:func:`robomill.synth.process.simulate_cut`, the same cut the dynamometer and the
+profilometer see), an *air* pass the same path without material (:func:`simulate_run` with
+``pass_="air"``; deflection is the loaded path minus the air path). For every direction and
+every feed of the experiment one run is simulated, along the path of the last cut (in
+machining order) with that direction and feed (so the feeds 2–10 mm/s follow set 3, as in
+thesis Figs 3.12–3.15). Coordinates are in the robot base frame (the tracker registered to
+the robot, the target's offset to the TCP removed).
 
 Simulated position = nominal motion (trapezoidal speed profile: constant feed, ramps at
 ``accel_mm_s2``) + the TCP error of every eccentric gear stage of the virtual cell (joint
-error through the Jacobian, :meth:`VirtualCell.tcp_error_mm`) + a servo ripple at a constant
+error through the Jacobian, :meth:`VirtualCell.tcp_error_mm`) + on a loaded pass the tool's
+static and dynamic deflection in the cut where the tool is (path abscissa s; low-pass filtered
+at 0.4 × the tracker's rate, the tracker's own averaging) + a servo ripple at a constant
 ``ripple_hz`` (13 Hz) along a fixed direction + white tracker noise (``noise_std_um`` per
 axis). Configuration: ``config.yaml: synth.tracker`` (schema
 ``workflow/schemas/config/synth_tracker.schema.yaml``).
@@ -71,6 +76,23 @@ def _rng(cell: Any, run: str) -> np.random.Generator:
     return np.random.default_rng([cell.seed, INSTRUMENT_NUMBER, zlib.crc32(run.encode())])
 
 
+def deflection_along_path_mm(config: Mapping[str, Any], cell: Any, cut: Cut,
+                             s_mm: np.ndarray, fs_hz: float) -> np.ndarray:
+    """The tool's deflection ``(len(s), 3)`` [mm, base axes] in the cut ``cut`` at path
+    abscissae ``s_mm`` (the structure's static and dynamic displacement of the closed-loop cut,
+    low-pass filtered at 0.4 × ``fs_hz``; held beyond the cut's ends)."""
+    import scipy.signal
+
+    from robomill.synth.process import simulate_cut
+
+    sim = simulate_cut(cell, cut, config)
+    d = sim.deflection_m @ sim.frame.T
+    sos = scipy.signal.butter(2, 0.4 * fs_hz, fs=sim.fs_hz, output="sos")
+    d = scipy.signal.sosfiltfilt(sos, d - d[0], axis=0) + d[0]
+    s_sim = sim.s_mm()
+    return 1e3 * np.column_stack([np.interp(s_mm, s_sim, d[:, k]) for k in range(3)])
+
+
 def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
                  feed_mm_s: float, cut: Cut, pass_: str = "loaded",
                  run: str | None = None) -> pd.DataFrame:
@@ -78,11 +100,11 @@ def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
 
     Joint angles come from inverse kinematics on a grid of ``path_step_mm`` (cubic spline in
     between); the gear errors act through the Jacobian at every sample. ``pass_`` (manifest
-    key ``pass``): ``loaded``, recorded while the tool cuts when ``while_cutting`` (the path
-    then carries the cut's static deflection, :func:`robomill.synth.load.static_deflection_mm`;
-    otherwise the robot moves along the path without cutting, as the thesis' runs), or
-    ``air``, the same path without material. ``run``: the run's id, which seeds its noise and
-    ripple phase (default ``<dir>_f<feed>``).
+    key ``pass``): ``loaded``, the pass is the cut (the tool deflects under the cutting force
+    of the closed-loop cut, :func:`deflection_along_path_mm`), or ``air``, the same path
+    without material (no force: the same gear errors, its own ripple phase and noise). ``run``:
+    the run's id, which seeds its noise and ripple phase (default ``<dir>_f<feed>``, with
+    ``/air`` for an air pass).
     """
     tr = settings(config)
     fs = float(tr["fs_hz"])
@@ -95,7 +117,7 @@ def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
     q = scipy.interpolate.CubicSpline(s_grid, q_grid, axis=0)(s)
     nominal = cell.cut_path_mm(cut, s)
     gear_err = cell.tcp_error_mm(q)
-    rng = _rng(cell, run or run_id(direction, feed_mm_s))
+    rng = _rng(cell, run or (run_id(direction, feed_mm_s) + ("" if pass_ == "loaded" else "/air")))
     e = np.asarray(tr["ripple_direction"], float)
     e = e / np.linalg.norm(e)
     phase = rng.uniform(0, 2 * np.pi)
@@ -103,10 +125,8 @@ def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
         np.sin(2 * np.pi * float(tr["ripple_hz"]) * t + phase), e)
     noise = 1e-3 * float(tr["noise_std_um"]) * rng.standard_normal((t.size, 3))
     p = nominal + gear_err + ripple + noise
-    if pass_ == "loaded" and tr["while_cutting"]:
-        from robomill.synth.load import static_deflection_mm
-
-        p = p + static_deflection_mm(config, cell, cut, q)
+    if pass_ == "loaded":
+        p = p + deflection_along_path_mm(config, cell, cut, s, fs)
     return pd.DataFrame({"t_s": t, "x_mm": p[:, 0], "y_mm": p[:, 1], "z_mm": p[:, 2]})
 
 
