@@ -1,4 +1,4 @@
-"""Peak memory of the force analysis against the record length (issue 15).
+"""Peak memory of the force analysis against the record length.
 
 Three synthetic 25 kHz records (1 min, 10 min, 1 h: 1.5 M to 90 M samples per axis, chunked
 HDF5) are written with :mod:`robomill.longrecord` and each analysed in a fresh process, the

@@ -1,7 +1,7 @@
-"""Chapter 7 benchmark (issue 28): the planner's candidate grid — 20 placements × 12 rotations
+"""Chapter 7 benchmark: the planner's candidate grid — 20 placements × 12 rotations
 about the tool axis × 200 spindle speeds, every prediction with its interval — against the
 package's single-tool zero-order solver called once per pose (nominal lobes only), measured on
-a sample of the poses in the same run and scaled to the grid. The issue's goal: ≤ 60 s on 2
+a sample of the poses in the same run and scaled to the grid. The goal: ≤ 60 s on 2
 cores."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The laptop budget of the whole study (issue 15), measured on this machine in this run.
+"""The laptop budget of the whole study, measured on this machine in this run.
 
 - a fresh default ``snakemake -j2 all`` (full thesis scale, synthetic data) in an empty
   folder: wall time, then the no-op rerun right after, then ``ch2 --forcerun ch2`` (one
@@ -34,7 +34,7 @@ SCALE_TARGETS = ["surface", "forces", "straightness"]
 SCALE_SETS = (3, 9)
 BUDGET_S, RSS_BUDGET_MB = 600.0, 2048.0
 GOAL_ALL_S, GOAL_NOOP_S, GOAL_CHAPTER_S = 180.0, 2.0, 10.0
-"""Issue 29's goals for the default `all`, the no-op rerun and one chapter's ``--forcerun``,
+"""The goals (2 cores) for the default `all`, the no-op rerun and one chapter's ``--forcerun``,
 stated beside the measured baselines (the floor of the same run, Snakemake's own start-up,
 the no-op rerun)."""
 

@@ -1,4 +1,4 @@
-"""The measured floor of a study run (issue 29): its wall time against the work it contains.
+"""The measured floor of a study run: its wall time against the work it contains.
 
 Every job writes two records under ``results/benchmarks``: Snakemake's ``rules/<job>.tsv``
 (the job's wall time ``s``, Python start-up and imports included) and, for rule scripts,

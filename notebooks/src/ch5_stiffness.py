@@ -1,7 +1,7 @@
 # %% [markdown]
 # # Chapter 5 — Stiffness along the cuts
 #
-# How stiff the robot was where it cut: the joint-stiffness model (seed 001's; its method
+# How stiff the robot was where it cut: the joint-stiffness model (Yi 2025's; its method
 # and its reproduction on the seed's robot: chapter 6.2) with the joint stiffness identified
 # from this cell's own load tests, evaluated at the middle of every cut along the feed, the
 # in-plane normal (the wall) and the tool axis (the floor). For the thesis' design, both

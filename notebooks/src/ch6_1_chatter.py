@@ -1,11 +1,11 @@
 # %% [markdown]
-# # Chapter 6.1 — Reference study: chatter models (published benchmarks and seed 002)
+# # Chapter 6.1 — Reference study: chatter models (published benchmarks and Shagniev 2019)
 #
 # Reproductions that use no data of this study: stability lobes for any machine by two
 # independent methods (zero-order analytical, Altintas & Budak; a spectral-element time-domain
 # discretization, Khasawneh & Mann 2011, converged at every speed to `chatter.accuracy` and
 # stored with its error) on the published cases of `config.yaml: chatter.cases`, and the
-# time-domain robot–tool–surface model of seed 002 with FFT chatter detection and adaptive
+# time-domain robot–tool–surface model of Shagniev 2019 with FFT chatter detection and adaptive
 # depth. Chapter 4 applies the same lobe method to the study's own robot.
 #
 # **Conventions.** x = feed direction, y = normal direction (the seed's z); the cutter angle φ
@@ -48,12 +48,12 @@ if bench is not None:
 if slot is not None:
     num.figure("slot", "Slotting benchmark (insperger2004_slot): zero-order and spectral "
                "element agree", number=2)
-num.figure("seed_lobes", "Seed 002: lobes of the closed-loop tool point (ZOA and SDM), a* and "
+num.figure("seed_lobes", "Shagniev 2019: lobes of the closed-loop tool point (ZOA and SDM), a* and "
            "the two operating points", number=3)
-num.figure("seed_time", "Seed 002: tool vibration x_s over time, one panel per run", number=4)
-num.figure("seed_spectra", "Seed 002: amplitude spectrum of the resultant horizontal force, "
+num.figure("seed_time", "Shagniev 2019: tool vibration x_s over time, one panel per run", number=4)
+num.figure("seed_spectra", "Shagniev 2019: amplitude spectrum of the resultant horizontal force, "
            "last window", number=5)
-num.figure("detection", "Seed 002: chatter indicator per window; red: the adaptations of the "
+num.figure("detection", "Shagniev 2019: chatter indicator per window; red: the adaptations of the "
            "logic block", number=6)
 num.table("onset", "Time domain against the lobes just below and above the SDM boundary",
           number=1)
@@ -92,7 +92,7 @@ if slot is not None:
 display(Markdown(say("slot", ref_slot=num.ref("slot") if slot is not None else "")))
 
 # %% [markdown]
-# ## 6.1.2 Seed 002: robot–tool–surface in the time domain
+# ## 6.1.2 Shagniev 2019: robot–tool–surface in the time domain
 #
 # The seed's model (its parameters below, from `chatter.seed`). The lobes below use the
 # closed-loop horizontal tool-point dynamics (arm + velocity PID + suspension); the seed drew

@@ -1,18 +1,18 @@
 # %% [markdown]
-# # Chapter 6.2 — Reference study: the stiffness models of seeds 001 and 004
+# # Chapter 6.2 — Reference study: the stiffness models of Yi 2025 and Cai 2015
 #
 # Two stiffness models of a robot arm, reproduced from their source papers on their own robots
 # (no data of this study; chapter 5 applies the joint model to the study's cuts):
 #
-# * **Joint-stiffness model** (seed 001, Yi et al. 2025, KUKA KR360): rigid links, elastic
+# * **Joint-stiffness model** ([Yi 2025], KUKA KR360): rigid links, elastic
 #   joints; TCP deflection X = J K_θ⁻¹ Jᵀ F, identified from load tests as X = A(J, F) k by
 #   least squares; Cartesian stiffness K = J⁻ᵀ K_θ J⁻¹; directional stiffness along the tool
 #   axes; maps over the milling plane for redundancy angles; the stiffness-optimal pose.
-# * **Beam-frame model** (seed 004, Cai et al. 2015, MOTOMAN-HP20): the arm as beam elements
+# * **Beam-frame model** ([Cai 2015], MOTOMAN-HP20): the arm as beam elements
 #   with 6 DOF per node, node 1 fixed, δ = K⁻¹F; the pneumatic-wheel load and the vibration
 #   predictor σ(t).
 #
-# The KR360's MD-H table is not printed in seed 001, so its parameters are *assumed* (documented
+# The KR360's MD-H table is not printed in Yi 2025, so its parameters are *assumed* (documented
 # in `config.yaml`). The numbers below come from `results/stiffness/findings.yaml`; the seed's
 # numbers, from `src/robomill/data/references.yaml`, are set against ours at the end.
 
@@ -57,7 +57,7 @@ heights = mp["height_mm"].values
 
 # chapter 6 is numbered across its three pages (the chapter registry's first_figure/first_table)
 num = Numbering.for_chapter("ch6_stiffness", fig_dir=fig_dir)
-num.table("workspace_ranges", "Workspace ranges: seed 001 against our Monte-Carlo workspace")
+num.table("workspace_ranges", "Workspace ranges: Yi 2025 against our Monte-Carlo workspace")
 num.figure("workspace", "Monte-Carlo workspace: X–Z projection of the 3-D workspace and the "
            "X–Z plane")
 num.table("joints", "Identified joint stiffnesses with 95 % intervals, per model, beside the "
@@ -67,7 +67,7 @@ num.table("validation", "Mean absolute error of the predicted deflection on the 
           "poses")
 for i, h in enumerate(heights):
     num.figure(f"maps_h{h:.0f}", f"Directional stiffness along the tool axes over the working "
-               f"plane, H = {h:.0f} mm, every redundancy angle (seed 001 Fig. 11)", number=8,
+               f"plane, H = {h:.0f} mm, every redundancy angle [Yi 2025, Fig. 11]", number=8,
                part="abcdefgh"[i] if len(heights) > 1 else "")
 num.table("maxima", "Largest directional stiffness per height and redundancy angle")
 num.table("optimal", "The stiffness-optimal pose and random poses: deformation under the end "
@@ -75,11 +75,11 @@ num.table("optimal", "The stiffness-optimal pose and random poses: deformation u
 num.figure("optimal_poses", "Deformation under the end load, optimal against random poses "
            "(dashed: the seed's optimum)", number=9)
 num.figure("beamframe", "Beam-frame model: nodes at t = 0, and the tool displacement with the "
-           "predicted σ(t) (seed 004, eq. 17)", number=10)
+           "predicted σ(t) [Cai 2015, eq. 17]", number=10)
 bf = open_artefact(beamframe)
 
 # %% [markdown]
-# ## 6.2.1 Workspace (seed 001 §2)
+# ## 6.2.1 Workspace [Yi 2025, §2]
 
 # %%
 display(num.caption("workspace_ranges"))
@@ -92,7 +92,7 @@ fig = workspace_figure(mp)
 num.show(fig, "workspace")
 
 # %% [markdown]
-# ## 6.2.2 Joint-stiffness identification (seed 001 §3)
+# ## 6.2.2 Joint-stiffness identification [Yi 2025, §3]
 
 # %%
 models = pd.read_csv(map_models)
@@ -110,7 +110,7 @@ display(validation_table(pd.read_csv(map_validation), v).round(2))
 display(Markdown(say("validation", ref_validation=num.ref("validation"))))
 
 # %% [markdown]
-# ## 6.2.3 Directional stiffness over the working plane (seed 001 §4.2, Fig. 11)
+# ## 6.2.3 Directional stiffness over the working plane [Yi 2025, §4.2, Fig. 11]
 
 # %%
 display(Markdown(say("maps", ref_maps=", ".join(num.ref(f"maps_h{h:.0f}") for h in heights))))
@@ -124,7 +124,7 @@ display(maxima_table(mp, v).round(3))
 display(Markdown(say("maxima", ref_maxima=num.ref("maxima"))))
 
 # %% [markdown]
-# ## 6.2.4 The stiffness-optimal pose (seed 001 §4.3–4.4)
+# ## 6.2.4 The stiffness-optimal pose [Yi 2025, §4.3–4.4]
 
 # %%
 display(num.caption("optimal"))
@@ -137,7 +137,7 @@ fig = optimal_figure(opt, v)
 num.show(fig, "optimal_poses")
 
 # %% [markdown]
-# ## 6.2.5 Beam-frame model and vibration predictor (seed 004)
+# ## 6.2.5 Beam-frame model and vibration predictor [Cai 2015]
 
 # %%
 display(Markdown(say("beamframe", "beamframe_definite", "cantilever",

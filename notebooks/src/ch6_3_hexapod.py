@@ -1,8 +1,8 @@
 # %% [markdown]
 # # Chapter 6.3 — Reference study: hexapod dynamics and force errors
 #
-# A reproduction of a source paper that uses no data of this study. Seed 003 (Rybak,
-# Gaponenko, Mamaev) argues for high-speed milling on parallel-kinematics machines and gives
+# A reproduction of a source paper that uses no data of this study. Rybak, Gaponenko and
+# Mamaev [Rybak n.d.] argue for high-speed milling on parallel-kinematics machines and gives
 # a dynamic model of a Stewart–Gough hexapod: the inverse problem
 # **M(X) Ẇ + C(W, X) + G = τ** and the forward problem **V̇ₚ = A_m⁻¹ (J_rᵀ Γ − h_m)**
 # (seed eqs 1–8), built from the six leg models (inertia A_xi, bias h_xi at the leg tip) and
@@ -44,7 +44,7 @@ say = Prose(load_templates("ch6_3", templates), found)
 # chapter 6 is numbered across its three pages (the chapter registry's first_figure/first_table)
 num = Numbering.for_chapter("ch6_hexapod", fig_dir=fig_dir)
 num.table("seed_table1", "High-speed against conventional ball-end milling, as printed in "
-          "seed 003's Table 1")
+          "[Rybak n.d., Table 1]")
 num.figure("trajectory", "The seed's acceleration programme through the inverse dynamics and "
            "its open-loop replay (left), and the round-trip error (right)")
 num.figure("actuator_forces", "Actuator forces of the programme (seed Fig. 4)")

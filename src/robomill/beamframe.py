@@ -1,10 +1,10 @@
-"""Beam-frame stiffness model of a robot arm and the vibration predictor (seed 004,
-Cai et al. 2015, pneumatic-wheel finishing with a MOTOMAN-HP20).
+"""Beam-frame stiffness model of a robot arm and the vibration predictor [Cai 2015]
+(pneumatic-wheel finishing with a MOTOMAN-HP20).
 
-The arm is a chain of 3-D Euler–Bernoulli beam elements (shear deformation ignored, seed 004
+The arm is a chain of 3-D Euler–Bernoulli beam elements (shear deformation ignored, Cai 2015
 eq. 3–7) along its link polyline; every node has 6 DOF (3 displacements, 3 rotations).
 Node 1 (the base) is fixed, so for 7 elements / 8 nodes the global stiffness K is 42×42 and
-δ = K⁻¹ F (seed 004 eqs. 8–9). Only the tool node is loaded, by the wheel's normal force F_n
+δ = K⁻¹ F [Cai 2015, eqs. 8–9]. Only the tool node is loaded, by the wheel's normal force F_n
 (from its compression h) and tangential force F_v = μ F_n (eqs. 10–12); δ_sum is the length
 of the tool node's linear displacement (eq. 13), and the fitted vibration predictor is
 σ(t) = 1.3·10⁴ (e^{−0.01 t} + 1) δ_sum(t) + 0.6 (eq. 17). SI units throughout.
@@ -42,7 +42,7 @@ class Section:
 
 
 def element_stiffness_local(s: Section, L_m: float) -> np.ndarray:
-    """12×12 stiffness of a 3-D beam element in its local frame (seed 004 eqs. 3–7;
+    """12×12 stiffness of a 3-D beam element in its local frame ([Cai 2015, eqs. 3–7];
     Przemieniecki's matrix without shear). DOF order per node: u, v, w, θx, θy, θz."""
     EA, GJ = s.E_Pa * s.A_m2 / L_m, s.G_Pa * s.J_m4 / L_m
     EI = s.E_Pa * s.I_m4
@@ -104,7 +104,7 @@ def global_stiffness(nodes_m: np.ndarray, sections: Sequence[Section],
 
 def tool_displacement(K: np.ndarray, force_N: np.ndarray) -> np.ndarray:
     """Displacement (6: linear [m], angular [rad]) of the last node under a force ``(3,)``
-    there: δ(end−5:end) = K⁻¹(end−5:end, end−5:end−3) F (seed 004 eq. 9)."""
+    there: δ(end−5:end) = K⁻¹(end−5:end, end−5:end−3) F [Cai 2015, eq. 9]."""
     C = np.linalg.inv(K)
     return C[-6:, -6:-3] @ np.asarray(force_N, float)
 
@@ -138,7 +138,7 @@ def link_polyline_mm(robot: SerialRobot, q_rad: np.ndarray, *, tol_mm: float = 1
 
 def wheel_normal_force_N(h_mm: float | np.ndarray, pressure_Pa: float,
                          radius_mm: float) -> np.ndarray:
-    """Normal force of the pneumatic wheel at compression h (seed 004 eqs. 10–11; the law is
+    """Normal force of the pneumatic wheel at compression h ([Cai 2015, eqs. 10–11]; the law is
     not printed, *assumed* here: internal pressure on the flattened contact disc,
     F_n = p π r², r² = 2 R h − h²)."""
     h = np.asarray(h_mm, float) * 1e-3
@@ -148,7 +148,7 @@ def wheel_normal_force_N(h_mm: float | np.ndarray, pressure_Pa: float,
 
 def wheel_forces_N(F_n_N: float, mu: float, normal: np.ndarray,
                    wheel_axis: np.ndarray) -> np.ndarray:
-    """Force on the tool node [N] (seed 004 eq. 12): F_n along the workpiece's outward normal
+    """Force on the tool node [N] [Cai 2015, eq. 12]: F_n along the workpiece's outward normal
     N plus F_v = μ F_n opposing the wheel's surface velocity at the contact, which is along
     −P × N for a wheel spinning about its axis P (contact point at −R N from the centre)."""
     N = np.asarray(normal, float) / np.linalg.norm(normal)
@@ -164,7 +164,7 @@ SIGMA = schema_defaults("stiffness.beamframe.sigma")
 def vibration_sigma(t_s: np.ndarray, delta_sum_m: np.ndarray, *, a: float = SIGMA["a"],
                     decay_per_s: float = SIGMA["decay_per_s"],
                     offset: float = SIGMA["offset"]) -> np.ndarray:
-    """Vibration predictor of seed 004 eq. 17: σ(t) = a (e^{−0.01 t} + 1) δ_sum(t) + 0.6
+    """Vibration predictor of [Cai 2015, eq. 17]: σ(t) = a (e^{−0.01 t} + 1) δ_sum(t) + 0.6
     (δ_sum in m; σ in the unit of the seed's accelerometer standard deviation)."""
     t = np.asarray(t_s, float)
     return a * (np.exp(-decay_per_s * t) + 1.0) * np.asarray(delta_sum_m, float) + offset
@@ -172,7 +172,7 @@ def vibration_sigma(t_s: np.ndarray, delta_sum_m: np.ndarray, *, a: float = SIGM
 
 def precession_tool_rotation(tilt_rad: float, phase_rad: np.ndarray) -> np.ndarray:
     """Tool orientations ``(m, 3, 3)`` of a precessing wheel over a horizontal surface
-    (seed 004 Fig. 2): the wheel axis P (tool z) tilted by θ from straight down, the tilt
+    [Cai 2015, Fig. 2]: the wheel axis P (tool z) tilted by θ from straight down, the tilt
     turning about the surface normal N = +Z by the precession phase ω₂t."""
     ph = np.atleast_1d(np.asarray(phase_rad, float))
     down = np.array([[1.0, 0, 0], [0, -1.0, 0], [0, 0, -1.0]])
@@ -206,7 +206,7 @@ def cantilever_check(section: Section, length_m: float = 1.0, n_elements: int = 
 
 def precession_dataset(robot: SerialRobot, sections: Sequence[Section], *, q_seed_deg,
                        wheel: dict, duration_s: float, dt_s: float, sigma: dict):
-    """Seed 004 reproduced: a precessing pneumatic wheel finishing a horizontal surface.
+    """Cai 2015 reproduced: a precessing pneumatic wheel finishing a horizontal surface.
 
     At each time t the wheel axis is tilted by ``tilt_deg`` from the normal and turned by
     2π t / period about it; the arm pose comes from IK, its beam frame from
@@ -253,7 +253,7 @@ def precession_dataset(robot: SerialRobot, sections: Sequence[Section], *, q_see
          "delta_sum_um": ("time", dsum * 1e6,
                           attrs("um", "delta_sum: linear displacement of the tool node")),
          "sigma_pred": ("time", sig, attrs("1", "predicted vibration standard deviation "
-                                                 "(seed 004 eq. 17, accelerometer units)")),
+                                                 "([Cai 2015, eq. 17], accelerometer units)")),
          "node_m": (("node", "axis"), nodes0, attrs("m", "beam node positions at t = 0")),
          "element_length_m": ("element", L, attrs("m", "beam element length")),
          "element_A_m2": ("element", [s.A_m2 for s in secs], attrs("m2", "section area")),

@@ -105,7 +105,7 @@ class Cut:
     (``spindle_rpm`` … ``start_mm``) are None when the cut takes the experiment's value
     (:func:`cut_process`). ``redundancy_deg`` is the rotation θ of the tool about its axis
     from the cell's tool orientation R0, R = R0 Rz(θ) (:func:`cut_redundancy_deg`; the
-    plan's redundancy angle, issue 28): None cuts at R0."""
+    plan's redundancy angle): None cuts at R0."""
 
     id: str
     set: int | None
@@ -140,7 +140,7 @@ def cut_process(cut: Cut, experiment: Mapping[str, Any]) -> dict[str, Any]:
 
     Returns keys ``spindle_rpm, flutes, tool_diameter_mm, radial_immersion, milling,
     direction_deg, feed_per_tooth_mm, tooth_passing_hz`` (feed per tooth c = v / (N n),
-    tooth-passing frequency N n / 60; SPEC §0)."""
+    tooth-passing frequency N n / 60)."""
     rpm = float(cut.spindle_rpm if cut.spindle_rpm is not None else experiment["spindle_rpm"])
     z = int(cut.flutes if cut.flutes is not None else experiment["flutes"])
     dia = cut.tool_diameter_mm if cut.tool_diameter_mm is not None else \
@@ -213,7 +213,8 @@ def tooth_passing_hz(spindle_rpm: float, flutes: int) -> float:
 
 
 def feed_per_tooth_mm(feed_mm_s: float, spindle_rpm: float, flutes: int) -> float:
-    """Feed per tooth c = v / (N · n) [mm] (SPEC §0: 1.07 µm at 1 mm/s, 28 000 rpm, 2 flutes)."""
+    """Feed per tooth c = v / (N · n) [mm] ([Pulatbek 2024, §2.1]: 1.07 µm at 1 mm/s,
+    28 000 rpm, 2 flutes)."""
     return feed_mm_s / tooth_passing_hz(spindle_rpm, flutes)
 
 
@@ -273,7 +274,7 @@ def cut_endpoints_mm(cut: Cut, experiment: Mapping, set_index: int | None = None
 
 def cut_tool_rotation(cut: Cut, tool_rotation: np.ndarray) -> np.ndarray:
     """The tool's orientation while cutting ``cut``: the cell's ``tool_rotation`` R0 turned by
-    the cut's redundancy angle θ about the tool axis, R0 Rz(θ) (seed 001 §4.2); R0 itself
+    the cut's redundancy angle θ about the tool axis, R0 Rz(θ) [Yi 2025, §4.2]; R0 itself
     when θ = 0."""
     theta = np.deg2rad(cut_redundancy_deg(cut))
     if theta == 0.0:

@@ -5,7 +5,8 @@ rendered by the chapter (:mod:`robomill.pipeline.prose`).
   they follow the thesis' layout (ids ``s{set}_g{segment}_{dir}``, §2.1);
 - the process of every cut (its own keys, else the experiment's): spindle speed n [rpm] and
   its frequency n / 60 [Hz], tooth-passing frequency N n / 60 and feed per tooth
-  c = v / (N n) (SPEC §0; :func:`robomill.experiment.feed_per_tooth_mm`), one value or a range;
+  c = v / (N n) ([Pulatbek 2024, §2.1]; :func:`robomill.experiment.feed_per_tooth_mm`), one
+  value or a range;
 - the design (what varies, what is constant, as :mod:`robomill.pipeline.design_tables`
   describes it) and, for a design other than the thesis', the feed per tooth and tooth
   passing of each level of its first grouping factor;
@@ -169,7 +170,7 @@ def _layout(found: Findings, cuts: pd.DataFrame) -> None:
 def _process(found: Findings, cuts: pd.DataFrame, rpm: pd.Series, flutes: pd.Series,
              design: Mapping[str, Any] | None) -> None:
     """Spindle speed, tooth passing N n / 60 and feed per tooth c = v / (N n) of every cut
-    (SPEC §0), overall and per level of the design's first grouping factor."""
+    [Pulatbek 2024, §2.1], overall and per level of the design's first grouping factor."""
     hz = spindle_hz(rpm)
     tooth = tooth_passing_hz(rpm, flutes)
     c_um = 1e3 * feed_per_tooth_mm(cuts["feed_mm_s"].astype(float), rpm, flutes)

@@ -1,6 +1,6 @@
 """Findings: what a stage's artefacts say, as data a chapter renders into sentences.
 
-A *finding* is one thing a chapter states (DESIGN.md principle 10): a ``key``, a ``value`` (a
+A *finding* is one thing a chapter states (docs/design.md, principle 10): a ``key``, a ``value`` (a
 number, a ``[low, high]`` range, a list of numbers, a flag ``true``/``false`` or a text id such
 as ``"flip"``), its ``unit``; when it is a verdict, the ``verdict`` (``"pass"``/``"fail"`` or a
 text id) with the ``threshold`` that decided it and the ``config_key`` the threshold comes

@@ -3,7 +3,7 @@
 * Rodrigues rotation about an axis (thesis eq. 1.3) and the vector geometric model (eq. 1.4);
 * Denavit–Hartenberg (``dh``: T_i = Rz(θ_i+offset) Tz(d) Tx(a) Rx(α)) and Craig's modified
   D-H (``mdh``: T_i = Rx(α_{i-1}) Tx(a_{i-1}) Rz(θ_i+offset) Tz(d_i)) forward kinematics;
-* the geometric Jacobian by the vector-product method (seed 001), and
+* the geometric Jacobian by the vector-product method [Yi 2025], and
 * numerical inverse kinematics (damped least squares) for any posture, and along a measured
   path with an error that names the data file when the path is out of reach.
 
@@ -174,7 +174,7 @@ class SerialRobot:
         """Geometric Jacobian ``(..., 6, n)`` at the TCP by the vector-product method.
 
         Rows 0–2: linear velocity [mm/rad]; rows 3–5: angular velocity [1]. Column i is
-        ``[z_i × (p − o_i); z_i]`` (seed 001, eq. for revolute joints).
+        ``[z_i × (p − o_i); z_i]`` (for revolute joints [Yi 2025]).
         """
         F = self.frames(q)
         return self._jacobian(F, self._tcp(F))

@@ -1,4 +1,4 @@
-# Stage 'calibration' (thesis ch. 1, issue 7): the C-Track simulator, identification of the
+# Stage 'calibration' (thesis ch. 1): the C-Track simulator, identification of the
 # geometric model, joint errors and compliance, and accuracy before/after.
 CTRACK_TABLES = {f["table"]: f["path"] for f in RAW_FILES if f["kind"] == "ctrack"}
 

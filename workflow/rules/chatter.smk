@@ -1,4 +1,4 @@
-# Stage 'chatter' (SPEC §4, seed 002): stability lobes for configured machines (one job per
+# Stage 'chatter' [Shagniev 2019]: stability lobes for configured machines (one job per
 # case), the seed's time-domain robot-tool-surface model with detection and adaptive depth
 # (chapter 6.1), and the study robot's lobes, mode-coupling check and chatter-free
 # recommendations (chapter 4).
@@ -119,7 +119,7 @@ if VERDICT_FILES:
 
 # the study's robot (chapter 4) only where the folder has its modes and forces and the force
 # cuts identify the cutting coefficients; the reference studies (chapter 6.1: the configured
-# cases and seed 002) in any run
+# cases and Shagniev 2019) in any run
 CHATTER_ROBOT = has_kind("impact") and has_kind("force") and not COEFFICIENTS_UNMET
 
 
@@ -176,7 +176,7 @@ use rule chapter as ch4 with:
 
 
 # Chapter 6.1 (reference studies): the lobe methods on the configured published cases and the
-# seed-002 robot-tool-surface model; no data of the study.
+# Shagniev 2019 robot-tool-surface model; no data of the study.
 use rule chapter as ch6_chatter with:
     input:
         **chapter_files("ch6_chatter"),

@@ -1,4 +1,4 @@
-# Stage 'forces' (chapter 3.1, issue 4): dynamometer records -> per-cut chunked spectra and
+# Stage 'forces' (chapter 3.1): dynamometer records -> per-cut chunked spectra and
 # mean forces -> peaks table, spectra and the identified cutting coefficients.
 # One simulator job (virtual cell), one analysis job per cut (one for all the virtual cell's
 # cuts), then one gather job.

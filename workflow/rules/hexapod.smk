@@ -1,4 +1,4 @@
-# Stage 'hexapod' (chapter 6.3 of the reference studies, seed 003): Stewart–Gough platform inverse and forward dynamics,
+# Stage 'hexapod' (chapter 6.3 of the reference studies, Rybak n.d.): Stewart–Gough platform inverse and forward dynamics,
 # the vertical move with a force error, and the sensitivity map (one job per actuator).
 
 HEXAPOD_ACTUATORS = config["hexapod"]["sensitivity"]["actuators"]

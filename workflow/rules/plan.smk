@@ -1,4 +1,4 @@
-# Stage 'plan' (chapter 7, issue 28): the next cuts from what was measured. The request is
+# Stage 'plan' (chapter 7): the next cuts from what was measured. The request is
 # plan.yaml (config plan.request); each prediction's source is an input only when the raw
 # folder has the measurements behind it (the plan says which prediction is missing).
 

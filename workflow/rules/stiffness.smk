@@ -1,4 +1,4 @@
-# Stage 'stiffness' (chapter 5; seeds 001 and 004): joint-stiffness identification for every
+# Stage 'stiffness' (chapter 5; Yi 2025 and Cai 2015): joint-stiffness identification for every
 # robot in the manifest, working-plane maps (one job per height and redundancy angle), the
 # stiffness-optimal pose, the beam-frame model and the thesis-robot slot comparison.
 
@@ -267,8 +267,8 @@ use rule chapter as ch5 with:
         chapter_benchmark("ch5")
 
 
-# Chapter 6.2 (reference studies): seed 001's joint-stiffness study on its robot (workspace,
-# identification, maps, optimal pose) and seed 004's beam frame.
+# Chapter 6.2 (reference studies): Yi 2025's joint-stiffness study on its robot (workspace,
+# identification, maps, optimal pose) and Cai 2015's beam frame.
 use rule chapter as ch6_stiffness with:
     input:
         **chapter_files("ch6_stiffness"),

@@ -1,4 +1,4 @@
-# Stage 'straightness' (chapter 3.2, issue 5): laser-tracker runs re-ordered in space, their
+# Stage 'straightness' (chapter 3.2): laser-tracker runs re-ordered in space, their
 # spectra in 1/mm, gear spatial frequencies and peak -> gear attribution.
 # One simulator job (virtual cell), one analysis job per tracker run (one for all the virtual
 # cell's runs), then one gather job.

@@ -1,4 +1,4 @@
-# Stage 'surface' (chapter 2, issue 3): stylus profiles -> detrend, Gaussian waviness/roughness
+# Stage 'surface' (chapter 2): stylus profiles -> detrend, Gaussian waviness/roughness
 # split, thesis spectra, segment RMS tables 2.1/2.2, peaks and their mechanism.
 # One simulator job (virtual cell), one analysis job per cut (one for all the virtual cell's
 # cuts), then one gather job.

@@ -1,4 +1,4 @@
-"""Seed 002 lobes, time-domain runs, detection and adaptive depth -> simulation.nc."""
+"""Shagniev 2019 lobes, time-domain runs, detection and adaptive depth -> simulation.nc."""
 
 import os
 

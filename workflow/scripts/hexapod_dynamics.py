@@ -1,4 +1,4 @@
-"""Seed 003: the programme's inverse dynamics and replay, and the vertical move with a force
+"""Rybak n.d.: the programme's inverse dynamics and replay, and the vertical move with a force
 error → trajectory.nc and forces.nc."""
 
 from robomill.hexapod.study import dynamics_datasets

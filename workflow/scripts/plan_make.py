@@ -1,4 +1,4 @@
-"""The next cuts from what was measured (issue 28): candidates, the chosen cuts, the Pareto
+"""The next cuts from what was measured: candidates, the chosen cuts, the Pareto
 front, the study's own cuts beside the plan, and the next experiment's manifest and config."""
 
 import numpy as np

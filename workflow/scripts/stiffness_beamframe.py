@@ -1,4 +1,4 @@
-"""Seed 004 beam-frame model: precessing pneumatic wheel, δ_sum(t) and σ(t)."""
+"""Cai 2015 beam-frame model: precessing pneumatic wheel, δ_sum(t) and σ(t)."""
 
 from robomill.beamframe import precession_dataset, sections_from_config
 from robomill.io import write_artefact

@@ -1,4 +1,4 @@
-"""Joint-stiffness identification of one robot from its load tests (seed 001 §3)."""
+"""Joint-stiffness identification of one robot from its load tests [Yi 2025, §3]."""
 
 from robomill.io import write_table
 from robomill.io.robots import read_load_tests, read_robot_file

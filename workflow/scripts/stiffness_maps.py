@@ -1,4 +1,4 @@
-"""Gather the working-plane maps into maps.nc, with the Monte-Carlo workspace (seed 001 §2)."""
+"""Gather the working-plane maps into maps.nc, with the Monte-Carlo workspace [Yi 2025, §2]."""
 
 import numpy as np
 import xarray as xr

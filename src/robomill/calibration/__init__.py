@@ -1,4 +1,4 @@
-"""Robot calibration by the single-joint (circle point) method (thesis ch. 1, SPEC §1): the
+"""Robot calibration by the single-joint (circle point) method (thesis ch. 1): the
 package, one subject per submodule.
 
 Everything is expressed in one fixed measurement frame (the C-Track frame, registered to the

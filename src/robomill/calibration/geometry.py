@@ -1,4 +1,4 @@
-"""Geometry of the single-joint (circle point) method (thesis §1.3, SPEC §1): circle fits and
+"""Geometry of the single-joint (circle point) method (thesis §1.3): circle fits and
 the vector model.
 
 A target on link i, joint i rotated alone, traces a circle; plane by SVD, circle by least

@@ -1,4 +1,4 @@
-"""Chatter: stability lobes for any machine, the seed-002 time-domain robot–tool–surface model,
+"""Chatter: stability lobes for any machine, the Shagniev 2019 time-domain robot–tool–surface model,
 FFT chatter detection with adaptive depth, and the thesis robot's chatter-free parameters.
 
 Conventions (used by every module of this package and by chapter 4)
@@ -6,12 +6,12 @@ Conventions (used by every module of this package and by chapter 4)
 * ``x`` is the feed direction, ``y`` the normal direction in the plane of the cut (the seed's
   ``z``); the tool axis is the third direction.
 * The cutter angle φ of a tooth is measured **clockwise from +y**; a tooth cuts while
-  φ_st < φ < φ_ex (the engagement g(φ) = 1, seed 002 eq. for g).
+  φ_st < φ < φ_ex (the engagement g(φ) = 1 [Shagniev 2019]).
 * **Up-milling** enters at φ_st = 0 and exits at φ_ex = arccos(1 − 2 a_e/D);
   **down-milling** enters at φ_st = arccos(2 a_e/D − 1) and exits at φ_ex = π;
   slotting is radial immersion a_e/D = 1 (0 … π).
 * Chip thickness h_j = (Δx sin φ_j + Δy cos φ_j) g(φ_j) with Δ = current minus
-  one-tooth-period-delayed tool displacement (seed 002; Altintas 2012 eq. 3.50); tangential
+  one-tooth-period-delayed tool displacement (Shagniev 2019; Altintas 2012 eq. 3.50); tangential
   and radial forces R_t = K_t a h, R_r = K_r R_t; on the tool
   R_x = −R_t cos φ − R_r sin φ, R_y = R_t sin φ − R_r cos φ, summed over the teeth.
 
@@ -22,17 +22,17 @@ Modules
 :mod:`~robomill.chatter.lobes_zoa`  zero-order analytical lobes (Altintas & Budak 1995), the
                                     one routine for one tool and for the planner's batches
 :mod:`~robomill.chatter.lobes_sdm`  first-order semi-discretization (Insperger & Stépán 2004;
-                                    the seed-002 diagram and the benchmark's baseline)
+                                    the Shagniev 2019 diagram and the benchmark's baseline)
 :mod:`~robomill.chatter.lobes_sem`  spectral element with exact free flight (Khasawneh & Mann
                                     2011): converged lobes with a per-speed error estimate
-:mod:`~robomill.chatter.timedomain` seed-002 robot–tool–surface simulation (numba)
+:mod:`~robomill.chatter.timedomain` Shagniev 2019 robot–tool–surface simulation (numba)
 :mod:`~robomill.chatter.detection`  sliding-window FFT detection, adaptive depth logic
-:mod:`~robomill.chatter.modal_timedomain` the seed-002 chip and force law on a modal tool
+:mod:`~robomill.chatter.modal_timedomain` the Shagniev 2019 chip and force law on a modal tool
                                     (regenerative and delay-free): the plan's stability check
 :mod:`~robomill.chatter.thesis`     thesis robot: slot frames, mode coupling, recommendations
 :mod:`~robomill.chatter.lobe_maps`  lobe diagrams as datasets (zoa beside sdm or sem)
 :mod:`~robomill.chatter.cases`      the configured lobe cases
-:mod:`~robomill.chatter.seed`       the seed-002 study (lobes, time domain, onset check)
+:mod:`~robomill.chatter.seed`       the Shagniev 2019 study (lobes, time domain, onset check)
 :mod:`~robomill.chatter.thesis_study` the thesis robot's slots: lobes, mode coupling,
                                     recommendations
 :mod:`~robomill.chatter.findings`   chapter 4's findings from the stage's artefacts

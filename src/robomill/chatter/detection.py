@@ -1,6 +1,6 @@
 """Chatter detection from the amplitude spectrum of the horizontal cutting force over a sliding
-window, and the seed-002 adaptation loop that lowers the axial depth through the vertical force
-setpoint (seed 002, Fig. 4 "logic block"; §"Results of computer simulation").
+window, and the Shagniev 2019 adaptation loop that lowers the axial depth through the vertical force
+setpoint ([Shagniev 2019, Fig. 4] "logic block"; §"Results of computer simulation").
 
 Indicator: the largest amplitude-spectrum line of the resultant horizontal force
 R = √(R_x² + R_z²) in a frequency band, away from the tooth-passing harmonics (forced

@@ -1,7 +1,7 @@
 """Chapter 4's figures, drawn from the chatter stage's artefacts (each function returns the
 figure; the chapter saves, shows and captions it): the lobes of a configured case with their
 flip lobes and their discretization error, the slotting agreement of the two methods, the
-seed-002 lobes, time histories, spectra and chatter indicator, and the identified robot's
+Shagniev 2019 lobes, time histories, spectra and chatter indicator, and the identified robot's
 lobes per slot direction."""
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import numpy as np
 import xarray as xr
 
 SPECTRUM_MAX_HZ = 600.0
-"""Upper end of the seed-002 force spectra shown (Hz): the tooth-passing harmonics and the
+"""Upper end of the Shagniev 2019 force spectra shown (Hz): the tooth-passing harmonics and the
 chatter line of the seed's 2-tooth tool at its spindle speed lie below it."""
 
 
@@ -65,7 +65,7 @@ def slot_figure(ds: xr.Dataset) -> plt.Figure:
 
 
 def seed_lobes_figure(sim: xr.Dataset) -> plt.Figure:
-    """Seed 002's lobes of the closed-loop tool point (``results/chatter/simulation.nc``):
+    """Shagniev 2019's lobes of the closed-loop tool point (``results/chatter/simulation.nc``):
     zero-order (D-partition) and semi-discretization, a* and the two operating points."""
     sp = sim["spindle_rpm"].values
     fig, ax = plt.subplots()

@@ -1,7 +1,7 @@
 """The findings of the chatter stage (chapter 4): every number, flag and verdict the chapter
 states, computed from the stage's artefacts (:mod:`robomill.findings`).
 
-Inputs: the lobes of the configured cases (``results/chatter/cases/<name>.nc``), the seed-002
+Inputs: the lobes of the configured cases (``results/chatter/cases/<name>.nc``), the Shagniev 2019
 time-domain study (``simulation.nc``), the lobes of the identified robot (``lobes.nc``) and
 its recommendations (``recommendations.csv``). A cut is chatter-free when its pessimistic
 stability margin is positive (``stability_margin_min > 0``, decided upstream by
@@ -110,7 +110,7 @@ def _case_setup(f: Findings, art: str, attrs: Mapping[str, Any]) -> None:
 
 
 def _seed_setup(f: Findings, sim: xr.Dataset) -> None:
-    """The seed-002 model's parameters (``attrs.seed_params``) and its tool's partial
+    """The Shagniev 2019 model's parameters (``attrs.seed_params``) and its tool's partial
     frequency on the suspension, √(c_s/m_s)/2π."""
     p = json.loads(sim.attrs["seed_params"])
     for key, name, unit, scale in (("seed_m_kg", "m_kg", "kg", 1), ("seed_m_s_kg", "m_s_kg",
@@ -250,7 +250,7 @@ def _robot(f: Findings, lobes: xr.Dataset, rec: pd.DataFrame, safety_fraction: f
 
 
 def _sources(f: Findings) -> None:
-    """The benchmark's converged first-order semi-discretization (robomill issue 23): numbers
+    """The benchmark's converged first-order semi-discretization: numbers
     the chapter states about the literature method it replaces."""
     for key, ref in (("ref_sdm_m40_pct", "insperger2004.sdm_m40_excess_6400rpm_pct"),
                      ("ref_sdm_m80_pct", "insperger2004.sdm_m80_excess_6400rpm_pct"),
@@ -274,7 +274,7 @@ def chatter_findings(cases: Mapping[str, xr.Dataset], sim: xr.Dataset,
     of a configured case; the benchmark is ``insperger2004_down005`` when configured, else the
     first case); ``safety_fraction``: ``chatter.thesis.safety_fraction``.
 
-    Chapter 6.1 (the reference studies: the benchmark cases and seed 002) needs no data of
+    Chapter 6.1 (the reference studies: the benchmark cases and Shagniev 2019) needs no data of
     the study; the robot's lobes and recommendations (chapter 4) are left out (``has_robot``
     false) when the study measured no modes or no cutting coefficients (``lobes`` None).
     ``thesis_study``: whether chapter 4 closes with its comparison with the thesis."""

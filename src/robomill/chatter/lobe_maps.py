@@ -1,5 +1,5 @@
 """Lobe diagrams as datasets: the zero-order lobes beside the semi-discretization (the
-seed-002 diagram) or beside the converged spectral element (the lobe cases and the thesis
+Shagniev 2019 diagram) or beside the converged spectral element (the lobe cases and the thesis
 robot's slots), on one speed grid."""
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ def speed_grid(spec: dict) -> np.ndarray:
 
 def sdm_lobes_dataset(tool, cut: CuttingModel, rpm: np.ndarray, *, depth_max_m: float, m: int,
                       rtol: float, progress=None) -> xr.Dataset:
-    """ZOA and first-order SDM lobes on one speed grid (the seed-002 diagram): a_crit_mm,
+    """ZOA and first-order SDM lobes on one speed grid (the Shagniev 2019 diagram): a_crit_mm,
     chatter_hz over (solver = zoa, sdm; spindle_rpm), and the SDM bifurcation kind."""
     a_z, f_z = zoa_lobes(tool, cut, rpm)
     a_s, f_s, kind = sdm_lobes(tool, cut, rpm, depth_max_m=depth_max_m, m=m, rtol=rtol,

@@ -1,4 +1,4 @@
-"""Seed 002's regenerative cut on a modal tool: the time-domain check of a predicted stability.
+"""Shagniev 2019's regenerative cut on a modal tool: the time-domain check of a predicted stability.
 
 The chip and force law are the seed's (Shagniev, Shanshin & Burdakov 2019; the conventions of
 :mod:`robomill.chatter`): tooth j at cutter angle φ_j = Ω t + 2π j/N cuts while
@@ -12,7 +12,7 @@ frame: x feed, y normal), and with the edge terms of Altintas 2012 eq. 2.25
     F_t = a (K_tc κ h + K_te),  F_r = a (K_rc κ h + K_re),  F_a = a (K_ac h + K_ae),
     F_x = Σ −F_t cos φ − F_r sin φ,   F_y = Σ F_t sin φ − F_r cos φ,   F_z = Σ F_a
 
-(κ = 1 + σ ξ a per-pass cutting-coefficient scatter, as the seed-002 simulation's
+(κ = 1 + σ ξ a per-pass cutting-coefficient scatter, as the Shagniev 2019 simulation's
 ``Kt_noise_fraction``: the broadband excitation a stable cut damps and an unstable one grows
 from). Instead of the seed's arm–suspension structure the tool is a sum of modes
 (f_r, ζ_r, k_r, in-plane shape φ_r), d = Σ φ_r η_r, each modal coordinate an oscillator
@@ -33,7 +33,7 @@ material for the next one, so the seed's h ≥ 0 clipping would make that run a 
 unphysical model. At the thesis' feeds per tooth (1–11 µm) that clipping acts at vibrations
 of a fraction of a micrometre near the entry and exit (where c sin φ → 0): it held a delay-free
 run growing at +17.6 1/s in its linear model to no growth, and kicked one decaying at
-−6.1 1/s into a limit cycle with a fifth of the teeth out of the cut (issue 28,
+−6.1 1/s into a limit cycle with a fifth of the teeth out of the cut (the cuts
 ``s2_g4_px`` and ``s1_g1_my`` of the default study). The regenerative run keeps the seed's
 chip: the surface it cuts is the one the previous tooth left.
 """
@@ -73,7 +73,7 @@ class ModalCut:
     Kae_N_m: float = 0.0
     overlap: float = 1.0
     """Tlusty's overlap factor μ in Δ = d(t) − μ d(t − τ) − (1 − μ) d̄: 1 regenerative
-    (seed 002), 0 the delay-free chip of mode coupling (the surface does not carry the
+    [Shagniev 2019], 0 the delay-free chip of mode coupling (the surface does not carry the
     vibration; d̄ the static deflection under the mean force, which only shifts the path)."""
     linear_chip: bool = False
     """False: the seed's chip, a tooth whose h ≤ 0 cuts nothing (it has left the cut). True:

@@ -7,7 +7,7 @@ The regenerative milling model of every method in this package is
 
 with ``d = (x, y)`` the tool-tip displacement in the cutting frame, ``R`` the cutting force on
 the tool, ``a`` the axial depth, τ = 60/(N n) the tooth period and W(t) the directional matrix
-(seed 002 chip and force equations; Altintas 2012 eq. 3.51, there written ½ K_t A(t)).
+(Shagniev 2019 chip and force equations; Altintas 2012 eq. 3.51, there written ½ K_t A(t)).
 """
 
 from __future__ import annotations
@@ -126,7 +126,7 @@ class CuttingModel:
 
     def w(self, phi: np.ndarray) -> np.ndarray:
         """Directional matrix of one engaged tooth at angle φ, ``(..., 2, 2)`` [N/m²]:
-        R = a w(φ) Δ with h = Δx sin φ + Δy cos φ (seed 002)."""
+        R = a w(φ) Δ with h = Δx sin φ + Δy cos φ [Shagniev 2019]."""
         s, c = np.sin(phi), np.cos(phi)
         kt, kr = self.Kt_N_m2, self.Kr
         return kt * np.stack([np.stack([-s * (c + kr * s), -c * (c + kr * s)], -1),

@@ -1,4 +1,4 @@
-"""The seed-002 study: its lobe diagram, points 1 and 2 simulated in the time domain (point 2
+"""The Shagniev 2019 study: its lobe diagram, points 1 and 2 simulated in the time domain (point 2
 also with detection and depth lowering), the chatter indicator histories and the onset check
 of the lobes against the time domain at a few speeds."""
 
@@ -196,7 +196,7 @@ def _onset_variables(onset: np.ndarray) -> dict:
 
 
 def run_seed(cfg: dict, *, accuracy: float = ACCURACY) -> xr.Dataset:
-    """Seed 002: its lobe diagram, points 1 and 2, the three time histories (point 1, point 2
+    """Shagniev 2019: its lobe diagram, points 1 and 2, the three time histories (point 1, point 2
     without and with adaptation), the indicator histories and the onset check."""
     p = SeedParams.from_config(cfg["params"])
     tool = horizontal_tool(p)

@@ -1,5 +1,6 @@
-"""The thesis robot (SPEC §3.3, §4 "beyond the seed"): its identified tool-tip modes in the
-frame of each slot, the mode-coupling check, and chatter-free parameter recommendations.
+"""The thesis robot ([Pulatbek 2024, §3.3]; the open question [Shagniev 2019] leaves): its
+identified tool-tip modes in the frame of each slot, the mode-coupling check, and chatter-free
+parameter recommendations.
 
 Slot frames: the feed direction f is the cut direction in the base XY plane (+X, +Y, −Y) and
 the normal direction is f turned +90° about the tool axis, n = (−f_Y, f_X). A mode with shape

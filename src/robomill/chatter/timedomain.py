@@ -1,7 +1,7 @@
-"""Seed 002: the robot–tool–surface system in the time domain (Shagniev, Shanshin & Burdakov
+"""Shagniev 2019: the robot–tool–surface system in the time domain (Shagniev, Shanshin & Burdakov
 2019, "Control of regenerative self-excited vibrations in the milling process").
 
-Model (seed 002, system of equations after Fig. 1; SPEC §4). Arm mass m, tool mass m_s on an
+Model (Shagniev 2019, system of equations after Fig. 1). Arm mass m, tool mass m_s on an
 elastic suspension c_s (which is also the force sensor):
 
 * vertical:   m ÿ + b_y ẏ + c_sy (y − y_s) = F_y − m g,  y_s = y_sf = const (flat surface),
@@ -42,7 +42,7 @@ N_STATE = 18
 
 @dataclass(frozen=True)
 class SeedParams:
-    """Every value of the seed-002 model (SPEC §4); PID gains are assumed (the seed only says
+    """Every value of the Shagniev 2019 model; PID gains are assumed (the seed only says
     they give fast, smooth transients)."""
 
     m_kg: float = 2.0
@@ -254,7 +254,7 @@ def _packed(p: SeedParams, dt_s: float) -> np.ndarray:
 
 
 class SeedSimulation:
-    """Resumable fixed-step simulation of the seed-002 system.
+    """Resumable fixed-step simulation of the Shagniev 2019 system.
 
     Parameters
     ----------
@@ -294,7 +294,7 @@ class SeedSimulation:
 
     def _pass_factors(self, duration_s: float) -> np.ndarray:
         """K_t factor of every tooth pass, 1 + σ ξ with ξ ~ N(0, 1) seeded (material
-        inhomogeneity, run-out and chip-formation scatter lumped; seed 002 models none, and a
+        inhomogeneity, run-out and chip-formation scatter lumped; Shagniev 2019 models none, and a
         noise-free cut near the boundary would take arbitrarily long to show chatter). The
         variation is independent from pass to pass, a broadband excitation of the regenerative
         mode, whose stable response stays small and whose unstable growth starts from it."""
@@ -306,7 +306,7 @@ class SeedSimulation:
     def _equilibrium(self, at_contact: bool) -> np.ndarray:
         """Initial state. Horizontal: at the commanded velocity, no cutting yet. Vertical: at
         first contact (F_sy = 0, the force loop then presses the tool in, so the depth ramps up
-        smoothly, seed 002 "switch to position–force control on contact"), or already at rest
+        smoothly, Shagniev 2019 "switch to position–force control on contact"), or already at rest
         with F_sy = F_sy^d when ``at_contact`` is false."""
         p = self.p
         s = np.zeros(N_STATE)

@@ -1,5 +1,5 @@
 """``robomill plan DIR --request plan.yaml``: plan the next cuts from a study's measurements
-(issue 28) by running the pipeline's ``plan`` target for that folder.
+ by running the pipeline's ``plan`` target for that folder.
 
 DIR is a raw folder (it has ``manifest.yaml``: the study is run on it with
 ``--config data=DIR``) or a project folder (it has a ``Snakefile``: run there with its own

@@ -20,7 +20,7 @@ _NAMES = {"y": ("Ktc", "Kte"), "x": ("Krc", "Kre"), "z": ("Kac", "Kae")}
 FLAG_COLUMNS = ("negative", "fit_residual_rms_N", "fit_signal_rms_N", "residual_exceeds_signal",
                 "physical")
 """Sanity columns of ``cutting_coefficients.csv`` after ``name, value, ci_low, ci_high, unit``
-(issue 21 point 5; see :func:`coefficient_flags`)."""
+(see :func:`coefficient_flags`)."""
 
 IDENTIFICATION_NEED = "need ≥ 3 cuts at ≥ 2 feeds per tooth"
 """What the mechanistic calibration needs from the design (Altintas 2012, §2.4: a straight
@@ -195,7 +195,7 @@ def coefficient_flag_sentence(table: pd.DataFrame) -> str:
         row is ``physical``; otherwise ``"Not physical: …"`` naming each coefficient that is
         not and why (negative value; fit residual rms larger than the signal rms, i.e.
         R² < 1/2, Altintas 2012 §2.4 assumes both away). A table without the flag columns
-        (an artefact from before issue 21) gives ``""``.
+        (an artefact written before the flags existed) gives ``""``.
     """
     if not set(FLAG_COLUMNS) <= set(table.columns):
         return ""

@@ -1,5 +1,5 @@
 """Stewart–Gough hexapod: kinematics, inverse and forward dynamics, sensitivity to force errors
-(seed 003, eqs 1–8): the package, one subject per submodule.
+[Rybak n.d., eqs 1–8]: the package, one subject per submodule.
 
 The model:
 

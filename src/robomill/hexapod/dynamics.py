@@ -1,4 +1,4 @@
-"""Inverse and forward dynamics of the Stewart–Gough hexapod (seed 003, eqs 1–8).
+"""Inverse and forward dynamics of the Stewart–Gough hexapod [Rybak n.d., eqs 1–8].
 
 Notation follows the seed (Khalil & Guegan's method): the platform twist
 ``V_p = [v_p; ω_p]`` (velocity of the platform origin and angular velocity, both in base

@@ -102,7 +102,7 @@ def _cell(value: Any) -> str:
 
 
 def seed_table1(found: Mapping[str, Any]) -> pd.DataFrame:
-    """Seed 003's Table 1 (ball-end milling, conventional against high-speed) as printed,
+    """[Rybak n.d., Table 1] (ball-end milling, conventional against high-speed) as printed,
     its numbers from the findings' ``seed_table1_*`` (references.yaml)."""
     rows = {"spindle speed [rpm]": "spindle_rpm", "feed [m/min]": "feed_m_min",
             "depth of cut [mm]": "depth_mm"}

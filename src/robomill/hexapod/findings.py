@@ -3,7 +3,7 @@ artefacts and the ``hexapod`` config section (the assumed geometry and masses) a
 by the chapter (:mod:`robomill.pipeline.prose`): the acceleration programme and its open-loop
 replay, the instability rates of the force-driven platform (linearised at the start pose,
 compared with √(g/h) of an inverted pendulum of the start height), the actuator forces, the
-vertical move with one actuator's force off (seed 003 eqs 1–8), the drift map and the force
+vertical move with one actuator's force off [Rybak n.d., eqs 1–8], the drift map and the force
 accuracy a position tolerance needs. Seed numbers come from ``references.yaml``
 (:mod:`robomill.references`), each with its key as evidence.
 """
@@ -134,16 +134,16 @@ def _vertical(found: Findings, traj: xr.Dataset, frc: xr.Dataset) -> None:
     _ref(found, "seed_start_height_mm", "seed003.start_height_mm")
     s_drift = s_pe - s_ex
     found.add("seed_drift_mm", float(np.linalg.norm(s_drift)), "mm", artefact=_REFS,
-              what="|perturbed_end_mm - exact_end_mm| of seed 003")
+              what="|perturbed_end_mm - exact_end_mm| of Rybak n.d.")
     found.add("seed_drift_z_share_pct", 100 * abs(s_drift[2]) / np.linalg.norm(s_drift), "%",
               artefact=_REFS, what="|z| over the seed's drift")
     found.add("seed_rotation_deg", float(np.linalg.norm(s_eul)), "deg", artefact=_REFS,
-              what="|perturbed_euler_deg| of seed 003")
+              what="|perturbed_euler_deg| of Rybak n.d.")
     ours = np.concatenate([[f_exact, f_pert], ex, pe, eul])
     seed = np.concatenate([[s_force, s_pert], s_ex, s_pe, s_eul])
     found.add("vertical_table_ours", ours, artefact=_TRAJECTORY,
               what="forces, exact end, perturbed end, Euler angles")
-    found.add("vertical_table_seed", seed, artefact=_REFS, what="the same, seed 003")
+    found.add("vertical_table_seed", seed, artefact=_REFS, what="the same, Rybak n.d.")
     found.add("vertical_table_difference", ours - seed, artefact=_TRAJECTORY,
               what="ours - seed, row by row")
 

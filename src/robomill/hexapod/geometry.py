@@ -1,4 +1,4 @@
-"""Geometry and inverse kinematics of the Stewart–Gough hexapod (seed 003).
+"""Geometry and inverse kinematics of the Stewart–Gough hexapod [Rybak n.d.].
 
 The machine: six UPS legs (universal joint on the base, prismatic actuator, spherical joint on
 the platform). Base joints ``B_i`` lie on a circle in the base plane, platform joints ``P_i`` on

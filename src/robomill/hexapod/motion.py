@@ -1,5 +1,5 @@
 """Motion of the force-controlled hexapod: the forward dynamics integrated in time and the
-seed's acceleration programmes (seed 003, eq. 6).
+seed's acceleration programmes [Rybak n.d., eq. 6].
 
 The state integrates the twist itself, so the seed's ``S`` is the identity and ``Ṡ = 0``;
 orientation is carried as a unit quaternion. A :class:`Programme` is a motion with

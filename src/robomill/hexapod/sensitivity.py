@@ -1,4 +1,4 @@
-"""Sensitivity of the hexapod's open-loop motion to actuator force errors (seed 003,
+"""Sensitivity of the hexapod's open-loop motion to actuator force errors (Rybak n.d.,
 § sensitivity): the drift map gathered from the per-actuator shards with its first-order
 slopes, the force accuracy a position tolerance needs, and how far the map is from
 antisymmetry. Pure functions on the map (the runs themselves:
@@ -47,7 +47,7 @@ def force_accuracy_requirement(sensitivity: Any, actuator_force_N: float,
     ``drift_components_per_pct`` of :func:`gather_sensitivity`, least squares through zero).
     A tolerance ``δ`` on the final position therefore needs every actuator's force right to
     ``e_max = δ / max_i s_i`` %, i.e. ``e_max / 100 · Γ`` newton for an actuator force ``Γ``
-    (seed 003, § sensitivity: "a small error in the force loop gives a large path error").
+    (Rybak n.d., § sensitivity: "a small error in the force loop gives a large path error").
 
     Parameters
     ----------

@@ -69,7 +69,7 @@ class Transmission:
 
     ``rev_per_joint_rev`` revolutions of this element per joint revolution and its tooth
     count ``teeth``: it turns ``r`` times and meshes ``r·z`` times per joint revolution
-    (Slamani & Bonev 2013; SPEC §3.2).
+    (Slamani & Bonev 2013).
     """
 
     joint: int

@@ -1,4 +1,4 @@
-"""Readers for the stiffness chapter's raw files (``docs/data-contract.md``, issue #10).
+"""Readers for the stiffness chapter's raw files (``docs/data-contract.md``).
 
 * kind ``robot`` — ``stiffness/<robot>.yaml``: name, convention (dh | mdh), length_unit
   (mm | m), angle_unit (deg | rad), joints (one mapping {a, alpha, d, theta_offset} per joint,

@@ -1,4 +1,4 @@
-"""Per-cut tables for any experiment design, and the gate on the thesis' remarks (issue 20).
+"""Per-cut tables for any experiment design, and the gate on the thesis' remarks.
 
 The chapters were written around the thesis' design (thesis §2.1: three sets of five U
 segments, each cut +Y, +X, −Y, one spindle speed and tool). For any other design

@@ -3,7 +3,7 @@
 A chapter keeps its sentences as data (``notebooks/templates/<chapter>.yaml``): one template
 per statement, Markdown with named fields (``{n_modes}``, ``{f_hz:.2f}``, ``{band_hz[0]:.4g}``),
 so the notebook holds templates and calls, no computation, no threshold and no typed number
-(DESIGN.md principle 10; the habit of Quarto's inline expressions and myst-nb's ``glue``). A
+(docs/design.md, principle 10; the habit of Quarto's inline expressions and myst-nb's ``glue``). A
 template is a string, or a mapping with
 
 * ``text``: the sentence;

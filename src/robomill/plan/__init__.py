@@ -1,4 +1,4 @@
-"""The plan of the next cuts (chapter 7, issue 28): request, predictions, choice, outputs and
+"""The plan of the next cuts (chapter 7): request, predictions, choice, outputs and
 the check against the outcomes. Light on purpose: the workflow imports :data:`NEXT_RUN_DIR`
 while it is parsed, on every run."""
 

@@ -105,7 +105,7 @@ def waviness_outcomes(elements: pd.DataFrame, run_gears: pd.DataFrame, profiles,
     is the tracker's lateral axis Z × u (:func:`robomill.straightness.perpendicular_axes`).
     Same amplitude definition: A_lat is the Hann-windowed, coherent-gain corrected sinusoid
     amplitude of the lateral deviation (``amplitude_um`` of ``profiles.nc``,
-    :func:`robomill.straightness.profile_spectrum`, thesis eqs. 2.1–2.3, SPEC §3.2), the
+    :func:`robomill.straightness.profile_spectrum`, thesis eqs. 2.1–2.3), the
     amplitude a in a·sin(2πfs) — as the joint amplitude δq_j carried through nᵀJ_v is. (A
     detected peak's ``amplitude_um`` is √(2P) of the lateral + vertical power: not this
     quantity.) The spectrum is read whether or not a peak was detected there, so a line below

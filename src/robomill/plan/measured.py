@@ -129,7 +129,7 @@ def spectrum_amplitude_um(profiles, run: str, component: str, f_lo_per_mm: float
                           halfwidth_bins: float = 0.5) -> float:
     """The largest sinusoid amplitude of one component of a tracker run's spectrum
     (``amplitude_um`` of ``results/straightness/profiles.nc``: Hann-windowed, coherent-gain
-    corrected, thesis eqs. 2.1–2.3, SPEC §3.2) from ``f_lo`` to ``f_hi`` (default ``f_lo``)
+    corrected, thesis eqs. 2.1–2.3) from ``f_lo`` to ``f_hi`` (default ``f_lo``)
     ± ``halfwidth_bins`` resolution bins 1/L of the run [µm]; NaN where the run is absent."""
     runs = [str(r) for r in profiles["run"].values]
     if run not in runs:
@@ -277,7 +277,7 @@ def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
 
     The quantity: the amplitude a of a·sin(2πfs) normal to the wall (n = ẑ × u, the
     tracker's lateral axis), summed over the lines; the outcome it is checked against reads
-    the same quantity from the run's lateral amplitude spectrum (thesis eqs. 2.1–2.3, SPEC §3.2:
+    the same quantity from the run's lateral amplitude spectrum (thesis eqs. 2.1–2.3:
     :func:`robomill.plan.check.waviness_outcomes`)."""
     J = jacobian_m(robot, q_rad)
     Jv = J[..., :3, :] * 1e6                                                 # µm/rad

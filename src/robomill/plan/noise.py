@@ -1,6 +1,6 @@
 """The tracker's measurement noise in the waviness prediction: its level near each gear line
 of the identifying runs, scaled to the next cut's record, and the interval of the amplitude
-the next run's spectrum will read at the predicted lines (issue 28).
+the next run's spectrum will read at the predicted lines.
 
 **The noise level.** The tracker samples at f_s with white noise of variance s² per axis. A
 record of duration T = L/v (path length L, feed v) holds N = f_s T samples; the spatial

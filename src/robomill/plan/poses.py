@@ -4,10 +4,10 @@ axis, and what the joint model says about each posture.
 A candidate cut is a straight line of length L through a placement point p (its midpoint) along
 a feed direction u in the part frame (axes parallel to the base frame's). The tool orientation
 is the cell's ``tool_rotation`` R0 turned by the redundancy angle θ about the tool axis,
-R = R0 Rz(θ) (seed 001 §4.2; :func:`robomill.stiffness.tool_rotation_redundancy`). A cut is
+R = R0 Rz(θ) ([Yi 2025, §4.2]; :func:`robomill.stiffness.tool_rotation_redundancy`). A cut is
 reachable when inverse kinematics converges at its start, middle and end.
 
-The joint model gives the translational compliance C(q) = J_v diag(c) J_vᵀ (seed 001 eq. 3,
+The joint model gives the translational compliance C(q) = J_v diag(c) J_vᵀ ([Yi 2025, eq. 3],
 :func:`robomill.stiffness.translational_compliance_m_N`), the inverse of the Schur complement of
 the Cartesian stiffness K = J⁻ᵀ K_θ J⁻¹ for a force-only load.
 """

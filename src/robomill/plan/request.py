@@ -1,6 +1,6 @@
 """The planning request ``plan.yaml`` (kind ``plan``): read, validate, expand its grids.
 
-A request states the job and what counts as acceptable (issue 28):
+A request states the job and what counts as acceptable:
 
 .. code-block:: yaml
 

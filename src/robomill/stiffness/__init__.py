@@ -1,8 +1,8 @@
 """Joint-stiffness model of a serial robot: identification, Cartesian and directional
-stiffness, working-plane maps and the stiffness-optimal pose (seed 001, Yi et al. 2025): the
+stiffness, working-plane maps and the stiffness-optimal pose [Yi 2025]: the
 package, one subject per submodule.
 
-* :mod:`~robomill.stiffness.model` — the model (seed 001 eqs. 6–10): Jacobian in SI units,
+* :mod:`~robomill.stiffness.model` — the model [Yi 2025, eqs. 6–10]: Jacobian in SI units,
   TCP deflection X = J_v K_θ⁻¹ J_vᵀ F written linear in the joint compliances, Cartesian,
   translational and directional stiffness, the comprehensive index.
 * :mod:`~robomill.stiffness.identify` — K_θ from load tests, observability and intervals,

@@ -1,6 +1,6 @@
 """Stiffness of the robot along the cuts of the experiment: per cut along its feed, its
 in-plane normal and the tool axis, and the chapter's slot table beside the waviness of
-Table 2.1 (thesis §5, seed 001).
+Table 2.1 (thesis §5, Yi 2025).
 """
 
 from __future__ import annotations
@@ -21,7 +21,7 @@ def cut_stiffness_table(robot: SerialRobot, compliance: np.ndarray, cuts,
     """Joint-model stiffness of the cell's robot at the middle of every cut, along the cut's
     feed, its in-plane normal and the tool axis (:func:`robomill.experiment.cut_axes`).
 
-    The translational compliance C = J diag(c) Jᵀ (seed 001, eq. 3; only the joints' elastic
+    The translational compliance C = J diag(c) Jᵀ ([Yi 2025, eq. 3]; only the joints' elastic
     deflection) gives the stiffness along a unit direction u as 1 / (uᵀ C u)
     (:func:`directional_stiffness_N_m`). Any design: the direction comes from ``direction``
     or ``direction_deg``.

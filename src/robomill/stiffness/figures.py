@@ -31,7 +31,7 @@ def workspace_figure(maps: xr.Dataset):
 
 def maps_figure(maps: xr.Dataset, height_mm: float):
     """Directional stiffness [N/µm] along the tool axes over the working plane at one
-    height, one row per redundancy angle (seed 001 Fig. 11)."""
+    height, one row per redundancy angle [Yi 2025, Fig. 11]."""
     red = maps["redundancy_deg"].values
     fig, axs = plt.subplots(len(red), 3, figsize=(11, 3.2 * len(red)), squeeze=False)
     for i, r in enumerate(red):
@@ -66,7 +66,7 @@ def optimal_figure(optimal: pd.DataFrame, found: Mapping[str, Any]):
 
 
 def beamframe_figure(bf: xr.Dataset):
-    """The beam nodes at t = 0, and the tool displacement with the predicted σ(t) (seed 004
+    """The beam nodes at t = 0, and the tool displacement with the predicted σ(t) (Cai 2015
     eq. 17)."""
     fig, axs = plt.subplots(1, 2, figsize=(11, 4))
     n = bf["node_m"].values

@@ -1,8 +1,8 @@
 """Chapter 5's findings: every number, range, flag and verdict the stiffness chapter states,
 computed from the stage's artefacts and rendered by the chapter
 (:mod:`robomill.pipeline.prose`): the Monte-Carlo workspace, the joint-stiffness
-identification and its validation (seed 001 eqs. 9–10), the directional-stiffness maxima, the
-stiffness-optimal poses, the beam-frame model (seed 004) and the stiffness along the cuts —
+identification and its validation [Yi 2025, eqs. 9–10], the directional-stiffness maxima, the
+stiffness-optimal poses, the beam-frame model [Cai 2015] and the stiffness along the cuts —
 for the thesis' slots beside Table 2.1, with the verdict whether the static stiffness explains
 the ±Y waviness asymmetry (``stiffness.slot_asymmetry_pct``). Seed numbers come from
 ``references.yaml`` (:mod:`robomill.references`), each with its key as evidence.
@@ -84,7 +84,7 @@ def _identification(found: Findings, robot: str, joints: pd.DataFrame,
     m = min(len(seed3d), len(seed2d))
     found.add("seed_3d_over_plane_pct", _span(
         [100.0 * (a / b - 1.0) for a, b in zip(seed3d[:m], seed2d[:m], strict=True)]), "%",
-        artefact=_REFS, what="3-D over plane identification of seed 001, per joint")
+        artefact=_REFS, what="3-D over plane identification of Yi 2025, per joint")
     has_planted = planted_k_Nm_rad is not None
     found.add("has_planted", has_planted, artefact=_TRUTH, what="stiffness_k_Nm_rad")
     if has_planted:

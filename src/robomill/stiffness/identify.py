@@ -1,4 +1,4 @@
-"""Identification of the joint stiffness from load tests (seed 001 §3.2, eqs. 9–10): least
+"""Identification of the joint stiffness from load tests [Yi 2025, §3.2, eqs. 9–10]: least
 squares in the task space with observability from the SVD, intervals per joint, and the
 identify/validate tables of the pipeline.
 
@@ -62,7 +62,7 @@ class Identification:
 def identify_joint_stiffness(J_m: np.ndarray, force_N: np.ndarray, deflection_m: np.ndarray,
                              *, rtol: float = 1e-8, null_share: float = 0.05,
                              level: float = LEVEL) -> Identification:
-    """Joint stiffness by least squares in the task space (seed 001 eqs. 9–10).
+    """Joint stiffness by least squares in the task space [Yi 2025, eqs. 9–10].
 
     Solves X = A(J, F) c for the joint compliances c. Observability comes from the SVD of
     A with unit-norm columns: singular values below ``rtol · s_max`` span directions the
@@ -147,10 +147,10 @@ def pose_group(pose: str) -> str:
 def identify_from_tests(robot: SerialRobot, tests, *, rtol: float = 1e-8,
                         level: float = LEVEL) -> dict:
     """Identify K_θ from a load-test table (``robomill.io.robots.read_load_tests``) and
-    predict its validate rows (seed 001 §3.2).
+    predict its validate rows [Yi 2025, §3.2].
 
     The model ``all`` uses every identify row; when the pose names form several groups
-    (``cube_*``, ``plane_*``: seed 001's 3-D vs working-plane identification) each group with
+    (``cube_*``, ``plane_*``: Yi 2025's 3-D vs working-plane identification) each group with
     enough rows is identified on its own as well.
 
     Returns

@@ -1,4 +1,4 @@
-"""Stiffness over the workspace (seed 001 §2 and §4.2): directional stiffness maps over the
+"""Stiffness over the workspace [Yi 2025, §2 and §4.2]: directional stiffness maps over the
 working plane for one redundancy angle, their labelled datasets, and the Monte-Carlo
 workspace with the reachable annulus per milling height.
 """
@@ -24,7 +24,7 @@ def plane_map(robot: SerialRobot, compliance: np.ndarray, x_mm: np.ndarray, y_mm
               height_mm: float, redundancy_rad: float, R0: np.ndarray,
               q_seed_rad: np.ndarray, *, limits_rad: np.ndarray | None = None) -> dict:
     """Directional stiffness over the working plane z = H for one redundancy angle
-    (seed 001 §4.2, Fig. 11).
+    [Yi 2025, §4.2, Fig. 11].
 
     Returns a mapping of arrays on the ``(len(y), len(x))`` grid: ``k_N_m`` ``(ny, nx, 3)``
     along tool X, Y, Z (NaN where unreachable), ``S_N_m`` (comprehensive index), ``q_rad``
@@ -45,7 +45,7 @@ def plane_map(robot: SerialRobot, compliance: np.ndarray, x_mm: np.ndarray, y_mm
 
 def monte_carlo_workspace(robot: SerialRobot, limits_rad: np.ndarray, n: int,
                           rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-    """Monte-Carlo workspace (seed 001 §2.1): ``n`` uniform joint samples within
+    """Monte-Carlo workspace [Yi 2025, §2.1]: ``n`` uniform joint samples within
     ``limits_rad`` ``(n_joints, 2)``; returns the samples and TCP positions ``(n, 3)`` [mm]."""
     lim = np.asarray(limits_rad, float)
     q = rng.uniform(lim[:, 0], lim[:, 1], size=(n, robot.n_joints))
@@ -85,10 +85,10 @@ def map_dataset(robot: SerialRobot, compliance: np.ndarray, *, height_mm: float,
 
 def workspace_dataset(robot: SerialRobot, limits_deg, n: int, rng: np.random.Generator,
                       maps=None):
-    """Monte-Carlo workspace (seed 001 §2.1, N samples) as a dataset: TCP points over all
+    """Monte-Carlo workspace ([Yi 2025, §2.1], N samples) as a dataset: TCP points over all
     joints within ``limits_deg``; the X–Z section (joints 1, 5, 6 at 0, joints 2–4 within
     their limits, flange point as the seed's Fig. 2b); and, from ``maps``, the inner and
-    outer diameter of the reachable working-plane annulus per height (seed 001 §2.2)."""
+    outer diameter of the reachable working-plane annulus per height [Yi 2025, §2.2]."""
     import dataclasses
 
     import xarray as xr

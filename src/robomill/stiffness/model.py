@@ -1,4 +1,4 @@
-"""Joint-stiffness model of a serial robot (seed 001 eqs. 6–10, Yi et al. 2025): rigid links
+"""Joint-stiffness model of a serial robot [Yi 2025, eqs. 6–10]: rigid links
 and elastic joints under a quasi-static TCP force.
 
 * joint torques τ = Jᵀ W with the TCP wrench W = [F; 0], joint deflections θ = K_θ⁻¹ τ;
@@ -26,7 +26,7 @@ GRAVITY_M_S2 = 9.80665
 def jacobian_m(robot: SerialRobot, q_rad: np.ndarray) -> np.ndarray:
     """Geometric Jacobian ``(..., 6, n)`` in SI units (linear rows m/rad, angular rows 1).
 
-    The vector-product Jacobian of :meth:`SerialRobot.jacobian` (seed 001 §1.2) with its
+    The vector-product Jacobian of :meth:`SerialRobot.jacobian` [Yi 2025, §1.2] with its
     linear rows converted from mm/rad.
     """
     J = np.array(robot.jacobian(q_rad), dtype=float)
@@ -35,7 +35,7 @@ def jacobian_m(robot: SerialRobot, q_rad: np.ndarray) -> np.ndarray:
 
 
 def design_matrix(J_m: np.ndarray, force_N: np.ndarray) -> np.ndarray:
-    """Coefficient matrix A(J, F) of the identification model X = A c (seed 001 eq. 10).
+    """Coefficient matrix A(J, F) of the identification model X = A c [Yi 2025, eq. 10].
 
     Parameters
     ----------
@@ -58,7 +58,7 @@ def design_matrix(J_m: np.ndarray, force_N: np.ndarray) -> np.ndarray:
 
 def predict_deflection_m(J_m: np.ndarray, force_N: np.ndarray,
                          compliance: np.ndarray) -> np.ndarray:
-    """TCP deflections ``(m, 3)`` [m]: X = J_v diag(c) J_vᵀ F (seed 001 eq. 9).
+    """TCP deflections ``(m, 3)`` [m]: X = J_v diag(c) J_vᵀ F [Yi 2025, eq. 9].
 
     ``compliance`` are c_j = 1/k_j [rad/(N·m)]; a rigid (or unobservable) joint has c_j = 0.
     """
@@ -74,14 +74,14 @@ def translational_compliance_m_N(J_m: np.ndarray, compliance: np.ndarray) -> np.
 
 
 def cartesian_stiffness(J_m: np.ndarray, k_Nm_rad: np.ndarray) -> np.ndarray:
-    """Cartesian stiffness K = J⁻ᵀ K_θ J⁻¹ ``(..., 6, 6)`` (seed 001 eq. 8), SI units
+    """Cartesian stiffness K = J⁻ᵀ K_θ J⁻¹ ``(..., 6, 6)`` [Yi 2025, eq. 8], SI units
     (N/m, N/rad, N·m/m, N·m/rad blocks). Needs a square, non-singular Jacobian."""
     Jinv = np.linalg.inv(np.asarray(J_m, float))
     return np.swapaxes(Jinv, -1, -2) @ (np.asarray(k_Nm_rad, float)[:, None] * Jinv)
 
 
 def directional_stiffness_N_m(C_m_N: np.ndarray, directions: np.ndarray) -> np.ndarray:
-    """Stiffness along unit directions (stiffness orientation, Bu et al. 2017, seed 001 §4.1).
+    """Stiffness along unit directions (stiffness orientation, Bu et al. 2017, [Yi 2025, §4.1]).
 
     k_u = 1 / (uᵀ C u): the force along u per unit TCP displacement along u.
 
@@ -103,7 +103,7 @@ def directional_stiffness_N_m(C_m_N: np.ndarray, directions: np.ndarray) -> np.n
 
 
 def comprehensive_index_N_m(k_xyz_N_m: np.ndarray) -> np.ndarray:
-    """Comprehensive stiffness index S (seed 001 §4.3; its formula is not printed, *assumed*
+    """Comprehensive stiffness index S ([Yi 2025, §4.3]; its formula is not printed, *assumed*
     here as the harmonic mean of the three directional stiffnesses),
     S = 3 / (1/k_x + 1/k_y + 1/k_z) [N/m]: dominated by the weakest direction."""
     k = np.asarray(k_xyz_N_m, float)

@@ -1,4 +1,4 @@
-"""Poses of the milling robot for the stiffness study (seed 001 §4.2–4.4): the free rotation
+"""Poses of the milling robot for the stiffness study [Yi 2025, §4.2–4.4]: the free rotation
 about the tool axis, batch inverse kinematics toward TCP points, the deflection at a posture
 under an end load, and the stiffness-optimal pose per milling height.
 """
@@ -15,7 +15,7 @@ from robomill.stiffness.model import GRAVITY_M_S2, jacobian_m, translational_com
 
 def tool_rotation_redundancy(R0: np.ndarray, angle_rad: float | np.ndarray) -> np.ndarray:
     """Tool orientation for redundancy angle θ_r: rotation about the tool axis (z),
-    R = R0 Rz(θ_r) (milling leaves that rotation free, seed 001 §4.2)."""
+    R = R0 Rz(θ_r) (milling leaves that rotation free, [Yi 2025, §4.2])."""
     a = np.asarray(angle_rad, float)
     c, s = np.cos(a), np.sin(a)
     Rz = np.zeros(a.shape + (3, 3))
@@ -48,14 +48,14 @@ def solve_poses(robot: SerialRobot, points_mm: np.ndarray, R_tool: np.ndarray,
 def deformation_m(robot: SerialRobot, q_rad: np.ndarray, compliance: np.ndarray,
                   force_N: Sequence[float]) -> np.ndarray:
     """TCP deflection ``(..., 3)`` [m] under ``force_N`` at postures ``q_rad``
-    (e.g. the 60 kg end load, seed 001 §4.4.1)."""
+    (e.g. the 60 kg end load, [Yi 2025, §4.4.1])."""
     C = translational_compliance_m_N(jacobian_m(robot, q_rad), compliance)
     return np.einsum("...ij,j->...i", C, np.asarray(force_N, float))
 
 
 def optimal_poses(robot: SerialRobot, compliance: np.ndarray, maps, *, load_kg: float,
                   random_poses: int, rng: np.random.Generator):
-    """Stiffness-optimal pose per milling height (seed 001 §4.3): the argmax of the
+    """Stiffness-optimal pose per milling height [Yi 2025, §4.3]: the argmax of the
     comprehensive index over the plane grid and the redundancy angles, beside
     ``random_poses`` random reachable poses (seed Tables 2–4), each with its deformation
     under the end load ``load_kg`` hanging at the TCP."""

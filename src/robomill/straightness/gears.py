@@ -25,7 +25,7 @@ def _gear_field(g: Any, name: str) -> Any:
 
 def gear_orders(gears: Sequence[Any]) -> Iterator[tuple[int, str, str, float]]:
     """``(joint, stage, order, multiplier)`` for every gear and order: ``runout`` turns
-    ``r`` times per joint revolution, ``mesh`` ``r z`` times (SPEC §3.2)."""
+    ``r`` times per joint revolution, ``mesh`` ``r z`` times [Pulatbek 2024, §3.2]."""
     for g in gears:
         r = float(_gear_field(g, "rev_per_joint_rev"))
         z = int(_gear_field(g, "teeth"))

@@ -39,7 +39,7 @@ from robomill.synth.layout import IMPACT_DIRECTIONS, hit_path, instrument_files
 DIRECTIONS = IMPACT_DIRECTIONS
 """Hit directions (base axes)."""
 INSTRUMENT_NUMBER = 6
-"""Stream number of this instrument in the per-file random generators (issue #6)."""
+"""Stream number of this instrument in the per-file random generators."""
 COLUMNS = ("t_s", "force_N", "ax_ms2", "ay_ms2", "az_ms2")
 """Columns of an impact file (``docs/data-contract.md``)."""
 

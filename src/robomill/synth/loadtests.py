@@ -1,8 +1,8 @@
 """Stiffness load tests: stiffness/<robot>.yaml and stiffness/load_tests_<robot>.csv.
 
-Simulator of the joint-stiffness identification experiment of seed 001 (§3.2): an end load
+Simulator of the joint-stiffness identification experiment of Yi 2025 (§3.2): an end load
 (60 kg for the KUKA KR360) hung at the TCP through a pulley rig (so its direction can change,
-*assumed*: seed 001 only says "counterweight device"), the TCP deflection measured by a laser
+*assumed*: Yi 2025 only says "counterweight device"), the TCP deflection measured by a laser
 tracker (Gaussian noise, *assumed* σ). Poses: a cube sampled on a regular grid (seed: 600 mm
 every 300 mm) and the centres of squares in the working plane z = H (seed: 26 squares of
 300 mm at H = 1.6 m) for identification, and a few plane poses for validation. Deflections
