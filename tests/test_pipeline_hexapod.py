@@ -37,7 +37,7 @@ def test_hexapod_artefacts(tiny_run, tiny_config):
         assert sens[name].attrs["units"] and sens[name].attrs["long_name"]
 
 
-def test_ch6_3_chapter(tiny_run):
+def test_ch6_hexapod_chapter(tiny_run):
     html = tiny_run / "results/chapters/ch6_hexapod.html"
     assert html.exists() and "Traceback" not in html.read_text()
     figures = sorted(p.name for p in (tiny_run / "results/figures/ch6_hexapod").glob("*.png"))
