@@ -36,6 +36,18 @@ def test_every_row_names_files_that_exist():
         assert (REPO / "workflow" / "report" / f"{c.report}.rst").is_file(), c.id
 
 
+def test_each_chapter_has_one_spelling():
+    """Notebook, template, figure folder, report caption and page are all named by the id:
+    the repository's rows carry none of those fields, and each file exists under the id."""
+    raw = yaml.safe_load(TABLE.read_text())
+    for row in raw:
+        assert not {"notebook", "template", "figures", "report"} & set(row), row["id"]
+    for c in registry.chapters(TABLE):
+        assert (c.notebook, c.template, c.figures, c.report) == (c.id,) * 4, c
+        assert c.page == f"results/chapters/{c.id}.html"
+        assert (REPO / "notebooks" / "src" / f"{c.id}.py").is_file(), c.id
+
+
 def test_each_chapter_title_is_the_one_its_notebook_prints():
     """The contents' title and the page's own heading (``# Chapter 3.1 — Cutting forces``)
     say the same; the reference studies' headings may say more after the title."""
