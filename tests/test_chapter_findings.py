@@ -191,7 +191,7 @@ def test_chapter_3_3_prose_follows_its_findings():
     tables["modes"]["f_n_hz"] = [21.5, 47.25]
     found = modal_findings(ds, synth, tables, coherence_min=0.6, coupling_tolerance=0.25,
                            stability={"tol_f": 0.02, "tol_zeta": 0.07, "mac_min": 0.9})
-    say = Prose(load_templates("ch3_3"), found)
+    say = Prose(load_templates("ch3_modal"), found)
     text = say(*say.templates, **_refs(say.templates))
     assert "21.50, 47.25 Hz" in text and "**2 modes**" in text
     assert "coherence > 0.6" in text and "±25 %" in text
@@ -203,15 +203,15 @@ def test_chapter_3_3_prose_follows_its_findings():
     assert "from the hammer spectrum" in text
     assert "{" not in text  # every field filled or its sentence left out
     found.items["n_modes"].value = 0
-    assert "**No mode**" in Prose(load_templates("ch3_3"), found)("modes", ref_modes="[t]")
+    assert "**No mode**" in Prose(load_templates("ch3_modal"), found)("modes", ref_modes="[t]")
     del found.items["mac_offdiag_max"]
     assert "a single mode" in say("mac", ref_mac_shapes="[f]")
     thesis = Findings("modal")
     thesis.comparisons = [{"verdict": "pass"}, {"verdict": "miss"}]
-    assert "1 of 2" in Prose(load_templates("ch3_3"), thesis)("against")
-    assert "not compared" in Prose(load_templates("ch3_3"), Findings("modal"))("against")
+    assert "1 of 2" in Prose(load_templates("ch3_modal"), thesis)("against")
+    assert "not compared" in Prose(load_templates("ch3_modal"), Findings("modal"))("against")
     found.comparisons = [{"verdict": "miss"}]
-    joined = " ".join(Prose(load_templates("ch3_3"), found)("thesis_test", "against").split())
+    joined = " ".join(Prose(load_templates("ch3_modal"), found)("thesis_test", "against").split())
     assert "averages 5 accepted hits" in joined and "0 of 1 reproduced" in joined
 
 
@@ -239,7 +239,7 @@ def test_chapter_6_1_prose_follows_its_findings_without_the_studys_robot():
     sim.attrs["a_star_mm"] = 0.0777
     found = chatter_findings(cases, sim, None, None, safety_fraction=0.3)
     assert found.values()["has_robot"] is False and "robot_rpm" not in found
-    say = Prose(load_templates("ch6_1"), found)
+    say = Prose(load_templates("ch6_chatter"), found)
     text = " ".join(say(*say.templates, **_refs(say.templates)).split())
     assert "a* = **0.078 mm**" in text and "of **Hopf** type" in text
     assert "t = 1.5 s" in text and "99, 98 %" in text
@@ -255,11 +255,11 @@ def test_chapter_6_1_prose_follows_its_findings_without_the_studys_robot():
     assert "holds no check" in text  # no scorecard rows given
     assert "{" not in text
     found.items["bench_published"].value = False
-    assert Prose(load_templates("ch6_1"), found)("bench_published") == ""
+    assert Prose(load_templates("ch6_chatter"), found)("bench_published") == ""
     found = chatter_findings({**cases, "insperger2004_slot": cases["insperger2004_down005"]
                               .assign_attrs(case_teeth=5, worst_relative_error=0.001)},
                              sim, None, None, safety_fraction=0.3)
-    say = Prose(load_templates("ch6_1"), found)
+    say = Prose(load_templates("ch6_chatter"), found)
     text = " ".join(say("slot_case", slot_symmetry=say("slot_symmetry")).split())
     assert "5 teeth, the same modes in x and y" in text
 
@@ -375,7 +375,7 @@ def test_chapter_3_1_prose_follows_altered_findings():
     follows its findings: records, figures' selection, full-band peak, kinematic flag,
     levels, engagement, coefficients and the thesis' numbers."""
     found = _forces_altered()
-    say = Prose(load_templates("ch3_1"), found)
+    say = Prose(load_templates("ch3_forces"), found)
     refs = {f"ref_{k}": f"[{k}]" for k in (
         "peaks", "record", "full_band_psd", "spatial", "time", "model_force_shape",
         "harmonics", "mean_forces_vs_feed", "coefficients")}
@@ -400,13 +400,13 @@ def test_chapter_3_1_prose_follows_altered_findings():
     assert "{" not in text
     assert "Against the thesis" not in text and "12,000" not in text  # not the thesis' study
     found.comparisons = [{"verdict": "pass"}]
-    closing = " ".join(Prose(load_templates("ch3_1"), found)("thesis_says", "against").split())
+    closing = " ".join(Prose(load_templates("ch3_forces"), found)("thesis_says", "against").split())
     assert "above 12,000 Hz" in closing and "near 0.45 mm⁻¹" in closing
     assert "1 of 1 reproduced" in closing
     found.items["n_kinematic_below_resolution"].verdict = "pass"
     found.items["n_not_physical"].value = 0
     found.items["all_slot"].value = True
-    again = " ".join(Prose(load_templates("ch3_1"), found)(
+    again = " ".join(Prose(load_templates("ch3_forces"), found)(
         "kinematic_flag", "physical", "physical_ok", "mean_forces", **refs).split())
     assert "at least 12.5 periods" in again and "All 6 coefficients are physical" in again
     assert "K_tc c/4 + K_te/π" in again and "Sanity flag" not in again
@@ -429,7 +429,7 @@ def test_chapter_3_3_tables_shown():
 
 
 def _chapter_0(found):
-    """Chapter 0's sentences as its notebook renders them (notebooks/src/ch0_experiment.py)."""
+    """Chapter 0's sentences as its notebook renders them (notebooks/src/ch0.py)."""
     from robomill.pipeline.prose import render
 
     say = Prose(load_templates("ch0"), found)

@@ -36,6 +36,18 @@ def test_every_row_names_files_that_exist():
         assert (REPO / "workflow" / "report" / f"{c.report}.rst").is_file(), c.id
 
 
+def test_each_chapter_has_one_spelling():
+    """Notebook, template, figure folder, report caption and page are all named by the id:
+    the repository's rows carry none of those fields, and each file exists under the id."""
+    raw = yaml.safe_load(TABLE.read_text())
+    for row in raw:
+        assert not {"notebook", "template", "figures", "report"} & set(row), row["id"]
+    for c in registry.chapters(TABLE):
+        assert (c.notebook, c.template, c.figures, c.report) == (c.id,) * 4, c
+        assert c.page == f"results/chapters/{c.id}.html"
+        assert (REPO / "notebooks" / "src" / f"{c.id}.py").is_file(), c.id
+
+
 def test_each_chapter_title_is_the_one_its_notebook_prints():
     """The contents' title and the page's own heading (``# Chapter 3.1 — Cutting forces``)
     say the same; the reference studies' headings may say more after the title."""
@@ -50,8 +62,8 @@ def test_each_chapter_title_is_the_one_its_notebook_prints():
 def test_the_public_target_names_stay():
     """The targets README and docs/usage.md document build the same pages as before."""
     rows = {c.id: c for c in registry.chapters(TABLE)}
-    assert rows["ch3_forces"].page == "results/chapters/ch3_1_forces.html"
-    assert rows["ch6_hexapod"].page == "results/chapters/ch6_3_hexapod.html"
+    assert rows["ch3_forces"].page == "results/chapters/ch3_forces.html"
+    assert rows["ch6_hexapod"].page == "results/chapters/ch6_hexapod.html"
     assert {c.id for c in rows.values() if "ch3" in c.groups} == {
         "ch3_forces", "ch3_straightness", "ch3_modal"}
     assert {c.id for c in rows.values() if "ch6" in c.groups} == {
@@ -140,7 +152,7 @@ def test_the_new_row_reads_as_a_chapter(copy_with_chapter):
     table = copy_with_chapter / "src" / "robomill" / "data" / "chapters.yaml"
     new = registry.chapter("ch8", table)
     assert (new.notebook, new.template, new.figures, new.report) == (
-        "ch8", "ch8", "ch8", "chapter")
+        "ch8", "ch8", "ch8", "ch8")
     assert new.page == "results/chapters/ch8.html"
     assert len(registry.chapters(table)) == len(registry.chapters(TABLE)) + 1
 
@@ -190,15 +202,15 @@ def test_the_book_places_the_new_chapter_in_its_part(copy_with_chapter, tmp_path
     table = copy_with_chapter / "src" / "robomill" / "data" / "chapters.yaml"
     monkeypatch.setenv(registry.REGISTRY_ENV, str(table))
     pages = []
-    for stem, title in [("ch6_1_chatter", "Chapter 6.1 — Reference study"),
-                        ("ch8", "Chapter 8 — Tool wear"), ("ch2_surface", "Chapter 2 — S"),
-                        ("ch7_plan", "Chapter 7 — The next cuts")]:
+    for stem, title in [("ch6_chatter", "Chapter 6.1 — Reference study"),
+                        ("ch8", "Chapter 8 — Tool wear"), ("ch2", "Chapter 2 — S"),
+                        ("ch7", "Chapter 7 — The next cuts")]:
         p = tmp_path / f"{stem}.html"
         p.write_text(f"<html><head></head><body><h1>{title}</h1></body></html>")
         pages.append(p)
     assert book_part("ch8") == "The study"
-    assert sorted(["ch8", "ch6_1_chatter", "ch7_plan", "ch2_surface"], key=chapter_key) == [
-        "ch2_surface", "ch7_plan", "ch8", "ch6_1_chatter"]
+    assert sorted(["ch8", "ch6_chatter", "ch7", "ch2"], key=chapter_key) == [
+        "ch2", "ch7", "ch8", "ch6_chatter"]
     html = print_document(pages, tmp_path / "book.html").read_text()
     contents = html[html.index("Contents"):html.index('<section class="chapter"')]
     order = [contents.index(t) for t in ("Chapter 2 —", "Chapter 7 —", "Chapter 8 —",

@@ -346,6 +346,6 @@ def test_shown_value_is_relative_to_the_run_folder(tmp_path):
     assert shown_value("/elsewhere/x.csv", tmp_path) == "/elsewhere/x.csv"
     # the chapter's templates, read from the repository when the run is elsewhere
     repo = Path(__file__).resolve().parents[1]
-    templates = repo / "notebooks" / "templates" / "ch3_3.yaml"
-    assert shown_value(str(templates), tmp_path) == "notebooks/templates/ch3_3.yaml"
+    templates = repo / "notebooks" / "templates" / "ch3_modal.yaml"
+    assert shown_value(str(templates), tmp_path) == "notebooks/templates/ch3_modal.yaml"
     assert shown_value(3.5, tmp_path) == "3.5"

@@ -10,13 +10,13 @@ pytestmark = pytest.mark.pipeline
 
 def test_chapter_copy_has_the_runs_parameters(tiny_run, repo):
     paths = prepare_chapter("ch0", repo=repo, results=tiny_run / "results")
-    assert [p.name for p in paths] == ["ch0_experiment.ipynb"]
+    assert [p.name for p in paths] == ["ch0.ipynb"]
     nb = nbformat.read(paths[0], as_version=4)
     injected = [c for c in nb.cells if "injected-parameters" in c.metadata.get("tags", [])]
     assert injected
     src = injected[0].source
     assert str(tiny_run / "results/ingest/cuts.csv") in src
-    assert "explore/figures/ch0_experiment" in src
+    assert "explore/figures/ch0" in src
 
 
 def test_missing_chapter_says_how_to_build_it(tmp_path, repo):

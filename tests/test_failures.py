@@ -7,8 +7,8 @@ LOG = """\
 Error in rule ch2:
     message: None
     jobid: 1
-    input: notebooks/ch2_surface.ipynb
-    output: results/chapters/ch2_surface.html
+    input: notebooks/ch2.ipynb
+    output: results/chapters/ch2.html
     log: {log1} (check log file(s) for error details)
 Error in rule ingest_profile:
     jobid: 7

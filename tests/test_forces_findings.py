@@ -1,5 +1,5 @@
 """Chapter 3.1's findings on the dominant peak (robomill.forces.findings) from planted tables,
-and the chapter's sentences following them (notebooks/templates/ch3_1.yaml)."""
+and the chapter's sentences following them (notebooks/templates/ch3_forces.yaml)."""
 
 import numpy as np
 import pandas as pd
@@ -54,22 +54,22 @@ def test_no_modes_or_no_peaks_give_no_verdict():
 def test_chapter_3_1_prose_follows_its_findings():
     """Rendered from altered findings: the numbers and the verdict follow them; no thesis
     explanation is stated as a fact of a study that has no modes or no peaks."""
-    say = Prose(load_templates("ch3_1"), forces_findings(
+    say = Prose(load_templates("ch3_forces"), forces_findings(
         _peaks([61.0, 59.5, 70.0]), MODES, **KW))
     text = " ".join(say("dominant", "modes", "verdict", ref_peaks="[T]").split())
     assert "lies between **59.5 and 70.0 Hz**" in text and "15–250 Hz" in text
     assert "within 3 Hz of an identified mode" in text and "20.0, 60.0, 72.0 Hz" in text
-    far = " ".join(Prose(load_templates("ch3_1"), forces_findings(
+    far = " ".join(Prose(load_templates("ch3_forces"), forces_findings(
         _peaks([61.0, 45.0]), MODES, **KW))("verdict").split())
     assert "more than 3 Hz" in far and "up to 15.0 Hz" in far and "chip load" not in far
-    bare = Prose(load_templates("ch3_1"), forces_findings(_peaks([202.8]), None, **KW))
+    bare = Prose(load_templates("ch3_forces"), forces_findings(_peaks([202.8]), None, **KW))
     text = " ".join(bare("dominant", "modes", "verdict", "no_match", "no_modes",
                          ref_peaks="[T]").split())
     assert "202.8" in text and "no impact test" in text and "chip load" not in text
-    none = Prose(load_templates("ch3_1"), forces_findings(_peaks([np.nan]), MODES, **KW))
+    none = Prose(load_templates("ch3_forces"), forces_findings(_peaks([np.nan]), MODES, **KW))
     text = " ".join(none("dominant", "no_match", ref_peaks="[T]").split())
     assert "**none** in every cut" in text and "none is matched" in text
-    assert "not compared" in Prose(load_templates("ch3_1"), Findings("forces"))("against")
+    assert "not compared" in Prose(load_templates("ch3_forces"), Findings("forces"))("against")
 
 
 # --- the records, the kinematic peak, the levels and the coefficients (issue 30) ---------
@@ -226,7 +226,7 @@ def test_a_partial_study_gives_the_findings_it_can():
     v = found.values()
     assert v["n_kinematic"] == 3 and "full_band_peak_hz" not in v and "design" not in v
     assert "coefficient_Ktc" not in v and "n_kinematic_below_resolution" not in v
-    say = Prose(load_templates("ch3_1"), found)
+    say = Prose(load_templates("ch3_forces"), found)
     text = say(*say.templates, ref_peaks="[T]", ref_record="[R]", ref_full_band_psd="[P]",
                ref_spatial="[S]", ref_time="[t]", ref_model_force_shape="[M]",
                ref_harmonics="[H]", ref_mean_forces_vs_feed="[F]", ref_coefficients="[C]",

@@ -108,7 +108,7 @@ def test_findings_and_chapter_3_1_say_why_not_identified():
     assert "coefficient_Ktc" not in v and "planted_error_pct_max" not in v
     assert v["coefficient_flags_checked"] is False and v["n_coefficients"] == 6
     assert v["F_feed_N_range"] == [-3.0, -0.6]  # the levels are still there
-    say = Prose(load_templates("ch3_1"), found)
+    say = Prose(load_templates("ch3_forces"), found)
     text = " ".join(say("model", "coefficients", "planted", "physical", "physical_ok", "uses",
                         shape="slot", ref_model_force_shape="", ref_coefficients="").split())
     assert "Cutting coefficients Ktc … Kae: **not identified: the cuts have one feed per tooth" \
@@ -119,7 +119,7 @@ def test_findings_and_chapter_3_1_say_why_not_identified():
     assert "nan" not in text.lower() and "{" not in text and "Ktc =" not in text
     # another reason, the same sentences
     found.items["coefficients_not_identified"].value = "not identified: fewer than 3 force cuts"
-    again = Prose(load_templates("ch3_1"), found)("coefficients")
+    again = Prose(load_templates("ch3_forces"), found)("coefficients")
     assert "**not identified: fewer than 3 force cuts**" in again
 
 

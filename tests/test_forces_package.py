@@ -49,7 +49,7 @@ def test_rules_depend_only_on_the_modules_they_import():
     assert "robomill/forces/stream.py" not in gather  # the streaming analysis is forces_cut's
     cut = deps("workflow/scripts/forces_cut.py")
     assert "robomill/forces/stream.py" in cut
-    chapter = deps("notebooks/src/ch3_1_forces.py")  # loads, plots and renders (issue 30)
+    chapter = deps("notebooks/src/ch3_forces.py")  # loads, plots and renders (issue 30)
     assert {"robomill/forces/tables.py", "robomill/forces/figures.py",
             "robomill/forces/peaks.py"} <= chapter
     assert "robomill/forces/coefficients.py" in deps("workflow/scripts/forces_findings.py")

@@ -1,5 +1,5 @@
 """Chapter 6's findings (robomill.hexapod.findings) from planted artefacts, and the chapter's
-sentences following altered findings (notebooks/templates/ch6_3.yaml, no kernel)."""
+sentences following altered findings (notebooks/templates/ch6_hexapod.yaml, no kernel)."""
 
 import math
 
@@ -117,7 +117,7 @@ def test_chapter_6_prose_follows_its_findings():
     refs = {f"ref_{k}": f"[{k}]" for k in ("seed_table1", "trajectory", "actuator_forces",
                                            "drift_vs_exact", "vertical", "drift_map",
                                            "force_accuracy")}
-    say = Prose(load_templates("ch6_3"), _found())
+    say = Prose(load_templates("ch6_hexapod"), _found())
     text = " ".join(say(*say.templates, **refs).split())
     assert "a circle of 90 mm" in text and "0.6 kg platform" in text
     assert "carry the platform 5 m sideways" in text
@@ -131,10 +131,11 @@ def test_chapter_6_prose_follows_its_findings():
     assert "right to 0.0020 % (0.040 mN of 1.60 N)" in text
     assert "longer by 230 ms" in text
     assert "{" not in text
-    stable = Prose(load_templates("ch6_3"), _found(trajectory=_trajectory(rates=(-1.0, -2.0))))
+    stable = Prose(load_templates("ch6_hexapod"),
+                   _found(trajectory=_trajectory(rates=(-1.0, -2.0))))
     assert "no unstable mode" in stable("unstable") and stable("accuracy_growth") == ""
     assert stable.findings.values()["efold_ms"] is None
-    one_sided = Prose(load_templates("ch6_3"),
+    one_sided = Prose(load_templates("ch6_hexapod"),
                       _found(sensitivity=_sensitivity().sel(force_error_pct=[1.0])))
     assert "both signs" in one_sided("antisymmetry")
-    assert "no check" in Prose(load_templates("ch6_3"), Findings("hexapod"))("against_rows")
+    assert "no check" in Prose(load_templates("ch6_hexapod"), Findings("hexapod"))("against_rows")

@@ -22,7 +22,7 @@ def _cells(nb):
 
 def test_the_rules_run_notebooks():
     names = _pipeline_notebooks()
-    assert "ch0_experiment.ipynb" in names and len(names) >= 9, names
+    assert "ch0.ipynb" in names and len(names) >= 9, names
 
 
 @pytest.mark.parametrize("name", _pipeline_notebooks() + ["explore.ipynb"])
@@ -38,7 +38,7 @@ def test_notebook_equals_its_jupytext_source(name):
 
 def test_a_stale_notebook_is_caught(tmp_path):
     """The comparison sees a cell that the source has and the notebook lacks."""
-    source = REPO / "notebooks" / "src" / "ch0_experiment.py"
+    source = REPO / "notebooks" / "src" / "ch0.py"
     nb = jupytext.read(source)
     assert _cells(nb) == _cells(jupytext.read(source))
     nb.cells.pop()

@@ -12,7 +12,7 @@ pytestmark = pytest.mark.pipeline
 
 
 def test_all_builds_every_chapter(tiny_run):
-    html = tiny_run / "results/chapters/ch0_experiment.html"
+    html = tiny_run / "results/chapters/ch0.html"
     assert html.exists() and html.stat().st_size > 10_000
     assert any((tiny_run / "results/figures/ch0").glob("*.png"))
     text = html.read_text()
@@ -24,26 +24,26 @@ def test_the_thesis_design_keeps_its_tables_and_thesis_remarks(tiny_run):
     thesis' layout (issue 20: per-cut tables only for other designs), and each chapter's one
     closing comparison with its source, from the comparison rows of its findings (issue 30).
     Chapters 1-5 are checked on their findings and their structure, not on their sentences."""
-    ch0 = chapter_outputs(tiny_run, "ch0_experiment")
+    ch0 = chapter_outputs(tiny_run, "ch0")
     plan = read_findings(tiny_run / "results/ingest/findings.yaml").values()
     assert plan["thesis_layout"] and plan["thesis_study"] and plan["single_speed"]
     assert plan["directions"] == ["+Y", "+X", "−Y"] and plan["spindle_rpm"] == 28000.0
     assert plan["ref_robot"] in ch0  # the thesis' cell, in its closing section
     assert "The cut plan: the cuts of every segment" in ch0 and "grouped by what" not in ch0
-    nb0 = json.loads((tiny_run / "results/chapters/ch0_experiment.ipynb").read_text())
+    nb0 = json.loads((tiny_run / "results/chapters/ch0.ipynb").read_text())
     assert sum(ln.startswith("## Against") for c in nb0["cells"] if c["cell_type"] == "markdown"
                for ln in "".join(c["source"]).splitlines()) == 1
     assert read_findings(tiny_run / "results/surface/findings.yaml").values()["thesis_layout"]
-    ch2 = chapter_outputs(tiny_run, "ch2_surface")
+    ch2 = chapter_outputs(tiny_run, "ch2")
     assert "Table 2.1" in ch2 and "Table 2.2" in ch2 and "grouped by what varies" not in ch2
-    stages = {"ch1_calibration": "calibration", "ch2_surface": "surface",
-              "ch3_1_forces": "forces", "ch3_2_straightness": "straightness",
-              "ch3_3_modal": "modal", "ch4_chatter": "chatter", "ch5_stiffness": "stiffness",
-              "ch6_1_chatter": "chatter", "ch6_2_stiffness": "stiffness",
-              "ch6_3_hexapod": "hexapod"}
+    stages = {"ch1": "calibration", "ch2": "surface",
+              "ch3_forces": "forces", "ch3_straightness": "straightness",
+              "ch3_modal": "modal", "ch4": "chatter", "ch5": "stiffness",
+              "ch6_chatter": "chatter", "ch6_stiffness": "stiffness",
+              "ch6_hexapod": "hexapod"}
     # chapters 4 and 5 say what the thesis claims; the rows of the sources they rest on
     # (seeds 001, 002, the lobe benchmark) are in the reference studies 6.1 and 6.2
-    rows_elsewhere = {"ch4_chatter": "chapter 6.1", "ch5_stiffness": "chapter 6.2"}
+    rows_elsewhere = {"ch4": "chapter 6.1", "ch5": "chapter 6.2"}
     for name, stage in stages.items():
         found = read_findings(tiny_run / "results" / stage / "findings.yaml")
         assert found.comparisons, name

@@ -62,7 +62,7 @@ def test_smats_xml_reference_parameters_in_chapter_2(tmp_path):
     pq = table[table["parameter"] == "Pq"].set_index("profile")
     assert ((pq["ours"] / pq["file_value"] - 1).abs() < 0.01).all(), pq
     assert table["within_tolerance"].all()
-    html = (work / "results/chapters/ch2_surface.html").read_text()
+    html = (work / "results/chapters/ch2.html").read_text()
     assert "Against the files&#39; own parameters" in html or \
         "Against the files' own parameters" in html
     assert "CUTOFF 0.25 mm" in html
@@ -125,5 +125,5 @@ def test_areal_x3p_folder_through_chapter_2(tmp_path):
 
     with xr.open_dataset(work / "results/surface/areal/land_a.nc", engine="h5netcdf") as ds:
         assert ds.attrs["probe"] == "Nikon - EPI 20X" and ds.attrs["serial"] == "350262016"
-    html = (work / "results/chapters/ch2_surface.html").read_text()
+    html = (work / "results/chapters/ch2.html").read_text()
     assert "Areal scans" in html and "Sensofar Sneox1" in html

@@ -26,7 +26,7 @@ def test_model_artefact_has_every_part(tiny_run):
 
 
 def test_chapter_1_rendered(tiny_run):
-    html = (tiny_run / "results/chapters/ch1_calibration.html").read_text()
+    html = (tiny_run / "results/chapters/ch1.html").read_text()
     assert "Traceback" not in html and "improvement of" in html
     assert len(list((tiny_run / "results/figures/ch1").glob("*.png"))) >= 5
 
@@ -64,7 +64,7 @@ def test_a_cell_file_without_mass_model_is_calibrated_without_gravity(tiny_confi
     cfg = yaml.safe_load((REPO / ".test" / "config.yaml").read_text())
     cfg["data"] = {"source": "raw", "raw_dir": str(raw)}
     (tmp_path / "config.yaml").write_text(yaml.safe_dump(cfg, sort_keys=False))
-    proc = run_snakemake(tmp_path, "-j1", "results/chapters/ch1_calibration.html",
+    proc = run_snakemake(tmp_path, "-j1", "results/chapters/ch1.html",
                          configfile=tmp_path / "config.yaml")
     assert proc.returncode == 0, proc.stderr[-6000:]
     ds = open_artefact(tmp_path / "results/calibration/model.nc")
@@ -76,6 +76,6 @@ def test_a_cell_file_without_mass_model_is_calibrated_without_gravity(tiny_confi
     acc = pd.read_csv(tmp_path / "results/calibration/accuracy.csv").set_index("model")
     assert acc.loc["full", "rms_mm"] < acc.loc["geometric", "rms_mm"] < acc.loc["nominal",
                                                                                 "rms_mm"]
-    html = (tmp_path / "results/chapters/ch1_calibration.html").read_text()
+    html = (tmp_path / "results/chapters/ch1.html").read_text()
     assert "Traceback" not in html and "No gravity model." in html
     assert "nan nrad" not in html and "<strong>No gravity model.</strong> none:" in html

@@ -64,4 +64,4 @@ def test_thesis_artefacts(tiny_run):
                                0.8 * (best["a_limit_mm"] - best["a_limit_error_mm"]), rtol=1e-5)
     sem = rec[rec.solver == "sem"]
     assert (sem["a_crit_error_mm"] > 0).all()
-    assert (tiny_run / "results/chapters/ch4_chatter.html").exists()
+    assert (tiny_run / "results/chapters/ch4.html").exists()

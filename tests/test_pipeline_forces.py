@@ -31,7 +31,7 @@ def test_force_artefacts(tiny_run):
     for v in list(sp.data_vars) + list(sp.coords):
         assert "units" in sp[v].attrs and "long_name" in sp[v].attrs, v
     assert set(sp["cut"].values) == set(peaks["cut"])
-    assert (tiny_run / "results/chapters/ch3_1_forces.html").exists()
+    assert (tiny_run / "results/chapters/ch3_forces.html").exists()
 
 
 def test_identified_coefficients_near_planted(tiny_run):

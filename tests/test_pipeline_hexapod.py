@@ -37,8 +37,8 @@ def test_hexapod_artefacts(tiny_run, tiny_config):
         assert sens[name].attrs["units"] and sens[name].attrs["long_name"]
 
 
-def test_ch6_3_chapter(tiny_run):
-    html = tiny_run / "results/chapters/ch6_3_hexapod.html"
+def test_ch6_hexapod_chapter(tiny_run):
+    html = tiny_run / "results/chapters/ch6_hexapod.html"
     assert html.exists() and "Traceback" not in html.read_text()
-    figures = sorted(p.name for p in (tiny_run / "results/figures/ch6/hexapod").glob("*.png"))
+    figures = sorted(p.name for p in (tiny_run / "results/figures/ch6_hexapod").glob("*.png"))
     assert len(figures) == 4 and all(f.startswith("fig6_1") for f in figures), figures

@@ -49,7 +49,7 @@ def test_modal_artefacts(tiny_run):
     assert list(uff.get_set_types()) == [15] + [55] * len(modes)
     back = read_frf_uff(res / "frf.uff")
     np.testing.assert_allclose(back["H"].values[..., 1:], ds["H"].values[..., 1:], rtol=1e-5)
-    assert (tiny_run / "results" / "chapters" / "ch3_3_modal.html").exists()
+    assert (tiny_run / "results" / "chapters" / "ch3_modal.html").exists()
 
 
 def _raw_with_impact(tiny_run, tmp_path, files, entries, *, band_hz=None):

@@ -36,8 +36,8 @@ def _cuts():
     return {c["id"]: c for c in yaml.safe_load(OVERLAY.read_text())["experiment"]["cuts"]}
 
 
-DESIGN_CHAPTERS = {"0": "ch0_experiment", "2": "ch2_surface", "3.1": "ch3_1_forces",
-                   "3.2": "ch3_2_straightness", "5": "ch5_stiffness"}
+DESIGN_CHAPTERS = {"0": "ch0", "2": "ch2", "3.1": "ch3_forces",
+                   "3.2": "ch3_straightness", "5": "ch5"}
 
 
 def test_the_design_chapters_are_built_for_any_design(other_cell_run):
@@ -64,31 +64,31 @@ def test_no_thesis_comparison_in_the_calibration_modal_and_chatter_chapters(othe
     thesis' study; the PUMA cell's chapters state their own results."""
     workdir, _ = other_cell_run
     for name, remarks in (
-            ("ch1_calibration", ("thesis Fig. 1.8", "the thesis says", "The thesis prints no "
+            ("ch1", ("thesis Fig. 1.8", "the thesis says", "The thesis prints no "
                                  "accuracy figure")),
-            ("ch3_3_modal", ("The thesis finds", "Grey verticals", "grey verticals",
+            ("ch3_modal", ("The thesis finds", "Grey verticals", "grey verticals",
                              "nearest thesis value", "not the thesis' tool-tip test")),
-            ("ch4_chatter", ("60–120 Hz force peaks", "The thesis robot", "Thesis-robot",
+            ("ch4", ("60–120 Hz force peaks", "The thesis robot", "Thesis-robot",
                              "What should the thesis have cut at?", "the thesis' cuts",
                              "the thesis' depths"))):
         if not (workdir / "results" / "chapters" / f"{name}.ipynb").exists():
-            assert name == "ch4_chatter", name
+            assert name == "ch4", name
             continue
         text = chapter_outputs(workdir, name)
         assert "thesis:" not in text, (name, text[text.find("thesis:") - 200:][:400])
         for remark in remarks:
             assert remark not in text, (name, remark)
-    assert "an improvement of ×" in chapter_outputs(workdir, "ch1_calibration")
-    assert "modes** identified" in chapter_outputs(workdir, "ch3_3_modal")
+    assert "an improvement of ×" in chapter_outputs(workdir, "ch1")
+    assert "modes** identified" in chapter_outputs(workdir, "ch3_modal")
     assert "**Chatter-free choices.** The configured depths at" in chapter_outputs(
-        workdir, "ch4_chatter")
+        workdir, "ch4")
 
 
 def test_flags_shown_in_forces_and_straightness(other_cell_run):
     """Cutting-coefficient sanity flags in chapter 3.1; direction labels, merged peaks and
     their candidates in chapter 3.2 (issue 21 point 5)."""
     workdir, _ = other_cell_run
-    ch31 = chapter_outputs(workdir, "ch3_1_forces")
+    ch31 = chapter_outputs(workdir, "ch3_forces")
     coef = pd.read_csv(workdir / "results/forces/cutting_coefficients.csv")
     if coef["physical"].all():
         assert f"All {len(coef)} coefficients are physical" in ch31
@@ -98,7 +98,7 @@ def test_flags_shown_in_forces_and_straightness(other_cell_run):
             assert f"{name} is " in ch31, name
     for col in ("residual_exceeds_signal", "fit_residual_rms_N", "physical"):
         assert col in ch31, col
-    ch32 = chapter_outputs(workdir, "ch3_2_straightness")
+    ch32 = chapter_outputs(workdir, "ch3_straightness")
     assert "No run at 8 or 10 mm/s" not in ch32 and "runs at 8 and 10 mm/s" not in ch32
     assert "candidates" in ch32 and "merged" in ch32
     peaks = pd.read_csv(workdir / "results/straightness/peaks.csv")
@@ -108,25 +108,25 @@ def test_flags_shown_in_forces_and_straightness(other_cell_run):
 
 def test_per_cut_tables_grouped_by_what_varies(other_cell_run):
     workdir, _ = other_cell_run
-    ch0 = chapter_outputs(workdir, "ch0_experiment")
+    ch0 = chapter_outputs(workdir, "ch0")
     assert ("6 cuts: 3 spindle speeds × 2 directions × 2 feeds (6 of the 12 combinations); "
             "constant: 3 flutes, tool Ø 8 mm, a_e/D 0.5, down milling, depth 0.5 mm") in ch0
     assert "grouped by what varies (spindle_rpm, direction, feed_mm_s)" in ch0
     grouped = "spindle_rpm direction feed_mm_s"  # the per-cut tables' index
-    for name, columns in (("ch0_experiment", ("feed_per_tooth_um", "tooth_passing_hz")),
-                          ("ch2_surface", ("waviness_rms_um", "Ra_um", "Rq_um",
+    for name, columns in (("ch0", ("feed_per_tooth_um", "tooth_passing_hz")),
+                          ("ch2", ("waviness_rms_um", "Ra_um", "Rq_um",
                                            "waviness_wavelength_mm")),
-                          ("ch3_1_forces", ("dominant_hz", "F_cross_feed_N",
+                          ("ch3_forces", ("dominant_hz", "F_cross_feed_N",
                                             "nearest_mode_hz"))):
         text = chapter_outputs(workdir, name)
         assert " ".join(text.split()).count(grouped) >= 1, name
         for col in (*columns, *_cuts()):
             assert col in text, (name, col)
-    assert "3-flute down-milling cut at a_e/D 0.5" in chapter_outputs(workdir, "ch3_1_forces")
-    ch32 = chapter_outputs(workdir, "ch3_2_straightness")
+    assert "3-flute down-milling cut at a_e/D 0.5" in chapter_outputs(workdir, "ch3_forces")
+    ch32 = chapter_outputs(workdir, "ch3_straightness")
     assert "grouped by direction and feed" in ch32
     assert "rms_lateral_um" in ch32 and "mx_f2" in ch32 and "mx_f6" in ch32
-    ch5 = chapter_outputs(workdir, "ch5_stiffness")
+    ch5 = chapter_outputs(workdir, "ch5")
     assert "stiffness along the slot directions beside the mean waviness" not in ch5
     assert "stiffness along each cut's feed, in-plane normal and tool axis" in ch5
     for col in ("k feed N/µm", "k normal N/µm", "k axial N/µm", *_cuts()):

@@ -33,15 +33,15 @@ def _partial_folder(tiny_run: Path, dst: Path, kinds: set[str], with_cuts: bool)
 
 
 CASES = {
-    "forces_only": ({"force"}, True, ["ch0_experiment", "ch3_1_forces", "ch6_1_chatter",
-                                   "ch6_3_hexapod"],
+    "forces_only": ({"force"}, True, ["ch0", "ch3_forces", "ch6_chatter",
+                                   "ch6_hexapod"],
                     ["chapter 1: no ctrack files in manifest.yaml",
                      "chapter 2: no profile files in manifest.yaml",
                      "chapter 3.3: no impact files in manifest.yaml",
                      "chapter 4: no impact files in manifest.yaml",
                      "chapter 5: no robot files and no stiffness files in manifest.yaml",
                      "chapter 6.2: no robot files and no stiffness files in manifest.yaml"]),
-    "impact_only": ({"impact"}, False, ["ch3_3_modal", "ch6_1_chatter", "ch6_3_hexapod"],
+    "impact_only": ({"impact"}, False, ["ch3_modal", "ch6_chatter", "ch6_hexapod"],
                     ["chapter 0: no cuts in manifest.yaml",
                      "chapter 3.1: no force files in manifest.yaml",
                      "chapter 3.2: no tracker files and no profile files in manifest.yaml",

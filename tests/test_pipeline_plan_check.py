@@ -76,5 +76,5 @@ def test_every_planned_cut_is_checked_through_its_own_runs_files(checked_study):
     assert s["n_oos"] == len(rows) and s["n_in"] == len(study_rows)
     assert s["n_held_oos"] == rows["held"].astype("boolean").fillna(False).sum()
     assert s["nominal_coverage_percent"] == 95.0
-    ch7 = (study / "results/chapters/ch7_plan.html").read_text()
+    ch7 = (study / "results/chapters/ch7.html").read_text()
     assert f"of {len(rows)} outcomes fell inside their stated" in ch7

@@ -24,7 +24,7 @@ def test_coinciding_mesh_lines_of_the_example_are_flagged_merged(tmp_path):
     cmd = [SNAKEMAKE, "-s", str(REPO / "Snakefile"), "--directory", str(tmp_path),
            "--configfile", str(REPO / ".test" / "config.yaml"), str(overlay), str(sixteen),
            "-j2", "results/straightness/truth_check.csv",
-           "results/chapters/ch3_2_straightness.html"]
+           "results/chapters/ch3_straightness.html"]
     proc = subprocess.run(cmd, cwd=tmp_path, capture_output=True, text=True, timeout=900,
                           env={**os.environ, "PYTHONHASHSEED": "0"})
     assert proc.returncode == 0, proc.stderr[-6000:]
@@ -40,7 +40,7 @@ def test_coinciding_mesh_lines_of_the_example_are_flagged_merged(tmp_path):
     assert (j3["class"] == "above_noise").all() and len(j3) == 2
     assert j3["merged"].all() and not j3["found"].any()
     # chapter 3.2 shows the merged peak with its candidates, and where joint 3 went (issue 21)
-    text = chapter_outputs(tmp_path, "ch3_2_straightness")
+    text = chapter_outputs(tmp_path, "ch3_straightness")
     found = yaml.safe_load((tmp_path / "results/straightness/findings.yaml").read_text())
     values = {f["key"]: f["value"] for f in found["findings"]}
     assert values["n_merged"] == 2 and values["truth_merged"] == 2

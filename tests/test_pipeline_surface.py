@@ -44,7 +44,7 @@ def test_surface_spectra_parseval(tiny_run):
 
 
 def test_chapter_2_renders(tiny_run):
-    html = tiny_run / "results/chapters/ch2_surface.html"
+    html = tiny_run / "results/chapters/ch2.html"
     assert html.exists()
     text = html.read_text()
     assert "Traceback" not in text and "Table 2.1" in text

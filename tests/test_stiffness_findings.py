@@ -167,7 +167,7 @@ def _refs():
 def _chapters_5_and_6_2(found):
     """The text of chapter 5 (the study's cuts) and chapter 6.2 (seed 001's and 004's models),
     both rendered from the one stiffness findings file."""
-    says = [Prose(load_templates(c), found) for c in ("ch5", "ch6_2")]
+    says = [Prose(load_templates(c), found) for c in ("ch5", "ch6_stiffness")]
     return " ".join(" ".join(say(*say.templates, **_refs()).split()) for say in says)
 
 
@@ -185,19 +185,19 @@ def test_chapter_5_prose_follows_its_findings():
     assert "{" not in text
     alike = Prose(load_templates("ch5"), _found(slot_asymmetry_pct=150.0))
     assert "no asymmetry" in alike("slot_verdict")
-    bent = Prose(load_templates("ch6_2"), _found(K0=((1.0, 2.0), (2.0, 1.0))))
+    bent = Prose(load_templates("ch6_stiffness"), _found(K0=((1.0, 2.0), (2.0, 1.0))))
     assert "not positive definite" in bent("beamframe_definite")
     other = Prose(load_templates("ch5"), _found(slots=None, cut_stiffness=CUTS))
     text = " ".join(other("cut_stiffness", "no_cuts", "slots", **_refs()).split())
     assert "normal direction of cut `c2` (0.500 N/µm)" in text and "this run has none" not in text
     bare = _found(slots=None, planted_k_Nm_rad=None)
     assert "this run has none" in " ".join(Prose(load_templates("ch5"), bare)("no_cuts").split())
-    assert Prose(load_templates("ch6_2"), bare)("planted") == ""
-    assert "holds no check" in Prose(load_templates("ch6_2"), Findings("stiffness"))(
+    assert Prose(load_templates("ch6_stiffness"), bare)("planted") == ""
+    assert "holds no check" in Prose(load_templates("ch6_stiffness"), Findings("stiffness"))(
         "against_rows")
     rows = _found()
     rows.comparisons = [{"verdict": "pass"}, {"verdict": "miss"}]
-    assert "1 of 2 within" in " ".join(Prose(load_templates("ch6_2"), rows)("against_rows")
+    assert "1 of 2 within" in " ".join(Prose(load_templates("ch6_stiffness"), rows)("against_rows")
                                        .split())
     assert "not compared with the thesis'" in Prose(load_templates("ch5"), rows)("against")
     rows.add("thesis_study", True)

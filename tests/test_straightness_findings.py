@@ -1,5 +1,5 @@
 """Chapter 3.2's findings (robomill.straightness.findings) from planted runs and peaks, and
-the chapter's sentences following them (notebooks/templates/ch3_2.yaml)."""
+the chapter's sentences following them (notebooks/templates/ch3_straightness.yaml)."""
 
 import numpy as np
 import pandas as pd
@@ -60,7 +60,8 @@ def test_a_quiet_surface_band_gives_the_verdict_none():
 
 
 def test_chapter_3_2_prose_follows_its_findings():
-    say = Prose(load_templates("ch3_2"), straightness_findings(_profiles(), _peaks(), **KW))
+    say = Prose(load_templates("ch3_straightness"),
+                straightness_findings(_profiles(), _peaks(), **KW))
     text = " ".join(say("gear_peaks", "surface_band", "surface_band_verdict", "temporal",
                         ref_band_floor="[T]").split())
     assert "3 peaks are attributed to a gear element" in text
@@ -68,10 +69,10 @@ def test_chapter_3_2_prose_follows_its_findings():
     assert "the 2 runs have 1 peak(s)" in text and "400.0× the noise floor" in text
     assert "needs 25× its band median" in text and "has components there" in text
     assert "13.00 ± 0.00 Hz" in text
-    quiet = Prose(load_templates("ch3_2"), straightness_findings(_profiles(False),
+    quiet = Prose(load_templates("ch3_straightness"), straightness_findings(_profiles(False),
                                                                  _peaks(False), **KW))
     assert "no component there" in quiet("surface_band_verdict")
-    none = Prose(load_templates("ch3_2"), Findings("straightness"))
+    none = Prose(load_templates("ch3_straightness"), Findings("straightness"))
     assert "No peak is attributed" in none("gear_peaks") and "not compared" in none("against")
 
 
@@ -201,7 +202,7 @@ def test_chapter_3_2_prose_follows_altered_findings():
     found.items["rms_vertical_um_range"].value = [0.125, 9.5]
     found.items["ref_surface_marks_per_mm"].value = 6.5
     found.comparisons = [{"verdict": "pass"}, {"verdict": "miss"}]
-    say = Prose(load_templates("ch3_2"), found)
+    say = Prose(load_templates("ch3_straightness"), found)
     refs = {f"ref_{k}": f"[{k}]" for k in (
         "deviation", "psd", "more", "psd_high", "band_floor", "temporal_vs_spatial", "mesh",
         "attribution", "runs_by_design", "truth")}
@@ -232,6 +233,7 @@ def test_chapter_3_2_prose_follows_altered_findings():
 
 def test_chapter_3_2_overview_without_the_run_geometry():
     """A profiles file without lengths and speeds: the overview still counts the peaks."""
-    say = Prose(load_templates("ch3_2"), straightness_findings(_profiles(), _peaks(), **KW))
+    say = Prose(load_templates("ch3_straightness"),
+                straightness_findings(_profiles(), _peaks(), **KW))
     text = " ".join(say("overview").split())
     assert text.startswith("**2 tracker runs** (+Y; feeds 2, 10 mm/s); 6 spectral peaks")

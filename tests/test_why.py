@@ -44,7 +44,7 @@ def test_edits_rerun_only_what_uses_them(tiny_run, tmp_path):
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert _planned(repo, work, "ch0") == {}
 
-    nb = repo / "notebooks" / "ch0_experiment.ipynb"
+    nb = repo / "notebooks" / "ch0.ipynb"
     nb.write_text(nb.read_text() + "\n")
     jobs = _planned(repo, work, "ch0")
     assert set(jobs) == {"ch0"}
@@ -95,7 +95,7 @@ def test_editing_any_module_a_rule_imports_makes_why_list_it(tiny_run, tmp_path)
     assert proc.returncode == 0, proc.stderr[-3000:]
     assert _planned(repo, work, "ch0") == {}
     modules = code_files([repo / "workflow/scripts/render_chapter.py",
-                          repo / "notebooks/ch0_experiment.ipynb"], repo / "src")
+                          repo / "notebooks/ch0.ipynb"], repo / "src")
     names = {os.path.relpath(m, repo / "src") for m in modules}
     assert {"robomill/pipeline/chapters.py", "robomill/plotting.py",
             "robomill/pipeline/captions.py", "robomill/pipeline/runlog.py",

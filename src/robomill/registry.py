@@ -148,7 +148,7 @@ def _row(raw: Any, where: str) -> Chapter:
     return Chapter(
         id=cid, number=str(raw["number"]), title=raw["title"], part=raw["part"],
         notebook=raw.get("notebook") or cid, template=raw.get("template") or cid,
-        figures=raw.get("figures") or cid, report=raw.get("report") or "chapter",
+        figures=raw.get("figures") or cid, report=raw.get("report") or cid,
         stage=raw.get("stage"), groups=_words(raw.get("groups"), f"{where}: groups"),
         in_all=bool(raw.get("in_all", True)),
         needs=Needs(**{k: _words(v, f"{where}: needs.{k}") for k, v in needs.items()}),
@@ -201,7 +201,8 @@ def chapter(chapter_id: str, path: str | Path | None = None) -> Chapter:
 
 
 def by_notebook(path: str | Path | None = None) -> dict[str, Chapter]:
-    """Page (notebook) stem -> chapter: ``ch3_1_forces`` -> the row of ``ch3_forces``."""
+    """Page (notebook) stem -> chapter: ``ch3_forces`` -> the row of ``ch3_forces`` (the stem is
+    the id unless a row names another notebook)."""
     return {c.notebook: c for c in chapters(path)}
 
 

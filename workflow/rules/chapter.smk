@@ -7,9 +7,9 @@
 # The notebook is an input; the executed .ipynb, the .html and the figure folder are outputs.
 
 
-# The template itself builds nothing that `all` asks for: its outputs (by target name,
-# results/chapters/ch2.html) are never requested, and where its figure folder matches a
-# copy's (results/figures/ch2) Snakemake picks the copy, a rule without wildcards.
+# The template itself builds nothing: its outputs are named by the target, as each chapter's
+# own are (results/chapters/ch2.html, results/figures/ch2), and Snakemake picks the chapter's
+# copy, a rule without wildcards.
 rule chapter:
     input:
         notebook=lambda w: chapter_files(w.target)["notebook"],

@@ -267,7 +267,9 @@ CHAPTER_OF_PAGE = {c.page: c.id for c in CHAPTERS.values()}
 def chapter_outputs(target):
     """The outputs of chapter `target`: executed notebook, page and figure folder."""
     c = CHAPTERS[target]
-    rst = f"../report/{c.report}.rst"
+    # its own caption workflow/report/<report>.rst, else the general one
+    own = REPO / "workflow" / "report" / f"{c.report}.rst"
+    rst = f"../report/{c.report if own.is_file() else 'chapter'}.rst"
     category = f"Chapter {c.figure_prefix}"
     return {
         "ipynb": f"results/chapters/{c.notebook}.ipynb",

@@ -68,13 +68,13 @@ rule forces_gather:
         spectra="results/forces/spectra.nc",
         peaks=report(
             "results/forces/peaks.csv",
-            caption="../report/ch3_1_forces.rst",
+            caption="../report/ch3_forces.rst",
             category="Chapter 3",
             subcategory="Tables",
         ),
         coefficients=report(
             "results/forces/cutting_coefficients.csv",
-            caption="../report/ch3_1_forces.rst",
+            caption="../report/ch3_forces.rst",
             category="Chapter 3",
             subcategory="Tables",
         ),

@@ -41,7 +41,7 @@ rule modal_identify:
     output:
         modes=report(
             "results/modal/modes.csv",
-            caption="../report/ch3_3_modal.rst",
+            caption="../report/ch3_modal.rst",
             category="Chapter 3",
             subcategory="Tables",
         ),

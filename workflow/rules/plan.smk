@@ -185,4 +185,4 @@ rule plan:
         PLAN_PROGRAM,
         "results/plan/check.csv",
         "results/plan/check_summary.csv",
-        "results/chapters/ch7_plan.html",
+        "results/chapters/ch7.html",

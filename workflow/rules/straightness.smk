@@ -73,7 +73,7 @@ rule straightness_gather:
         profiles="results/straightness/profiles.nc",
         peaks=report(
             "results/straightness/peaks.csv",
-            caption="../report/ch3_2_straightness.rst",
+            caption="../report/ch3_straightness.rst",
             category="Chapter 3",
             subcategory="Tables",
         ),

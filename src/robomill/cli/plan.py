@@ -103,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
     if not args.dry_run:
         print(f"plan: {root / 'results/plan/plan.csv'}; next experiment: "
               f"{root / 'results/plan/next/manifest.yaml'}; chapter 7: "
-              f"{root / 'results/chapters/ch7_plan.html'}")
+              f"{root / 'results/chapters/ch7.html'}")
         print("run the planned cuts in their own folder (results/plan/next/run): snakemake "
               "-j2 all --configfile results/plan/next/config.yaml")
     return 0

@@ -38,7 +38,7 @@ _FIG = re.compile(r"^fig(?P<ch>\d+)_(?P<num>\d+)(?:_(?P<slug>.*))?$")
 
 @dataclass
 class ChapterPage:
-    name: str  # e.g. ch2_surface
+    name: str  # e.g. ch2
     title: str
     html_path: Path
     figures: list[tuple[str, str, Path]]  # (label "Figure 2.3", caption, png path)

@@ -121,7 +121,7 @@ REFERENCE_PART = PARTS["reference"]
 
 
 def chapter_key(stem: str) -> tuple:
-    """Book order of a chapter page (file stem ``ch3_1_forces``): the study's chapters, then
+    """Book order of a chapter page (file stem ``ch3_forces``): the study's chapters, then
     the reference studies, each in the chapter registry's order
     (:func:`robomill.registry.book_order`); pages that are no chapter last."""
     return book_order(stem)

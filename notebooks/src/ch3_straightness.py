@@ -18,7 +18,7 @@ profiles: str = None  # results/straightness/profiles.nc
 truth_check: str = None  # results/straightness/truth_check.csv
 surface_peaks: str = None  # results/surface/peaks.csv (chapter 2)
 settings: dict = None  # config straightness section
-templates: str = None  # notebooks/templates/ch3_2.yaml: the sentences rendered from findings
+templates: str = None  # notebooks/templates/ch3_straightness.yaml: the sentences of the findings
 findings: str = None  # results/straightness/findings.yaml: every number and verdict stated
 fig_dir: str = None  # folder for this chapter's figures
 
@@ -50,7 +50,7 @@ from robomill.straightness.tables import (
 
 found = read_findings(findings)
 F = found.values()
-say = Prose(load_templates("ch3_2", templates), found)
+say = Prose(load_templates("ch3_straightness", templates), found)
 prof = open_artefact(profiles)
 pk = read_peaks(peaks)
 MAIN, EXTRA, HIGH = F["main_directions"], F["extra_directions"], F["high_band_direction"]

@@ -18,7 +18,7 @@ trajectory: str = None  # results/hexapod/trajectory.nc
 forces: str = None  # results/hexapod/forces.nc
 sensitivity: str = None  # results/hexapod/sensitivity.nc
 force_accuracy: str = None  # results/hexapod/force_accuracy.csv
-templates: str = None  # notebooks/templates/ch6_3.yaml: the sentences rendered from findings
+templates: str = None  # notebooks/templates/ch6_hexapod.yaml: the sentences rendered from findings
 findings: str = None  # results/hexapod/findings.yaml: every number stated here
 fig_dir: str = None  # folder for this chapter's figures
 
@@ -40,7 +40,7 @@ from robomill.pipeline.captions import Numbering
 from robomill.pipeline.prose import Prose, comparison_table, load_templates
 
 found = read_findings(findings)
-say = Prose(load_templates("ch6_3", templates), found)
+say = Prose(load_templates("ch6_hexapod", templates), found)
 # chapter 6 is numbered across its three pages (the chapter registry's first_figure/first_table)
 num = Numbering.for_chapter("ch6_hexapod", fig_dir=fig_dir)
 num.table("seed_table1", "High-speed against conventional ball-end milling, as printed in "

@@ -16,7 +16,7 @@
 # %% tags=["parameters"]
 cases: list = None  # results/chatter/cases/<name>.nc
 simulation: str = None  # results/chatter/simulation.nc
-templates: str = None  # notebooks/templates/ch6_1.yaml: the sentences of this chapter
+templates: str = None  # notebooks/templates/ch6_chatter.yaml: the sentences of this chapter
 findings: str = None  # results/chatter/findings.yaml: every number and verdict stated here
 fig_dir: str = None  # folder for this chapter's figures
 
@@ -33,7 +33,7 @@ from robomill.pipeline.prose import Prose, comparison_table, load_templates
 
 found = read_findings(findings)
 F = found.values()
-say = Prose(load_templates("ch6_1", templates), found)
+say = Prose(load_templates("ch6_chatter", templates), found)
 case_ds = load_cases(cases or [], open_artefact)
 bench = case_ds.get(F.get("bench_case"))
 slot = case_ds.get("insperger2004_slot") if F.get("has_slot") else None

@@ -19,7 +19,7 @@ means: str = None  # results/forces/mean_forces.csv
 harmonics: str = None  # results/forces/harmonics.csv
 cuts: str = None  # results/ingest/cuts.csv
 modes: str = None  # results/modal/modes.csv (identified modes, chapter 3.3)
-templates: str = None  # notebooks/templates/ch3_1.yaml: the sentences rendered from findings
+templates: str = None  # notebooks/templates/ch3_forces.yaml: the sentences rendered from findings
 findings: str = None  # results/forces/findings.yaml: every number and verdict stated here
 truth: str = None  # results/synthetic/truth.nc (synthetic runs only)
 settings: dict = None  # config section forces
@@ -49,7 +49,7 @@ from robomill.pipeline.prose import Prose, comparison_table, load_templates
 
 found = read_findings(findings)
 F = found.values()
-say = Prose(load_templates("ch3_1", templates), found)
+say = Prose(load_templates("ch3_forces", templates), found)
 sp = open_artefact(spectra)
 mf = pd.read_csv(means)
 plan = pd.read_csv(cuts) if cuts else mf

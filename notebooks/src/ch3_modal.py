@@ -30,7 +30,7 @@ peak_groups: str = None  # results/modal/peak_groups.csv
 truth_check: str = None  # results/modal/truth_check.csv
 coupling: str = None  # results/modal/coupling.csv
 coupling_pairs: str = None  # results/modal/coupling_pairs.csv
-templates: str = None  # notebooks/templates/ch3_3.yaml: the sentences of this chapter
+templates: str = None  # notebooks/templates/ch3_modal.yaml: the sentences of this chapter
 findings: str = None  # results/modal/findings.yaml: every number and verdict stated here
 fig_dir: str = None  # folder for this chapter's figures
 
@@ -49,7 +49,7 @@ from robomill.pipeline.prose import Prose, comparison_table, load_templates
 
 found = read_findings(findings)
 F = found.values()
-say = Prose(load_templates("ch3_3", templates), found)
+say = Prose(load_templates("ch3_modal", templates), found)
 ds = read_frf(frf)
 sy = join_complex(open_artefact(synth))
 tr = open_artefact(traces)

@@ -23,7 +23,7 @@ beamframe: str = None  # results/stiffness/beamframe.nc
 map_joints: str = None  # results/stiffness/<map robot>/joint_stiffness.csv
 map_models: str = None  # results/stiffness/<map robot>/identification.csv
 map_validation: str = None  # results/stiffness/<map robot>/validation.csv
-templates: str = None  # notebooks/templates/ch6_2.yaml: the sentences rendered from findings
+templates: str = None  # notebooks/templates/ch6_stiffness.yaml: the sentences of the findings
 findings: str = None  # results/stiffness/findings.yaml: every number and verdict stated here
 fig_dir: str = None  # folder for this chapter's figures
 
@@ -49,7 +49,7 @@ from robomill.stiffness.tables import (
 )
 
 found = read_findings(findings)
-say = Prose(load_templates("ch6_2", templates), found)
+say = Prose(load_templates("ch6_stiffness", templates), found)
 v = found.values()
 mp = open_artefact(maps)
 opt = pd.read_csv(optimal)
