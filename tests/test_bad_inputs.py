@@ -1,4 +1,4 @@
-"""The bad-input corpus (issue #13): every malformed file raises RawDataError naming it.
+"""The bad-input corpus: every malformed file raises RawDataError naming it.
 
 Each case is ``(kind, file, call, message regex)``: ``file`` is relative to
 ``tests/data/bad`` and is the file the message must name; ``call`` picks the reader; the regex

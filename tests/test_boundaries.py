@@ -100,7 +100,7 @@ def _imports_pipeline(path: Path) -> list[str]:
 
 
 def test_the_science_imports_nothing_of_the_pipeline_tooling():
-    """Two halves (issue 24): the science modules (calibration, surface, …, io, synth,
+    """Two halves: the science modules (calibration, surface, …, io, synth,
     importers) never import robomill.pipeline; only the package's top level (which looks up
     list_artefacts on first use), the command line and the tooling itself may."""
     pkg = REPO / "src" / "robomill"

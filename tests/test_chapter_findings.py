@@ -228,12 +228,12 @@ def test_chapter_4_prose_follows_its_findings():
     against = " ".join(Prose(load_templates("ch4"), thesis)("against", ref_coupling="[t]")
                        .split())
     assert "60–120 Hz" in against and "chapter 6.1" in against  # from references.yaml
-    assert "Reference" not in " ".join(load_templates("ch4"))  # no seed-002 template left
+    assert "Reference" not in " ".join(load_templates("ch4"))  # no Shagniev 2019 template left
 
 
 def test_chapter_6_1_prose_follows_its_findings_without_the_studys_robot():
     """The reference study of chatter (chapter 6.1) renders from the configured cases and the
-    seed-002 simulation alone: a study without impact or force data has no robot findings."""
+    Shagniev 2019 simulation alone: a study without impact or force data has no robot findings."""
     cases, sim, _, _ = _chatter_inputs()
     sim.attrs["sdm_bifurcation_at_n"] = "hopf"
     sim.attrs["a_star_mm"] = 0.0777

@@ -1,4 +1,4 @@
-"""Seed-002 time-domain model: detection, agreement with the lobes, adaptive depth; schema."""
+"""Shagniev 2019 time-domain model: detection, agreement with the lobes, adaptive depth; schema."""
 
 import copy
 
@@ -115,7 +115,7 @@ def test_unstable_point_is_detected_and_depth_lowered_by_at_most_two_percent(bou
 
 
 def test_adaptive_run_settles_after_the_depth_cut(boundary_1260):
-    """Seed 002: 1 % above the boundary chatter is detected, the logic block lowers the depth
+    """Shagniev 2019: 1 % above the boundary chatter is detected, the logic block lowers the depth
     by at most 2 %, and the chatter line then dies away while the uncontrolled cut keeps
     chattering (indicator means over the last 1.5 s)."""
     p, a_b = boundary_1260

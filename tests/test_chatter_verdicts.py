@@ -77,7 +77,7 @@ def test_speeds_in_range_by_hand():
 
 
 def test_simulated_cuts_below_and_above_the_lobe(settings):
-    """The seed-002 robot-tool model's closed-loop force (robomill.chatter.timedomain) at 0.85
+    """The Shagniev 2019 robot-tool model's closed-loop force (robomill.chatter.timedomain) at 0.85
     and 1.15 of the critical depth that the semi-discretization gives at 1260 rpm (a truth
     independent of the verdict): stable below; chatter above, at an odd multiple of half the
     tooth-passing frequency, because the critical multiplier there is real and negative

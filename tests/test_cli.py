@@ -1,4 +1,4 @@
-"""The `robomill` command: init, manifest, check, import (issue 21).
+"""The `robomill` command: init, manifest, check, import.
 
 The raw folders are generated here (small contract files: a 10 kHz force record, a profile,
 a tracker run, an impact hit); importers are a fake module registered for the test, so that

@@ -101,7 +101,7 @@ def test_every_rule_derives_its_code_inputs_and_none_is_hand_kept():
     assert has("stiffness_optimal", "stiffness/poses.py")
     assert has("synth_loadtests_robot", "stiffness/model.py")
     assert has("ch1", "calibration/accuracy.py")
-    # a subpackage's rule depends on the submodules it uses, not on its siblings (issue 31)
+    # a subpackage's rule depends on the submodules it uses, not on its siblings
     assert has("hexapod_sensitivity", "hexapod/sensitivity.py")
     assert not has("hexapod_sensitivity", "hexapod/motion.py")
     assert not has("stiffness_identify", "stiffness/maps.py")

@@ -1,4 +1,4 @@
-"""The modal subpackage and the workflow's code inputs (issue 31): a rule depends on the
+"""The modal subpackage and the workflow's code inputs: a rule depends on the
 modal submodules its script imports, not on the whole package, and importing
 ``robomill.modal`` loads none of them."""
 

@@ -1,4 +1,4 @@
-"""The cutting coefficients' sanity flags (issue 21 point 5; issue 30: tests assert on the
+"""The cutting coefficients' sanity flags (tests assert on the
 flag values, not on the English sentence chapter 3.1 makes of them): a negative coefficient
 and one whose fit leaves more residual than signal are flagged, the others are physical."""
 

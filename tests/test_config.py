@@ -63,7 +63,7 @@ def test_load_config_reads_yaml_safely(tmp_path, repo):
         load_config(p, repo / "workflow/schemas/config.schema.yaml")
 
 
-# ---- values as users write them (issue 21) ---------------------------------------------------
+# ---- values as users write them ---------------------------------------------------
 @pytest.mark.parametrize(("text", "wanted", "expected"), [
     ("10", ["integer"], (True, 10)),
     ("1e3", ["integer"], (True, 1000)),
@@ -157,7 +157,7 @@ def test_a_bad_key_stops_the_workflow_with_one_line_naming_it(tmp_path):
                     "the minimum of 0 (schema surface.schema.yaml)"]
 
 
-# ---- the workflow's validation, kept for the next run (issue 29) -----------------------------
+# ---- the workflow's validation, kept for the next run -----------------------------
 def _schemas_copy(repo, tmp_path):
     import shutil
 

@@ -1,4 +1,4 @@
-"""A cut's redundancy angle (issue 28): ``redundancy_deg``, the tool's rotation about its axis,
+"""A cut's redundancy angle: ``redundancy_deg``, the tool's rotation about its axis,
 is a design key of the manifest (default 0: the cell's tool orientation) and the virtual cell's
 simulators cut at it (their joint path, hence gear errors, torques and the Jacobian, follow it).
 """

@@ -219,7 +219,7 @@ def test_identification_needs_several_feeds():
         identify_cutting_coefficients([0.001, 0.001], [0.25, 0.25], np.zeros((2, 3)))
 
 
-# ---- settings from the data (issue 21) -------------------------------------------------------
+# ---- settings from the data -------------------------------------------------------
 @pytest.mark.parametrize(("fs_hz", "band_hz", "expected"),
                          [(25_000.0, 250.0, 25), (10_000.0, 250.0, 10), (48_000.0, 250.0, 48),
                           (25_000.0, 100.0, 62), (1_200.0, 250.0, 1), (815.0, 100.0, 2)])
@@ -304,7 +304,7 @@ def test_nearest_modes_of_planted_peaks():
     assert np.isnan(empty["offset_hz"].iloc[0]) and empty["nearest_mode"].iloc[0] is None
 
 
-# ---- partial immersion, up/down milling (issue 20, step 5; Altintas 2012 §2.2) ---------------
+# ---- partial immersion, up/down milling (step 5; Altintas 2012 §2.2) ---------------
 @pytest.mark.parametrize(("ae", "mode", "expected_deg"), [
     (1.0, "slot", (0.0, 180.0)), (0.5, "down", (90.0, 180.0)), (0.5, "up", (0.0, 90.0)),
     (0.25, "down", (120.0, 180.0)), (0.25, "up", (0.0, 60.0)), (1.0, "down", (0.0, 180.0))])

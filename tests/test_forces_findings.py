@@ -72,7 +72,7 @@ def test_chapter_3_1_prose_follows_its_findings():
     assert "not compared" in Prose(load_templates("ch3_forces"), Findings("forces"))("against")
 
 
-# --- the records, the kinematic peak, the levels and the coefficients (issue 30) ---------
+# --- the records, the kinematic peak, the levels and the coefficients ---------
 
 SETTINGS = {"figure_set": 2, "full_band_min_hz": 500.0, "kinematic_band_per_mm": [0.3, 1.0],
             "kinematic_prominence_db": 10.0, "min_peak_cycles": 10.0, "lowband_hz": 250.0,

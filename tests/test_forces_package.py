@@ -1,5 +1,5 @@
 """robomill.forces is a package of one-subject modules behind an inert, lazy __init__
-(issue 31): importing it loads no submodule, every public name resolves to its module, and
+: importing it loads no submodule, every public name resolves to its module, and
 the workflow ties a rule only to the modules its script imports."""
 
 import subprocess
@@ -49,7 +49,7 @@ def test_rules_depend_only_on_the_modules_they_import():
     assert "robomill/forces/stream.py" not in gather  # the streaming analysis is forces_cut's
     cut = deps("workflow/scripts/forces_cut.py")
     assert "robomill/forces/stream.py" in cut
-    chapter = deps("notebooks/src/ch3_forces.py")  # loads, plots and renders (issue 30)
+    chapter = deps("notebooks/src/ch3_forces.py")  # loads, plots and renders
     assert {"robomill/forces/tables.py", "robomill/forces/figures.py",
             "robomill/forces/peaks.py"} <= chapter
     assert "robomill/forces/coefficients.py" in deps("workflow/scripts/forces_findings.py")

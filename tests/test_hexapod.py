@@ -1,4 +1,4 @@
-"""Hexapod dynamics (seed 003): closed forms, algebraic and numerical round trips, energy."""
+"""Hexapod dynamics [Rybak n.d.]: closed forms, algebraic and numerical round trips, energy."""
 
 import numpy as np
 import pytest

@@ -92,7 +92,7 @@ def test_vertical_move_beside_the_seed():
     assert v["vertical_drift_z_share_pct"] == pytest.approx(80.0)
     assert v["vertical_rotation_deg"] == pytest.approx(10.0)
     assert v["vertical_euler_deg"] == [1.0, 2.0, 3.0]
-    # seed 003: exact end (0, 0, 54.57), perturbed end (-0.186, -0.0521, 57.864) mm
+    # Rybak n.d.: exact end (0, 0, 54.57), perturbed end (-0.186, -0.0521, 57.864) mm
     seed_drift = np.array([-0.186, -0.0521, 57.864 - 54.57])
     assert v["seed_drift_mm"] == pytest.approx(np.linalg.norm(seed_drift))
     assert v["seed_force_N"] == 1.65 and v["seed_start_height_mm"] == 53.3

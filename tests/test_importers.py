@@ -1,4 +1,4 @@
-"""Importers (issue 21): native exports → contract files, on real public files, on files
+"""Importers: native exports → contract files, on real public files, on files
 constructed from the published layouts, on generated files with planted values, and on a
 bad-input corpus (truncated, wrong format, missing channel) that must give one RawDataError
 naming the source file and the field.

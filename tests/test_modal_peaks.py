@@ -1,4 +1,4 @@
-"""Peak picking on FRFs (issue 32): every candidate is a local maximum of |Im H| that stands
+"""Peak picking on FRFs: every candidate is a local maximum of |Im H| that stands
 out of its neighbourhood, never a shoulder or a ripple on a stronger mode's skirt; where none
 qualifies the table is empty; peak frequencies are interpolated between the lines.
 

@@ -22,7 +22,7 @@ def test_all_builds_every_chapter(tiny_run):
 def test_the_thesis_design_keeps_its_tables_and_thesis_remarks(tiny_run):
     """The tiny config is the thesis' study: chapter 0's U-segment plan, Tables 2.1/2.2 in the
     thesis' layout (issue 20: per-cut tables only for other designs), and each chapter's one
-    closing comparison with its source, from the comparison rows of its findings (issue 30).
+    closing comparison with its source, from the comparison rows of its findings.
     Chapters 1-5 are checked on their findings and their structure, not on their sentences."""
     ch0 = chapter_outputs(tiny_run, "ch0")
     plan = read_findings(tiny_run / "results/ingest/findings.yaml").values()

@@ -1,4 +1,4 @@
-"""The second study in the repository (issue 20, step 6): ``examples/other_cell`` — a PUMA 560
+"""The second study in the repository (step 6): ``examples/other_cell`` — a PUMA 560
 cell, a 3-flute tool, a spindle-speed series, -X and 45 deg half-immersion down milling — run
 with ``all`` at tiny scale (``--configfile .test/config.yaml examples/other_cell/config.yaml``),
 planted vs recovered."""
@@ -86,7 +86,7 @@ def test_no_thesis_comparison_in_the_calibration_modal_and_chatter_chapters(othe
 
 def test_flags_shown_in_forces_and_straightness(other_cell_run):
     """Cutting-coefficient sanity flags in chapter 3.1; direction labels, merged peaks and
-    their candidates in chapter 3.2 (issue 21 point 5)."""
+    their candidates in chapter 3.2."""
     workdir, _ = other_cell_run
     ch31 = chapter_outputs(workdir, "ch3_forces")
     coef = pd.read_csv(workdir / "results/forces/cutting_coefficients.csv")

@@ -1,6 +1,6 @@
 """A raw folder made with the `robomill` command runs through Snakemake with the default
 config: `--config data=FOLDER`, a 10 kHz force record (decimation from its rate), numbers
-given on the command line (issue 21)."""
+given on the command line."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Merged gear lines end to end (issue 20): the examples/other_cell PUMA with 16 instead of 22
+"""Merged gear lines end to end: the examples/other_cell PUMA with 16 instead of 22
 pinion teeth on joint 3 puts the joint-2 and joint-3 mesh lines of its 28 mm tracker runs
 1.03 bins apart. The analysis flags the one peak they make as merged, listing both, and the
 truth check counts joint 3 merged, not missed."""
@@ -39,7 +39,7 @@ def test_coinciding_mesh_lines_of_the_example_are_flagged_merged(tmp_path):
     j3 = tc[(tc["joint"] == 3) & (tc["order"] == "mesh")]
     assert (j3["class"] == "above_noise").all() and len(j3) == 2
     assert j3["merged"].all() and not j3["found"].any()
-    # chapter 3.2 shows the merged peak with its candidates, and where joint 3 went (issue 21)
+    # chapter 3.2 shows the merged peak with its candidates, and where joint 3 went
     text = chapter_outputs(tmp_path, "ch3_straightness")
     found = yaml.safe_load((tmp_path / "results/straightness/findings.yaml").read_text())
     values = {f["key"]: f["value"] for f in found["findings"]}

@@ -1,4 +1,4 @@
-"""The next experiment runs in its own folder (issue 28, deliver item 4): the configuration the
+"""The next experiment runs in its own folder (deliver item 4): the configuration the
 plan writes (results/plan/next/config.yaml) names a run folder under results/plan/next, so
 `snakemake all --configfile results/plan/next/config.yaml` leaves the study's results as they
 are, and plan_check puts the outcomes of that run beside the predictions."""

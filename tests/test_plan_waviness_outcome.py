@@ -141,7 +141,7 @@ def test_a_line_inside_the_slow_deviations_lobe_is_not_read_as_waviness():
     """A gear line 3.1 periods along the path, next to a 3 µm slow deviation at 2 periods
     (what the cubic detrend leaves of a path's slow error), reads that deviation's Hann lobe,
     not its own 0.1 µm: the line counts only from fmin_cycles + the main lobe's half width
-    (waviness_min_cycles), in the outcome as in the prediction (issue 28, plan_05)."""
+    (waviness_min_cycles), in the outcome as in the prediction (plan_05)."""
     from robomill.plan.check import WAVINESS_MIN_CYCLES, waviness_min_cycles
     from robomill.plan.measured import Measured
 

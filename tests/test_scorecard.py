@@ -61,10 +61,10 @@ def test_reference_study_rows_are_kept_for_any_study(tmp_path):
     pd.DataFrame({"n": [101.0]}).to_csv(tmp_path / "h.csv", index=False)
     checks = [{"source": "thesis", "where": "Fig 3.4", "quantity": "a", "source_value": 100.0,
                "tolerance": {"rel": 0.1}, "locator": "h.csv::n@max"},
-              {"source": "seed 003", "where": "Fig. 5", "quantity": "b", "source_value": 100.0,
+              {"source": "Rybak n.d.", "where": "Fig. 5", "quantity": "b", "source_value": 100.0,
                "tolerance": {"rel": 0.1}, "locator": "h.csv::n@max", "any_study": True}]
     other = build_scorecard(tmp_path, checks, thesis_study=False)
-    assert list(other["source"]) == ["seed 003"] and list(other["verdict"]) == ["pass"]
+    assert list(other["source"]) == ["Rybak n.d."] and list(other["verdict"]) == ["pass"]
     assert len(build_scorecard(tmp_path, checks)) == 2
     shipped = [c for c in load_checks() if c.get("any_study")]
     assert shipped and all(c["locator"].startswith(("results/chatter/simulation.nc",

@@ -1,4 +1,4 @@
-"""Readers that know real exports (issue 21, item 4): a native file handed to a contract
+"""Readers that know real exports (item 4): a native file handed to a contract
 reader names its format and the import command (``robomill.importers.sniff``)."""
 
 from __future__ import annotations

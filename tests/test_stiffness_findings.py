@@ -102,7 +102,7 @@ def test_workspace_identification_maps_and_poses_from_planted_artefacts():
 
 def test_seed_numbers_come_from_references():
     v = _found().values()
-    assert v["seed_optimal_deformation_um"] == [63.0, 92.0]  # seed 001 §5, H = 1.2 / 1.6 m
+    assert v["seed_optimal_deformation_um"] == [63.0, 92.0]  # [Yi 2025, §5], H = 1.2 / 1.6 m
     assert v["seed_k_plane_kNm_rad"] == [6890.0, 4530.0, 3400.0]  # three joints here
     assert v["seed_y_over_z"] == pytest.approx(98000.6e-6 / 4.5308)
     assert v["seed_workspace_z_mm"] == references.value("seed001.workspace_extent_mm.z")
@@ -165,7 +165,7 @@ def _refs():
 
 
 def _chapters_5_and_6_2(found):
-    """The text of chapter 5 (the study's cuts) and chapter 6.2 (seed 001's and 004's models),
+    """The text of chapter 5 (the study's cuts) and chapter 6.2 (Yi 2025's and Cai 2015's models),
     both rendered from the one stiffness findings file."""
     says = [Prose(load_templates(c), found) for c in ("ch5", "ch6_stiffness")]
     return " ".join(" ".join(say(*say.templates, **_refs()).split()) for say in says)

@@ -16,7 +16,7 @@ def test_plan_lists_robot_and_load_tests(tiny_config):
 
 
 def test_simulated_files_round_trip_and_recover_truth(config, tmp_path):
-    tiny_config = config  # the default 53-pose KR360 test plan of seed 001
+    tiny_config = config  # the default 53-pose KR360 test plan of Yi 2025
     entry = loadtests.robot_entry(tiny_config, "kr360")
     loadtests.write_robot_file(tiny_config, "kr360", tmp_path / "kr360.yaml")
     loadtests.write_load_tests(tiny_config, "kr360", tmp_path / "lt.csv")

@@ -1,4 +1,4 @@
-"""Time axes printed with limited precision (issue 21, item 4).
+"""Time axes printed with limited precision (item 4).
 
 A CSV whose ``t_s`` is printed with 7 significant digits has single steps of 0.000488 and
 0.000489 s at 2048 Hz; it is accepted when every sample fits ``t0 + k/fs`` within a quarter
