@@ -36,7 +36,7 @@ CASES = {
     "forces_only": ({"force"}, True, ["ch0", "ch3_forces", "ch6_chatter",
                                    "ch6_hexapod"],
                     ["chapter 1: no ctrack files in manifest.yaml",
-                     "chapter 2: no profile files in manifest.yaml",
+                     "chapter 2: no profile or areal files in manifest.yaml",
                      "chapter 3.3: no impact files in manifest.yaml",
                      "chapter 4: no impact files in manifest.yaml",
                      "chapter 5: no robot files and no stiffness files in manifest.yaml",

@@ -24,11 +24,13 @@ def chapter_parameters(executed: Path) -> dict:
 
 
 def prepare_chapter(chapter: str, *, repo: Path, results: Path) -> list[Path]:
-    """Parameterized copies of the chapter notebook(s) whose name starts with ``chapter``."""
+    """Parameterized copies of the chapter notebook(s) ``chapter`` names: the chapter itself
+    (``ch0``) or the chapters of a group (``ch3``: ``ch3_forces``, ``ch3_straightness``, …)."""
     from papermill.iorw import load_notebook_node
     from papermill.parameterize import parameterize_notebook
 
-    executed = sorted((results / "chapters").glob(f"{chapter}_*.ipynb"))
+    folder = results / "chapters"
+    executed = sorted({*folder.glob(f"{chapter}.ipynb"), *folder.glob(f"{chapter}_*.ipynb")})
     if not executed:
         raise SystemExit(f"no executed notebook for {chapter!r} under {results / 'chapters'}: "
                          f"build it first (snakemake -j2 {chapter})")

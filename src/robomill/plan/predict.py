@@ -152,6 +152,9 @@ def critical_depth_m(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np
     if corners:
         lo_c, hi_c = cb["low"], cb["high"]
         for ktc, krc in ((hi_c.Ktc, lo_c.Krc), (lo_c.Ktc, hi_c.Krc)):  # K_r = Krc/Ktc ends
+            # an interval end beyond a physical bound (a negative radial coefficient: the
+            # tool pulled into the wall) is held at the bound, K_r >= 0
+            krc = max(float(krc), 0.0)
             if not np.isclose(krc / ktc, nom.Krc / nom.Ktc, rtol=1e-12):
                 ends.append(lobes(scalings["nominal"], model(nom.Ktc, krc * nom.Ktc / ktc)))
         for key in ("low", "high"):
