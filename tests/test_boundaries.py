@@ -48,7 +48,7 @@ def test_no_module_outside_robomill_synth_imports_it():
 
 def test_only_the_simulator_scripts_and_no_chapter_import_robomill_synth():
     synth_scripts = set(re.findall(r'"\.\./scripts/([\w]+\.py)"', SYNTH_RULES.read_text()))
-    assert {"synth_truth.py", "synth_manifest.py", "straightness_synth_tracker.py"} <= \
+    assert {"synth_truth.py", "synth_manifest.py", "synth_tracker.py"} <= \
         synth_scripts
     scripts = sorted((REPO / "workflow" / "scripts").glob("*.py"))
     offenders = {p.name: _imports_synth(p) for p in scripts if p.name not in synth_scripts}

@@ -308,12 +308,12 @@ def test_real_files_get_a_job_per_cut_the_virtual_cell_one_per_instrument(other_
     assert raw["forces_cut"] == n_forces and "forces_cuts" not in raw
     assert raw["surface_profile"] == n_profiles and "surface_profiles" not in raw
     assert raw["straightness_run"] == n_runs and "straightness_runs" not in raw
-    assert not {"synth_impact", "straightness_synth_tracker"} & set(raw)
+    assert not {"synth_impact", "synth_tracker"} & set(raw)
     (tmp_path / "synthetic").mkdir()
     synthetic = _job_counts(run_snakemake(tmp_path / "synthetic", "-n", "all", timeout=300))
     for rule in ("surface_profiles", "straightness_runs", "forces_cuts", "synth_impact",
-                 "straightness_synth_tracker", "surface_synth_profiles",
-                 "forces_synth_dynamometer"):
+                 "synth_tracker", "surface_synth_profiles",
+                 "synth_dynamometer"):
         assert synthetic[rule] == 1, rule
     assert not {"surface_profile", "straightness_run", "forces_cut"} & set(synthetic)
 

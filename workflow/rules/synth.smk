@@ -76,10 +76,10 @@ rule surface_synth_profiles:
         cfg=SYNTH_CFG,
         cuts=[c.as_dict() for c in SYNTH_PROFILE_CUTS],
     script:
-        "../scripts/surface_synth_profile.py"
+        "../scripts/synth_profiles.py"
 
 
-rule forces_synth_dynamometer:
+rule synth_dynamometer:
     output:
         [
             f"results/synthetic/raw/forces/{c.id}.{SYNTH_FORCE_FORMAT}"
@@ -95,10 +95,10 @@ rule forces_synth_dynamometer:
         cfg=SYNTH_CFG,
         cuts=[c.as_dict() for c in SYNTH_FORCE_CUTS],
     script:
-        "../scripts/forces_synth_dynamometer.py"
+        "../scripts/synth_dynamometer.py"
 
 
-rule straightness_synth_tracker:
+rule synth_tracker:
     output:
         [f"results/synthetic/raw/tracker/{run}.csv" for run in SYNTH_TRACKER_RUNS],
     log:
@@ -120,7 +120,7 @@ rule straightness_synth_tracker:
             for run, f in SYNTH_TRACKER_RUNS.items()
         ],
     script:
-        "../scripts/straightness_synth_tracker.py"
+        "../scripts/synth_tracker.py"
 
 
 rule synth_impact:
@@ -139,7 +139,7 @@ rule synth_impact:
             for f in SYNTH_FILES.get("impact", [])
         ],
     script:
-        "../scripts/modal_synth_impact.py"
+        "../scripts/synth_impact.py"
 
 
 rule synth_ctrack:
@@ -157,7 +157,7 @@ rule synth_ctrack:
         cfg=SYNTH_CFG,
         table=lambda w: w.table,
     script:
-        "../scripts/calibration_synth.py"
+        "../scripts/synth_ctrack.py"
 
 
 rule synth_loadtests_robot:
@@ -175,7 +175,7 @@ rule synth_loadtests_robot:
         cfg=SYNTH_CFG,
         robot=lambda w: w.robot,
     script:
-        "../scripts/stiffness_synth_robot.py"
+        "../scripts/synth_loadtests_robot.py"
 
 
 rule synth_loadtests:
@@ -193,7 +193,7 @@ rule synth_loadtests:
         cfg=SYNTH_CFG,
         robot=lambda w: w.robot,
     script:
-        "../scripts/stiffness_synth_loadtests.py"
+        "../scripts/synth_loadtests.py"
 
 
 rule synth_manifest:

@@ -6,7 +6,7 @@ from robomill.pipeline.runlog import setup
 from robomill.synth.cell import cell_from_config
 from robomill.synth.profilometer import simulate_profile
 
-log = setup(snakemake.log[0], "surface_synth_profile")
+log = setup(snakemake.log[0], "synth_profiles")
 p = snakemake.params
 cfg = dict(p.cfg)
 cell = cell_from_config(cfg)

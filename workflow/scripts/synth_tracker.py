@@ -6,7 +6,7 @@ from robomill.synth.cell import cell_from_config
 from robomill.synth.layout import synthetic_cuts
 from robomill.synth.tracker import simulate_run, write_run
 
-log = setup(snakemake.log[0], "straightness_synth_tracker")
+log = setup(snakemake.log[0], "synth_tracker")
 p = snakemake.params
 cfg = dict(p.cfg)
 cell = cell_from_config(cfg)
