@@ -15,12 +15,13 @@ A candidate is *extrapolated* when (bit of ``extrapolation_code``):
 The stated widening rule: an extrapolated prediction's interval half-widths (force,
 deflection, critical depth on each side of the nominal) are multiplied by ``2 (1 + e)``, e the
 largest relative excess of speed, chip load or immersion beyond the identified range (0 for a
-pose or band reason alone). Above the modal band, in addition, the pessimistic critical depth
-is at most the *absolute* stability limit of the measured modes at that pose (the lowest
+pose or band reason alone). Above the modal band, the pessimistic critical depth is instead
+at most the *absolute* stability limit of the measured modes at that pose (the lowest
 point of their lobes at any speed, :func:`absolute_depth_m`, times the lobes' smallest ratio
 of pessimistic to nominal depth over the request's speeds at that pose): an unmeasured mode
 as flexible as the measured ones may put a lobe's minimum at this speed, so no stable pocket
-between lobes (nor "no chatter at any depth") is claimed there.
+between lobes (nor "no chatter at any depth") is claimed there; the factor then applies to
+the critical depth only for a speed, chip-load, immersion or pose reason beside the band.
 """
 
 from __future__ import annotations
@@ -163,7 +164,10 @@ def widen(ds: xr.Dataset, code: xr.DataArray, excess: xr.DataArray,
         stretch(f"deflection_{ax}_um", f"deflection_{ax}_low_um", f"deflection_{ax}_high_um", w)
     adims = ds["a_crit_mm"].dims
     a_nom, a_lo, a_hi = (ds[k].values for k in ("a_crit_mm", "a_crit_low_mm", "a_crit_high_mm"))
-    wa = _np(w.max("feed_mm_s"), adims)
+    # the modal band has its own bound on the critical depth (the absolute limit below): the
+    # factor widens it only for the other reasons
+    w_depth = w if a_abs_low_mm is None else xr.where((code & ~16) > 0, w, 1.0)
+    wa = _np(w_depth.max("feed_mm_s"), adims)
     with np.errstate(invalid="ignore"):
         ok_lo = np.isfinite(a_nom) & np.isfinite(a_lo)
         ok_hi = np.isfinite(a_nom) & np.isfinite(a_hi)
