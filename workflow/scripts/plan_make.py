@@ -91,9 +91,9 @@ program = write_program(plan.paths, cell_file.controller,
                         out.program, header=header)
 log.info("program (%s): %s", cell_file.controller or "no controller named: stations only",
          ", ".join(str(f) for f in program))
-for p in plan.paths:
-    if p.refused:
-        log.info("cut %s refused: %s", p.cut, p.refused)
+for path in plan.paths:
+    if path.refused:
+        log.info("cut %s refused: %s", path.cut, path.refused)
 write_table(binding_table(plan.binding, req.purpose, len(cuts), int(p.raw_folders), before),
             out.binding)
 for path, data in ((out.manifest, plan.manifest), (out.config, plan.config)):
