@@ -15,7 +15,7 @@ from robomill.plan import NEXT_RUN_DIR
 
 pytestmark = pytest.mark.pipeline
 
-REQUEST = f"plan={{request: {REPO / 'plan.yaml'}}}"
+REQUEST = f"plan={{request: {REPO / '.test' / 'plan.yaml'}}}"
 # what plan_check reads of the planned cuts' run (`all` builds these and the chapters)
 NEXT_OUTCOMES = ["results/forces/mean_forces.csv", "results/forces/peaks.csv",
                  "results/straightness/deflection.csv", "results/straightness/gears.csv",

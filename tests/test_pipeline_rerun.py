@@ -32,7 +32,7 @@ def test_a_chapter_rerun_gives_the_same_figures_and_page(study):
 def test_the_plan_builds_chapter_7(study):
     """`snakemake plan`: the plan and its chapter, every figure and table shown and referred
     to (the chapter's last cell checks it)."""
-    shutil.copy(REPO / "plan.yaml", study / "plan.yaml")
+    shutil.copy(REPO / ".test" / "plan.yaml", study / "plan.yaml")
     proc = run_snakemake(study, "-j2", "plan", timeout=600)
     assert proc.returncode == 0, proc.stderr[-3000:]
     page = (study / "results/chapters/ch7.html").read_text()
