@@ -39,4 +39,5 @@ def test_the_plan_builds_chapter_7(study):
     for ref in ("Figure 7.1 sets", "Figure 7.2 maps", "Table 7.1 lists", "Table 7.3 sets"):
         assert ref in page
     assert "being drawn" not in page
-    assert len(list((study / "results/figures/ch7").glob("*.png"))) == 2
+    # the Pareto front, the pose map and the best cut's path over station x rotation
+    assert len(list((study / "results/figures/ch7").glob("*.png"))) == 3
