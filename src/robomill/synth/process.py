@@ -61,6 +61,8 @@ from typing import Any
 import numba
 import numpy as np
 
+from robomill.chatter.modal_timedomain import modal_steps
+
 STREAM = 7
 """Stream number of the closed-loop process in the per-cut random generators."""
 SERVO_FS_HZ = 2000.0
@@ -100,22 +102,6 @@ class SimulatedCut:
         return (self.deflection_m + self.path_error_m) @ self.frame.T
 
 
-def modal_steps(f_hz, zeta, k_N_m, dt_s: float) -> tuple[np.ndarray, np.ndarray]:
-    """Exact one-step transition of each modal oscillator under a held force: Φ ``(M, 2, 2)``
-    = e^{A dt}, Γ ``(M, 2)`` = A⁻¹(Φ − I) b, state (η, η̇), A = [[0, 1], [−ω², −2ζω]],
-    b = (0, 1/m), m = k/ω²."""
-    from scipy.linalg import expm
-
-    w = 2 * np.pi * np.asarray(f_hz, float)
-    Phi = np.empty((w.size, 2, 2))
-    Gam = np.empty((w.size, 2))
-    for r, (wr, zr, kr) in enumerate(zip(w, np.asarray(zeta, float),
-                                         np.asarray(k_N_m, float), strict=True)):
-        A = np.array([[0.0, 1.0], [-wr**2, -2 * zr * wr]])
-        P = expm(A * dt_s)
-        Phi[r] = P
-        Gam[r] = np.linalg.solve(A, (P - np.eye(2)) @ np.array([0.0, wr**2 / kr]))
-    return Phi, Gam
 
 
 @numba.njit(cache=True)
