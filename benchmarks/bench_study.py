@@ -40,11 +40,11 @@ the no-op rerun)."""
 
 
 def chapter_targets() -> dict[str, str]:
-    """The chapter targets of the workflow and their page stems, in its order (``CHAPTERS``
-    in ``workflow/rules/common.smk``)."""
-    text = (REPO / "workflow" / "rules" / "common.smk").read_text()
-    block = text.split("CHAPTERS = {", 1)[1].split("\n}", 1)[0]
-    return dict(re.findall(r'^\s*"(ch[0-9a-z_]+)": \(\s*"([^"]+)"', block, flags=re.M))
+    """The chapter targets ``all`` builds and their page stems, in the chapter registry's
+    order (``src/robomill/data/chapters.yaml``)."""
+    from robomill.registry import chapters
+
+    return {c.id: c.id for c in chapters() if c.in_all}
 
 
 def _snakemake_version_s(repeats: int = 3) -> float:
