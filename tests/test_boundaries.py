@@ -46,6 +46,20 @@ def test_no_module_outside_robomill_synth_imports_it():
     assert {k: v for k, v in offenders.items() if v} == {}
 
 
+_SMK_IMPORTS_SYNTH = re.compile(r"^\s*(from\s+robomill\.synth\b|import\s+robomill\.synth\b|"
+                                r"from\s+robomill\s+import\s+.*\bsynth\b)", re.M)
+
+
+def test_no_rule_file_but_synth_smk_imports_robomill_synth():
+    """The DAG of a synthetic study is planned from the layout (robomill.io.synthetic_layout),
+    which imports no simulator: only synth.smk and its synth_* scripts reach the virtual cell."""
+    files = sorted((REPO / "workflow" / "rules").glob("*.smk")) + [REPO / "Snakefile"]
+    offenders = [p.name for p in files
+                 if p != SYNTH_RULES and _SMK_IMPORTS_SYNTH.search(p.read_text())]
+    assert offenders == []
+    assert _SMK_IMPORTS_SYNTH.search("from robomill.synth.layout import synthetic_manifest\n")
+
+
 def test_only_the_simulator_scripts_and_no_chapter_import_robomill_synth():
     synth_scripts = set(re.findall(r'"\.\./scripts/([\w]+\.py)"', SYNTH_RULES.read_text()))
     assert {"synth_truth.py", "synth_manifest.py", "synth_tracker.py"} <= \
@@ -70,7 +84,7 @@ PLAN_CHECK = """
 import sys
 from robomill.pipeline.config import load_config
 from robomill.io.manifest import parse_manifest
-from robomill.synth.layout import SIMULATORS, synthetic_manifest
+from robomill.io.synthetic_layout import SIMULATORS, synthetic_manifest
 plan = parse_manifest(synthetic_manifest(load_config({config!r})), "manifest.yaml",
                       require_sha256=False)
 print(len(plan.cuts), len(plan.files), plan.cell_file)
@@ -255,8 +269,10 @@ def test_no_import_cycle_within_synth():
     for node in sorted(graph):
         if node not in state:
             visit(node, [node])
-    assert "robomill.synth.layout" in graph and graph["robomill.synth.truth"]
+    assert graph["robomill.synth.truth"]
     assert cycles == []
+    # the layout the DAG is planned from reaches no simulator
+    assert _imports_synth(PKG / "io" / "synthetic_layout.py") == []
 
 
 def test_the_layer_checkers_find_offenders():
@@ -360,9 +376,11 @@ def test_the_configured_design_is_read_by_the_simulators_alone():
 
 def test_the_synthetic_layout_is_one_module_and_no_simulator_wraps_it():
     """``robomill.plan`` is the planner; the virtual study's raw-file layout is
-    ``robomill.synth.layout``, and no simulator keeps a ``plan()`` that only forwards to it."""
+    ``robomill.io.synthetic_layout``, and no simulator keeps a ``plan()`` that only forwards
+    to it."""
     synth = PKG / "synth"
-    assert (synth / "layout.py").exists() and not (synth / "plan.py").exists()
+    assert (PKG / "io" / "synthetic_layout.py").exists()
+    assert not (synth / "layout.py").exists() and not (synth / "plan.py").exists()
     wrappers = [p.name for p in sorted(synth.glob("*.py"))
                 for node in ast.parse(p.read_text()).body
                 if isinstance(node, ast.FunctionDef) and node.name == "plan"]

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from robomill.errors import ConfigError
-from robomill.synth.layout import synthetic_cuts, synthetic_manifest
+from robomill.io.synthetic_layout import synthetic_cuts, synthetic_manifest
 
 SERIES = [  # a spindle-speed series with a 3-flute tool, -X and 45 deg slots
     {"id": "n12k_mx", "feed_mm_s": 2.0, "depth_mm": 0.25, "direction": "mx",

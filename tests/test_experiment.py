@@ -3,7 +3,7 @@
 import pytest
 
 from robomill.experiment import feed_per_tooth_mm, plan_cuts, tooth_passing_hz
-from robomill.synth.layout import synthetic_cuts
+from robomill.io.synthetic_layout import synthetic_cuts
 
 
 def test_thesis_plan_has_45_cuts(config):

@@ -61,7 +61,7 @@ def test_what_the_workflow_imports_while_parsed_stays_light():
     """The Snakefile and its rule files import these on every snakemake call, before any job:
     none may pull in the science stack (plan/outputs.py did: ~1 s per call)."""
     code = ("import sys; import robomill.plan, robomill.pipeline.codedeps, robomill.experiment, "
-            "robomill.io.manifest, robomill.io.cell, robomill.synth.layout, "
+            "robomill.io.manifest, robomill.io.cell, robomill.io.synthetic_layout, "
             "robomill.pipeline.config; "
             "print(sorted(m for m in sys.modules if m.split('.')[0] in ('scipy', 'xarray', "
             "'matplotlib') or m.startswith(('robomill.plan.', 'robomill.straightness.'))))")

@@ -4,7 +4,8 @@ an empty or one-kind folder gives a plan or one line, never a stack; a bad manif
 its one line; a raw folder of another design gets chapter 4 and 5 parameters from its own
 manifest, and the configuration's robots are analysed where the folder holds them.
 
-The folders are built from the synthetic plan (:func:`robomill.synth.layout.synthetic_manifest`)
+The folders are built from the synthetic plan
+(:func:`robomill.io.synthetic_layout.synthetic_manifest`)
 with empty data files: a dry run (``snakemake -n``) reads only the manifest and the cell file.
 """
 
@@ -102,7 +103,7 @@ def test_check_and_manifest_ask_only_for_the_keys_the_folder_needs(tmp_path, cap
 def _plan(*configs: Path) -> dict:
     from snakemake.utils import update_config
 
-    from robomill.synth.layout import synthetic_manifest
+    from robomill.io.synthetic_layout import synthetic_manifest
 
     cfg: dict = {}
     for c in configs:

@@ -11,7 +11,7 @@ import pytest
 import yaml
 from conftest import REPO, run_snakemake
 
-from robomill.synth.layout import synthetic_manifest
+from robomill.io.synthetic_layout import synthetic_manifest
 
 pytestmark = pytest.mark.pipeline
 

@@ -43,8 +43,8 @@ def test_per_cut_tracking_gives_each_cut_its_own_run():
     from snakemake.utils import update_config
 
     from robomill.experiment import tracker_run
+    from robomill.io.synthetic_layout import instrument_files
     from robomill.pipeline.config import load_config
-    from robomill.synth.layout import instrument_files
 
     base = load_config(REPO / "config.yaml")
     overlay = next_config(MANIFEST)
@@ -61,7 +61,7 @@ def test_per_cut_tracking_gives_each_cut_its_own_run():
     # the manifest of the planned cuts' files reads them as the contract says
     from robomill.experiment import tracker_pass_pairs
     from robomill.io.manifest import parse_manifest
-    from robomill.synth.layout import synthetic_manifest
+    from robomill.io.synthetic_layout import synthetic_manifest
 
     m = parse_manifest(synthetic_manifest(base), "next", require_sha256=False)
     runs = {tracker_run(f): f for f in m.files if f["kind"] == "tracker"}

@@ -3,9 +3,9 @@
 import numpy as np
 
 from robomill.io.robots import read_load_tests, read_robot_file
+from robomill.io.synthetic_layout import instrument_files
 from robomill.stiffness import identify_from_tests
 from robomill.synth import loadtests
-from robomill.synth.layout import instrument_files
 
 
 def test_plan_lists_robot_and_load_tests(tiny_config):

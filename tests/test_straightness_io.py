@@ -7,9 +7,9 @@ import pandas as pd
 import pytest
 
 from robomill.io import RawDataError
+from robomill.io.synthetic_layout import instrument_files
 from robomill.io.tracker import read_tracker
 from robomill.synth import tracker
-from robomill.synth.layout import instrument_files
 
 
 def _write(tmp_path, df, name="py_f2.csv"):

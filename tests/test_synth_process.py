@@ -14,8 +14,8 @@ import dataclasses
 import numpy as np
 import pytest
 
+from robomill.io.synthetic_layout import synthetic_cuts
 from robomill.synth.cell import cell_from_config
-from robomill.synth.layout import synthetic_cuts
 from robomill.synth.process import simulate_cut
 
 

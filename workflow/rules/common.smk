@@ -23,7 +23,7 @@ from robomill.registry import (
     chapters as registry_chapters,
     unmet_requirement,
 )
-from robomill.synth.layout import synthetic_manifest
+from robomill.io.synthetic_layout import synthetic_manifest
 
 REPO = Path(workflow.basedir)
 SYNTHETIC = config["data"]["source"] == "synthetic"
@@ -41,7 +41,7 @@ CHAPTERS = {c.id: c for c in registry_chapters()}
 
 # The study plan, one parser in both modes: the raw folder's manifest.yaml, or for synthetic
 # data the manifest the simulators will write (planned from the configuration without
-# importing a simulator; robomill.synth.layout).
+# importing a simulator; robomill.io.synthetic_layout).
 # A bad manifest stops the run with its one line (file: where: problem (expected ...)),
 # not a Python stack.
 try:

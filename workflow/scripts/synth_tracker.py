@@ -1,9 +1,9 @@
 """Simulate the laser-tracker runs (tracker/<dir>_f<feed>.csv) of the virtual cell, one after
 the other in this process (one output per run, in the order of ``params.runs``)."""
 
+from robomill.io.synthetic_layout import synthetic_cuts
 from robomill.pipeline.runlog import setup
 from robomill.synth.cell import cell_from_config
-from robomill.synth.layout import synthetic_cuts
 from robomill.synth.tracker import simulate_run, write_run
 
 log = setup(snakemake.log[0], "synth_tracker")

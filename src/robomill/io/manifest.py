@@ -431,7 +431,7 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True,
     """Validate a manifest mapping (as loaded from YAML) and return a :class:`Manifest`.
 
     ``require_sha256=False`` validates a *plan*: the synthetic study's manifest before its
-    files exist (:func:`robomill.synth.layout.synthetic_manifest`), through the same checks.
+    files exist (:func:`robomill.io.synthetic_layout.synthetic_manifest`), through the same checks.
     The experiment and cut keys required are those of the chapters the folder's file kinds
     feed (:mod:`robomill.io.needs`); ``kinds`` gives the folder's kinds when ``data`` is a
     part of its manifest (``robomill check`` validates entry by entry)."""

@@ -116,8 +116,8 @@ def next_manifest(chosen: pd.DataFrame, req: PlanRequest, experiment: dict, miss
 
 def next_config(manifest: dict[str, Any], workdir: str = NEXT_RUN_DIR) -> dict[str, Any]:
     """``results/plan/next/config.yaml``: a configuration overlay (``--configfile``) that has the
-    virtual cell cut the planned cuts (``experiment.cuts``; robomill.synth.layout) in their own
-    run's folder ``workdir`` (:data:`NEXT_RUN_DIR`; config ``workdir``), not over the study,
+    virtual cell cut the planned cuts (``experiment.cuts``; robomill.io.synthetic_layout) in their
+    own run's folder ``workdir`` (:data:`NEXT_RUN_DIR`; config ``workdir``), not over the study,
     with one tracker run per planned cut (``synth.tracker.per_cut``: each cut has its own pose
     and its own predicted waviness, which one run per direction and feed would check for the
     last cut only), each run loaded (recorded while the tool cuts) and in the air

@@ -45,8 +45,8 @@ import xarray as xr
 from robomill.calibration.geometry import VectorModel, vector_model_from_serial
 from robomill.calibration.gravity import MassModel, gravity_torques_Nm, mass_model_from_mapping
 from robomill.io.atomic import atomic_path
+from robomill.io.synthetic_layout import CTRACK_TABLES
 from robomill.kinematics import rodrigues
-from robomill.synth.layout import CTRACK_TABLES
 
 TABLES = CTRACK_TABLES
 INSTRUMENT = 5

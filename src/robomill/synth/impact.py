@@ -34,7 +34,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill.synth.layout import IMPACT_DIRECTIONS, hit_path, instrument_files
+from robomill.io.synthetic_layout import IMPACT_DIRECTIONS, hit_path, instrument_files
 
 DIRECTIONS = IMPACT_DIRECTIONS
 """Hit directions (base axes)."""

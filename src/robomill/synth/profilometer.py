@@ -76,7 +76,7 @@ def settings(config: Mapping[str, Any]) -> dict[str, Any]:
 
 
 def _cuts(config: Mapping[str, Any]) -> list[Cut]:
-    from robomill.synth.layout import synthetic_cuts
+    from robomill.io.synthetic_layout import synthetic_cuts
 
     return synthetic_cuts(config)
 

@@ -94,7 +94,7 @@ def reference_pose_rad(cell, config: Mapping[str, Any]) -> np.ndarray:
     orientation, inverse kinematics nearest the home posture."""
     point = config["synth"]["process"].get("reference_point_mm")
     if point is None:
-        from robomill.synth.layout import synthetic_cuts
+        from robomill.io.synthetic_layout import synthetic_cuts
 
         mids = [np.mean(cell.cut_endpoints_mm(c), axis=0) for c in synthetic_cuts(config)]
         point = np.mean(mids, axis=0)

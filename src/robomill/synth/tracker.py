@@ -32,8 +32,8 @@ import pandas as pd
 import xarray as xr
 
 from robomill.experiment import Cut, tracker_run_id
+from robomill.io.synthetic_layout import tracker_runs
 from robomill.settings import config_section
-from robomill.synth.layout import tracker_runs
 
 INSTRUMENT_NUMBER = 3
 """Stream number of this instrument in the per-file random generators."""

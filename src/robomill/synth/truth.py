@@ -1,7 +1,7 @@
 """The planted truth of the virtual study: the cell's own plus each instrument's.
 
 The one module that imports every simulator (the simulators import the plan,
-:mod:`robomill.synth.layout`, which imports none of them).
+:mod:`robomill.io.synthetic_layout`, which imports none of them).
 """
 
 from __future__ import annotations
