@@ -429,6 +429,19 @@ def test_gather_of_a_free_design_uses_each_cuts_chip_model():
                           "radial_immersion": modes[i][1]}
     _, _, means, harmonics, coeffs = gather_force_study(datasets, flutes=2,
                                                         processes=processes)
+    assert means["in_fit"].all()
+    # a cut judged to chatter, whose mean force is a third of the chip model's (teeth out of
+    # the cut): left out, the planted coefficients still come back; kept, they do not
+    bad = datasets[4].copy()
+    bad["mean_force_cut"] = bad["mean_force_cut"] / 3.0
+    spoiled = datasets[:4] + [bad] + datasets[5:]
+    for chattered, exact in (([bad.attrs["cut"]], True), ((), False)):
+        m2, c2 = (lambda r: (r[2], r[4]))(gather_force_study(spoiled, flutes=2,
+                                                              processes=processes,
+                                                              chattered=chattered))
+        assert list(m2["in_fit"]) == [c not in chattered for c in m2["cut"]]
+        err = max(abs(r.value / K.as_dict()[r.name] - 1) for r in c2.itertuples())
+        assert (err < 1e-6) == exact, err
     h1 = harmonics[harmonics["harmonic"] == 1]
     assert list(h1["f_hz"]) == [1.0 + i for i in range(c.size)]  # each cut's own line
     assert len(harmonics) == sum(3 - (i % 2) for i in range(c.size))  # no padded rows

@@ -64,6 +64,8 @@ rule forces_gather:
         data=kind_input("forces", "force"),
         cuts=expand("results/forces/cuts/{cut}.nc", cut=FORCE_FILES),
         study=STUDY,
+        # a cut judged to chatter is left out of the coefficients' identification
+        verdicts="results/chatter/verdicts.csv",
     output:
         spectra="results/forces/spectra.nc",
         peaks=report(

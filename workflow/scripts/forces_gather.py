@@ -5,6 +5,8 @@ from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "forces_gather")
 
+import pandas as pd  # noqa: E402
+
 from robomill.experiment import cut_process, is_thesis_design  # noqa: E402
 from robomill.forces.coefficients import (  # noqa: E402
     identification_status,
@@ -21,9 +23,14 @@ datasets = [open_artefact(p) for p in snakemake.input.cuts]
 # a design other than the thesis': each cut's own speed, flutes, immersion and milling mode
 processes = (None if is_thesis_design(manifest.cuts)
              else {c.id: cut_process(c, exp) for c in manifest.cuts})
+verdicts = pd.read_csv(snakemake.input.verdicts)
+chattered = sorted(set(verdicts.loc[verdicts["verdict"] == "chatter", "cut"].astype(str)))
+if chattered:
+    log.info("left out of the coefficients (judged to chatter, %s): %s",
+             snakemake.input.verdicts, ", ".join(chattered))
 spectra, peaks, means, harmonics, coeffs = gather_force_study(
     datasets, flutes=int(exp["flutes"]), confidence=float(s["confidence"]),
-    processes=processes)
+    processes=processes, chattered=chattered)
 out = snakemake.output
 write_artefact(spectra, out.spectra, rule="forces_gather", inputs=snakemake.input.cuts,
                config_section=s)

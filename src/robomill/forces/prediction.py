@@ -139,12 +139,16 @@ def regression_from_means(means, flutes: int) -> ForceRegression | None:
     ``feed_per_tooth_mm``, ``depth_mm``, ``F_feed_N, F_cross_feed_N, F_axial_N`` and, for a
     design other than the thesis', its ``flutes, entry_deg, exit_deg``; else slots of
     ``flutes`` teeth). None when the table cannot identify the coefficients (fewer
-    equations than coefficients plus one, or one feed per tooth)."""
+    equations than coefficients plus one, or one feed per tooth). Rows whose ``in_fit`` is
+    False (a cut that chattered, :func:`robomill.forces.study.gather_force_study`) are left
+    out, as they are of the coefficients."""
     from robomill.forces.coefficients import not_identified_reason
 
     need = ("feed_per_tooth_mm", "depth_mm", "F_feed_N", "F_cross_feed_N", "F_axial_N")
     if means is None or len(means) == 0 or not set(need) <= set(means.columns):
         return None
+    if "in_fit" in means:
+        means = means[means["in_fit"].astype(str).str.lower().isin(["true", "1"])]
     c = means["feed_per_tooth_mm"].to_numpy(float)
     if not_identified_reason(c) is not None:
         return None

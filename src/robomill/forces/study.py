@@ -6,7 +6,7 @@ self-describing dataset, and the per-cut datasets gathered into the chapter's ar
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping
 
 import numpy as np
 import pandas as pd
@@ -144,7 +144,8 @@ def gather_force_study(cut_datasets: list, *, flutes: int,
                        confidence: float = schema_default("forces", "confidence"),
                        model_feed_per_tooth_mm: float | None = None,
                        model_depth_mm: float | None = None,
-                       processes: Mapping[str, Mapping] | None = None):
+                       processes: Mapping[str, Mapping] | None = None,
+                       chattered: Collection[str] = ()):
     """Combine per-cut datasets into the study's artefacts.
 
     Returns ``(spectra, peaks, means, harmonics, coefficients)``: the ``spectra.nc`` dataset
@@ -262,13 +263,15 @@ def gather_force_study(cut_datasets: list, *, flutes: int,
                                               spectra["harmonic_hz"].values if processes is None
                                               else spectra["harmonic_hz"].values[i],
                                               strict=True) if np.isfinite(f)])
-    why = not_identified_reason(means["feed_per_tooth_mm"].to_numpy())
+    fit = np.array([c not in set(chattered) for c in ids], bool)
+    means["in_fit"] = fit
+    why = not_identified_reason(means["feed_per_tooth_mm"].to_numpy()[fit])
     if why is None:
         coeffs = identify_cutting_coefficients(
-            means["feed_per_tooth_mm"].to_numpy(), means["depth_mm"].to_numpy(),
-            means[["F_feed_N", "F_cross_feed_N", "F_axial_N"]].to_numpy(),
-            flutes=flutes if processes is None else z, confidence=confidence,
-            **({} if processes is None else {"entry_rad": st, "exit_rad": ex}))
+            means["feed_per_tooth_mm"].to_numpy()[fit], means["depth_mm"].to_numpy()[fit],
+            means[["F_feed_N", "F_cross_feed_N", "F_axial_N"]].to_numpy()[fit],
+            flutes=flutes if processes is None else z[fit], confidence=confidence,
+            **({} if processes is None else {"entry_rad": st[fit], "exit_rad": ex[fit]}))
     else:  # a legitimate design (one feed per tooth, < 3 cuts): NaN and the reason
         coeffs = not_identified_table(why)
     c_mod = model_feed_per_tooth_mm or float(np.median(means["feed_per_tooth_mm"]))

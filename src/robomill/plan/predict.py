@@ -9,9 +9,12 @@ feed), each with an interval carried from the identified quantities' uncertainty
   coefficients' K_t interval (a_crit ∝ 1/K_t exactly), the K_r ratio's interval, the joint
   stiffness interval and the modes' intervals (``modes.csv``: ζ and k together, f; lobes
   recomputed at each end, :func:`mode_ends`); the lower end is the pessimistic margin.
-* **Static deflection** δ = C(q) F̄ along the wall normal and the tool axis, with F̄ the mean
-  cutting force (Altintas 2012 eq. 2.25, :func:`robomill.forces.mean_milling_forces`) rotated
-  from the cut frame to the base frame; interval over the coefficient and stiffness ends.
+* **Static deflection** δ = C(q) F̄ along the wall normal and the tool axis, C(q) the tool
+  tip's static compliance at the pose (:mod:`robomill.plan.tooltip`: the impact test's modes
+  moved with the joints; the joint model alone without an impact test), F̄ the mean cutting
+  force (Altintas 2012 eq. 2.25, :func:`robomill.forces.mean_milling_forces`) rotated from
+  the cut frame to the base frame; interval over the modes', the joints' and the force's
+  ends.
 * **Force** |F̄| with a new cut's prediction interval (:func:`force_interval`; the
   coefficients' confidence corners when the identifying cuts' means are not given);
   deflection's ends are the stiffness ends times the force's ends.
@@ -40,17 +43,16 @@ from robomill.plan.lobes import batch_coupling_depth, batch_zoa_lobes
 from robomill.plan.measured import (
     Measured,
     coefficient_bounds,
-    compliance_bounds,
     missing_predictions,
     waviness_um,
 )
 from robomill.plan.poses import (
     compliance_grid,
     cut_frames,
-    directional_ratio,
     solve_grid,
 )
 from robomill.plan.request import PlanRequest
+from robomill.plan.tooltip import mode_scalings, modes_arrays, nominal_key, static_compliance_m_N
 from robomill.xrvars import attrs, var
 
 
@@ -75,23 +77,6 @@ def engagement(req: PlanRequest) -> tuple[float, float]:
         req.radial_immersion, req.milling)
 
 
-def _modes_arrays(modes, end: str = ""):
-    """Frequencies, damping ratios, stiffnesses and unit shapes of the modes with a positive
-    stiffness; ``end`` ``"_low"``/``"_high"`` takes that end of the interval columns of
-    ``modes.csv`` (the value where a column is missing or NaN)."""
-    ok = modes["k_modal_N_m"].to_numpy(float) > 0
-    m = modes[ok]
-    shapes = np.nan_to_num(m[["shape_x", "shape_y", "shape_z"]].to_numpy(float))
-
-    def col(name):
-        v = m[name].to_numpy(float)
-        if end and f"{name}{end}" in m:
-            e = m[f"{name}{end}"].to_numpy(float)
-            v = np.where(np.isfinite(e) & (e > 0), e, v)
-        return v
-    return col("f_n_hz"), col("zeta"), col("k_modal_N_m"), shapes
-
-
 def mode_ends(modes) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """The modes' interval ends the critical depth is recomputed at: every mode's f, ζ and k
     at their low ends, and at their high ends (a_crit ∝ k ζ for one mode, so these two bound
@@ -99,7 +84,7 @@ def mode_ends(modes) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
     Empty without interval columns."""
     if not {"zeta_low", "k_modal_N_m_low", "f_n_hz_low"} <= set(modes.columns):
         return []
-    return [_modes_arrays(modes, "_low")[:3], _modes_arrays(modes, "_high")[:3]]
+    return [modes_arrays(modes, "_low")[:3], modes_arrays(modes, "_high")[:3]]
 
 
 def critical_depth_m(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np.ndarray,
@@ -113,7 +98,7 @@ def critical_depth_m(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np
     :func:`robomill.plan.extrapolation.absolute_depth_m`)."""
     if not (measured.has("modes") and measured.has("coefficients")):
         return None
-    fn, zeta, k, shapes = _modes_arrays(measured.modes)
+    fn, zeta, k, shapes = modes_arrays(measured.modes)
     if fn.size == 0:
         return None
     cb = coefficient_bounds(measured.coefficients)
@@ -123,21 +108,9 @@ def critical_depth_m(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np
     def model(ktc, krc):
         return CuttingModel(req.flutes, ktc * 1e6, krc / ktc, ent, ext)
 
-    B = len(q_rad)
     inplane = np.einsum("mi,bid->bmd", shapes, frames[:, :, :2])            # (B, M, 2)
-    robot_mode = fn < req.robot_mode_max_hz
-    scalings = {"nominal": np.ones((B, fn.size))}
-    if measured.has("joints"):
-        cset = compliance_bounds(measured.joints)
-        R_ref = cell.R0
-        from robomill.stiffness import solve_poses
-        q_ref, ok = solve_poses(cell.robot, cell.reference_point_mm[None], R_ref, cell.q_seed_rad)
-        keys = ("nominal", "low", "high") if corners else ("nominal",)
-        for key in keys:
-            C = compliance_grid(cell.robot, q_rad, cset[key])
-            C_ref = compliance_grid(cell.robot, q_ref[0], cset[key])
-            ratio = directional_ratio(C, C_ref, shapes) if ok[0] else np.ones((B, fn.size))
-            scalings[key] = np.where(robot_mode, ratio, 1.0)
+    scalings = mode_scalings(measured, cell, q_rad, fn < req.robot_mode_max_hz, shapes,
+                             corners=corners)
 
     def lobes(scale, cut, modal=None):
         f_, z_, k_ = (fn, zeta, k) if modal is None else modal
@@ -255,18 +228,23 @@ def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
         Fmag = {"nominal": mags[0], "low": mags.min(0), "high": mags.max(0)}
         if measured.force_regression is not None:  # a new cut's prediction interval
             Fmag = force_interval(measured, req, mags[0])
-        if measured.has("joints"):
-            cset = compliance_bounds(measured.joints)
+        comp = (static_compliance_m_N(measured, cell, q[ok], req.robot_mode_max_hz,
+                                      corners=corners) if ok.any() else None)
+        if comp is not None:
             Fb = {k: np.einsum("dij,saj->dsai", frames, f.reshape(S, A * V, 3))
                   .reshape(D, S, A, V, 3) for k, f in Fc.items()}
+            nkey = nominal_key(comp)
+            keys = [nkey] + [key for key in comp if key != nkey]
             for ax, col in (("normal", 1), ("axial", 2)):
                 vals = []
-                for ck in ("nominal", "low", "high"):
-                    C = compliance_grid(cell.robot, q, cset[ck])              # (P, R, D, 3, 3)
+                for ck in keys:
+                    C = np.zeros((P, R, D, 3, 3))
+                    C[ok] = comp[ck]                                          # (P, R, D, 3, 3)
                     row = np.einsum("di,prdij->prdj", frames[:, :, col], C)   # (P, R, D, 3)
-                    if ck == "nominal":
-                        stiff[ax] = np.where(ok, 1.0 / np.einsum("prdj,dj->prd", row,
-                                                                 frames[:, :, col]), np.nan)
+                    if ck == nkey:
+                        with np.errstate(divide="ignore"):
+                            stiff[ax] = np.where(ok, 1.0 / np.einsum("prdj,dj->prd", row,
+                                                                     frames[:, :, col]), np.nan)
                     fks = (("nominal",) if measured.force_regression is not None
                            else ("nominal", "low", "high"))
                     for fk in fks:
@@ -285,10 +263,10 @@ def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
         for ax, what in (("normal", "normal to the wall"), ("axial", "along the tool axis")):
             data[f"deflection_{ax}{suffix}_um"] = var(full, defl[(ax, k)], "um",
                                                       f"static deflection {what} ({k})")
-    data["k_normal_N_m"] = var(prd, stiff["normal"], "N/m", "joint-model stiffness normal to "
-                               "the wall")
-    data["k_axial_N_m"] = var(prd, stiff["axial"], "N/m", "joint-model stiffness along the "
-                              "tool axis")
+    data["k_normal_N_m"] = var(prd, stiff["normal"], "N/m", "static tool-tip stiffness normal "
+                               "to the wall (robomill.plan.tooltip)")
+    data["k_axial_N_m"] = var(prd, stiff["axial"], "N/m", "static tool-tip stiffness along the "
+                              "tool axis (robomill.plan.tooltip)")
     # waviness: the identification interval, and the interval of the next tracker run's read
     wav = {k: np.full((P, R, D), np.nan) for k in ("nominal", "low", "high")}
     wav.update({k: np.full((P, R, D, V), np.nan) for k in ("read_low", "read_high", "noise")})

@@ -1,0 +1,108 @@
+"""The tool tip's structure at a pose: the impact test's modes moved with the joints, and the
+static compliance the plan predicts deflection with.
+
+**Modes at a pose.** The impact test measures the modes at the tool tip at its own pose q_ref.
+Elsewhere the arm is stiffer or softer as its joints see the tool-tip load through other lever
+arms; each robot mode (below ``robot_mode_max_hz``) keeps its shape φ_r and modal mass and has
+its stiffness scaled by the joint model's stiffness along its shape,
+
+.. math:: k_r(q) = k_r \\frac{k_φ(q)}{k_φ(q_{ref})}, \\qquad k_φ = 1/(φ^T C_J(q) φ),
+          \\qquad C_J(q) = J(q) K_θ^{-1} J(q)^T
+
+(the joint-stiffness model of the load tests; Dumas et al. 2011, Robotics and
+Computer-Integrated Manufacturing 27(5), 881–888), f_r ∝ √k_r. Modes above the robot's band
+(spindle, tool) are the same at every pose.
+
+**Static compliance.** The impact test sees the whole structure at the tool tip (joints, links,
+flange, spindle, tool); its frequency response at ω → 0 is the modal compliance
+
+.. math:: C(q) = \\sum_r \\frac{φ_r φ_r^T}{k_r(q)}
+
+(the receptance's modal sum Σ_r φ_r φ_rᵀ / (k_r (1 − ω²/ω_r² + 2iζ_r ω/ω_r)) at ω = 0;
+Ewins 2000, *Modal Testing: Theory, Practice and Application*; the residual flexibility of
+modes above the test's band left out). The plan predicts the static
+deflection δ = C(q) F̄ with it, the same structure its stability prediction uses. The joint
+model alone (C_J: the load tests measure the joints only) is the fallback where the study has
+no impact test; with modes and no load tests, C(q_ref) holds at every pose. Why not C_J where
+both were measured: the joints are one part of the structure in series with the rest, and on
+the virtual cell the first plan checked through files (deflection from the tracker's loaded
+minus air passes) measured 2.5–4 times the joint model's deflection along the wall normal.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from robomill.plan.measured import Measured, compliance_bounds
+from robomill.plan.poses import compliance_grid, directional_ratio
+
+ENDS = ("nominal", "low", "high")
+
+
+def modes_arrays(modes, end: str = ""):
+    """Frequencies, damping ratios, stiffnesses and unit shapes of the modes with a positive
+    stiffness; ``end`` ``"_low"``/``"_high"`` takes that end of the interval columns of
+    ``modes.csv`` (the value where a column is missing or NaN)."""
+    ok = modes["k_modal_N_m"].to_numpy(float) > 0
+    m = modes[ok]
+    shapes = np.nan_to_num(m[["shape_x", "shape_y", "shape_z"]].to_numpy(float))
+
+    def col(name):
+        v = m[name].to_numpy(float)
+        if end and f"{name}{end}" in m:
+            e = m[f"{name}{end}"].to_numpy(float)
+            v = np.where(np.isfinite(e) & (e > 0), e, v)
+        return v
+    return col("f_n_hz"), col("zeta"), col("k_modal_N_m"), shapes
+
+
+def mode_scalings(measured: Measured, cell, q_rad: np.ndarray, robot_mode: np.ndarray,
+                  shapes: np.ndarray, *, corners: bool = True) -> dict[str, np.ndarray]:
+    """k_r(q)/k_r ``(B, M)`` at postures ``q_rad`` ``(B, n)`` for each end of the joint
+    stiffness (``nominal``, and ``low``/``high`` with ``corners``); 1 for the modes above the
+    robot's band and where the study has no load tests or the test pose has no solution."""
+    B = len(q_rad)
+    scalings = {"nominal": np.ones((B, len(shapes)))}
+    if not measured.has("joints"):
+        return scalings
+    from robomill.stiffness import solve_poses
+
+    cset = compliance_bounds(measured.joints)
+    q_ref, ok = solve_poses(cell.robot, cell.reference_point_mm[None], cell.R0, cell.q_seed_rad)
+    for key in (ENDS if corners else ("nominal",)):
+        C = compliance_grid(cell.robot, q_rad, cset[key])
+        C_ref = compliance_grid(cell.robot, q_ref[0], cset[key])
+        ratio = directional_ratio(C, C_ref, shapes) if ok[0] else np.ones((B, len(shapes)))
+        scalings[key] = np.where(robot_mode, ratio, 1.0)
+    return scalings
+
+
+def static_compliance_m_N(measured: Measured, cell, q_rad: np.ndarray, robot_mode_max_hz: float,
+                          *, corners: bool = True) -> dict[str, np.ndarray] | None:
+    """Static tool-tip compliance ``(B, 3, 3)`` [m/N] at postures ``q_rad`` ``(B, n)``: the
+    modal compliance at the pose (module docstring) for every end of the modes' stiffness
+    (``modes.csv`` ``k_modal_N_m_low/high``) and of the joint stiffness, keyed
+    ``"<modes end>/<joints end>"`` (``"nominal/nominal"`` the nominal); the joint model's
+    ``C_J`` keyed by its ends where the study has no impact test; None with neither."""
+    if measured.has("modes"):
+        fn, _, _, shapes = modes_arrays(measured.modes)
+        if fn.size:
+            scal = mode_scalings(measured, cell, q_rad, fn < robot_mode_max_hz, shapes,
+                                 corners=corners)
+            out = {}
+            for mend in (ENDS if corners else ("nominal",)):
+                k = modes_arrays(measured.modes, "" if mend == "nominal" else f"_{mend}")[2]
+                for jend, s in scal.items():
+                    out[f"{mend}/{jend}"] = np.einsum("mi,mj,bm->bij", shapes, shapes,
+                                                      1.0 / (k[None] * s))
+            return out
+    if measured.has("joints"):
+        cset = compliance_bounds(measured.joints)
+        return {f"joints/{key}": compliance_grid(cell.robot, q_rad, cset[key])
+                for key in (ENDS if corners else ("nominal",))}
+    return None
+
+
+def nominal_key(compliance: dict[str, np.ndarray]) -> str:
+    """The key of the nominal compliance of :func:`static_compliance_m_N`'s mapping."""
+    return "nominal/nominal" if "nominal/nominal" in compliance else "joints/nominal"
