@@ -43,3 +43,28 @@ def test_summary_names_jobs_errors_logs_and_notebooks(tmp_path):
 def test_first_error_line_falls_back_to_last_line():
     assert first_error_line("a\nsomething odd happened\n") == "something odd happened"
     assert first_error_line("") == "(empty log)"
+
+
+def test_a_quiet_run_names_the_failed_script_job_and_its_error(tmp_path, monkeypatch):
+    """``snakemake -q`` writes no ``Error in rule`` block: the rule comes from the failed
+    script's name, its error from the job log written during the run."""
+    from datetime import datetime, timedelta
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "results/logs/plan").mkdir(parents=True)
+    (tmp_path / "results/logs/plan/make.log").write_text(
+        "INFO start\nTraceback (most recent call last):\n  File z\n"
+        "robomill.plan.choose.PlanInfeasible: plan.yaml: no candidate meets "
+        "constraints.min_stability_margin\n")
+    (tmp_path / "results/logs/plan/check.log").write_text("INFO fine\n")
+    start = (datetime.now() - timedelta(minutes=1)).strftime("%Y-%m-%dT%H%M%S")
+    slog = tmp_path / f"{start}.085317.snakemake.log"
+    slog.write_text("Execute 1 jobs...\nRuleException:\nCalledProcessError in file "
+                    "\"/w/workflow/rules/plan.smk\", line 100:\nCommand 'set -euo pipefail; "
+                    " /w/.venv/bin/python /t/.snakemake/scripts/tmppeoe0xvk.plan_make.py' "
+                    "returned non-zero exit status 1.\nExiting because a job execution failed.\n")
+    text = summarize_failures(str(slog))
+    assert "1 failed job(s)" in text
+    assert "- plan_make: robomill.plan.choose.PlanInfeasible: plan.yaml: no candidate meets" \
+        in text
+    assert "results/logs/plan/make.log" in text and "check.log" not in text

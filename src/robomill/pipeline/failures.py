@@ -93,6 +93,31 @@ def parse_failed_jobs(snakemake_log: str) -> list[FailedJob]:
     return jobs
 
 
+_QUIET_SCRIPT = re.compile(r"scripts/tmp\w+\.(?P<rule>\w+)\.py' returned non-zero")
+_RUN_START = re.compile(r"(?P<ts>\d{4}-\d\d-\d\dT\d{6})\.\d+\.snakemake\.log$")
+
+
+def quiet_failed_jobs(snakemake_log: str, snakemake_log_path: str | Path,
+                      logs_dir: str | Path = "results/logs") -> list[FailedJob]:
+    """Failed script jobs of a quiet run (``snakemake -q`` writes no ``Error in rule`` block,
+    only the failed script's command): the rule from the script's name, its log the job log
+    under ``logs_dir`` written during this run whose path spells the rule
+    (``results/logs/plan/make.log`` for ``plan_make``), else none named."""
+    from datetime import datetime
+
+    rules = list(dict.fromkeys(m["rule"] for m in _QUIET_SCRIPT.finditer(snakemake_log)))
+    m = _RUN_START.search(Path(snakemake_log_path).name)
+    start = datetime.strptime(m["ts"], "%Y-%m-%dT%H%M%S").timestamp() if m else 0.0
+    fresh = [p for p in Path(logs_dir).rglob("*.log") if p.stat().st_mtime >= start - 1.0]
+    jobs = []
+    for rule in rules:
+        own = [p for p in fresh
+               if "_".join(p.relative_to(logs_dir).with_suffix("").parts) == rule]
+        error = first_error_line(own[0].read_text(errors="replace")) if own else "(no log)"
+        jobs.append(FailedJob(rule, "", [str(p) for p in own], error, None))
+    return jobs
+
+
 def summarize_failures(snakemake_log_path: str | Path | list | None) -> str:
     """The summary text for the failed jobs recorded in ``snakemake_log_path`` (Snakemake 9
     passes ``onerror`` a list of log files: the first existing one is used)."""
@@ -101,7 +126,8 @@ def summarize_failures(snakemake_log_path: str | Path | list | None) -> str:
         snakemake_log_path = existing[0] if existing else None
     if not snakemake_log_path or not Path(snakemake_log_path).exists():
         return "robomill: the run failed (no Snakemake log to summarize)."
-    jobs = parse_failed_jobs(Path(snakemake_log_path).read_text(errors="replace"))
+    text = Path(snakemake_log_path).read_text(errors="replace")
+    jobs = parse_failed_jobs(text) or quiet_failed_jobs(text, snakemake_log_path)
     if not jobs:
         return (f"robomill: the run failed before any job ran; see {snakemake_log_path}")
     out = [f"==== robomill: {len(jobs)} failed job(s) ===="]
