@@ -27,6 +27,7 @@ path_summary: str = None  # results/plan/path_summary.csv
 binding: str = None  # results/plan/binding.csv
 check: str = None  # results/plan/check.csv
 check_summary: str = None  # results/plan/check_summary.csv
+misses: str = None  # results/plan/misses.csv: each out-of-sample miss and why
 templates: str = None  # notebooks/templates/ch7.yaml: the sentences rendered from check_summary
 fig_dir: str = None  # folder for this chapter's figures
 
@@ -56,6 +57,11 @@ num.table("comparison", "The plan's best removal rate beside the study's best at
           "constraints (results/plan/comparison.csv)")
 num.table("check", "Each prediction beside the outcome recorded under the same cut id "
           "(results/plan/check.csv)")
+why = pd.read_csv(misses)
+if len(why):
+    num.table("misses", "The out-of-sample outcomes outside their stated interval, with the "
+              "evidence of the run's files and what the prediction did not model "
+              "(results/plan/misses.csv)")
 
 cand = open_artefact(candidates, load=False)
 pmap = open_artefact(pose_map)
@@ -236,10 +242,12 @@ display(Markdown(say("check_table", ref_check=num.ref("check"))))
 display(num.caption("check"))
 if len(chk):
     display(chk)
-    misses = chk[~chk["in_sample"].astype(bool) & chk["held"].eq(False)]
-    display(Markdown(say("check_misses" if len(misses) else "check_no_misses")))
-    if len(misses):
-        display(misses)
+    if len(why):
+        display(Markdown(say("check_misses", ref_misses=num.ref("misses"))))
+        display(num.caption("misses"))
+        display(why)
+    else:
+        display(Markdown(say("check_no_misses")))
 else:
     display(Markdown(say("check_none")))
 num.check()

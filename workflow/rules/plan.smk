@@ -136,9 +136,12 @@ rule plan_check:
         **PLAN_NEXT_OUTCOMES,
         plan=PLAN_OUTPUTS["plan"],
         study=PLAN_OUTPUTS["study"],
+        # the band the impact test measured (attribute modal_band_hz), for the misses
+        candidates=PLAN_OUTPUTS["candidates"],
     output:
         check="results/plan/check.csv",
         summary="results/plan/check_summary.csv",
+        misses="results/plan/misses.csv",
     log:
         "results/logs/plan/check.log",
     benchmark:
@@ -170,6 +173,7 @@ use rule chapter as ch7 with:
         binding=PLAN_OUTPUTS["binding"],
         check="results/plan/check.csv",
         check_summary="results/plan/check_summary.csv",
+        misses="results/plan/misses.csv",
     output:
         **chapter_outputs("ch7"),
     log:
@@ -185,4 +189,5 @@ rule plan:
         PLAN_PROGRAM,
         "results/plan/check.csv",
         "results/plan/check_summary.csv",
+        "results/plan/misses.csv",
         "results/chapters/ch7.html",

@@ -16,6 +16,7 @@ from robomill.plan.check import (
     waviness_min_cycles,
 )
 from robomill.plan.evidence import read_verdicts
+from robomill.plan.misses import explain_misses
 
 log = setup(snakemake.log[0], "plan")
 inp, p = snakemake.input, snakemake.params
@@ -62,5 +63,10 @@ table = check_table(
 write_table(table, snakemake.output.check)
 summary = check_summary(table, tolerance, float(p.nominal_coverage))
 write_table(summary_table(summary), snakemake.output.summary)
+with xr.open_dataset(inp.candidates) as cand:
+    band = cand.attrs.get("modal_band_hz")
+band = tuple(float(b) for b in band) if band is not None and len(band) == 2 else None
+write_table(explain_misses(table, pd.read_csv(inp.plan), planned_run.verdicts, band),
+            snakemake.output.misses)
 log.info("%s", table.groupby(["in_sample", "quantity"])["held"].agg(["size", "sum"])
          .to_string() if len(table) else "no outcomes")
