@@ -24,7 +24,7 @@ from robomill.plan.feasible import (
     pose_checks,
 )
 from robomill.plan.path import best_fixed, best_path, edges
-from robomill.plan.poses import compliance_grid, cut_frames, direction_vectors
+from robomill.plan.poses import cut_frames, direction_vectors
 from robomill.plan.workobject import WorkObject
 from robomill.stiffness import solve_poses, tool_rotation_redundancy
 
@@ -47,9 +47,10 @@ class CutPath:
 
 
 def _scores(measured, cell, req, q, frame, rpm, depth_mm):
-    """Per node ``(S, R)``: pessimistic stability margin and stiffness normal to the wall."""
-    from robomill.plan.measured import compliance_bounds
+    """Per node ``(S, R)``: pessimistic stability margin and the tool tip's static stiffness
+    normal to the wall at its softest end (:mod:`robomill.plan.tooltip`)."""
     from robomill.plan.predict import critical_depth_m
+    from robomill.plan.tooltip import static_compliance_m_N
 
     S, R, n = q.shape
     flat = q.reshape(-1, n)
@@ -58,10 +59,12 @@ def _scores(measured, cell, req, q, frame, rpm, depth_mm):
                          np.array([rpm]), corners=True)
     if a is not None:
         out["stability_margin_low"] = (a["low"][:, 0] / (depth_mm * 1e-3) - 1).reshape(S, R)
-    if measured.has("joints"):
-        C = compliance_grid(cell.robot, flat, compliance_bounds(measured.joints)["high"])
+    comp = static_compliance_m_N(measured, cell, flat, req.robot_mode_max_hz)
+    if comp is not None:  # the softest end of the tool tip's static compliance
         nrm = frame[:, 1]
-        out["k_normal_low_N_m"] = (1.0 / np.einsum("i,bij,j->b", nrm, C, nrm)).reshape(S, R)
+        c_nn = np.max([np.einsum("i,bij,j->b", nrm, C, nrm) for C in comp.values()], axis=0)
+        with np.errstate(divide="ignore"):
+            out["k_normal_low_N_m"] = (1.0 / c_nn).reshape(S, R)
     return out
 
 
