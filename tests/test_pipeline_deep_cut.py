@@ -30,9 +30,9 @@ DESIGN = {"set": 1, "segment": 3, "direction": "px", "feed_mm_s": 3.0}  # s1_g3_
 
 def _default_centre_mm() -> list[float]:
     """The centre of the default study's cuts (the default impact-test point)."""
+    from robomill.io.synthetic_layout import synthetic_cuts
     from robomill.pipeline.config import load_config
     from robomill.synth.cell import cell_from_config
-    from robomill.synth.layout import synthetic_cuts
 
     cfg = load_config(REPO / "config.yaml")
     cell = cell_from_config(cfg)
