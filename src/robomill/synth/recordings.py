@@ -34,6 +34,10 @@ The simulation holds no content above its Nyquist frequency (12.5 kHz at 25 kHz)
 recording has none either.
 
 Each file's noise is seeded per cut (``[seed, 8, crc32(cut)]`` and ``[seed, 9, …]``).
+
+Reference: Kinsler, L. E.; Frey, A. R.; Coppens, A. B.; Sanders, J. V. *Fundamentals of
+Acoustics*, 4th ed. Wiley, New York, 2000 (§7.4, radiation from a baffled circular piston:
+at ka ≪ 1 the far-field pressure is ρ₀ S times the piston's acceleration over 2π r).
 """
 
 from __future__ import annotations
