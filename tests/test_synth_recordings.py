@@ -12,13 +12,15 @@ of a mode at f_v shows in milling at f_v + m f_t (f_t the tooth passing) and, as
 leave the cut, at its harmonics, so the frequency a sensor names must be one of
 ``m f_t + j f_v``.
 
-The chattering cut is the thesis cut s1_g3_px at 3 mm (12 times its design depth). At 4 mm
-(the deep cut of tests/test_pipeline_deep_cut.py) the speed the recordings recommend first,
-about 30 430 rpm, is at the edge of stability in the simulation (about 8 % of the tooth
-passages out of the cut, the largest off-harmonic force line about 5 % of the mean force):
-no speed of the family n = 60 f_c / (Z k) is plainly stable that deep. At 3 mm the first
-speed (k = 2 of the accelerometer's line, which puts the tooth passing on the force's chatter
-line) is stable, and the next ones (k = 3, 4: about 20 260 and 15 200 rpm) chatter.
+The chattering cut is the thesis cut s1_g3_px at 3 mm (12 times its design depth). The
+speed the recordings recommend first, about 30 400 rpm (k = 2 of their ≈ 2026 Hz line, i.e.
+the tooth passing on the force's ≈ 1013 Hz line), lies in the stable pocket that the spindle
+modes (2.1 kHz) open where their second tooth harmonic sits near them: in the simulation the
+cut is stable from about 29 000 to 32 000 rpm at 3 mm, and the next speeds of the family
+(k = 3, 4, 5: about 20 260, 15 200, 12 160 rpm) chatter. At 4 mm (the deep cut of
+tests/test_pipeline_deep_cut.py) the pocket narrows to about 31 000–32 500 rpm and the
+recommended 30 400 rpm is at its lower edge (stable or not with the cut's noise): the rule
+aims 3–4 % below the pocket's middle, because the line it reads sits below the spindle mode.
 """
 
 from __future__ import annotations
