@@ -143,3 +143,14 @@ def test_a_chattering_and_a_stable_cut_get_their_verdicts_and_the_speed_is_stabl
     rec = read_recording(again, "vibration")
     assert judge(rec.samples, rec.fs_hz, default_settings(), spindle_rpm=n,
                  flutes=FLUTES).verdict == "stable"
+
+
+def test_a_microphone_without_a_direction_is_refused_in_one_line(study, tmp_path):
+    from robomill.errors import ConfigError
+
+    config, cell = study
+    bad = copy.deepcopy(config)
+    bad["synth"]["recordings"]["direction"] = [0.0, 0.0, 0.0]
+    with pytest.raises(ConfigError, match=r"synth\.recordings\.direction.*non-zero"):
+        simulate_file(bad, _cut(bad, id="design"), tmp_path / "x.wav", "sound", cell=cell)
+    assert not (tmp_path / "x.wav").exists()

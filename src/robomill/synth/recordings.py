@@ -118,6 +118,11 @@ def simulate_sound(cell, cut, config: Mapping[str, Any]) -> tuple[np.ndarray, fl
     s = settings(config)
     sim, n = _record(cell, cut, config)
     u = np.asarray(s["direction"], float)
+    if not np.linalg.norm(u) > 0:
+        from robomill.errors import ConfigError
+
+        raise ConfigError(f"config key 'synth.recordings.direction': {list(u)} has no "
+                          "direction (expected a non-zero vector, base axes)")
     u = u / np.linalg.norm(u)
     r = float(s["distance_m"])
     gain = float(s["air_density_kg_m3"]) * float(s["radiating_area_m2"]) / (2 * np.pi * r)
