@@ -44,6 +44,7 @@ SECTIONS: tuple[tuple[tuple[str, ...], str], ...] = (
     (("synth", "impact"), "synth_impact"),
     (("synth", "ctrack"), "synth_ctrack"),
     (("synth", "loadtests"), "synth_loadtests"),
+    (("synth", "recordings"), "synth_recordings"),
     (("chapters",), "chapters"),
     (("book",), "book"),
     (("calibration",), "calibration"),

@@ -98,6 +98,34 @@ rule synth_dynamometer:
         "../scripts/synth_dynamometer.py"
 
 
+# The microphone's and the spindle accelerometer's recordings of the same cuts (off by
+# default: synth.recordings), one job for all, as the dynamometer's.
+# (in the layout's order: a cut's sound and vibration follow each other, integrated once)
+SYNTH_RECORDINGS = [
+    f for f in (PLAN.files if SYNTHETIC else []) if f["kind"] in ("sound", "vibration")
+]
+SYNTH_CUT_BY_ID = {c.id: c for c in CUTS}
+
+
+rule synth_recordings:
+    output:
+        [f"results/synthetic/raw/{f['path']}" for f in SYNTH_RECORDINGS],
+    log:
+        "results/logs/synth/recordings.log",
+    benchmark:
+        "results/benchmarks/rules/synth/recordings.tsv"
+    conda:
+        ENV
+    params:
+        cfg=SYNTH_CFG,
+        files=[
+            {"kind": f["kind"], "cut": SYNTH_CUT_BY_ID[f["cut"]].as_dict()}
+            for f in SYNTH_RECORDINGS
+        ],
+    script:
+        "../scripts/synth_recordings.py"
+
+
 rule synth_tracker:
     output:
         [f"results/synthetic/raw/tracker/{run}.csv" for run in SYNTH_TRACKER_RUNS],

@@ -18,8 +18,9 @@ from typing import Any
 from robomill.experiment import Cut, plan_cuts, tracker_run_id
 from robomill.settings import config_section
 
-SIMULATORS = ("profilometer", "dynamometer", "tracker", "impact", "ctrack", "loadtests")
-"""The six simulator modules of :mod:`robomill.synth` (none imported by planning)."""
+SIMULATORS = ("profilometer", "dynamometer", "tracker", "impact", "ctrack", "loadtests",
+              "recordings")
+"""The seven simulator modules of :mod:`robomill.synth` (none imported by planning)."""
 
 CTRACK_TABLES = ("circles", "home", "steps", "base", "loads", "accuracy")
 """The C-Track tables of the calibration protocol (one file each)."""
@@ -157,6 +158,16 @@ def instrument_files(config: Mapping[str, Any], instrument: str) -> list[dict[st
             files.append({"path": f"stiffness/{name}.yaml", "kind": "robot", "robot": name})
             files.append({"path": f"stiffness/load_tests_{name}.csv", "kind": "stiffness",
                           "robot": name})
+        return files
+    if instrument == "recordings":  # microphone and spindle accelerometer: off by default
+        s = _settings(config, "recordings")
+        files = []
+        for c in synthetic_cuts(config):
+            if s["sound"]:
+                files.append({"path": f"sound/{c.id}.wav", "kind": "sound", "cut": c.id})
+            if s["vibration"]:
+                files.append({"path": f"vibration/{c.id}.csv", "kind": "vibration",
+                              "cut": c.id, "fs_hz": float(s["accel_fs_hz"])})
         return files
     raise ValueError(f"unknown instrument {instrument!r} (one of {', '.join(SIMULATORS)})")
 
