@@ -4,6 +4,8 @@ below and a chattering cut above the limit narrow the critical-depth interval at
 to within their bracket and keep the truth inside; verdicts no member can agree with leave the
 prior interval and one line saying so."""
 
+import io
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -11,8 +13,8 @@ import yaml
 from scipy.optimize import brentq
 
 from robomill.kinematics import robot_from_mapping
-from robomill.plan.conditioning import member_kt_ranges, study_evidence
-from robomill.plan.evidence import in_sample
+from robomill.plan.conditioning import evidence_values, member_kt_ranges, study_evidence
+from robomill.plan.evidence import identified_cuts, in_sample
 from robomill.plan.measured import Measured
 from robomill.plan.poses import cut_frames
 from robomill.plan.predict import Cell, critical_depth_m
@@ -152,4 +154,23 @@ def test_member_ranges_by_hand():
                               np.array([True, False]), 1.0, 0.5, 2.0)
     assert lo[0] == pytest.approx(1 / 1.6) and hi[0] == pytest.approx(1 / 1.5)
     assert np.isnan(lo[1]) and np.isnan(hi[1])       # K_t >= 4/1.6 = 2.5 > K_t+ = 2: empty
-    assert in_sample(["s1", "plan_01"], ["s1"]).tolist() == [True, False]
+
+
+
+def test_evidence_cuts_are_in_sample_and_counted(planted):
+    a_true = true_limit_m(SPEED_RPM)
+    ev = evidence(planted, [("plan_01", "stable", 0.85 * a_true),
+                            ("plan_02", "chatter", 1.2 * a_true),
+                            ("plan_03", "undetermined", a_true)])
+    table = pd.read_csv(io.StringIO(ev.table.to_csv(index=False)))  # as read back
+    ident = identified_cuts(["s1"], table)
+    assert ident == {"s1", "plan_01", "plan_02"}
+    assert in_sample(["s1", "plan_01", "plan_03", "plan_04"], ident).tolist() == [
+        True, True, False, False]
+    v = evidence_values(table, {"stability_members": len(ev.kt_low),
+                                "stability_members_kept": ev.kept})
+    assert (v["n_used"], v["n_stable"], v["n_chatter"], v["n_left_out"]) == (2, 1, 1, 1)
+    assert v["evidence_case"] == "conditioned" and v["n_contradicting"] == 0
+    bad = evidence(planted, [("deep", "stable", 5 * a_true)])
+    v = evidence_values(bad.table, {"stability_members": 5, "stability_members_kept": 0})
+    assert v["evidence_case"] == "contradicted" and v["worst"].startswith("deep stable at")

@@ -132,24 +132,60 @@ def conditioned_depth(a_members_m: np.ndarray, kt_nominal: float, kt_low: np.nda
     return {"nominal": np.clip(nominal_m, low, high), "low": low, "high": high}
 
 
+def worst_contradiction(table: pd.DataFrame) -> str:
+    """The evidence cut whose verdict lies farthest outside the prior interval, in words
+    (``s2_g4_px stable at 0.5 mm where the interval's highest limit is 0.171 mm``); "" when
+    the prior interval admits every verdict."""
+    used = table[table["used"].astype(str).str.lower().isin(["true", "1"])]
+    bad = used[~used["prior_admits"].astype(str).str.lower().isin(["true", "1"])]
+    if not len(bad):
+        return ""
+    stable = (bad["verdict"] == "stable").to_numpy()
+    ratio = np.where(stable, bad["depth_mm"] / bad["a_crit_high_mm"],
+                     bad["a_crit_low_mm"] / bad["depth_mm"])
+    r = bad.iloc[int(np.nanargmax(ratio))]
+    end, val = (("highest", r["a_crit_high_mm"]) if r["verdict"] == "stable"
+                else ("lowest", r["a_crit_low_mm"]))
+    return (f"{r['cut']} {r['verdict']} at {r['depth_mm']:g} mm where the interval's {end} "
+            f"limit is {val:.3g} mm")
+
+
 def contradiction_note(table: pd.DataFrame) -> str:
     """The one line of a model whose every member contradicts a verdict: how many evidence
     cuts, how many the prior interval does not admit, and the worst of them."""
-    used = table[table["used"].astype(bool)]
-    bad = used[~used["prior_admits"].astype(bool)]
-    worst = ""
-    if len(bad):
-        ratio = np.where(bad["verdict"] == "stable", bad["depth_mm"] / bad["a_crit_high_mm"],
-                         bad["a_crit_low_mm"] / bad["depth_mm"])
-        r = bad.iloc[int(np.nanargmax(ratio))]
-        end = "highest" if r["verdict"] == "stable" else "lowest"
-        val = r["a_crit_high_mm"] if r["verdict"] == "stable" else r["a_crit_low_mm"]
-        worst = (f" (e.g. {r['cut']} {r['verdict']} at {r['depth_mm']:g} mm where the "
-                 f"interval's {end} limit is {val:.3g} mm)")
+    v = evidence_values(table, {})
+    worst = worst_contradiction(table)
     return (f"stability evidence: no member of the critical-depth interval agrees with the "
-            f"verdicts of the {len(used)} evidence cuts; {len(bad)} of them lie outside the "
-            f"interval at any parameters{worst}: the model contradicts its own observations, "
-            "the unconditioned interval is kept")
+            f"verdicts of the {v['n_used']} evidence cuts; {v['n_contradicting']} of them lie "
+            f"outside the interval at any parameters{f' (e.g. {worst})' if worst else ''}: "
+            "the model contradicts its own observations, the unconditioned interval is kept")
+
+
+def evidence_values(table: pd.DataFrame, attrs: Mapping) -> dict:
+    """What chapter 7 states about the evidence (``results/plan/evidence_used.csv`` and the
+    ``stability_*`` attributes of ``candidates.nc``): ``n_verdicts`` (cuts with a verdict),
+    ``n_used``, ``n_stable``, ``n_chatter`` (of those used), ``n_left_out`` (undetermined or
+    no prediction), ``n_contradicting`` (used, outside the prior interval), ``members``,
+    ``members_kept``, ``worst`` (:func:`worst_contradiction`) and ``evidence_case``:
+    ``conditioned`` (members kept), ``contradicted`` (none kept: the prior interval stays) or
+    ``none`` (no verdict entered)."""
+    def flag(col):
+        return table[col].astype(str).str.lower().isin(["true", "1"]) if len(table) else \
+            pd.Series(dtype=bool)
+
+    used = flag("used")
+    u = table[used] if len(table) else table
+    out = {"n_verdicts": len(table), "n_used": int(used.sum()),
+           "n_stable": int((u["verdict"] == "stable").sum()) if len(u) else 0,
+           "n_chatter": int((u["verdict"] == "chatter").sum()) if len(u) else 0,
+           "n_left_out": int(len(table) - used.sum()),
+           "n_contradicting": int((~flag("prior_admits")[used]).sum()) if len(u) else 0,
+           "members": int(attrs.get("stability_members", 0)),
+           "members_kept": int(attrs.get("stability_members_kept", 0)),
+           "worst": worst_contradiction(table) if len(table) else ""}
+    out["evidence_case"] = ("none" if not out["n_used"] else
+                            "conditioned" if out["members_kept"] else "contradicted")
+    return out
 
 
 def study_evidence(rows: Sequence[Mapping], a_members_m: np.ndarray, kt: tuple[float, ...],
