@@ -140,6 +140,8 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     wobj = req.work_object or BASE
     chosen, slot_notes = separate_slots(chosen, cand, req,
                                         study_slot_segments(cuts, experiment, wobj), wobj)
+    # the slots' renumbering (plan_01 …) again after the study's own plan_NN cuts
+    chosen["cut"] = after_study_ids(list(chosen["cut"].astype(str)), study_ids)
     if not len(chosen):
         raise PlanInfeasible(f"{req.path}: no chosen cut has a free place on the block: every "
                              "slot would cross the study's or leave the block "
