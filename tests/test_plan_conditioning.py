@@ -174,3 +174,5 @@ def test_evidence_cuts_are_in_sample_and_counted(planted):
     bad = evidence(planted, [("deep", "stable", 5 * a_true)])
     v = evidence_values(bad.table, {"stability_members": 5, "stability_members_kept": 0})
     assert v["evidence_case"] == "contradicted" and v["worst"].startswith("deep stable at")
+    prior_high = bad.table["a_crit_high_mm"].iloc[0]
+    assert v["model_error_factor"] == pytest.approx(5 * a_true * 1e3 / prior_high)

@@ -215,8 +215,9 @@ display(Markdown(Prose(load_templates("ch7", templates),
 outside = used[used["used"].astype(str).str.lower().eq("true")
                & used["prior_admits"].astype(str).str.lower().eq("false")]
 if len(outside):
-    display(outside[["cut", "verdict", "spindle_rpm", "depth_mm", "a_crit_low_mm",
-                     "a_crit_high_mm"]])
+    display(outside.sort_values("outside_factor", ascending=False)[
+        ["cut", "verdict", "spindle_rpm", "depth_mm", "a_crit_low_mm", "a_crit_high_mm",
+         "outside_factor"]])
 
 # %%
 from robomill.plan.binding import binding_values

@@ -39,7 +39,10 @@ nearest end.
 the stated interval cannot hold the truth at some evidence cut whatever the parameters: the
 update then keeps the prior interval and says so in one line
 (:attr:`StabilityEvidence.note`), which chapter 7 reports with the cuts whose verdict the
-prior interval does not admit (``prior_admits`` of ``results/plan/evidence_used.csv``).
+prior interval does not admit (``prior_admits`` of ``results/plan/evidence_used.csv``) and
+by how much it misses each: ``outside_factor`` = d_i / a⁺(i) for a stable cut above the
+interval's highest limit a⁺, a⁻(i) / d_i for a chattering cut below its lowest a⁻, else 1
+(the factor by which the critical depth would be off there, whatever the parameters).
 """
 
 from __future__ import annotations
@@ -51,7 +54,7 @@ import numpy as np
 import pandas as pd
 
 EVIDENCE_COLUMNS = ("cut", "verdict", "spindle_rpm", "depth_mm", "a_crit_low_mm",
-                    "a_crit_high_mm", "prior_admits", "used", "why", "source")
+                    "a_crit_high_mm", "prior_admits", "outside_factor", "used", "why", "source")
 """Columns of ``results/plan/evidence_used.csv``."""
 
 
@@ -140,10 +143,7 @@ def worst_contradiction(table: pd.DataFrame) -> str:
     bad = used[~used["prior_admits"].astype(str).str.lower().isin(["true", "1"])]
     if not len(bad):
         return ""
-    stable = (bad["verdict"] == "stable").to_numpy()
-    ratio = np.where(stable, bad["depth_mm"] / bad["a_crit_high_mm"],
-                     bad["a_crit_low_mm"] / bad["depth_mm"])
-    r = bad.iloc[int(np.nanargmax(ratio))]
+    r = bad.iloc[int(np.nanargmax(bad["outside_factor"].to_numpy(float)))]
     end, val = (("highest", r["a_crit_high_mm"]) if r["verdict"] == "stable"
                 else ("lowest", r["a_crit_low_mm"]))
     return (f"{r['cut']} {r['verdict']} at {r['depth_mm']:g} mm where the interval's {end} "
@@ -166,7 +166,9 @@ def evidence_values(table: pd.DataFrame, attrs: Mapping) -> dict:
     ``stability_*`` attributes of ``candidates.nc``): ``n_verdicts`` (cuts with a verdict),
     ``n_used``, ``n_stable``, ``n_chatter`` (of those used), ``n_left_out`` (undetermined or
     no prediction), ``n_contradicting`` (used, outside the prior interval), ``members``,
-    ``members_kept``, ``worst`` (:func:`worst_contradiction`) and ``evidence_case``:
+    ``members_kept``, ``worst`` (:func:`worst_contradiction`), ``model_error_factor`` (the
+    largest ``outside_factor``: by how much the interval would have to stretch, as a factor on
+    the critical depth, to admit every verdict; 1 when it admits them) and ``evidence_case``:
     ``conditioned`` (members kept), ``contradicted`` (none kept: the prior interval stays) or
     ``none`` (no verdict entered)."""
     def flag(col):
@@ -182,7 +184,9 @@ def evidence_values(table: pd.DataFrame, attrs: Mapping) -> dict:
            "n_contradicting": int((~flag("prior_admits")[used]).sum()) if len(u) else 0,
            "members": int(attrs.get("stability_members", 0)),
            "members_kept": int(attrs.get("stability_members_kept", 0)),
-           "worst": worst_contradiction(table) if len(table) else ""}
+           "worst": worst_contradiction(table) if len(table) else "",
+           "model_error_factor": float(u["outside_factor"].astype(float).max())
+           if len(u) else 1.0}
     out["evidence_case"] = ("none" if not out["n_used"] else
                             "conditioned" if out["members_kept"] else "contradicted")
     return out
@@ -222,10 +226,13 @@ def study_evidence(rows: Sequence[Mapping], a_members_m: np.ndarray, kt: tuple[f
         if not why and np.isnan(lo):
             why = "no critical depth predicted at the cut"
         admits = (hi >= d) if r["verdict"] == "stable" else (lo <= d)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            outside = max(1.0, d / hi if r["verdict"] == "stable" else lo / d)
         table.append({"cut": str(r["cut"]), "verdict": r["verdict"],
                       "spindle_rpm": float(r["spindle_rpm"]), "depth_mm": d,
                       "a_crit_low_mm": lo, "a_crit_high_mm": hi,
                       "prior_admits": bool(admits) if not why else None,
+                      "outside_factor": outside if not why else np.nan,
                       "used": not why, "why": why, "source": source})
     t = pd.DataFrame(table, columns=list(EVIDENCE_COLUMNS))
     used = t["used"].to_numpy(bool) if len(t) else np.zeros(0, bool)
