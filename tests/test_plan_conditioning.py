@@ -176,3 +176,23 @@ def test_evidence_cuts_are_in_sample_and_counted(planted):
     assert v["evidence_case"] == "contradicted" and v["worst"].startswith("deep stable at")
     prior_high = bad.table["a_crit_high_mm"].iloc[0]
     assert v["model_error_factor"] == pytest.approx(5 * a_true * 1e3 / prior_high)
+
+
+def test_chapter_states_the_update_or_the_contradiction(planted):
+    from pathlib import Path
+
+    from robomill.pipeline.prose import Prose, load_templates
+
+    templates = load_templates("ch7", Path("notebooks/templates/ch7.yaml"))
+    a_true = true_limit_m(SPEED_RPM)
+    ok = evidence(planted, [("s1", "stable", 0.85 * a_true), ("s2", "chatter", 1.2 * a_true)])
+    text = Prose(templates, evidence_values(ok.table, {"stability_members": len(ok.kt_low),
+                                                       "stability_members_kept": ok.kept}))(
+        "stability_evidence")
+    assert f"{ok.kept} agree with every verdict" in text and "1 stable, 1 chatter" in text
+    bad = evidence(planted, [("deep", "stable", 5 * a_true)])
+    text = Prose(templates, evidence_values(bad.table, {"stability_members": 5,
+                                                        "stability_members_kept": 0}))(
+        "stability_evidence")
+    assert "**None of the 5 members" in text and "contradicts its own observations" in text
+    assert "deep stable at" in text
