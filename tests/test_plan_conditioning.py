@@ -30,7 +30,7 @@ def true_limit_m(n_rpm: float) -> float:
     """The planted structure's critical depth at ``n_rpm`` in a slot, by hand: one mode along
     the wall normal y; the average directional factor of a full slot α_yy = −π K_r, so the
     regenerative force is F_y = −K_f a (y − y_T) with K_f = N K_t K_r / 4 = N K_rc / 4, and
-    the one-degree-of-freedom limit a = −1 / (2 K_f Re G(ω_c)) [Altintas 2012, §3.3] at the
+    the one-degree-of-freedom limit a = −1 / (2 K_f Re G(ω_c)) [Altintas 2012, ch. 4] at the
     chatter frequencies ω_c > ω_n whose phase ψ = arg G meets ω_c T = 3π + 2ψ + 2πj
     (T = 60/(N n)); the lowest over the lobes j."""
     kf = FLUTES * KRC * 1e6 / 4

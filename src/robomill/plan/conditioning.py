@@ -8,7 +8,7 @@ in turn (member e: the nominal parameters, the K_r ratio's ends, the joint stiff
 the modes' ends; a_e(p, n) at pose p and speed n for the nominal tangential coefficient
 K_t0), each at every tangential coefficient of the coefficient's interval
 [K_t⁻, K_t⁺]. The critical depth of the zero-order lobes is inversely proportional to K_t
-(a_lim = −2πΛ_R(1 + κ²)/(N K_t), [Altintas 2012, §4.3]), so that dimension is exact and
+(a_lim = −2πΛ_R(1 + κ²)/(N K_t), [Altintas 2012, ch. 4]), so that dimension is exact and
 continuous:
 
     a(e, K_t; p, n) = a_e(p, n) · K_t0 / K_t,    K_t ∈ [K_t⁻, K_t⁺]
@@ -43,6 +43,13 @@ prior interval does not admit (``prior_admits`` of ``results/plan/evidence_used.
 by how much it misses each: ``outside_factor`` = d_i / a⁺(i) for a stable cut above the
 interval's highest limit a⁺, a⁻(i) / d_i for a chattering cut below its lowest a⁻, else 1
 (the factor by which the critical depth would be off there, whatever the parameters).
+
+References
+----------
+Altintas 2012: Altintas, Y. *Manufacturing Automation: Metal Cutting Mechanics, Machine Tool
+Vibrations, and CNC Design*, 2nd ed. Cambridge University Press, 2012.
+Milanese 1991: Milanese, M.; Vicino, A. Optimal estimation theory for dynamic systems with
+set membership uncertainty: an overview. *Automatica* **27**(6), 997–1009, 1991.
 """
 
 from __future__ import annotations
