@@ -361,11 +361,19 @@ def test_planned_slots_lie_on_the_block_and_cross_nothing():
                  "rotations_deg": [-20.0, 0.0, 20.0]})
     reqd["constraints"]["max_waviness_um"] = None
     req = parse_request(reqd, "plan.yaml")
-    study = [Cut(id="study_1", set=None, segment=None, feed_mm_s=1.0, depth_mm=0.25,
+    # the study's cut is an earlier plan's (plan_02): the planned ids number on after it, and
+    # its verdict enters as evidence on the stability limit
+    study = [Cut(id="plan_02", set=None, segment=None, feed_mm_s=1.0, depth_mm=0.25,
                  direction="px", spindle_rpm=1e4,
                  flutes=2, tool_diameter_mm=6.0, start_mm=(680.0, 90.0, 199.75))]
     cell = cell_of(cf, req, None)
-    plan = make_plan(req, m, cell, study, {"cut_length_mm": 100.0, "tool_diameter_mm": 6.0})
+    plan = make_plan(req, m, cell, study, {"cut_length_mm": 100.0, "tool_diameter_mm": 6.0},
+                     stability=pd.Series({"plan_02": 1.0}))
+    ids = list(plan.plan["cut"])
+    assert ids == [f"plan_{i:02d}" for i in range(3, 3 + len(ids))]
+    assert [p.cut for p in plan.paths] == ids == [c["id"] for c in plan.manifest["cuts"]]
+    assert plan.evidence["cut"].tolist() == ["plan_02"]
+    assert plan.candidates.attrs["stability_evidence_cuts"] == int(plan.evidence["used"].sum())
     wobj = req.work_object
     slots = [((680.0, 90.0), (780.0, 90.0))]
     for p in plan.paths:

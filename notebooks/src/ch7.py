@@ -25,6 +25,7 @@ study: str = None  # results/plan/study_cuts.csv
 comparison: str = None  # results/plan/comparison.csv
 path_summary: str = None  # results/plan/path_summary.csv
 binding: str = None  # results/plan/binding.csv
+evidence: str = None  # results/plan/evidence_used.csv
 check: str = None  # results/plan/check.csv
 check_summary: str = None  # results/plan/check_summary.csv
 misses: str = None  # results/plan/misses.csv: each out-of-sample miss and why
@@ -201,6 +202,28 @@ display(chosen[[c for c in pcols if c in chosen]])
 # (`robomill.plan.binding`). The cuts of a learn plan
 # (`purpose: learn`), once run, join the identification (their raw folder added to
 # `data.raw_dirs`), and the next production plan states the same prediction's interval again.
+
+# %% [markdown]
+# Every cut of the study with a chatter verdict (`results/chatter/verdicts.csv`, the learn
+# cuts' among them once their folder joined the study) is evidence on the stability limit at
+# its own pose, speed and depth: stable, the true limit there is at least its depth; chatter,
+# at most; undetermined, nothing. The critical-depth interval is the envelope of a set of
+# members over the uncertain parameters, and the plan keeps only the members that agree with
+# every verdict (a set-membership update, `robomill.plan.conditioning`); which cuts entered is
+# in `results/plan/evidence_used.csv`.
+
+# %%
+from robomill.plan.conditioning import evidence_values
+
+used = pd.read_csv(evidence)
+display(Markdown(Prose(load_templates("ch7", templates),
+                       evidence_values(used, cand.attrs))("stability_evidence")))
+outside = used[used["used"].astype(str).str.lower().eq("true")
+               & used["prior_admits"].astype(str).str.lower().eq("false")]
+if len(outside):
+    display(outside.sort_values("outside_factor", ascending=False)[
+        ["cut", "verdict", "spindle_rpm", "depth_mm", "a_crit_low_mm", "a_crit_high_mm",
+         "outside_factor"]])
 
 # %%
 from robomill.plan.binding import binding_values

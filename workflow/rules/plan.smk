@@ -10,6 +10,7 @@ PLAN_REQUEST = config["plan"]["request"]
 # every cut's chatter verdict, one row per cut and recording (columns cut, verdict, chatter_hz,
 # source, evidence): the stability outcome of a run's cuts
 STUDY_VERDICTS = "results/chatter/verdicts.csv"
+STUDY_HAS_VERDICTS = any(STUDY_VERDICTS in map(str, r.output) for r in workflow.rules)
 PLAN_MEASURED = {
     **(
         {"modes": "results/modal/modes.csv", "modal_fit": "results/modal/frf_synth.nc"}
@@ -51,6 +52,9 @@ PLAN_OUTPUTS = {
     "path_summary": "results/plan/path_summary.csv",
     # the production plan's binding interval (robomill.plan.binding), beside an earlier plan's
     "binding": "results/plan/binding.csv",
+    # the study's cuts whose chatter verdicts conditioned the stability limit
+    # (robomill.plan.conditioning)
+    "evidence": "results/plan/evidence_used.csv",
 }
 # the controller program of the planned cuts and its stations.csv (robomill.plan.program)
 PLAN_PROGRAM = "results/plan/next/program"
@@ -78,6 +82,8 @@ rule plan_make:
     input:
         **PLAN_MEASURED,
         **({"binding_before": PLAN_BINDING_BEFORE} if PLAN_BINDING_BEFORE else {}),
+        # the study's chatter verdicts: evidence on the stability limit
+        **({"verdicts": STUDY_VERDICTS} if STUDY_HAS_VERDICTS else {}),
         request=PLAN_REQUEST,
         cell=CELL,
         study=STUDY,
@@ -119,11 +125,7 @@ rule plan_check:
         ),
         # the study's stability outcome: its chatter verdicts where a rule makes them, else
         # its force spectrum
-        **(
-            {"verdicts": STUDY_VERDICTS}
-            if any(STUDY_VERDICTS in map(str, r.output) for r in workflow.rules)
-            else {}
-        ),
+        **({"verdicts": STUDY_VERDICTS} if STUDY_HAS_VERDICTS else {}),
         **({"force_peaks": "results/forces/peaks.csv"} if has_kind("force") else {}),
         # the study's static deflection, where it tracked a cut loaded and in the air
         **(
@@ -138,6 +140,8 @@ rule plan_check:
         study=PLAN_OUTPUTS["study"],
         # the band the impact test measured (attribute modal_band_hz), for the misses
         candidates=PLAN_OUTPUTS["candidates"],
+        # the cuts whose verdicts the stability limit was conditioned on: in-sample
+        evidence=PLAN_OUTPUTS["evidence"],
     output:
         check="results/plan/check.csv",
         summary="results/plan/check_summary.csv",
@@ -171,6 +175,7 @@ use rule chapter as ch7 with:
         comparison=PLAN_OUTPUTS["comparison"],
         path_summary=PLAN_OUTPUTS["path_summary"],
         binding=PLAN_OUTPUTS["binding"],
+        evidence=PLAN_OUTPUTS["evidence"],
         check="results/plan/check.csv",
         check_summary="results/plan/check_summary.csv",
         misses="results/plan/misses.csv",

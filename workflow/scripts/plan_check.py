@@ -15,7 +15,7 @@ from robomill.plan.check import (
     summary_table,
     waviness_min_cycles,
 )
-from robomill.plan.evidence import read_verdicts
+from robomill.plan.evidence import identified_cuts, read_verdicts
 from robomill.plan.misses import explain_misses
 
 log = setup(snakemake.log[0], "plan")
@@ -54,9 +54,12 @@ study_run = RunOutcomes("", mean_forces=table("mean_forces"), force_peaks=table(
 study = pd.read_csv(inp.study)
 predicted = pd.concat([pd.read_csv(inp.plan), study], ignore_index=True)
 tolerance = float(p.tolerance)
+# in-sample: the study's cuts (they identified the models) and the cuts whose verdicts
+# conditioned the stability limit (results/plan/evidence_used.csv)
+identified = identified_cuts(study["cut"], pd.read_csv(inp.evidence))
 table = check_table(
     predicted, study=study_run, planned_run=planned_run, peaks=table("peaks"),
-    identified_cuts=study["cut"].astype(str), tolerance=tolerance,
+    identified_cuts=identified, tolerance=tolerance,
     chatter_fraction_of_mean=float(p.chatter_fraction_of_mean),
     waviness_min_cycles=waviness_min_cycles(
         p.fmin_cycles, float(p.waviness_noise["exclude_bins"])))

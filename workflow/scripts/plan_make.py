@@ -6,6 +6,7 @@ import pandas as pd
 import xarray as xr
 import yaml
 
+from robomill.errors import RawDataError
 from robomill.experiment import cut_endpoints_mm
 from robomill.forces.prediction import regression_from_means
 from robomill.io import write_artefact, write_table
@@ -14,6 +15,8 @@ from robomill.io.cell import read_cell
 from robomill.pipeline.runlog import setup
 from robomill.plan.binding import binding_table, read_before
 from robomill.plan.check import waviness_min_cycles
+from robomill.plan.conditioning import EVIDENCE_COLUMNS
+from robomill.plan.evidence import read_verdicts, verdict_stability
 from robomill.plan.extrapolation import reach_from_means
 from robomill.plan.make import make_plan
 from robomill.plan.measured import Measured, cut_mid_poses, gear_joint_amplitudes
@@ -70,9 +73,20 @@ slots = [np.asarray(cut_endpoints_mm(c, experiment), float) for c in cuts] if pl
 # an earlier plan's binding interval (config plan.binding_before): the narrowing is measured
 # on its binding prediction
 before = read_before(inp.binding_before) if "binding_before" in inp.keys() else None
+# the study's chatter verdicts condition the stability limit (robomill.plan.conditioning); a
+# file that breaks its contract: one line, and the prior interval
+stability = None
+if "verdicts" in inp.keys():
+    try:
+        stability = verdict_stability(read_verdicts(inp.verdicts))
+    except RawDataError as err:
+        log.warning("%s (the stability limit is not conditioned on verdicts)", err)
 plan = make_plan(req, measured, cell, cuts, experiment, robot_name=cell.robot.name,
                  reach=reach, study_slots=slots,
-                 binding_constraint=None if before is None else str(before["constraint"].iloc[-1]))
+                 binding_constraint=None if before is None else str(before["constraint"].iloc[-1]),
+                 stability=stability)
+if plan.candidates.attrs.get("stability_evidence_note"):
+    log.warning("%s", plan.candidates.attrs["stability_evidence_note"])
 inputs = [str(f) for f in inp]
 write_artefact(compact(plan.candidates), out.candidates, rule="plan_make", inputs=inputs,
                config_section=req.raw)
@@ -83,6 +97,8 @@ write_table(plan.pareto, out.pareto)
 write_table(plan.study, out.study)
 write_table(plan.comparison, out.comparison)
 write_table(plan.path_summary, out.path_summary)
+write_table(plan.evidence if plan.evidence is not None
+            else pd.DataFrame(columns=list(EVIDENCE_COLUMNS)), out.evidence)
 wobj = req.work_object or BASE
 header = (f"robomill plan of {req.path}: the planned cuts, ranked by removal rate; "
           f"robot {cell.robot.name}\ncheck it in the offline programming tool before running")

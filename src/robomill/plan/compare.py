@@ -14,8 +14,16 @@ import xarray as xr
 
 from robomill.experiment import Cut, cut_endpoints_mm, cut_process, cut_redundancy_deg
 from robomill.plan.choose import feasible
+from robomill.plan.conditioning import StabilityEvidence, study_evidence
 from robomill.plan.measured import Measured
-from robomill.plan.predict import Cell, apply_extrapolation, predict_grid
+from robomill.plan.poses import cut_frames
+from robomill.plan.predict import (
+    Cell,
+    apply_extrapolation,
+    critical_depth_m,
+    predict_grid,
+    solve_request,
+)
 from robomill.plan.request import PlanRequest
 
 PREDICTED = ["stability_margin", "stability_margin_low", "stability_margin_high",
@@ -28,6 +36,66 @@ STUDY_COLUMNS = ["cut", "spindle_rpm", "depth_mm", "feed_mm_s", "mrr_mm3_s", "re
                  *PREDICTED, "feasible"]
 
 
+def cut_request(cut: Cut, experiment: Mapping[str, Any], req: PlanRequest
+                ) -> tuple[PlanRequest, dict[str, Any]]:
+    """A request of the one candidate that is the study's cut ``cut``: its own place,
+    direction, speed, depth, feed, tool and redundancy angle (``redundancy_deg``, 0: the
+    cell's tool orientation); and its process parameters
+    (:func:`robomill.experiment.cut_process`)."""
+    p = cut_process(cut, experiment)
+    a, b = cut_endpoints_mm(cut, experiment)
+    milling = p["milling"] if p["milling"] in ("slot", "up", "down") else "slot"
+    one = replace(req, milling=milling, radial_immersion=float(p["radial_immersion"]),
+                  length_mm=float(np.linalg.norm(b - a)),
+                  direction_deg=np.array([float(p["direction_deg"])]),
+                  direction_names=(cut.id,),
+                  tool_diameter_mm=float(p["tool_diameter_mm"] or req.tool_diameter_mm),
+                  flutes=int(p["flutes"]), placements_mm=((a + b) / 2)[None],
+                  rotations_deg=np.array([cut_redundancy_deg(cut)]),
+                  spindle_rpm=np.array([p["spindle_rpm"]]),
+                  depth_mm=np.array([cut.depth_mm]), feed_mm_s=np.array([cut.feed_mm_s]),
+                  path_stations=3)
+    return one, p
+
+
+def stability_evidence(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: PlanRequest,
+                       measured: Measured, cell: Cell, stability: pd.Series,
+                       source: str = "results/chatter/verdicts.csv"
+                       ) -> StabilityEvidence | None:
+    """The study's chatter verdicts as a set-membership update of the critical depth
+    (:mod:`robomill.plan.conditioning`): each cut with a verdict (``stability``: 1 stable,
+    0 chatter, NaN undetermined per cut, :func:`robomill.plan.evidence.verdict_stability`)
+    and every member of the critical-depth interval at the cut's own pose and speed
+    (:func:`cut_request`); None where the modes or the coefficients were not measured."""
+    rows, cols, found = [], [], None
+    for cut in cuts:
+        if cut.id not in stability.index:
+            continue
+        v = float(stability[cut.id])
+        one, p = cut_request(cut, experiment, req)
+        row = {"cut": cut.id, "spindle_rpm": float(p["spindle_rpm"]),
+               "depth_mm": float(cut.depth_mm),
+               "verdict": "undetermined" if v != v else "stable" if v >= 0.5 else "chatter"}
+        poses = solve_request(one, cell)
+        a = None
+        if bool(poses.reachable.ravel()[0]):
+            n = poses.q_mid_rad.shape[-1]
+            a = critical_depth_m(measured, cell, one, poses.q_mid_rad.reshape(-1, n)[:1],
+                                 cut_frames(one.direction_deg)[:1], one.spindle_rpm,
+                                 members=True)
+        else:
+            row["why"] = "unreachable: no prediction at the cut's pose"
+        if a is not None:
+            found = a
+        rows.append(row)
+        cols.append(None if a is None else a["members"][:, 0, 0])
+    if found is None:
+        return None
+    E = found["members"].shape[0]
+    mem = np.stack([np.full(E, np.nan) if c is None else c for c in cols], 1)
+    return study_evidence(rows, mem, found["kt"], found["member_names"], source)
+
+
 def study_cuts_table(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: PlanRequest,
                      measured: Measured, cell: Cell, reach=None) -> pd.DataFrame:
     """Each of the study's cuts at its own place, direction, speed, depth, feed, tool and
@@ -36,19 +104,7 @@ def study_cuts_table(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: Pl
     widened as the plan's candidates, :func:`robomill.plan.predict.apply_extrapolation`)."""
     rows = []
     for cut in cuts:
-        p = cut_process(cut, experiment)
-        a, b = cut_endpoints_mm(cut, experiment)
-        milling = p["milling"] if p["milling"] in ("slot", "up", "down") else "slot"
-        one = replace(req, milling=milling, radial_immersion=float(p["radial_immersion"]),
-                      length_mm=float(np.linalg.norm(b - a)),
-                      direction_deg=np.array([float(p["direction_deg"])]),
-                      direction_names=(cut.id,),
-                      tool_diameter_mm=float(p["tool_diameter_mm"] or req.tool_diameter_mm),
-                      flutes=int(p["flutes"]), placements_mm=((a + b) / 2)[None],
-                      rotations_deg=np.array([cut_redundancy_deg(cut)]),
-                      spindle_rpm=np.array([p["spindle_rpm"]]),
-                      depth_mm=np.array([cut.depth_mm]), feed_mm_s=np.array([cut.feed_mm_s]),
-                      path_stations=3)
+        one, p = cut_request(cut, experiment, req)
         ds = predict_grid(one, measured, cell)
         if reach is not None:
             ds = apply_extrapolation(ds, one, measured, cell, reach)

@@ -13,8 +13,9 @@ intervals held against their nominal level.
   predicts, |δ·n| and |δ·ẑ|.
 * **In-sample**: an outcome whose data were used to identify a model the prediction rests on
   (the study's own cuts: their mean forces fitted the cutting coefficients, their tracker
-  runs the gear amplitudes, both enter every prediction of the cut). A planned cut's outcome
-  from its own run is out-of-sample.
+  runs the gear amplitudes, both enter every prediction of the cut; and the cuts whose
+  chatter verdicts conditioned the stability limit, :mod:`robomill.plan.conditioning`). A
+  planned cut's outcome from its own run is out-of-sample.
 * **Coverage**: the share of judged out-of-sample rows whose outcome held (inside the stated
   interval; for stability, the interval's verdict matching), beside the nominal level p of the
   intervals: consistent when the count held lies within the central 95 % range of a
@@ -103,6 +104,18 @@ def in_sample(cuts: Iterable[str], identified: Iterable[str]) -> np.ndarray:
     the study's own cuts)."""
     ident = {str(c) for c in identified}
     return np.array([str(c) in ident for c in cuts], bool)
+
+
+def identified_cuts(study_cuts: Iterable[str], evidence_used: pd.DataFrame | None
+                    ) -> set[str]:
+    """The cuts whose rows are in-sample: the study's own and those whose chatter verdicts
+    conditioned the stability limit (``used`` in ``results/plan/evidence_used.csv``,
+    :mod:`robomill.plan.conditioning`)."""
+    out = {str(c) for c in study_cuts}
+    if evidence_used is not None and len(evidence_used):
+        used = evidence_used["used"].astype(str).str.lower().isin(["true", "1"])
+        out |= set(evidence_used.loc[used, "cut"].astype(str))
+    return out
 
 
 def judged(check: pd.DataFrame) -> pd.Series:

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -17,7 +17,12 @@ import xarray as xr
 from robomill.experiment import Cut
 from robomill.plan.binding import binding_interval
 from robomill.plan.choose import PlanInfeasible, check_needs, choose, feasible
-from robomill.plan.compare import comparison_table, rotation_effect_pct, study_cuts_table
+from robomill.plan.compare import (
+    comparison_table,
+    rotation_effect_pct,
+    stability_evidence,
+    study_cuts_table,
+)
 from robomill.plan.cutpath import plan_cut_path
 from robomill.plan.measured import Measured, missing_predictions
 from robomill.plan.outputs import next_config, next_manifest, plan_table, pose_map
@@ -53,6 +58,9 @@ class Plan:
     paths: list = field(default_factory=list)
     path_summary: pd.DataFrame | None = None
     binding: dict[str, Any] = field(default_factory=dict)
+    evidence: pd.DataFrame | None = None
+    """The study's cuts whose chatter verdicts conditioned the stability limit
+    (``results/plan/evidence_used.csv``, :mod:`robomill.plan.conditioning`)."""
 
 
 def after_study_ids(ids: Sequence[str], study_ids: Sequence[str]) -> list[str]:
@@ -92,7 +100,8 @@ def learn_plan(cand: xr.Dataset, req: PlanRequest, measured: Measured, occupied,
 
 def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[Cut],
               experiment: Mapping[str, Any], *, robot_name: str = "the robot",
-              reach=None, study_slots=None, binding_constraint: str | None = None) -> Plan:
+              reach=None, study_slots=None, binding_constraint: str | None = None,
+              stability: pd.Series | None = None) -> Plan:
     """The whole plan (raises :class:`robomill.plan.choose.PlanInfeasible` with one line when a
     constraint needs a missing measurement, no candidate meets the constraints, or every
     candidate is extrapolated and the request does not allow it). ``reach``
@@ -100,9 +109,17 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     ``study_slots``: the study's cuts as segments ``(2, 3)`` [mm], which no planned slot may
     overlap (:mod:`robomill.plan.material`); ``binding_constraint``: the constraint whose
     interval :attr:`Plan.binding` measures (an earlier plan's; default the one that binds,
-    :func:`robomill.plan.binding.binding_interval`)."""
+    :func:`robomill.plan.binding.binding_interval`); ``stability``: the study's chatter
+    verdicts per cut (1 stable, 0 chatter, NaN undetermined;
+    :func:`robomill.plan.evidence.verdict_stability`), which condition every critical-depth
+    interval of the plan (:mod:`robomill.plan.conditioning`)."""
     missing = missing_predictions(measured)
     check_needs(req, missing)
+    evidence = None
+    if stability is not None and len(stability):
+        evidence = stability_evidence(cuts, experiment, req, measured, cell, stability)
+        if evidence is not None:
+            measured = replace(measured, stability_evidence=evidence)
     cand = predict_grid(req, measured, cell)
     if reach is not None:  # what the study measured (robomill.plan.extrapolation)
         cand = apply_extrapolation(cand, req, measured, cell, reach)
@@ -123,6 +140,8 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     wobj = req.work_object or BASE
     chosen, slot_notes = separate_slots(chosen, cand, req,
                                         study_slot_segments(cuts, experiment, wobj), wobj)
+    # the slots' renumbering (plan_01 …) again after the study's own plan_NN cuts
+    chosen["cut"] = after_study_ids(list(chosen["cut"].astype(str)), study_ids)
     if not len(chosen):
         raise PlanInfeasible(f"{req.path}: no chosen cut has a free place on the block: every "
                              "slot would cross the study's or leave the block "
@@ -152,6 +171,7 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     cand.attrs["extrapolation_harmonics"] = int(req.extrapolation["harmonics"])
     if reach is not None and reach.modal_band_hz is not None:
         cand.attrs["modal_band_hz"] = np.asarray(reach.modal_band_hz, float)
+    cand.attrs.update(evidence_attrs(evidence))
     cand.attrs["constraints"] = "; ".join(f"{k}={v}" for k, v in req.constraints.items()
                                           if v is not None)
     pmap = path_map(pose_map(cand, chosen.iloc[0]), cut_paths[0] if cut_paths else None, req,
@@ -160,4 +180,19 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     return Plan(cand, pmap, table, plan_table(front), study,
                 comparison_table(table, study, effect, pmap.sizes["rotation"]), manifest,
                 next_config(manifest), cut_paths,
-                path_summary(pose_failure_table(cand), table, effect, slot_notes), binding)
+                path_summary(pose_failure_table(cand), table, effect, slot_notes), binding,
+                None if evidence is None else evidence.table)
+
+
+def evidence_attrs(evidence) -> dict[str, Any]:
+    """The attributes of ``candidates.nc`` that say what conditioned the critical depth:
+    ``stability_evidence_cuts`` (cuts whose verdict entered), ``stability_members`` and
+    ``stability_members_kept`` (members of the interval, those agreeing with every verdict),
+    ``stability_evidence_note`` (one line when none agrees: the prior interval kept)."""
+    if evidence is None:
+        return {"stability_evidence_cuts": 0, "stability_members": 0,
+                "stability_members_kept": 0, "stability_evidence_note": ""}
+    return {"stability_evidence_cuts": evidence.n_used,
+            "stability_members": len(evidence.kt_low),
+            "stability_members_kept": evidence.kept,
+            "stability_evidence_note": evidence.note}

@@ -60,6 +60,9 @@ class Measured:
     interval; None: the coefficients' confidence corners."""
     level: float = schema_default("plan", "interval_level")
     """Nominal two-sided level of the plan's intervals (config ``plan.interval_level``)."""
+    stability_evidence: object | None = None
+    """The study's chatter verdicts as a set-membership update of the critical depth
+    (:class:`robomill.plan.conditioning.StabilityEvidence`); None: the prior interval."""
 
     def has(self, name: str) -> bool:
         """Whether ``name`` was measured: a table with rows; cutting coefficients must also

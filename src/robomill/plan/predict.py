@@ -89,13 +89,19 @@ def mode_ends(modes) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
 
 def critical_depth_m(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np.ndarray,
                      frames: np.ndarray, spindle_rpm: np.ndarray, *,
-                     corners: bool = True, absolute: bool = False
+                     corners: bool = True, absolute: bool = False, members: bool = False
                      ) -> dict[str, np.ndarray] | None:
     """Critical depth ``(B, S)`` [m] at postures ``q_rad`` ``(B, n)`` with cut frames
     ``frames`` ``(B, 3, 3)`` (columns feed, normal, axis): ``nominal``, ``low``, ``high``.
     None when the modes or the coefficients were not measured. ``absolute``: the absolute
     stability limit instead of the lobes at ``spindle_rpm`` (``(B, 1)``,
-    :func:`robomill.plan.extrapolation.absolute_depth_m`)."""
+    :func:`robomill.plan.extrapolation.absolute_depth_m`). ``members`` (with ``corners``):
+    also ``members`` ``(E, B, S)``, each parameter end's depth at the nominal K_t, their
+    names ``member_names`` and ``kt`` (K_t0, K_t⁻, K_t⁺), the prior set of
+    :mod:`robomill.plan.conditioning`. With ``measured.stability_evidence`` (an active
+    update) ``low``/``high`` are conditioned on the study's verdicts
+    (:func:`robomill.plan.conditioning.conditioned_depth`), and so is ``nominal`` where the
+    corners are computed."""
     if not (measured.has("modes") and measured.has("coefficients")):
         return None
     fn, zeta, k, shapes = modes_arrays(measured.modes)
@@ -121,24 +127,37 @@ def critical_depth_m(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np
         return np.minimum(batch_zoa_lobes(*args, spindle_rpm), a_mc[:, None])
 
     a_nom = lobes(scalings["nominal"], model(nom.Ktc, nom.Krc))
-    ends = [a_nom]
+    ends, names = [a_nom], ["nominal"]
     if corners:
         lo_c, hi_c = cb["low"], cb["high"]
-        for ktc, krc in ((hi_c.Ktc, lo_c.Krc), (lo_c.Ktc, hi_c.Krc)):  # K_r = Krc/Ktc ends
+        for which, (ktc, krc) in (("K_r low", (hi_c.Ktc, lo_c.Krc)),
+                                  ("K_r high", (lo_c.Ktc, hi_c.Krc))):  # K_r = Krc/Ktc ends
             # an interval end beyond a physical bound (a negative radial coefficient: the
             # tool pulled into the wall) is held at the bound, K_r >= 0
             krc = max(float(krc), 0.0)
             if not np.isclose(krc / ktc, nom.Krc / nom.Ktc, rtol=1e-12):
                 ends.append(lobes(scalings["nominal"], model(nom.Ktc, krc * nom.Ktc / ktc)))
+                names.append(which)
         for key in ("low", "high"):
             if key in scalings:
                 ends.append(lobes(scalings[key], model(nom.Ktc, nom.Krc)))
-        for modal in mode_ends(measured.modes):
+                names.append(f"joint compliance {key}")
+        for key, modal in zip(("low", "high"), mode_ends(measured.modes), strict=False):
             ends.append(lobes(scalings["nominal"], model(nom.Ktc, nom.Krc), modal))
+            names.append(f"modes {key}")
     stack = np.stack(ends)
-    return {"nominal": a_nom,
-            "low": stack.min(0) * nom.Ktc / max(cb["high"].Ktc, nom.Ktc),
-            "high": stack.max(0) * nom.Ktc / min(cb["low"].Ktc, nom.Ktc)}
+    kt = (nom.Ktc, min(cb["low"].Ktc, nom.Ktc), max(cb["high"].Ktc, nom.Ktc))
+    out = {"nominal": a_nom,
+           "low": stack.min(0) * nom.Ktc / max(cb["high"].Ktc, nom.Ktc),
+           "high": stack.max(0) * nom.Ktc / min(cb["low"].Ktc, nom.Ktc)}
+    ev = measured.stability_evidence
+    if corners and ev is not None and ev.active:
+        from robomill.plan.conditioning import conditioned_depth
+
+        out = conditioned_depth(stack, kt[0], ev.kt_low, ev.kt_high, a_nom)
+    if members and corners:
+        out.update({"members": stack, "member_names": tuple(names), "kt": kt})
+    return out
 
 
 def mean_forces_N(coeffs: CuttingCoefficients, req: PlanRequest, spindle_rpm, depth_mm,
@@ -176,17 +195,23 @@ def _dims(*names):
     return tuple(names)
 
 
+def solve_request(req: PlanRequest, cell: Cell):
+    """The request's candidate poses (:func:`robomill.plan.poses.solve_grid` with the
+    request's stations, the cell's joint limits and the request's margins)."""
+    return solve_grid(cell.robot, req.placements_mm, req.rotations_deg, req.direction_deg,
+                      req.length_mm, R0=cell.R0, q_seed_rad=cell.q_seed_rad,
+                      stations=req.path_stations, limits_deg=cell.joint_limits_deg,
+                      limit_margin_deg=req.joint_limit_margin_deg,
+                      min_wrist_angle_deg=req.min_wrist_angle_deg)
+
+
 def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
                  corners: bool = True) -> xr.Dataset:
     """Every candidate of the request with its predictions and intervals (the variables of
     ``results/plan/candidates.nc``; docs/artefacts.md). Predictions that cannot be made are
     NaN and listed in the ``missing_predictions`` attribute."""
     missing = missing_predictions(measured)
-    poses = solve_grid(cell.robot, req.placements_mm, req.rotations_deg, req.direction_deg,
-                       req.length_mm, R0=cell.R0, q_seed_rad=cell.q_seed_rad,
-                       stations=req.path_stations, limits_deg=cell.joint_limits_deg,
-                       limit_margin_deg=req.joint_limit_margin_deg,
-                       min_wrist_angle_deg=req.min_wrist_angle_deg)
+    poses = solve_request(req, cell)
     P, R, D = poses.reachable.shape
     S, A, V = len(req.spindle_rpm), len(req.depth_mm), len(req.feed_mm_s)
     frames = cut_frames(req.direction_deg)                                  # (D, 3, 3)
