@@ -190,3 +190,27 @@ def test_chapter_4_recordings_prose_follows_the_verdict_findings(tmp_path, setti
     assert "`sound/c1.flac` (cut c1, sound): **chatter** at 1240.0 Hz" in text
     assert "1 of 1 recordings agree" in text  # 1240 vs 1234.5 Hz: within 5 %
     assert "{" not in text
+
+
+def _comb_with_line(line_hz, amp_t, fs=20_000.0, seconds=4.0, seed=0):
+    """Tooth comb of 2 flutes at 6000 rpm (200 Hz) and one line of amplitude ``amp_t(t)``."""
+    t = np.arange(int(fs * seconds)) / fs
+    x = sum(np.cos(2 * np.pi * 200.0 * k * t + k) / k for k in range(1, 9))
+    x = x + amp_t(t) * np.sin(2 * np.pi * line_hz * t)
+    return x + 0.02 * np.random.default_rng(seed).standard_normal(t.size), fs
+
+
+@pytest.mark.parametrize(("line_hz", "growing", "verdict"), [
+    (500.0, False, "undetermined"),   # 5 x the 100 Hz rotation, steady: run-out or flip?
+    (500.0, True, "chatter"),         # the same line growing through the record
+    (537.0, False, "chatter"),        # off every spindle harmonic: regenerative chatter
+])
+def test_a_steady_line_on_a_spindle_harmonic_is_undetermined(settings, line_hz, growing,
+                                                             verdict):
+    amp = (lambda t: 0.1 + 0.9 * t / t[-1]) if growing else (lambda t: 0.6 + 0 * t)
+    x, fs = _comb_with_line(line_hz, amp)
+    v = judge(x, fs, settings, spindle_rpm=6000.0, flutes=2)
+    assert v.verdict == verdict, v.evidence
+    assert abs(v.line_hz - line_hz) < 3.0
+    if verdict == "undetermined":
+        assert "harmonic 5 (5 × 100.00 Hz)" in v.evidence and np.isnan(v.chatter_hz)

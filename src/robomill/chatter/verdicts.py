@@ -16,7 +16,7 @@ teeth):
    between the teeth are not excluded: with an even number of flutes they hold the
    period-doubling (flip) chatter at odd multiples of half the tooth-passing frequency
    [Insperger & Stépán 2011]; a run-out line strong enough to pass the threshold is
-   named as the line, and its growth (none) tells it apart.
+   named as the line, and its growth tells it apart (step 5).
 3. **Strongest non-harmonic line** ``f_c``: a local maximum of the mean spectrum that stands
    ``prominence_db`` above its local floor, farther than ``harmonic_halfwidth_hz`` (and two
    bins) from every comb line (:func:`robomill.spectral_peaks.prominent_peaks`: never a side
@@ -31,7 +31,13 @@ teeth):
    ``energy_ratio_threshold``, **stable** below, **undetermined** when the record has no comb
    (no speed given and none estimable), no harmonic content or is shorter than two windows.
 5. **Growth** of the line: least-squares slope of ``10 log10 E_c(t)`` over the active frames
-   [dB/s], and the change from the first to the last quarter [dB].
+   [dB/s], and the change from the first to the last quarter [dB]. A line above the
+   threshold on a harmonic of the spindle's rotation ``k n/60`` (the spindle's speed known,
+   not on the tooth comb) is where run-out puts forced lines (a structural mode near it
+   amplifies them, more so in sound and acceleration, which weigh vibration by ω²) and where
+   period-doubling chatter sits: it is **chatter** when it grows by at least
+   ``synchronous_growth_db`` from the first to the last quarter, else **undetermined** (a
+   steady line there cannot say which; a record of the cut's entry or a second speed can).
 6. **Speeds** for chatter: the tooth-passing frequency on the chatter frequency,
    ``n_k = 60 f_c / (Z k)``, k = 1, 2, … [Schmitz & Smith 2009, ch. 4], within
    ``speed_range_rpm``, nearest to the cut's speed first, at most ``max_speeds``.
@@ -79,6 +85,7 @@ class VerdictSettings(FromMapping):
     speed_range_rpm: tuple[float, float]
     max_speeds: int
     speed_tolerance: float
+    synchronous_growth_db: float
 
 
 def default_settings() -> VerdictSettings:
@@ -336,6 +343,18 @@ def judge(signal: np.ndarray, fs_hz: float, settings: VerdictSettings, *,
     rel = "≥" if ratio >= s.energy_ratio_threshold else "<"
     out.evidence = (f"strongest non-harmonic line {f_c:.1f} Hz: energy ratio {ratio:.3g} {rel} "
                     f"threshold {s.energy_ratio_threshold:g}{growth}; {comb_text}")
+    spin = (rpm / 60.0 * comb / nominal) if np.isfinite(rpm) else (
+        comb if not z else float("nan"))
+    k_sync = round(f_c / spin) if np.isfinite(spin) and spin > 0 else 0
+    synchronous = k_sync >= 1 and abs(f_c - k_sync * spin) <= w_h
+    if ratio >= s.energy_ratio_threshold and synchronous and not (
+            np.isfinite(out.growth_db) and out.growth_db >= s.synchronous_growth_db):
+        out.verdict = "undetermined"
+        out.evidence += (f"; the line is the spindle rotation's harmonic {k_sync} "
+                         f"({k_sync} × {spin:.2f} Hz), where run-out lines and period-doubling "
+                         f"chatter both sit, and it grows less than "
+                         f"{s.synchronous_growth_db:g} dB: this record cannot tell them apart")
+        return out
     if ratio >= s.energy_ratio_threshold:
         out.verdict, out.chatter_hz = "chatter", f_c
         out.tooth_targets_hz = [f_c / k for k in range(1, 6)]
