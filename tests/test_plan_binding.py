@@ -78,9 +78,10 @@ def test_the_narrowing_is_stated_only_on_the_same_prediction():
     before = binding_table({"constraint": "max_force_N", "width": 40.0, "low": 60.0,
                             "high": 100.0}, "production", 45, 1)
     after = binding_table({"constraint": "max_force_N", "width": 10.0, "low": 75.0,
-                           "high": 85.0}, "production", 51, 2, before)
+                           "high": 85.0, "width_same_cut": 16.0}, "production", 51, 2, before)
     assert list(after["when"]) == ["before", "now"]
-    assert after["narrowing"].iloc[-1] == pytest.approx(1 - 10.0 / 40.0)
+    # measured at the earlier binding cut (width 16 there now), not at the new binding cut
+    assert after["narrowing"].iloc[-1] == pytest.approx(1 - 16.0 / 40.0)
     assert after["raw_folders"].iloc[-1] == 2 and after["study_cuts"].iloc[-1] == 51
     other = binding_table({"constraint": "min_stability_margin", "width": 0.1}, "production",
                           51, 2, before)
@@ -120,7 +121,8 @@ def test_a_learn_round_narrows_the_binding_force_interval_to_the_planted_scatter
     assert lo_b <= planted <= hi_b and lo_a <= planted <= hi_a
     ideal = 2 * 1.96 * sigma_N
     assert hi_a - lo_a <= 1.5 * ideal
-    narrowing = binding_table({"constraint": "max_force_N", "width": hi_a - lo_a},
+    narrowing = binding_table({"constraint": "max_force_N", "width": hi_a - lo_a,
+                               "width_same_cut": hi_a - lo_a},
                               "production", 17, 2,
                               binding_table({"constraint": "max_force_N",
                                              "width": hi_b - lo_b}, "production", 9, 1)
@@ -130,6 +132,31 @@ def test_a_learn_round_narrows_the_binding_force_interval_to_the_planted_scatter
     lo_c, hi_c = width(np.concatenate([study_c, study_c[:8]]),
                        np.vstack([F_study, measure(study_c[:8])]))
     assert hi_c - lo_c > 1.5 * ideal
+
+
+def test_the_narrowing_is_measured_at_the_earlier_binding_cut():
+    """The earlier plan bound at placement 1, 20 000 rpm (width 0.40 of the margin); the new
+    plan's own binding cut is elsewhere. The narrowing reads the new candidates at the earlier
+    cut: there the margin's interval is [0.35, 0.55] (width 0.20): 50 %."""
+    from robomill.plan.binding import same_cut_width
+
+    req = SimpleNamespace(constraints={"min_stability_margin": 0.2, "max_force_N": 100.0})
+    b0 = binding_interval(_candidates(), req, ROW, "min_stability_margin")
+    assert (b0["i_placement"], b0["spindle_rpm"]) == (1, 20000.0)
+    before = binding_table(b0, "learn", 45, 1)
+    after_ds = _candidates()
+    after_ds["stability_margin_low"][1, 1] = 0.35
+    after_ds["stability_margin_high"][1, 1] = 0.55
+    w = same_cut_width(after_ds, req, before)
+    assert w == pytest.approx(0.20)
+    new_cut = binding_interval(after_ds, req, pd.Series({"cut": "P9", "i_placement": 0,
+                                                         "spindle_rpm": 10000.0}),
+                               "min_stability_margin")
+    table = binding_table({**new_cut, "width_same_cut": w}, "production", 49, 2, before)
+    assert table["narrowing"].iloc[-1] == pytest.approx(0.5)
+    # the earlier cut's speed is not on another request's grid: no narrowing stated
+    other = after_ds.assign_coords(spindle_rpm=[11000.0, 21000.0])
+    assert np.isnan(same_cut_width(other, req, before))
 
 
 def test_chapter_7_states_before_after_and_the_narrowing():
@@ -142,10 +169,11 @@ def test_chapter_7_states_before_after_and_the_narrowing():
     before = binding_table({**row, "constraint": "max_force_N", "low": 60.0, "high": 100.0,
                             "width": 40.0}, "production", 45, 1)
     after = binding_table({**row, "constraint": "max_force_N", "low": 75.0, "high": 85.0,
-                           "width": 10.0}, "production", 51, 2, before)
+                           "width": 10.0, "width_same_cut": 10.0}, "production", 51, 2, before)
     templates = load_templates("ch7", Path("notebooks/templates/ch7.yaml"))
     text = Prose(templates, binding_values(after))("binding")
-    assert "[60, 100] (width 40)" in text and "[75, 85] at P1 (width 10)" in text
+    assert "[60, 100] (width 40)" in text and "width 10 at that cut" in text
+    assert "cut P1 has it in [75, 85] (width 10)" in text
     assert "**75 %**" in text and "51 cuts from 2 raw folders" in text
     alone = Prose(templates, binding_values(before))("binding")
     assert "[60, 100] (width 40, limit 100)" in alone and "narrowed" not in alone

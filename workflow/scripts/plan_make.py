@@ -84,6 +84,7 @@ if "verdicts" in inp.keys():
 plan = make_plan(req, measured, cell, cuts, experiment, robot_name=cell.robot.name,
                  reach=reach, study_slots=slots,
                  binding_constraint=None if before is None else str(before["constraint"].iloc[-1]),
+                 binding_before=before,
                  stability=stability)
 if plan.candidates.attrs.get("stability_evidence_note"):
     log.warning("%s", plan.candidates.attrs["stability_evidence_note"])

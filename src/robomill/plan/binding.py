@@ -19,9 +19,11 @@ of ``purpose: learn`` run, their raw folder added to ``data.raw_dirs``) narrows 
 
     narrowing = 1 − w_after / w_before
 
-measured on the same prediction (the binding prediction of the earlier plan, taken at the
-new plan's binding cut), so that a change of which constraint binds does not pass for a
-narrowing.
+measured on the same prediction at the same cut: the earlier plan's binding prediction at its
+binding cut (the grid point ``i_placement, i_rotation, i_direction, spindle_rpm, depth_mm,
+feed_mm_s`` stored in its ``binding.csv``), before and after, so that neither a change of which
+constraint binds nor a move of the binding cut passes for a narrowing (``width_same_cut``: the
+after width there; the new binding cut's own interval is stated beside it).
 """
 
 from __future__ import annotations
@@ -37,7 +39,9 @@ from robomill.plan.choose import CONSTRAINT_VARS
 from robomill.plan.request import PlanRequest
 
 COLUMNS = ("when", "purpose", "cut", "constraint", "prediction", "limit", "low", "high",
-           "width", "pessimistic", "slack", "binds", "study_cuts", "raw_folders", "narrowing")
+           "width", "pessimistic", "slack", "binds", "study_cuts", "raw_folders", "narrowing",
+           "i_placement", "i_rotation", "i_direction", "spindle_rpm", "depth_mm", "feed_mm_s",
+           "width_same_cut")
 """Columns of ``results/plan/binding.csv``."""
 
 
@@ -118,26 +122,56 @@ def binding_interval(ds: xr.Dataset, req: PlanRequest, row: pd.Series,
         lo, hi = _value(ds, lo_name, row), _value(ds, hi_name, row)
         cand = {"cut": str(row["cut"]), "constraint": key, "prediction": what,
                 "limit": float(lim), "low": lo, "high": hi, "width": hi - lo,
-                "pessimistic": pess, "slack": float(slack), "binds": binds}
+                "pessimistic": pess, "slack": float(slack), "binds": binds,
+                **{f"i_{d}": int(row[f"i_{d}"]) for d in ("placement", "rotation", "direction")
+                   if pd.notna(row.get(f"i_{d}"))},
+                **{d: float(row[d]) for d in ("spindle_rpm", "depth_mm", "feed_mm_s")
+                   if pd.notna(row.get(d))}}
         if best is None or cand["slack"] < best["slack"]:
             best = cand
     return best or {}
 
 
+def same_cut_width(ds: xr.Dataset, req: PlanRequest, before: pd.DataFrame | None
+                   ) -> float:
+    """The width now of the earlier plan's binding prediction at its binding cut (the grid
+    point its ``binding.csv`` stores); NaN without one, or where that point is not on this
+    plan's grid (another request)."""
+    if before is None or before.empty:
+        return float("nan")
+    b = before.iloc[-1]
+    need = [f"i_{d}" if d in ("placement", "rotation", "direction") else d
+            for d in ("placement", "rotation", "direction", "spindle_rpm", "depth_mm",
+                      "feed_mm_s") if d in ds.dims]
+    if not need or not all(k in b.index and pd.notna(b[k]) for k in need):
+        return float("nan")
+    for d in ("spindle_rpm", "depth_mm", "feed_mm_s"):  # on this grid, else another request
+        if d in ds.dims and not np.isclose(np.asarray(ds[d].values, float), float(b[d]),
+                                           rtol=1e-9).any():
+            return float("nan")
+    try:
+        got = binding_interval(ds, req, b, str(b["constraint"]))
+    except (KeyError, IndexError, ValueError):
+        return float("nan")
+    return float(got["width"]) if got else float("nan")
+
+
 def binding_table(now: dict[str, object], purpose: str, study_cuts: int, raw_folders: int,
                   before: pd.DataFrame | None = None) -> pd.DataFrame:
-    """``results/plan/binding.csv``: the row ``now`` (this plan's binding interval) and, where
-    an earlier plan's ``binding.csv`` is given, its ``now`` row as ``before``; ``narrowing``
-    1 − w_now / w_before on the row ``now`` (NaN without an earlier plan, or when the earlier
-    plan's binding constraint is not the one measured now)."""
+    """``results/plan/binding.csv``: the row ``now`` (this plan's binding interval, with
+    ``width_same_cut`` from :func:`same_cut_width`) and, where an earlier plan's
+    ``binding.csv`` is given, its ``now`` row as ``before``; ``narrowing``
+    1 − width_same_cut / w_before on the row ``now`` (NaN without an earlier plan or its
+    binding cut on this grid)."""
     rows = []
     narrowing = np.nan
     if before is not None and not before.empty:
         b = before.iloc[-1].to_dict()
         b.update({"when": "before", "narrowing": np.nan})
         rows.append(b)
-        if (now.get("constraint") == b.get("constraint") and float(b["width"]) > 0):
-            narrowing = 1.0 - float(now["width"]) / float(b["width"])
+        w_same = float(now.get("width_same_cut", np.nan))
+        if np.isfinite(w_same) and float(b["width"]) > 0:
+            narrowing = 1.0 - w_same / float(b["width"])
     rows.append({"when": "now", "purpose": purpose, **now, "study_cuts": int(study_cuts),
                  "raw_folders": int(raw_folders), "narrowing": narrowing})
     return pd.DataFrame(rows).reindex(columns=list(COLUMNS))
@@ -186,6 +220,7 @@ def binding_values(table: pd.DataFrame) -> dict[str, object]:
     b = before.iloc[-1]
     out.update({"before_low": float(b["low"]), "before_high": float(b["high"]),
                 "before_width": float(b["width"]), "before_cut": b["cut"],
+                "width_same_cut": float(r.get("width_same_cut", np.nan)),
                 "before_study_cuts": int(b["study_cuts"]),
                 "before_constraint": b["constraint"]})
     if np.isfinite(float(r["narrowing"])):

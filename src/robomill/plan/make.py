@@ -15,7 +15,7 @@ import pandas as pd
 import xarray as xr
 
 from robomill.experiment import Cut
-from robomill.plan.binding import binding_interval
+from robomill.plan.binding import binding_interval, same_cut_width
 from robomill.plan.choose import PlanInfeasible, check_needs, choose, feasible
 from robomill.plan.compare import (
     comparison_table,
@@ -101,7 +101,8 @@ def learn_plan(cand: xr.Dataset, req: PlanRequest, measured: Measured, occupied,
 def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[Cut],
               experiment: Mapping[str, Any], *, robot_name: str = "the robot",
               reach=None, study_slots=None, binding_constraint: str | None = None,
-              stability: pd.Series | None = None) -> Plan:
+              stability: pd.Series | None = None,
+              binding_before: pd.DataFrame | None = None) -> Plan:
     """The whole plan (raises :class:`robomill.plan.choose.PlanInfeasible` with one line when a
     constraint needs a missing measurement, no candidate meets the constraints, or every
     candidate is extrapolated and the request does not allow it). ``reach``
@@ -109,8 +110,9 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     ``study_slots``: the study's cuts as segments ``(2, 3)`` [mm], which no planned slot may
     overlap (:mod:`robomill.plan.material`); ``binding_constraint``: the constraint whose
     interval :attr:`Plan.binding` measures (an earlier plan's; default the one that binds,
-    :func:`robomill.plan.binding.binding_interval`); ``stability``: the study's chatter
-    verdicts per cut (1 stable, 0 chatter, NaN undetermined;
+    :func:`robomill.plan.binding.binding_interval`; ``binding_before``: that plan's
+    ``binding.csv``, whose binding cut the narrowing is measured at); ``stability``: the
+    study's chatter verdicts per cut (1 stable, 0 chatter, NaN undetermined;
     :func:`robomill.plan.evidence.verdict_stability`), which condition every critical-depth
     interval of the plan (:mod:`robomill.plan.conditioning`)."""
     missing = missing_predictions(measured)
@@ -137,6 +139,8 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
         prod_first["cut"] = after_study_ids([str(prod_first["cut"])], study_ids)[0]
     binding = ({} if prod_first is None
                else binding_interval(cand, req, prod_first, binding_constraint))
+    if binding:  # the earlier plan's binding prediction at its own binding cut, now
+        binding["width_same_cut"] = same_cut_width(cand, req, binding_before)
     wobj = req.work_object or BASE
     chosen, slot_notes = separate_slots(chosen, cand, req,
                                         study_slot_segments(cuts, experiment, wobj), wobj)
