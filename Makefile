@@ -8,7 +8,7 @@ JOBS ?= 2
 SNAKEMAKE := $(BIN)/snakemake
 CHAPTER ?=
 
-.PHONY: all test test-fast test-cluster report bench plan-check lock lint fmt why explore kernel clean venv \
+.PHONY: all test test-fast test-cluster report bench plan-check learn-round lock lint fmt why explore kernel clean venv \
 	notebooks
 
 all: $(STAMP)
@@ -57,6 +57,10 @@ UV ?= $(shell command -v uv || echo $(BIN)/uv)
 # the plan checked through the next run's files on two studies: pooled out-of-sample coverage
 plan-check: $(STAMP)
 	$(BIN)/python benchmarks/plan_coverage.py --out results/benchmarks
+
+# a learn round on the default study and the narrowing of the binding interval it measured
+learn-round: $(STAMP)
+	$(BIN)/python benchmarks/learn_round.py --out results/benchmarks
 
 lock:
 	$(UV) pip compile pyproject.toml --extra dev --excludes environment.excludes --generate-hashes --universal --python-version 3.11 -q -o environment.lock
