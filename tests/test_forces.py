@@ -442,6 +442,12 @@ def test_gather_of_a_free_design_uses_each_cuts_chip_model():
         assert list(m2["in_fit"]) == [c not in chattered for c in m2["cut"]]
         err = max(abs(r.value / K.as_dict()[r.name] - 1) for r in c2.itertuples())
         assert (err < 1e-6) == exact, err
+    # three cuts at two chip loads, one of them chattering: without it nothing is
+    # identified, so all three stay in (the design promised coefficients)
+    few = [spoiled[i] for i in (0, 1, 4)]
+    m3, c3 = (lambda r: (r[2], r[4]))(gather_force_study(few, flutes=2, processes=processes,
+                                                          chattered=[bad.attrs["cut"]]))
+    assert m3["in_fit"].all() and np.isfinite(c3["value"]).all()
     h1 = harmonics[harmonics["harmonic"] == 1]
     assert list(h1["f_hz"]) == [1.0 + i for i in range(c.size)]  # each cut's own line
     assert len(harmonics) == sum(3 - (i % 2) for i in range(c.size))  # no padded rows

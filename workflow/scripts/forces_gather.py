@@ -35,6 +35,10 @@ if chattered:
 spectra, peaks, means, harmonics, coeffs = gather_force_study(
     datasets, flutes=int(exp["flutes"]), confidence=float(s["confidence"]),
     processes=processes, chattered=chattered)
+kept = sorted(set(chattered) & set(means.loc[means["in_fit"], "cut"].astype(str)))
+if kept:
+    log.warning("cuts judged to chatter kept in the coefficients' identification (without "
+                "them the other cuts identify nothing): %s", ", ".join(kept))
 out = snakemake.output
 write_artefact(spectra, out.spectra, rule="forces_gather", inputs=snakemake.input.cuts,
                config_section=s)

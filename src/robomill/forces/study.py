@@ -264,6 +264,9 @@ def gather_force_study(cut_datasets: list, *, flutes: int,
                                               else spectra["harmonic_hz"].values[i],
                                               strict=True) if np.isfinite(f)])
     fit = np.array([c not in set(chattered) for c in ids], bool)
+    if (not_identified_reason(means["feed_per_tooth_mm"].to_numpy()[fit]) is not None
+            and not_identified_reason(means["feed_per_tooth_mm"].to_numpy()) is None):
+        fit[:] = True  # without the chattering cuts the design identifies nothing: keep them
     means["in_fit"] = fit
     why = not_identified_reason(means["feed_per_tooth_mm"].to_numpy()[fit])
     if why is None:
