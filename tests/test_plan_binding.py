@@ -149,6 +149,9 @@ def test_the_narrowing_is_measured_at_the_earlier_binding_cut():
     after_ds["stability_margin_high"][1, 1] = 0.55
     w = same_cut_width(after_ds, req, before)
     assert w == pytest.approx(0.20)
+    # as read back from binding.csv (6 significant digits) the point is the grid's
+    rounded = before.assign(spindle_rpm=before["spindle_rpm"] * (1 + 3e-7))
+    assert same_cut_width(after_ds, req, rounded) == pytest.approx(0.20)
     new_cut = binding_interval(after_ds, req, pd.Series({"cut": "P9", "i_placement": 0,
                                                          "spindle_rpm": 10000.0}),
                                "min_stability_margin")

@@ -145,10 +145,14 @@ def same_cut_width(ds: xr.Dataset, req: PlanRequest, before: pd.DataFrame | None
                       "feed_mm_s") if d in ds.dims]
     if not need or not all(k in b.index and pd.notna(b[k]) for k in need):
         return float("nan")
+    b = b.copy()
     for d in ("spindle_rpm", "depth_mm", "feed_mm_s"):  # on this grid, else another request
-        if d in ds.dims and not np.isclose(np.asarray(ds[d].values, float), float(b[d]),
-                                           rtol=1e-9).any():
-            return float("nan")
+        if d in ds.dims:  # (the CSV keeps 6 significant digits: the grid value it rounds)
+            grid = np.asarray(ds[d].values, float)
+            near = np.isclose(grid, float(b[d]), rtol=1e-5)
+            if not near.any():
+                return float("nan")
+            b[d] = float(grid[np.argmax(near)])
     try:
         got = binding_interval(ds, req, b, str(b["constraint"]))
     except (KeyError, IndexError, ValueError):
