@@ -1,6 +1,7 @@
 """Force model, chunked spectra, peaks and cutting-coefficient identification (thesis §3.1)."""
 
 import numpy as np
+import pandas as pd
 import pytest
 import scipy.signal
 
@@ -448,6 +449,11 @@ def test_gather_of_a_free_design_uses_each_cuts_chip_model():
     m3, c3 = (lambda r: (r[2], r[4]))(gather_force_study(few, flutes=2, processes=processes,
                                                           chattered=[bad.attrs["cut"]]))
     assert m3["in_fit"].all() and np.isfinite(c3["value"]).all()
+    from robomill.forces.study import force_record_chatter
+
+    v = pd.DataFrame({"cut": ["a", "a", "b", "c"], "kind": ["force", "sound", "sound", "force"],
+                      "verdict": ["stable", "chatter", "chatter", "chatter"]})
+    assert force_record_chatter(v) == ["c"]
     h1 = harmonics[harmonics["harmonic"] == 1]
     assert list(h1["f_hz"]) == [1.0 + i for i in range(c.size)]  # each cut's own line
     assert len(harmonics) == sum(3 - (i % 2) for i in range(c.size))  # no padded rows

@@ -12,7 +12,7 @@ from robomill.forces.coefficients import (  # noqa: E402
     identification_status,
     not_identified_sentence,
 )
-from robomill.forces.study import gather_force_study  # noqa: E402
+from robomill.forces.study import force_record_chatter, gather_force_study  # noqa: E402
 from robomill.io import open_artefact, write_artefact, write_table  # noqa: E402
 from robomill.study import load_study  # noqa: E402
 
@@ -23,12 +23,7 @@ datasets = [open_artefact(p) for p in snakemake.input.cuts]
 # a design other than the thesis': each cut's own speed, flutes, immersion and milling mode
 processes = (None if is_thesis_design(manifest.cuts)
              else {c.id: cut_process(c, exp) for c in manifest.cuts})
-verdicts = pd.read_csv(snakemake.input.verdicts)
-# the force record's own verdict: the record the mean force comes from (a recording's verdict
-# is a different instrument's reading, compared in chapter 4)
-own = verdicts["kind"] == "force" if "kind" in verdicts else True
-chattered = sorted(set(verdicts.loc[own & (verdicts["verdict"] == "chatter"), "cut"]
-                       .astype(str)))
+chattered = force_record_chatter(pd.read_csv(snakemake.input.verdicts))
 if chattered:
     log.info("left out of the coefficients (judged to chatter, %s): %s",
              snakemake.input.verdicts, ", ".join(chattered))

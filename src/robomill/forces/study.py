@@ -140,6 +140,15 @@ def force_cut_dataset(result: Mapping[str, np.ndarray], *, cut: Mapping, fs_hz: 
 
 
 
+def force_record_chatter(verdicts: pd.DataFrame) -> list[str]:
+    """The cuts whose force record is judged to chatter in ``results/chatter/verdicts.csv``
+    (rows of ``kind`` force, else every row): the record the mean force comes from; a
+    recording's verdict is another instrument's reading, compared in chapter 4."""
+    own = (verdicts["kind"] == "force") if "kind" in verdicts else True
+    return sorted(set(verdicts.loc[own & (verdicts["verdict"] == "chatter"), "cut"]
+                      .astype(str)))
+
+
 def gather_force_study(cut_datasets: list, *, flutes: int,
                        confidence: float = schema_default("forces", "confidence"),
                        model_feed_per_tooth_mm: float | None = None,
