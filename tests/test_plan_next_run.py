@@ -34,7 +34,8 @@ def test_the_next_config_names_its_own_run_folder_inside_the_plan():
     assert folder.parts[:3] == ("results", "plan", "next") and len(folder.parts) > 3
     assert [c["id"] for c in cfg["experiment"]["cuts"]] == ["plan_01", "plan_02"]
     # each planned cut tracked on its own, loaded and in the air
-    assert cfg["synth"] == {"tracker": {"per_cut": True, "air_pass": True}}
+    assert cfg["synth"] == {"tracker": {"per_cut": True, "air_pass": True,
+                                        "directions": ["px"], "feeds_mm_s": None}}
 
 
 def test_per_cut_tracking_gives_each_cut_its_own_run():
@@ -51,6 +52,9 @@ def test_per_cut_tracking_gives_each_cut_its_own_run():
     overlay.pop("workdir")
     shared = instrument_files({**base, "experiment": overlay["experiment"]}, "tracker")
     assert [f["cut"] for f in shared] == ["plan_02"] and "run" not in shared[0]
+    # a study whose tracker followed other directions and feeds only (as the tiny test
+    # study's px-only runs): the planned cuts are tracked all the same
+    base["synth"]["tracker"].update({"directions": ["my"], "feeds_mm_s": [1.0]})
     update_config(base, overlay)
     own = instrument_files(base, "tracker")
     assert [(f["cut"], tracker_run(f), f["path"], f["pass"]) for f in own] == [

@@ -121,10 +121,15 @@ def next_config(manifest: dict[str, Any], workdir: str = NEXT_RUN_DIR) -> dict[s
     with one tracker run per planned cut (``synth.tracker.per_cut``: each cut has its own pose
     and its own predicted waviness, which one run per direction and feed would check for the
     last cut only), each run loaded (recorded while the tool cuts) and in the air
-    (``synth.tracker.air_pass``): the deflection is the loaded path minus the air path."""
+    (``synth.tracker.air_pass``): the deflection is the loaded path minus the air path. The
+    tracker's ``directions`` are the planned cuts' and its ``feeds_mm_s`` all, so that no
+    selection of the study's runs leaves a planned cut untracked."""
+    dirs = sorted({str(c["direction"]) for c in manifest["cuts"] if c.get("direction")})
     return {"workdir": workdir,
             "experiment": {**manifest["experiment"], "cuts": manifest["cuts"]},
-            "synth": {"tracker": {"per_cut": True, "air_pass": True}}}
+            # every planned cut tracked, whatever directions and feeds the study's runs took
+            "synth": {"tracker": {"per_cut": True, "air_pass": True, "directions": dirs,
+                                  "feeds_mm_s": None}}}
 
 
 def cell_of(cell_file, req: PlanRequest, cuts_mid_mm: np.ndarray | None) -> Cell:
