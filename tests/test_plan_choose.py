@@ -11,7 +11,6 @@ from robomill.plan.choose import (
     check_needs,
     choose,
     pareto_front,
-    smooth_rotation,
 )
 from robomill.plan.predict import form_error
 from robomill.plan.request import parse_request
@@ -121,14 +120,3 @@ def test_pareto_front_keeps_only_non_dominated_points():
     # (24, 9) is dominated by (24, 4); (12, 6) by (18, 5) and (24, 4)
     assert list(pareto_front(mrr, err)) == [0, 4]
 
-
-def test_smooth_rotation_limits_the_step_and_follows_the_score():
-    rot = np.arange(-60.0, 61.0, 10.0)
-    st = 6
-    best = np.array([0, 2, 4, 6, 8, 12])          # wanted indices jump by up to 4 steps
-    score = -np.abs(np.arange(len(rot))[None, :] - best[:, None]).astype(float)
-    idx = smooth_rotation(score, rot, 10.0)
-    assert len(idx) == st
-    assert np.all(np.abs(np.diff(rot[idx])) <= 10.0 + 1e-9)
-    path = smooth_rotation(np.zeros((4, len(rot))), rot, 10.0, prefer_deg=20.0)
-    assert np.all(rot[path] == 20.0)               # equal scores keep the chosen angle

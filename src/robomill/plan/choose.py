@@ -227,38 +227,3 @@ def apart(table: pd.DataFrame, front: pd.DataFrame, req: PlanRequest,
     out = pd.DataFrame(rows).reset_index(drop=True) if rows else front.head(0).copy()
     return out[list(front.columns)].copy()
 
-
-def smooth_rotation(score: np.ndarray, rotations_deg: np.ndarray, max_step_deg: float, *,
-                    penalty: float = 1e-3, prefer_deg: float | None = None) -> np.ndarray:
-    """Redundancy angle at each station along a path (indices into ``rotations_deg``).
-
-    Dynamic programming over the stations: maximise Σ score[s, r] − penalty·Σ|Δθ|/max_step
-    with |Δθ| ≤ ``max_step_deg`` between neighbouring stations, so the angle varies smoothly
-    (no jump larger than one step) while staying where the score (e.g. the pessimistic
-    stability margin) is high; with ``prefer_deg`` (the cut's chosen angle) every station also
-    pays penalty·|θ − prefer|/max_step, so equal scores keep that angle. Non-finite scores
-    are unusable stations (−inf); +inf counts as a large finite score.
-
-    Parameters
-    ----------
-    score
-        ``(stations, rotations)``.
-    """
-    s = np.asarray(score, float)
-    s = np.where(np.isposinf(s), 1e6, s)
-    s = np.where(np.isfinite(s), s, -np.inf)
-    th = np.asarray(rotations_deg, float)
-    step = np.abs(th[:, None] - th[None, :])
-    trans = np.where(step <= max_step_deg + 1e-9, -penalty * step / max_step_deg, -np.inf)
-    if prefer_deg is not None:
-        s = s - penalty * np.abs(th - float(prefer_deg))[None, :] / max_step_deg
-    val = s[0].copy()
-    back = np.zeros(s.shape, int)
-    for i in range(1, len(s)):
-        cand = val[:, None] + trans                      # from r' (rows) to r (cols)
-        back[i] = np.argmax(cand, axis=0)
-        val = cand[back[i], np.arange(len(th))] + s[i]
-    path = [int(np.argmax(val))]
-    for i in range(len(s) - 1, 0, -1):
-        path.append(int(back[i][path[-1]]))
-    return np.asarray(path[::-1], int)

@@ -47,7 +47,6 @@ from robomill.plan.measured import (
     waviness_um,
 )
 from robomill.plan.poses import (
-    compliance_grid,
     cut_frames,
     solve_grid,
 )
@@ -367,34 +366,6 @@ def _coords(req: PlanRequest, poses) -> dict:
         "feed_mm_s": ("feed_mm_s", req.feed_mm_s, attrs("mm/s", "feed rate")),
         "joint": ("joint", np.arange(1, poses.q_rad.shape[-1] + 1), attrs("1", "joint")),
     }
-
-
-def station_scores(ds: xr.Dataset, row, req: PlanRequest, measured: Measured,
-                   cell: Cell) -> tuple[np.ndarray, str]:
-    """Score of every redundancy angle at every station along one chosen cut ``(stations,
-    rotations)`` and what it is: the stability margin a_crit/a − 1 at the cut's speed and depth
-    (nominal coefficients), else (no modes) the joint-model stiffness normal to the wall
-    [N/m], else zeros."""
-    q = np.deg2rad(ds["q_path_deg"].isel(placement=int(row["i_placement"]),
-                                         direction=int(row["i_direction"])).values)  # (R, St, n)
-    R, St, n = q.shape
-    frame = cut_frames(np.array([float(row["direction_deg"])]))[0]
-    ok = ds["reachable"].isel(placement=int(row["i_placement"]),
-                              direction=int(row["i_direction"])).values
-    a = critical_depth_m(measured, cell, req, q.reshape(-1, n),
-                         np.broadcast_to(frame, (R * St, 3, 3)),
-                         np.array([float(row["spindle_rpm"])]), corners=False)
-    if a is not None:
-        score = (a["nominal"][:, 0].reshape(R, St) / (float(row["depth_mm"]) * 1e-3) - 1).T
-        what = "stability margin"
-    elif measured.has("joints"):
-        from robomill.plan.measured import compliance_bounds
-        C = compliance_grid(cell.robot, q, compliance_bounds(measured.joints)["nominal"])
-        score = (1.0 / np.einsum("i,rsij,j->rs", frame[:, 1], C, frame[:, 1])).T
-        what = "stiffness normal to the wall [N/m]"
-    else:
-        score, what = np.zeros((St, R)), "none"
-    return np.where(ok[None, :], score, -np.inf), what
 
 
 def apply_extrapolation(ds: xr.Dataset, req: PlanRequest, measured: Measured, cell: Cell,
