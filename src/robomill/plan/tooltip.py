@@ -26,7 +26,8 @@ model alone (C_J: the load tests measure the joints only) is the fallback where 
 no impact test; with modes and no load tests, C(q_ref) holds at every pose. Why not C_J where
 both were measured: the joints are one part of the structure in series with the rest, and on
 the virtual cell the first plan checked through files (deflection from the tracker's loaded
-minus air passes) measured 2.5–4 times the joint model's deflection along the wall normal.
+minus air passes) measured 2.8–4.2 times the joint model's deflection along the wall normal
+(1.7–2.3 times along the tool axis).
 """
 
 from __future__ import annotations
