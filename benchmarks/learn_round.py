@@ -13,23 +13,17 @@ study's folder and the learn cuts', ``plan.binding_before``: the kept file). Wri
 
 from __future__ import annotations
 
-import argparse
 import shutil
-import subprocess
 import sys
 from pathlib import Path
 
 import pandas as pd
 import yaml
-
-REPO = Path(__file__).resolve().parents[1]
+from studyloop import REPO, out_and_work, snakemake
 
 
 def _snakemake(work: Path, target: str, *configfiles: Path) -> None:
-    cmd = [str(Path(sys.executable).with_name("snakemake")), "-j2", target, "-q",
-           "--snakefile", str(REPO / "Snakefile"), "--directory", str(work),
-           "--configfile", str(REPO / "config.yaml"), *map(str, configfiles)]
-    subprocess.run(cmd, check=True, cwd=REPO)
+    snakemake(work, target, ["config.yaml", *configfiles])
 
 
 def _request(work: Path, purpose: str) -> None:
@@ -39,15 +33,7 @@ def _request(work: Path, purpose: str) -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--out", default="results/benchmarks")
-    ap.add_argument("--work", default="", help="working folder (default: a fresh one under "
-                    "--out, removed at the end)")
-    args = ap.parse_args(argv)
-    out = Path(args.out).resolve()
-    out.mkdir(parents=True, exist_ok=True)
-    work = Path(args.work).resolve() if args.work else out / "learn_round_work"
-    work.mkdir(parents=True, exist_ok=True)
+    out, work, remove = out_and_work(__doc__, "learn_round", argv)
     _request(work, "learn")
     _snakemake(work, "plan")
     shutil.copy(work / "results/plan/binding.csv", work / "binding_before.csv")
@@ -73,7 +59,7 @@ def main(argv: list[str] | None = None) -> int:
     with pd.option_context("display.width", 200, "display.max_columns", 30):
         print(learn[cols].to_string(index=False))
         print(binding.to_string(index=False))
-    if not args.work:
+    if remove:
         shutil.rmtree(work, ignore_errors=True)
     return 0
 

@@ -13,28 +13,19 @@ study and one pooled) and each study's ``misses.csv`` copied beside it.
 
 from __future__ import annotations
 
-import argparse
 import shutil
-import subprocess
 import sys
 import time
 from pathlib import Path
 
 import pandas as pd
+from studyloop import REPO, out_and_work, snakemake
 
-REPO = Path(__file__).resolve().parents[1]
 STUDIES = {
     "default": (["config.yaml"], "plan.yaml"),
     "other_cell": (["config.yaml", "examples/other_cell/config.yaml"],
                    "examples/other_cell/plan.yaml"),
 }
-
-
-def _snakemake(workdir: Path, configfiles: list[str], target: str, extra: list[str]) -> None:
-    cmd = [str(Path(sys.executable).with_name("snakemake")), "-j2", target, "-q",
-           "--snakefile", str(REPO / "Snakefile"), "--directory", str(workdir),
-           "--configfile", *[str(REPO / c) for c in configfiles], *extra]
-    subprocess.run(cmd, check=True, cwd=REPO)
 
 
 def run_study(name: str, root: Path) -> pd.DataFrame:
@@ -43,10 +34,9 @@ def run_study(name: str, root: Path) -> pd.DataFrame:
     work = root / name
     work.mkdir(parents=True, exist_ok=True)
     shutil.copy(REPO / request, work / "plan.yaml")  # the request, as a lab keeps it
-    _snakemake(work, configs, "plan", [])
-    nxt = work / "results/plan/next/config.yaml"
-    _snakemake(work, configs + [str(nxt)], "all", [])
-    _snakemake(work, configs, "plan", [])
+    snakemake(work, "plan", configs)
+    snakemake(work, "all", configs + [work / "results/plan/next/config.yaml"])
+    snakemake(work, "plan", configs)
     check = pd.read_csv(work / "results/plan/check.csv")
     check.insert(0, "study", name)
     return check
@@ -56,14 +46,7 @@ def main(argv: list[str] | None = None) -> int:
     from robomill.plan.evidence import coverage_case, coverage_summary
     from robomill.settings import schema_default
 
-    ap = argparse.ArgumentParser(description=__doc__)
-    ap.add_argument("--out", default="results/benchmarks")
-    ap.add_argument("--work", default="", help="working folder (default: a fresh one under "
-                    "--out, removed at the end)")
-    args = ap.parse_args(argv)
-    out = Path(args.out).resolve()
-    out.mkdir(parents=True, exist_ok=True)
-    work = Path(args.work).resolve() if args.work else out / "plan_coverage_work"
+    out, work, remove = out_and_work(__doc__, "plan_coverage", argv)
     nominal = float(schema_default("plan", "interval_level"))
     rows, checks = [], []
     for name in STUDIES:
@@ -80,7 +63,7 @@ def main(argv: list[str] | None = None) -> int:
     table.to_csv(out / "plan_coverage.csv", index=False)
     pd.concat(checks, ignore_index=True).to_csv(out / "plan_coverage_check.csv", index=False)
     print(table.to_string(index=False))
-    if not args.work:
+    if remove:
         shutil.rmtree(work, ignore_errors=True)
     return 0
 
