@@ -13,6 +13,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+from point_masses import kinetic_energy_J
 
 from robomill.io.synthetic_layout import synthetic_cuts
 from robomill.synth.cell import cell_from_config
@@ -172,7 +173,9 @@ def test_an_air_pass_has_no_force_and_the_tracker_sees_the_deflection(default_st
     assert np.linalg.norm(static_um) > 5.0  # the tool gives way by micrometres
 
 
-def test_the_robot_modes_follow_the_joints_compliance_along_their_shapes(default_study):
+def test_the_robot_modes_follow_the_joints_stiffness_and_masses_along_their_shapes(
+        default_study):
+    from robomill.calibration.gravity import mass_model_from_mapping
     from robomill.stiffness.model import jacobian_m, predict_deflection_m
     from robomill.synth.structure import modes_at, robot_modes_at
 
@@ -180,6 +183,7 @@ def test_the_robot_modes_follow_the_joints_compliance_along_their_shapes(default
     assert robot_modes_at(cell, cell.q_reference_rad) == list(cell.modes)
     k_theta = np.asarray(config["synth"]["loadtests"]["robots"][1]["k_Nm_rad"], float)
     assert config["synth"]["loadtests"]["robots"][1]["name"] == "irb1600"
+    masses = mass_model_from_mapping(config["cell"]["mass_model"], 6)
     q = cell.joint_path_rad(_cut(config, "s3_g5_py"), np.array([5.0]))[0]
     moved = robot_modes_at(cell, q)
     for planted, m in zip(cell.modes, moved, strict=True):
@@ -189,10 +193,48 @@ def test_the_robot_modes_follow_the_joints_compliance_along_their_shapes(default
             J = jacobian_m(cell.robot, qq[None])
             return float(predict_deflection_m(J, phi[None], 1.0 / k_theta)[0] @ phi)
 
-        assert m.m_kg == pytest.approx(planted.m_kg, rel=1e-12)
+        def mass(qq, phi=phi):  # 2 T of the joint deflection scaled to unit motion along φ
+            J = jacobian_m(cell.robot, qq[None])[0, :3]
+            psi = (J.T @ phi) / k_theta / along(qq)
+            return 2.0 * kinetic_energy_J(cell.robot, masses.link, masses.mass_kg,
+                                          masses.com_mm, qq, psi)
+
+        assert m.m_kg == pytest.approx(planted.m_kg * mass(q) / mass(cell.q_reference_rad),
+                                       rel=1e-6)
         assert m.shape == planted.shape and m.zeta == planted.zeta
         assert m.k_N_m == pytest.approx(planted.k_N_m * along(cell.q_reference_rad) / along(q),
                                         rel=1e-9)
-    assert any(abs(m.f_hz / p.f_hz - 1) > 0.05 for m, p in zip(moved, cell.modes, strict=True))
+    # the masses move the modes too: at this pose frequencies differ from a stiffness-only move
+    assert any(abs(m.m_kg / p.m_kg - 1) > 0.05 for m, p in zip(moved, cell.modes, strict=True))
+    assert any(abs(m.f_hz / p.f_hz - 1) > 0.03 for m, p in zip(moved, cell.modes, strict=True))
     spindle = modes_at(cell, q)[len(moved):]
     assert spindle == list(cell.spindle_modes) and min(m.f_hz for m in spindle) > 100.0
+
+
+def test_without_masses_the_modes_keep_their_planted_masses(default_study):
+    from robomill.synth.structure import robot_modes_at
+
+    config, _ = default_study
+    config = copy.deepcopy(config)
+    config["cell"]["mass_model"] = None
+    config["synth"]["ctrack"]["true_mass_model"] = None
+    cell = cell_from_config(config)
+    assert cell.rigid_body_model is None
+    q = cell.joint_path_rad(_cut(config, "s3_g5_py"), np.array([5.0]))[0]
+    for planted, m in zip(cell.modes, robot_modes_at(cell, q), strict=True):
+        assert m.m_kg == pytest.approx(planted.m_kg, rel=1e-12)
+        assert m.k_N_m != pytest.approx(planted.k_N_m, rel=1e-3)
+
+
+def test_a_planted_mass_on_a_link_the_robot_lacks_is_one_clear_line(default_study):
+    from robomill.errors import RawDataError
+
+    config, _ = default_study
+    config = copy.deepcopy(config)
+    config["cell"]["mass_model"]["links"][2]["link"] = 9
+    with pytest.raises(RawDataError) as err:
+        cell_from_config(config)
+    message = str(err.value)
+    assert "\n" not in message
+    assert "config.yaml (cell.mass_model)" in message and "links[2].link" in message
+    assert "1..6" in message

@@ -94,6 +94,9 @@ class VirtualCell:
     """Planted joint stiffness K_θ of the robot (:mod:`robomill.synth.structure`)."""
     q_reference_rad: np.ndarray | None = None
     """The pose at which :attr:`modes` are the robot's modes (the impact test's pose)."""
+    rigid_body_model: Any = None
+    """The robot's rigid-body model for its mass matrix M(q) (:mod:`robomill.synth.inertia`;
+    None without masses)."""
 
     # ---- geometry of the cuts -------------------------------------------------------------
     def cut_endpoints_mm(self, cut: Cut, set_index: int | None = None) -> tuple[np.ndarray,
@@ -281,7 +284,10 @@ def cell_from_config(config: Mapping[str, Any]) -> VirtualCell:
                        spindle_modes=_modes_from_config(process.get("spindle_modes") or []),
                        joint_stiffness_Nm_rad=joint_stiffness_Nm_rad(config))
     if cell.joint_stiffness_Nm_rad is not None and "process" in syn:
+        from robomill.synth.inertia import planted_rigid_body_model
+
         cell.q_reference_rad = reference_pose_rad(cell, config)
+        cell.rigid_body_model = planted_rigid_body_model(robot, config)
     return cell
 
 

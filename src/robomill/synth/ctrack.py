@@ -43,7 +43,7 @@ import pandas as pd
 import xarray as xr
 
 from robomill.calibration.geometry import VectorModel, vector_model_from_serial
-from robomill.calibration.gravity import MassModel, gravity_torques_Nm, mass_model_from_mapping
+from robomill.calibration.gravity import MassModel, gravity_torques_Nm
 from robomill.io.atomic import atomic_path
 from robomill.io.synthetic_layout import CTRACK_TABLES
 from robomill.kinematics import rodrigues
@@ -153,21 +153,36 @@ def true_robot(config: Mapping[str, Any], cell) -> TrueRobot:
 def true_masses(config: Mapping[str, Any], n_links: int) -> MassModel:
     """The virtual robot's true point masses: ``synth.ctrack.true_mass_model`` when it plants a
     deviation from the documented masses, else the cell's ``cell.mass_model`` (the cell file's
-    values are then exact).
+    values are then exact), checked as the cell file's mass model is
+    (:func:`robomill.io.cell.parse_mass_model`).
 
     Raises
     ------
     ValueError
         When neither states a mass model: the simulated robot needs true masses.
+    robomill.errors.RawDataError
+        One line naming ``config.yaml``, the key and what was expected, for a malformed one.
     """
-    spec = config["synth"]["ctrack"].get("true_mass_model")
-    if spec is None:
-        spec = config["cell"].get("mass_model")
-    if spec is None:
+    masses = true_masses_or_none(config, n_links)
+    if masses is None:
         raise ValueError("the C-Track simulator needs the robot's true masses: set "
                          "cell.mass_model (the documented masses, written into cell.yaml) or "
                          "synth.ctrack.true_mass_model (planted truth the analysis is not told)")
-    return mass_model_from_mapping(spec, n_links)
+    return masses
+
+
+def true_masses_or_none(config: Mapping[str, Any], n_links: int) -> MassModel | None:
+    """:func:`true_masses`, or None where the configuration states no masses."""
+    from robomill.io.cell import parse_mass_model
+
+    planted = (config["synth"].get("ctrack") or {}).get("true_mass_model")
+    key, spec = (("synth.ctrack.true_mass_model", planted) if planted is not None
+                 else ("cell.mass_model", config["cell"].get("mass_model")))
+    if spec is None:
+        return None
+    points = parse_mass_model(spec, f"config.yaml ({key})", n_links).point_masses()
+    return MassModel([m.link for m in points], [m.mass_kg for m in points],
+                     np.array([m.com_mm for m in points], float).reshape(-1, 3))
 
 
 def _rng(cell, table: str) -> np.random.Generator:

@@ -2,35 +2,46 @@
 
 The planted tool-tip modes (``synth.modes``, thesis §3.3: 20–72 Hz) are the robot's modes *at
 the impact test's pose* q_ref (``synth.process.reference_point_mm``; null: the centre of the
-study's cuts). Elsewhere the arm is stiffer or softer as its joints see the tool-tip load
-through other lever arms: the robot's Cartesian stiffness at the tool tip follows from the
-planted joint stiffness K_θ of the cell's robot (the ``synth.loadtests`` entry that bears the
-cell robot's name, the same planted robot the load tests measure) through the Jacobian: its
-tool-tip compliance is
+study's cuts). Elsewhere the arm is stiffer or softer, and heavier or lighter, as its joints
+see the tool-tip motion through other lever arms. Both follow from the planted robot: its joint
+stiffness K_θ (the ``synth.loadtests`` entry that bears the cell robot's name, the same planted
+robot the load tests measure) and its rigid-body mass matrix M(q) (the robot's true point
+masses, :mod:`robomill.synth.inertia`, the same masses whose weight the C-Track simulator's
+joints carry).
 
-.. math:: C(q) = J_v(q)\\, K_θ^{-1} J_v(q)^T
+Each planted mode r keeps its tool-tip shape φ_r and damping ratio; its stiffness and mass at
+pose q are moved by the Rayleigh quotient of the joints' generalized eigenproblem
+K_θ ψ = ω² M(q) ψ [Géradin & Rixen 2015, Rayleigh's method] evaluated on the joint motion
+that the mode's tool-tip motion asks of the elastic joints: the static joint deflection under
+a tool-tip load along φ_r, scaled to a unit tool-tip motion along φ_r,
 
-(the joint-stiffness model of the load tests; Dumas et al. 2011). The joints act in series
-with the rest of the structure: each planted mode's flexibility 1/k_r changes in proportion to
-the joints' compliance along its shape,
+.. math:: ψ_r(q) = \frac{K_θ^{-1} J_v(q)^T φ_r}{φ_r^T C(q) φ_r}, \\qquad
+          C(q) = J_v(q)\\, K_θ^{-1} J_v(q)^T
 
-.. math:: k_r(q) = k_r \frac{φ_r^T C(q_{ref}) φ_r}{φ_r^T C(q) φ_r}, \\qquad
-          ω_r(q) = \\sqrt{k_r(q)/m_r}
+(C the joints' tool-tip compliance of the load tests; Dumas et al. 2011), whose stiffness and
+mass are
 
-with the planted modal masses m_r = k_r/ω_r² held (the mass model; *assumed*: over the small
-workspace of a block the arm's inertia changes little), the shape φ_r and the damping ratio
-kept. At q_ref these are exactly the planted modes. (The joints also couple the modes where
-their compliance changes across shapes; the planted shapes are not orthogonal, several nearly
-parallel, and that coupling would mix them into modes no measurement supports, so it is left
-out.)
+.. math:: κ_r(q) = ψ_r^T K_θ ψ_r = \frac{1}{φ_r^T C(q) φ_r}, \\qquad
+          μ_r(q) = ψ_r^T M(q)\\, ψ_r .
+
+The joints act in series with the rest of the structure, so each mode's stiffness and mass
+change in proportion:
+
+.. math:: k_r(q) = k_r \frac{κ_r(q)}{κ_r(q_{ref})}, \\qquad
+          m_r(q) = m_r \frac{μ_r(q)}{μ_r(q_{ref})}, \\qquad
+          ω_r(q) = \\sqrt{k_r(q)/m_r(q)} .
+
+At q_ref these are exactly the planted modes. Where the configuration states no masses the
+modal masses are held. (The joints also couple the modes where their compliance changes across
+shapes; the planted shapes are not orthogonal, several nearly parallel, and that coupling would
+mix them into modes no measurement supports, so each mode is moved alone.)
 
 The spindle and tool add pose-independent modes above the robot's 10–100 Hz band
 (``synth.process.spindle_modes``, *assumed*: no source gives them; stiff, so that at the
 thesis' depths they do not limit the cut).
 
-No rigid-body library (Pinocchio, the Robotics Toolbox) is used: the cell documents only point
-masses (``cell.mass_model``, no link inertias), from which a joint-space mass matrix would be
-singular at the wrist; the planted modal masses are the mass model instead.
+Géradin, M.; Rixen, D. J. *Mechanical Vibrations: Theory and Application to Structural
+Dynamics*, 3rd ed. Wiley, 2015.
 """
 
 from __future__ import annotations
@@ -51,13 +62,22 @@ def joint_stiffness_Nm_rad(config: Mapping[str, Any]) -> np.ndarray | None:
     return None
 
 
-def compliance_m_N(robot, q_rad: np.ndarray, k_Nm_rad: np.ndarray) -> np.ndarray:
-    """Tool-tip translational compliance ``(3, 3)`` [m/N] of the joints at pose q:
-    ``J_v K_θ⁻¹ J_vᵀ`` (:func:`robomill.stiffness.model.translational_compliance_m_N`)."""
-    from robomill.stiffness.model import jacobian_m, translational_compliance_m_N
+def rayleigh_stiffness_mass(cell, q_rad: np.ndarray, shape: np.ndarray
+                            ) -> tuple[float, float]:
+    """κ_r(q) [N/m] and μ_r(q) [kg] of a tool-tip shape φ_r at pose q (module docstring);
+    μ is NaN where the cell has no rigid-body model."""
+    from robomill.stiffness.model import jacobian_m
+    from robomill.synth.inertia import mass_matrix_kg_m2
 
-    return translational_compliance_m_N(jacobian_m(robot, np.asarray(q_rad, float)),
-                                        1.0 / np.asarray(k_Nm_rad, float))
+    q = np.asarray(q_rad, float)
+    phi = np.asarray(shape, float)
+    Jv = jacobian_m(cell.robot, q)[:3]
+    c_rad_Nm = 1.0 / np.asarray(cell.joint_stiffness_Nm_rad, float)
+    flexibility_m_N = float(phi @ (Jv * c_rad_Nm) @ Jv.T @ phi)
+    if cell.rigid_body_model is None:
+        return 1.0 / flexibility_m_N, float("nan")
+    psi = c_rad_Nm * (Jv.T @ phi) / flexibility_m_N
+    return 1.0 / flexibility_m_N, float(psi @ mass_matrix_kg_m2(cell.rigid_body_model, q) @ psi)
 
 
 def robot_modes_at(cell, q_rad: np.ndarray) -> list:
@@ -71,13 +91,13 @@ def robot_modes_at(cell, q_rad: np.ndarray) -> list:
     q = np.asarray(q_rad, float)
     if np.allclose(q, cell.q_reference_rad, rtol=0.0, atol=1e-12):
         return list(cell.modes)
-    C_ref = compliance_m_N(cell.robot, cell.q_reference_rad, cell.joint_stiffness_Nm_rad)
-    C_q = compliance_m_N(cell.robot, q, cell.joint_stiffness_Nm_rad)
     out = []
     for m in cell.modes:
-        phi = np.asarray(m.shape, float)
-        k_q = m.k_N_m * float(phi @ C_ref @ phi) / float(phi @ C_q @ phi)
-        out.append(dataclasses.replace(m, f_hz=float(np.sqrt(k_q / m.m_kg) / (2 * np.pi)),
+        kappa_ref, mu_ref = rayleigh_stiffness_mass(cell, cell.q_reference_rad, m.shape)
+        kappa_q, mu_q = rayleigh_stiffness_mass(cell, q, m.shape)
+        k_q = m.k_N_m * kappa_q / kappa_ref
+        m_q = m.m_kg * (mu_q / mu_ref if np.isfinite(mu_ref) and mu_ref > 0.0 else 1.0)
+        out.append(dataclasses.replace(m, f_hz=float(np.sqrt(k_q / m_q) / (2 * np.pi)),
                                        k_N_m=k_q))
     return out
 
