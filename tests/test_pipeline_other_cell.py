@@ -202,12 +202,14 @@ def test_cutting_coefficients_from_half_immersion_down_milling(other_cell_run):
     assert np.allclose(means["entry_deg"], 90.0) and np.allclose(means["exit_deg"], 180.0)
     # The virtual cell's cut is a closed loop richer than the calibration's linear model: the
     # 45 deg cut at 24 000 rpm and 2 mm/s chatters on it (a robot mode at that pose; most
-    # teeth leave the cut), so its mean force is far below the other 2 mm/s cuts'. Its force
+    # teeth leave the cut), so its mean force is far below the other 2 mm/s cuts' (which lie
+    # within a few per cent of each other; about two thirds of them on this cell). Its force
     # record is judged to chatter, and the coefficients come from the other cuts: physical,
     # the fit's residual below the signal (with it in, they were not).
     by_cut = means.set_index("cut")["F_cross_feed_N"]
     others = by_cut[[c for c in by_cut.index if c.endswith("_v2") and c != "n24k_d45_v2"]]
-    assert by_cut["n24k_d45_v2"] < 0.6 * others.median()
+    assert others.max() < 1.1 * others.min()
+    assert by_cut["n24k_d45_v2"] < 0.8 * others.min()
     verdicts = pd.read_csv(workdir / "results/chatter/verdicts.csv")
     force = verdicts[verdicts["kind"] == "force"].set_index("cut")["verdict"]
     assert force["n24k_d45_v2"] == "chatter"
