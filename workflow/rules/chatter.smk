@@ -133,6 +133,8 @@ rule chatter_findings:
         cases=expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
         simulation="results/chatter/simulation.nc",
         references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        # the scorecard checks: their reasons are quoted in the findings
+        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
     output:
         findings="results/chatter/findings.yaml",
     log:

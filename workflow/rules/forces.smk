@@ -107,6 +107,8 @@ rule forces_findings:
         coefficients="results/forces/cutting_coefficients.csv",
         cuts="results/ingest/cuts.csv",
         references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        # the scorecard checks: their reasons are quoted in the findings
+        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
     output:
         findings="results/forces/findings.yaml",
     log:

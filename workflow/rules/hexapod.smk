@@ -86,6 +86,8 @@ rule hexapod_findings:
         sensitivity="results/hexapod/sensitivity.nc",
         force_accuracy="results/hexapod/force_accuracy.csv",
         references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        # the scorecard checks: their reasons are quoted in the findings
+        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
     output:
         findings="results/hexapod/findings.yaml",
     log:

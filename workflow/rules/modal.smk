@@ -103,6 +103,8 @@ rule modal_findings:
         coupling="results/modal/coupling.csv",
         coupling_pairs="results/modal/coupling_pairs.csv",
         references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        # the scorecard checks: their reasons are quoted in the findings
+        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
     output:
         findings="results/modal/findings.yaml",
     log:

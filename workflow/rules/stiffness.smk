@@ -227,6 +227,8 @@ rule stiffness_findings:
         joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
         validation=f"results/stiffness/{MAP_ROBOT}/validation.csv",
         references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        # the scorecard checks: their reasons are quoted in the findings
+        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
     output:
         findings="results/stiffness/findings.yaml",
     log:

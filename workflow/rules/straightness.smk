@@ -155,6 +155,8 @@ rule straightness_findings:
         profiles="results/straightness/profiles.nc",
         truth_check="results/straightness/truth_check.csv",
         references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        # the scorecard checks: their reasons are quoted in the findings
+        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
     output:
         findings="results/straightness/findings.yaml",
     log:

@@ -246,6 +246,8 @@ rule surface_findings:
         profiles="results/surface/profiles.nc",
         cuts="results/ingest/cuts.csv",
         references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        # the scorecard checks: their reasons are quoted in the findings
+        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
     output:
         findings="results/surface/findings.yaml",
     log:
