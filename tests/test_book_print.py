@@ -221,13 +221,16 @@ def _captioned_tables_chapter(path, n_cells=8):
 
 
 def _captions_at_foot(texts):
-    """Pages whose last line of text (the page number left out) is a table's caption."""
+    """Pages whose last line of text (the page number left out) is a table's caption, a
+    narrow or a wide table's (which of them fall at a page foot without the caption rules
+    depends on the browser's layout: with Chromium 156 only wide tables' captions do in this
+    chapter)."""
     feet = []
     for k, t in enumerate(texts, 1):
         lines = [ln.strip() for ln in t.splitlines() if ln.strip()]
         if lines and lines[-1].isdigit():
             lines = lines[:-1]
-        if lines and re.match(r"Table 9\.\d+ — caption", lines[-1]):
+        if lines and re.match(r"Table 9\.\d+ — (wide )?caption", lines[-1]):
             feet.append((k, lines[-1]))
     return feet
 
