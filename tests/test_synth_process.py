@@ -238,3 +238,23 @@ def test_a_planted_mass_on_a_link_the_robot_lacks_is_one_clear_line(default_stud
     assert "\n" not in message
     assert "config.yaml (cell.mass_model)" in message and "links[2].link" in message
     assert "1..6" in message
+
+
+def test_a_mode_that_moves_no_mass_keeps_its_planted_mass(default_study):
+    # point masses on joint 1's own axis have no inertia about any joint's motion here: every
+    # mode's Rayleigh mass is zero at every pose, and the modes keep their planted masses
+    # (a ratio 0/0 would make their frequencies infinite)
+    from robomill.synth.inertia import rigid_body_model
+    from robomill.synth.structure import rayleigh_stiffness_mass, robot_modes_at
+
+    config, _ = default_study
+    cell = copy.copy(cell_from_config(config))
+    base = np.asarray(cell.robot.base, float)
+    on_axis_mm = base[:3, 3] + np.outer([100.0, 300.0], base[:3, 2])
+    cell.rigid_body_model = rigid_body_model(cell.robot, np.array([1, 1]),
+                                             np.array([20.0, 5.0]), on_axis_mm)
+    q = cell.joint_path_rad(_cut(config, "s3_g5_py"), np.array([5.0]))[0]
+    assert rayleigh_stiffness_mass(cell, q, cell.modes[0].shape)[1] == pytest.approx(0.0,
+                                                                                     abs=1e-12)
+    for planted, m in zip(cell.modes, robot_modes_at(cell, q), strict=True):
+        assert np.isfinite(m.f_hz) and m.m_kg == pytest.approx(planted.m_kg, rel=1e-12)

@@ -31,7 +31,8 @@ change in proportion:
           m_r(q) = m_r \frac{μ_r(q)}{μ_r(q_{ref})}, \\qquad
           ω_r(q) = \\sqrt{k_r(q)/m_r(q)} .
 
-At q_ref these are exactly the planted modes. Where the configuration states no masses the
+At q_ref these are exactly the planted modes. Where the configuration states no masses (or the
+shape moves none of them at q or q_ref: point masses leave the wrist without inertia) the
 modal masses are held. (The joints also couple the modes where their compliance changes across
 shapes; the planted shapes are not orthogonal, several nearly parallel, and that coupling would
 mix them into modes no measurement supports, so each mode is moved alone.)
@@ -66,14 +67,15 @@ def rayleigh_stiffness_mass(cell, q_rad: np.ndarray, shape: np.ndarray
                             ) -> tuple[float, float]:
     """κ_r(q) [N/m] and μ_r(q) [kg] of a tool-tip shape φ_r at pose q (module docstring);
     μ is NaN where the cell has no rigid-body model."""
-    from robomill.stiffness.model import jacobian_m
+    from robomill.stiffness.model import jacobian_m, translational_compliance_m_N
     from robomill.synth.inertia import mass_matrix_kg_m2
 
     q = np.asarray(q_rad, float)
     phi = np.asarray(shape, float)
-    Jv = jacobian_m(cell.robot, q)[:3]
+    J = jacobian_m(cell.robot, q)
     c_rad_Nm = 1.0 / np.asarray(cell.joint_stiffness_Nm_rad, float)
-    flexibility_m_N = float(phi @ (Jv * c_rad_Nm) @ Jv.T @ phi)
+    flexibility_m_N = float(phi @ translational_compliance_m_N(J, c_rad_Nm) @ phi)
+    Jv = J[:3]
     if cell.rigid_body_model is None:
         return 1.0 / flexibility_m_N, float("nan")
     psi = c_rad_Nm * (Jv.T @ phi) / flexibility_m_N
@@ -96,7 +98,9 @@ def robot_modes_at(cell, q_rad: np.ndarray) -> list:
         kappa_ref, mu_ref = rayleigh_stiffness_mass(cell, cell.q_reference_rad, m.shape)
         kappa_q, mu_q = rayleigh_stiffness_mass(cell, q, m.shape)
         k_q = m.k_N_m * kappa_q / kappa_ref
-        m_q = m.m_kg * (mu_q / mu_ref if np.isfinite(mu_ref) and mu_ref > 0.0 else 1.0)
+        # the mass ratio where both poses move mass along the shape; else the mass is held
+        moved = np.isfinite([mu_ref, mu_q]).all() and min(mu_ref, mu_q) > 0.0
+        m_q = m.m_kg * (mu_q / mu_ref if moved else 1.0)
         out.append(dataclasses.replace(m, f_hz=float(np.sqrt(k_q / m_q) / (2 * np.pi)),
                                        k_N_m=k_q))
     return out
