@@ -41,6 +41,12 @@ from robomill.plan.tooltip import modes_arrays
 def limits(study: Path, radial_immersion: float, milling: str) -> pd.DataFrame:
     """One row per cut of the study with a force verdict (module docstring)."""
     res = study / "results"
+    needed = ("modal/modes.csv", "forces/cutting_coefficients.csv", "ingest/cuts.csv",
+              "chatter/verdicts.csv")
+    missing = [f for f in needed if not (res / f).is_file()]
+    if missing:
+        raise SystemExit(f"{res}: no {', '.join(missing)} (expected a finished study: run "
+                         "`snakemake -j2 all` in it first)")
     fn, zeta, k, shapes = modes_arrays(pd.read_csv(res / "modal/modes.csv"))
     coef = pd.read_csv(res / "forces/cutting_coefficients.csv").set_index("name")["value"]
     cuts = pd.read_csv(res / "ingest/cuts.csv").set_index("cut")
