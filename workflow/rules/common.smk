@@ -1,7 +1,5 @@
 # Helpers shared by the rules: where raw data comes from, the study plan, target lists.
 # Keep this file small: computation lives in src/robomill/.
-import os
-import re
 import sys
 from pathlib import Path
 
@@ -17,8 +15,8 @@ from robomill.io.cell import peek_robot_name
 from robomill.errors import RawDataError
 from robomill.io.manifest import load_manifest, parse_manifest
 from robomill.io.rawdirs import merge_manifests, raw_folders
+from robomill.pipeline.prose import TEMPLATES_DIR
 from robomill.registry import (
-    REGISTRY_ENV,
     REQUIREMENT_WORDS,
     chapters as registry_chapters,
     unmet_requirement,
@@ -34,9 +32,7 @@ MANIFEST = f"{RAW}/manifest.yaml"
 STUDY = "results/ingest/study.yaml"
 ENV = "../envs/robomill.yaml"
 
-# The chapter registry (src/robomill/data/chapters.yaml; robomill.registry): this
-# repository's table, for the DAG and for every job (they inherit the variable).
-os.environ[REGISTRY_ENV] = str(REPO / "src" / "robomill" / "data" / "chapters.yaml")
+# The chapter registry: the package's table (robomill/data/chapters.yaml; robomill.registry).
 CHAPTERS = {c.id: c for c in registry_chapters()}
 
 # The study plan, one parser in both modes: the raw folder's manifest.yaml, or for synthetic
@@ -285,11 +281,12 @@ def chapter_outputs(target):
 
 
 def chapter_files(target):
-    """The chapter's notebook and its prose template (named inputs `notebook`, `templates`)."""
+    """The chapter's notebook and its prose template (named inputs `notebook`, `templates`:
+    package data, robomill/data/templates/)."""
     c = CHAPTERS[target]
     return {
         "notebook": notebook(f"{c.notebook}.ipynb"),
-        "templates": notebook(f"templates/{c.template}.yaml"),
+        "templates": str(TEMPLATES_DIR / f"{c.template}.yaml"),
     }
 
 
