@@ -1,7 +1,8 @@
 """Defaults only in the schemas: a configuration key's default is written once, in
 ``src/robomill/data/schemas/`` (package data), and read one way (:mod:`robomill.settings`). A
-test walks the library and the rule scripts for a second copy of a default the schema states: a mapping entry, a
-dataclass field or a ``.get(key, default)`` with a schema key and the schema's value."""
+test walks the library and the rule scripts for a second copy of a default the schema
+states: a mapping entry, a dataclass field or a ``.get(key, default)`` with a schema key and
+the schema's value."""
 
 from __future__ import annotations
 

@@ -30,7 +30,7 @@ class ImportFailed(Exception):
 
 
 def _check_entries(entries: Any, staging: Path, module: str) -> list[dict[str, Any]]:
-    from robomill.io.manifest import KIND_KEYS
+    from robomill.io.kinds import KIND_KEYS
 
     if not isinstance(entries, list) or not entries:
         raise ImportFailed([f"importer {module} returned {entries!r} (expected a non-empty "
