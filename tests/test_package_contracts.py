@@ -105,3 +105,52 @@ def test_a_wheel_installed_elsewhere_runs_init_and_check(tmp_path):
     checked = _run([exe, "check", "raw"], work, env=env)
     assert checked.returncode == 0, checked.stdout + checked.stderr
     assert "0 problem(s)" in checked.stdout
+
+
+# --- the artefact catalogue -------------------------------------------------------------
+
+SMK = sorted((REPO / "workflow" / "rules").glob("*.smk")) + [REPO / "Snakefile"]
+#: results/ paths that are no artefact of the catalogue: logs, benchmark tables, the chapters'
+#: pages and figures (the chapter registry) and the virtual cell's raw folder
+NOT_ARTEFACTS = ("results/logs/", "results/benchmarks/", "results/chapters/",
+                 "results/figures/", "results/synthetic/raw")
+#: the library's modules that name the artefacts they read: every stage's findings, the
+#: plan's check
+READERS = sorted(PACKAGE.rglob("*findings.py")) + [PACKAGE / "plan" / "check.py"]
+
+
+def test_every_artefact_has_one_name_and_one_path():
+    from robomill.catalogue import CatalogueError, artefact, catalogue, wildcards
+
+    table = catalogue()
+    assert len(set(table.values())) == len(table)
+    assert artefact("forces.mean_forces") == "results/forces/mean_forces.csv"
+    assert artefact("forces.cut") == "results/forces/cuts/{cut}.nc"  # a rule's pattern
+    assert artefact("forces.cut", cut="slot-3b") == "results/forces/cuts/slot-3b.nc"
+    assert wildcards("stiffness.map") == ("height", "angle")
+    assert artefact("stiffness.map", height=1) == "results/stiffness/maps/h1_r{angle}.nc"
+    with pytest.raises(CatalogueError, match="did you mean 'forces.mean_forces'"):
+        artefact("forces.mean_force")
+    with pytest.raises(CatalogueError, match="no wildcard 'run'"):
+        artefact("forces.cut", run="x")
+
+
+def test_the_workflow_and_the_readers_take_paths_from_the_catalogue():
+    import re
+
+    from robomill.catalogue import catalogue
+
+    literal = re.compile(r'"(results/[a-z_]+/[^"]*)"')
+    for path in SMK + READERS:
+        text = path.read_text()
+        found = [m for m in literal.findall(text) if not m.startswith(NOT_ARTEFACTS)
+                 and "<" not in m and not m.endswith("/")]  # folders; "<robot>" describes
+        if path.suffix == ".py":  # an error message may name a file the user should make
+            found = [m for m in found if f'run.path("{m}")' in text or f'= "{m}"' in text
+                     or f'artefact="{m}"' in text]
+        assert found == [], (path.name, found)
+    # and the catalogue lists no artefact the workflow does not make or read
+    used = set()
+    for path in SMK:
+        used |= set(re.findall(r'"([a-z]+\.[a-z0-9_]+)"', path.read_text()))
+    assert sorted(set(catalogue()) - used) == []

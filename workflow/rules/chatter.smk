@@ -18,7 +18,7 @@ wildcard_constraints:
 
 rule chatter_case:
     output:
-        nc="results/chatter/cases/{chatter_case}.nc",
+        nc=artefact("chatter.case"),
     log:
         "results/logs/chatter/cases/{chatter_case}.log",
     benchmark:
@@ -35,7 +35,7 @@ rule chatter_case:
 
 rule chatter_seed:
     output:
-        nc="results/chatter/simulation.nc",
+        nc=artefact("chatter.simulation"),
     log:
         "results/logs/chatter/simulation.log",
     benchmark:
@@ -56,13 +56,13 @@ rule chatter_thesis:
         identified=design_input(
             "chatter", "identified cutting coefficients", COEFFICIENTS_UNMET
         ),
-        modes="results/modal/modes.csv",
-        coefficients="results/forces/cutting_coefficients.csv",
-        peaks="results/forces/peaks.csv",
+        modes=artefact("modal.modes"),
+        coefficients=artefact("forces.cutting_coefficients"),
+        peaks=artefact("forces.peaks"),
     output:
-        lobes="results/chatter/lobes.nc",
+        lobes=artefact("chatter.lobes"),
         recommendations=report(
-            "results/chatter/recommendations.csv",
+            artefact("chatter.recommendations"),
             caption="../report/ch4.rst",
             category="Chapter 4",
             subcategory="Tables",
@@ -94,13 +94,13 @@ rule chatter_verdicts:
         study=STUDY,
     output:
         verdicts=report(
-            "results/chatter/verdicts.csv",
+            artefact("chatter.verdicts"),
             caption="../report/ch4.rst",
             category="Chapter 4",
             subcategory="Tables",
         ),
-        spectrograms="results/chatter/spectrograms.nc",
-        findings="results/chatter/verdict_findings.yaml",
+        spectrograms=artefact("chatter.spectrograms"),
+        findings=artefact("chatter.verdict_findings"),
     log:
         "results/logs/chatter/verdicts.log",
     benchmark:
@@ -114,7 +114,7 @@ rule chatter_verdicts:
 
 
 if VERDICT_FILES:
-    ALL_TARGETS.append("results/chatter/verdicts.csv")
+    ALL_TARGETS.append(artefact("chatter.verdicts"))
 
 
 # the study's robot (chapter 4) only where the folder has its modes and forces and the force
@@ -127,16 +127,16 @@ rule chatter_findings:
     input:
         **optional_input(
             CHATTER_ROBOT,
-            lobes="results/chatter/lobes.nc",
-            recommendations="results/chatter/recommendations.csv",
+            lobes=artefact("chatter.lobes"),
+            recommendations=artefact("chatter.recommendations"),
         ),
-        cases=expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
-        simulation="results/chatter/simulation.nc",
+        cases=expand(artefact("chatter.case"), chatter_case=CHATTER_CASES),
+        simulation=artefact("chatter.simulation"),
         references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
         checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
     output:
-        findings="results/chatter/findings.yaml",
+        findings=artefact("chatter.findings"),
     log:
         "results/logs/chatter/findings.log",
     benchmark:
@@ -152,23 +152,23 @@ rule chatter_findings:
 
 rule chatter:
     input:
-        expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
-        "results/chatter/simulation.nc",
-        "results/chatter/lobes.nc",
-        "results/chatter/recommendations.csv",
-        "results/chatter/findings.yaml",
-        "results/chatter/verdicts.csv",
+        expand(artefact("chatter.case"), chatter_case=CHATTER_CASES),
+        artefact("chatter.simulation"),
+        artefact("chatter.lobes"),
+        artefact("chatter.recommendations"),
+        artefact("chatter.findings"),
+        artefact("chatter.verdicts"),
 
 
 use rule chapter as ch4 with:
     input:
         **chapter_files("ch4"),
-        lobes="results/chatter/lobes.nc",
-        recommendations="results/chatter/recommendations.csv",
-        findings="results/chatter/findings.yaml",
-        verdicts="results/chatter/verdicts.csv",
-        spectrograms="results/chatter/spectrograms.nc",
-        verdict_findings="results/chatter/verdict_findings.yaml",
+        lobes=artefact("chatter.lobes"),
+        recommendations=artefact("chatter.recommendations"),
+        findings=artefact("chatter.findings"),
+        verdicts=artefact("chatter.verdicts"),
+        spectrograms=artefact("chatter.spectrograms"),
+        verdict_findings=artefact("chatter.verdict_findings"),
     output:
         **chapter_outputs("ch4"),
     log:
@@ -182,9 +182,9 @@ use rule chapter as ch4 with:
 use rule chapter as ch6_chatter with:
     input:
         **chapter_files("ch6_chatter"),
-        cases=expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
-        simulation="results/chatter/simulation.nc",
-        findings="results/chatter/findings.yaml",
+        cases=expand(artefact("chatter.case"), chatter_case=CHATTER_CASES),
+        simulation=artefact("chatter.simulation"),
+        findings=artefact("chatter.findings"),
     output:
         **chapter_outputs("ch6_chatter"),
     log:

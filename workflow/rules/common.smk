@@ -3,6 +3,7 @@
 import sys
 from pathlib import Path
 
+from robomill.catalogue import artefact
 from robomill.pipeline.codedeps import code_files, load_cache, save_cache
 from robomill.experiment import (
     is_thesis_design,
@@ -29,7 +30,7 @@ RAW = raw_folders(config["data"])[
     0
 ]  # the first raw folder (synthetic: the virtual cell's)
 MANIFEST = f"{RAW}/manifest.yaml"
-STUDY = "results/ingest/study.yaml"
+STUDY = artefact("ingest.study")
 ENV = "../envs/robomill.yaml"
 
 # The chapter registry: the package's table (robomill/data/chapters.yaml; robomill.registry).
@@ -63,7 +64,7 @@ CUT_IDS = [c.id for c in CUTS]
 # (kind cell; synthetic mode writes one from config cell:), else the configuration's cell:
 # section written to results/ingest/cell.yaml (raw folders from before cell files).
 CELL_RELPATH = next((f["path"] for f in RAW_FILES if f["kind"] == "cell"), "")
-CELL = f"{RAW}/{CELL_RELPATH}" if CELL_RELPATH else "results/ingest/cell.yaml"
+CELL = f"{RAW}/{CELL_RELPATH}" if CELL_RELPATH else artefact("ingest.cell")
 
 
 wildcard_constraints:

@@ -7,8 +7,8 @@ rule ingest_manifest:
     input:
         manifest=MANIFESTS,
     output:
-        cuts="results/ingest/cuts.csv",
-        files="results/ingest/files.csv",
+        cuts=artefact("ingest.cuts"),
+        files=artefact("ingest.files"),
     log:
         "results/logs/ingest/manifest.log",
     benchmark:
@@ -21,7 +21,7 @@ rule ingest_manifest:
 
 rule ingest_cell:
     output:
-        "results/ingest/cell.yaml",
+        artefact("ingest.cell"),
     log:
         "results/logs/ingest/cell.log",
     benchmark:
@@ -55,11 +55,11 @@ rule ingest_study:
 # tooth c = v / (N n)) and design; with the scorecard rows of cuts.csv ("Against the thesis").
 rule ingest_findings:
     input:
-        cuts="results/ingest/cuts.csv",
+        cuts=artefact("ingest.cuts"),
         references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
         checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
     output:
-        findings="results/ingest/findings.yaml",
+        findings=artefact("ingest.findings"),
     log:
         "results/logs/ingest/findings.log",
     benchmark:

@@ -37,7 +37,7 @@ rule synth_cell:
 
 rule synth_truth:
     output:
-        "results/synthetic/truth.nc",
+        artefact("synthetic.truth"),
     log:
         "results/logs/synth/truth.log",
     benchmark:
@@ -227,7 +227,7 @@ rule synth_loadtests:
 rule synth_manifest:
     input:
         files=[f"results/synthetic/raw/{f['path']}" for f in PLAN.files],
-        truth="results/synthetic/truth.nc",
+        truth=artefact("synthetic.truth"),
     output:
         "results/synthetic/raw/manifest.yaml",
     log:

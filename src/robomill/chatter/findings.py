@@ -19,21 +19,21 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill import references
+from robomill import catalogue, references
 from robomill.chatter.tables import onset_table
 from robomill.findings import Findings
 
 BENCHMARK = "insperger2004_down005"
 SLOT = "insperger2004_slot"
-SIM = "results/chatter/simulation.nc"
-LOBES = "results/chatter/lobes.nc"
-RECS = "results/chatter/recommendations.csv"
+SIM = catalogue.artefact("chatter.simulation")
+LOBES = catalogue.artefact("chatter.lobes")
+RECS = catalogue.artefact("chatter.recommendations")
 CHECK_RPM = (6400.0, 8400.0)
 """Speeds at which the benchmark's converged semi-discretization depth is known."""
 
 
 def _case(f: Findings, name: str, ds: xr.Dataset) -> None:
-    art = f"results/chatter/cases/{name}.nc"
+    art = catalogue.artefact("chatter.case", chatter_case=name)
     rpm = ds["spindle_rpm"].values
     a_z = ds["a_crit_mm"].sel(solver="zoa").values
     a_s = ds["a_crit_mm"].sel(solver="sem").values
@@ -128,11 +128,11 @@ def _seed_setup(f: Findings, sim: xr.Dataset) -> None:
 
 
 def _slot(f: Findings, ds: xr.Dataset | None) -> None:
-    f.add("has_slot", ds is not None, artefact=f"results/chatter/cases/{SLOT}.nc",
-          what="file")
+    f.add("has_slot", ds is not None,
+          artefact=catalogue.artefact("chatter.case", chatter_case=SLOT), what="file")
     if ds is None:
         return
-    art = f"results/chatter/cases/{SLOT}.nc"
+    art = catalogue.artefact("chatter.case", chatter_case=SLOT)
     f.add("slot_teeth", int(ds.attrs["case_teeth"]), artefact=art, what="attrs.case_teeth")
     modes = json.loads(ds.attrs["case_modes"])
     f.add("slot_symmetric", modes.get("x") == modes.get("y"), artefact=art,

@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from robomill import catalogue
 from robomill.chatter.verdicts import Verdict, VerdictSettings, judge
 from robomill.errors import RawDataError
 
@@ -163,7 +164,7 @@ def verdict_findings(table: pd.DataFrame, settings: VerdictSettings):
     force record), the force-vs-recording comparison and the threshold that decided."""
     from robomill.findings import Findings
 
-    art = "results/chatter/verdicts.csv"
+    art = catalogue.artefact("chatter.verdicts")
     f = Findings("chatter_verdicts")
     f.add("verdict_threshold", settings.energy_ratio_threshold, artefact=art,
           what="energy_ratio_threshold", config_key="chatter.verdicts.energy_ratio_threshold")

@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from robomill import catalogue
 from robomill.surface.profile import detrend_profile, rz_um, split_profile
 
 REFERENCE_COLUMNS = ["cut", "profile", "parameter", "unit", "file_value", "ours", "rel_diff",
@@ -132,7 +133,7 @@ def reference_comparison(x_mm: np.ndarray, z_um: np.ndarray, reference: Mapping[
     return pd.DataFrame(rows, columns=REFERENCE_COLUMNS)
 
 
-_REFERENCE = "results/surface/reference_comparison.csv"
+_REFERENCE = catalogue.artefact("surface.reference_comparison")
 
 
 def add_reference_findings(found, table: pd.DataFrame, rtol: float) -> None:
