@@ -59,6 +59,8 @@ rule chatter_thesis:
         modes=artefact("modal.modes"),
         coefficients=artefact("forces.cutting_coefficients"),
         peaks=artefact("forces.peaks"),
+        # each cut's own speed, depth, direction and tool (robomill.study)
+        study=STUDY,
     output:
         lobes=artefact("chatter.lobes"),
         recommendations=report(
@@ -76,9 +78,6 @@ rule chatter_thesis:
     params:
         thesis=config["chatter"]["thesis"],
         accuracy=config["chatter"]["accuracy"],
-        spindle_rpm=STUDY_EXPERIMENT.get("spindle_rpm"),
-        flutes=STUDY_EXPERIMENT.get("flutes"),
-        depths_mm=STUDY_DEPTHS_MM,
     script:
         "../scripts/chatter_thesis.py"
 

@@ -167,8 +167,6 @@ def robot_file(name, kind="robot"):
 # sit, for cuts without start_mm) from the manifest's experiment.layout where it gives one,
 # else config experiment.layout.
 STUDY_EXPERIMENT = {"layout": config["experiment"].get("layout"), **EXPERIMENT}
-# the study's depths of cut (chatter's recommendations, chapter 4)
-STUDY_DEPTHS_MM = sorted({c.depth_mm for c in CUTS if c.depth_mm is not None})
 
 
 def add_chapter(c):

@@ -217,8 +217,15 @@ def _seed(f: Findings, sim: xr.Dataset) -> None:
 
 
 def _robot(f: Findings, lobes: xr.Dataset, rec: pd.DataFrame, safety_fraction: float) -> None:
-    f.add("robot_rpm", float(lobes.attrs["thesis_spindle_rpm"]), "rpm", artefact=LOBES,
-          what="attrs.thesis_spindle_rpm")
+    thesis = rec[(rec["kind"] == "thesis") & (rec["solver"] == "sem")]
+    speeds = sorted({float(n) for n in thesis["spindle_rpm"]})
+    f.add("robot_rpms", speeds, "rpm", artefact=RECS,
+          what="kind == thesis: spindle_rpm, each speed once (the cuts' own)")
+    f.add("robot_rpm", speeds[0] if len(speeds) == 1 else None, "rpm", artefact=RECS,
+          what="kind == thesis: spindle_rpm, where every cut has the same")
+    f.add("robot_speeds", (f"{speeds[0]:.0f} rpm" if len(speeds) == 1 else
+                           ", ".join(f"{n:.0f}" for n in speeds) + " rpm"), artefact=RECS,
+          what="kind == thesis: spindle_rpm")
     f.add("robot_accuracy_pct", 100 * float(lobes.attrs["accuracy"]), "%", artefact=LOBES,
           what="attrs.accuracy", config_key="chatter.accuracy")
     rel = (lobes["a_crit_error_mm"] / lobes["a_crit_mm"].sel(solver="sem")).values
@@ -233,7 +240,8 @@ def _robot(f: Findings, lobes: xr.Dataset, rec: pd.DataFrame, safety_fraction: f
           artefact=LOBES, what="a_crit_error_mm")
     ok = rec[(rec["kind"] == "thesis") & (rec["solver"] == "sem")]
     best = rec[(rec["kind"] == "recommended") & (rec["solver"] == "sem")]
-    f.add("cut_margins", [f"{r.direction} {r.axial_depth_mm:.2f} mm: "
+    at = (lambda r: "") if len(speeds) == 1 else (lambda r: f" at {r.spindle_rpm:.0f} rpm")
+    f.add("cut_margins", [f"{r.direction} {r.axial_depth_mm:.2f} mm{at(r)}: "
                           f"{100 * r.stability_margin:.0f} %" for r in ok.itertuples()],
           artefact=RECS, what="kind == thesis, solver == sem: stability_margin")
     f.add("n_cuts_chatter_free", int(ok["chatter_free"].astype(bool).sum()), artefact=RECS,
