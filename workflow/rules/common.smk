@@ -14,15 +14,13 @@ from robomill.experiment import (
 )
 from robomill.io.cell import peek_robot_name
 from robomill.errors import RawDataError
-from robomill.io.manifest import load_manifest, parse_manifest
-from robomill.io.rawdirs import merge_manifests, raw_folders
+from robomill.io.rawdirs import raw_folders, study_plan, synthetic_plan
 from robomill.pipeline.prose import TEMPLATES_DIR
 from robomill.registry import (
     REQUIREMENT_WORDS,
     chapters as registry_chapters,
     unmet_requirement,
 )
-from robomill.io.synthetic_layout import synthetic_manifest
 
 REPO = Path(workflow.basedir)
 SYNTHETIC = config["data"]["source"] == "synthetic"
@@ -36,22 +34,16 @@ ENV = "../envs/robomill.yaml"
 # The chapter registry: the package's table (robomill/data/chapters.yaml; robomill.registry).
 CHAPTERS = {c.id: c for c in registry_chapters()}
 
-# The study plan, one parser in both modes: the raw folder's manifest.yaml, or for synthetic
-# data the manifest the simulators will write (planned from the configuration without
-# importing a simulator; robomill.io.synthetic_layout).
-# A bad manifest stops the run with its one line (file: where: problem (expected ...)),
-# not a Python stack.
+# The study plan, one parser in both modes (robomill.io.rawdirs.study_plan): the raw folders'
+# manifest.yaml, or for synthetic data the manifest the simulators will write. The DAG takes
+# only its shape from it (cut ids, kinds, files); the analyses read the study the ingestion
+# rule writes (STUDY, robomill.study). A bad manifest stops the run with its one line
+# (file: where: problem (expected ...)), not a Python stack.
+RAW_DIRS = raw_folders(config["data"])
+MANIFESTS = [f"{d}/manifest.yaml" for d in RAW_DIRS]
 try:
-    PLAN = (
-        parse_manifest(synthetic_manifest(config), MANIFEST, require_sha256=False)
-        if SYNTHETIC
-        else load_manifest(MANIFEST)
-    )
-    # the study: the first folder's cuts and files with those of every later raw folder
-    # (config data.raw_dirs in order; robomill.io.rawdirs states the merge rule)
-    RAW_DIRS = raw_folders(config["data"])
-    MANIFESTS = [MANIFEST] + [f"{d}/manifest.yaml" for d in RAW_DIRS[1:]]
-    STUDY_PLAN = merge_manifests([PLAN] + [load_manifest(m) for m in MANIFESTS[1:]])
+    PLAN = synthetic_plan(config) if SYNTHETIC else None  # the virtual cell's own files
+    STUDY_PLAN = study_plan(config, PLAN)
 except RawDataError as exc:
     print(exc, file=sys.stderr)
     sys.exit(1)
@@ -160,13 +152,6 @@ def robot_file(name, kind="robot"):
     where the folder holds it."""
     paths = raw_files(kind, robot=name)
     return optional_input(bool(paths), paths[0] if paths else "")
-
-
-# The study's experiment as the analyses read it: the manifest's keys (synthetic mode: the
-# plan's), never the configuration's design; the block layout (where the thesis' U segments
-# sit, for cuts without start_mm) from the manifest's experiment.layout where it gives one,
-# else config experiment.layout.
-STUDY_EXPERIMENT = {"layout": config["experiment"].get("layout"), **EXPERIMENT}
 
 
 def add_chapter(c):

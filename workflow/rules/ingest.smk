@@ -47,6 +47,10 @@ rule ingest_study:
         "results/benchmarks/rules/ingest/study.tsv"
     conda:
         ENV
+    params:
+        # the block layout for a manifest that gives none (the virtual cell's, or the one this
+        # configuration assumes), resolved into the study once
+        layout=config["experiment"]["layout"],
     script:
         "../scripts/ingest_study.py"
 

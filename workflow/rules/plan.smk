@@ -97,7 +97,6 @@ rule plan_make:
     conda:
         ENV
     params:
-        experiment=STUDY_EXPERIMENT,
         waviness_noise=config["plan"]["waviness_noise"],
         fmin_cycles=config["straightness"]["fmin_cycles"],
         level=config["plan"]["interval_level"],

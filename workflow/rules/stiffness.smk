@@ -149,8 +149,6 @@ rule stiffness_thesis:
     params:
         robot_rel=STIFF_REL.get(("robot", THESIS_ROBOT), ""),
         cell_relpath=CELL_RELPATH,
-        experiment=STUDY_EXPERIMENT,
-        cuts=[c.as_dict() for c in CUTS],
         beamframe=config["stiffness"]["beamframe"],
     script:
         "../scripts/stiffness_thesis.py"
@@ -180,8 +178,6 @@ rule stiffness_cuts:
         ENV
     params:
         cell_relpath=CELL_RELPATH,
-        experiment=STUDY_EXPERIMENT,
-        cuts=[c.as_dict() for c in CUTS],
     script:
         "../scripts/stiffness_cuts.py"
 

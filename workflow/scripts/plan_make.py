@@ -30,8 +30,9 @@ log = setup(snakemake.log[0], "plan")
 inp, out, p = snakemake.input, snakemake.output, snakemake.params
 req = read_request(inp.request)
 cell_file = read_cell(inp.cell)
-cuts = load_study(inp.study).cuts  # the study's own cuts (raw folder or virtual cell)
-experiment = dict(p.experiment)  # the study's (the manifest's), the block layout beside it
+study = load_study(inp.study)
+cuts = study.cuts  # the study's own cuts (raw folder or virtual cell)
+experiment = dict(study.experiment)  # the study's (the manifest's), its block layout resolved
 # where the study's cuts lie needs their length; without it they are not placed
 placed = bool(cuts) and experiment.get("cut_length_mm") is not None
 if cuts and not placed:
