@@ -66,8 +66,8 @@ include: "workflow/rules/chapters.smk"
 include: "workflow/rules/book.smk"
 
 
-# every rule's library inputs: what its script and notebook import (common.smk)
-derive_code_inputs(workflow.rules)
+# the import graph that code_inputs followed (common.smk), kept for the next run
+save_cache(CODE_CACHE)
 
 
 onerror:

@@ -15,8 +15,9 @@ PRINT_BOOK = config["book"]["pdf"]
 rule scorecard:
     input:
         chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        checks=package_data("scorecard.yaml"),
+        references=package_data("references.yaml"),
+        code=code_inputs("scorecard.py"),
     output:
         csv=report(
             artefact("thesis.scorecard"),
@@ -46,6 +47,7 @@ rule book:
         cuts=artefact("ingest.cuts"),
         manifest=MANIFEST,
         scorecard=artefact("thesis.scorecard"),
+        code=code_inputs("book.py"),
     output:
         index=report(
             artefact("thesis.index"), caption="../report/book.rst", category="Book"
@@ -73,6 +75,7 @@ rule book_pdf:
         index=artefact("thesis.index"),
         chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
         cuts=artefact("ingest.cuts"),
+        code=code_inputs("book_pdf.py"),
     output:
         pdf=artefact("thesis.book"),
         page=artefact("thesis.book_print"),

@@ -13,6 +13,7 @@ rule calibration_identify:
         base=f"{RAW}/{CTRACK_TABLES.get('base', 'ctrack/base.csv')}",
         loads=f"{RAW}/{CTRACK_TABLES.get('loads', 'ctrack/loads.csv')}",
         cell=CELL,
+        code=code_inputs("calibration_identify.py"),
     output:
         model=artefact("calibration.model"),
         joint_errors=artefact("calibration.joint_errors"),
@@ -37,6 +38,7 @@ rule calibration_accuracy:
         study=STUDY,
         model=artefact("calibration.model"),
         accuracy=f"{RAW}/{CTRACK_TABLES.get('accuracy', 'ctrack/accuracy.csv')}",
+        code=code_inputs("calibration_accuracy.py"),
     output:
         accuracy=report(
             artefact("calibration.accuracy"),
@@ -65,7 +67,8 @@ rule calibration_findings:
     input:
         model=artefact("calibration.model"),
         accuracy=artefact("calibration.accuracy"),
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        references=package_data("references.yaml"),
+        code=code_inputs("calibration_findings.py"),
     output:
         findings=artefact("calibration.findings"),
     log:

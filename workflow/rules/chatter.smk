@@ -17,6 +17,8 @@ wildcard_constraints:
 
 
 rule chatter_case:
+    input:
+        code=code_inputs("chatter_case.py"),
     output:
         nc=artefact("chatter.case"),
     log:
@@ -34,6 +36,8 @@ rule chatter_case:
 
 
 rule chatter_seed:
+    input:
+        code=code_inputs("chatter_seed.py"),
     output:
         nc=artefact("chatter.simulation"),
     log:
@@ -61,6 +65,7 @@ rule chatter_thesis:
         peaks=artefact("forces.peaks"),
         # each cut's own speed, depth, direction and tool (robomill.study)
         study=STUDY,
+        code=code_inputs("chatter_thesis.py"),
     output:
         lobes=artefact("chatter.lobes"),
         recommendations=report(
@@ -91,6 +96,7 @@ rule chatter_verdicts:
     input:
         raw=[f"{RAW}/{f['path']}" for f in VERDICT_FILES],
         study=STUDY,
+        code=code_inputs("chatter_verdicts.py"),
     output:
         verdicts=report(
             artefact("chatter.verdicts"),
@@ -131,9 +137,10 @@ rule chatter_findings:
         ),
         cases=expand(artefact("chatter.case"), chatter_case=CHATTER_CASES),
         simulation=artefact("chatter.simulation"),
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        references=package_data("references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("chatter_findings.py"),
     output:
         findings=artefact("chatter.findings"),
     log:

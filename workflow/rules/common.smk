@@ -3,6 +3,7 @@
 import sys
 from pathlib import Path
 
+import robomill
 from robomill.catalogue import artefact
 from robomill.pipeline.codedeps import code_files, load_cache, save_cache
 from robomill.experiment import (
@@ -188,18 +189,33 @@ CHAPTER_FOLDERS = ("results/chapters/", "results/figures/", "results/thesis/")
 def chapter_artefacts(wildcards):
     """Target `artefacts`: the results/ inputs of every chapter `all` builds (its data
     artefacts), without the chapters' pages and figures, the scorecard and the book. Each
-    chapter's rule is found by its page; its inputs are expanded as Snakemake expands them for
-    the chapter's job (input functions and unpack included; chapters have no wildcards, so
-    the empty `wildcards` of this target serve)."""
-    pages = {t for t in ALL_TARGETS if t.startswith("results/chapters/")}
+    chapter's rule is found by its page (the rule is named by the chapter's id) and read
+    through `rules.<name>.input`; its input functions are called as Snakemake calls them for
+    the chapter's job (chapters have no wildcards, so the empty `wildcards` of this target
+    serve; an unpacked function gives a mapping)."""
     found = {}
-    for r in workflow.rules:
-        if pages.isdisjoint(str(o) for o in r.output):
+    for page in ALL_TARGETS:
+        if page not in CHAPTER_OF_PAGE:
             continue
-        for f in map(str, r.expand_input(wildcards)[0]):
+        for f in flat_inputs(getattr(rules, CHAPTER_OF_PAGE[page]).input, wildcards):
             if f.startswith("results/") and not f.startswith(CHAPTER_FOLDERS):
                 found.setdefault(f)
     return list(found)
+
+
+def flat_inputs(items, wildcards):
+    """The paths of a rule's inputs: functions called with `wildcards`, mappings and lists
+    flattened."""
+    out = []
+    for item in items:
+        value = item(wildcards) if callable(item) else item
+        if isinstance(value, dict):
+            value = list(value.values())
+        if isinstance(value, (list, tuple)):
+            out += flat_inputs(value, wildcards)
+        else:
+            out.append(str(value))
+    return out
 
 
 def raw_files(kind, **meta):
@@ -216,26 +232,25 @@ def notebook(name):
     return str(REPO / "notebooks" / name)
 
 
-def derive_code_inputs(rules):
-    """Declare, as inputs of every rule with a script, the library files its script and
-    notebook import, followed through the import graph (robomill.pipeline.codedeps: ast only,
-    cached), so that editing any of them reruns the rule (Snakemake's own code trigger sees
-    only the script). Called once, after every rule is defined (Snakefile)."""
-    src = REPO / "src"
-    cache = Path(".snakemake") / "robomill-codedeps.json"
-    load_cache(cache)
-    for r in rules:
-        if not r.script:
-            continue
-        script = r.basedir.join(r.script).get_path_or_uri(secret_free=False)
-        have = {str(f) for f in r.input if not callable(f)}
-        notebooks = [f for f in have if f.endswith(".ipynb")]
-        new = [f for f in code_files([script, *notebooks], src) if f not in have]
-        if new:
-            if r.input_modifier is None:  # a rule without inputs of its own
-                r.input_modifier = workflow.modifier.path_modifier
-            r.set_input(*new)
-    save_cache(cache)
+# The library files each rule's script (and a chapter's notebook) imports, followed through the
+# import graph (robomill.pipeline.codedeps: ast only, cached in .snakemake/), declared as the
+# rule's named input `code`, so that editing any of them reruns the rule (Snakemake's own code
+# trigger sees only the script). The Snakefile saves the cache once every rule is defined.
+CODE_CACHE = Path(".snakemake") / "robomill-codedeps.json"
+load_cache(CODE_CACHE)
+LIBRARY_ROOT = Path(robomill.__file__).resolve().parents[1]  # src/ of a checkout
+
+
+def code_inputs(script, *notebooks):
+    """The library files `script` (a file of workflow/scripts/) and `notebooks` import."""
+    return code_files(
+        [str(REPO / "workflow" / "scripts" / script), *notebooks], LIBRARY_ROOT
+    )
+
+
+def package_data(name):
+    """A file of the package's data (robomill/data/): references, scorecard checks."""
+    return str(LIBRARY_ROOT / "robomill" / "data" / name)
 
 
 # The chapters (the one chapter rule, chapter.smk, is used under each target's name): their
@@ -266,11 +281,14 @@ def chapter_outputs(target):
 
 def chapter_files(target):
     """The chapter's notebook and its prose template (named inputs `notebook`, `templates`:
-    package data, robomill/data/templates/)."""
+    package data, robomill/data/templates/) and the library files the notebook and the
+    chapter script import (`code`, not a notebook parameter)."""
     c = CHAPTERS[target]
+    nb = notebook(f"{c.notebook}.ipynb")
     return {
-        "notebook": notebook(f"{c.notebook}.ipynb"),
+        "notebook": nb,
         "templates": str(TEMPLATES_DIR / f"{c.template}.yaml"),
+        "code": code_inputs("render_chapter.py", nb),
     }
 
 

@@ -16,6 +16,7 @@ rule forces_cut:
     input:
         raw=lambda w: f"{RAW}/{force_entry(w)['path']}",
         study=STUDY,
+        code=code_inputs("forces_cut.py"),
     output:
         artefact("forces.cut"),
     log:
@@ -41,6 +42,7 @@ if SYNTHETIC and FORCE_FILES:
         input:
             raw=[f"{RAW}/{f['path']}" for f in FORCE_FILES.values()],
             study=STUDY,
+            code=code_inputs("forces_cut.py"),
         output:
             [artefact("forces.cut", cut=c) for c in FORCE_FILES],
         log:
@@ -66,6 +68,7 @@ rule forces_gather:
         study=STUDY,
         # a cut judged to chatter is left out of the coefficients' identification
         verdicts=artefact("chatter.verdicts"),
+        code=code_inputs("forces_gather.py"),
     output:
         spectra=artefact("forces.spectra"),
         peaks=report(
@@ -106,9 +109,10 @@ rule forces_findings:
         means=artefact("forces.mean_forces"),
         coefficients=artefact("forces.cutting_coefficients"),
         cuts=artefact("ingest.cuts"),
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        references=package_data("references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("forces_findings.py"),
     output:
         findings=artefact("forces.findings"),
     log:

@@ -9,6 +9,8 @@ wildcard_constraints:
 
 
 rule hexapod_dynamics:
+    input:
+        code=code_inputs("hexapod_dynamics.py"),
     output:
         trajectory=artefact("hexapod.trajectory"),
         forces=artefact("hexapod.forces"),
@@ -25,6 +27,8 @@ rule hexapod_dynamics:
 
 
 rule hexapod_sensitivity_shard:
+    input:
+        code=code_inputs("hexapod_sensitivity_shard.py"),
     output:
         artefact("hexapod.sensitivity_actuator"),
     log:
@@ -46,6 +50,7 @@ rule hexapod_sensitivity:
             artefact("hexapod.sensitivity_actuator"),
             actuator=HEXAPOD_ACTUATORS,
         ),
+        code=code_inputs("hexapod_sensitivity.py"),
     output:
         artefact("hexapod.sensitivity"),
     log:
@@ -64,6 +69,7 @@ rule hexapod_force_accuracy:
     input:
         sensitivity=artefact("hexapod.sensitivity"),
         forces=artefact("hexapod.forces"),
+        code=code_inputs("hexapod_force_accuracy.py"),
     output:
         artefact("hexapod.force_accuracy"),
     log:
@@ -85,9 +91,10 @@ rule hexapod_findings:
         forces=artefact("hexapod.forces"),
         sensitivity=artefact("hexapod.sensitivity"),
         force_accuracy=artefact("hexapod.force_accuracy"),
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        references=package_data("references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("hexapod_findings.py"),
     output:
         findings=artefact("hexapod.findings"),
     log:

@@ -6,6 +6,7 @@
 rule ingest_manifest:
     input:
         manifest=MANIFESTS,
+        code=code_inputs("ingest_manifest.py"),
     output:
         cuts=artefact("ingest.cuts"),
         files=artefact("ingest.files"),
@@ -20,6 +21,8 @@ rule ingest_manifest:
 
 
 rule ingest_cell:
+    input:
+        code=code_inputs("cell_write.py"),
     output:
         artefact("ingest.cell"),
     log:
@@ -39,6 +42,7 @@ rule ingest_cell:
 rule ingest_study:
     input:
         manifest=MANIFESTS,
+        code=code_inputs("ingest_study.py"),
     output:
         STUDY,
     log:
@@ -60,8 +64,9 @@ rule ingest_study:
 rule ingest_findings:
     input:
         cuts=artefact("ingest.cuts"),
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        references=package_data("references.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("ingest_findings.py"),
     output:
         findings=artefact("ingest.findings"),
     log:

@@ -17,6 +17,7 @@ rule modal_frf:
         data=kind_input("modal", "impact"),
         hits=[f"{RAW}/{f['path']}" for f in MODAL_HITS],
         study=STUDY,
+        code=code_inputs("modal_frf.py"),
     output:
         frf=artefact("modal.frf"),
         hits=artefact("modal.hits"),
@@ -38,6 +39,7 @@ rule modal_frf:
 rule modal_identify:
     input:
         frf=artefact("modal.frf"),
+        code=code_inputs("modal_identify.py"),
     output:
         modes=report(
             artefact("modal.modes"),
@@ -72,6 +74,7 @@ rule modal_report:
         frf=artefact("modal.frf"),
         modes=artefact("modal.modes"),
         peaks=artefact("modal.peak_picking"),
+        code=code_inputs("modal_report.py"),
     output:
         peak_groups=artefact("modal.peak_groups"),
         truth_check=artefact("modal.truth_check"),
@@ -102,9 +105,10 @@ rule modal_findings:
         truth_check=artefact("modal.truth_check"),
         coupling=artefact("modal.coupling"),
         coupling_pairs=artefact("modal.coupling_pairs"),
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        references=package_data("references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("modal_findings.py"),
     output:
         findings=artefact("modal.findings"),
     log:

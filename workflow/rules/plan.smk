@@ -10,7 +10,7 @@ PLAN_REQUEST = config["plan"]["request"]
 # every cut's chatter verdict, one row per cut and recording (columns cut, verdict, chatter_hz,
 # source, evidence): the stability outcome of a run's cuts
 STUDY_VERDICTS = artefact("chatter.verdicts")
-STUDY_HAS_VERDICTS = any(STUDY_VERDICTS in map(str, r.output) for r in workflow.rules)
+STUDY_HAS_VERDICTS = STUDY_VERDICTS in map(str, rules.chatter_verdicts.output)
 PLAN_MEASURED = {
     **(
         {"modes": artefact("modal.modes"), "modal_fit": artefact("modal.frf_synth")}
@@ -87,6 +87,7 @@ rule plan_make:
         request=PLAN_REQUEST,
         cell=CELL,
         study=STUDY,
+        code=code_inputs("plan_make.py"),
     output:
         **PLAN_OUTPUTS,
         program=directory(PLAN_PROGRAM),
@@ -137,6 +138,7 @@ rule plan_check:
         candidates=PLAN_OUTPUTS["candidates"],
         # the cuts whose verdicts the stability limit was conditioned on: in-sample
         evidence=PLAN_OUTPUTS["evidence"],
+        code=code_inputs("plan_check.py"),
     output:
         check=artefact("plan.check"),
         summary=artefact("plan.check_summary"),

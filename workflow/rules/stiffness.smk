@@ -32,6 +32,7 @@ rule stiffness_identify:
         robot=lambda w: robot_file(w.robot),
         tests=lambda w: robot_file(w.robot, "stiffness"),
         study=STUDY,
+        code=code_inputs("stiffness_identify.py"),
     output:
         joints=artefact("stiffness.joint_stiffness"),
         models=artefact("stiffness.identification"),
@@ -56,6 +57,7 @@ rule stiffness_map:
         robot=robot_file(MAP_ROBOT),
         joints=artefact("stiffness.joint_stiffness", robot=MAP_ROBOT),
         study=STUDY,
+        code=code_inputs("stiffness_map.py"),
     output:
         map=artefact("stiffness.map"),
     log:
@@ -77,6 +79,7 @@ rule stiffness_maps:
     input:
         maps=[artefact("stiffness.map", height=h, angle=a) for h, a in MAP_JOBS],
         robot=robot_file(MAP_ROBOT),
+        code=code_inputs("stiffness_maps.py"),
     output:
         maps=artefact("stiffness.maps"),
     log:
@@ -97,6 +100,7 @@ rule stiffness_optimal:
         maps=artefact("stiffness.maps"),
         robot=robot_file(MAP_ROBOT),
         joints=artefact("stiffness.joint_stiffness", robot=MAP_ROBOT),
+        code=code_inputs("stiffness_optimal.py"),
     output:
         poses=report(
             artefact("stiffness.optimal_poses"),
@@ -118,6 +122,8 @@ rule stiffness_optimal:
 
 
 rule stiffness_beamframe:
+    input:
+        code=code_inputs("stiffness_beamframe.py"),
     output:
         beamframe=artefact("stiffness.beamframe"),
     log:
@@ -138,6 +144,7 @@ rule stiffness_thesis:
         joints=artefact("stiffness.joint_stiffness", robot=THESIS_ROBOT),
         study=STUDY,
         cell=CELL,
+        code=code_inputs("stiffness_thesis.py"),
     output:
         slots=artefact("stiffness.thesis_slots"),
     log:
@@ -168,6 +175,7 @@ rule stiffness_cuts:
         joints=artefact("stiffness.joint_stiffness", robot=CELL_ROBOT),
         study=STUDY,
         cell=CELL,
+        code=code_inputs("stiffness_cuts.py"),
     output:
         cuts=artefact("stiffness.cut_stiffness"),
     log:
@@ -222,9 +230,10 @@ rule stiffness_findings:
         beamframe=artefact("stiffness.beamframe"),
         joints=artefact("stiffness.joint_stiffness", robot=MAP_ROBOT),
         validation=artefact("stiffness.validation", robot=MAP_ROBOT),
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        references=package_data("references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("stiffness_findings.py"),
     output:
         findings=artefact("stiffness.findings"),
     log:

@@ -13,6 +13,7 @@ rule straightness_run:
         raw=lambda w: f"{RAW}/{TRACKER_RUNS[w.run]['path']}",
         study=STUDY,
         cell=CELL,
+        code=code_inputs("straightness_run.py"),
     output:
         nc=artefact("straightness.run"),
         peaks=artefact("straightness.run_peaks"),
@@ -43,6 +44,7 @@ if SYNTHETIC and TRACKER_RUNS:
             raw=[f"{RAW}/{f['path']}" for f in TRACKER_RUNS.values()],
             study=STUDY,
             cell=CELL,
+            code=code_inputs("straightness_run.py"),
         output:
             nc=[artefact("straightness.run", run=r) for r in TRACKER_RUNS],
             peaks=[artefact("straightness.run_peaks", run=r) for r in TRACKER_RUNS],
@@ -69,6 +71,7 @@ rule straightness_gather:
         runs=expand(artefact("straightness.run"), run=TRACKER_RUNS),
         peaks=expand(artefact("straightness.run_peaks"), run=TRACKER_RUNS),
         gears=expand(artefact("straightness.run_gears"), run=TRACKER_RUNS),
+        code=code_inputs("straightness_gather.py"),
     output:
         profiles=artefact("straightness.profiles"),
         peaks=report(
@@ -107,6 +110,7 @@ if TRACKER_PAIRS:
         input:
             raw=[f"{RAW}/{TRACKER_RUNS[r]['path']}" for r in TRACKER_PAIRED],
             study=STUDY,
+            code=code_inputs("straightness_deflection.py"),
         output:
             deflection=artefact("straightness.deflection"),
         log:
@@ -130,6 +134,7 @@ rule straightness_truth_check:
         peaks=artefact("straightness.peaks"),
         profiles=artefact("straightness.profiles"),
         truth=optional_input(SYNTHETIC, [artefact("synthetic.truth")]),
+        code=code_inputs("straightness_truth_check.py"),
     output:
         artefact("straightness.truth_check"),
     log:
@@ -154,9 +159,10 @@ rule straightness_findings:
         peaks=artefact("straightness.peaks"),
         profiles=artefact("straightness.profiles"),
         truth_check=artefact("straightness.truth_check"),
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        references=package_data("references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("straightness_findings.py"),
     output:
         findings=artefact("straightness.findings"),
     log:

@@ -39,6 +39,7 @@ rule surface_areal:
     input:
         raw=lambda w: f"{RAW}/{AREAL_FILES[w.cut]['path']}",
         study=STUDY,
+        code=code_inputs("surface_areal.py"),
     output:
         nc=artefact("surface.areal_cut"),
         profile=artefact("surface.areal_profile"),
@@ -65,6 +66,7 @@ rule surface_profile:
             else artefact("surface.areal_profile", cut=w.cut)
         ),
         study=STUDY,
+        code=code_inputs("surface_profile.py"),
     output:
         nc=artefact("surface.cut"),
         peaks=artefact("surface.cut_peaks"),
@@ -95,6 +97,7 @@ if SYNTHETIC and SURFACE_FILES:
         input:
             raw=[f"{RAW}/{f['path']}" for f in SURFACE_FILES.values()],
             study=STUDY,
+            code=code_inputs("surface_profile.py"),
         output:
             nc=[artefact("surface.cut", cut=c) for c in SURFACE_FILES],
             peaks=[artefact("surface.cut_peaks", cut=c) for c in SURFACE_FILES],
@@ -122,6 +125,7 @@ rule surface_gather:
         cuts=expand(artefact("surface.cut"), cut=SURFACE_PROFILE_CUTS),
         peaks=expand(artefact("surface.cut_peaks"), cut=SURFACE_PROFILE_CUTS),
         study=STUDY,
+        code=code_inputs("surface_gather.py"),
     output:
         **{
             name: report(
@@ -167,6 +171,7 @@ if AREAL_FILES:
                 for c in AREAL_FILES
                 if c in SURFACE_FILES
             ],
+            code=code_inputs("surface_areal_gather.py"),
         output:
             **AREAL_OUTPUTS,
         log:
@@ -194,6 +199,7 @@ if SURFACE_REFERENCE:
         input:
             raw=[f"{RAW}/{SURFACE_FILES[c]['path']}" for c in SURFACE_REFERENCE],
             study=STUDY,
+            code=code_inputs("surface_reference.py"),
         output:
             SURFACE_REFERENCE_CSV,
         log:
@@ -215,6 +221,7 @@ rule surface_recovery:
     input:
         metrics=artefact("surface.metrics"),
         truth=artefact("synthetic.truth"),
+        code=code_inputs("surface_recovery.py"),
     output:
         artefact("surface.recovery"),
     log:
@@ -245,9 +252,10 @@ rule surface_findings:
         peaks=artefact("surface.peaks"),
         profiles=artefact("surface.profiles"),
         cuts=artefact("ingest.cuts"),
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        references=package_data("references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("surface_findings.py"),
     output:
         findings=artefact("surface.findings"),
     log:

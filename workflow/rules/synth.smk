@@ -21,6 +21,8 @@ SYNTH_TRACKER_RUNS = {tracker_run(f): f for f in SYNTH_FILES.get("tracker", [])}
 
 
 rule synth_cell:
+    input:
+        code=code_inputs("cell_write.py"),
     output:
         "results/synthetic/raw/cell.yaml",
     log:
@@ -36,6 +38,8 @@ rule synth_cell:
 
 
 rule synth_truth:
+    input:
+        code=code_inputs("synth_truth.py"),
     output:
         artefact("synthetic.truth"),
     log:
@@ -64,6 +68,8 @@ SYNTH_FORCE_CUTS = [
 
 
 rule surface_synth_profiles:
+    input:
+        code=code_inputs("synth_profiles.py"),
     output:
         [f"results/synthetic/raw/profiles/{c.id}.csv" for c in SYNTH_PROFILE_CUTS],
     log:
@@ -80,6 +86,8 @@ rule surface_synth_profiles:
 
 
 rule synth_dynamometer:
+    input:
+        code=code_inputs("synth_dynamometer.py"),
     output:
         [
             f"results/synthetic/raw/forces/{c.id}.{SYNTH_FORCE_FORMAT}"
@@ -108,6 +116,8 @@ SYNTH_CUT_BY_ID = {c.id: c for c in CUTS}
 
 
 rule synth_recordings:
+    input:
+        code=code_inputs("synth_recordings.py"),
     output:
         [f"results/synthetic/raw/{f['path']}" for f in SYNTH_RECORDINGS],
     log:
@@ -127,6 +137,8 @@ rule synth_recordings:
 
 
 rule synth_tracker:
+    input:
+        code=code_inputs("synth_tracker.py"),
     output:
         [f"results/synthetic/raw/tracker/{run}.csv" for run in SYNTH_TRACKER_RUNS],
     log:
@@ -152,6 +164,8 @@ rule synth_tracker:
 
 
 rule synth_impact:
+    input:
+        code=code_inputs("synth_impact.py"),
     output:
         [f"results/synthetic/raw/{f['path']}" for f in SYNTH_FILES.get("impact", [])],
     log:
@@ -171,6 +185,8 @@ rule synth_impact:
 
 
 rule synth_ctrack:
+    input:
+        code=code_inputs("synth_ctrack.py"),
     output:
         "results/synthetic/raw/ctrack/{table}.csv",
     log:
@@ -189,6 +205,8 @@ rule synth_ctrack:
 
 
 rule synth_loadtests_robot:
+    input:
+        code=code_inputs("synth_loadtests_robot.py"),
     output:
         robot="results/synthetic/raw/stiffness/{robot}.yaml",
     log:
@@ -207,6 +225,8 @@ rule synth_loadtests_robot:
 
 
 rule synth_loadtests:
+    input:
+        code=code_inputs("synth_loadtests.py"),
     output:
         tests="results/synthetic/raw/stiffness/load_tests_{robot}.csv",
     log:
@@ -228,6 +248,7 @@ rule synth_manifest:
     input:
         files=[f"results/synthetic/raw/{f['path']}" for f in PLAN.files],
         truth=artefact("synthetic.truth"),
+        code=code_inputs("synth_manifest.py"),
     output:
         "results/synthetic/raw/manifest.yaml",
     log:
