@@ -15,7 +15,7 @@ from robomill.experiment import (
 )
 from robomill.io.cell import peek_robot_name
 from robomill.errors import RawDataError
-from robomill.io.rawdirs import raw_folders, study_plan, synthetic_plan
+from robomill.io.rawdirs import first_plan, raw_folders, study_plan
 from robomill.pipeline.prose import TEMPLATES_DIR
 from robomill.registry import (
     REQUIREMENT_WORDS,
@@ -43,7 +43,8 @@ CHAPTERS = {c.id: c for c in registry_chapters()}
 RAW_DIRS = raw_folders(config["data"])
 MANIFESTS = [f"{d}/manifest.yaml" for d in RAW_DIRS]
 try:
-    PLAN = synthetic_plan(config) if SYNTHETIC else None  # the virtual cell's own files
+    # the first raw folder's manifest (synthetic: the virtual cell's own files)
+    PLAN = first_plan(config)
     STUDY_PLAN = study_plan(config, PLAN)
 except RawDataError as exc:
     print(exc, file=sys.stderr)

@@ -1,8 +1,8 @@
 """FRFs of any layout -> thesis peak picking, LSCF stabilization chart over all measured FRFs,
 modes (sdypy-EMA), mode shapes over the measured points, MAC matrix, sanity flags, UFF 55
-(robomill.modal.job)."""
+(robomill.pipeline.jobs.modal_identify)."""
 
-from robomill.modal.job import OUTPUTS, identify_frf_file
+from robomill.pipeline.jobs.modal_identify import OUTPUTS, identify_frf_file
 from robomill.pipeline.runlog import setup
 
 log = setup(snakemake.log[0], "modal_identify")

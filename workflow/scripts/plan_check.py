@@ -1,8 +1,8 @@
 """Each prediction of the plan (and of the study's own cuts) beside the outcome its run's files
-recorded under the same cut id (robomill.plan.check_job)."""
+recorded under the same cut id (robomill.pipeline.jobs.plan_check)."""
 
+from robomill.pipeline.jobs.plan_check import check_plan_files
 from robomill.pipeline.runlog import setup
-from robomill.plan.check_job import check_plan_files
 
 inp, out, p = snakemake.input, snakemake.output, snakemake.params
 check_plan_files({k: inp[k] for k in inp.keys()}, {k: out[k] for k in out.keys()},

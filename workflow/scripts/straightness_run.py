@@ -1,9 +1,9 @@
 """Tracker runs: validate, re-order in space, spectrum, gear frequencies, gear-matched peaks
-(robomill.straightness.runs). One run, or every run of the virtual cell in one job:
+(robomill.pipeline.jobs.straightness_run). One run, or every run of the virtual cell in one job:
 ``params.runs`` and the outputs in the same order."""
 
+from robomill.pipeline.jobs.straightness_run import analyse_tracker_files
 from robomill.pipeline.runlog import setup
-from robomill.straightness.runs import analyse_tracker_files
 
 
 def items(paths):

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from collections import Counter
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
@@ -26,7 +27,9 @@ from robomill.chatter.thesis import (
     modes_in_slot_frame,
     recommend,
 )
-from robomill.study import Study, StudyCut
+
+if TYPE_CHECKING:  # the study object is handed in; the science loads no reader of it
+    from robomill.study import Study, StudyCut
 
 MODE_COUPLING_RTOL = 0.005
 """Bisection bracket of the mode-coupling depth (its error is half of it)."""

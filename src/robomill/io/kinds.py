@@ -8,48 +8,79 @@ here, so neither imports the other.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import importlib
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from robomill.errors import RawDataError
 from robomill.experiment import DIRECTION_VECTORS, FREE_CUT_ID, TRACKER_PASSES, tracker_run
 
-KIND_KEYS: dict[str, dict[str, tuple[type, ...]]] = {
-    # kind -> metadata keys every file of that kind must carry (besides path, kind, sha256)
-    "profile": {"cut": (str,)},
-    "force": {"cut": (str,), "fs_hz": (int, float)},
-    "tracker": {"feed_mm_s": (int, float), "fs_hz": (int, float)},  # + direction(_deg)
-    # impact: CSV hits need 'direction', UFF files need nothing; robomill.io.impact
-    # .entry_metadata checks direction, hit, node, response_node, range_N, range_ms2
-    "impact": {},
-    "ctrack": {"table": (str,)},
-    "robot": {"robot": (str,)},
-    "stiffness": {"robot": (str,)},
-    "cell": {},
+
+@dataclass(frozen=True)
+class Kind:
+    """One kind of raw data, in one record: everything the project knows about it.
+
+    ``folder``: its folder in the raw folder (``robomill init`` makes it; ``robomill manifest``
+    infers the kind of a file in it; None: a file at the top, the cell file); ``keys``: the
+    metadata keys every file of the kind carries in the manifest, besides path, kind and
+    sha256, with their types; ``check``: the reader ``robomill check`` calls on each file, as
+    ``"module:function"`` (``function(path, entry)``; :mod:`robomill.io.kind_checks`), None for
+    a kind checked for presence and sha256 only; ``stages``: the stages whose analyses read
+    it (``results/<stage>/``)."""
+
+    name: str
+    folder: str | None
+    keys: Mapping[str, tuple[type, ...]] = field(default_factory=dict)
+    check: str | None = None
+    stages: tuple[str, ...] = ()
+
+    def checker(self) -> Callable[[Path, Mapping[str, Any]], None] | None:
+        """The function :attr:`check` names, imported; None when there is none."""
+        if self.check is None:
+            return None
+        module, _, name = self.check.partition(":")
+        return getattr(importlib.import_module(module), name)
+
+
+_CHECKS = "robomill.io.kind_checks"
+
+KIND_RECORDS: tuple[Kind, ...] = (
+    Kind("profile", "profiles", {"cut": (str,)}, f"{_CHECKS}:check_profile", ("surface",)),
+    Kind("force", "forces", {"cut": (str,), "fs_hz": (int, float)}, f"{_CHECKS}:check_force",
+         ("forces", "chatter")),
+    # + direction or direction_deg (robomill.io.kinds.check_file_entry)
+    Kind("tracker", "tracker", {"feed_mm_s": (int, float), "fs_hz": (int, float)},
+         f"{_CHECKS}:check_tracker", ("straightness",)),
+    # CSV hits need 'direction', UFF files need nothing; robomill.io.impact.entry_metadata
+    # checks direction, hit, node, response_node, range_N, range_ms2
+    Kind("impact", "impact", {}, f"{_CHECKS}:check_impact", ("modal", "chatter")),
+    Kind("ctrack", "ctrack", {"table": (str,)}, f"{_CHECKS}:check_ctrack", ("calibration",)),
+    Kind("robot", "stiffness", {"robot": (str,)}, f"{_CHECKS}:check_robot", ("stiffness",)),
+    Kind("stiffness", "stiffness", {"robot": (str,)}, f"{_CHECKS}:check_stiffness",
+         ("stiffness",)),
+    Kind("cell", None),
     # recordings of the cut (robomill.io.recordings); optional spindle_rpm, flutes (else the
     # cut's design), fs_hz (CSV), channels (TDMS)
-    "sound": {"cut": (str,)},
-    "vibration": {"cut": (str,)},
-    # areal scans: the cut's feed direction in the scan's frame (robomill.io.areal)
-    "areal": {"cut": (str,), "feed_angle_deg": (int, float)},
-}
-"""Metadata keys required per file kind. Chapter issues extend their kind's entry."""
+    Kind("sound", "sound", {"cut": (str,)}, f"{_CHECKS}:check_recording", ("chatter",)),
+    Kind("vibration", "vibration", {"cut": (str,)}, f"{_CHECKS}:check_recording",
+         ("chatter",)),
+    Kind("areal", "areal",  # the cut's feed direction in the scan's frame (robomill.io.areal)
+         {"cut": (str,), "feed_angle_deg": (int, float)}, f"{_CHECKS}:check_areal",
+         ("surface",)),
+)
+"""Every kind of raw data, one record each (:class:`Kind`); the tables below are read from
+here. Adding a kind is one record and its reader (``docs/design.md``, "Adding an instrument
+kind")."""
 
+KINDS: dict[str, Kind] = {k.name: k for k in KIND_RECORDS}
 
-KIND_FOLDERS: dict[str, str] = {
-    "profile": "profiles",
-    "areal": "areal",
-    "force": "forces",
-    "tracker": "tracker",
-    "impact": "impact",
-    "ctrack": "ctrack",
-    "robot": "stiffness",
-    "stiffness": "stiffness",
-    "sound": "sound",
-    "vibration": "vibration",
-}
-"""Folder of each file kind inside the raw folder (the contract's layout)."""
+KIND_KEYS: dict[str, dict[str, tuple[type, ...]]] = {k.name: dict(k.keys) for k in KIND_RECORDS}
+"""Metadata keys required per file kind (:attr:`Kind.keys`)."""
+
+KIND_FOLDERS: dict[str, str] = {k.name: k.folder for k in KIND_RECORDS if k.folder}
+"""Folder of each file kind inside the raw folder (the contract's layout; :attr:`Kind.folder`)."""
 
 IGNORED_NAMES = ("manifest.yaml", "cell.yaml", "README.md", ".gitkeep")
 """Files of a raw folder that are not data files listed under ``files``."""

@@ -171,12 +171,21 @@ def synthetic_plan(config: dict[str, Any]) -> Manifest:
     return parse_manifest(synthetic_manifest(config), path, require_sha256=False)
 
 
-def study_plan(config: dict[str, Any], synthetic: Manifest | None = None) -> Manifest:
+def first_plan(config: dict[str, Any]) -> Manifest:
+    """The first raw folder's manifest (``data.raw_dirs[0]``), or for synthetic data the
+    virtual cell's (:func:`synthetic_plan`)."""
+    if config["data"]["source"] == "synthetic":
+        return synthetic_plan(config)
+    return load_manifest(f"{raw_folders(config['data'])[0]}/manifest.yaml")
+
+
+def study_plan(config: dict[str, Any], first: Manifest | None = None) -> Manifest:
     """The study as the workflow's DAG takes its shape from it (cut ids, kinds, files), one
     parser in both modes: the ``manifest.yaml`` of each raw folder (``data.raw_dirs`` in order,
     merged by :func:`merge_manifests`), or for synthetic data (``data.source: synthetic``) the
-    manifest the virtual cell's simulators will write (:func:`synthetic_plan`; ``synthetic``:
-    that plan when the caller has it), merged with any later raw folder's.
+    manifest the virtual cell's simulators will write (:func:`synthetic_plan`), merged with
+    any later raw folder's; ``first``: the first folder's (:func:`first_plan`) when the caller
+    has it.
 
     Raises
     ------
@@ -184,8 +193,6 @@ def study_plan(config: dict[str, Any], synthetic: Manifest | None = None) -> Man
         A manifest that cannot be read or validated (one line: file, where, what).
     """
     manifests = [f"{d}/manifest.yaml" for d in raw_folders(config["data"])]
-    if config["data"]["source"] != "synthetic":
-        first = load_manifest(manifests[0])
-    else:
-        first = synthetic if synthetic is not None else synthetic_plan(config)
+    if first is None:
+        first = first_plan(config)
     return merge_manifests([first] + [load_manifest(m) for m in manifests[1:]])
