@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import ast
 import os
+import shutil
 import subprocess
 import sys
 import sysconfig
@@ -71,13 +72,20 @@ def test_a_wheel_installed_elsewhere_runs_init_and_check(tmp_path):
     are those of this environment (a ``.pth`` line: no download of the dependencies), the
     package itself only the installed copy. In an empty folder outside the checkout:
     ``robomill init``, ``robomill manifest`` and ``robomill check``."""
+    # the package's source copied (setuptools builds in the source folder: build/, egg-info)
+    source = tmp_path / "source"
+    source.mkdir()
+    for name in ("pyproject.toml", "README.md"):
+        shutil.copy(REPO / name, source / name)
+    shutil.copytree(REPO / "src", source / "src",
+                    ignore=shutil.ignore_patterns("__pycache__", "*.pyc", "*.egg-info"))
     env_dir = tmp_path / "venv"
     made = _run([sys.executable, "-m", "venv", str(env_dir)], tmp_path)
     assert made.returncode == 0, made.stderr
     py = env_dir / "bin" / "python"
     # pip builds the wheel in an isolated environment with the build backend of
     # pyproject.toml (setuptools, from the package index or pip's cache)
-    built = _run([str(py), "-m", "pip", "install", "-q", "--no-deps", str(REPO)], tmp_path,
+    built = _run([str(py), "-m", "pip", "install", "-q", "--no-deps", str(source)], tmp_path,
                  env={**os.environ, "PIP_DISABLE_PIP_VERSION_CHECK": "1"})
     if built.returncode != 0 and ("No matching distribution" in built.stderr
                                   or "Could not find a version" in built.stderr):

@@ -29,7 +29,7 @@ evidence: str = None  # results/plan/evidence_used.csv
 check: str = None  # results/plan/check.csv
 check_summary: str = None  # results/plan/check_summary.csv
 misses: str = None  # results/plan/misses.csv: each out-of-sample miss and why
-templates: str = None  # src/robomill/data/templates/ch7.yaml: the sentences rendered from check_summary
+templates: str = None  # robomill/data/templates/ch7.yaml: sentences from check_summary
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
