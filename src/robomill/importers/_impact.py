@@ -257,13 +257,41 @@ def write_hits(source: Path, staging: Path, stem: str, fs_hz: float, force_N: np
             names = [c for c in ("ax_ms2", "ay_ms2", "az_ms2") if c in cols]
             suffix = "" if len(by_node) == 1 else f"_n{rnode}"
             rel = f"impact/{stem}_h{k}{suffix}.csv"
-            write_csv(staging / rel, ("t_s", "force_N", *names),
-                      (t, f[s:s + n], *(cols[c][s:s + n] for c in names)),
-                      ("%.9f", "%.7g", *("%.7g",) * len(names)))
             entry = {"path": rel, "kind": "impact", "direction": direction, "hit": k,
                      "node": node, "response_node": rnode, "fs_hz": fs_hz,
-                     "pretrigger_s": round(pre / fs_hz, 9), **extra}
+                     "pretrigger_s": round(pre / fs_hz, 9), **extra,
+                     "_data": (str(source), ("t_s", "force_N", *names),
+                               [t, f[s:s + n], *(cols[c][s:s + n] for c in names)])}
             entries.append(entry)
+    return entries
+
+
+def finish_hits(staging: Path, entries: list[dict]) -> list[dict]:
+    """Write the hit records :func:`write_hits` prepared, all cut to the shortest (the
+    modal stage averages records of one length; the pre-trigger is kept, the tails are
+    cut), and return the entries without their data.
+
+    Raises
+    ------
+    RawDataError
+        Sources at different sampling rates (one impact test has one rate).
+    """
+    hits = [e for e in entries if "_data" in e]
+    if not hits:
+        return entries
+    rates = {e["fs_hz"] for e in hits}
+    if len(rates) > 1:
+        other = next(e for e in hits if e["fs_hz"] != hits[0]["fs_hz"])
+        raise RawDataError(other["_data"][0], f"sampled at {other['fs_hz']:g} Hz, "
+                           f"{hits[0]['_data'][0]} at {hits[0]['fs_hz']:g} Hz",
+                           where="sampling rate",
+                           expected="one rate for every record of an impact test")
+    n = min(len(e["_data"][2][0]) for e in hits)
+    for e in hits:
+        _, header, cols = e.pop("_data")
+        write_csv(staging / e["path"], header, [c[:n] for c in cols],
+                  ("%.9f", "%.7g", *("%.7g",) * (len(header) - 2)))
+        e["record_s"] = round(n / e["fs_hz"], 9)
     return entries
 
 

@@ -23,6 +23,7 @@ from robomill.errors import RawDataError
 from robomill.importers._common import nice_rate
 from robomill.importers._impact import (
     add_hit_arguments,
+    finish_hits,
     parse_hammer,
     parse_response,
     pick_channel,
@@ -133,4 +134,4 @@ def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> lis
                 e["hit"] += k0
             k0 = max(e["hit"] for e in got)
             entries.extend(got)
-    return entries
+    return finish_hits(staging, entries)

@@ -37,6 +37,7 @@ from robomill.importers._impact import (
     ACCEL_UNITS,
     ChannelSpec,
     add_hit_arguments,
+    finish_hits,
     hammer_direction,
     parse_hammer,
     parse_response,
@@ -315,4 +316,4 @@ def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> lis
                 e["hit"] += k0
             k0 = max(e["hit"] for e in got)
             entries.extend(got)
-    return entries
+    return finish_hits(staging, entries)

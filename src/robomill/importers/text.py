@@ -23,6 +23,7 @@ from robomill.importers._common import is_number, nice_rate, read_text, split_fi
 from robomill.importers._impact import (
     ChannelSpec,
     add_hit_arguments,
+    finish_hits,
     parse_hammer,
     parse_response,
     pick_channel,
@@ -33,8 +34,9 @@ from robomill.importers._impact import (
 
 FORMAT = "text"
 KIND = "impact"
-DESCRIPTION = ("text columns (CSV, tab or space separated) of an impact test: time, hammer "
-               "and accelerometer columns by header name or number, hits found and split")
+DESCRIPTION = ("text columns (CSV, tab or space separated; or a NumPy .npy array) of an "
+               "impact test: time, hammer and accelerometer columns by header name or "
+               "number, hits found and split")
 WHAT = "text columns of an impact test (optional header row, then numbers)"
 _UNIT = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]+?)\s*[\])]\s*$")
 TIME_NAMES = ("t", "time", "t_s", "time_s", "zeit")
@@ -52,7 +54,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def read_columns(source: Path) -> tuple[list[str], list[str | None], np.ndarray]:
-    """``(names, units, data (n, k))``; names ``1 … k`` without a header row.
+    """``(names, units, data (n, k))``; names ``1 … k`` without a header row. A NumPy
+    ``.npy`` array (2-D, channels along its short side) is read as columns ``1 … k``.
 
     Raises
     ------
@@ -60,6 +63,8 @@ def read_columns(source: Path) -> tuple[list[str], list[str | None], np.ndarray]
         Missing/empty/binary file, a row of another width, a field that is not a number,
         fewer than two rows.
     """
+    if Path(source).suffix.lower() == ".npy":
+        return _read_npy(Path(source))
     text = read_text(source, WHAT)
     lines = [(i, ln) for i, ln in enumerate(text.splitlines(), start=1)
              if ln.strip() and not ln.lstrip().startswith(("#", "%"))]
@@ -96,6 +101,21 @@ def read_columns(source: Path) -> tuple[list[str], list[str | None], np.ndarray]
         raise RawDataError(source, f"only {data.shape[0]} data rows", where="file",
                            expected="time records")
     return names, units, data
+
+
+def _read_npy(source: Path) -> tuple[list[str], list[str | None], np.ndarray]:
+    if not source.is_file():
+        raise RawDataError(source, "file does not exist", expected=WHAT)
+    try:
+        a = np.load(source, allow_pickle=False)
+    except (ValueError, OSError) as exc:
+        raise RawDataError(source, f"not a readable NumPy array ({exc})", where="file",
+                           expected="a 2-D numeric .npy array") from None
+    if a.ndim != 2 or a.dtype.kind not in "fiu" or min(a.shape) < 2:
+        raise RawDataError(source, f"array of shape {a.shape} and type {a.dtype}",
+                           where="file", expected="a 2-D numeric array (channels x samples)")
+    data = a.T if a.shape[0] < a.shape[1] else a
+    return [str(i + 1) for i in range(data.shape[1])], [None] * data.shape[1], data.astype(float)
 
 
 def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> list[dict]:
@@ -137,4 +157,4 @@ def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> lis
                                   data[:, i_f] * f_scale, resp, args,
                                   {"source_file": src.name, "source_format": "text",
                                    "units": used}))
-    return entries
+    return finish_hits(staging, entries)
