@@ -287,10 +287,18 @@ def finish_hits(staging: Path, entries: list[dict]) -> list[dict]:
                            where="sampling rate",
                            expected="one rate for every record of an impact test")
     n = min(len(e["_data"][2][0]) for e in hits)
+    numbers: dict[tuple, int] = {}
+    count: dict[str, int] = {}
+    for e in hits:  # hits numbered 1, 2, … per hammer direction across the import's sources
+        key = (e["_data"][0], e["path"].rsplit("_h", 1)[0], e["hit"], e["direction"])
+        if key not in numbers:
+            count[e["direction"]] = count.get(e["direction"], 0) + 1
+            numbers[key] = count[e["direction"]]
+        e["hit"] = numbers[key]
     for e in hits:
         _, header, cols = e.pop("_data")
         write_csv(staging / e["path"], header, [c[:n] for c in cols],
-                  ("%.9f", "%.7g", *("%.7g",) * (len(header) - 2)))
+                  ("%.12g", "%.7g", *("%.7g",) * (len(header) - 2)))
         e["record_s"] = round(n / e["fs_hz"], 9)
     return entries
 

@@ -129,7 +129,7 @@ def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> lis
             header = ["t_s"] + [_column_name(c) for c in cols]
             rel = f"vibration/{base}.csv"
             write_csv(staging / rel, header, (np.arange(data.shape[0]) / fs, *data.T),
-                      ("%.9f", *("%.7g",) * data.shape[1]))
+                      ("%.12g", *("%.7g",) * data.shape[1]))
             entry.update({"fs_hz": float(fs), "source_file": src.name,
                           "source_format": suffix[1:]})
         else:
