@@ -157,9 +157,14 @@ _REFERENCE = "results/surface/reference_comparison.csv"
 def add_reference_findings(found, table: pd.DataFrame, rtol: float) -> None:
     """Chapter 2's statements about :func:`reference_comparison`'s table: how many of the
     files' own parameters ours match within ``rtol`` (verdict ``reference_agreement``:
-    pass when all do), the largest difference, and Pq of every file and profile beside ours.
+    pass when all do; a type we do not compute, such as the NPL exports' Pc, is listed in the
+    table with ours empty and left out of the count), the largest difference, and Pq of every
+    file and profile beside ours.
     Nothing is added for an empty table (the chapter then says nothing about it)."""
     if table is None or not len(table):
+        return
+    table = table[np.isfinite(table["ours"].astype(float))]  # types we compute (not Pc)
+    if not len(table):
         return
     within = table["within_tolerance"].astype(bool)
     found.add("has_reference", True, artefact=_REFERENCE)
