@@ -3,8 +3,8 @@
 The contract readers (:mod:`robomill.io.tables`, :mod:`robomill.io.forces`, …) call
 :func:`hint` on their header/format error path, so that a DynoWare, TDMS, X3P, SMATS/SDF,
 SpatialAnalyzer, FARO, UFF, LabVIEW or MATLAB file handed to them directly is named and the
-import command given, instead of a bare "column 't_s' is missing". Only the first :data:`HEAD_BYTES` bytes
-are read; nothing here imports numpy, pandas or the importers.
+import command given, instead of a bare "column 't_s' is missing". Only the first
+:data:`HEAD_BYTES` bytes are read; nothing here imports numpy, pandas or the importers.
 """
 
 from __future__ import annotations
