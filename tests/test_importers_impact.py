@@ -65,7 +65,7 @@ def test_lvm_two_hits_split_with_pretrigger_and_units(tmp_path, capsys):
     # two hits, each with a record per response node (m_1 at node 1, m_2 at node 2)
     assert sorted((f["hit"], f["response_node"]) for f in files) == [(1, 1), (1, 2), (2, 1),
                                                                      (2, 2)]
-    assert {f["units"]["F"] for f in files} == {"N (command line)"}
+    assert {f["units"]["F"] for f in files} == {"N (command line; the file says g)"}
     assert {f["units"]["m_1"] for f in files} == {"m/s^2 (file)"}
     # the source read independently: F's pulses (negative: polarity reversed) at 85, 8276
     seg = lvm_read.read(str(LVM), read_from_pickle=False, dump_file=False)[0]["data"]
@@ -99,6 +99,14 @@ def test_lvm_refusals_are_one_line(tmp_path, capsys):
                                            "--direction", "X"], capsys, "no hammer hit")
     refused("lvm", [NPY[0]], tmp_path, LVM_ARGS, capsys, "first line is")
     refused("lvm", [LVM], tmp_path, LVM_ARGS[:-2], capsys, "no hammer direction")
+    # X_Columns Multi: the time columns are not channels; a hammer in volts is not a force
+    multi = REAL / "lvm_read_multi_time_column.lvm"
+    refused("lvm", [multi], tmp_path, ["--hammer", "Voltage", "--response",
+                                       "Acceleration:X", "--direction", "X"], capsys,
+            "channel 'Voltage' is in 'Volts' (file)")
+    refused("lvm", [multi], tmp_path, ["--hammer", "X_Value:N", "--response",
+                                       "Acceleration:X", "--direction", "X"], capsys,
+            "channel 'X_Value' is not in the file (expected one of 'Voltage', 'Acceleration'")
 
 
 def test_npy_columns_need_units_and_give_one_hit_each(tmp_path, capsys):

@@ -84,12 +84,17 @@ def scale_to_si(source: Path, spec: ChannelSpec, file_unit: str | None, *, force
                 ) -> tuple[float, str]:
     """The factor to N (``force``) or m/s² of a channel and where its unit came from.
 
-    The command line's unit wins over the file's (a mislabelled channel is corrected there);
-    without either the channel is refused.
+    The file's unit is used where it states one; a unit on the command line wins over it (a
+    mislabelled channel, such as a hammer labelled ``g``, is corrected there, and the entry
+    keeps both: ``N (command line; the file says g)``); without either the channel is
+    refused.
     """
     table = FORCE_UNITS if force else ACCEL_UNITS
     what = "a force unit (N, kN, lbf)" if force else "an acceleration unit (m/s^2, g, mm/s^2)"
     unit, origin = (spec.unit, "command line") if spec.unit else (file_unit, "file")
+    if spec.unit and file_unit and file_unit.strip() and (
+            file_unit.strip().lower() != spec.unit.strip().lower()):
+        origin = f"command line; the file says {file_unit.strip()}"
     if not unit or not unit.strip():
         raise RawDataError(source, f"channel {spec.channel!r}: no unit stated",
                            where=f"option {spec.option}",

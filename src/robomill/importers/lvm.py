@@ -80,13 +80,24 @@ def read_lvm(source: Path) -> list[dict]:
         dts = list(seg.get("Delta_X") or [])
         cols = [i for i in range(data.shape[1])
                 if i < len(names) and names[i] != "X_Value"]
+
         segments.append({"names": [names[i] for i in cols],
-                         "units": [str(units[i]) if i < len(units) else "" for i in cols],
-                         "dt": [float(dts[i]) if i < len(dts) else np.nan for i in cols],
+                         "units": [str(_field(units, names, i, "") or "") for i in cols],
+                         "dt": [float(_field(dts, names, i, np.nan)) for i in cols],
                          "data": data[:, cols]})
     if not segments or not any(s["names"] for s in segments):
         raise RawDataError(source, "no channel columns", where="header", expected=WHAT)
     return segments
+
+
+def _field(values: list, names: list[str], i: int, empty):
+    """Header field of data column ``i``; with ``X_Columns Multi`` a channel's fields sit
+    under its own time column (lvm-read aligns them with the ``X_Value`` column)."""
+    v = values[i] if i < len(values) else empty
+    blank = v in ("", None) or (isinstance(v, float) and np.isnan(v))
+    if blank and i > 0 and names[i - 1] == "X_Value" and i - 1 < len(values):
+        v = values[i - 1]
+    return v
 
 
 def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> list[dict]:
