@@ -35,7 +35,7 @@ from robomill.importers._impact import (
 FORMAT = "lvm"
 KIND = "impact"
 DESCRIPTION = ("LabVIEW measurement file (.lvm) of an impact test: hammer and accelerometer "
-               "channels by name or index, hits found and split")
+               "channels by name or index, hits found and split → impact/<stem>_h<k>.csv")
 WHAT = "a LabVIEW measurement file (.lvm, first line 'LabVIEW Measurement')"
 
 

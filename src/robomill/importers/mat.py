@@ -49,7 +49,8 @@ from robomill.importers._impact import (
 FORMAT = "mat"
 KIND = "impact"
 DESCRIPTION = ("MATLAB .mat (v5 or v7.3) impact test: hammer and accelerometer time records, "
-               "or an analyser's H1 FRFs with coherence")
+               "or an analyser's H1 FRFs with coherence → impact/<stem>_h<k>.csv or "
+               "impact/<stem>.uff")
 WHAT = "a MATLAB .mat file (v4-v7 or v7.3)"
 RATE_NAMES = ("fs", "Fs", "FS", "fsamp", "SampleRate", "sample_rate", "fs_hz", "Fs_Hz")
 STEP_NAMES = ("dt", "Ts", "DT", "delta_t")

@@ -32,7 +32,8 @@ from robomill.importers._common import cut_id, write_csv
 FORMAT = "recording"
 KIND = "vibration"
 DESCRIPTION = ("a recording of a cut (sound: WAV/FLAC/MP3/OGG; vibration: CSV, TDMS, .mat, "
-               ".lvm), attached to its cut; --air for its air pass")
+               ".lvm), attached to its cut; --air for its air pass → sound/<cut>[_air].* or "
+               "vibration/<cut>[_air].*")
 SOUND = (".wav", ".flac", ".mp3", ".ogg", ".aiff", ".aif")
 COPIED_VIBRATION = (".csv", ".tdms", ".uff", ".unv")
 CONVERTED = (".mat", ".lvm")

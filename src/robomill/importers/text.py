@@ -36,7 +36,7 @@ FORMAT = "text"
 KIND = "impact"
 DESCRIPTION = ("text columns (CSV, tab or space separated; or a NumPy .npy array) of an "
                "impact test: time, hammer and accelerometer columns by header name or "
-               "number, hits found and split")
+               "number, hits found and split → impact/<stem>_h<k>.csv")
 WHAT = "text columns of an impact test (optional header row, then numbers)"
 _UNIT = re.compile(r"^(.*?)\s*[\[(]\s*([^\])]+?)\s*[\])]\s*$")
 TIME_NAMES = ("t", "time", "t_s", "time_s", "zeit")
