@@ -247,3 +247,15 @@ def test_recording_attached_to_a_cut_with_its_air_pass(tmp_path, capsys):
             "unknown file type")
     refused("recording", [LVM], tmp_path, ["--cut", "c3", "--channel", "acc"], capsys,
             "channel 'acc' is not in the file")
+
+
+@pytest.mark.parametrize("fmt", ["lvm", "mat", "text", "recording"])
+def test_registered_and_help_says_what_it_reads(fmt, capsys):
+    from robomill.importers import load_importer
+
+    mod = load_importer(fmt)
+    assert mod.FORMAT == fmt
+    assert main(["import", fmt, "--help"]) == 0
+    out = " ".join(capsys.readouterr().out.split())
+    assert " ".join(mod.DESCRIPTION.split()) in out
+    assert ("--air" if fmt == "recording" else "--response CH:DIR[:unit]") in out
