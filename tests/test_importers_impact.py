@@ -200,11 +200,25 @@ def _h1_from_pyfrf():
     return f, sxf / sff, np.abs(sxf) ** 2 / (sff * sxx)
 
 
-def test_mat_frf_with_coherence_becomes_a_uff_frf_file(tmp_path, capsys):
+@pytest.mark.parametrize("version", ["v5", "v7.3"])
+def test_mat_frf_with_coherence_becomes_a_uff_frf_file(tmp_path, capsys, version):
     f, h1, coh = _h1_from_pyfrf()
     keep = slice(1, 4001)  # 2 Hz … 8 kHz
     src = tmp_path / "analyser.mat"
-    scipy.io.savemat(src, {"H1": h1[keep, None], "freq": f[keep], "coh": coh[keep, None]})
+    if version == "v5":
+        scipy.io.savemat(src, {"H1": h1[keep, None], "freq": f[keep], "coh": coh[keep, None]})
+    else:  # MATLAB v7.3: HDF5, arrays transposed, complex as a (real, imag) compound
+        import h5py
+
+        cplx = np.dtype([("real", "f8"), ("imag", "f8")])
+        h = np.empty((1, h1[keep].size), cplx)
+        h["real"], h["imag"] = h1[keep].real, h1[keep].imag
+        with h5py.File(src, "w", userblock_size=512) as h5:
+            h5["H1"] = h
+            h5["freq"] = f[keep][None, :]
+            h5["coh"] = coh[keep][None, :]
+        with open(src, "r+b") as fh:
+            fh.write(b"MATLAB 7.3 MAT-file, written by the test".ljust(116))
     raw = tmp_path / "raw"
     rc, out = imp("mat", [src], raw, ["--frf", "H1", "--freq", "freq", "--coherence", "coh",
                                       "--frf-unit", "m/s^2/N", "--response", "1:X",
