@@ -136,6 +136,9 @@ def _pyfrf_as(kind: str, path: Path) -> Path:
     if kind == "csv":
         np.savetxt(path, a.T, delimiter=",", header="t [s],force [N],acc_x [m/s^2]",
                    comments="", fmt="%.10g")
+    elif kind == "csv_decimal_comma":  # a European spreadsheet: ';' and decimal commas
+        rows = [";".join(f"{v:.10g}".replace(".", ",") for v in row) for row in a.T]
+        path.write_text("Zeit (s);Kraft (N);Beschl (m/s^2)\n" + "\n".join(rows) + "\n")
     elif kind == "mat5":
         scipy.io.savemat(path, {"force": a[1], "acc": a[2][:, None] * np.array([[1.0, 2.0]]),
                                 "fs": 25600.0})
@@ -152,11 +155,13 @@ def _pyfrf_as(kind: str, path: Path) -> Path:
 
 @pytest.mark.parametrize("kind,fmt,args", [
     ("csv", "text", ["--hammer", "force", "--response", "acc_x:X"]),
+    ("csv_decimal_comma", "text", ["--time", "Zeit", "--hammer", "Kraft", "--response",
+                                   "Beschl:X"]),
     ("mat5", "mat", ["--hammer", "force:N", "--response", "acc[1]:X:m/s^2"]),
     ("mat73", "mat", ["--hammer", "1:N", "--response", "2:X:m/s^2"]),
 ])
 def test_same_samples_same_hits_in_text_and_mat(tmp_path, capsys, kind, fmt, args):
-    src = _pyfrf_as(kind, tmp_path / f"hit.{ 'csv' if kind == 'csv' else 'mat'}")
+    src = _pyfrf_as(kind, tmp_path / f"hit.{'mat' if kind.startswith('mat') else 'csv'}")
     raw = tmp_path / "raw"
     rc, out = imp(fmt, [src], raw, [*args, "--direction", "X"], capsys)
     assert rc == 0, out

@@ -1,7 +1,8 @@
 """Text columns of an impact test (CSV, tab- or space-separated; a NumPy ``savetxt``, a
 spreadsheet export, an acquisition program's ASCII) → ``impact/<stem>_h<k>.csv``.
 
-Lines starting with ``#`` or ``%`` are comments. An optional header row names the columns,
+Lines starting with ``#`` or ``%`` are comments; with a semicolon, tab or space separator a
+decimal comma (``0,25``) is read as a decimal mark. An optional header row names the columns,
 each possibly with its unit: ``force [N]``, ``acc_x (g)``, ``Force_N`` is not parsed for a
 unit. Channels are chosen by header name or 1-based column number. The rate is ``--fs-hz``,
 else the column named by ``--time`` (or a column named ``t``, ``time``, ``t_s``, ``Time``), in
@@ -80,6 +81,9 @@ def read_columns(source: Path) -> tuple[list[str], list[str | None], np.ndarray]
         if m := _UNIT.match(n):
             names[i], units[i] = m[1].strip(), m[2].strip()
     rows = lines[1:] if header else lines
+    # a decimal comma (a European spreadsheet's export) where the comma does not separate
+    decimal_comma = sep != "," and bool(rows) and any(
+        "," in f for f in split_fields(rows[0][1], sep))
     data = np.empty((len(rows), len(names)))
     for r, (lineno, ln) in enumerate(rows):
         f = split_fields(ln, sep)
@@ -92,7 +96,7 @@ def read_columns(source: Path) -> tuple[list[str], list[str | None], np.ndarray]
                                where=f"line {lineno}", expected=f"{len(names)} fields")
         for c, v in enumerate(f):
             try:
-                data[r, c] = float(v)
+                data[r, c] = float(v.replace(",", ".") if decimal_comma else v)
             except ValueError:
                 raise RawDataError(source, f"value {v!r} is not a number",
                                    where=f"line {lineno}, column {names[c]}",
