@@ -183,6 +183,8 @@ def test_mat_refusals_are_one_line(tmp_path, capsys):
             "variable 'hammer' is not in the file")
     refused("mat", [src], tmp_path, ["--hammer", "force:N", "--response", "acc[3]:X:g",
                                      "--direction", "X"], capsys, "column 3 of 'acc'")
+    refused("mat", [src], tmp_path, ["--direction", "X"], capsys,
+            "no --hammer (time records) and no --frf (an analyser's FRFs)")
     junk = tmp_path / "notes.mat"
     scipy.io.savemat(junk, {"note": "hammer test of 3 May"})
     refused("mat", [junk], tmp_path, ["--hammer", "1:N", "--response", "2:X:g",

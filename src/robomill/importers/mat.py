@@ -284,6 +284,12 @@ def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> lis
         if getattr(args, "frf", None):
             entries.append(_convert_frf(src, staging, variables, args))
             continue
+        if not getattr(args, "hammer", None):
+            raise RawDataError(src, "no --hammer (time records) and no --frf (an analyser's "
+                               "FRFs)", where="options",
+                               expected="--hammer VAR[:unit] --response VAR:DIR[:unit], or "
+                                        "--frf VAR --freq VAR (variables: "
+                                        + _variables(variables) + ")")
         hammer = parse_hammer(getattr(args, "hammer", None), src)
         specs = [parse_response(r, src) for r in getattr(args, "response", []) or []]
         if not specs:
