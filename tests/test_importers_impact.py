@@ -266,6 +266,21 @@ def test_recording_attached_to_a_cut_with_its_air_pass(tmp_path, capsys):
     capsys.readouterr()
     refused("recording", [REAL / "LICENSE.lvm_read"], tmp_path, ["--cut", "c3"], capsys,
             "unknown file type")
+    # the cut's conditions from a sidecar the lab wrote beside the recording
+    side = tmp_path / "c4.yaml"
+    side.write_text("spindle_rpm: 12500\nflutes: 4\nfeed_mm_min: 600\ndepth_mm: 0.5\n"
+                    "tool_diameter_mm: 6\ndirection: px\n")
+    rc, out = imp("recording", [sound / "rahimi_nochatter.flac"], raw,
+                  ["--cut", "c4", "--sidecar", str(side)], capsys)
+    assert rc == 0, out
+    cut = next(c for c in manifest(raw)["cuts"] if c["id"] == "c4")
+    assert cut["spindle_rpm"] == 12500 and cut["flutes"] == 4 and cut["depth_mm"] == 0.5
+    assert cut["feed_mm_s"] == pytest.approx(10.0) and cut["direction"] == "px"
+    side.write_text("rpm: 12500\n")
+    rc, out = imp("recording", [sound / "rahimi_nochatter.flac"], tmp_path / "r7",
+                  ["--cut", "c5", "--sidecar", str(side)], capsys)
+    assert rc == 1 and out.splitlines()[0].startswith(f"{side}: sidecar key(s) rpm unknown")
+    assert not (tmp_path / "r7").exists()
     refused("recording", [LVM], tmp_path, ["--cut", "c3", "--channel", "acc"], capsys,
             "channel 'acc' is not in the file")
 

@@ -15,7 +15,9 @@ or ``vibration/<cut>[_air].csv|.tdms``, kind ``sound``/``vibration`` with its ``
 ``--air`` marks the recording as an **air pass** of the cut (the same path, spindle and feed,
 without material), manifest key ``air: true``: the recording of what the machine makes
 without cutting, which tells forced vibration from chatter. A cut may carry one recording of
-each. ``--spindle-rpm``/``--flutes`` go into the entry when given (else the cut's design).
+each. ``--spindle-rpm``/``--flutes`` go into the entry when given (else the cut's design);
+``--sidecar FILE`` (YAML/JSON, the ``--design`` keys) writes the cut's conditions as the lab
+noted them beside the recording into the manifest's cut.
 """
 
 from __future__ import annotations
@@ -53,6 +55,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="the spindle speed of the recording (default: the cut's)")
     parser.add_argument("--flutes", type=int, default=None,
                         help="the tool's flutes (default: the cut's)")
+    parser.add_argument("--sidecar", type=Path, default=None, metavar="FILE",
+                        help="the cut's conditions beside the recording (YAML or JSON, keys "
+                             "as --design: spindle_rpm, flutes, feed_mm_s or feed_mm_min, "
+                             "depth_mm, tool_diameter_mm, …): written into the cut")
 
 
 def _mat_channels(src: Path, names: list[str], args) -> tuple[np.ndarray, list[str], float]:
