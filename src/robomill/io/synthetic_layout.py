@@ -163,11 +163,14 @@ def instrument_files(config: Mapping[str, Any], instrument: str) -> list[dict[st
         s = _settings(config, "recordings")
         files = []
         for c in synthetic_cuts(config):
+            passes = ("", "_air") if s["air_pass"] else ("",)
             if s["sound"]:
-                files.append({"path": f"sound/{c.id}.wav", "kind": "sound", "cut": c.id})
+                files.extend({"path": f"sound/{c.id}{p}.wav", "kind": "sound", "cut": c.id,
+                              **({"pass": "air"} if p else {})} for p in passes)
             if s["vibration"]:
-                files.append({"path": f"vibration/{c.id}.csv", "kind": "vibration",
-                              "cut": c.id, "fs_hz": float(s["accel_fs_hz"])})
+                files.extend({"path": f"vibration/{c.id}{p}.csv", "kind": "vibration",
+                              "cut": c.id, "fs_hz": float(s["accel_fs_hz"]),
+                              **({"pass": "air"} if p else {})} for p in passes)
         return files
     raise ValueError(f"unknown instrument {instrument!r} (one of {', '.join(SIMULATORS)})")
 
