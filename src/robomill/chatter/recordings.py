@@ -146,8 +146,8 @@ def judge_study(manifest, entries: Iterable[Mapping[str, Any]], settings: Verdic
                 log=None):
     """``(table, spectrograms)``: one row per record but the air passes (columns
     :data:`VERDICT_COLUMNS`, then ``kind`` and :meth:`Verdict.row`'s evidence; a chatter
-    verdict tested on the cut's air passes, :func:`forced_or_chatter`), and an :class:`xarray.Dataset` of the
-    pooled spectrograms (dims ``record, f_bin, t_bin``)."""
+    verdict tested on the cut's air passes, :func:`forced_or_chatter`), and an
+    :class:`xarray.Dataset` of the pooled spectrograms (dims ``record, f_bin, t_bin``)."""
     import xarray as xr
 
     entries = list(entries)
