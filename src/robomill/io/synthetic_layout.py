@@ -163,14 +163,15 @@ def instrument_files(config: Mapping[str, Any], instrument: str) -> list[dict[st
         s = _settings(config, "recordings")
         files = []
         for c in synthetic_cuts(config):
-            passes = ("", "_air") if s["air_pass"] else ("",)
-            if s["sound"]:
-                files.extend({"path": f"sound/{c.id}{p}.wav", "kind": "sound", "cut": c.id,
-                              **({"pass": "air"} if p else {})} for p in passes)
-            if s["vibration"]:
-                files.extend({"path": f"vibration/{c.id}{p}.csv", "kind": "vibration",
-                              "cut": c.id, "fs_hz": float(s["accel_fs_hz"]),
-                              **({"pass": "air"} if p else {})} for p in passes)
+            # the cut's recordings, then their air passes (the same path without material)
+            for p in ("", "_air") if s["air_pass"] else ("",):
+                air = {"pass": "air"} if p else {}
+                if s["sound"]:
+                    files.append({"path": f"sound/{c.id}{p}.wav", "kind": "sound",
+                                  "cut": c.id, **air})
+                if s["vibration"]:
+                    files.append({"path": f"vibration/{c.id}{p}.csv", "kind": "vibration",
+                                  "cut": c.id, "fs_hz": float(s["accel_fs_hz"]), **air})
         return files
     raise ValueError(f"unknown instrument {instrument!r} (one of {', '.join(SIMULATORS)})")
 
