@@ -101,3 +101,24 @@ def test_listen_air_file_that_cannot_be_read_is_one_line(tmp_path, capsys):
     bad.write_bytes(b"RIFF\x00\x00not a wave")
     rc, out = _listen(capsys, str(cut), "--air", str(bad))
     assert rc == 1 and len(out.strip().splitlines()) == 1 and "air.wav" in out
+
+
+MANIFEST = {"experiment": {"spindle_rpm": 12500.0, "flutes": 4, "tool_diameter_mm": 6.0,
+                           "cut_length_mm": 40.0},
+            "cuts": [{"id": "c1", "feed_mm_s": 10.0, "depth_mm": 0.2, "direction": "px"}]}
+
+
+def test_the_manifest_lists_air_passes_and_refuses_another_pass_in_one_line():
+    from robomill.chatter.recordings import is_air_pass
+    from robomill.errors import RawDataError
+    from robomill.io.manifest import parse_manifest
+
+    files = [{"path": "sound/c1.wav", "kind": "sound", "cut": "c1"},
+             {"path": "sound/c1_air.wav", "kind": "sound", "cut": "c1", "pass": "air"},
+             {"path": "vibration/c1_air.csv", "kind": "vibration", "cut": "c1", "pass": "air"}]
+    m = parse_manifest({**MANIFEST, "files": files}, "m.yaml", require_sha256=False)
+    assert [is_air_pass(f) for f in m.files] == [False, True, True]
+    bad = {"path": "sound/c1_x.wav", "kind": "sound", "cut": "c1", "pass": "idle"}
+    with pytest.raises(RawDataError, match=r"m.yaml: files\[0\] \(sound/c1_x.wav\).pass: pass "
+                                           r"is 'idle' \(expected one of loaded, air\)"):
+        parse_manifest({**MANIFEST, "files": [bad]}, "m.yaml", require_sha256=False)
