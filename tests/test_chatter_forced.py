@@ -122,3 +122,20 @@ def test_the_manifest_lists_air_passes_and_refuses_another_pass_in_one_line():
     with pytest.raises(RawDataError, match=r"m.yaml: files\[0\] \(sound/c1_x.wav\).pass: pass "
                                            r"is 'idle' \(expected one of loaded, air\)"):
         parse_manifest({**MANIFEST, "files": [bad]}, "m.yaml", require_sha256=False)
+
+
+def test_the_planner_reads_forced_as_not_chatter(tmp_path):
+    import pandas as pd
+
+    from robomill.plan.evidence import read_verdicts, verdict_stability
+
+    path = tmp_path / "verdicts.csv"
+    pd.DataFrame({"cut": ["a", "a", "b", "b", "c"],
+                  "verdict": ["forced", "stable", "forced", "chatter", "forced"],
+                  "chatter_hz": [np.nan, np.nan, np.nan, 900.0, np.nan],
+                  "source": ["forces/a.h5", "vibration/a.csv", "forces/b.h5", "sound/b.wav",
+                             "forces/c.h5"],
+                  "evidence": ["air test: forced", "", "air test: forced", "", "air test"]},
+                 ).to_csv(path, index=False)
+    stability = verdict_stability(read_verdicts(path))
+    assert stability.to_dict() == {"a": 1.0, "b": 0.0, "c": 1.0}
