@@ -164,6 +164,10 @@ def test_manifest_infers_recordings_from_their_folders(tmp_path):
     assert s.entry == {"path": "sound/s1_g1_px.flac", "kind": "sound", "cut": "s1_g1_px"}
     v = infer_file(raw, uff)  # a UFF in vibration/ is read as it is: no import note
     assert v.note is None and v.entry["kind"] == "vibration" and not v.missing
+    soundfile.write(raw / "sound" / "s1_g1_px_air.flac", np.zeros(100), 8000)
+    a = infer_file(raw, raw / "sound" / "s1_g1_px_air.flac")  # the cut's air pass
+    assert a.entry == {"path": "sound/s1_g1_px_air.flac", "kind": "sound", "cut": "s1_g1_px",
+                       "pass": "air"}
 
 
 def test_chapter_4_recordings_prose_follows_the_verdict_findings(tmp_path, settings):
