@@ -254,8 +254,11 @@ def test_recording_attached_to_a_cut_with_its_air_pass(tmp_path, capsys):
     rc, out = imp("recording", [LVM], raw, ["--cut", "c2", "--channel", "m_1"], capsys)
     assert rc == 0, out
     files = {f["path"]: f for f in manifest(raw)["files"]}
-    assert files["sound/c1.flac"]["kind"] == "sound" and "air" not in files["sound/c1.flac"]
-    assert files["sound/c1_air.flac"]["air"] is True and files["sound/c1_air.flac"]["cut"] == "c1"
+    assert files["sound/c1.flac"]["kind"] == "sound" and "pass" not in files["sound/c1.flac"]
+    assert files["sound/c1_air.flac"]["pass"] == "air" and files["sound/c1_air.flac"]["cut"] == "c1"
+    # the chatter verdicts read the imported entry as the cut's air pass
+    from robomill.chatter.recordings import is_air_pass
+    assert is_air_pass(files["sound/c1_air.flac"]) and not is_air_pass(files["sound/c1.flac"])
     vib = files["vibration/c2.csv"]
     assert vib["kind"] == "vibration" and vib["fs_hz"] == pytest.approx(1 / 0.000977)
     from robomill.io.recordings import read_vibration

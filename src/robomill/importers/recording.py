@@ -13,7 +13,7 @@ or ``vibration/<cut>[_air].csv|.tdms``, kind ``sound``/``vibration`` with its ``
   per channel, in the file's unit; the verdict needs only the lines' frequencies).
 
 ``--air`` marks the recording as an **air pass** of the cut (the same path, spindle and feed,
-without material), manifest key ``air: true``: the recording of what the machine makes
+without material), manifest key ``pass: air``: the recording of what the machine makes
 without cutting, which tells forced vibration from chatter. A cut may carry one recording of
 each. ``--spindle-rpm``/``--flutes`` go into the entry when given (else the cut's design);
 ``--sidecar FILE`` (YAML/JSON, the ``--design`` keys) writes the cut's conditions as the lab
@@ -45,7 +45,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     """``--air``, the channels of a .mat/.lvm/.tdms file, its rate, the cut's speed."""
     parser.add_argument("--air", action="store_true",
                         help="the recording is an air pass of the cut (same path without "
-                             "material): manifest key air: true")
+                             "material): manifest key pass: air")
     parser.add_argument("--channel", action="append", default=[], metavar="CH",
                         help="a channel to keep (.mat: NAME or NAME[column]; .lvm: name or "
                              "number; .tdms: GROUP/CHANNEL); repeatable")
@@ -146,7 +146,7 @@ def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> lis
                                + ")")
         entry["path"] = rel
         if air:
-            entry["air"] = True
+            entry["pass"] = "air"
         for key in ("spindle_rpm", "flutes"):
             if getattr(args, key, None) is not None:
                 entry[key] = getattr(args, key)
