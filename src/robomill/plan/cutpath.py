@@ -118,6 +118,12 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
                          min_wrist_angle_deg=req.min_wrist_angle_deg)
         node_ok[i] &= (ce["status"] == 0) & (ce["configuration"] == cfg[i])
         ends[kind] = (qe, Te[:, :3, 3])
+    # the safe points over the start and the end and the entry ramp (plan.motion), likewise
+    air = _air_targets(req, wobj, mid_mm, depth_mm, pts, u, zp)
+    for i, kind in ((0, "in"), (S - 1, "out")):
+        good, q_air = _feasible_at(robot, lim, req, Rt, air[kind], q[i], cfg[i])
+        node_ok[i] &= good
+        ends[kind] = q_air
     sc = _scores(measured, cell, req, q, frame, spindle_rpm, depth_mm)
     lim_margin = req.constraints.get("min_stability_margin")
     if lim_margin is not None and "stability_margin_low" in sc:   # at every station
@@ -173,8 +179,15 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
         T[:3, :3], T[:3, 3] = Rt[i_rot], p_mm
         return T
 
-    rows = [_row(wobj, "approach", np.nan, th[idx[0]], app,
+    r0, r1 = idx[0], idx[-1]
+    q_in, T_in = ends["in"][-1, r0], target(air["in"][-1], r0)
+    q_out, T_out = ends["out"][0, r1], target(air["out"][0], r1)
+    ramp = [(target(pt, r0), ends["in"][k, r0]) for k, pt in enumerate(air["in"][:-1])]
+    rows = [_row(wobj, "safe_in", np.nan, th[idx[0]], q_in, T_in, None),
+            _row(wobj, "approach", np.nan, th[idx[0]], app,
                  target(ends["approach"][1][idx[0]], idx[0]), None)]
+    rows += [_row(wobj, "entry", float((T[:3, 3] - pts[0]) @ u), th[idx[0]], q, T, None)
+             for T, q in ramp]
     for i in range(S):
         extra = {name: float(sc[name][i, idx[i]]) for name in names}
         extra.update({"wrist_angle_deg": float(chk["wrist_deg"][i, idx[i]]),
@@ -184,6 +197,7 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
                          target(pts[i], idx[i]), extra))
     rows.append(_row(wobj, "retract", np.nan, th[idx[-1]], ret,
                      target(ends["retract"][1][idx[-1]], idx[-1]), None))
+    rows.append(_row(wobj, "safe_out", np.nan, th[idx[-1]], q_out, T_out, None))
     st = pd.DataFrame(rows)
     st.insert(0, "cut", cut)
     st.insert(1, "configuration", configuration_name(best_cfg))
@@ -192,6 +206,34 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
                     "min_limit_clearance_deg": float(cutrows["limit_clearance_deg"].min()),
                     "min_sigma": float(cutrows["sigma_min"].min())})
     return CutPath(cut, feed_mm_s, spindle_rpm, st, summary, nodes=nodes)
+
+
+def _air_targets(req, wobj, mid_mm, depth_mm, pts, u, zp) -> dict[str, np.ndarray]:
+    """Points in the air and on the way in (:mod:`robomill.plan.motion`): ``in`` the entry
+    ramp's points then the safe point over the start, ``out`` the safe point over the end."""
+    from robomill.plan.motion import Motion, ramp_points
+
+    mo = req.motion or Motion()
+    top = depth_mm + wobj.top_z_offset_mm(mid_mm)           # the slot floor → the top face
+    ramp = ramp_points(pts[0], u, zp, top + mo.ramp_gap_mm, req.length_mm, mo.ramp_angle_deg)
+    return {"in": np.vstack([ramp, pts[0] + (top + mo.safe_height_mm) * zp]),
+            "out": (pts[-1] + (top + mo.safe_height_mm) * zp)[None]}
+
+
+def _feasible_at(robot, lim, req, Rt, points, q_seed, config):
+    """Per rotation ``(R,)``: whether every point ``(k, 3)`` at that rotation is feasible in
+    the station's configuration, and the joints ``(k, R, n)`` [rad] (solved near the
+    station's ``q_seed`` ``(R, n)``)."""
+    k, R, n = len(points), len(Rt), q_seed.shape[-1]
+    T = np.broadcast_to(np.eye(4), (k, R, 4, 4)).copy()
+    T[..., :3, :3], T[..., :3, 3] = Rt[None], np.asarray(points)[:, None]
+    seed = np.broadcast_to(q_seed, (k, R, n)).reshape(-1, n)
+    qe, ok = ik_batch(robot, T.reshape(-1, 4, 4), seed)
+    qe = into_limits(qe, lim, seed)
+    ce = pose_checks(robot, qe, ok, limits_deg=lim, limit_margin_deg=req.joint_limit_margin_deg,
+                     min_wrist_angle_deg=req.min_wrist_angle_deg)
+    good = ((ce["status"] == 0) & (ce["configuration"] == np.tile(config, k))).reshape(k, R)
+    return good.all(0), qe.reshape(k, R, n)
 
 
 def _better(key, other, scores) -> bool:
