@@ -59,10 +59,13 @@ def quaternion_wxyz(R: np.ndarray) -> np.ndarray:
 
 
 def zyx_abc_deg(R: np.ndarray) -> np.ndarray:
-    """KUKA angles [A, B, C] [deg] with R = Rz(A) Ry(B) Rx(C) (B in [−90°, 90°])."""
+    """KUKA angles [A, B, C] [deg] with R = Rz(A) Ry(B) Rx(C) (B in [−90°, 90°]); at
+    B = ±90° (x along ∓z, where only A ∓ C is defined) C = 0 and A from the y column."""
     R = np.asarray(R, float)
-    A = np.arctan2(R[1, 0], R[0, 0])
     B = np.arctan2(-R[2, 0], np.hypot(R[0, 0], R[1, 0]))
+    if np.hypot(R[0, 0], R[1, 0]) < 1e-9:
+        return np.rad2deg([np.arctan2(-R[0, 1], R[1, 1]), B, 0.0])
+    A = np.arctan2(R[1, 0], R[0, 0])
     C = np.arctan2(R[2, 1], R[2, 2])
     return np.rad2deg([A, B, C])
 

@@ -35,8 +35,9 @@ A request states the job and what counts as acceptable:
 The rotation grid always holds 0 (the cell's nominal tool orientation).
 Directions are names (``px``, ``py``, ``mx``, ``my``) or angles in degrees in the part frame
 (the work object's); a yawed work object turns them into the base frame when the request is
-read (``direction_deg`` and the plan's directions are the base frame's, named ``d<angle>``). Every problem is reported as one line naming the
-file, the field and what was expected (:class:`PlanRequestError`).
+read (``direction_deg`` and the plan's directions are the base frame's, named
+``d<angle>``). Every problem is reported as one line naming the file, the field and what was
+expected (:class:`PlanRequestError`).
 """
 
 from __future__ import annotations
