@@ -502,3 +502,81 @@ def test_every_emitted_program_parses(tmp_path, case, wired):
         used = set(re.findall(r"Move\w+ (\w+),(\w+),(\w+),(\w+)", text))
         names = {n for u in used for n in u} - {"fine"}
         assert names <= declared
+
+
+# ---- 7. one set of predictions ---------------------------------------------------------------
+def _measured_with_modes():
+    joints = pd.DataFrame({"joint": np.arange(1, 7), "k_Nm_rad": K_JOINT,
+                           "ci95_low_Nm_rad": K_JOINT, "ci95_high_Nm_rad": K_JOINT,
+                           "observable": True})
+    modes = pd.DataFrame({"f_n_hz": [40.0, 60.0], "zeta": [0.04, 0.05],
+                          "k_modal_N_m": [1e6, 2e6], "shape_x": [1.0, 0.0],
+                          "shape_y": [0.0, 1.0], "shape_z": [0.0, 0.0]})
+    rows = [("Ktc", 800.0), ("Krc", 240.0), ("Kac", 200.0), ("Kte", 25.0), ("Kre", 30.0),
+            ("Kae", 6.0)]
+    coef = pd.DataFrame({"name": [r[0] for r in rows], "value": [r[1] for r in rows],
+                         "ci_low": [0.9 * r[1] for r in rows],
+                         "ci_high": [1.1 * r[1] for r in rows]})
+    return Measured(modes=modes, coefficients=coef, joints=joints)
+
+
+def _grid_margin(req, m, cell, top_point, rotation_deg, direction_deg, rpm, depth, feed,
+                 reach=None):
+    """The candidate grid's pessimistic margin of one candidate (predict_grid itself, widened
+    by apply_extrapolation where the study does not reach)."""
+    from dataclasses import replace
+
+    from robomill.plan.predict import apply_extrapolation, predict_grid
+
+    sub = replace(req, placements_mm=np.asarray([top_point], float),
+                  rotations_deg=np.array([rotation_deg]), direction_deg=np.array([direction_deg]),
+                  direction_names=("x",), spindle_rpm=np.array([rpm]),
+                  depth_mm=np.array([depth]), feed_mm_s=np.array([feed]), length_mm=1e-3)
+    cand = predict_grid(sub, m, cell)
+    if reach is not None:
+        cand = apply_extrapolation(cand, sub, m, cell, reach)
+    return float(cand["stability_margin_low"].values.ravel()[0])
+
+
+@pytest.mark.parametrize("reach", [None, "speed outside the study"])
+def test_no_station_below_the_grids_margin_is_emitted(tmp_path, reach):
+    """Angled spindle (the rotation moves the arm and so the margin): with the limit between
+    the grid's worst and best node, every emitted station's margin is the grid's own
+    prediction at that pose (widened where the study's speeds do not reach 20 000 rpm) and
+    meets the limit, though nodes below it exist."""
+    from robomill.plan.extrapolation import StudyReach
+
+    if reach is not None:
+        reach = StudyReach(spindle_rpm=(10000.0, 15000.0))
+    cf = parse_cell(cell_mapping(abb_cell(ANGLED)), "cell.yaml")
+    m = _measured_with_modes()
+    point = np.array([750.0, 85.0, 200.0])
+
+    def run(limit):
+        req = parse_request({
+            "kind": "plan", "operation": {"length_mm": 40.0, "directions": ["py"]},
+            "tool": {"diameter_mm": 6, "flutes": 2}, "placement": {"points_mm": [point.tolist()]},
+            "rotations_deg": {"min": -90.0, "max": 90.0, "n": 19}, "spindle_rpm": [20000],
+            "depth_mm": [0.5], "feed_mm_s": [5], "max_rotation_step_deg": 10,
+            "path_stations": 5, "work_object": WOBJ,
+            "constraints": {"min_stability_margin": limit}}, "p.yaml")
+        cell = cell_of(cf, req, point[None])
+        return req, cell, plan_cut_path("plan_01", point, 90.0, 0.5, 5.0, 20000.0, req, m, cell,
+                                        req.work_object, reach=reach)
+
+    req, cell, free = run(-1.0)
+    nodes = np.asarray(free.nodes["stability_margin_low"], float)
+    fin = nodes[np.isfinite(nodes)]
+    limit = float(np.quantile(fin, 0.4))
+    req, cell, p = run(limit)
+    assert p.refused is None
+    assert (nodes[np.asarray(free.nodes["feasible"])] < limit).any()     # the limit bites
+    cut = p.stations[p.stations["move"] == "cut"]
+    for _, r in cut.iterrows():
+        top = np.array([r["x_base_mm"], r["y_base_mm"], r["z_base_mm"] + 0.5])
+        g = _grid_margin(req, m, cell, top, r["rotation_deg"], 90.0, 20000.0, 0.5, 5.0, reach)
+        assert r["stability_margin_low"] == pytest.approx(g, rel=1e-9)
+        assert g >= limit
+        if reach is not None:                     # the widening took effect
+            assert g < _grid_margin(req, m, cell, top, r["rotation_deg"], 90.0, 20000.0,
+                                    0.5, 5.0)

@@ -46,31 +46,25 @@ class CutPath:
     ``configuration`` and the chosen ``path`` (indices), for the pose map."""
 
 
-def _scores(measured, cell, req, q, frame, rpm, depth_mm):
-    """Per node ``(S, R)``: pessimistic stability margin and the tool tip's static stiffness
-    normal to the wall at its softest end (:mod:`robomill.plan.tooltip`)."""
-    from robomill.plan.predict import critical_depth_m
+def _stiffness(measured, cell, req, q, frame):
+    """Per node ``(S, R)``: the tool tip's static stiffness normal to the wall at its softest
+    end (:mod:`robomill.plan.tooltip`); empty without a joint or modal model."""
     from robomill.plan.tooltip import static_compliance_m_N
 
     S, R, n = q.shape
-    flat = q.reshape(-1, n)
-    out = {}
-    a = critical_depth_m(measured, cell, req, flat, np.broadcast_to(frame, (S * R, 3, 3)),
-                         np.array([rpm]), corners=True)
-    if a is not None:
-        out["stability_margin_low"] = (a["low"][:, 0] / (depth_mm * 1e-3) - 1).reshape(S, R)
-    comp = static_compliance_m_N(measured, cell, flat, req.robot_mode_max_hz)
-    if comp is not None:  # the softest end of the tool tip's static compliance
-        nrm = frame[:, 1]
-        c_nn = np.max([np.einsum("i,bij,j->b", nrm, C, nrm) for C in comp.values()], axis=0)
-        with np.errstate(divide="ignore"):
-            out["k_normal_low_N_m"] = (1.0 / c_nn).reshape(S, R)
-    return out
+    comp = static_compliance_m_N(measured, cell, q.reshape(-1, n), req.robot_mode_max_hz)
+    if comp is None:
+        return {}
+    nrm = frame[:, 1]
+    c_nn = np.max([np.einsum("i,bij,j->b", nrm, C, nrm) for C in comp.values()], axis=0)
+    with np.errstate(divide="ignore"):
+        return {"k_normal_low_N_m": (1.0 / c_nn).reshape(S, R)}
 
 
 def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: float,
                   feed_mm_s: float, spindle_rpm: float, req, measured, cell,
-                  wobj: WorkObject, allowed_rotations: np.ndarray | None = None) -> CutPath:
+                  wobj: WorkObject, allowed_rotations: np.ndarray | None = None,
+                  reach=None) -> CutPath:
     """The path of one chosen cut (module docstring). ``mid_mm``: the placement point on the
     top face in the base frame; ``cell``: :class:`robomill.plan.predict.Cell`;
     ``allowed_rotations`` ``(R,)``: the rotations at which the cut meets every constraint of
@@ -124,10 +118,15 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
         good, q_air = _feasible_at(robot, lim, req, Rt, air[kind], q[i], cfg[i])
         node_ok[i] &= good
         ends[kind] = q_air
-    sc = _scores(measured, cell, req, q, frame, spindle_rpm, depth_mm)
-    lim_margin = req.constraints.get("min_stability_margin")
-    if lim_margin is not None and "stability_margin_low" in sc:   # at every station
-        node_ok &= ~(sc["stability_margin_low"] < lim_margin)
+    from robomill.plan.stationgrid import station_grid
+
+    grid = station_grid(req, measured, cell, reach, pts + depth_mm * zp, direction_deg,
+                        spindle_rpm, depth_mm, feed_mm_s)
+    node_ok &= grid["feasible"]                 # reachable, every constraint, as the grid
+    sc = {}
+    if np.isfinite(grid["stability_margin_low"]).any():
+        sc["stability_margin_low"] = grid["stability_margin_low"]
+    sc.update(_stiffness(measured, cell, req, q, frame))
     names = list(sc)
     scores = [sc[k] for k in names]
     dt = (s_mm[1] - s_mm[0]) / feed_mm_s

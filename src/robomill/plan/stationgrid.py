@@ -1,0 +1,46 @@
+"""The candidate grid's own predictions at a path's stations, so that a path is scored and
+refused by the same predictions as the candidates are (one set of predictions).
+
+Each station × rotation of a cut is posed to the grid as a candidate of its own: its
+placement point on the top face over the station (the grid's placements lie on the top face,
+:mod:`robomill.plan.request`), the cut's direction, spindle speed, depth and feed, and a cut
+so short that its posture is the station's. The grid's public functions predict it
+(:func:`robomill.plan.predict.predict_grid`), flag and widen what lies outside the study
+(:func:`robomill.plan.predict.apply_extrapolation`) and check the request's constraints
+(:func:`robomill.plan.choose.feasible`): a station the grid would refuse is not feasible on
+the path, and the path's margin at a station is the grid's pessimistic, widened
+``stability_margin_low``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+STATION_CUT_MM = 1e-3
+"""Length of the candidate cut posed at a station [mm] (its postures are the station's)."""
+
+
+def station_grid(req, measured, cell, reach, top_points_mm: np.ndarray, direction_deg: float,
+                 spindle_rpm: float, depth_mm: float, feed_mm_s: float) -> dict[str, np.ndarray]:
+    """Per station × rotation ``(S, R)``: the grid's ``stability_margin_low`` (NaN where the
+    grid cannot predict it) and ``feasible`` (reachable and meeting every constraint)."""
+    from robomill.plan.choose import feasible
+    from robomill.plan.predict import apply_extrapolation, predict_grid
+
+    sub = replace(req, placements_mm=np.asarray(top_points_mm, float).reshape(-1, 3),
+                  direction_deg=np.array([float(direction_deg)]), direction_names=("path",),
+                  spindle_rpm=np.array([float(spindle_rpm)]),
+                  depth_mm=np.array([float(depth_mm)]), feed_mm_s=np.array([float(feed_mm_s)]),
+                  length_mm=STATION_CUT_MM)
+    cand = predict_grid(sub, measured, cell)
+    if reach is not None:
+        cand = apply_extrapolation(cand, sub, measured, cell, reach)
+    one = {"direction": 0, "spindle_rpm": 0, "depth_mm": 0, "feed_mm_s": 0}
+    margin = cand["stability_margin_low"]
+    margin = margin.isel({d: 0 for d in margin.dims if d in one})
+    ok = feasible(cand, sub).isel(one)
+    return {"stability_margin_low": np.asarray(margin.transpose("placement", "rotation").values,
+                                               float),
+            "feasible": np.asarray(ok.transpose("placement", "rotation").values, bool)}
