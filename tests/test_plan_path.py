@@ -472,3 +472,21 @@ def test_a_station_below_the_margin_constraint_refuses_the_cut():
     cs, cf, p = _plan(None, rotations=(-20.0, 20.0, 5), length=40.0, stations=5,
                       constraints={"min_stability_margin": (worst + best) / 2})
     assert p.refused is not None and "stability margin at every station" in p.refused
+
+
+def test_path_summary_says_when_only_the_path_runs_a_cut():
+    """A runnable cut no fixed rotation can run (fixed rotation NaN, gain NaN) is named, and
+    with no ratio at all the gain case says so instead of "not computed"."""
+    from robomill.plan.pathout import path_summary, summary_values
+
+    failures = pd.DataFrame({"reason": ["ok"], "count": [3]})
+    plan = pd.DataFrame({"cut": ["plan_01", "plan_02"], "redundancy_path_deg": ["0;10", "0;0"],
+                         "fixed_rotation_deg": [np.nan, 0.0],
+                         "path_gain_a_crit": [np.nan, 1.0], "path_gain_stiffness": [np.nan, 1.0],
+                         "path_refused": ["", ""]})
+    v = summary_values(path_summary(failures, plan, 0.5))
+    assert v["cuts_path_only"] == 1 and v["path_only_cuts"] == "plan_01"
+    assert v["path_gain_case"] == "none"
+    plan.loc[1, ["fixed_rotation_deg", "path_gain_a_crit", "path_gain_stiffness"]] = np.nan
+    v = summary_values(path_summary(failures, plan, 0.5))
+    assert v["path_gain_case"] == "path_only" and v["path_only_cuts"] == "plan_01;plan_02"

@@ -164,7 +164,8 @@ display(Markdown(Prose(load_templates("ch7", templates), reach_values(chosen, ca
 # poses are in `results/plan/next/program/`.
 
 # %%
-display(Markdown(paths_say("pose_checks", "path_cuts", "path_gain", "rotation_case")))
+display(Markdown(paths_say("pose_checks", "path_cuts", "path_gain", "path_only",
+                           "rotation_case")))
 if "path_rotation_deg" in pmap:
     num.figure("path", "The best cut's path: the pessimistic score over station × rotation "
                "about the tool axis, and the chosen rotation at each station")
