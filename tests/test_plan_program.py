@@ -370,9 +370,9 @@ def test_spindle_started_waited_for_and_stopped(tmp_path):
     *_, files = _write("kuka", tmp_path / "kuka", spindle={"speed": 3, "speed_per_rpm": 1 / 30000,
                                                           "start": 12, "runup_s": 4.0})
     src = files[1].read_text()
-    assert re.search(r"\$ANOUT\[3\]=0\.932667\n  \$OUT\[12\]=TRUE\n  WAIT SEC 4\n  "
-                     r"LIN XP_PLAN_01_APP", src)
-    assert "$OUT[12]=FALSE" in src
+    assert re.search(r"PTP XP_PLAN_01_SIN\n  WAIT SEC 0\n  \$ANOUT\[3\]=0\.932667\n  "
+                     r"\$OUT\[12\]=TRUE\n  WAIT SEC 4\n  LIN XP_PLAN_01_APP", src)
+    assert "LIN XP_PLAN_01_SOUT C_DIS\n  WAIT SEC 0\n  $OUT[12]=FALSE" in src
 
 
 def test_without_a_spindle_interface_the_program_stops_before_the_first_cut(tmp_path):

@@ -10,7 +10,9 @@ defaults (``BAS(#INITMOV,0)``, then the PTP velocity and acceleration, ``$VEL.CP
 ``LIN ... C_DIS`` at the feed (``$VEL.CP`` [m/s]) in the cut zone, the retract along the
 tool axis and the safe point over the end, and home. The spindle is driven by the cell's
 ``$ANOUT``/``$OUT``/``$IN`` (``WAIT FOR`` ready and/or ``WAIT SEC`` run-up; stopped at the
-end), or the program ``HALT``\\ s with the operator's instruction before the first cut.
+end), each after a ``WAIT SEC 0`` that stops the advance run so that the outputs switch when
+the robot stands where they belong; or the program ``HALT``\\ s with the operator's
+instruction before the first cut.
 """
 
 from __future__ import annotations
@@ -64,7 +66,7 @@ def _spindle(pc: ProgramCell, rpm: int, first: bool) -> list[str]:
         return [f"  ; operator: set the spindle to {rpm} rpm"
                 + (" and start it" if first else "") + ", then restart the program",
                 "  HALT"]
-    out = []
+    out = ["  WAIT SEC 0"]            # stop the advance run: the I/O after the robot stands
     if sp.speed is not None:
         out.append(f"  $ANOUT[{sp.speed}]={_num(rpm * sp.speed_per_rpm)}")
     if first:
@@ -142,7 +144,7 @@ def krl_files(paths: Sequence, pc: ProgramCell, *, header: str) -> tuple[str, st
     if rpm_now is not None:
         sp = pc.spindle
         if sp is not None and sp.wired:
-            src.append(f"  $OUT[{sp.start}]=FALSE")
+            src += ["  WAIT SEC 0", f"  $OUT[{sp.start}]=FALSE"]
             if sp.speed is not None:
                 src.append(f"  $ANOUT[{sp.speed}]=0")
         else:
