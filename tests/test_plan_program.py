@@ -580,3 +580,22 @@ def test_no_station_below_the_grids_margin_is_emitted(tmp_path, reach):
         if reach is not None:                     # the widening took effect
             assert g < _grid_margin(req, m, cell, top, r["rotation_deg"], 90.0, 20000.0,
                                     0.5, 5.0)
+
+
+# ---- 8. the figures a programmer looks at ----------------------------------------------------
+def test_joint_figure_draws_every_limit_and_margin(tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from robomill.plan.pathplot import joints_figure, path_figure
+
+    cf, req, p, pc = CASES["default"]()
+    lim = cf.joint_limits_deg
+    fig = joints_figure(p.stations, lim, 5.0, 5.0)
+    for j, ax in enumerate(fig.axes[:6]):
+        ys = sorted(ln.get_ydata()[0] for ln in ax.lines if ln.get_color() == "r")
+        assert ys == pytest.approx(sorted([lim[j, 0], lim[j, 1], lim[j, 0] + 5, lim[j, 1] - 5]))
+        data = next(ln for ln in ax.lines if ln.get_color() != "r").get_ydata()
+        assert np.allclose(data, p.stations[f"q{j + 1}_deg"])
+    fig2 = path_figure(p.stations, [0, 0, -50], [300, 250, 0])
+    assert len(fig2.axes) == 2

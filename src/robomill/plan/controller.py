@@ -25,6 +25,13 @@ Configuration data, from the controller's joint angles as printed and the wrist 
 the plane normal to axis 2) on which W lies, "in front" being the side W lies on at the
 controller's zero posture; the A1 coordinate system turns with axis 1 and equals the base
 frame at its zero.
+
+References: [ABB RAPID reference] ABB Robotics, *Technical reference manual — RAPID
+Instructions, Functions and Data types* (3HAC050917-001), data types ``confdata``,
+``tooldata``, ``loaddata``; [KUKA System Software 8] KUKA Roboter GmbH, *KUKA System Software
+8.x — Operating and Programming Instructions for System Integrators*, sections *Status*,
+*Turn*, *Tool direction*, *$LOAD*. The frames of the shipped IRB 1600 were checked against the
+ROS-Industrial description ``abb_irb1600_support`` (``link_6 → tool0`` rpy (0, 90°, 0)).
 """
 
 from __future__ import annotations

@@ -1,12 +1,19 @@
 """One chosen cut as a path a robot can run: stations on the slot floor, the rotation about the
 tool axis at each (:mod:`robomill.plan.path`), feasible postures in one configuration
-(:mod:`robomill.plan.feasible`), and the approach and retract moves above the part.
+(:mod:`robomill.plan.feasible`), scored and checked by the candidate grid's own predictions at
+each station (:mod:`robomill.plan.stationgrid`), and the moves around it
+(:mod:`robomill.plan.motion`).
 
 The cut's placement point lies on the part's top face; the tool point runs along the slot
 floor, ``depth_mm`` below it along the part's z axis, from the cut's start to its end. The
-approach and retract points lie ``clearance_mm`` above the top face over the start and the end,
-at the first and last station's rotation. A cut no feasible path reaches (every path leaves
-the joint limits, meets the wrist singularity or needs a configuration change) is refused.
+rows of ``stations`` are the move targets in order: the safe point ``safe_height_mm`` above the
+top face over the start, the approach ``clearance_mm`` above it, the entry ramp (``entry``),
+the cut's stations, the retract ``clearance_mm`` above the end (straight up the tool axis) and
+the safe point over the end; the targets before the cut keep the first station's rotation,
+those after it the last's. A station's rotation may be used only where every one of these
+targets is feasible too. A cut no feasible path reaches (every path leaves the joint limits,
+meets the wrist singularity, needs a configuration change or a station the grid would refuse)
+is refused.
 """
 
 from __future__ import annotations
