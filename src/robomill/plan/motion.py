@@ -12,6 +12,7 @@
       zone_air_mm: 5.0           # corner zone of the moves in the air
       air_speed_mm_s: 100.0      # TCP speed in the air (approach, retract, safe moves)
       joint_speed_pct: 20.0      # joint moves (home, to each safe point): % of the axis speeds
+      cp_acceleration_m_s2: 1.0  # path acceleration of the linear moves (KRL $ACC.CP)
       home_deg: null             # home posture [deg, controller angles]; null: the cell's
                                  # q_home_deg
 
@@ -32,7 +33,8 @@ from typing import Any
 import numpy as np
 
 MOTION_KEYS = ("safe_height_mm", "ramp_angle_deg", "ramp_gap_mm", "zone_cut_mm",
-               "zone_air_mm", "air_speed_mm_s", "joint_speed_pct", "home_deg")
+               "zone_air_mm", "air_speed_mm_s", "joint_speed_pct", "cp_acceleration_m_s2",
+               "home_deg")
 
 
 @dataclass(frozen=True)
@@ -46,6 +48,7 @@ class Motion:
     zone_air_mm: float = 5.0
     air_speed_mm_s: float = 100.0
     joint_speed_pct: float = 20.0
+    cp_acceleration_m_s2: float = 1.0
     home_deg: tuple[float, ...] | None = None
 
 

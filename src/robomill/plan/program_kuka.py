@@ -101,7 +101,7 @@ def krl_files(paths: Sequence, pc: ProgramCell, *, header: str) -> tuple[str, st
             f"  BAS(#VEL_PTP,{_num(mo.joint_speed_pct)})",
             f"  BAS(#ACC_PTP,{_num(mo.joint_speed_pct)})",
             f"  $VEL.CP={_num(mo.air_speed_mm_s / 1000.0)}",
-            f"  BAS(#ACC_CP,{_num(mo.joint_speed_pct)})",
+            f"  $ACC.CP={_num(mo.cp_acceleration_m_s2)}",
             f"  $APO.CDIS={_num(mo.zone_air_mm)}",
             "  $TOOL=F_SPINDLE", "  $BASE=F_PART",
             f"  $LOAD.M={_num(pc.tool_mass_kg)}",
