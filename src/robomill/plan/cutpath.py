@@ -129,6 +129,7 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
 
     grid = station_grid(req, measured, cell, reach, pts + depth_mm * zp, direction_deg,
                         spindle_rpm, depth_mm, feed_mm_s)
+    before_grid = node_ok.copy()
     node_ok &= grid["feasible"]                 # reachable, every constraint, as the grid
     sc = {}
     if np.isfinite(grid["stability_margin_low"]).any():
@@ -152,10 +153,17 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
              **sc, "path": None}
     if best is None:
         reasons = np.unique(chk["status"][~node_ok])
+        blocked = [f"{s_mm[i]:g} mm" for i in range(S) if before_grid[i].any()
+                   and not node_ok[i].any()]
         why = ("no path keeps one configuration within the joint limits, the wrist angle, the "
                "axis speeds, the rotation step and the request's constraints (the stability "
-               "margin at every station) from the approach to the retract"
+               "margin at every station) from the safe point to the retract"
+               + (f"; the candidate grid refuses every posable rotation at the station(s) "
+                  f"{', '.join(blocked)} (its constraints, widened where the study does not "
+                  "reach)" if blocked else "")
                if node_ok.any() else
+               "the candidate grid refuses every posable station and rotation (its "
+               "constraints, widened where the study does not reach)" if before_grid.any() else
                "no station is feasible at any rotation ("
                + ", ".join(REASONS[int(r)] for r in reasons if r > 0) + ")")
         return CutPath(cut, feed_mm_s, spindle_rpm, pd.DataFrame(), summary, refused=why,
