@@ -67,6 +67,9 @@ def tool0(desc, q_deg):
 
 
 def _quat_R(w, x, y, z):
+    """Rotation of a quaternion, normalized first as the controller does (the file prints 9
+    decimals: |q| differs from 1 by ~1e-9, which alone would read as ~0.003°)."""
+    w, x, y, z = np.array([w, x, y, z]) / np.linalg.norm([w, x, y, z])
     return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
                      [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
                      [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
@@ -78,7 +81,10 @@ def _abc_R(a, b, c):
 
 
 def _angle_deg(R1, R2):
-    return math.degrees(math.acos(min(1.0, max(-1.0, (np.trace(R1.T @ R2) - 1) / 2))))
+    """The angle of R1ᵀR2 [deg] (atan2 of its sine and cosine: exact near 0)."""
+    D = R1.T @ R2
+    s = 0.5 * np.linalg.norm([D[2, 1] - D[1, 2], D[0, 2] - D[2, 0], D[1, 0] - D[0, 1]])
+    return math.degrees(math.atan2(s, (np.trace(D) - 1) / 2))
 
 
 # ---- the published configuration rules -----------------------------------------------------
