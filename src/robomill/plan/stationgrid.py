@@ -1,15 +1,19 @@
 """The candidate grid's own predictions at a path's stations, so that a path is scored and
 refused by the same predictions as the candidates are (one set of predictions).
 
-Each station × rotation of a cut is posed to the grid as a candidate of its own: its
-placement point on the top face over the station (the grid's placements lie on the top face,
-:mod:`robomill.plan.request`), the cut's direction, spindle speed, depth and feed, and a cut
-so short that its posture is the station's. The grid's public functions predict it
-(:func:`robomill.plan.predict.predict_grid`), flag and widen what lies outside the study
-(:func:`robomill.plan.predict.apply_extrapolation`) and check the request's constraints
-(:func:`robomill.plan.choose.feasible`): a station the grid would refuse is not feasible on
-the path, and the path's margin at a station is the grid's pessimistic, widened
-``stability_margin_low``.
+Each station × rotation of a cut is posed to the grid as a candidate of its own: the cut's
+direction, spindle speed, depth and feed at the station's placement point on the top face
+(the grid's placements lie on the top face, :mod:`robomill.plan.request`), over a cut of
+:data:`STATION_CUT_MM` so that the candidate is the station's pose alone (a full-length cut
+centred on an end station would reach past the slot, where the robot need not go). The
+grid's public functions predict it (:func:`robomill.plan.predict.predict_grid`), flag and
+widen what lies outside the study (:func:`robomill.plan.predict.apply_extrapolation`) and
+check the request's constraints (:func:`robomill.plan.choose.feasible`): a station the grid
+would refuse is not feasible on the path, and the path's margin at a station is the grid's
+pessimistic, widened ``stability_margin_low``. The waviness, which counts a gear line's
+cycles along the whole cut, belongs to the cut, not to a station: the grid checks it on the
+chosen candidate itself, whose rotations bound the middle station's
+(:func:`robomill.plan.pathout.rotations_meeting_constraints`).
 """
 
 from __future__ import annotations
@@ -33,7 +37,7 @@ def station_grid(req, measured, cell, reach, top_points_mm: np.ndarray, directio
                   direction_deg=np.array([float(direction_deg)]), direction_names=("path",),
                   spindle_rpm=np.array([float(spindle_rpm)]),
                   depth_mm=np.array([float(depth_mm)]), feed_mm_s=np.array([float(feed_mm_s)]),
-                  length_mm=STATION_CUT_MM)
+                  length_mm=STATION_CUT_MM, path_stations=3)
     cand = predict_grid(sub, measured, cell)
     if reach is not None:
         cand = apply_extrapolation(cand, sub, measured, cell, reach)
