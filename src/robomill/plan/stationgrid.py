@@ -2,13 +2,14 @@
 refused by the same predictions as the candidates are (one set of predictions).
 
 Each station × rotation of a cut is posed to the grid as a candidate of its own: the cut's
-direction, spindle speed, depth and feed at the station's placement point on the top face
+direction at the station's placement point on the top face
 (the grid's placements lie on the top face, :mod:`robomill.plan.request`), over a cut of
 :data:`STATION_CUT_MM` so that the candidate is the station's pose alone (a full-length cut
 centred on an end station would reach past the slot, where the robot need not go). The
 grid's public functions predict it (:func:`robomill.plan.predict.predict_grid`), flag and
-widen what lies outside the study (:func:`robomill.plan.predict.apply_extrapolation`) and
-check the request's constraints (:func:`robomill.plan.choose.feasible`): a station the grid
+widen what lies outside the study (:func:`robomill.plan.predict.apply_extrapolation`, over
+the request's own speed, depth and feed grids: its widening depends on them) and check the
+request's constraints (:func:`robomill.plan.choose.feasible`): a station the grid
 would refuse is not feasible on the path, and the path's margin at a station is the grid's
 pessimistic, widened ``stability_margin_low``. The waviness, which counts a gear line's
 cycles along the whole cut, belongs to the cut, not to a station: the grid checks it on the
@@ -35,15 +36,16 @@ def station_grid(req, measured, cell, reach, top_points_mm: np.ndarray, directio
 
     sub = replace(req, placements_mm=np.asarray(top_points_mm, float).reshape(-1, 3),
                   direction_deg=np.array([float(direction_deg)]), direction_names=("path",),
-                  spindle_rpm=np.array([float(spindle_rpm)]),
-                  depth_mm=np.array([float(depth_mm)]), feed_mm_s=np.array([float(feed_mm_s)]),
                   length_mm=STATION_CUT_MM, path_stations=3)
     cand = predict_grid(sub, measured, cell)
-    if reach is not None:
+    if reach is not None:        # widened over the request's own grids, as the candidates
         cand = apply_extrapolation(cand, sub, measured, cell, reach)
-    one = {"direction": 0, "spindle_rpm": 0, "depth_mm": 0, "feed_mm_s": 0}
+    one = {"direction": 0}
+    for dim, value in (("spindle_rpm", spindle_rpm), ("depth_mm", depth_mm),
+                       ("feed_mm_s", feed_mm_s)):
+        one[dim] = int(np.argmin(np.abs(cand[dim].values - float(value))))
     margin = cand["stability_margin_low"]
-    margin = margin.isel({d: 0 for d in margin.dims if d in one})
+    margin = margin.isel({d: i for d, i in one.items() if d in margin.dims})
     ok = feasible(cand, sub).isel(one)
     return {"stability_margin_low": np.asarray(margin.transpose("placement", "rotation").values,
                                                float),
