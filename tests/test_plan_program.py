@@ -266,6 +266,12 @@ def test_every_target_agrees_with_the_controllers_own_kinematics(tmp_path, case)
                  targets.items()]
         conf = [tuple(c) for _, (_, _, c) in targets.items()]
     assert len(items) == len(st)
+    if case == "kuka":                  # Status and Turn as emitted: the manual's rule
+        for n, (_, (s_bits, t_bits)) in poses.items():
+            assert (int(s_bits, 2), int(t_bits, 2)) == kuka_rule(axes[n])
+    else:                               # confdata as emitted: the manual's rule
+        for n, (_, _, c) in targets.items():
+            assert list(c) == abb_rule(joints[n])
     for q, target in items:
         T = tool0(desc, q) @ tool
         assert np.linalg.norm(T[:3, 3] - target[:3, 3]) < 0.01
