@@ -176,6 +176,9 @@ use rule chapter as ch7 with:
         check=artefact("plan.check"),
         check_summary=artefact("plan.check_summary"),
         misses=artefact("plan.misses"),
+        program=PLAN_PROGRAM,
+        cell=CELL,
+        request=PLAN_REQUEST,
     output:
         **chapter_outputs("ch7"),
     log:
