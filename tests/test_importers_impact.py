@@ -298,3 +298,17 @@ def test_registered_and_help_says_what_it_reads(fmt, capsys):
     out = " ".join(capsys.readouterr().out.split())
     assert " ".join(mod.DESCRIPTION.split()) in out
     assert ("--air" if fmt == "recording" else "--response CH:DIR[:unit]") in out
+
+
+def test_mat_struct_fields_are_read_as_name_dot_field(tmp_path):
+    """A MATLAB struct (an analyser's export groups channels so) gives one array per field."""
+    import scipy.io
+
+    from robomill.importers.mat import read_mat
+
+    src = tmp_path / "rec.mat"
+    force = np.linspace(0.0, 1.0, 7)
+    scipy.io.savemat(src, {"rec": {"force": force, "acc": np.ones((7, 2)), "note": "hit"}})
+    out = read_mat(src)
+    np.testing.assert_array_equal(out["rec.force"], force)
+    assert out["rec.acc"].shape == (7, 2) and "rec.note" not in out

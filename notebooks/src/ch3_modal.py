@@ -96,7 +96,7 @@ if len(coupling_table):
 # ## What was measured
 
 # %%
-display(Markdown(say("layout", "tooltip", "band", "band_flag", "hits",
+display(Markdown(say("layout", "tooltip", "not_measured", "band", "band_flag", "hits",
                      ref_hits=num.ref("hits"))))
 display(num.caption("hits"))
 display(shown_hits(hit_table))

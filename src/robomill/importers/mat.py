@@ -97,16 +97,20 @@ def read_mat(source: Path) -> dict[str, np.ndarray]:
         import scipy.io
 
         try:
-            raw = scipy.io.loadmat(str(source), squeeze_me=True, struct_as_record=False)
+            raw = scipy.io.loadmat(str(source), squeeze_me=True)
         except Exception as exc:  # noqa: BLE001 - scipy raises several types on bad files
             raise RawDataError(source, f"not a readable MAT file ({type(exc).__name__}: "
                                f"{exc})", where="file", expected=WHAT) from None
         for name, v in raw.items():
             if name.startswith("__"):
                 continue
-            if hasattr(v, "_fieldnames"):
-                for fn in v._fieldnames:
-                    _keep(out, f"{name}.{fn}", getattr(v, fn))
+            names = getattr(getattr(v, "dtype", None), "names", None)
+            if names:  # a MATLAB struct: a numpy record, one array per field
+                for fn in names:
+                    field = v[fn]
+                    if field.dtype == object and field.ndim == 0:
+                        field = field.item()
+                    _keep(out, f"{name}.{fn}", field)
             else:
                 _keep(out, name, v)
     if not out:
