@@ -165,7 +165,7 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
          for _, r in chosen.iterrows()]
     chosen["tooth_passing_hz"] = chosen["spindle_rpm"].to_numpy(float) * req.flutes / 60.0
     table = path_columns(plan_table(chosen), cut_paths)
-    study = study_cuts_table(cuts, experiment, req, measured, cell, reach)
+    study = study_cuts_table(cuts, experiment, req, measured, cell, reach, stability)
     manifest = next_manifest(chosen, req, dict(experiment), cand.attrs["missing_predictions"],
                              np.asarray(q), paths)
     floor_starts(manifest, cut_paths)
@@ -191,12 +191,17 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
 def evidence_attrs(evidence) -> dict[str, Any]:
     """The attributes of ``candidates.nc`` that say what conditioned the critical depth:
     ``stability_evidence_cuts`` (cuts whose verdict entered), ``stability_members`` and
-    ``stability_members_kept`` (members of the interval, those agreeing with every verdict),
-    ``stability_evidence_note`` (one line when none agrees: the prior interval kept)."""
+    ``stability_members_kept`` (members of the model, and their effective number after the
+    verdicts' weights, Kish's (Σw)²/Σw²), ``stability_verdict_error`` (the assumed rate of
+    a wrong verdict), ``stability_evidence_note`` (one line when the prior interval does not
+    admit some verdicts)."""
     if evidence is None:
         return {"stability_evidence_cuts": 0, "stability_members": 0,
                 "stability_members_kept": 0, "stability_evidence_note": ""}
+    from robomill.plan.conditioning import contradiction_note
+
     return {"stability_evidence_cuts": evidence.n_used,
-            "stability_members": len(evidence.kt_low),
-            "stability_members_kept": evidence.kept,
-            "stability_evidence_note": evidence.note}
+            "stability_members": len(evidence.weights),
+            "stability_members_kept": round(evidence.effective_members),
+            "stability_verdict_error": float(evidence.error_rate),
+            "stability_evidence_note": contradiction_note(evidence.table)}
