@@ -10,7 +10,7 @@ import pytest
 from robomill.chatter.modal_timedomain import ModalCut, simulate_modal_cut, stability_verdict
 from robomill.chatter.model import CuttingModel
 from robomill.plan.check import RunOutcomes, check_table
-from robomill.plan.lobes import batch_coupling_depth, batch_zoa_lobes
+from robomill.plan.lobes import batch_zoa_lobes
 
 # one mode along the wall normal, slot milling with two teeth (no edge forces)
 F_HZ, ZETA, K_N_M = 2000.0, 0.03, 2.0e7
@@ -24,7 +24,7 @@ A_LIM_M = 8 * K_N_M * ZETA * (1 + ZETA) / (TEETH * KT_N_M2 * KR)
 def predicted_margin(depth_m, rpm):
     cut = CuttingModel(TEETH, KT_N_M2, KR, 0.0, np.pi)
     args = ([[F_HZ]], [ZETA], [[K_N_M]], [[[0.0, 1.0]]], cut)
-    a = min(batch_zoa_lobes(*args, np.array([rpm]))[0, 0], batch_coupling_depth(*args)[0])
+    a = batch_zoa_lobes(*args, np.array([rpm]))[0, 0]
     return a / depth_m - 1
 
 

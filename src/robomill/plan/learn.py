@@ -20,7 +20,8 @@ narrowing of the interval it aims at.
   edge force and slope the shearing force).
 
 The request's constraints other than the stability margin and ``min_p_stable`` apply (a cut
-above the limit is the point of the design); every cut lies on its own material (:mod:`robomill.plan.material`).
+above the limit is the point of the design); every cut lies on its own material
+(:mod:`robomill.plan.material`).
 """
 
 from __future__ import annotations
