@@ -101,53 +101,62 @@ def stability_evidence(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: 
                           source)
 
 
+def predict_study_cut(cut: Cut, experiment: Mapping[str, Any], req: PlanRequest,
+                      measured: Measured, cell: Cell, reach=None) -> dict[str, Any]:
+    """One cut at its own place, direction, speed, depth, feed, tool and redundancy angle
+    (``redundancy_deg``, 0: the cell's tool orientation) with the plan's predictions (with
+    ``reach``, flagged and widened as the plan's candidates,
+    :func:`robomill.plan.predict.apply_extrapolation`) and whether it meets the request's
+    constraints (``feasible``).
+
+    A cut is predicted at its pose whatever the request's pose margins
+    (``joint_limit_margin_deg``, ``min_wrist_angle_deg``): its joint-limit clearance and
+    wrist angle are reported, and ``pose_note`` says which margin it would break (then
+    ``feasible`` is false for that reason, never silently)."""
+    from robomill.plan.extrapolation import reason_text
+
+    one, p = cut_request(cut, experiment, req)
+    one = replace(one, joint_limit_margin_deg=0.0, min_wrist_angle_deg=0.0)
+    ds = predict_grid(one, measured, cell)
+    if reach is not None:
+        ds = apply_extrapolation(ds, one, measured, cell, reach)
+    clear = float(ds["limit_clearance_deg"].values.ravel()[0])
+    wrist = float(ds["wrist_angle_deg"].values.ravel()[0])
+    notes = []
+    if clear < req.joint_limit_margin_deg:
+        notes.append(f"joint-limit clearance {clear:.3g} deg below the request's "
+                     f"joint_limit_margin_deg {req.joint_limit_margin_deg:g}")
+    if wrist < req.min_wrist_angle_deg:
+        notes.append(f"wrist angle {wrist:.3g} deg below the request's "
+                     f"min_wrist_angle_deg {req.min_wrist_angle_deg:g}")
+    row = {"cut": cut.id, "spindle_rpm": p["spindle_rpm"], "depth_mm": cut.depth_mm,
+           "feed_mm_s": cut.feed_mm_s,
+           "mrr_mm3_s": float(ds["mrr_mm3_s"].values.ravel()[0]),
+           "reachable": bool(ds["reachable"].values.ravel()[0])}
+    for name in (*PREDICTED, "a_crit_mm", "a_crit_low_mm", "a_crit_high_mm", "p_stable",
+                 "feed_per_tooth_mm"):
+        row[name] = float(ds[name].values.ravel()[0]) if name in ds else np.nan
+    code = int(ds["extrapolation_code"].values.ravel()[0]) if "extrapolation_code" in ds \
+        else 0
+    row.update({"extrapolation": bool(code), "extrapolation_reason": reason_text(code),
+                "limit_clearance_deg": clear, "wrist_angle_deg": wrist,
+                "pose_note": "; ".join(notes),
+                "feasible": bool(feasible(ds, req).values.ravel()[0]) and not notes})
+    return row
+
+
 def study_cuts_table(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: PlanRequest,
                      measured: Measured, cell: Cell, reach=None,
                      stability: pd.Series | None = None) -> pd.DataFrame:
-    """Each of the study's cuts at its own place, direction, speed, depth, feed, tool and
-    redundancy angle (``redundancy_deg``, 0: the cell's tool orientation), with the plan's
-    predictions and whether it meets the request's constraints (with ``reach``, flagged and
-    widened as the plan's candidates, :func:`robomill.plan.predict.apply_extrapolation`).
-
-    The study's cuts were cut: each is predicted at its pose whatever the request's pose
-    margins (``joint_limit_margin_deg``, ``min_wrist_angle_deg``); its joint-limit clearance
-    and wrist angle are reported, and ``pose_note`` says which margin the cut would break
-    (a refusal of the margins is ``feasible`` false with that reason, never a silent one).
-    ``verdict``: the study's own verdict of the cut (``stability``: 1 stable, 0 chatter)."""
-    from robomill.plan.extrapolation import reason_text
-
+    """Each of the study's cuts predicted as the plan's candidates
+    (:func:`predict_study_cut`: the study's cuts were cut, so each is predicted at its pose
+    whatever the request's pose margins, which are reported) and ``verdict``: the study's own
+    verdict of the cut (``stability``: 1 stable, 0 chatter)."""
     rows = []
     for cut in cuts:
-        one, p = cut_request(cut, experiment, req)
-        one = replace(one, joint_limit_margin_deg=0.0, min_wrist_angle_deg=0.0)
-        ds = predict_grid(one, measured, cell)
-        if reach is not None:
-            ds = apply_extrapolation(ds, one, measured, cell, reach)
-        clear = float(ds["limit_clearance_deg"].values.ravel()[0])
-        wrist = float(ds["wrist_angle_deg"].values.ravel()[0])
-        notes = []
-        if clear < req.joint_limit_margin_deg:
-            notes.append(f"joint-limit clearance {clear:.3g} deg below the request's "
-                         f"joint_limit_margin_deg {req.joint_limit_margin_deg:g}")
-        if wrist < req.min_wrist_angle_deg:
-            notes.append(f"wrist angle {wrist:.3g} deg below the request's "
-                         f"min_wrist_angle_deg {req.min_wrist_angle_deg:g}")
-        ok = bool(feasible(ds, req).values.ravel()[0]) and not notes
-        row = {"cut": cut.id, "spindle_rpm": p["spindle_rpm"], "depth_mm": cut.depth_mm,
-               "feed_mm_s": cut.feed_mm_s,
-               "mrr_mm3_s": float(ds["mrr_mm3_s"].values.ravel()[0]),
-               "reachable": bool(ds["reachable"].values.ravel()[0])}
-        for name in (*PREDICTED, "a_crit_mm", "a_crit_low_mm", "a_crit_high_mm", "p_stable",
-                     "feed_per_tooth_mm"):
-            row[name] = float(ds[name].values.ravel()[0]) if name in ds else np.nan
-        code = int(ds["extrapolation_code"].values.ravel()[0]) if "extrapolation_code" in ds \
-            else 0
-        row.update({"extrapolation": bool(code), "extrapolation_reason": reason_text(code),
-                    "limit_clearance_deg": clear, "wrist_angle_deg": wrist,
-                    "pose_note": "; ".join(notes)})
+        row = predict_study_cut(cut, experiment, req, measured, cell, reach)
         v = np.nan if stability is None else float(stability.get(cut.id, np.nan))
         row["verdict"] = "" if v != v else "stable" if v >= 0.5 else "chatter"
-        row["feasible"] = ok
         rows.append(row)
     return pd.DataFrame(rows, columns=STUDY_COLUMNS)
 

@@ -98,6 +98,19 @@ def learn_plan(cand: xr.Dataset, req: PlanRequest, measured: Measured, occupied,
     return chosen, front, None if prod is None or prod.empty else prod.iloc[0]
 
 
+def verdict_conditioned(measured: Measured, req: PlanRequest, cell: Cell, cuts: Sequence[Cut],
+                        experiment: Mapping[str, Any], stability: pd.Series | None):
+    """``measured`` with the stability model's members weighted by the study's verdicts
+    (:func:`robomill.plan.compare.stability_evidence`), and that evidence (None without
+    verdicts or a stability prediction)."""
+    if stability is None or not len(stability):
+        return measured, None
+    evidence = stability_evidence(cuts, experiment, req, measured, cell, stability)
+    if evidence is None:
+        return measured, None
+    return replace(measured, stability_evidence=evidence), evidence
+
+
 def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[Cut],
               experiment: Mapping[str, Any], *, robot_name: str = "the robot",
               reach=None, study_slots=None, binding_constraint: str | None = None,
@@ -117,11 +130,7 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     interval of the plan (:mod:`robomill.plan.conditioning`)."""
     missing = missing_predictions(measured)
     check_needs(req, missing)
-    evidence = None
-    if stability is not None and len(stability):
-        evidence = stability_evidence(cuts, experiment, req, measured, cell, stability)
-        if evidence is not None:
-            measured = replace(measured, stability_evidence=evidence)
+    measured, evidence = verdict_conditioned(measured, req, cell, cuts, experiment, stability)
     cand = predict_grid(req, measured, cell)
     if reach is not None:  # what the study measured (robomill.plan.extrapolation)
         cand = apply_extrapolation(cand, req, measured, cell, reach)
