@@ -29,7 +29,7 @@ def frequency_grid(fn_hz: np.ndarray, n: int = 3000, n_fine: int = 300) -> np.nd
 
 def batch_zoa_lobes(fn_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.ndarray, shape: np.ndarray,
                     cut: CuttingModel, spindle_rpm: np.ndarray, *, f_hz: np.ndarray | None = None,
-                    chunk: int = 64) -> np.ndarray:
+                    chunk: int = 64, mean_matrix: np.ndarray | None = None) -> np.ndarray:
     """Critical axial depth ``(B, len(spindle_rpm))`` [m] of B tool models (zero-order lobes,
     lower envelope of every lobe and eigenvalue branch; +inf where no branch reaches a speed:
     no regenerative chatter possible there).
@@ -49,6 +49,8 @@ def batch_zoa_lobes(fn_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.ndarray, shap
     shape = np.asarray(shape, float).reshape(fn.shape + (2,))
     f = frequency_grid(fn) if f_hz is None else np.asarray(f_hz, float)
     z = np.broadcast_to(np.asarray(zeta, float), fn.shape)
-    out = [zoa_envelope(receptance(f, fn[sl], z[sl], k[sl], shape[sl]), f, cut, spindle_rpm)
+    W = None if mean_matrix is None else np.broadcast_to(mean_matrix, (fn.shape[0], 2, 2))
+    out = [zoa_envelope(receptance(f, fn[sl], z[sl], k[sl], shape[sl]), f, cut, spindle_rpm,
+                        mean_matrix=None if W is None else W[sl])
            for sl in (slice(b0, b0 + chunk) for b0 in range(0, fn.shape[0], chunk))]
     return np.concatenate(out, axis=0)

@@ -160,17 +160,29 @@ def draw_members(measured, settings: StabilitySettings) -> Members | None:
     return Members(f, ze, kk, shapes, zj, kt, krc / kt, tf, tz, tk, tshape)
 
 
-def _frequency_grid(members: Members, scale_max: float) -> np.ndarray:
-    """Chatter frequencies for every member: log-spaced over the whole band plus a fine
-    linear grid over each mode's range across members and poses (±20 %)."""
-    lo_all = [members.f_hz.min(0) * 0.8 / np.sqrt(max(scale_max, 1.0))]
-    hi_all = [members.f_hz.max(0) * 1.2 * np.sqrt(max(scale_max, 1.0))]
+def _frequency_grid(members: Members, scale_max: float, per_bandwidth: float = 4.0
+                    ) -> np.ndarray:
+    """Chatter frequencies for every member: a log-spaced backbone from 0.3 times the lowest
+    mode to 3 times the highest of the impact test's and 1.5 times the highest of the
+    prior's (the prior's stiff modes reach no lobe beyond), and over each group of modes (the
+    impact test's, moved with the pose; the prior's) a linear grid over the group's range
+    across members and poses (±20 %) with ``per_bandwidth`` points per half-power bandwidth
+    2ζf of its sharpest mode. On the default study's poses the critical depths lie within
+    1.6 % of a 13 000-point grid's (median 4·10⁻⁵); the lowest speeds' dense, sharp lobe
+    intersections are where it errs most."""
+    s = np.sqrt(max(scale_max, 1.0))
+    groups = [(members.f_hz.min() * 0.8 / s, members.f_hz.max() * 1.2 * s,
+               float(np.min(members.zeta * members.f_hz)))]
     if members.tool_f_hz.size:
-        lo_all.append(members.tool_f_hz.min(0) * 0.8)
-        hi_all.append(members.tool_f_hz.max(0) * 1.2)
-    lo, hi = np.concatenate(lo_all), np.concatenate(hi_all)
-    grids = [np.geomspace(0.3 * lo.min(), 3 * hi.max(), 1200)]
-    grids += [np.linspace(a, b, 300) for a, b in zip(lo, hi, strict=True)]
+        groups.append((members.tool_f_hz.min() * 0.8, members.tool_f_hz.max() * 1.2,
+                       float(np.min(members.tool_zeta * members.tool_f_hz))))
+    lo = min(g[0] for g in groups)
+    hi = max(g[1] for g in groups)
+    top = max(3 * groups[0][1] / 1.2, 1.5 * hi / 1.2 if len(groups) > 1 else 0.0)
+    grids = [np.geomspace(0.3 * lo / 0.8, top, 800)]
+    for a, b, zf in groups:
+        n = int(np.clip((b - a) / (2 * max(zf, 1e-9)) * per_bandwidth, 50, 4000))
+        grids.append(np.linspace(a, b, n))
     return np.unique(np.concatenate(grids))
 
 
@@ -185,30 +197,39 @@ def member_depths_m(members: Members, scalings: dict[str, np.ndarray], frames: n
     idx = np.arange(members.n)[which if which is not None else slice(None)]
     s_nom = scalings["nominal"]
     B = s_nom.shape[0]
+    E = idx.size
     inplane = np.einsum("mi,bid->bmd", members.shapes, frames[:, :, :2])      # (B, M, 2)
     tool_in = np.einsum("ti,bid->btd", members.tool_shapes, frames[:, :, :2])  # (B, T, 2)
     shape = np.concatenate([inplane, tool_in], 1)
     f_grid = _frequency_grid(members, float(max(np.max(s) for s in scalings.values())))
-    out = np.empty((idx.size, B, len(np.atleast_1d(spindle_rpm))))
+    zj = members.joint_z[idx][:, None, None]                                   # (E, 1, 1)
+    s_hi = scalings.get("high", s_nom)[None]
+    s_lo = scalings.get("low", s_nom)[None]
+    sc = s_nom[None] + (np.abs(zj) / Z95) * (np.where(zj > 0, s_hi, s_lo) - s_nom[None])
+    sc = np.maximum(sc, 1e-6)                                                  # (E, B, M)
+    T = members.tool_f_hz.shape[1]
+    fn = np.concatenate([members.f_hz[idx][:, None] * np.sqrt(sc),
+                         np.broadcast_to(members.tool_f_hz[idx][:, None], (E, B, T))], 2)
+    kk = np.concatenate([members.k_N_m[idx][:, None] * sc,
+                         np.broadcast_to(members.tool_k_N_m[idx][:, None], (E, B, T))], 2)
+    zz = np.broadcast_to(np.concatenate([members.zeta[idx], members.tool_zeta[idx]], 1)[:, None],
+                         fn.shape)
     kt0 = float(members.kt_N_mm2[0])
-    for i, e in enumerate(idx):
-        zj = members.joint_z[e]
-        end = "high" if zj > 0 else "low"
-        s = s_nom + (abs(zj) / Z95) * (scalings.get(end, s_nom) - s_nom)
-        s = np.maximum(s, 1e-6)
-        T = members.tool_f_hz.shape[1]
-        fn = np.concatenate([members.f_hz[e][None] * np.sqrt(s),
-                             np.broadcast_to(members.tool_f_hz[e], (B, T))], 1)
-        kk = np.concatenate([members.k_N_m[e][None] * s,
-                             np.broadcast_to(members.tool_k_N_m[e], (B, T))], 1)
-        zz = np.concatenate([members.zeta[e], members.tool_zeta[e]])
-        cut = CuttingModel(int(flutes), kt0 * 1e6, float(members.kr[e]), float(entry_rad),
-                           float(exit_rad))
-        a = batch_zoa_lobes(fn, zz, kk, shape, cut, np.atleast_1d(spindle_rpm), f_hz=f_grid)
-        # a branch grazing u = 0 gives astronomically deep limits: no chatter at any depth
-        a = np.where(a > NO_CHATTER_M, np.inf, a)
-        out[i] = a * (kt0 / float(members.kt_N_mm2[e]))
-    return out
+    W = np.stack([CuttingModel(int(flutes), kt0 * 1e6, float(members.kr[e]), float(entry_rad),
+                               float(exit_rad)).mean_matrix() for e in idx])     # (E, 2, 2)
+    cut = CuttingModel(int(flutes), kt0 * 1e6, float(members.kr[0]), float(entry_rad),
+                       float(exit_rad))
+    n_modes = fn.shape[-1]
+    a = batch_zoa_lobes(fn.reshape(E * B, n_modes), zz.reshape(E * B, n_modes),
+                        kk.reshape(E * B, n_modes),
+                        np.broadcast_to(shape[None], (E,) + shape.shape).reshape(E * B, n_modes,
+                                                                                 2),
+                        cut, np.atleast_1d(spindle_rpm), f_hz=f_grid,
+                        mean_matrix=np.repeat(W, B, axis=0))
+    a = a.reshape(E, B, -1)
+    # a branch grazing u = 0 gives astronomically deep limits: no chatter at any depth
+    a = np.where(a > NO_CHATTER_M, np.inf, a)
+    return a * (kt0 / members.kt_N_mm2[idx])[:, None, None]
 
 
 def widen_members(a_members: np.ndarray, widening: np.ndarray | float) -> np.ndarray:
