@@ -277,3 +277,31 @@ def test_a_cut_without_a_prediction_has_no_row_even_with_an_outcome():
          "deflection_normal_um": [4.0], "deflection_axial_um": [1.0]}))
     t = check_table(PRED, study=study).set_index(["cut", "quantity"])
     assert ("s1", "deflection_normal") not in t.index and ("s1", "force") in t.index
+
+
+def test_brier_score_and_sharpness_by_hand():
+    """Two judged stability rows with p 0.9 (stable) and 0.3 (chatter): B = (0.1² + 0.3²)/2;
+    a force interval 90-110 around 100 and one 45-55 around 50: half-width 10 % both; an
+    undetermined stability row and one without a probability do not count."""
+    from robomill.plan.check import CHECK_COLUMNS, check_summary
+
+    rows = [
+        {"cut": "a", "quantity": "stability", "predicted": 1.0, "low": 0.5, "high": 2.0,
+         "outcome": 1.0, "p_stable": 0.9},
+        {"cut": "b", "quantity": "stability", "predicted": -0.2, "low": -0.5, "high": 0.1,
+         "outcome": 0.0, "p_stable": 0.3},
+        {"cut": "c", "quantity": "stability", "predicted": 0.5, "low": 0.1, "high": 1.0,
+         "outcome": np.nan, "p_stable": 0.8},
+        {"cut": "d", "quantity": "stability", "predicted": 0.5, "low": 0.1, "high": 1.0,
+         "outcome": 1.0, "p_stable": np.nan},
+        {"cut": "a", "quantity": "force", "predicted": 100.0, "low": 90.0, "high": 110.0,
+         "outcome": 95.0},
+        {"cut": "b", "quantity": "force", "predicted": 50.0, "low": 45.0, "high": 55.0,
+         "outcome": 70.0},
+    ]
+    t = pd.DataFrame(rows).reindex(columns=CHECK_COLUMNS)
+    t["in_sample"] = False
+    s = check_summary(t)
+    assert s["brier_score"] == pytest.approx((0.1**2 + 0.3**2) / 2)
+    assert s["n_brier"] == 2
+    assert s["sharpness_force_percent"] == pytest.approx(10.0)

@@ -77,6 +77,8 @@ def stability_evidence(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: 
             continue
         v = float(stability[cut.id])
         one, p = cut_request(cut, experiment, req)
+        # the cut was cut: its pose counts whatever the request's margins
+        one = replace(one, joint_limit_margin_deg=0.0, min_wrist_angle_deg=0.0)
         row = {"cut": cut.id, "spindle_rpm": float(p["spindle_rpm"]),
                "depth_mm": float(cut.depth_mm),
                "verdict": "undetermined" if v != v else "stable" if v >= 0.5 else "chatter"}

@@ -25,7 +25,13 @@ from robomill.plan.compare import (
 )
 from robomill.plan.cutpath import plan_cut_path
 from robomill.plan.measured import Measured, missing_predictions
-from robomill.plan.outputs import next_config, next_manifest, plan_table, pose_map
+from robomill.plan.outputs import (
+    next_config,
+    next_manifest,
+    p_stable_map,
+    plan_table,
+    pose_map,
+)
 from robomill.plan.pathout import (
     floor_starts,
     follow_paths,
@@ -189,6 +195,7 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
                                           if v is not None)
     pmap = path_map(pose_map(cand, chosen.iloc[0]), cut_paths[0] if cut_paths else None, req,
                     measured, cell)
+    pmap = pmap.merge(p_stable_map(cand, chosen.iloc[0]))
     effect = rotation_effect_pct(pmap)
     return Plan(cand, pmap, table, plan_table(front), study,
                 comparison_table(table, study, effect, pmap.sizes["rotation"]), manifest,
