@@ -255,6 +255,9 @@ if "p_stable_post" in pmap:
     fig.colorbar(im, ax=axes, label="p_stable")
     num.show(fig, "p_stable")
     display(Markdown(say("p_stable_map", ref_p_stable=num.ref("p_stable"))))
+err = cand.attrs.get("stability_solver_error")
+display(Markdown(say("solver_error", stability_solver_error_percent=None if err is None
+                     else 100 * float(err))))
 
 # %%
 from robomill.plan.binding import binding_values

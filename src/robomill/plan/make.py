@@ -42,7 +42,8 @@ from robomill.plan.pathout import (
     pose_failure_table,
     rotations_meeting_constraints,
 )
-from robomill.plan.predict import Cell, apply_extrapolation, predict_grid
+from robomill.plan.poses import cut_frames
+from robomill.plan.predict import Cell, apply_extrapolation, predict_grid, solver_error
 from robomill.plan.request import PlanRequest
 from robomill.plan.slots import separate_slots
 from robomill.plan.slots import study_slots as study_slot_segments
@@ -191,6 +192,14 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     if reach is not None and reach.modal_band_hz is not None:
         cand.attrs["modal_band_hz"] = np.asarray(reach.modal_band_hz, float)
     cand.attrs.update(evidence_attrs(evidence))
+    if prod_first is not None:  # the zero-order solution's error at the binding cut
+        at = {"placement": int(prod_first["i_placement"]),
+              "rotation": int(prod_first["i_rotation"]),
+              "direction": int(prod_first["i_direction"])}
+        cand.attrs["stability_solver_error"] = solver_error(
+            measured, cell, req, np.deg2rad(cand["q_deg"].isel(at).values),
+            cut_frames(np.array([float(prod_first["direction_deg"])]))[0],
+            float(prod_first["spindle_rpm"]))
     cand.attrs["constraints"] = "; ".join(f"{k}={v}" for k, v in req.constraints.items()
                                           if v is not None)
     pmap = path_map(pose_map(cand, chosen.iloc[0]), cut_paths[0] if cut_paths else None, req,

@@ -106,6 +106,24 @@ def critical_depth_m(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np
     return out
 
 
+def solver_error(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np.ndarray,
+                 frame: np.ndarray, spindle_rpm: float) -> float:
+    """The stated error of the zero-order solution at one cut (posture ``q_rad`` ``(n,)``,
+    cut frame ``(3, 3)``, speed): the relative difference of the nominal member's critical
+    depth against semi-discretization (:func:`robomill.plan.stability.zoa_error`); NaN
+    without a stability model."""
+    from robomill.plan.stability import draw_members, zoa_error
+
+    mem = draw_members(measured, req.stability)
+    if mem is None:
+        return float("nan")
+    ent, ext = engagement(req)
+    sc = mode_scalings(measured, cell, np.asarray(q_rad, float)[None],
+                       mem.f_hz[0] < req.robot_mode_max_hz, mem.shapes, corners=False)
+    return zoa_error(mem, sc, np.asarray(frame, float), [float(spindle_rpm)], flutes=req.flutes,
+                     entry_rad=ent, exit_rad=ext)
+
+
 def member_weights(measured: Measured, n: int) -> np.ndarray:
     """The members' weights: from the study's verdicts (``measured.stability_evidence``,
     :class:`robomill.plan.stability.VerdictEvidence`), else equal."""

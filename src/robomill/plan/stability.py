@@ -330,7 +330,10 @@ def zoa_error(members: Members, scalings: dict, frame: np.ndarray, spindle_rpm, 
                                      members.tool_k_N_m[0], members.tool_shapes, strict=True)]
     cut = CuttingModel(int(flutes), float(members.kt_N_mm2[0]) * 1e6, float(members.kr[0]),
                        float(entry_rad), float(exit_rad))
-    a_sdm = np.asarray(sdm_lobes(tool_from_modes(modes), cut, rpm)[0], float)
+    fin = a_zoa[np.isfinite(a_zoa)]
+    depth_max = 3.0 * float(fin.max()) if fin.size else 0.1
+    a_sdm = np.asarray(sdm_lobes(tool_from_modes(modes), cut, rpm, depth_max_m=depth_max)[0],
+                       float)
     with np.errstate(divide="ignore", invalid="ignore"):
         rel = np.abs(a_zoa / a_sdm - 1)
     rel = rel[np.isfinite(rel)]
