@@ -305,3 +305,4 @@ def test_brier_score_and_sharpness_by_hand():
     assert s["brier_score"] == pytest.approx((0.1**2 + 0.3**2) / 2)
     assert s["n_brier"] == 2
     assert s["sharpness_force_percent"] == pytest.approx(10.0)
+    assert s["sharpness_force_oos_percent"] == pytest.approx(10.0)

@@ -404,14 +404,18 @@ def brier_score(check: pd.DataFrame) -> tuple[float, int]:
 
 def sharpness(check: pd.DataFrame) -> dict[str, float]:
     """``sharpness_<q>_percent``: per interval quantity (not stability) the median of
-    (high − low)/(2 |predicted|) × 100 over its rows with a finite prediction."""
+    (high − low)/(2 |predicted|) × 100 over its rows with a finite prediction; also over the
+    out-of-sample rows alone (``sharpness_<q>_oos_percent``)."""
     out = {}
-    for q, g in check[check["quantity"] != "stability"].groupby("quantity"):
-        p = g["predicted"].astype(float).abs()
-        hw = (g["high"].astype(float) - g["low"].astype(float)) / 2
-        ok = np.isfinite(p) & np.isfinite(hw) & (p > 0)
-        if ok.any():
-            out[f"sharpness_{q}_percent"] = float(100 * np.median(hw[ok] / p[ok]))
+    rows = check[check["quantity"] != "stability"]
+    oos = ~rows["in_sample"].astype("boolean").fillna(False).astype(bool)
+    for suffix, part in (("", rows), ("_oos", rows[oos])):
+        for q, g in part.groupby("quantity"):
+            p = g["predicted"].astype(float).abs()
+            hw = (g["high"].astype(float) - g["low"].astype(float)) / 2
+            ok = np.isfinite(p) & np.isfinite(hw) & (p > 0)
+            if ok.any():
+                out[f"sharpness_{q}{suffix}_percent"] = float(100 * np.median(hw[ok] / p[ok]))
     return out
 
 
