@@ -1,9 +1,11 @@
-"""Which stability limit of the planner binds on a study's own cuts, and what the cell said
-(the evidence behind the in-sample stability rows of ``check.csv`` that did not hold: the
-planner predicts chatter for most of the default study's cuts, which its files call stable).
+"""Two stability limits of the identified modes on a study's own cuts, and what the cell said:
+why the planner's stability model (:mod:`robomill.plan.stability`) is the regenerative model
+alone and the delay-free mode-coupling depth only chapter 4's diagnostic (the planner once
+took the lower of the two, and called most of the default study's cuts unstable, which its
+files call stable).
 
-The planner's critical depth (:mod:`robomill.plan.predict`) is the lower of two limits of the
-identified tool-tip modes and the calibrated coefficients: the zero-order lobes at the cut's
+The two limits of the identified tool-tip modes and the calibrated coefficients: the
+zero-order lobes at the cut's
 spindle speed (regenerative chip, d(t) − d(t − τ); Altintas & Budak 1995) and the delay-free
 mode-coupling depth (the oriented cutting stiffness acting on d(t) itself; Tlusty's mode
 coupling, the thesis' §3.3). This script evaluates both with the planner's own routines
