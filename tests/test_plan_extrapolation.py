@@ -176,3 +176,33 @@ def test_the_modes_intervals_carry_into_the_critical_depth(cell):
     a_bare = bare["a_crit_mm"].isel(**sel).values
     assert np.allclose(bare["a_crit_low_mm"].isel(**sel).values, a_bare)  # a point
     assert np.allclose(bare["a_crit_high_mm"].isel(**sel).values, a_bare)
+
+
+def test_the_studys_own_stable_cuts_stay_inside_what_the_plan_allows(cell):
+    """A study cut at 28 000 rpm, 0.5 mm deep, judged stable, its tooth frequency (933 Hz) far
+    above the impact test's 10-100 Hz band, predicted at its own pose with the study's reach:
+    inside what the study covered (no extrapolation flag, no modal-band cap), it meets the
+    plan's stability constraints (p_stable ≥ 0.95, pessimistic margin ≥ 0.2), before and
+    after its own verdict weights the members."""
+    import dataclasses
+
+    from robomill.experiment import Cut
+    from robomill.plan.compare import predict_study_cut
+    from robomill.plan.make import verdict_conditioned
+
+    prior = {"members": 24, "tool_modes": [{"f_hz": [1500.0, 4000.0], "zeta": [0.02, 0.06],
+                                            "k_N_m": [3.0e7, 3.0e8], "shape": [1, 0, 0]}]}
+    req = _request(stability=prior, constraints={"min_stability_margin": 0.2})
+    m = Measured(modes=_modes(MEASURED), coefficients=_coefficients())
+    exp = {"spindle_rpm": 28000.0, "flutes": 2, "tool_diameter_mm": 6.0, "cut_length_mm": 20.0}
+    cut = Cut("s2_g5_py", 2, 5, "py", 5.0, 0.5, start_mm=(650.0, -10.0, 199.5))
+    reach = StudyReach(spindle_rpm=(28000.0, 28000.0), feed_per_tooth_mm=(0.001, 0.011),
+                       radial_immersion=(1.0, 1.0), midpoints_mm=np.array([[650.0, 0.0, 200.0]]),
+                       modal_band_hz=(10.0, 100.0))
+    row = predict_study_cut(cut, exp, req, m, cell, reach)
+    assert row["reachable"] and not row["extrapolation"]
+    assert row["p_stable"] >= 0.95 and row["stability_margin_low"] >= 0.2 and row["feasible"]
+    m2, ev = verdict_conditioned(m, req, cell, [cut], exp, pd.Series({cut.id: 1.0}))
+    assert ev is not None and ev.n_used == 1
+    again = predict_study_cut(dataclasses.replace(cut), exp, req, m2, cell, reach)
+    assert again["p_stable"] >= 0.95 and again["feasible"]
