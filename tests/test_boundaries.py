@@ -163,6 +163,9 @@ SCIENCE_MAY_READ = {"robomill.io.forces", "robomill.io.impact", "robomill.io.cel
                     # the tool frame of a cell file (translation and roll-pitch-yaw), read by
                     # the kinematics that carry it
                     "robomill.io.tool_frame",
+                    # the controller's conventions (flange, joints) of a cell file, which the
+                    # plan's program is written in
+                    "robomill.io.controller",
                     # the CSV table writer of the plan's program folder (stations.csv)
                     "robomill.io.artefacts"}
 ERROR_TYPES = {"RawDataError", "ConfigError"}

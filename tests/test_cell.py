@@ -198,7 +198,8 @@ def test_manifest_lists_at_most_one_cell_file():
 def test_written_cell_is_plain_yaml(cell_cfg, tmp_path):
     path = write_cell(cell_cfg, tmp_path / "cell.yaml")
     data = yaml.safe_load(path.read_text())
-    assert list(data) == ["robot", "q_home_deg", "tool_rotation", "transmissions", "mass_model"]
+    assert list(data) == ["robot", "q_home_deg", "tool_rotation", "transmissions", "mass_model",
+                          "controller_frames"]
     assert all(set(t) == {"joint", "stage", "rev_per_joint_rev", "teeth"}
                for t in data["transmissions"])
 

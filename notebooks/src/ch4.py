@@ -83,6 +83,7 @@ display(vt[["cut", "verdict", "chatter_hz", "source", "energy_ratio", "line_hz",
 # %%
 display(Markdown(hear("recording_lines")))
 display(Markdown(hear("force_lines")))
+display(Markdown(hear("forced_lines")))
 display(Markdown(hear("comparison")))
 
 # %% [markdown]

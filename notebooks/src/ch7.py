@@ -9,7 +9,8 @@
 # regenerative lobes of every identified mode at the pose, the robot's low-frequency modes
 # scaled with the pose through the joint stiffness, and a stated prior of the spindle/tool
 # modes above the impact test's band; a bootstrap of members weighted by the study's own
-# chatter verdicts, `robomill.plan.stability`), static deflection (mean cutting force over the pose's stiffness), waviness (the
+# chatter verdicts, `robomill.plan.stability`), static deflection (mean cutting force over
+# the pose's stiffness), waviness (the
 # gear lines carried through the Jacobian to the new pose), force, feed marks and removal
 # rate, each with an interval from the identified quantities' uncertainty. The waviness has
 # two: the spread between the tracker runs that identified its gear lines (the wall's
@@ -31,6 +32,9 @@ evidence: str = None  # results/plan/evidence_used.csv
 check: str = None  # results/plan/check.csv
 check_summary: str = None  # results/plan/check_summary.csv
 misses: str = None  # results/plan/misses.csv: each out-of-sample miss and why
+program: str = None  # results/plan/next/program: the controller program and its stations.csv
+cell: str = None  # the cell file (joint limits)
+request: str = None  # the planning request (limit margin, wrist angle, work object)
 templates: str = None  # notebooks/templates/ch7.yaml: the sentences rendered from check_summary
 fig_dir: str = None  # folder for this chapter's figures
 
@@ -170,7 +174,8 @@ display(Markdown(Prose(load_templates("ch7", templates), reach_values(chosen, ca
 # poses are in `results/plan/next/program/`.
 
 # %%
-display(Markdown(paths_say("pose_checks", "path_cuts", "path_gain", "rotation_case")))
+display(Markdown(paths_say("pose_checks", "path_cuts", "path_gain", "path_only",
+                           "rotation_case")))
 if "path_rotation_deg" in pmap:
     num.figure("path", "The best cut's path: the pessimistic score over station × rotation "
                "about the tool axis, and the chosen rotation at each station")
@@ -201,6 +206,39 @@ pcols = ["cut", "configuration", "redundancy_path_deg", "fixed_rotation_deg",
 display(chosen[[c for c in pcols if c in chosen]])
 
 # %% [markdown]
+# ## What the programmer looks at before running
+#
+# The program (`results/plan/next/program/`) moves home, then per cut to a safe point above
+# the part, starts the spindle, approaches, ramps into the slot along the feed direction,
+# feeds through the cut's stations without stopping, retracts along the tool axis and leaves
+# over the safe point (`robomill.plan.motion`); every target is in `stations.csv`.
+
+# %%
+from pathlib import Path
+
+from robomill.io.cell import read_cell
+from robomill.plan.pathplot import joints_figure, path_figure
+from robomill.plan.request import read_request
+
+stations_file = Path(program) / "stations.csv"
+stations = pd.read_csv(stations_file) if stations_file.exists() else pd.DataFrame()
+if len(stations):
+    req = read_request(request)
+    wobj = req.work_object
+    num.figure("program_path", "Each planned cut's moves on the part (part frame): the path "
+               "in the x–y plane over the block, and the height of every move target")
+    num.figure("program_joints", "Each planned cut's joint angles at every move target "
+               "against the cell's joint limits (solid) less the request's margin (dashed), "
+               "and the wrist angle at the cut's stations against the smallest allowed")
+    num.show(path_figure(stations, None if wobj is None else wobj.block_min_mm,
+                         None if wobj is None else wobj.block_max_mm), "program_path")
+    num.show(joints_figure(stations, read_cell(cell).joint_limits_deg,
+                           req.joint_limit_margin_deg, req.min_wrist_angle_deg),
+             "program_joints")
+    display(Markdown(paths_say("program_figures", ref_program_path=num.ref("program_path"),
+                               ref_program_joints=num.ref("program_joints"))))
+
+# %% [markdown]
 # ## What a learn round narrows
 #
 # The production plan is bound by the prediction that stops a larger removal rate at its
@@ -215,7 +253,8 @@ display(chosen[[c for c in pcols if c in chosen]])
 # its own pose, speed and depth: stable, the true limit there is at least its depth; chatter,
 # at most; undetermined, nothing. The critical-depth interval is the weighted central range of
 # a set of members over the uncertain parameters: each member of the stability model is
-# weighted by the likelihood of the verdicts, each taken as wrong with a stated probability (`robomill.plan.conditioning`); which
+# weighted by the likelihood of the verdicts, each taken as wrong with a stated probability
+# (`robomill.plan.conditioning`); which
 # cuts entered is in `results/plan/evidence_used.csv`.
 
 # %%
@@ -286,8 +325,9 @@ display(Markdown(Prose(load_templates("ch7", templates), comparison_values(cmp_)
 # verdicts (else its force spectrum), force from its dynamometer's means, deflection from the
 # loaded minus the air tracker path, waviness from its loaded tracker runs. A `stability` row
 # gives the predicted margin a_crit/a − 1 with its interval, the probability of a stable cut
-# `p_stable` and the outcome 1 (stable) or 0 (chatter); `held` says whether the outcome fell inside the stated interval, `in_sample`
-# whether its data identified a model the prediction rests on.
+# `p_stable` and the outcome 1 (stable) or 0 (chatter); `held` says whether the outcome fell
+# inside the stated interval, `in_sample` whether its data identified a model the prediction
+# rests on.
 
 # %%
 display(Markdown(say("check_stability_plan", "check_stability_study", "check_deflection",

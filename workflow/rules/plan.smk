@@ -182,6 +182,9 @@ use rule chapter as ch7 with:
         check="results/plan/check.csv",
         check_summary="results/plan/check_summary.csv",
         misses="results/plan/misses.csv",
+        program=PLAN_PROGRAM,
+        cell=CELL,
+        request=PLAN_REQUEST,
     output:
         **chapter_outputs("ch7"),
     log:

@@ -99,7 +99,8 @@ rule synth_dynamometer:
 
 
 # The microphone's and the spindle accelerometer's recordings of the same cuts (off by
-# default: synth.recordings), one job for all, as the dynamometer's.
+# default: synth.recordings), each with its air pass (synth.recordings.air_pass), one job for
+# all, as the dynamometer's.
 # (in the layout's order: a cut's sound and vibration follow each other, integrated once)
 SYNTH_RECORDINGS = [
     f for f in (PLAN.files if SYNTHETIC else []) if f["kind"] in ("sound", "vibration")
@@ -119,7 +120,11 @@ rule synth_recordings:
     params:
         cfg=SYNTH_CFG,
         files=[
-            {"kind": f["kind"], "cut": SYNTH_CUT_BY_ID[f["cut"]].as_dict()}
+            {
+                "kind": f["kind"],
+                "cut": SYNTH_CUT_BY_ID[f["cut"]].as_dict(),
+                "pass": f.get("pass", "loaded"),
+            }
             for f in SYNTH_RECORDINGS
         ],
     script:

@@ -57,9 +57,10 @@ write_table(plan.evidence if plan.evidence is not None
 wobj = req.work_object or BASE
 header = (f"robomill plan of {req.path}: the planned cuts, ranked by removal rate; "
           f"robot {cell.robot.name}\ncheck it in the offline programming tool before running")
-program = write_program(plan.paths, cell_file.controller,
-                        program_cell(cell.robot, wobj.T_base_part, cell_file.mass_model),
-                        out.program, header=header)
+pcell = program_cell(cell.robot, wobj.T_base_part, cell_file.mass_model,
+                     frames=cell_file.controller_frames, spindle=cell_file.spindle,
+                     motion=req.motion, q_home_deg=cell_file.q_home_deg)
+program = write_program(plan.paths, cell_file.controller, pcell, out.program, header=header)
 log.info("program (%s): %s", cell_file.controller or "no controller named: stations only",
          ", ".join(str(f) for f in program))
 for path in plan.paths:

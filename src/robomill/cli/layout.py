@@ -213,6 +213,8 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
         entry["robot"] = LOAD_TESTS_NAME.match(stem)["robot"]
     if cut:
         entry["cut"] = cut
+        if kind in ("sound", "vibration") and stem.endswith("_air"):
+            entry["pass"] = "air"  # <cut>_air: the cut's air pass (data-contract.md)
     if "fs_hz" in KIND_KEYS.get(kind, {}):
         fs = file_rate_hz(path)
         if fs is not None:

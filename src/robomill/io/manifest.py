@@ -323,8 +323,8 @@ def _check_tracker_run(path: Path, where: str, f: Mapping[str, Any],
 
 
 def _check_tracker_pass(path: Path, where: str, f: Mapping[str, Any]) -> None:
-    """A tracker run's ``pass`` (optional): ``loaded`` (default) or ``air``; an air pass names
-    the ``cut`` whose path it follows (its loaded pass is that cut's)."""
+    """A tracker run's or a recording's ``pass`` (optional): ``loaded`` (default) or ``air``; an
+    air pass names the ``cut`` whose path it follows (its loaded pass is that cut's)."""
     value = f.get("pass")
     if value is not None and value not in TRACKER_PASSES:
         raise RawDataError(path, f"pass is {value!r}", where=f"{where}.pass",
@@ -496,6 +496,8 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True,
         if f["kind"] == "tracker" and f.get("time_base") == "none":  # spatial-only: no rate
             required = {k: v for k, v in required.items() if k != "fs_hz"}
         _check_keys(path, f"{where} ({f['path']})", f, required)
+        if f["kind"] in ("sound", "vibration"):  # an air pass of the cut: pass: air
+            _check_tracker_pass(path, f"{where} ({f['path']})", f)
         if f["kind"] == "tracker":
             _check_tracker_direction(path, f"{where} ({f['path']})", f)
             _check_tracker_run(path, f"{where} ({f['path']})", f, files)

@@ -19,7 +19,7 @@ import xarray as xr
 from robomill import references
 from robomill.findings import Findings
 from robomill.modal.checks import synthesis_misfit
-from robomill.modal.layout import TOOLTIP, points
+from robomill.modal.layout import TOOLTIP, measured_directions, points
 
 FRF = "results/modal/frf.nc"
 MODES = "results/modal/modes.csv"
@@ -36,6 +36,13 @@ def _layout(f: Findings, ds: xr.Dataset, synth: xr.Dataset) -> list[tuple[str, s
     f.add("n_frf_measured", len(measured), artefact=FRF, what="H finite per pair")
     f.add("tooltip_layout", outs == list(TOOLTIP) and ins == list(TOOLTIP), artefact=FRF,
           what="output/input points equal the thesis' X, Y, Z at the tool tip")
+    dirs = {k: " and ".join(v) for k, v in measured_directions(ds).items()}
+    for key, value in (("directions_hit", dirs["hammer"]),
+                       ("directions_response", dirs["response"]),
+                       ("directions_not_measured", dirs["not_measured"] or None)):
+        f.add(key, value, artefact=FRF, what="input/output direction codes (axes)")
+    f.add("directions_measured_text", dirs["measured"] or "no axis", artefact=FRF,
+          what="axes both hit and measured")
     band = [float(b) for b in np.atleast_1d(synth.attrs["band_hz"])]
     f.add("band_hz", band, "Hz", artefact="results/modal/frf_synth.nc", what="attrs.band_hz")
     f.add("band_source", str(synth.attrs.get("band_source", "")),
@@ -120,6 +127,13 @@ def _truth(f: Findings, check: pd.DataFrame, modes: pd.DataFrame) -> None:
 
 
 def _misfit(f: Findings, ds: xr.Dataset, synth: xr.Dataset) -> None:
+    dirs = {k: " and ".join(v) for k, v in measured_directions(ds).items()}
+    for key, value in (("directions_hit", dirs["hammer"]),
+                       ("directions_response", dirs["response"]),
+                       ("directions_not_measured", dirs["not_measured"] or None)):
+        f.add(key, value, artefact=FRF, what="input/output direction codes (axes)")
+    f.add("directions_measured_text", dirs["measured"] or "no axis", artefact=FRF,
+          what="axes both hit and measured")
     band = [float(b) for b in np.atleast_1d(synth.attrs["band_hz"])]
     err = synthesis_misfit(ds, synth["H_synth"].values, band).to_numpy(float)
     finite = err[np.isfinite(err)]
