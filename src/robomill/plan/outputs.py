@@ -151,6 +151,37 @@ def cell_of(cell_file, req: PlanRequest, cuts_mid_mm: np.ndarray | None) -> Cell
                 getattr(cell_file, "joint_speed_limits_deg_s", None))
 
 
+def p_stable_map(cand: xr.Dataset, best: pd.Series, n_depths: int = 80) -> xr.Dataset:
+    """Chapter 7's map of the probability of a stable cut over spindle speed × depth at the
+    binding pose (the placement, rotation and direction of the plan's best cut,
+    ``best``), before the study's verdicts (every member of the stability model weighted
+    equally) and after (the verdicts' weights; :mod:`robomill.plan.stability`):
+    ``p_stable_prior`` and ``p_stable_post`` over ``spindle_rpm`` × ``map_depth_mm`` (log-spaced
+    from a tenth of the smallest to ten times the largest requested depth). Empty without the
+    members."""
+    from robomill.plan.stability import p_stable
+
+    if "a_crit_members_mm" not in cand or "member_weight" not in cand:
+        return xr.Dataset()
+    at = {"placement": int(best["i_placement"]), "rotation": int(best["i_rotation"]),
+          "direction": int(best["i_direction"])}
+    mem = cand["a_crit_members_mm"].isel(at).transpose("member", "spindle_rpm").values
+    d = cand["depth_mm"].values
+    depths = np.geomspace(0.1 * float(d.min()), 10 * float(d.max()), n_depths)
+    w = cand["member_weight"].values.astype(float)
+    flat = np.full(len(w), 1.0 / len(w))
+    dims = ("spindle_rpm", "map_depth_mm")
+    out = xr.Dataset(coords={"spindle_rpm": cand["spindle_rpm"],
+                             "map_depth_mm": ("map_depth_mm", depths,
+                                              attrs("mm", "axial depth of the map"))})
+    for name, weights, what in (("p_stable_prior", flat, "before the study's verdicts"),
+                                ("p_stable_post", w / w.sum(), "after the study's verdicts")):
+        out[name] = (dims, p_stable(mem[..., None], weights, depths[None, :]),
+                     attrs("1", f"probability of a stable cut at the binding pose, {what}"))
+    out.attrs.update({f"binding_{k}": v for k, v in at.items()})
+    return out
+
+
 def pose_map(cand: xr.Dataset, best: pd.Series) -> xr.Dataset:
     """Chapter 7's pose map over placement × rotation × direction: the best pessimistic
     critical depth over the speed range, the joint-model stiffness normal to the wall and along
