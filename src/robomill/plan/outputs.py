@@ -123,13 +123,17 @@ def next_config(manifest: dict[str, Any], workdir: str = NEXT_RUN_DIR) -> dict[s
     last cut only), each run loaded (recorded while the tool cuts) and in the air
     (``synth.tracker.air_pass``): the deflection is the loaded path minus the air path. The
     tracker's ``directions`` are the planned cuts' and its ``feeds_mm_s`` all, so that no
-    selection of the study's runs leaves a planned cut untracked."""
+    selection of the study's runs leaves a planned cut untracked. Each planned cut is also
+    recorded by a spindle accelerometer with its air pass (``synth.recordings``: vibration on,
+    its ``air_pass`` default), as a lab checks a new cut for chatter: a line the air pass shows
+    unchanged is forced vibration, not chatter (``robomill.chatter.recordings``)."""
     dirs = sorted({str(c["direction"]) for c in manifest["cuts"] if c.get("direction")})
     return {"workdir": workdir,
             "experiment": {**manifest["experiment"], "cuts": manifest["cuts"]},
             # every planned cut tracked, whatever directions and feeds the study's runs took
             "synth": {"tracker": {"per_cut": True, "air_pass": True, "directions": dirs,
-                                  "feeds_mm_s": None}}}
+                                  "feeds_mm_s": None},
+                      "recordings": {"vibration": True}}}
 
 
 def cell_of(cell_file, req: PlanRequest, cuts_mid_mm: np.ndarray | None) -> Cell:
