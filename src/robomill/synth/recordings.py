@@ -1,6 +1,7 @@
 """A microphone and a spindle accelerometer: ``sound/<cut>.wav`` and ``vibration/<cut>.csv``,
 two more instruments on the same simulated cut as the dynamometer
-(:func:`robomill.synth.process.simulate_cut`), over the same span (the dynamometer's
+(:func:`robomill.synth.process.simulate_cut`, stored once by :mod:`robomill.synth.cutstate`),
+over the same span (the dynamometer's
 ``record_length_mm``). Off by default (``synth.recordings.sound`` / ``vibration``); every
 parameter below is config ``synth.recordings`` and *assumed* (no source gives them).
 
@@ -83,13 +84,12 @@ def tool_acceleration_m_s2(sim) -> np.ndarray:
     return a
 
 
-def _record(cell, cut, config: Mapping[str, Any]):
-    """The simulated cut over the dynamometer's span and that span's sample count."""
+def _record(cut, config: Mapping[str, Any], sim):
+    """The simulated cut ``sim`` over the dynamometer's span and that span's sample count."""
     from robomill.synth.dynamometer import record_length_mm
-    from robomill.synth.process import simulate_cut
 
     length = record_length_mm(config)
-    sim = simulate_cut(cell, cut, config, length_mm=length)
+    sim = sim.span(length)
     n = min(int(round(length / cut.feed_mm_s * sim.fs_hz)), sim.t_s.size)
     return sim, n
 
@@ -98,10 +98,11 @@ def _rng(cell, cut, number: int) -> np.random.Generator:
     return np.random.default_rng([cell.seed, number, zlib.crc32(cut.id.encode())])
 
 
-def simulate_vibration(cell, cut, config: Mapping[str, Any]) -> tuple[np.ndarray, float]:
-    """The accelerometer's record of one cut: ``(a (m, 3) [m/s², base axes], fs_hz)``."""
+def simulate_vibration(cell, cut, config: Mapping[str, Any], sim) -> tuple[np.ndarray, float]:
+    """The accelerometer's record of one cut: ``(a (m, 3) [m/s², base axes], fs_hz)``
+    (``sim``: the simulated cut, :class:`robomill.synth.process.SimulatedCut`)."""
     s = settings(config)
-    sim, n = _record(cell, cut, config)
+    sim, n = _record(cut, config, sim)
     a = tool_acceleration_m_s2(sim)[:n]
     a = a + _rng(cell, cut, VIBRATION_NUMBER).normal(0.0, float(s["accel_noise_m_s2"]),
                                                      a.shape)
@@ -109,14 +110,15 @@ def simulate_vibration(cell, cut, config: Mapping[str, Any]) -> tuple[np.ndarray
     return _resample(a, sim.fs_hz, fs), fs
 
 
-def simulate_sound(cell, cut, config: Mapping[str, Any]) -> tuple[np.ndarray, float]:
-    """The microphone's record of one cut: ``(p (m,) [Pa], fs_hz)`` (module docstring)."""
+def simulate_sound(cell, cut, config: Mapping[str, Any], sim) -> tuple[np.ndarray, float]:
+    """The microphone's record of one cut: ``(p (m,) [Pa], fs_hz)`` (module docstring;
+    ``sim``: the simulated cut)."""
     import scipy.signal
 
     from robomill.experiment import cut_process
 
     s = settings(config)
-    sim, n = _record(cell, cut, config)
+    sim, n = _record(cut, config, sim)
     u = np.asarray(s["direction"], float)
     if not np.linalg.norm(u) > 0:
         from robomill.errors import ConfigError
@@ -143,11 +145,11 @@ def simulate_sound(cell, cut, config: Mapping[str, Any]) -> tuple[np.ndarray, fl
     return p, fs
 
 
-def simulate_file(config: Mapping[str, Any], cut, path: str | Path, kind: str,
+def simulate_file(config: Mapping[str, Any], cut, path: str | Path, kind: str, sim,
                   cell=None) -> Path:
     """Simulate one cut's recording of ``kind`` (``sound``: a 24-bit WAV scaled to
-    ``full_scale_Pa``; ``vibration``: CSV ``t_s, ax_m_s2, ay_m_s2, az_m_s2``) into ``path``;
-    returns ``path``."""
+    ``full_scale_Pa``; ``vibration``: CSV ``t_s, ax_m_s2, ay_m_s2, az_m_s2``) from the
+    simulated cut ``sim`` into ``path``; returns ``path``."""
     from robomill.io.atomic import atomic_path
     from robomill.synth.cell import cell_from_config
 
@@ -157,14 +159,14 @@ def simulate_file(config: Mapping[str, Any], cut, path: str | Path, kind: str,
         if kind == "sound":
             import soundfile
 
-            p, fs = simulate_sound(cell, cut, config)
+            p, fs = simulate_sound(cell, cut, config, sim)
             full = float(settings(config)["full_scale_Pa"])
             soundfile.write(str(tmp), np.clip(p / full, -1.0, 1.0), int(round(fs)),
                             subtype="PCM_24", format="WAV")
         elif kind == "vibration":
             import pandas as pd
 
-            a, fs = simulate_vibration(cell, cut, config)
+            a, fs = simulate_vibration(cell, cut, config, sim)
             pd.DataFrame({"t_s": np.arange(a.shape[0]) / fs, "ax_m_s2": a[:, 0],
                           "ay_m_s2": a[:, 1], "az_m_s2": a[:, 2]}).to_csv(
                 tmp, index=False, float_format="%.9g")
