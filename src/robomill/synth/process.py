@@ -113,7 +113,8 @@ class SimulatedCut:
         """The cut as :func:`simulate_cut` gives it over its first ``length_mm`` (None: the
         whole cut), taken from this longer simulation: the same samples (the integration and
         the filters are causal), the force's last ``filter_lag`` samples held as a prefix's
-        are. Raises ``ValueError`` where this simulation is shorter than that span."""
+        are (``teeth_out`` stays the count over this simulation). Raises ``ValueError`` where
+        this simulation is shorter than that span."""
         n = span_samples(self.n_full, self.feed_mm_s, self.fs_hz, self.filter_lag, length_mm)
         if n > self.t_s.size:
             raise ValueError(f"cut {self.cut_id}: {n} samples asked of a simulation of "

@@ -3,12 +3,13 @@
 The robot moves along the path of a cut at that cut's feed while the tracker samples its
 target at 815 Hz (thesis §3.2): a *loaded* pass is the cut itself
 (:func:`robomill.synth.process.simulate_cut`, the same cut the dynamometer and the
-profilometer see, stored once by :mod:`robomill.synth.cutstate`), an *air* pass the same path without material (:func:`simulate_run` with
-``pass_="air"``; deflection is the loaded path minus the air path). For every direction and
-every feed of the experiment one run is simulated, along the path of the last cut (in
-machining order) with that direction and feed (so the feeds 2–10 mm/s follow set 3, as in
-thesis Figs 3.12–3.15). Coordinates are in the robot base frame (the tracker registered to
-the robot, the target's offset to the TCP removed).
+profilometer see, stored once by :mod:`robomill.synth.cutstate`), an *air* pass the same
+path without material (:func:`simulate_run` with ``pass_="air"``; deflection is the loaded
+path minus the air path). For every direction and every feed of the experiment one run is
+simulated, along the path of the last cut (in machining order) with that direction and feed
+(so the feeds 2–10 mm/s follow set 3, as in thesis Figs 3.12–3.15). Coordinates are in the
+robot base frame (the tracker registered to the robot, the target's offset to the TCP
+removed).
 
 Simulated position = nominal motion (trapezoidal speed profile: constant feed, ramps at
 ``accel_mm_s2``) + the TCP error of every eccentric gear stage of the virtual cell (joint
