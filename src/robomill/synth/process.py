@@ -260,6 +260,19 @@ def _integrate(k0, n, dt, substeps, omega, phase0, teeth, phst, phex, c, a0, coe
             eta[r, 1] = e1
 
 
+def warm_kernels() -> None:
+    """Call :func:`_integrate` once on a tiny input of the types :func:`simulate_cut` passes
+    (compiles it, or loads it from the cache; :func:`robomill.kernels.ready`)."""
+    M, L, teeth = 1, 4, 2
+    F = np.zeros((3, 3))
+    d = np.zeros((3, 3))
+    _integrate(0, 2, 1e-5, 2, 100.0, 0.0, teeth, 0.0, np.pi, 1e-5, 1e-4, np.ones(6),
+               np.ones(4), np.zeros(teeth), np.zeros((M, 2, 2)), np.zeros((M, 2)),
+               np.zeros((M, 3)), np.zeros((M, 2)), np.zeros((L, teeth)), 1.5,
+               np.zeros((3, 3)), 1.0, np.zeros((3, 3)), 1.0, True, F[1:], d[1:],
+               np.zeros(2, np.int64))
+
+
 def _decimator(fs_hz: float, down: int, fraction: float):
     """FIR low-pass (cut-off ``fraction`` × fs, Hamming, 24 taps per output sample) for the
     ``down``-fold decimation from ``down`` × fs to fs."""
@@ -296,8 +309,10 @@ def _simulate(cell, cut, config: Mapping[str, Any], cutting: bool,
         engagement_angles_rad,
         mean_milling_forces,
     )
+    from robomill.kernels import ready
     from robomill.synth.structure import modes_at
 
+    ready(__name__)  # the kernel compiled once per environment (robomill.kernels)
     proc_cfg = config["synth"]["process"]
     dyn = config["synth"]["dynamometer"]
     rng = np.random.default_rng([cell.seed, STREAM, zlib.crc32(cut.id.encode())])
