@@ -25,11 +25,6 @@ SYNTH_CUT_BY_ID = {c.id: c for c in CUTS}
 SYNTH_CUT_STATES = planned_cut_states(SYNTH_CFG, PLAN.files if SYNTHETIC else [])
 
 
-def cut_state(cut_id):
-    """The stored simulated state of a cut (rule synth_cuts)."""
-    return cut_state_path("results", cut_id)
-
-
 rule synth_cell:
     output:
         "results/synthetic/raw/cell.yaml",
@@ -66,11 +61,13 @@ rule synth_truth:
 # samples these files.
 rule synth_cuts:
     output:
-        [cut_state(c) for c in SYNTH_CUT_STATES],
+        [cut_state_path("results", c) for c in SYNTH_CUT_STATES],
     log:
         "results/logs/synth/cuts.log",
     benchmark:
         "results/benchmarks/rules/synth/cuts.tsv"
+    # first when cores are free: every instrument's job, then every analysis, waits for it
+    priority: 10
     conda:
         ENV
     params:
@@ -98,7 +95,7 @@ SYNTH_FORCE_CUTS = [
 
 rule surface_synth_profiles:
     input:
-        states=[cut_state(c.id) for c in SYNTH_PROFILE_CUTS],
+        states=[cut_state_path("results", c.id) for c in SYNTH_PROFILE_CUTS],
     output:
         [f"results/synthetic/raw/profiles/{c.id}.csv" for c in SYNTH_PROFILE_CUTS],
     log:
@@ -116,7 +113,7 @@ rule surface_synth_profiles:
 
 rule synth_dynamometer:
     input:
-        states=[cut_state(c.id) for c in SYNTH_FORCE_CUTS],
+        states=[cut_state_path("results", c.id) for c in SYNTH_FORCE_CUTS],
     output:
         [
             f"results/synthetic/raw/forces/{c.id}.{SYNTH_FORCE_FORMAT}"
@@ -145,7 +142,7 @@ SYNTH_RECORDINGS = [
 
 rule synth_recordings:
     input:
-        states=[cut_state(f["cut"]) for f in SYNTH_RECORDINGS],
+        states=[cut_state_path("results", f["cut"]) for f in SYNTH_RECORDINGS],
     output:
         [f"results/synthetic/raw/{f['path']}" for f in SYNTH_RECORDINGS],
     log:
@@ -161,7 +158,7 @@ rule synth_recordings:
                 "kind": f["kind"],
                 "cut": SYNTH_CUT_BY_ID[f["cut"]].as_dict(),
                 "pass": f.get("pass") or "loaded",
-                "state": cut_state(f["cut"]),
+                "state": cut_state_path("results", f["cut"]),
             }
             for f in SYNTH_RECORDINGS
         ],
@@ -173,7 +170,7 @@ rule synth_tracker:
     input:
         states=sorted(
             {
-                cut_state(f["cut"])
+                cut_state_path("results", f["cut"])
                 for f in SYNTH_TRACKER_RUNS.values()
                 if tracker_pass(f) == "loaded"
             }
@@ -195,7 +192,11 @@ rule synth_tracker:
                 "cut": f["cut"],
                 "pass": tracker_pass(f),
                 "run": run,
-                "state": cut_state(f["cut"]) if tracker_pass(f) == "loaded" else None,
+                "state": (
+                    cut_state_path("results", f["cut"])
+                    if tracker_pass(f) == "loaded"
+                    else None
+                ),
             }
             for run, f in SYNTH_TRACKER_RUNS.items()
         ],
