@@ -33,6 +33,8 @@ PYTHON = sys.executable
 SNAKEMAKE = str(Path(PYTHON).with_name("snakemake"))
 GOAL_FRESH_S = 150.0
 """The goal (2 cores) for a fresh clone's ``snakemake -j2 all``."""
+TARGET = "all"
+"""The target built in the clone."""
 
 
 def _timed(cmd: list[str], cwd: Path, env: dict) -> tuple[float, str]:
@@ -74,7 +76,7 @@ def run(out_dir: Path) -> list[dict]:
         env = fresh_clone_env(clone, cache)
         t_bytecode, _ = _timed([PYTHON, "-m", "compileall", "-q", "src"], clone, env)
         t_kernels, _ = _timed([PYTHON, "-m", "robomill.kernels"], clone, env)
-        t_all, log = _timed([SNAKEMAKE, "-j2", "all"], clone, env)
+        t_all, log = _timed([SNAKEMAKE, "-j2", TARGET], clone, env)
         floor_s = floor_summary(clone / "results", t_all, cores=2)["floor_s"]
         rows.extend(floor_rows("fresh clone", clone / "results", t_all, cores=2))
         shutil.rmtree(clone / "results", ignore_errors=True)
