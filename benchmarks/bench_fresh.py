@@ -13,7 +13,8 @@ the one thing not timed: its figure depends on the network and the package cache
 
 The warm figure (the same target in a fresh results folder of this checkout, whose kernels
 and bytecode are compiled already) is :mod:`bench_study`'s. Set ``ROBOMILL_BENCH_FRESH=0`` to
-skip this one (about 3 minutes on 2 cores).
+skip this one (about 3 minutes on 2 cores), ``ROBOMILL_BENCH_FRESH_KEEP=1`` to keep the clone's
+``results`` as ``<out>/fresh_clone_results`` (to compare them with another run's).
 """
 
 from __future__ import annotations
@@ -79,7 +80,10 @@ def run(out_dir: Path) -> list[dict]:
         t_all, log = _timed([SNAKEMAKE, "-j2", TARGET], clone, env)
         floor_s = floor_summary(clone / "results", t_all, cores=2)["floor_s"]
         rows.extend(floor_rows("fresh clone", clone / "results", t_all, cores=2))
-        shutil.rmtree(clone / "results", ignore_errors=True)
+        if os.environ.get("ROBOMILL_BENCH_FRESH_KEEP") == "1":
+            kept = Path(out_dir) / "fresh_clone_results"
+            shutil.rmtree(kept, ignore_errors=True)
+            shutil.move(clone / "results", kept)
     n_jobs = log.count("Finished jobid")
     row("fresh clone: `snakemake -j2 all`", t_all, "s", floor_s,
         f"clone of {head}, {n_jobs} jobs, kernels compiled before (row below); baseline: the "
