@@ -46,8 +46,15 @@ def test_a_stored_cut_reads_back_as_simulated_with_its_air_pass_and_spans(short_
     _same(air, simulate_cut(cell, cut, config, cutting=False))
     assert not air.force_N.any() and air.deflection_m.any()
     # a span of the stored whole cut is that span simulated alone
-    _same(read_cut_state(path, length_mm=1.0), simulate_cut(cell, cut, config, length_mm=1.0),
-          teeth_out=False)
+    prefix = simulate_cut(cell, cut, config, length_mm=1.0)
+    _same(read_cut_state(path, length_mm=1.0), prefix, teeth_out=False)
+    # an instrument reading one array gets it, and NaN (read-only) for the others
+    only = read_cut_state(path, length_mm=1.0, variables=["deflection_m"])
+    np.testing.assert_array_equal(only.deflection_m, prefix.deflection_m)
+    assert np.isnan(only.force_N).all() and np.isnan(only.path_error_m).all()
+    assert only.force_N.shape == prefix.force_N.shape and not only.force_N.flags.writeable
+    np.testing.assert_array_equal(
+        read_cut_state(path, length_mm=1.0, variables=["force_N"]).force_N, prefix.force_N)
 
 
 def test_a_stored_prefix_refuses_a_longer_span_and_a_missing_pass_in_one_line(short_study,
@@ -59,6 +66,8 @@ def test_a_stored_prefix_refuses_a_longer_span_and_a_missing_pass_in_one_line(sh
         read_cut_state(path, length_mm=2.0)
     with pytest.raises(ValueError, match=r"p\.nc: no 'air' pass"):
         read_cut_state(path, "air")
+    with pytest.raises(ValueError, match=r"unknown cut state variable\(s\) \['t_s'\]"):
+        read_cut_state(path, variables=["t_s"])
 
 
 def test_each_sampled_cut_is_planned_once_with_its_longest_span(config):

@@ -17,6 +17,6 @@ cell = cell_from_config(config)
 for spec, state, path in zip(p.cuts, snakemake.input.states, snakemake.output, strict=True):
     cut = Cut(**spec)
     progress = Progress(log, 1.0, f"dynamometer record of {cut.id}")
-    sim = read_cut_state(state, length_mm=record_length_mm(config))
+    sim = read_cut_state(state, length_mm=record_length_mm(config), variables=["force_N"])
     simulate_file(config, cut, path, sim, cell=cell, progress=progress.update)
     progress.finish(f"simulated {cut.id} -> {path}")

@@ -14,6 +14,6 @@ cfg = dict(p.cfg)
 cell = cell_from_config(cfg)
 for spec, state, path in zip(p.cuts, snakemake.input.states, snakemake.output, strict=True):
     cut = Cut(**spec)
-    simulate_profile(cfg, cut, path, read_cut_state(state, length_mm=trace_end_mm(cfg)),
-                     cell=cell)
+    sim = read_cut_state(state, length_mm=trace_end_mm(cfg), variables=["deflection_m"])
+    simulate_profile(cfg, cut, path, sim, cell=cell)
     log.info("profile of %s (feed %g mm/s) written to %s", cut.id, cut.feed_mm_s, path)

@@ -20,6 +20,7 @@ for spec, path in zip(snakemake.params.files, snakemake.output, strict=True):
     cut = Cut(**spec["cut"])
     if read[0] != (spec["state"], spec["pass"]):
         read = ((spec["state"], spec["pass"]),
-                read_cut_state(spec["state"], spec["pass"], record_length_mm(config)))
+                read_cut_state(spec["state"], spec["pass"], record_length_mm(config),
+                               variables=["deflection_m"]))
     simulate_file(config, cut, path, spec["kind"], read[1], cell=cell)
     log.info("simulated the %s recording of %s -> %s", spec["kind"], cut.id, path)

@@ -15,7 +15,7 @@ cell = cell_from_config(cfg)
 cuts = {c.id: c for c in synthetic_cuts(cfg)}
 for run, path in zip(p.runs, snakemake.output, strict=True):
     cut = cuts[run["cut"]]
-    sim = read_cut_state(run["state"]) if run["state"] else None
+    sim = read_cut_state(run["state"], variables=["deflection_m"]) if run["state"] else None
     df = simulate_run(cfg, cell, run["direction"], float(run["feed_mm_s"]), cut,
                       run["pass"], run["run"], sim=sim)
     write_run(df, path)

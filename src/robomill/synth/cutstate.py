@@ -158,15 +158,29 @@ def _scalar(value):
     return value.reshape(-1)[0].item() if value.size == 1 else value
 
 
-def read_cut_state(path: str | Path, pass_: str = "loaded", length_mm: float | None = None):
+STATE_VARIABLES = ("force_N", "deflection_m", "path_error_m")
+"""The per-sample arrays of a stored cut an instrument may read."""
+
+
+def read_cut_state(path: str | Path, pass_: str = "loaded", length_mm: float | None = None,
+                   variables: Iterable[str] = STATE_VARIABLES):
     """One pass of a stored cut (:func:`write_cut_state`) as a
     :class:`~robomill.synth.process.SimulatedCut` over its first ``length_mm`` (None: the
-    whole cut). Raises ``ValueError`` naming the file where it lacks the pass or the span."""
+    whole cut): the same samples as :meth:`~robomill.synth.process.SimulatedCut.span` of
+    the stored simulation. Only the arrays named in ``variables`` (of
+    :data:`STATE_VARIABLES`) are read, and only that span of them; the others are read-only
+    NaN (an instrument that reads the force only, say). Raises ``ValueError`` naming the file
+    where it lacks the pass or the span."""
     import h5py
 
     from robomill.synth.cell import Mode
-    from robomill.synth.process import SimulatedCut, path_error_at_m
+    from robomill.synth.process import SimulatedCut, path_error_at_m, span_samples
 
+    variables = set(variables)
+    unknown = variables - set(STATE_VARIABLES)
+    if unknown:
+        raise ValueError(f"unknown cut state variable(s) {sorted(unknown)} (expected "
+                         f"{', '.join(STATE_VARIABLES)})")
     with h5py.File(path, "r") as f:
         passes = [p.decode() if isinstance(p, bytes) else str(p) for p in f["pass"][()]]
         if pass_ not in passes:
@@ -174,8 +188,17 @@ def read_cut_state(path: str | Path, pass_: str = "loaded", length_mm: float | N
                              "the virtual cell to have simulated it)")
         i = passes.index(pass_)
         a = {k: _scalar(v) for k, v in f.attrs.items()}
-        force = f["force_N"][i]
-        defl = f["deflection_m"][i]
+        fs, lag = float(a["fs_hz"]), int(a["filter_lag"])
+        stored = int(f["force_N"].shape[1])
+        n = span_samples(int(a["n_full"]), float(a["feed_mm_s"]), fs, lag, length_mm)
+        if n > stored:
+            raise ValueError(f"{path}: cut {a['cut']}: {n} samples asked of a simulation of "
+                             f"{stored} (expected a span within the simulated one)")
+        unread = np.broadcast_to(np.nan, (n, 3))
+        force = f["force_N"][i, :n] if "force_N" in variables else unread
+        if "force_N" in variables and lag and n < stored:  # a prefix's filter tail
+            force[-lag:] = force[-lag - 1]
+        defl = f["deflection_m"][i, :n] if "deflection_m" in variables else unread
         teeth_out = float(f["teeth_out"][i])
         grid = f["path_error_grid_m"][()]
         frame = f["frame"][()]
@@ -184,16 +207,11 @@ def read_cut_state(path: str | Path, pass_: str = "loaded", length_mm: float | N
                       for fr, z, k, sh in zip(f["mode_f_hz"][()], f["mode_zeta"][()],
                                               f["mode_k_N_m"][()], f["mode_shape"][()],
                                               strict=True))
-    fs = float(a["fs_hz"])
-    t = np.arange(force.shape[0]) / fs
+    t = np.arange(n) / fs
     dt = float(a["path_dt_s"])
-    sim = SimulatedCut(cut_id=str(a["cut"]), fs_hz=fs, t_s=t, force_N=force,
-                       deflection_m=defl, path_error_m=path_error_at_m(t, grid, dt),
-                       frame=frame, feed_mm_s=float(a["feed_mm_s"]),
-                       tooth_hz=float(a["tooth_hz"]), modes=modes, teeth_out=teeth_out,
-                       n_full=int(a["n_full"]), filter_lag=int(a["filter_lag"]),
-                       path_grid_m=grid, path_dt_s=dt)
-    try:
-        return sim.span(length_mm)
-    except ValueError as exc:
-        raise ValueError(f"{path}: {exc}") from None
+    path_error = path_error_at_m(t, grid, dt) if "path_error_m" in variables else unread
+    return SimulatedCut(cut_id=str(a["cut"]), fs_hz=fs, t_s=t, force_N=force,
+                        deflection_m=defl, path_error_m=path_error, frame=frame,
+                        feed_mm_s=float(a["feed_mm_s"]), tooth_hz=float(a["tooth_hz"]),
+                        modes=modes, teeth_out=teeth_out, n_full=int(a["n_full"]),
+                        filter_lag=lag, path_grid_m=grid, path_dt_s=dt)
