@@ -68,9 +68,9 @@ def headline(summary: pd.DataFrame) -> str | None:
         return None
     r = rows.iloc[0]
     return (f"**A fresh clone's `make all`**: `snakemake -j2 all` took {_number(r['value'])} s "
-            f"against a floor of {_number(r['baseline'])} s of work on 2 cores "
-            f"({_cell(r['note'])}); the table *fresh clone* has the set-up `make venv` adds "
-            "and the floor, *study* the same target with warm caches.")
+            f"against a floor of {_number(r['baseline'])} s (the summed work of its jobs over "
+            "2 cores; `benchmarks/bench_fresh.py`); the table *fresh clone* has the set-up "
+            "`make venv` adds, *study* the same target with warm caches.")
 
 
 def page_rows(text: str) -> pd.DataFrame:
