@@ -8,6 +8,7 @@ from snakemake.utils import min_version
 from robomill.io import ConfigError
 from robomill.kernels import cache_dir
 from robomill.pipeline.config import run_folder, validate_config_cached
+from robomill.settings import SCHEMAS
 
 min_version("9.0")
 
@@ -22,11 +23,12 @@ configfile: "config.yaml"
 # Values as users write them (`data=FOLDER`, numbers given as text: YAML 1.1, --config), then
 # the whole configuration and each section by its own schema, defaults filled. A bad key stops
 # the run with one line naming it (robomill.pipeline.config.validate_config); the answer is
-# kept in .snakemake/robomill-config/ for the next run with the same configuration and schemas.
+# kept in .snakemake/robomill-config/ for the next run with the same configuration and schemas
+# (the package's own: robomill.settings.SCHEMAS).
 try:
     checked = validate_config_cached(
         config,
-        f"{workflow.basedir}/workflow/schemas/config.schema.yaml",
+        SCHEMAS / "config.schema.yaml",
         ".snakemake/robomill-config",
     )
 except ConfigError as exc:
@@ -69,8 +71,8 @@ include: "workflow/rules/chapters.smk"
 include: "workflow/rules/book.smk"
 
 
-# every rule's library inputs: what its script and notebook import (common.smk)
-derive_code_inputs(workflow.rules)
+# the import graph that code_inputs followed (common.smk), kept for the next run
+save_cache(CODE_CACHE)
 
 
 onerror:

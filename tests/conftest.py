@@ -40,7 +40,8 @@ def config():
 def tiny_config():
     from robomill.pipeline.config import load_config
 
-    return load_config(REPO / ".test" / "config.yaml", REPO / "workflow/schemas/config.schema.yaml")
+    return load_config(REPO / ".test" / "config.yaml",
+                       REPO / "src/robomill/data/schemas/config.schema.yaml")
 
 
 def tree_digest(folder: Path) -> str:

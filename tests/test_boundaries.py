@@ -163,6 +163,9 @@ SCIENCE_MAY_READ = {"robomill.io.forces", "robomill.io.impact", "robomill.io.cel
                     # the tool frame of a cell file (translation and roll-pitch-yaw), read by
                     # the kinematics that carry it
                     "robomill.io.tool_frame",
+                    # the controller's conventions (flange, joints) of a cell file, which the
+                    # plan's program is written in
+                    "robomill.io.controller",
                     # the CSV table writer of the plan's program folder (stations.csv)
                     "robomill.io.artefacts"}
 ERROR_TYPES = {"RawDataError", "ConfigError"}
@@ -362,15 +365,15 @@ READS_EXPERIMENT = re.compile(
 
 def test_the_configured_design_is_read_by_the_simulators_alone():
     """The design reaches the analyses from the study (the manifest's keys); the
-    configuration's experiment is read by the simulator rules, and by common.smk for one key:
-    the block layout, where a design gives no start_mm and its manifest no layout."""
+    configuration's experiment is read by the simulator rules, and by the ingestion rule for
+    one key: the block layout, resolved into the study where the manifest gives none."""
     files = [REPO / "Snakefile", *sorted((REPO / "workflow" / "rules").glob("*.smk"))]
     readers = {f"{f.name}:{i}": line.strip() for f in files if f != SYNTH_RULES
                for i, line in enumerate(f.read_text().splitlines(), start=1)
                if READS_EXPERIMENT.search(line)}
     assert len(readers) == 1, readers
     (where, line), = readers.items()
-    assert where.startswith("common.smk:") and '.get("layout")' in line
+    assert where.startswith("ingest.smk:") and '["layout"]' in line
     assert READS_EXPERIMENT.search(SYNTH_RULES.read_text())
 
 

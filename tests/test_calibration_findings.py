@@ -1,5 +1,5 @@
 """Chapter 1's findings (robomill.calibration.findings) from a planted model and accuracy
-table, and the chapter's sentences following them (notebooks/templates/ch1.yaml)."""
+table, and the chapter's sentences following them (src/robomill/data/templates/ch1.yaml)."""
 
 import numpy as np
 import pandas as pd

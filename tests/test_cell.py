@@ -198,7 +198,8 @@ def test_manifest_lists_at_most_one_cell_file():
 def test_written_cell_is_plain_yaml(cell_cfg, tmp_path):
     path = write_cell(cell_cfg, tmp_path / "cell.yaml")
     data = yaml.safe_load(path.read_text())
-    assert list(data) == ["robot", "q_home_deg", "tool_rotation", "transmissions", "mass_model"]
+    assert list(data) == ["robot", "q_home_deg", "tool_rotation", "transmissions", "mass_model",
+                          "controller_frames"]
     assert all(set(t) == {"joint", "stage", "rev_per_joint_rev", "teeth"}
                for t in data["transmissions"])
 
@@ -295,13 +296,13 @@ def test_old_configurations_setting_the_moved_mass_model_are_refused_with_the_fi
     with pytest.raises(ConfigError, match=r"config key 'calibration\.mass_model' was moved: .*"
                        r"move the mapping \{links, tool\} from calibration: to cell: as "
                        r"cell\.mass_model"):
-        validate_config(old, REPO / "workflow/schemas/config.schema.yaml")
+        validate_config(old, REPO / "src/robomill/data/schemas/config.schema.yaml")
     old = copy.deepcopy(cfg)
     old["synth"]["ctrack"]["mass_model"] = cfg["cell"]["mass_model"]
     with pytest.raises(ConfigError, match=r"'synth\.ctrack\.mass_model' was moved: .*"
                        r"synth\.ctrack\.true_mass_model"):
-        validate_config(old, REPO / "workflow/schemas/config.schema.yaml")
+        validate_config(old, REPO / "src/robomill/data/schemas/config.schema.yaml")
     # the cell's mass model is optional (null removes it in an overlay)
     cfg["cell"]["mass_model"] = None
-    assert validate_config(cfg, REPO / "workflow/schemas/config.schema.yaml")["cell"][
+    assert validate_config(cfg, REPO / "src/robomill/data/schemas/config.schema.yaml")["cell"][
         "mass_model"] is None

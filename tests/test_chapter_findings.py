@@ -1,6 +1,6 @@
 """Chapters 3.3 and 4: their findings from planted artefacts (robomill.modal.findings,
 robomill.chatter.findings), and their prose rendered from findings with altered values
-(the templates of notebooks/templates through robomill.pipeline.prose: no kernel)."""
+(the templates of src/robomill/data/templates through robomill.pipeline.prose: no kernel)."""
 
 import numpy as np
 import pandas as pd

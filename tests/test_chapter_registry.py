@@ -32,7 +32,7 @@ def test_every_row_names_files_that_exist():
     for c in rows:
         assert (REPO / "notebooks" / f"{c.notebook}.ipynb").is_file(), c.id
         assert (REPO / "notebooks" / "src" / f"{c.notebook}.py").is_file(), c.id
-        assert (REPO / "notebooks" / "templates" / f"{c.template}.yaml").is_file(), c.id
+        assert (REPO / "src/robomill/data/templates" / f"{c.template}.yaml").is_file(), c.id
         assert (REPO / "workflow" / "report" / f"{c.report}.rst").is_file(), c.id
 
 
@@ -83,9 +83,8 @@ def test_pages_of_one_chapter_number_share_the_figure_numbers_without_overlap():
     assert registry.figure_range("ch2", "figure", TABLE) == (1, None)
 
 
-def test_numbering_refuses_a_number_outside_its_page(monkeypatch):
-    monkeypatch.setenv(registry.REGISTRY_ENV, str(TABLE))
-    num = Numbering.for_chapter("ch6_stiffness")
+def test_numbering_refuses_a_number_outside_its_page():
+    num = Numbering.for_chapter("ch6_stiffness", registry=TABLE)
     assert num.chapter == "6"
     assert num.table("first", "a table") == "Table 6.2"  # continues after page 6.1's
     assert num.figure("a", "a figure", number=10) == "Figure 6.10"
@@ -144,7 +143,7 @@ def copy_with_chapter(tmp_path_factory) -> Path:
     nb.cells = [nbformat.v4.new_markdown_cell("# Chapter 8 — Tool wear"), params,
                 nbformat.v4.new_code_cell("print(open(findings).read()[:80])")]
     nbformat.write(nb, root / "notebooks" / "ch8.ipynb")
-    (root / "notebooks" / "templates" / "ch8.yaml").write_text("intro: Tool wear.\n")
+    (root / "src/robomill/data/templates/ch8.yaml").write_text("intro: Tool wear.\n")
     return root
 
 
@@ -160,8 +159,8 @@ def test_the_new_row_reads_as_a_chapter(copy_with_chapter):
 @pytest.mark.pipeline
 def test_the_dag_builds_the_new_chapter_in_all(copy_with_chapter):
     root = copy_with_chapter
-    env = {**os.environ, "PYTHONHASHSEED": "0"}
-    env.pop(registry.REGISTRY_ENV, None)
+    # the copy's package (its chapter table is package data) imported by the DAG and the jobs
+    env = {**os.environ, "PYTHONHASHSEED": "0", "PYTHONPATH": str(root / "src")}
     proc = subprocess.run(
         [SNAKEMAKE, "all", "-s", str(root / "Snakefile"), "--directory", str(root), "-n",
          "--quiet", "rules"],
@@ -187,20 +186,21 @@ def test_robomill_check_asks_for_what_the_new_chapter_needs(copy_with_chapter, t
     complete_manifest(raw)
     table = copy_with_chapter / "src" / "robomill" / "data" / "chapters.yaml"
     cmd = [sys.executable, "-m", "robomill", "check", str(raw), "--quiet"]
-    env = {k: v for k, v in os.environ.items() if k != registry.REGISTRY_ENV}
+    env = dict(os.environ)
     before = subprocess.run(cmd, capture_output=True, text=True, timeout=120, env=env)
     assert before.returncode == 0, before.stdout  # the repository's chapters: a good folder
+    # the copy's package, whose chapter table has chapter 8
+    assert table.is_file()
     after = subprocess.run(cmd, capture_output=True, text=True, timeout=120,
-                           env={**env, registry.REGISTRY_ENV: str(table)})
+                           env={**env, "PYTHONPATH": str(copy_with_chapter / "src")})
     assert after.returncode == 1
     lines = after.stdout.strip().splitlines()
     assert len(lines) == 1, lines
     assert "coolant_l_min" in lines[0] and "chapter 8" in lines[0], lines
 
 
-def test_the_book_places_the_new_chapter_in_its_part(copy_with_chapter, tmp_path, monkeypatch):
+def test_the_book_places_the_new_chapter_in_its_part(copy_with_chapter, tmp_path):
     table = copy_with_chapter / "src" / "robomill" / "data" / "chapters.yaml"
-    monkeypatch.setenv(registry.REGISTRY_ENV, str(table))
     pages = []
     for stem, title in [("ch6_chatter", "Chapter 6.1 — Reference study"),
                         ("ch8", "Chapter 8 — Tool wear"), ("ch2", "Chapter 2 — S"),
@@ -208,10 +208,10 @@ def test_the_book_places_the_new_chapter_in_its_part(copy_with_chapter, tmp_path
         p = tmp_path / f"{stem}.html"
         p.write_text(f"<html><head></head><body><h1>{title}</h1></body></html>")
         pages.append(p)
-    assert book_part("ch8") == "The study"
-    assert sorted(["ch8", "ch6_chatter", "ch7", "ch2"], key=chapter_key) == [
-        "ch2", "ch7", "ch8", "ch6_chatter"]
-    html = print_document(pages, tmp_path / "book.html").read_text()
+    assert book_part("ch8", table) == "The study"
+    assert sorted(["ch8", "ch6_chatter", "ch7", "ch2"],
+                  key=lambda s: chapter_key(s, table)) == ["ch2", "ch7", "ch8", "ch6_chatter"]
+    html = print_document(pages, tmp_path / "book.html", registry=table).read_text()
     contents = html[html.index("Contents"):html.index('<section class="chapter"')]
     order = [contents.index(t) for t in ("Chapter 2 —", "Chapter 7 —", "Chapter 8 —",
                                          "Reference studies", "Chapter 6.1 —")]

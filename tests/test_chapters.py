@@ -344,8 +344,9 @@ def test_shown_value_is_relative_to_the_run_folder(tmp_path):
     assert shown_value(str(tmp_path / "results/x.csv"), tmp_path) == "results/x.csv"
     assert shown_value("results/x.csv", tmp_path) == "results/x.csv"
     assert shown_value("/elsewhere/x.csv", tmp_path) == "/elsewhere/x.csv"
-    # the chapter's templates, read from the repository when the run is elsewhere
-    repo = Path(__file__).resolve().parents[1]
-    templates = repo / "notebooks" / "templates" / "ch3_modal.yaml"
-    assert shown_value(str(templates), tmp_path) == "notebooks/templates/ch3_modal.yaml"
+    # the chapter's templates, package data, shown relative to the package's folder
+    from robomill.pipeline.prose import TEMPLATES_DIR
+
+    templates = TEMPLATES_DIR / "ch3_modal.yaml"
+    assert shown_value(str(templates), tmp_path) == "robomill/data/templates/ch3_modal.yaml"
     assert shown_value(3.5, tmp_path) == "3.5"

@@ -164,6 +164,10 @@ def test_manifest_infers_recordings_from_their_folders(tmp_path):
     assert s.entry == {"path": "sound/s1_g1_px.flac", "kind": "sound", "cut": "s1_g1_px"}
     v = infer_file(raw, uff)  # a UFF in vibration/ is read as it is: no import note
     assert v.note is None and v.entry["kind"] == "vibration" and not v.missing
+    soundfile.write(raw / "sound" / "s1_g1_px_air.flac", np.zeros(100), 8000)
+    a = infer_file(raw, raw / "sound" / "s1_g1_px_air.flac")  # the cut's air pass
+    assert a.entry == {"path": "sound/s1_g1_px_air.flac", "kind": "sound", "cut": "s1_g1_px",
+                       "pass": "air"}
 
 
 def test_chapter_4_recordings_prose_follows_the_verdict_findings(tmp_path, settings):
@@ -180,12 +184,20 @@ def test_chapter_4_recordings_prose_follows_the_verdict_findings(tmp_path, setti
              "speeds_rpm": "6200"},
             {"cut": "c2", "verdict": "stable", "chatter_hz": np.nan, "source": "forces/c2.csv",
              "evidence": "e3", "kind": "force", "energy_ratio": 0.01, "line_hz": 70.0,
-             "speeds_rpm": ""}]
-    found = verdict_findings(pd.DataFrame(rows), settings)
+             "speeds_rpm": ""},
+            {"cut": "c3", "verdict": "forced", "chatter_hz": np.nan, "source": "forces/c3.csv",
+             "evidence": "air test: forced: e4", "kind": "force", "energy_ratio": 0.3,
+             "line_hz": 85.7, "speeds_rpm": ""}]
+    found = verdict_findings(pd.DataFrame(rows), settings, n_air_passes=1)
     say = Prose(load_templates("ch4"), found)
-    names = ["recordings_intro", "force_summary", "recording_lines", "force_lines", "comparison"]
+    names = ["recordings_intro", "force_summary", "recording_lines", "force_lines",
+             "forced_lines", "comparison"]
     text = " ".join(say(*names).split())
-    assert "3 records: 1 stable, 2 chatter, 0 undetermined (2 force records, 1 recordings)" in text
+    assert ("4 records: 1 stable, 2 chatter, 1 forced, 0 undetermined (3 force records, "
+            "1 recordings, 1 air passes)") in text
+    assert ("Records whose line is forced vibration (the air test decided): - `forces/c3.csv` "
+            "(cut c3, force): **forced** at 85.7 Hz (forced vibration, not chatter) — air test: "
+            "forced: e4") in text
     assert "at least 0.1 of the comb's energy" in text
     assert "`sound/c1.flac` (cut c1, sound): **chatter** at 1240.0 Hz" in text
     assert "1 of 1 recordings agree" in text  # 1240 vs 1234.5 Hz: within 5 %

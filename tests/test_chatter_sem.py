@@ -182,7 +182,7 @@ def test_accuracy_config_key(repo):
     from robomill.io import ConfigError
     from robomill.pipeline.config import validate_config
 
-    schema = repo / "workflow/schemas/config.schema.yaml"
+    schema = repo / "src/robomill/data/schemas/config.schema.yaml"
     raw = yaml.safe_load(open(repo / "config.yaml"))
     cfg = copy.deepcopy(raw)
     del cfg["chatter"]["accuracy"]

@@ -16,9 +16,9 @@ def _modes():
 
 
 def test_slot_frames():
-    px = modes_in_slot_frame(_modes(), "px")
-    py = modes_in_slot_frame(_modes(), "py")
-    my = modes_in_slot_frame(_modes(), "my")
+    px = modes_in_slot_frame(_modes(), (1.0, 0.0))
+    py = modes_in_slot_frame(_modes(), (0.0, 1.0))
+    my = modes_in_slot_frame(_modes(), (0.0, -1.0))
     assert px[0].shape == pytest.approx((0.0, 1.0))
     assert py[0].shape == pytest.approx((1.0, 0.0))
     assert my[0].shape == pytest.approx((-1.0, 0.0))  # both axes reversed: same lobes as +Y
@@ -42,8 +42,9 @@ def test_mode_coupling_names_the_close_pair():
 def test_recommend_margin_and_best_speed():
     rpm = np.array([26000.0, 28000.0, 30000.0])
     a = np.array([1.0e-3, 0.4e-3, 2.0e-3])
-    rows = recommend(a, rpm, np.array([70.0, 71.0, 72.0]), "px", thesis_rpm=28000.0,
-                     thesis_depths_m=[0.25e-3, 0.5e-3], safety_fraction=0.2, solver="sdm")
+    rows = recommend(a, rpm, np.array([70.0, 71.0, 72.0]), "px",
+                     study_points=[(28000.0, 0.25e-3), (28000.0, 0.5e-3)],
+                     safety_fraction=0.2, solver="sdm")
     th = [r for r in rows if r["kind"] == "thesis"]
     assert th[0]["stability_margin"] == pytest.approx(0.6)
     assert th[1]["chatter_free"] is False
@@ -51,6 +52,13 @@ def test_recommend_margin_and_best_speed():
     assert best["spindle_rpm"] == 30000.0
     assert best["axial_depth_mm"] == pytest.approx(1.6)
     assert best["stability_margin"] == pytest.approx(0.25)
+    # each cut at its own speed: a cut at 26 000 rpm is rated at 26 000 rpm
+    rows = recommend(a, rpm, np.array([70.0, 71.0, 72.0]), "px",
+                     study_points=[(26000.0, 0.5e-3), (30000.0, 0.5e-3)],
+                     safety_fraction=0.2, solver="sdm")
+    th = [r for r in rows if r["kind"] == "thesis"]
+    assert [r["spindle_rpm"] for r in th] == [26000.0, 30000.0]
+    assert [r["stability_margin"] for r in th] == pytest.approx([1.0, 3.0])
 
 
 def test_recommend_applies_the_safety_fraction_on_top_of_the_error():
@@ -60,8 +68,8 @@ def test_recommend_applies_the_safety_fraction_on_top_of_the_error():
     rpm = np.array([26000.0, 28000.0, 30000.0])
     a = np.array([1.9e-3, 0.5e-3, 2.0e-3])
     err = np.array([0.0, 0.01e-3, 0.2e-3])  # 30 000 rpm is deeper but less certain
-    rows = recommend(a, rpm, np.array([70.0, 71.0, 72.0]), "px", thesis_rpm=28000.0,
-                     thesis_depths_m=[0.495e-3], safety_fraction=0.2, solver="sem",
+    rows = recommend(a, rpm, np.array([70.0, 71.0, 72.0]), "px",
+                     study_points=[(28000.0, 0.495e-3)], safety_fraction=0.2, solver="sem",
                      a_error_m=err)
     th = [r for r in rows if r["kind"] == "thesis"][0]
     assert th["a_crit_error_mm"] == pytest.approx(0.01)
@@ -69,7 +77,7 @@ def test_recommend_applies_the_safety_fraction_on_top_of_the_error():
     best = [r for r in rows if r["kind"] == "recommended"][0]
     assert best["spindle_rpm"] == 26000.0
     assert best["axial_depth_mm"] == pytest.approx(0.8 * 1.9)
-    nan_err = recommend(a, rpm, np.zeros(3), "px", thesis_rpm=28000.0, thesis_depths_m=[1e-4],
+    nan_err = recommend(a, rpm, np.zeros(3), "px", study_points=[(28000.0, 1e-4)],
                         safety_fraction=0.2, solver="zoa")
     assert all(np.isnan(r["a_crit_error_mm"]) for r in nan_err)
 
@@ -80,9 +88,9 @@ def test_non_physical_modes_are_left_out_of_the_tool_model():
     modes = pd.DataFrame({"f_n_hz": [50.0, 140.0], "zeta": [0.02, 0.03],
                           "k_modal_N_m": [4e5, -5e6], "shape_x": [1.0, 0.5],
                           "shape_y": [0.0, 0.5]})
-    out = modes_in_slot_frame(modes, "px")
+    out = modes_in_slot_frame(modes, (1.0, 0.0))
     assert [m.f_hz for m in out] == [50.0]
     modes.loc[0, "shape_y"] = np.nan  # responses along X only: y not measured
-    assert modes_in_slot_frame(modes, "py")[0].shape == (0.0, -1.0)  # x is py's normal
+    assert modes_in_slot_frame(modes, (0.0, 1.0))[0].shape == (0.0, -1.0)  # x is py's normal
     with pytest.raises(ValueError, match="positive modal stiffness"):
-        modes_in_slot_frame(modes[modes.k_modal_N_m < 0], "px")
+        modes_in_slot_frame(modes[modes.k_modal_N_m < 0], (1.0, 0.0))

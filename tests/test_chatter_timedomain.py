@@ -153,8 +153,8 @@ def test_bad_case_fails_with_key_named(repo):
         cfg = copy.deepcopy(raw)
         cfg["chatter"]["cases"][0][key] = bad
         with pytest.raises(ConfigError, match=rf"chatter\.cases\[0\]\.{key}"):
-            validate_config(cfg, repo / "workflow/schemas/config.schema.yaml")
+            validate_config(cfg, repo / "src/robomill/data/schemas/config.schema.yaml")
     cfg = copy.deepcopy(raw)
     del cfg["chatter"]["cases"][0]["Kt_N_m2"]
     with pytest.raises(ConfigError, match="Kt_N_m2"):
-        validate_config(cfg, repo / "workflow/schemas/config.schema.yaml")
+        validate_config(cfg, repo / "src/robomill/data/schemas/config.schema.yaml")

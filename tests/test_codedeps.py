@@ -107,3 +107,21 @@ def test_every_rule_derives_its_code_inputs_and_none_is_hand_kept():
     assert not has("stiffness_identify", "stiffness/maps.py")
     assert not has("stiffness_identify", "stiffness/cuts.py")
     assert has("ch3_modal", "modal/ncio.py") and has("ch3_modal", "io/impact.py")
+
+
+def test_each_rule_declares_the_code_of_its_own_script():
+    """Every rule with a script declares the library files that script imports as its named
+    input ``code`` (``code_inputs("<its script>")``, common.smk; a chapter through
+    ``chapter_files``): the one name written twice in a rule is checked here, so that a
+    renamed script cannot leave another script's code behind."""
+    checked = 0
+    for smk in (REPO / "workflow" / "rules").glob("*.smk"):
+        text = smk.read_text()
+        for block in re.split(r"\n(?=\s*(?:use )?rule \w+)", text):
+            s = re.search(r'script:\s*\n\s*"\.\./scripts/([\w.]+)"', block)
+            if not s or s[1] == "render_chapter.py":
+                continue
+            declared = re.findall(r'code=code_inputs\("([\w.]+)"\)', block)
+            assert declared == [s[1]], (smk.name, s[1], declared)
+            checked += 1
+    assert checked > 40

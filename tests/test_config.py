@@ -35,13 +35,13 @@ def test_bad_value_is_rejected_naming_the_key(repo, config, path, value, named):
         node = node[key]
     node[path[-1]] = value
     with pytest.raises(ConfigError, match=named.replace("[", r"\[").replace("]", r"\]")):
-        validate_config(cfg, repo / "workflow/schemas/config.schema.yaml")
+        validate_config(cfg, repo / "src/robomill/data/schemas/config.schema.yaml")
 
 
 def test_unknown_top_level_key_is_rejected(repo, config):
     cfg = {**config, "surfce": {}}
     with pytest.raises(ConfigError, match="surfce"):
-        validate_config(cfg, repo / "workflow/schemas/config.schema.yaml")
+        validate_config(cfg, repo / "src/robomill/data/schemas/config.schema.yaml")
 
 
 def test_snakemake_rejects_bad_config(tmp_path, repo):
@@ -60,7 +60,7 @@ def test_load_config_reads_yaml_safely(tmp_path, repo):
     p = tmp_path / "c.yaml"
     p.write_text("!!python/object/apply:os.system ['true']\n")
     with pytest.raises(Exception, match="constructor|tag"):
-        load_config(p, repo / "workflow/schemas/config.schema.yaml")
+        load_config(p, repo / "src/robomill/data/schemas/config.schema.yaml")
 
 
 # ---- values as users write them ---------------------------------------------------
@@ -101,7 +101,7 @@ def test_yaml_1_1_exponent_floats_in_a_config_file_are_numbers(tmp_path, repo):
     p.write_text(text)
     raw = yaml.safe_load(text)
     assert raw["chatter"]["cases"][0]["Kt_N_m2"] == "6.0e8"  # what PyYAML gives
-    cfg = load_config(p, repo / "workflow/schemas/config.schema.yaml")
+    cfg = load_config(p, repo / "src/robomill/data/schemas/config.schema.yaml")
     assert cfg["chatter"]["cases"][0]["Kt_N_m2"] == 6.0e8
     assert cfg["forces"]["lowband_hz"] == 250.0
 
@@ -116,7 +116,7 @@ def test_command_line_numbers_are_converted_and_bad_ones_get_the_fix(repo, confi
     cfg = copy.deepcopy(config)
     cfg["forces"] = {**cfg["forces"], **over["forces"]}
     cfg["data"] = over["data"]
-    out = validate_config(cfg, repo / "workflow/schemas/config.schema.yaml")
+    out = validate_config(cfg, repo / "src/robomill/data/schemas/config.schema.yaml")
     assert out["forces"]["decimation"] == 10 and out["forces"]["lowband_hz"] == 250.0
     assert out["data"] == {"source": "raw", "raw_dir": "/some/folder", "raw_dirs": []}
     cfg["forces"]["decimation"] = "10.5"
@@ -124,12 +124,12 @@ def test_command_line_numbers_are_converted_and_bad_ones_get_the_fix(repo, confi
             "config key 'forces.decimation': '10.5' is not an integer or null (expected an "
             "integer or null: write e.g. decimation: 10 in the config file, or --config "
             "forces='{decimation: 10}' on the command line)")):
-        validate_config(cfg, repo / "workflow/schemas/config.schema.yaml")
+        validate_config(cfg, repo / "src/robomill/data/schemas/config.schema.yaml")
     cfg["forces"]["decimation"] = 10
     cfg["chatter"]["cases"][0]["Kt_N_m2"] = "6.0e8 N/m2"
     with pytest.raises(ConfigError, match=r"chatter.cases\[0\].Kt_N_m2': '6.0e8 N/m2' is not "
                                           r"a number"):
-        validate_config(cfg, repo / "workflow/schemas/config.schema.yaml")
+        validate_config(cfg, repo / "src/robomill/data/schemas/config.schema.yaml")
 
 
 @pytest.mark.parametrize(("value", "expected"), [
@@ -140,7 +140,8 @@ def test_command_line_numbers_are_converted_and_bad_ones_get_the_fix(repo, confi
 def test_data_folder_shorthand(repo, config, value, expected):
     cfg = copy.deepcopy(config)
     cfg["data"] = value
-    assert validate_config(cfg, repo / "workflow/schemas/config.schema.yaml")["data"] == expected
+    schema = repo / "src/robomill/data/schemas/config.schema.yaml"
+    assert validate_config(cfg, schema)["data"] == expected
 
 
 def test_a_bad_key_stops_the_workflow_with_one_line_naming_it(tmp_path):
@@ -162,7 +163,7 @@ def _schemas_copy(repo, tmp_path):
     import shutil
 
     dest = tmp_path / "schemas"
-    shutil.copytree(repo / "workflow/schemas", dest)
+    shutil.copytree(repo / "src/robomill/data/schemas", dest)
     return dest / "config.schema.yaml"
 
 

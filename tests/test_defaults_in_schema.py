@@ -1,7 +1,8 @@
 """Defaults only in the schemas: a configuration key's default is written once, in
-``workflow/schemas/``, and read one way (:mod:`robomill.settings`). A test walks the library
-and the rule scripts for a second copy of a default the schema states: a mapping entry, a
-dataclass field or a ``.get(key, default)`` with a schema key and the schema's value."""
+``src/robomill/data/schemas/`` (package data), and read one way (:mod:`robomill.settings`). A
+test walks the library and the rule scripts for a second copy of a default the schema
+states: a mapping entry, a dataclass field or a ``.get(key, default)`` with a schema key and
+the schema's value."""
 
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ from conftest import REPO
 
 from robomill.settings import config_section, schema_default, schema_defaults, settings_from
 
-SCHEMAS = REPO / "workflow" / "schemas"
+SCHEMAS = REPO / "src" / "robomill" / "data" / "schemas"
 
 #: found copies that are no configuration default, each with the reason
 #: (file, key) -> why

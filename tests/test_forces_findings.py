@@ -1,5 +1,5 @@
 """Chapter 3.1's findings on the dominant peak (robomill.forces.findings) from planted tables,
-and the chapter's sentences following them (notebooks/templates/ch3_forces.yaml)."""
+and the chapter's sentences following them (src/robomill/data/templates/ch3_forces.yaml)."""
 
 import numpy as np
 import pandas as pd

@@ -1,5 +1,5 @@
 """Chapter 6's findings (robomill.hexapod.findings) from planted artefacts, and the chapter's
-sentences following altered findings (notebooks/templates/ch6_hexapod.yaml, no kernel)."""
+sentences following altered findings (src/robomill/data/templates/ch6_hexapod.yaml, no kernel)."""
 
 import math
 

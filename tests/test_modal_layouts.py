@@ -258,3 +258,20 @@ def test_hits_check_per_file_ranges_and_clipping():
     assert not table["accepted"][0] and "clipped" in table["reason"][0]
     assert table["responses"][0] == "X Y" and table["reference"][0] == "X"
     assert isinstance(table, pd.DataFrame)
+
+
+def test_measured_directions_of_a_one_direction_test():
+    """A test along X only (hammer X at node 1, accelerometers X at nodes 1 and 2) measured X
+    and not Y, Z; the tool-tip matrix measured all three; a Y response to an X hit measures
+    no axis (hit and measured must meet)."""
+    from robomill.modal.layout import TOOLTIP, frf_coords, measured_directions
+
+    f = np.arange(4.0)
+    one = xr.Dataset(coords=frf_coords(f, [(1, 1), (2, 1)], [(1, 1)]))
+    assert measured_directions(one) == {"hammer": "X", "response": "X", "measured": "X",
+                                        "not_measured": "YZ"}
+    full = xr.Dataset(coords=frf_coords(f, TOOLTIP, TOOLTIP))
+    assert measured_directions(full)["not_measured"] == ""
+    cross = xr.Dataset(coords=frf_coords(f, [(1, -2)], [(1, 1)]))
+    assert measured_directions(cross) == {"hammer": "X", "response": "Y", "measured": "",
+                                          "not_measured": "XYZ"}

@@ -253,12 +253,30 @@ def test_chapters_4_and_5_take_the_design_of_the_raw_folder(other_design, tmp_pa
     line = next(x for x in proc.stdout.splitlines() if x.startswith("PARAMS "))
     params = json.loads(line[len("PARAMS "):])
     chatter, cuts = params["chatter_thesis"], params["stiffness_cuts"]
+    # the design reaches them through the study (results/ingest/study.yaml), no rule parameter
+    assert not {"spindle_rpm", "flutes", "depths_mm"} & set(chatter), chatter
+    assert not {"experiment", "cuts"} & set(cuts), cuts
+    # the study the ingestion rule writes for this folder, as its rules read it
+    from robomill.chatter.thesis_study import study_slots
+    from robomill.io.rawdirs import load_study_manifest
+    from robomill.study import read_study, write_study
+
+    study = read_study(write_study(load_study_manifest(data / "manifest.yaml"),
+                                   tmp_path / "study.yaml", layout=default["layout"]))
     # the lab's design, written independently: examples/other_cell/config.yaml
-    assert (chatter["spindle_rpm"], chatter["flutes"], chatter["depths_mm"]) == (18000, 3, [0.5])
+    own = {c["id"]: float(c.get("spindle_rpm", plan["experiment"]["spindle_rpm"]))
+           for c in plan["cuts"]}
+    assert {c.id: c.spindle_rpm for c in study.cuts} == own
+    assert {c.flutes for c in study.cuts} == {3} and {c.depth_mm for c in study.cuts} == {0.5}
+    assert (study.experiment["spindle_rpm"], study.experiment["flutes"]) == (18000, 3)
     assert (default["spindle_rpm"], default["flutes"]) == (28000, 2)  # not the config's
-    assert cuts["experiment"]["cut_length_mm"] == 30.0 != default["cut_length_mm"]
-    assert [c["id"] for c in cuts["cuts"]] == [c["id"] for c in plan["cuts"]]
-    assert "sets" not in cuts["experiment"]
+    assert study.experiment["cut_length_mm"] == 30.0 != default["cut_length_mm"]
+    assert [c.id for c in study.cuts] == [c["id"] for c in plan["cuts"]]
+    assert "sets" not in study.experiment
+    # chapter 4's slots hold every cut, each at its own speed
+    slots = study_slots(study)
+    assert sorted(c.id for s in slots for c in s.cuts) == sorted(own)
+    assert {p[0] for s in slots for p in s.points} == set(own.values())
 
 
 def test_the_configured_robots_are_analysed_where_the_folder_holds_them(other_design, tmp_path):

@@ -173,7 +173,7 @@ def test_chapter_7_states_before_after_and_the_narrowing():
                             "width": 40.0}, "production", 45, 1)
     after = binding_table({**row, "constraint": "max_force_N", "low": 75.0, "high": 85.0,
                            "width": 10.0, "width_same_cut": 10.0}, "production", 51, 2, before)
-    templates = load_templates("ch7", Path("notebooks/templates/ch7.yaml"))
+    templates = load_templates("ch7", Path("src/robomill/data/templates/ch7.yaml"))
     text = Prose(templates, binding_values(after))("binding")
     assert "[60, 100] (width 40)" in text and "width 10 at that cut" in text
     assert "cut P1 has it in [75, 85] (width 10)" in text

@@ -183,7 +183,7 @@ def test_chapter_states_the_update_or_the_contradiction(planted):
 
     from robomill.pipeline.prose import Prose, load_templates
 
-    templates = load_templates("ch7", Path("notebooks/templates/ch7.yaml"))
+    templates = load_templates("ch7", Path("src/robomill/data/templates/ch7.yaml"))
     a_true = true_limit_m(SPEED_RPM)
     ok = evidence(planted, [("s1", "stable", 0.85 * a_true), ("s2", "chatter", 1.2 * a_true)])
     text = Prose(templates, evidence_values(ok.table, {"stability_members": len(ok.kt_low),

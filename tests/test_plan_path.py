@@ -300,7 +300,7 @@ def _check_kuka(src, dat, spec, tol_mm=0.01):
         assert np.linalg.norm(T[:3, 3] - target[:3, 3]) < tol_mm, name
         assert np.allclose(T[:3, :3], target[:3, :3], atol=1e-5), name
     for name, _ in poses:
-        assert f"LIN XP_{name}" in src or f"PTP XJ_{name}" in src
+        assert f"LIN XP_{name}" in src or f"PTP XP_{name}" in src
     return len(poses)
 
 
@@ -325,17 +325,19 @@ def test_every_program_target_lands_on_its_cartesian_target(tmp_path, tool):
     # the slot floor: 0.5 mm below the block's top; approach and retract above the part
     cut = st[st["move"] == "cut"]
     assert np.allclose(cut["z_part_mm"], -0.5, atol=1e-6)
-    assert (st.loc[st["move"] != "cut", "z_part_mm"] > 0).all()
+    assert (st.loc[~st["move"].isin(["cut", "entry"]), "z_part_mm"] > 0).all()
+    assert (st.loc[st["move"] == "entry", "z_part_mm"] >= -0.5 - 1e-9).all()
+    # the model's own frames (no controller_frames): the FK of the model written here
     pc = program_cell(cf.robot, wobj.T_base_part, cf.mass_model)
     abb = write_program([p], "abb", pc, tmp_path / "abb", header="test")
     assert _check_abb(abb[1].read_text(), cs["robot"]) == len(st)
     text = abb[1].read_text()
-    assert text.count("MoveAbsJ") == 1 and text.count("MoveL") == len(st) - 1
-    assert "vFeed_cut_a := [5," in text and "SetSpindle 20000;" in text
+    assert text.count("MoveJ") == 1 and text.count("MoveL") == len(st) - 1
+    assert "vFeed_cut_a := [5," in text and "Set the spindle to 20000 rpm" in text
     kuka = write_program([p], "kuka", pc, tmp_path / "kuka", header="test")
     src, dat = (f.read_text() for f in kuka[1:])
     assert _check_kuka(src, dat, cs["robot"]) == len(st)
-    assert "$VEL.CP=0.005" in src and "SetSpindle(20000)" in src
+    assert "$VEL.CP=0.005" in src and "20000 rpm" in src
 
 
 # ---- the part and the slots -----------------------------------------------------------------
@@ -470,3 +472,21 @@ def test_a_station_below_the_margin_constraint_refuses_the_cut():
     cs, cf, p = _plan(None, rotations=(-20.0, 20.0, 5), length=40.0, stations=5,
                       constraints={"min_stability_margin": (worst + best) / 2})
     assert p.refused is not None and "stability margin at every station" in p.refused
+
+
+def test_path_summary_says_when_only_the_path_runs_a_cut():
+    """A runnable cut no fixed rotation can run (fixed rotation NaN, gain NaN) is named, and
+    with no ratio at all the gain case says so instead of "not computed"."""
+    from robomill.plan.pathout import path_summary, summary_values
+
+    failures = pd.DataFrame({"reason": ["ok"], "count": [3]})
+    plan = pd.DataFrame({"cut": ["plan_01", "plan_02"], "redundancy_path_deg": ["0;10", "0;0"],
+                         "fixed_rotation_deg": [np.nan, 0.0],
+                         "path_gain_a_crit": [np.nan, 1.0], "path_gain_stiffness": [np.nan, 1.0],
+                         "path_refused": ["", ""]})
+    v = summary_values(path_summary(failures, plan, 0.5))
+    assert v["cuts_path_only"] == 1 and v["path_only_cuts"] == "plan_01"
+    assert v["path_gain_case"] == "none"
+    plan.loc[1, ["fixed_rotation_deg", "path_gain_a_crit", "path_gain_stiffness"]] = np.nan
+    v = summary_values(path_summary(failures, plan, 0.5))
+    assert v["path_gain_case"] == "path_only" and v["path_only_cuts"] == "plan_01;plan_02"

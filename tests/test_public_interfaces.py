@@ -329,3 +329,90 @@ def test_the_scan_leaves_public_use_and_own_names_alone(tmp_path):
         "        fig.set_dpi(100)\n"
         "        return np.__version__, plt.__name__\n")
     assert scan([path]) == []
+
+
+# --- the workflow: Snakemake's documented interface only --------------------------------
+
+#: the workflow's files: the Snakefile and every rule file
+WORKFLOW_FILES = [REPO / "Snakefile", *sorted((REPO / "workflow" / "rules").glob("*.smk"))]
+#: attributes of Snakemake's ``workflow`` object that its documentation gives to Snakefiles
+DOCUMENTED_WORKFLOW = frozenset({"basedir", "current_basedir", "is_main_process",
+                                 "snakefile", "source_path", "get_sources"})
+#: Snakemake internals a workflow must not reach: rewriting a rule after it is defined,
+#: expanding its inputs by hand, the command line's working directory
+INTERNALS = frozenset({"set_input", "set_output", "set_params", "input_modifier",
+                       "output_modifier", "modifier", "path_modifier", "expand_input",
+                       "expand_output", "overwrite_workdir", "get_path_or_uri"})
+#: (file relative to the repository, the offending text) → why no documented interface exists
+WORKFLOW_ALLOWED: dict[tuple[str, str], str] = {
+    ("Snakefile", "workflow.overwrite_workdir"):
+        "Snakemake ignores the workdir directive under --directory and documents no way to "
+        "enter a configured run folder inside that folder",
+    ("Snakefile", "os.chdir"):
+        "the configured run folder inside --directory is entered by changing directory, "
+        "which Snakemake undoes at the end of the run",
+}
+
+
+def scan_workflow(files: list[Path] | None = None) -> list[Finding]:
+    """Every use of an undocumented Snakemake interface in the workflow's files (``Snakefile``
+    and the ``.smk`` rule files, read as Python tokens: strings and comments are skipped): an
+    attribute of ``workflow`` its documentation does not give, a rule's internals (any
+    :data:`INTERNALS` name), ``os.chdir``, and any private ``._name``."""
+    import io
+    import tokenize
+
+    found: list[Finding] = []
+    for path in WORKFLOW_FILES if files is None else files:
+        try:
+            shown = str(path.relative_to(REPO))
+        except ValueError:
+            shown = str(path)
+        tokens = [t for t in tokenize.generate_tokens(io.StringIO(path.read_text()).readline)
+                  if t.type in (tokenize.NAME, tokenize.OP)]
+        for a, dot, b in zip(tokens, tokens[1:], tokens[2:], strict=False):
+            if dot.string != "." or b.type != tokenize.NAME:
+                continue
+            text = f"{a.string}.{b.string}"
+            what = None
+            if a.string == "workflow" and b.string not in DOCUMENTED_WORKFLOW:
+                what = "uses an undocumented attribute of Snakemake's workflow"
+            elif b.string in INTERNALS:
+                what = "reaches Snakemake's rule internals"
+            elif text == "os.chdir":
+                what = "changes the working directory under Snakemake"
+            elif _is_private(b.string):
+                what = "uses a private attribute"
+            if what:
+                found.append(Finding(shown, b.start[0], text, what))
+    return found
+
+
+def test_the_workflow_uses_snakemake_through_its_documented_interface():
+    found = [f for f in scan_workflow() if (f.path, f.text) not in WORKFLOW_ALLOWED]
+    assert found == [], "\n".join(map(str, found))
+    texts = {(f.path, f.text) for f in scan_workflow()}
+    for key, reason in WORKFLOW_ALLOWED.items():
+        assert key in texts, f"{key} is allowed but no longer found: remove it"
+        assert len(reason.split()) >= 5, key
+
+
+def test_the_workflow_scan_reads_every_rule_file_and_finds_each_kind(tmp_path):
+    assert {p.name for p in WORKFLOW_FILES} >= {"Snakefile", "common.smk", "chapter.smk"}
+    path = tmp_path / "bad.smk"
+    path.write_text("import os\n"
+                    "for r in workflow.rules:\n"
+                    "    r.set_input('x')\n"
+                    "    r.input_modifier = workflow.modifier.path_modifier\n"
+                    "    r.expand_input({})\n"
+                    "os.chdir('elsewhere')  # os.chdir in a comment is not read\n"
+                    "x = rules.a._private\n"
+                    "s = 'workflow.overwrite_workdir'\n")
+    found = {(f.text, f.what.split()[0]) for f in scan_workflow([path])}
+    assert ("workflow.rules", "uses") in found
+    assert ("r.set_input", "reaches") in found and ("r.expand_input", "reaches") in found
+    assert ("r.input_modifier", "reaches") in found
+    assert ("workflow.modifier", "uses") in found
+    assert ("os.chdir", "changes") in found and ("a._private", "uses") in found
+    assert not any("overwrite_workdir" in t for t, _ in found)  # in a string
+    assert sum(t == "os.chdir" for t, _ in found) == 1

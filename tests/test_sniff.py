@@ -40,6 +40,9 @@ def test_sniff_recognises_each_format(fmt):
     (DATA / "real" / "smats" / "mm11_iso1_ascii_int32.sdf", "smats"),
     (DATA / "constructed" / "dynoware" / "dynoware25_window.csv", "dynoware"),
     (DATA / "constructed" / "spatialanalyzer" / "px_f2_sa2024.txt", "spatialanalyzer"),
+    (DATA / "real" / "impact" / "lvm_read_long_single_header_multi_ch.lvm", "lvm"),
+    (DATA / "real" / "impact" / "lvm_read_short.lvm", "lvm"),
+    (DATA / "real" / "smats" / "npl_sine.xml", "smats"),
 ])
 def test_sniff_recognises_the_real_layouts(path, fmt):
     """A real MountainsMap SDF (CRLF), and the layouts of the real DynoWare 2.5 and SA 2024.2

@@ -1,5 +1,5 @@
 """Chapter 5's findings (robomill.stiffness.findings) from planted artefacts, and the chapter's
-sentences following altered findings (notebooks/templates/ch5.yaml, no kernel)."""
+sentences following altered findings (src/robomill/data/templates/ch5.yaml, no kernel)."""
 
 import numpy as np
 import pandas as pd

@@ -1,5 +1,5 @@
 """Chapter 3.2's findings (robomill.straightness.findings) from planted runs and peaks, and
-the chapter's sentences following them (notebooks/templates/ch3_straightness.yaml)."""
+the chapter's sentences following them (src/robomill/data/templates/ch3_straightness.yaml)."""
 
 import numpy as np
 import pandas as pd

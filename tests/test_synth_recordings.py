@@ -93,10 +93,45 @@ def test_the_recordings_are_listed_with_their_cut_when_on(study):
     config, _ = study
     files = instrument_files(config, "recordings")
     cuts = [c.id for c in synthetic_cuts(config)]
-    assert [f["path"] for f in files[:2]] == [f"sound/{cuts[0]}.wav", f"vibration/{cuts[0]}.csv"]
-    assert len(files) == 2 * len(cuts)
+    assert [f["path"] for f in files[:4]] == [
+        f"sound/{cuts[0]}.wav", f"vibration/{cuts[0]}.csv",
+        f"sound/{cuts[0]}_air.wav", f"vibration/{cuts[0]}_air.csv"]  # each with its air pass
+    assert len(files) == 4 * len(cuts)
     assert {f["kind"] for f in files} == {"sound", "vibration"}
     assert all(f["fs_hz"] == 25600.0 for f in files if f["kind"] == "vibration")
+    assert all((f.get("pass") == "air") == f["path"].endswith(("_air.wav", "_air.csv"))
+               and f["cut"] in cuts for f in files)
+    config = {**config, "synth": {**config["synth"], "recordings": {
+        **config["synth"]["recordings"], "air_pass": False}}}
+    assert len(instrument_files(config, "recordings")) == 2 * len(cuts)
+
+
+def test_the_air_pass_hears_the_arm_and_not_the_teeth(study, tmp_path):
+    """The accelerometer's air pass (no chip): the structure's vibration under the servo
+    excitation, none of the tooth passing that the cut's own record is full of."""
+    from robomill.synth.recordings import simulate_air_pass_file
+
+    config, cell = study
+    cut = _cut(config, id="design")
+    simulate_file(config, cut, tmp_path / "cut.csv", "vibration",
+                  simulate_cut(cell, cut, config, length_mm=4.0), cell=cell)
+    simulate_air_pass_file(config, cut, tmp_path / "air.csv", "vibration",
+                           simulate_cut(cell, cut, config, cutting=False, length_mm=4.0),
+                           cell=cell)
+    power = {}
+    for name in ("cut", "air"):
+        rec = read_recording(tmp_path / f"{name}.csv", "vibration")
+        x = rec.samples - rec.samples.mean(axis=0)
+        spec = (np.abs(np.fft.rfft(x * np.hanning(x.shape[0])[:, None], axis=0)) ** 2).sum(1)
+        f = np.fft.rfftfreq(x.shape[0], 1 / rec.fs_hz)
+        power[name] = (f, spec)
+    f, cut_p = power["cut"]
+    _, air_p = power["air"]
+    tooth_hz = RPM / 60.0 * FLUTES
+    at_tooth = np.abs(f - tooth_hz) < 3.0
+    robot = (f > 10.0) & (f < 150.0)  # the robot's modes (config synth.modes)
+    assert cut_p[at_tooth].max() > 1e4 * air_p[at_tooth].max()  # no teeth in the air
+    assert air_p[robot].max() > 0 and air_p[robot].max() > 0.1 * cut_p[robot].max()
 
 
 def test_a_chattering_and_a_stable_cut_get_their_verdicts_and_the_speed_is_stable(

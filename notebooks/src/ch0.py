@@ -10,7 +10,7 @@
 # %% tags=["parameters"]
 cuts: str = None  # results/ingest/cuts.csv
 experiment: dict = None  # the manifest's experiment defaults (spindle_rpm, flutes, ...)
-templates: str = None  # notebooks/templates/ch0.yaml: the sentences rendered from findings
+templates: str = None  # robomill/data/templates/ch0.yaml: sentences from findings
 findings: str = None  # results/ingest/findings.yaml: every number stated here
 fig_dir: str = None  # folder for this chapter's figures
 

@@ -20,7 +20,7 @@ points: str = None  # results/calibration/accuracy_points.csv
 joint_errors: str = None  # results/calibration/joint_errors.csv
 base: str = None  # results/calibration/base.csv
 circles: str = None  # results/calibration/circles.csv
-templates: str = None  # notebooks/templates/ch1.yaml: the sentences rendered from findings
+templates: str = None  # robomill/data/templates/ch1.yaml: sentences from findings
 findings: str = None  # results/calibration/findings.yaml: the numbers this chapter states
 fig_dir: str = None  # folder for this chapter's figures
 

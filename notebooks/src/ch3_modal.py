@@ -30,7 +30,7 @@ peak_groups: str = None  # results/modal/peak_groups.csv
 truth_check: str = None  # results/modal/truth_check.csv
 coupling: str = None  # results/modal/coupling.csv
 coupling_pairs: str = None  # results/modal/coupling_pairs.csv
-templates: str = None  # notebooks/templates/ch3_modal.yaml: the sentences of this chapter
+templates: str = None  # robomill/data/templates/ch3_modal.yaml: the sentences of this chapter
 findings: str = None  # results/modal/findings.yaml: every number and verdict stated here
 fig_dir: str = None  # folder for this chapter's figures
 
@@ -96,7 +96,7 @@ if len(coupling_table):
 # ## What was measured
 
 # %%
-display(Markdown(say("layout", "tooltip", "band", "band_flag", "hits",
+display(Markdown(say("layout", "tooltip", "not_measured", "band", "band_flag", "hits",
                      ref_hits=num.ref("hits"))))
 display(num.caption("hits"))
 display(shown_hits(hit_table))

@@ -18,7 +18,7 @@ profiles: str = None  # results/straightness/profiles.nc
 truth_check: str = None  # results/straightness/truth_check.csv
 surface_peaks: str = None  # results/surface/peaks.csv (chapter 2)
 settings: dict = None  # config straightness section
-templates: str = None  # notebooks/templates/ch3_straightness.yaml: the sentences of the findings
+templates: str = None  # robomill/data/templates/ch3_straightness.yaml: sentences of the findings
 findings: str = None  # results/straightness/findings.yaml: every number and verdict stated
 fig_dir: str = None  # folder for this chapter's figures
 

@@ -11,7 +11,7 @@
 # %% tags=["parameters"]
 lobes: str = None  # results/chatter/lobes.nc
 recommendations: str = None  # results/chatter/recommendations.csv
-templates: str = None  # notebooks/templates/ch4.yaml: the sentences of this chapter
+templates: str = None  # robomill/data/templates/ch4.yaml: the sentences of this chapter
 findings: str = None  # results/chatter/findings.yaml: every number and verdict stated here
 fig_dir: str = None  # folder for this chapter's figures
 verdicts: str = None  # results/chatter/verdicts.csv: one verdict per cut and record
@@ -83,6 +83,7 @@ display(vt[["cut", "verdict", "chatter_hz", "source", "energy_ratio", "line_hz",
 # %%
 display(Markdown(hear("recording_lines")))
 display(Markdown(hear("force_lines")))
+display(Markdown(hear("forced_lines")))
 display(Markdown(hear("comparison")))
 
 # %% [markdown]

@@ -16,7 +16,7 @@
 # %% tags=["parameters"]
 cases: list = None  # results/chatter/cases/<name>.nc
 simulation: str = None  # results/chatter/simulation.nc
-templates: str = None  # notebooks/templates/ch6_chatter.yaml: the sentences of this chapter
+templates: str = None  # robomill/data/templates/ch6_chatter.yaml: the sentences of this chapter
 findings: str = None  # results/chatter/findings.yaml: every number and verdict stated here
 fig_dir: str = None  # folder for this chapter's figures
 

@@ -18,7 +18,7 @@ trajectory: str = None  # results/hexapod/trajectory.nc
 forces: str = None  # results/hexapod/forces.nc
 sensitivity: str = None  # results/hexapod/sensitivity.nc
 force_accuracy: str = None  # results/hexapod/force_accuracy.csv
-templates: str = None  # notebooks/templates/ch6_hexapod.yaml: the sentences rendered from findings
+templates: str = None  # robomill/data/templates/ch6_hexapod.yaml: sentences from findings
 findings: str = None  # results/hexapod/findings.yaml: every number stated here
 fig_dir: str = None  # folder for this chapter's figures
 

@@ -23,7 +23,7 @@ beamframe: str = None  # results/stiffness/beamframe.nc
 map_joints: str = None  # results/stiffness/<map robot>/joint_stiffness.csv
 map_models: str = None  # results/stiffness/<map robot>/identification.csv
 map_validation: str = None  # results/stiffness/<map robot>/validation.csv
-templates: str = None  # notebooks/templates/ch6_stiffness.yaml: the sentences of the findings
+templates: str = None  # robomill/data/templates/ch6_stiffness.yaml: the sentences of the findings
 findings: str = None  # results/stiffness/findings.yaml: every number and verdict stated here
 fig_dir: str = None  # folder for this chapter's figures
 

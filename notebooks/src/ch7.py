@@ -29,7 +29,10 @@ evidence: str = None  # results/plan/evidence_used.csv
 check: str = None  # results/plan/check.csv
 check_summary: str = None  # results/plan/check_summary.csv
 misses: str = None  # results/plan/misses.csv: each out-of-sample miss and why
-templates: str = None  # notebooks/templates/ch7.yaml: the sentences rendered from check_summary
+program: str = None  # results/plan/next/program: the controller program and its stations.csv
+cell: str = None  # the cell file (joint limits)
+request: str = None  # the planning request (limit margin, wrist angle, work object)
+templates: str = None  # robomill/data/templates/ch7.yaml: sentences from check_summary
 fig_dir: str = None  # folder for this chapter's figures
 
 # %%
@@ -164,7 +167,8 @@ display(Markdown(Prose(load_templates("ch7", templates), reach_values(chosen, ca
 # poses are in `results/plan/next/program/`.
 
 # %%
-display(Markdown(paths_say("pose_checks", "path_cuts", "path_gain", "rotation_case")))
+display(Markdown(paths_say("pose_checks", "path_cuts", "path_gain", "path_only",
+                           "rotation_case")))
 if "path_rotation_deg" in pmap:
     num.figure("path", "The best cut's path: the pessimistic score over station × rotation "
                "about the tool axis, and the chosen rotation at each station")
@@ -193,6 +197,39 @@ pcols = ["cut", "configuration", "redundancy_path_deg", "fixed_rotation_deg",
          "path_worst_margin", "fixed_worst_margin", "path_gain_a_crit", "path_gain_stiffness",
          "min_wrist_angle_deg", "min_limit_clearance_deg", "path_refused"]
 display(chosen[[c for c in pcols if c in chosen]])
+
+# %% [markdown]
+# ## What the programmer looks at before running
+#
+# The program (`results/plan/next/program/`) moves home, then per cut to a safe point above
+# the part, starts the spindle, approaches, ramps into the slot along the feed direction,
+# feeds through the cut's stations without stopping, retracts along the tool axis and leaves
+# over the safe point (`robomill.plan.motion`); every target is in `stations.csv`.
+
+# %%
+from pathlib import Path
+
+from robomill.io.cell import read_cell
+from robomill.plan.pathplot import joints_figure, path_figure
+from robomill.plan.request import read_request
+
+stations_file = Path(program) / "stations.csv"
+stations = pd.read_csv(stations_file) if stations_file.exists() else pd.DataFrame()
+if len(stations):
+    req = read_request(request)
+    wobj = req.work_object
+    num.figure("program_path", "Each planned cut's moves on the part (part frame): the path "
+               "in the x–y plane over the block, and the height of every move target")
+    num.figure("program_joints", "Each planned cut's joint angles at every move target "
+               "against the cell's joint limits (solid) less the request's margin (dashed), "
+               "and the wrist angle at the cut's stations against the smallest allowed")
+    num.show(path_figure(stations, None if wobj is None else wobj.block_min_mm,
+                         None if wobj is None else wobj.block_max_mm), "program_path")
+    num.show(joints_figure(stations, read_cell(cell).joint_limits_deg,
+                           req.joint_limit_margin_deg, req.min_wrist_angle_deg),
+             "program_joints")
+    display(Markdown(paths_say("program_figures", ref_program_path=num.ref("program_path"),
+                               ref_program_joints=num.ref("program_joints"))))
 
 # %% [markdown]
 # ## What a learn round narrows

@@ -45,4 +45,4 @@ class RawDataError(ValueError):
 
 
 class ConfigError(ValueError):
-    """The configuration does not follow ``workflow/schemas/config.schema.yaml``."""
+    """The configuration does not follow ``src/robomill/data/schemas/config.schema.yaml``."""

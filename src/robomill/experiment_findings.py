@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from robomill import references
+from robomill import catalogue, references
 from robomill.experiment import (
     CUT_ID,
     CUT_PROCESS_KEYS,
@@ -37,8 +37,8 @@ from robomill.experiment import (
 )
 from robomill.findings import Findings
 
-_CUTS = "results/ingest/cuts.csv"
-_STUDY = "results/ingest/study.yaml"
+_CUTS = catalogue.artefact("ingest.cuts")
+_STUDY = catalogue.artefact("ingest.study")
 _REFERENCES = "src/robomill/data/references.yaml"
 _CELL = ("robot", "workpiece", "dynamometer", "tool", "spindle_rpm")
 

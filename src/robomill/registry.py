@@ -9,22 +9,19 @@ and tables of a chapter printed across pages (:meth:`robomill.pipeline.captions.
 for_chapter`). Adding a chapter is one row here, one notebook and one template
 (``docs/chapters.md``).
 
-The table read is the package's own, or the file that the environment variable
-:data:`REGISTRY_ENV` names (a copy of the repository with a chapter of its own; the workflow
-sets it to its repository's table, so that its jobs read the table its DAG was built from).
+The table read is the package's own (:data:`REGISTRY_FILE`, package data), or the file a
+caller hands over explicitly (``path``); no environment variable chooses it. A copy of the
+repository with a chapter of its own is a copy of the package, with its table.
 """
 
 from __future__ import annotations
 
-import os
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
 from typing import Any
 
-#: environment variable naming another chapter table than the package's
-REGISTRY_ENV = "ROBOMILL_CHAPTERS"
 #: the package's chapter table
 REGISTRY_FILE = Path(__file__).parent / "data" / "chapters.yaml"
 
@@ -157,12 +154,6 @@ def _row(raw: Any, where: str) -> Chapter:
         first_figure=raw.get("first_figure"), first_table=raw.get("first_table"))
 
 
-def registry_path() -> Path:
-    """The chapter table read: ``$ROBOMILL_CHAPTERS`` when set, else the package's."""
-    named = os.environ.get(REGISTRY_ENV)
-    return Path(named) if named else REGISTRY_FILE
-
-
 @cache
 def _load(path: str) -> tuple[Chapter, ...]:
     import yaml
@@ -187,9 +178,9 @@ def _load(path: str) -> tuple[Chapter, ...]:
 
 
 def chapters(path: str | Path | None = None) -> tuple[Chapter, ...]:
-    """Every chapter of the table at ``path`` (default :func:`registry_path`), in the order of
+    """Every chapter of the table at ``path`` (default :data:`REGISTRY_FILE`), in the order of
     the book within each part."""
-    return _load(str(path if path is not None else registry_path()))
+    return _load(str(path if path is not None else REGISTRY_FILE))
 
 
 def chapter(chapter_id: str, path: str | Path | None = None) -> Chapter:
@@ -197,7 +188,7 @@ def chapter(chapter_id: str, path: str | Path | None = None) -> Chapter:
     for c in chapters(path):
         if c.id == chapter_id:
             return c
-    raise KeyError(f"no chapter {chapter_id!r} in {path or registry_path()}")
+    raise KeyError(f"no chapter {chapter_id!r} in {path or REGISTRY_FILE}")
 
 
 def by_notebook(path: str | Path | None = None) -> dict[str, Chapter]:

@@ -1,7 +1,8 @@
 """A stage's settings, read one way: from the configuration as its schema fills it.
 
-Every default of a configuration key is written once, in the schemas
-(``workflow/schemas/config.schema.yaml`` and ``workflow/schemas/config/<section>.schema.yaml``).
+Every default of a configuration key is written once, in the schemas, package data
+(``robomill/data/schemas/config.schema.yaml`` and
+``robomill/data/schemas/config/<section>.schema.yaml``).
 The workflow validates the configuration, which fills them; a stage reads its section with
 :func:`config_section` (a mapping: the simulators, the surface analysis, the plan) or
 :func:`settings_from` (its settings dataclass), which fill from the same schema whatever a
@@ -21,8 +22,8 @@ from typing import Any, TypeVar
 
 T = TypeVar("T")
 
-#: the repository's configuration schemas (the top-level one and a folder of sections)
-SCHEMAS = Path(__file__).resolve().parents[2] / "workflow" / "schemas"
+#: the package's configuration schemas (the top-level one and a folder of sections)
+SCHEMAS = Path(__file__).resolve().parent / "data" / "schemas"
 
 
 @cache
@@ -56,7 +57,7 @@ SECTIONS: tuple[tuple[tuple[str, ...], str], ...] = (
     (("stiffness",), "stiffness"),
     (("hexapod",), "hexapod"),
 )
-"""Config sections and their schema files ``workflow/schemas/config/<name>.schema.yaml``,
+"""Config sections and their schema files ``src/robomill/data/schemas/config/<name>.schema.yaml``,
 validated in this order after the top-level ``config.schema.yaml``
 (:func:`robomill.pipeline.config.validate_config`, which the Snakefile calls)."""
 

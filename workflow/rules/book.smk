@@ -15,11 +15,12 @@ PRINT_BOOK = config["book"]["pdf"]
 rule scorecard:
     input:
         chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        checks=package_data("scorecard.yaml"),
+        references=package_data("references.yaml"),
+        code=code_inputs("scorecard.py"),
     output:
         csv=report(
-            "results/thesis/scorecard.csv",
+            artefact("thesis.scorecard"),
             caption="../report/book.rst",
             category="Book",
             subcategory="Tables",
@@ -43,12 +44,13 @@ rule scorecard:
 rule book:
     input:
         chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
-        cuts="results/ingest/cuts.csv",
+        cuts=artefact("ingest.cuts"),
         manifest=MANIFEST,
-        scorecard="results/thesis/scorecard.csv",
+        scorecard=artefact("thesis.scorecard"),
+        code=code_inputs("book.py"),
     output:
         index=report(
-            "results/thesis/index.html", caption="../report/book.rst", category="Book"
+            artefact("thesis.index"), caption="../report/book.rst", category="Book"
         ),
     log:
         "results/logs/book/book.log",
@@ -70,12 +72,13 @@ rule book:
 
 rule book_pdf:
     input:
-        index="results/thesis/index.html",
+        index=artefact("thesis.index"),
         chapters=lambda w: [t for t in ALL_TARGETS if t.startswith("results/chapters/")],
-        cuts="results/ingest/cuts.csv",
+        cuts=artefact("ingest.cuts"),
+        code=code_inputs("book_pdf.py"),
     output:
-        pdf="results/thesis/book.pdf",
-        page="results/thesis/book_print.html",
+        pdf=artefact("thesis.book"),
+        page=artefact("thesis.book_print"),
     log:
         "results/logs/book/book_pdf.log",
     benchmark:
@@ -88,9 +91,9 @@ rule book_pdf:
         "../scripts/book_pdf.py"
 
 
-ALL_TARGETS.append("results/thesis/index.html")
+ALL_TARGETS.append(artefact("thesis.index"))
 if CHROMIUM and PRINT_BOOK:
-    ALL_TARGETS.append("results/thesis/book.pdf")
+    ALL_TARGETS.append(artefact("thesis.book"))
 elif not PRINT_BOOK:
     print(
         "robomill: results/thesis/book.pdf left out of `all`: book.pdf is false",

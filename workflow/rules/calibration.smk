@@ -13,11 +13,12 @@ rule calibration_identify:
         base=f"{RAW}/{CTRACK_TABLES.get('base', 'ctrack/base.csv')}",
         loads=f"{RAW}/{CTRACK_TABLES.get('loads', 'ctrack/loads.csv')}",
         cell=CELL,
+        code=code_inputs("calibration_identify.py"),
     output:
-        model="results/calibration/model.nc",
-        joint_errors="results/calibration/joint_errors.csv",
-        base="results/calibration/base.csv",
-        circles="results/calibration/circles.csv",
+        model=artefact("calibration.model"),
+        joint_errors=artefact("calibration.joint_errors"),
+        base=artefact("calibration.base"),
+        circles=artefact("calibration.circles"),
     log:
         "results/logs/calibration/identify.log",
     benchmark:
@@ -35,17 +36,18 @@ rule calibration_identify:
 rule calibration_accuracy:
     input:
         study=STUDY,
-        model="results/calibration/model.nc",
+        model=artefact("calibration.model"),
         accuracy=f"{RAW}/{CTRACK_TABLES.get('accuracy', 'ctrack/accuracy.csv')}",
+        code=code_inputs("calibration_accuracy.py"),
     output:
         accuracy=report(
-            "results/calibration/accuracy.csv",
+            artefact("calibration.accuracy"),
             caption="../report/ch1.rst",
             category="Chapter 1",
             subcategory="Tables",
         ),
-        regions="results/calibration/accuracy_by_region.csv",
-        points="results/calibration/accuracy_points.csv",
+        regions=artefact("calibration.accuracy_by_region"),
+        points=artefact("calibration.accuracy_points"),
     log:
         "results/logs/calibration/accuracy.log",
     benchmark:
@@ -63,11 +65,12 @@ rule calibration_accuracy:
 # stage's scorecard rows ("Against the thesis").
 rule calibration_findings:
     input:
-        model="results/calibration/model.nc",
-        accuracy="results/calibration/accuracy.csv",
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        model=artefact("calibration.model"),
+        accuracy=artefact("calibration.accuracy"),
+        references=package_data("references.yaml"),
+        code=code_inputs("calibration_findings.py"),
     output:
-        findings="results/calibration/findings.yaml",
+        findings=artefact("calibration.findings"),
     log:
         "results/logs/calibration/findings.log",
     benchmark:
@@ -83,22 +86,22 @@ rule calibration_findings:
 
 rule calibration:
     input:
-        "results/calibration/findings.yaml",
-        "results/calibration/model.nc",
-        "results/calibration/accuracy.csv",
+        artefact("calibration.findings"),
+        artefact("calibration.model"),
+        artefact("calibration.accuracy"),
 
 
 use rule chapter as ch1 with:
     input:
         **chapter_files("ch1"),
-        findings="results/calibration/findings.yaml",
-        model="results/calibration/model.nc",
-        accuracy="results/calibration/accuracy.csv",
-        regions="results/calibration/accuracy_by_region.csv",
-        points="results/calibration/accuracy_points.csv",
-        joint_errors="results/calibration/joint_errors.csv",
-        base="results/calibration/base.csv",
-        circles="results/calibration/circles.csv",
+        findings=artefact("calibration.findings"),
+        model=artefact("calibration.model"),
+        accuracy=artefact("calibration.accuracy"),
+        regions=artefact("calibration.accuracy_by_region"),
+        points=artefact("calibration.accuracy_points"),
+        joint_errors=artefact("calibration.joint_errors"),
+        base=artefact("calibration.base"),
+        circles=artefact("calibration.circles"),
     output:
         **chapter_outputs("ch1"),
     log:

@@ -17,8 +17,10 @@ wildcard_constraints:
 
 
 rule chatter_case:
+    input:
+        code=code_inputs("chatter_case.py"),
     output:
-        nc="results/chatter/cases/{chatter_case}.nc",
+        nc=artefact("chatter.case"),
     log:
         "results/logs/chatter/cases/{chatter_case}.log",
     benchmark:
@@ -34,8 +36,10 @@ rule chatter_case:
 
 
 rule chatter_seed:
+    input:
+        code=code_inputs("chatter_seed.py"),
     output:
-        nc="results/chatter/simulation.nc",
+        nc=artefact("chatter.simulation"),
     log:
         "results/logs/chatter/simulation.log",
     benchmark:
@@ -56,13 +60,16 @@ rule chatter_thesis:
         identified=design_input(
             "chatter", "identified cutting coefficients", COEFFICIENTS_UNMET
         ),
-        modes="results/modal/modes.csv",
-        coefficients="results/forces/cutting_coefficients.csv",
-        peaks="results/forces/peaks.csv",
+        modes=artefact("modal.modes"),
+        coefficients=artefact("forces.cutting_coefficients"),
+        peaks=artefact("forces.peaks"),
+        # each cut's own speed, depth, direction and tool (robomill.study)
+        study=STUDY,
+        code=code_inputs("chatter_thesis.py"),
     output:
-        lobes="results/chatter/lobes.nc",
+        lobes=artefact("chatter.lobes"),
         recommendations=report(
-            "results/chatter/recommendations.csv",
+            artefact("chatter.recommendations"),
             caption="../report/ch4.rst",
             category="Chapter 4",
             subcategory="Tables",
@@ -79,9 +86,6 @@ rule chatter_thesis:
     params:
         thesis=config["chatter"]["thesis"],
         accuracy=config["chatter"]["accuracy"],
-        spindle_rpm=STUDY_EXPERIMENT.get("spindle_rpm"),
-        flutes=STUDY_EXPERIMENT.get("flutes"),
-        depths_mm=STUDY_DEPTHS_MM,
     script:
         "../scripts/chatter_thesis.py"
 
@@ -95,15 +99,16 @@ rule chatter_verdicts:
     input:
         raw=[f"{RAW}/{f['path']}" for f in VERDICT_FILES],
         study=STUDY,
+        code=code_inputs("chatter_verdicts.py"),
     output:
         verdicts=report(
-            "results/chatter/verdicts.csv",
+            artefact("chatter.verdicts"),
             caption="../report/ch4.rst",
             category="Chapter 4",
             subcategory="Tables",
         ),
-        spectrograms="results/chatter/spectrograms.nc",
-        findings="results/chatter/verdict_findings.yaml",
+        spectrograms=artefact("chatter.spectrograms"),
+        findings=artefact("chatter.verdict_findings"),
     log:
         "results/logs/chatter/verdicts.log",
     benchmark:
@@ -117,7 +122,7 @@ rule chatter_verdicts:
 
 
 if VERDICT_FILES:
-    ALL_TARGETS.append("results/chatter/verdicts.csv")
+    ALL_TARGETS.append(artefact("chatter.verdicts"))
 
 
 # the study's robot (chapter 4) only where the folder has its modes and forces and the force
@@ -130,16 +135,17 @@ rule chatter_findings:
     input:
         **optional_input(
             CHATTER_ROBOT,
-            lobes="results/chatter/lobes.nc",
-            recommendations="results/chatter/recommendations.csv",
+            lobes=artefact("chatter.lobes"),
+            recommendations=artefact("chatter.recommendations"),
         ),
-        cases=expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
-        simulation="results/chatter/simulation.nc",
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        cases=expand(artefact("chatter.case"), chatter_case=CHATTER_CASES),
+        simulation=artefact("chatter.simulation"),
+        references=package_data("references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("chatter_findings.py"),
     output:
-        findings="results/chatter/findings.yaml",
+        findings=artefact("chatter.findings"),
     log:
         "results/logs/chatter/findings.log",
     benchmark:
@@ -156,23 +162,23 @@ rule chatter_findings:
 
 rule chatter:
     input:
-        expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
-        "results/chatter/simulation.nc",
-        "results/chatter/lobes.nc",
-        "results/chatter/recommendations.csv",
-        "results/chatter/findings.yaml",
-        "results/chatter/verdicts.csv",
+        expand(artefact("chatter.case"), chatter_case=CHATTER_CASES),
+        artefact("chatter.simulation"),
+        artefact("chatter.lobes"),
+        artefact("chatter.recommendations"),
+        artefact("chatter.findings"),
+        artefact("chatter.verdicts"),
 
 
 use rule chapter as ch4 with:
     input:
         **chapter_files("ch4"),
-        lobes="results/chatter/lobes.nc",
-        recommendations="results/chatter/recommendations.csv",
-        findings="results/chatter/findings.yaml",
-        verdicts="results/chatter/verdicts.csv",
-        spectrograms="results/chatter/spectrograms.nc",
-        verdict_findings="results/chatter/verdict_findings.yaml",
+        lobes=artefact("chatter.lobes"),
+        recommendations=artefact("chatter.recommendations"),
+        findings=artefact("chatter.findings"),
+        verdicts=artefact("chatter.verdicts"),
+        spectrograms=artefact("chatter.spectrograms"),
+        verdict_findings=artefact("chatter.verdict_findings"),
     output:
         **chapter_outputs("ch4"),
     log:
@@ -186,9 +192,9 @@ use rule chapter as ch4 with:
 use rule chapter as ch6_chatter with:
     input:
         **chapter_files("ch6_chatter"),
-        cases=expand("results/chatter/cases/{name}.nc", name=CHATTER_CASES),
-        simulation="results/chatter/simulation.nc",
-        findings="results/chatter/findings.yaml",
+        cases=expand(artefact("chatter.case"), chatter_case=CHATTER_CASES),
+        simulation=artefact("chatter.simulation"),
+        findings=artefact("chatter.findings"),
     output:
         **chapter_outputs("ch6_chatter"),
     log:

@@ -1,10 +1,10 @@
 # Helpers shared by the rules: where raw data comes from, the study plan, target lists.
 # Keep this file small: computation lives in src/robomill/.
-import os
-import re
 import sys
 from pathlib import Path
 
+import robomill
+from robomill.catalogue import artefact
 from robomill.pipeline.codedeps import code_files, load_cache, save_cache
 from robomill.experiment import (
     is_thesis_design,
@@ -15,15 +15,13 @@ from robomill.experiment import (
 )
 from robomill.io.cell import peek_robot_name
 from robomill.errors import RawDataError
-from robomill.io.manifest import load_manifest, parse_manifest
-from robomill.io.rawdirs import merge_manifests, raw_folders
+from robomill.io.rawdirs import first_plan, raw_folders, study_plan
+from robomill.pipeline.prose import TEMPLATES_DIR
 from robomill.registry import (
-    REGISTRY_ENV,
     REQUIREMENT_WORDS,
     chapters as registry_chapters,
     unmet_requirement,
 )
-from robomill.io.synthetic_layout import synthetic_manifest
 
 REPO = Path(workflow.basedir)
 SYNTHETIC = config["data"]["source"] == "synthetic"
@@ -31,30 +29,23 @@ RAW = raw_folders(config["data"])[
     0
 ]  # the first raw folder (synthetic: the virtual cell's)
 MANIFEST = f"{RAW}/manifest.yaml"
-STUDY = "results/ingest/study.yaml"
+STUDY = artefact("ingest.study")
 ENV = "../envs/robomill.yaml"
 
-# The chapter registry (src/robomill/data/chapters.yaml; robomill.registry): this
-# repository's table, for the DAG and for every job (they inherit the variable).
-os.environ[REGISTRY_ENV] = str(REPO / "src" / "robomill" / "data" / "chapters.yaml")
+# The chapter registry: the package's table (robomill/data/chapters.yaml; robomill.registry).
 CHAPTERS = {c.id: c for c in registry_chapters()}
 
-# The study plan, one parser in both modes: the raw folder's manifest.yaml, or for synthetic
-# data the manifest the simulators will write (planned from the configuration without
-# importing a simulator; robomill.io.synthetic_layout).
-# A bad manifest stops the run with its one line (file: where: problem (expected ...)),
-# not a Python stack.
+# The study plan, one parser in both modes (robomill.io.rawdirs.study_plan): the raw folders'
+# manifest.yaml, or for synthetic data the manifest the simulators will write. The DAG takes
+# only its shape from it (cut ids, kinds, files); the analyses read the study the ingestion
+# rule writes (STUDY, robomill.study). A bad manifest stops the run with its one line
+# (file: where: problem (expected ...)), not a Python stack.
+RAW_DIRS = raw_folders(config["data"])
+MANIFESTS = [f"{d}/manifest.yaml" for d in RAW_DIRS]
 try:
-    PLAN = (
-        parse_manifest(synthetic_manifest(config), MANIFEST, require_sha256=False)
-        if SYNTHETIC
-        else load_manifest(MANIFEST)
-    )
-    # the study: the first folder's cuts and files with those of every later raw folder
-    # (config data.raw_dirs in order; robomill.io.rawdirs states the merge rule)
-    RAW_DIRS = raw_folders(config["data"])
-    MANIFESTS = [MANIFEST] + [f"{d}/manifest.yaml" for d in RAW_DIRS[1:]]
-    STUDY_PLAN = merge_manifests([PLAN] + [load_manifest(m) for m in MANIFESTS[1:]])
+    # the first raw folder's manifest (synthetic: the virtual cell's own files)
+    PLAN = first_plan(config)
+    STUDY_PLAN = study_plan(config, PLAN)
 except RawDataError as exc:
     print(exc, file=sys.stderr)
     sys.exit(1)
@@ -67,7 +58,7 @@ CUT_IDS = [c.id for c in CUTS]
 # (kind cell; synthetic mode writes one from config cell:), else the configuration's cell:
 # section written to results/ingest/cell.yaml (raw folders from before cell files).
 CELL_RELPATH = next((f["path"] for f in RAW_FILES if f["kind"] == "cell"), "")
-CELL = f"{RAW}/{CELL_RELPATH}" if CELL_RELPATH else "results/ingest/cell.yaml"
+CELL = f"{RAW}/{CELL_RELPATH}" if CELL_RELPATH else artefact("ingest.cell")
 
 
 wildcard_constraints:
@@ -165,15 +156,6 @@ def robot_file(name, kind="robot"):
     return optional_input(bool(paths), paths[0] if paths else "")
 
 
-# The study's experiment as the analyses read it: the manifest's keys (synthetic mode: the
-# plan's), never the configuration's design; the block layout (where the thesis' U segments
-# sit, for cuts without start_mm) from the manifest's experiment.layout where it gives one,
-# else config experiment.layout.
-STUDY_EXPERIMENT = {"layout": config["experiment"].get("layout"), **EXPERIMENT}
-# the study's depths of cut (chatter's recommendations, chapter 4)
-STUDY_DEPTHS_MM = sorted({c.depth_mm for c in CUTS if c.depth_mm is not None})
-
-
 def add_chapter(c):
     """Build chapter `c` (a registry row) in `all` if the raw folder has the kinds it needs
     and the design meets what it requires (e.g. chapter 4: identifiable cutting
@@ -208,18 +190,33 @@ CHAPTER_FOLDERS = ("results/chapters/", "results/figures/", "results/thesis/")
 def chapter_artefacts(wildcards):
     """Target `artefacts`: the results/ inputs of every chapter `all` builds (its data
     artefacts), without the chapters' pages and figures, the scorecard and the book. Each
-    chapter's rule is found by its page; its inputs are expanded as Snakemake expands them for
-    the chapter's job (input functions and unpack included; chapters have no wildcards, so
-    the empty `wildcards` of this target serve)."""
-    pages = {t for t in ALL_TARGETS if t.startswith("results/chapters/")}
+    chapter's rule is found by its page (the rule is named by the chapter's id) and read
+    through `rules.<name>.input`; its input functions are called as Snakemake calls them for
+    the chapter's job (chapters have no wildcards, so the empty `wildcards` of this target
+    serve; an unpacked function gives a mapping)."""
     found = {}
-    for r in workflow.rules:
-        if pages.isdisjoint(str(o) for o in r.output):
+    for page in ALL_TARGETS:
+        if page not in CHAPTER_OF_PAGE:
             continue
-        for f in map(str, r.expand_input(wildcards)[0]):
+        for f in flat_inputs(getattr(rules, CHAPTER_OF_PAGE[page]).input, wildcards):
             if f.startswith("results/") and not f.startswith(CHAPTER_FOLDERS):
                 found.setdefault(f)
     return list(found)
+
+
+def flat_inputs(items, wildcards):
+    """The paths of a rule's inputs: functions called with `wildcards`, mappings and lists
+    flattened."""
+    out = []
+    for item in items:
+        value = item(wildcards) if callable(item) else item
+        if isinstance(value, dict):
+            value = list(value.values())
+        if isinstance(value, (list, tuple)):
+            out += flat_inputs(value, wildcards)
+        else:
+            out.append(str(value))
+    return out
 
 
 def raw_files(kind, **meta):
@@ -236,26 +233,25 @@ def notebook(name):
     return str(REPO / "notebooks" / name)
 
 
-def derive_code_inputs(rules):
-    """Declare, as inputs of every rule with a script, the library files its script and
-    notebook import, followed through the import graph (robomill.pipeline.codedeps: ast only,
-    cached), so that editing any of them reruns the rule (Snakemake's own code trigger sees
-    only the script). Called once, after every rule is defined (Snakefile)."""
-    src = REPO / "src"
-    cache = Path(".snakemake") / "robomill-codedeps.json"
-    load_cache(cache)
-    for r in rules:
-        if not r.script:
-            continue
-        script = r.basedir.join(r.script).get_path_or_uri(secret_free=False)
-        have = {str(f) for f in r.input if not callable(f)}
-        notebooks = [f for f in have if f.endswith(".ipynb")]
-        new = [f for f in code_files([script, *notebooks], src) if f not in have]
-        if new:
-            if r.input_modifier is None:  # a rule without inputs of its own
-                r.input_modifier = workflow.modifier.path_modifier
-            r.set_input(*new)
-    save_cache(cache)
+# The library files each rule's script (and a chapter's notebook) imports, followed through the
+# import graph (robomill.pipeline.codedeps: ast only, cached in .snakemake/), declared as the
+# rule's named input `code`, so that editing any of them reruns the rule (Snakemake's own code
+# trigger sees only the script). The Snakefile saves the cache once every rule is defined.
+CODE_CACHE = Path(".snakemake") / "robomill-codedeps.json"
+load_cache(CODE_CACHE)
+LIBRARY_ROOT = Path(robomill.__file__).resolve().parents[1]  # src/ of a checkout
+
+
+def code_inputs(script, *notebooks):
+    """The library files `script` (a file of workflow/scripts/) and `notebooks` import."""
+    return code_files(
+        [str(REPO / "workflow" / "scripts" / script), *notebooks], LIBRARY_ROOT
+    )
+
+
+def package_data(name):
+    """A file of the package's data (robomill/data/): references, scorecard checks."""
+    return str(LIBRARY_ROOT / "robomill" / "data" / name)
 
 
 # The chapters (the one chapter rule, chapter.smk, is used under each target's name): their
@@ -285,11 +281,15 @@ def chapter_outputs(target):
 
 
 def chapter_files(target):
-    """The chapter's notebook and its prose template (named inputs `notebook`, `templates`)."""
+    """The chapter's notebook and its prose template (named inputs `notebook`, `templates`:
+    package data, robomill/data/templates/) and the library files the notebook and the
+    chapter script import (`code`, not a notebook parameter)."""
     c = CHAPTERS[target]
+    nb = notebook(f"{c.notebook}.ipynb")
     return {
-        "notebook": notebook(f"{c.notebook}.ipynb"),
-        "templates": notebook(f"templates/{c.template}.yaml"),
+        "notebook": nb,
+        "templates": str(TEMPLATES_DIR / f"{c.template}.yaml"),
+        "code": code_inputs("render_chapter.py", nb),
     }
 
 

@@ -8,7 +8,7 @@ FORCE_FILES = {f["cut"]: f for f in RAW_FILES if f["kind"] == "force"}
 # the manifest entry of a cut's record; the planted truth input (synthetic runs only)
 force_entry = lambda w: FORCE_FILES[w.cut]
 forces_truth_input = lambda w: (
-    optional_input(SYNTHETIC, truth="results/synthetic/truth.nc")
+    optional_input(SYNTHETIC, truth=artefact("synthetic.truth"))
 )
 
 
@@ -16,8 +16,9 @@ rule forces_cut:
     input:
         raw=lambda w: f"{RAW}/{force_entry(w)['path']}",
         study=STUDY,
+        code=code_inputs("forces_cut.py"),
     output:
-        "results/forces/cuts/{cut}.nc",
+        artefact("forces.cut"),
     log:
         "results/logs/forces/cut_{cut}.log",
     benchmark:
@@ -41,8 +42,9 @@ if SYNTHETIC and FORCE_FILES:
         input:
             raw=[f"{RAW}/{f['path']}" for f in FORCE_FILES.values()],
             study=STUDY,
+            code=code_inputs("forces_cut.py"),
         output:
-            [f"results/forces/cuts/{c}.nc" for c in FORCE_FILES],
+            [artefact("forces.cut", cut=c) for c in FORCE_FILES],
         log:
             "results/logs/forces/cuts.log",
         benchmark:
@@ -62,26 +64,27 @@ if SYNTHETIC and FORCE_FILES:
 rule forces_gather:
     input:
         data=kind_input("forces", "force"),
-        cuts=expand("results/forces/cuts/{cut}.nc", cut=FORCE_FILES),
+        cuts=expand(artefact("forces.cut"), cut=FORCE_FILES),
         study=STUDY,
         # a cut judged to chatter is left out of the coefficients' identification
-        verdicts="results/chatter/verdicts.csv",
+        verdicts=artefact("chatter.verdicts"),
+        code=code_inputs("forces_gather.py"),
     output:
-        spectra="results/forces/spectra.nc",
+        spectra=artefact("forces.spectra"),
         peaks=report(
-            "results/forces/peaks.csv",
+            artefact("forces.peaks"),
             caption="../report/ch3_forces.rst",
             category="Chapter 3",
             subcategory="Tables",
         ),
         coefficients=report(
-            "results/forces/cutting_coefficients.csv",
+            artefact("forces.cutting_coefficients"),
             caption="../report/ch3_forces.rst",
             category="Chapter 3",
             subcategory="Tables",
         ),
-        means="results/forces/mean_forces.csv",
-        harmonics="results/forces/harmonics.csv",
+        means=artefact("forces.mean_forces"),
+        harmonics=artefact("forces.harmonics"),
     log:
         "results/logs/forces/gather.log",
     benchmark:
@@ -100,17 +103,18 @@ rule forces_findings:
     input:
         unpack(forces_truth_input),
         # the impact test's modes, when the raw folder has one (chapter 3.3)
-        **({"modes": "results/modal/modes.csv"} if has_kind("impact") else {}),
-        peaks="results/forces/peaks.csv",
-        spectra="results/forces/spectra.nc",
-        means="results/forces/mean_forces.csv",
-        coefficients="results/forces/cutting_coefficients.csv",
-        cuts="results/ingest/cuts.csv",
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        **({"modes": artefact("modal.modes")} if has_kind("impact") else {}),
+        peaks=artefact("forces.peaks"),
+        spectra=artefact("forces.spectra"),
+        means=artefact("forces.mean_forces"),
+        coefficients=artefact("forces.cutting_coefficients"),
+        cuts=artefact("ingest.cuts"),
+        references=package_data("references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("forces_findings.py"),
     output:
-        findings="results/forces/findings.yaml",
+        findings=artefact("forces.findings"),
     log:
         "results/logs/forces/findings.log",
     benchmark:
@@ -131,26 +135,26 @@ rule forces_findings:
 
 rule forces:
     input:
-        "results/forces/findings.yaml",
-        "results/forces/spectra.nc",
-        "results/forces/peaks.csv",
-        "results/forces/cutting_coefficients.csv",
-        "results/forces/mean_forces.csv",
-        "results/forces/harmonics.csv",
+        artefact("forces.findings"),
+        artefact("forces.spectra"),
+        artefact("forces.peaks"),
+        artefact("forces.cutting_coefficients"),
+        artefact("forces.mean_forces"),
+        artefact("forces.harmonics"),
 
 
 use rule chapter as ch3_forces with:
     input:
         unpack(forces_truth_input),
-        **({"modes": "results/modal/modes.csv"} if has_kind("impact") else {}),
+        **({"modes": artefact("modal.modes")} if has_kind("impact") else {}),
         **chapter_files("ch3_forces"),
-        findings="results/forces/findings.yaml",
-        spectra="results/forces/spectra.nc",
-        peaks="results/forces/peaks.csv",
-        coefficients="results/forces/cutting_coefficients.csv",
-        means="results/forces/mean_forces.csv",
-        harmonics="results/forces/harmonics.csv",
-        cuts="results/ingest/cuts.csv",
+        findings=artefact("forces.findings"),
+        spectra=artefact("forces.spectra"),
+        peaks=artefact("forces.peaks"),
+        coefficients=artefact("forces.cutting_coefficients"),
+        means=artefact("forces.mean_forces"),
+        harmonics=artefact("forces.harmonics"),
+        cuts=artefact("ingest.cuts"),
         # the impact test's modes, when the raw folder has one (chapter 3.3)
     output:
         **chapter_outputs("ch3_forces"),

@@ -9,9 +9,11 @@ wildcard_constraints:
 
 
 rule hexapod_dynamics:
+    input:
+        code=code_inputs("hexapod_dynamics.py"),
     output:
-        trajectory="results/hexapod/trajectory.nc",
-        forces="results/hexapod/forces.nc",
+        trajectory=artefact("hexapod.trajectory"),
+        forces=artefact("hexapod.forces"),
     log:
         "results/logs/hexapod/dynamics.log",
     benchmark:
@@ -25,8 +27,10 @@ rule hexapod_dynamics:
 
 
 rule hexapod_sensitivity_shard:
+    input:
+        code=code_inputs("hexapod_sensitivity_shard.py"),
     output:
-        "results/hexapod/sensitivity/actuator_{actuator}.nc",
+        artefact("hexapod.sensitivity_actuator"),
     log:
         "results/logs/hexapod/sensitivity_{actuator}.log",
     benchmark:
@@ -43,11 +47,12 @@ rule hexapod_sensitivity_shard:
 rule hexapod_sensitivity:
     input:
         shards=expand(
-            "results/hexapod/sensitivity/actuator_{actuator}.nc",
+            artefact("hexapod.sensitivity_actuator"),
             actuator=HEXAPOD_ACTUATORS,
         ),
+        code=code_inputs("hexapod_sensitivity.py"),
     output:
-        "results/hexapod/sensitivity.nc",
+        artefact("hexapod.sensitivity"),
     log:
         "results/logs/hexapod/sensitivity.log",
     benchmark:
@@ -62,10 +67,11 @@ rule hexapod_sensitivity:
 
 rule hexapod_force_accuracy:
     input:
-        sensitivity="results/hexapod/sensitivity.nc",
-        forces="results/hexapod/forces.nc",
+        sensitivity=artefact("hexapod.sensitivity"),
+        forces=artefact("hexapod.forces"),
+        code=code_inputs("hexapod_force_accuracy.py"),
     output:
-        "results/hexapod/force_accuracy.csv",
+        artefact("hexapod.force_accuracy"),
     log:
         "results/logs/hexapod/force_accuracy.log",
     benchmark:
@@ -81,15 +87,16 @@ rule hexapod_force_accuracy:
 # stage's scorecard rows ("Against the source").
 rule hexapod_findings:
     input:
-        trajectory="results/hexapod/trajectory.nc",
-        forces="results/hexapod/forces.nc",
-        sensitivity="results/hexapod/sensitivity.nc",
-        force_accuracy="results/hexapod/force_accuracy.csv",
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        trajectory=artefact("hexapod.trajectory"),
+        forces=artefact("hexapod.forces"),
+        sensitivity=artefact("hexapod.sensitivity"),
+        force_accuracy=artefact("hexapod.force_accuracy"),
+        references=package_data("references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("hexapod_findings.py"),
     output:
-        findings="results/hexapod/findings.yaml",
+        findings=artefact("hexapod.findings"),
     log:
         "results/logs/hexapod/findings.log",
     benchmark:
@@ -104,21 +111,21 @@ rule hexapod_findings:
 
 rule hexapod:
     input:
-        "results/hexapod/findings.yaml",
-        "results/hexapod/trajectory.nc",
-        "results/hexapod/force_accuracy.csv",
-        "results/hexapod/forces.nc",
-        "results/hexapod/sensitivity.nc",
+        artefact("hexapod.findings"),
+        artefact("hexapod.trajectory"),
+        artefact("hexapod.force_accuracy"),
+        artefact("hexapod.forces"),
+        artefact("hexapod.sensitivity"),
 
 
 use rule chapter as ch6_hexapod with:
     input:
         **chapter_files("ch6_hexapod"),
-        findings="results/hexapod/findings.yaml",
-        trajectory="results/hexapod/trajectory.nc",
-        forces="results/hexapod/forces.nc",
-        sensitivity="results/hexapod/sensitivity.nc",
-        force_accuracy="results/hexapod/force_accuracy.csv",
+        findings=artefact("hexapod.findings"),
+        trajectory=artefact("hexapod.trajectory"),
+        forces=artefact("hexapod.forces"),
+        sensitivity=artefact("hexapod.sensitivity"),
+        force_accuracy=artefact("hexapod.force_accuracy"),
     output:
         **chapter_outputs("ch6_hexapod"),
     log:

@@ -6,9 +6,10 @@
 rule ingest_manifest:
     input:
         manifest=MANIFESTS,
+        code=code_inputs("ingest_manifest.py"),
     output:
-        cuts="results/ingest/cuts.csv",
-        files="results/ingest/files.csv",
+        cuts=artefact("ingest.cuts"),
+        files=artefact("ingest.files"),
     log:
         "results/logs/ingest/manifest.log",
     benchmark:
@@ -20,8 +21,10 @@ rule ingest_manifest:
 
 
 rule ingest_cell:
+    input:
+        code=code_inputs("cell_write.py"),
     output:
-        "results/ingest/cell.yaml",
+        artefact("ingest.cell"),
     log:
         "results/logs/ingest/cell.log",
     benchmark:
@@ -39,6 +42,7 @@ rule ingest_cell:
 rule ingest_study:
     input:
         manifest=MANIFESTS,
+        code=code_inputs("ingest_study.py"),
     output:
         STUDY,
     log:
@@ -47,6 +51,10 @@ rule ingest_study:
         "results/benchmarks/rules/ingest/study.tsv"
     conda:
         ENV
+    params:
+        # the block layout for a manifest that gives none (the virtual cell's, or the one this
+        # configuration assumes), resolved into the study once
+        layout=config["experiment"]["layout"],
     script:
         "../scripts/ingest_study.py"
 
@@ -55,11 +63,12 @@ rule ingest_study:
 # tooth c = v / (N n)) and design; with the scorecard rows of cuts.csv ("Against the thesis").
 rule ingest_findings:
     input:
-        cuts="results/ingest/cuts.csv",
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        cuts=artefact("ingest.cuts"),
+        references=package_data("references.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("ingest_findings.py"),
     output:
-        findings="results/ingest/findings.yaml",
+        findings=artefact("ingest.findings"),
     log:
         "results/logs/ingest/findings.log",
     benchmark:

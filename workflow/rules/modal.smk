@@ -17,11 +17,12 @@ rule modal_frf:
         data=kind_input("modal", "impact"),
         hits=[f"{RAW}/{f['path']}" for f in MODAL_HITS],
         study=STUDY,
+        code=code_inputs("modal_frf.py"),
     output:
-        frf="results/modal/frf.nc",
-        hits="results/modal/hits.csv",
-        traces="results/modal/hits.nc",
-        uff="results/modal/frf.uff",
+        frf=artefact("modal.frf"),
+        hits=artefact("modal.hits"),
+        traces=artefact("modal.hits_nc"),
+        uff=artefact("modal.frf_uff"),
     log:
         "results/logs/modal/frf.log",
     benchmark:
@@ -37,20 +38,21 @@ rule modal_frf:
 
 rule modal_identify:
     input:
-        frf="results/modal/frf.nc",
+        frf=artefact("modal.frf"),
+        code=code_inputs("modal_identify.py"),
     output:
         modes=report(
-            "results/modal/modes.csv",
+            artefact("modal.modes"),
             caption="../report/ch3_modal.rst",
             category="Chapter 3",
             subcategory="Tables",
         ),
-        peaks="results/modal/peak_picking.csv",
-        stabilization="results/modal/stabilization.csv",
-        synth="results/modal/frf_synth.nc",
-        shapes="results/modal/mode_shapes.csv",
-        mac="results/modal/mac.csv",
-        uff="results/modal/modes.uff",
+        peaks=artefact("modal.peak_picking"),
+        stabilization=artefact("modal.stabilization"),
+        synth=artefact("modal.frf_synth"),
+        shapes=artefact("modal.mode_shapes"),
+        mac=artefact("modal.mac"),
+        uff=artefact("modal.modes_uff"),
     log:
         "results/logs/modal/identify.log",
     benchmark:
@@ -67,16 +69,17 @@ rule modal_identify:
 
 rule modal_report:
     input:
-        **optional_input(SYNTHETIC, truth="results/synthetic/truth.nc"),
-        **optional_input(has_kind("force"), forces_peaks="results/forces/peaks.csv"),
-        frf="results/modal/frf.nc",
-        modes="results/modal/modes.csv",
-        peaks="results/modal/peak_picking.csv",
+        **optional_input(SYNTHETIC, truth=artefact("synthetic.truth")),
+        **optional_input(has_kind("force"), forces_peaks=artefact("forces.peaks")),
+        frf=artefact("modal.frf"),
+        modes=artefact("modal.modes"),
+        peaks=artefact("modal.peak_picking"),
+        code=code_inputs("modal_report.py"),
     output:
-        peak_groups="results/modal/peak_groups.csv",
-        truth_check="results/modal/truth_check.csv",
-        coupling="results/modal/coupling.csv",
-        coupling_pairs="results/modal/coupling_pairs.csv",
+        peak_groups=artefact("modal.peak_groups"),
+        truth_check=artefact("modal.truth_check"),
+        coupling=artefact("modal.coupling"),
+        coupling_pairs=artefact("modal.coupling_pairs"),
     log:
         "results/logs/modal/report.log",
     benchmark:
@@ -91,22 +94,23 @@ rule modal_report:
 
 rule modal_findings:
     input:
-        frf="results/modal/frf.nc",
-        synth="results/modal/frf_synth.nc",
-        hits="results/modal/hits.csv",
-        modes="results/modal/modes.csv",
-        peaks="results/modal/peak_picking.csv",
-        stabilization="results/modal/stabilization.csv",
-        mac="results/modal/mac.csv",
-        peak_groups="results/modal/peak_groups.csv",
-        truth_check="results/modal/truth_check.csv",
-        coupling="results/modal/coupling.csv",
-        coupling_pairs="results/modal/coupling_pairs.csv",
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        frf=artefact("modal.frf"),
+        synth=artefact("modal.frf_synth"),
+        hits=artefact("modal.hits"),
+        modes=artefact("modal.modes"),
+        peaks=artefact("modal.peak_picking"),
+        stabilization=artefact("modal.stabilization"),
+        mac=artefact("modal.mac"),
+        peak_groups=artefact("modal.peak_groups"),
+        truth_check=artefact("modal.truth_check"),
+        coupling=artefact("modal.coupling"),
+        coupling_pairs=artefact("modal.coupling_pairs"),
+        references=package_data("references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("modal_findings.py"),
     output:
-        findings="results/modal/findings.yaml",
+        findings=artefact("modal.findings"),
     log:
         "results/logs/modal/findings.log",
     benchmark:
@@ -124,32 +128,32 @@ rule modal_findings:
 
 rule modal:
     input:
-        "results/modal/frf.nc",
-        "results/modal/modes.csv",
-        "results/modal/peak_picking.csv",
-        "results/modal/modes.uff",
-        "results/modal/peak_groups.csv",
-        "results/modal/coupling.csv",
-        "results/modal/findings.yaml",
+        artefact("modal.frf"),
+        artefact("modal.modes"),
+        artefact("modal.peak_picking"),
+        artefact("modal.modes_uff"),
+        artefact("modal.peak_groups"),
+        artefact("modal.coupling"),
+        artefact("modal.findings"),
 
 
 use rule chapter as ch3_modal with:
     input:
         **chapter_files("ch3_modal"),
-        frf="results/modal/frf.nc",
-        synth="results/modal/frf_synth.nc",
-        traces="results/modal/hits.nc",
-        hits="results/modal/hits.csv",
-        modes="results/modal/modes.csv",
-        peaks="results/modal/peak_picking.csv",
-        stabilization="results/modal/stabilization.csv",
-        shapes="results/modal/mode_shapes.csv",
-        mac="results/modal/mac.csv",
-        peak_groups="results/modal/peak_groups.csv",
-        truth_check="results/modal/truth_check.csv",
-        coupling="results/modal/coupling.csv",
-        coupling_pairs="results/modal/coupling_pairs.csv",
-        findings="results/modal/findings.yaml",
+        frf=artefact("modal.frf"),
+        synth=artefact("modal.frf_synth"),
+        traces=artefact("modal.hits_nc"),
+        hits=artefact("modal.hits"),
+        modes=artefact("modal.modes"),
+        peaks=artefact("modal.peak_picking"),
+        stabilization=artefact("modal.stabilization"),
+        shapes=artefact("modal.mode_shapes"),
+        mac=artefact("modal.mac"),
+        peak_groups=artefact("modal.peak_groups"),
+        truth_check=artefact("modal.truth_check"),
+        coupling=artefact("modal.coupling"),
+        coupling_pairs=artefact("modal.coupling_pairs"),
+        findings=artefact("modal.findings"),
     output:
         **chapter_outputs("ch3_modal"),
     log:

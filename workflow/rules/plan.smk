@@ -9,55 +9,55 @@ from robomill.plan import NEXT_RUN_DIR
 PLAN_REQUEST = config["plan"]["request"]
 # every cut's chatter verdict, one row per cut and recording (columns cut, verdict, chatter_hz,
 # source, evidence): the stability outcome of a run's cuts
-STUDY_VERDICTS = "results/chatter/verdicts.csv"
-STUDY_HAS_VERDICTS = any(STUDY_VERDICTS in map(str, r.output) for r in workflow.rules)
+STUDY_VERDICTS = artefact("chatter.verdicts")
+STUDY_HAS_VERDICTS = STUDY_VERDICTS in map(str, rules.chatter_verdicts.output)
 PLAN_MEASURED = {
     **(
-        {"modes": "results/modal/modes.csv", "modal_fit": "results/modal/frf_synth.nc"}
+        {"modes": artefact("modal.modes"), "modal_fit": artefact("modal.frf_synth")}
         if has_kind("impact")
         else {}
     ),
     **(
         {
-            "coefficients": "results/forces/cutting_coefficients.csv",
-            "means": "results/forces/mean_forces.csv",
+            "coefficients": artefact("forces.cutting_coefficients"),
+            "means": artefact("forces.mean_forces"),
         }
         if has_kind("force")
         else {}
     ),
     **(
-        {"joints": f"results/stiffness/{CELL_ROBOT}/joint_stiffness.csv"}
+        {"joints": artefact("stiffness.joint_stiffness", robot=CELL_ROBOT)}
         if CELL_ROBOT in FOLDER_ROBOTS
         else {}
     ),
     # the gear lines and, for their component amplitudes, the runs' spectra
     **(
         {
-            "peaks": "results/straightness/peaks.csv",
-            "profiles": "results/straightness/profiles.nc",
+            "peaks": artefact("straightness.peaks"),
+            "profiles": artefact("straightness.profiles"),
         }
         if has_kind("tracker")
         else {}
     ),
 }
 PLAN_OUTPUTS = {
-    "candidates": "results/plan/candidates.nc",
-    "pose_map": "results/plan/pose_map.nc",
-    "plan": "results/plan/plan.csv",
-    "pareto": "results/plan/pareto.csv",
-    "study": "results/plan/study_cuts.csv",
-    "comparison": "results/plan/comparison.csv",
-    "manifest": "results/plan/next/manifest.yaml",
-    "config": "results/plan/next/config.yaml",
-    "path_summary": "results/plan/path_summary.csv",
+    "candidates": artefact("plan.candidates"),
+    "pose_map": artefact("plan.pose_map"),
+    "plan": artefact("plan.plan"),
+    "pareto": artefact("plan.pareto"),
+    "study": artefact("plan.study_cuts"),
+    "comparison": artefact("plan.comparison"),
+    "manifest": artefact("plan.next_manifest"),
+    "config": artefact("plan.next_config"),
+    "path_summary": artefact("plan.path_summary"),
     # the production plan's binding interval (robomill.plan.binding), beside an earlier plan's
-    "binding": "results/plan/binding.csv",
+    "binding": artefact("plan.binding"),
     # the study's cuts whose chatter verdicts conditioned the stability limit
     # (robomill.plan.conditioning)
-    "evidence": "results/plan/evidence_used.csv",
+    "evidence": artefact("plan.evidence_used"),
 }
 # the controller program of the planned cuts and its stations.csv (robomill.plan.program)
-PLAN_PROGRAM = "results/plan/next/program"
+PLAN_PROGRAM = artefact("plan.next_program")
 # an earlier plan's results/plan/binding.csv (config plan.binding_before; "" none)
 PLAN_BINDING_BEFORE = config["plan"]["binding_before"]
 # The planned cuts' own run (snakemake all --configfile results/plan/next/config.yaml, which
@@ -67,12 +67,12 @@ PLAN_BINDING_BEFORE = config["plan"]["binding_before"]
 PLAN_NEXT_OUTCOMES = {
     name: f"{NEXT_RUN_DIR}/{path}"
     for name, path in (
-        ("next_mean_forces", "results/forces/mean_forces.csv"),
-        ("next_force_peaks", "results/forces/peaks.csv"),
-        ("next_verdicts", "results/chatter/verdicts.csv"),
-        ("next_deflection", "results/straightness/deflection.csv"),
-        ("next_gears", "results/straightness/gears.csv"),
-        ("next_profiles", "results/straightness/profiles.nc"),
+        ("next_mean_forces", artefact("forces.mean_forces")),
+        ("next_force_peaks", artefact("forces.peaks")),
+        ("next_verdicts", artefact("chatter.verdicts")),
+        ("next_deflection", artefact("straightness.deflection")),
+        ("next_gears", artefact("straightness.gears")),
+        ("next_profiles", artefact("straightness.profiles")),
     )
     if os.path.exists(f"{NEXT_RUN_DIR}/{path}")
 }
@@ -87,6 +87,7 @@ rule plan_make:
         request=PLAN_REQUEST,
         cell=CELL,
         study=STUDY,
+        code=code_inputs("plan_make.py"),
     output:
         **PLAN_OUTPUTS,
         program=directory(PLAN_PROGRAM),
@@ -97,7 +98,6 @@ rule plan_make:
     conda:
         ENV
     params:
-        experiment=STUDY_EXPERIMENT,
         waviness_noise=config["plan"]["waviness_noise"],
         fmin_cycles=config["straightness"]["fmin_cycles"],
         level=config["plan"]["interval_level"],
@@ -108,17 +108,13 @@ rule plan_make:
 
 rule plan_check:
     input:
-        **(
-            {"mean_forces": "results/forces/mean_forces.csv"}
-            if has_kind("force")
-            else {}
-        ),
+        **({"mean_forces": artefact("forces.mean_forces")} if has_kind("force") else {}),
         # the waviness outcome: the tracker spectra at the attributed gear lines
         **(
             {
-                "peaks": "results/straightness/peaks.csv",
-                "gears": "results/straightness/gears.csv",
-                "profiles": "results/straightness/profiles.nc",
+                "peaks": artefact("straightness.peaks"),
+                "gears": artefact("straightness.gears"),
+                "profiles": artefact("straightness.profiles"),
             }
             if has_kind("tracker")
             else {}
@@ -126,10 +122,10 @@ rule plan_check:
         # the study's stability outcome: its chatter verdicts where a rule makes them, else
         # its force spectrum
         **({"verdicts": STUDY_VERDICTS} if STUDY_HAS_VERDICTS else {}),
-        **({"force_peaks": "results/forces/peaks.csv"} if has_kind("force") else {}),
+        **({"force_peaks": artefact("forces.peaks")} if has_kind("force") else {}),
         # the study's static deflection, where it tracked a cut loaded and in the air
         **(
-            {"deflection": "results/straightness/deflection.csv"}
+            {"deflection": artefact("straightness.deflection")}
             if any(
                 f["kind"] == "tracker" and tracker_pass(f) == "air" for f in RAW_FILES
             )
@@ -142,10 +138,11 @@ rule plan_check:
         candidates=PLAN_OUTPUTS["candidates"],
         # the cuts whose verdicts the stability limit was conditioned on: in-sample
         evidence=PLAN_OUTPUTS["evidence"],
+        code=code_inputs("plan_check.py"),
     output:
-        check="results/plan/check.csv",
-        summary="results/plan/check_summary.csv",
-        misses="results/plan/misses.csv",
+        check=artefact("plan.check"),
+        summary=artefact("plan.check_summary"),
+        misses=artefact("plan.misses"),
     log:
         "results/logs/plan/check.log",
     benchmark:
@@ -176,9 +173,12 @@ use rule chapter as ch7 with:
         path_summary=PLAN_OUTPUTS["path_summary"],
         binding=PLAN_OUTPUTS["binding"],
         evidence=PLAN_OUTPUTS["evidence"],
-        check="results/plan/check.csv",
-        check_summary="results/plan/check_summary.csv",
-        misses="results/plan/misses.csv",
+        check=artefact("plan.check"),
+        check_summary=artefact("plan.check_summary"),
+        misses=artefact("plan.misses"),
+        program=PLAN_PROGRAM,
+        cell=CELL,
+        request=PLAN_REQUEST,
     output:
         **chapter_outputs("ch7"),
     log:
@@ -192,7 +192,7 @@ rule plan:
     input:
         *PLAN_OUTPUTS.values(),
         PLAN_PROGRAM,
-        "results/plan/check.csv",
-        "results/plan/check_summary.csv",
-        "results/plan/misses.csv",
+        artefact("plan.check"),
+        artefact("plan.check_summary"),
+        artefact("plan.misses"),
         "results/chapters/ch7.html",

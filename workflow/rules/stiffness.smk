@@ -32,10 +32,11 @@ rule stiffness_identify:
         robot=lambda w: robot_file(w.robot),
         tests=lambda w: robot_file(w.robot, "stiffness"),
         study=STUDY,
+        code=code_inputs("stiffness_identify.py"),
     output:
-        joints="results/stiffness/{robot}/joint_stiffness.csv",
-        models="results/stiffness/{robot}/identification.csv",
-        validation="results/stiffness/{robot}/validation.csv",
+        joints=artefact("stiffness.joint_stiffness"),
+        models=artefact("stiffness.identification"),
+        validation=artefact("stiffness.validation"),
     log:
         "results/logs/stiffness/{robot}/identify.log",
     benchmark:
@@ -54,10 +55,11 @@ rule stiffness_identify:
 rule stiffness_map:
     input:
         robot=robot_file(MAP_ROBOT),
-        joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
+        joints=artefact("stiffness.joint_stiffness", robot=MAP_ROBOT),
         study=STUDY,
+        code=code_inputs("stiffness_map.py"),
     output:
-        map="results/stiffness/maps/h{height}_r{angle}.nc",
+        map=artefact("stiffness.map"),
     log:
         "results/logs/stiffness/maps/h{height}_r{angle}.log",
     benchmark:
@@ -75,10 +77,11 @@ rule stiffness_map:
 
 rule stiffness_maps:
     input:
-        maps=[f"results/stiffness/maps/h{h}_r{a}.nc" for h, a in MAP_JOBS],
+        maps=[artefact("stiffness.map", height=h, angle=a) for h, a in MAP_JOBS],
         robot=robot_file(MAP_ROBOT),
+        code=code_inputs("stiffness_maps.py"),
     output:
-        maps="results/stiffness/maps.nc",
+        maps=artefact("stiffness.maps"),
     log:
         "results/logs/stiffness/maps.log",
     benchmark:
@@ -94,12 +97,13 @@ rule stiffness_maps:
 
 rule stiffness_optimal:
     input:
-        maps="results/stiffness/maps.nc",
+        maps=artefact("stiffness.maps"),
         robot=robot_file(MAP_ROBOT),
-        joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
+        joints=artefact("stiffness.joint_stiffness", robot=MAP_ROBOT),
+        code=code_inputs("stiffness_optimal.py"),
     output:
         poses=report(
-            "results/stiffness/optimal_poses.csv",
+            artefact("stiffness.optimal_poses"),
             caption="../report/ch5.rst",
             category="Chapter 5",
             subcategory="Tables",
@@ -118,8 +122,10 @@ rule stiffness_optimal:
 
 
 rule stiffness_beamframe:
+    input:
+        code=code_inputs("stiffness_beamframe.py"),
     output:
-        beamframe="results/stiffness/beamframe.nc",
+        beamframe=artefact("stiffness.beamframe"),
     log:
         "results/logs/stiffness/beamframe.log",
     benchmark:
@@ -135,11 +141,12 @@ rule stiffness_beamframe:
 rule stiffness_thesis:
     input:
         robot=robot_file(THESIS_ROBOT),
-        joints=f"results/stiffness/{THESIS_ROBOT}/joint_stiffness.csv",
+        joints=artefact("stiffness.joint_stiffness", robot=THESIS_ROBOT),
         study=STUDY,
         cell=CELL,
+        code=code_inputs("stiffness_thesis.py"),
     output:
-        slots="results/stiffness/thesis_slots.csv",
+        slots=artefact("stiffness.thesis_slots"),
     log:
         "results/logs/stiffness/thesis.log",
     benchmark:
@@ -149,8 +156,6 @@ rule stiffness_thesis:
     params:
         robot_rel=STIFF_REL.get(("robot", THESIS_ROBOT), ""),
         cell_relpath=CELL_RELPATH,
-        experiment=STUDY_EXPERIMENT,
-        cuts=[c.as_dict() for c in CUTS],
         beamframe=config["stiffness"]["beamframe"],
     script:
         "../scripts/stiffness_thesis.py"
@@ -159,7 +164,7 @@ rule stiffness_thesis:
 # the cell's own robot at every cut (any design other than the thesis'): needs load tests of
 # the robot named in cell.yaml
 CUT_STIFFNESS = (
-    {"cut_stiffness": "results/stiffness/cut_stiffness.csv"}
+    {"cut_stiffness": artefact("stiffness.cut_stiffness")}
     if CELL_ROBOT in STIFF_ROBOTS and not THESIS_DESIGN
     else {}
 )
@@ -167,11 +172,12 @@ CUT_STIFFNESS = (
 
 rule stiffness_cuts:
     input:
-        joints=f"results/stiffness/{CELL_ROBOT}/joint_stiffness.csv",
+        joints=artefact("stiffness.joint_stiffness", robot=CELL_ROBOT),
         study=STUDY,
         cell=CELL,
+        code=code_inputs("stiffness_cuts.py"),
     output:
-        cuts="results/stiffness/cut_stiffness.csv",
+        cuts=artefact("stiffness.cut_stiffness"),
     log:
         "results/logs/stiffness/cuts.log",
     benchmark:
@@ -180,27 +186,25 @@ rule stiffness_cuts:
         ENV
     params:
         cell_relpath=CELL_RELPATH,
-        experiment=STUDY_EXPERIMENT,
-        cuts=[c.as_dict() for c in CUTS],
     script:
         "../scripts/stiffness_cuts.py"
 
 
 STIFF_OUTPUTS = [
-    f"results/stiffness/{r}/{name}.csv"
+    artefact(name, robot=r)
     for r in STIFF_ROBOTS
-    for name in ("joint_stiffness", "validation")
-] + ["results/stiffness/beamframe.nc"]
+    for name in ("stiffness.joint_stiffness", "stiffness.validation")
+] + [artefact("stiffness.beamframe")]
 if MAP_ROBOT in STIFF_ROBOTS and MAP_JOBS:
     STIFF_OUTPUTS += [
-        "results/stiffness/maps.nc",
-        "results/stiffness/optimal_poses.csv",
+        artefact("stiffness.maps"),
+        artefact("stiffness.optimal_poses"),
     ]
 # the thesis robot at the thesis' slots, beside Table 2.1: for the thesis' design only
 THESIS_SLOTS = (
     {
-        "slots": "results/stiffness/thesis_slots.csv",
-        "waviness": "results/surface/table_2_1_waviness_rms.csv",
+        "slots": artefact("stiffness.thesis_slots"),
+        "waviness": artefact("surface.table_2_1_waviness_rms"),
     }
     if THESIS_ROBOT in STIFF_ROBOTS and THESIS_DESIGN
     else {}
@@ -214,23 +218,24 @@ STIFF_OUTPUTS += list(CUT_STIFFNESS.values())
 # rows ("Against the source").
 rule stiffness_findings:
     input:
-        **optional_input(SYNTHETIC, truth="results/synthetic/truth.nc"),
+        **optional_input(SYNTHETIC, truth=artefact("synthetic.truth")),
         **THESIS_SLOTS,
         **optional_input(
             bool(THESIS_SLOTS),
-            thesis_joints=f"results/stiffness/{THESIS_ROBOT}/joint_stiffness.csv",
+            thesis_joints=artefact("stiffness.joint_stiffness", robot=THESIS_ROBOT),
         ),
         **CUT_STIFFNESS,
-        maps="results/stiffness/maps.nc",
-        optimal="results/stiffness/optimal_poses.csv",
-        beamframe="results/stiffness/beamframe.nc",
-        joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
-        validation=f"results/stiffness/{MAP_ROBOT}/validation.csv",
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        maps=artefact("stiffness.maps"),
+        optimal=artefact("stiffness.optimal_poses"),
+        beamframe=artefact("stiffness.beamframe"),
+        joints=artefact("stiffness.joint_stiffness", robot=MAP_ROBOT),
+        validation=artefact("stiffness.validation", robot=MAP_ROBOT),
+        references=package_data("references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("stiffness_findings.py"),
     output:
-        findings="results/stiffness/findings.yaml",
+        findings=artefact("stiffness.findings"),
     log:
         "results/logs/stiffness/findings.log",
     benchmark:
@@ -246,7 +251,7 @@ rule stiffness_findings:
 
 
 if MAP_ROBOT in STIFF_ROBOTS and MAP_JOBS:
-    STIFF_OUTPUTS += ["results/stiffness/findings.yaml"]
+    STIFF_OUTPUTS += [artefact("stiffness.findings")]
 
 
 rule stiffness:
@@ -258,9 +263,9 @@ use rule chapter as ch5 with:
     input:
         **THESIS_SLOTS,
         **CUT_STIFFNESS,
-        **({"cuts": "results/ingest/cuts.csv"} if CUT_STIFFNESS else {}),
+        **({"cuts": artefact("ingest.cuts")} if CUT_STIFFNESS else {}),
         **chapter_files("ch5"),
-        findings="results/stiffness/findings.yaml",
+        findings=artefact("stiffness.findings"),
     output:
         **chapter_outputs("ch5"),
     log:
@@ -274,13 +279,13 @@ use rule chapter as ch5 with:
 use rule chapter as ch6_stiffness with:
     input:
         **chapter_files("ch6_stiffness"),
-        findings="results/stiffness/findings.yaml",
-        maps="results/stiffness/maps.nc",
-        optimal="results/stiffness/optimal_poses.csv",
-        beamframe="results/stiffness/beamframe.nc",
-        map_joints=f"results/stiffness/{MAP_ROBOT}/joint_stiffness.csv",
-        map_models=f"results/stiffness/{MAP_ROBOT}/identification.csv",
-        map_validation=f"results/stiffness/{MAP_ROBOT}/validation.csv",
+        findings=artefact("stiffness.findings"),
+        maps=artefact("stiffness.maps"),
+        optimal=artefact("stiffness.optimal_poses"),
+        beamframe=artefact("stiffness.beamframe"),
+        map_joints=artefact("stiffness.joint_stiffness", robot=MAP_ROBOT),
+        map_models=artefact("stiffness.identification", robot=MAP_ROBOT),
+        map_validation=artefact("stiffness.validation", robot=MAP_ROBOT),
     output:
         **chapter_outputs("ch6_stiffness"),
     log:

@@ -13,10 +13,11 @@ rule straightness_run:
         raw=lambda w: f"{RAW}/{TRACKER_RUNS[w.run]['path']}",
         study=STUDY,
         cell=CELL,
+        code=code_inputs("straightness_run.py"),
     output:
-        nc="results/straightness/runs/{run}.nc",
-        peaks="results/straightness/runs/{run}_peaks.csv",
-        gears="results/straightness/runs/{run}_gears.csv",
+        nc=artefact("straightness.run"),
+        peaks=artefact("straightness.run_peaks"),
+        gears=artefact("straightness.run_gears"),
     log:
         "results/logs/straightness/run_{run}.log",
     benchmark:
@@ -43,10 +44,11 @@ if SYNTHETIC and TRACKER_RUNS:
             raw=[f"{RAW}/{f['path']}" for f in TRACKER_RUNS.values()],
             study=STUDY,
             cell=CELL,
+            code=code_inputs("straightness_run.py"),
         output:
-            nc=[f"results/straightness/runs/{r}.nc" for r in TRACKER_RUNS],
-            peaks=[f"results/straightness/runs/{r}_peaks.csv" for r in TRACKER_RUNS],
-            gears=[f"results/straightness/runs/{r}_gears.csv" for r in TRACKER_RUNS],
+            nc=[artefact("straightness.run", run=r) for r in TRACKER_RUNS],
+            peaks=[artefact("straightness.run_peaks", run=r) for r in TRACKER_RUNS],
+            gears=[artefact("straightness.run_gears", run=r) for r in TRACKER_RUNS],
         log:
             "results/logs/straightness/runs.log",
         benchmark:
@@ -66,18 +68,19 @@ if SYNTHETIC and TRACKER_RUNS:
 rule straightness_gather:
     input:
         data=kind_input("straightness", "tracker"),
-        runs=expand("results/straightness/runs/{run}.nc", run=TRACKER_RUNS),
-        peaks=expand("results/straightness/runs/{run}_peaks.csv", run=TRACKER_RUNS),
-        gears=expand("results/straightness/runs/{run}_gears.csv", run=TRACKER_RUNS),
+        runs=expand(artefact("straightness.run"), run=TRACKER_RUNS),
+        peaks=expand(artefact("straightness.run_peaks"), run=TRACKER_RUNS),
+        gears=expand(artefact("straightness.run_gears"), run=TRACKER_RUNS),
+        code=code_inputs("straightness_gather.py"),
     output:
-        profiles="results/straightness/profiles.nc",
+        profiles=artefact("straightness.profiles"),
         peaks=report(
-            "results/straightness/peaks.csv",
+            artefact("straightness.peaks"),
             caption="../report/ch3_straightness.rst",
             category="Chapter 3",
             subcategory="Tables",
         ),
-        gears="results/straightness/gears.csv",
+        gears=artefact("straightness.gears"),
     log:
         "results/logs/straightness/gather.log",
     benchmark:
@@ -107,8 +110,9 @@ if TRACKER_PAIRS:
         input:
             raw=[f"{RAW}/{TRACKER_RUNS[r]['path']}" for r in TRACKER_PAIRED],
             study=STUDY,
+            code=code_inputs("straightness_deflection.py"),
         output:
-            deflection="results/straightness/deflection.csv",
+            deflection=artefact("straightness.deflection"),
         log:
             "results/logs/straightness/deflection.log",
         benchmark:
@@ -122,16 +126,17 @@ if TRACKER_PAIRS:
         script:
             "../scripts/straightness_deflection.py"
 
-    ALL_TARGETS.append("results/straightness/deflection.csv")
+    ALL_TARGETS.append(artefact("straightness.deflection"))
 
 
 rule straightness_truth_check:
     input:
-        peaks="results/straightness/peaks.csv",
-        profiles="results/straightness/profiles.nc",
-        truth=optional_input(SYNTHETIC, ["results/synthetic/truth.nc"]),
+        peaks=artefact("straightness.peaks"),
+        profiles=artefact("straightness.profiles"),
+        truth=optional_input(SYNTHETIC, [artefact("synthetic.truth")]),
+        code=code_inputs("straightness_truth_check.py"),
     output:
-        "results/straightness/truth_check.csv",
+        artefact("straightness.truth_check"),
     log:
         "results/logs/straightness/truth_check.log",
     benchmark:
@@ -150,15 +155,16 @@ rule straightness_truth_check:
 # ("Against the thesis").
 rule straightness_findings:
     input:
-        **optional_input(has_kind("profile"), surface_peaks="results/surface/peaks.csv"),
-        peaks="results/straightness/peaks.csv",
-        profiles="results/straightness/profiles.nc",
-        truth_check="results/straightness/truth_check.csv",
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        **optional_input(has_kind("profile"), surface_peaks=artefact("surface.peaks")),
+        peaks=artefact("straightness.peaks"),
+        profiles=artefact("straightness.profiles"),
+        truth_check=artefact("straightness.truth_check"),
+        references=package_data("references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("straightness_findings.py"),
     output:
-        findings="results/straightness/findings.yaml",
+        findings=artefact("straightness.findings"),
     log:
         "results/logs/straightness/findings.log",
     benchmark:
@@ -180,22 +186,22 @@ rule straightness_findings:
 
 rule straightness:
     input:
-        "results/straightness/findings.yaml",
-        "results/straightness/peaks.csv",
-        "results/straightness/gears.csv",
-        "results/straightness/profiles.nc",
-        "results/straightness/truth_check.csv",
+        artefact("straightness.findings"),
+        artefact("straightness.peaks"),
+        artefact("straightness.gears"),
+        artefact("straightness.profiles"),
+        artefact("straightness.truth_check"),
 
 
 use rule chapter as ch3_straightness with:
     input:
         **chapter_files("ch3_straightness"),
-        findings="results/straightness/findings.yaml",
-        peaks="results/straightness/peaks.csv",
-        gears="results/straightness/gears.csv",
-        profiles="results/straightness/profiles.nc",
-        truth_check="results/straightness/truth_check.csv",
-        surface_peaks="results/surface/peaks.csv",
+        findings=artefact("straightness.findings"),
+        peaks=artefact("straightness.peaks"),
+        gears=artefact("straightness.gears"),
+        profiles=artefact("straightness.profiles"),
+        truth_check=artefact("straightness.truth_check"),
+        surface_peaks=artefact("surface.peaks"),
     output:
         **chapter_outputs("ch3_straightness"),
     log:

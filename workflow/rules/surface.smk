@@ -26,12 +26,12 @@ SURFACE_CUTS = {c.id: c.as_dict() for c in CUTS if c.id in SURFACE_PROFILE_CUTS}
 SURFACE_THESIS = is_thesis_design([c for c in CUTS if c.id in SURFACE_PROFILE_CUTS])
 SURFACE_TABLES = (
     {
-        "waviness": "results/surface/table_2_1_waviness_rms.csv",
-        "roughness": "results/surface/table_2_2_roughness_rms.csv",
-        "comparison": "results/surface/thesis_comparison.csv",
+        "waviness": artefact("surface.table_2_1_waviness_rms"),
+        "roughness": artefact("surface.table_2_2_roughness_rms"),
+        "comparison": artefact("surface.thesis_comparison"),
     }
     if SURFACE_THESIS
-    else {"by_design": "results/surface/metrics_by_design.csv"}
+    else {"by_design": artefact("surface.metrics_by_design")}
 )
 
 
@@ -39,9 +39,10 @@ rule surface_areal:
     input:
         raw=lambda w: f"{RAW}/{AREAL_FILES[w.cut]['path']}",
         study=STUDY,
+        code=code_inputs("surface_areal.py"),
     output:
-        nc="results/surface/areal/{cut}.nc",
-        profile="results/surface/areal/{cut}_profile.csv",
+        nc=artefact("surface.areal_cut"),
+        profile=artefact("surface.areal_profile"),
     log:
         "results/logs/surface/areal_{cut}.log",
     benchmark:
@@ -62,12 +63,13 @@ rule surface_profile:
         raw=lambda w: (
             f"{RAW}/{SURFACE_FILES[w.cut]['path']}"
             if w.cut in SURFACE_FILES
-            else f"results/surface/areal/{w.cut}_profile.csv"
+            else artefact("surface.areal_profile", cut=w.cut)
         ),
         study=STUDY,
+        code=code_inputs("surface_profile.py"),
     output:
-        nc="results/surface/cuts/{cut}.nc",
-        peaks="results/surface/cuts/{cut}_peaks.csv",
+        nc=artefact("surface.cut"),
+        peaks=artefact("surface.cut_peaks"),
     log:
         "results/logs/surface/profile_{cut}.log",
     benchmark:
@@ -95,9 +97,10 @@ if SYNTHETIC and SURFACE_FILES:
         input:
             raw=[f"{RAW}/{f['path']}" for f in SURFACE_FILES.values()],
             study=STUDY,
+            code=code_inputs("surface_profile.py"),
         output:
-            nc=[f"results/surface/cuts/{c}.nc" for c in SURFACE_FILES],
-            peaks=[f"results/surface/cuts/{c}_peaks.csv" for c in SURFACE_FILES],
+            nc=[artefact("surface.cut", cut=c) for c in SURFACE_FILES],
+            peaks=[artefact("surface.cut_peaks", cut=c) for c in SURFACE_FILES],
         log:
             "results/logs/surface/profiles.log",
         benchmark:
@@ -119,9 +122,10 @@ rule surface_gather:
         data=kind_input(
             "surface", "profile" if SURFACE_FILES or not AREAL_FILES else "areal"
         ),
-        cuts=expand("results/surface/cuts/{cut}.nc", cut=SURFACE_PROFILE_CUTS),
-        peaks=expand("results/surface/cuts/{cut}_peaks.csv", cut=SURFACE_PROFILE_CUTS),
+        cuts=expand(artefact("surface.cut"), cut=SURFACE_PROFILE_CUTS),
+        peaks=expand(artefact("surface.cut_peaks"), cut=SURFACE_PROFILE_CUTS),
         study=STUDY,
+        code=code_inputs("surface_gather.py"),
     output:
         **{
             name: report(
@@ -132,10 +136,10 @@ rule surface_gather:
             )
             for name, path in SURFACE_TABLES.items()
         },
-        peaks="results/surface/peaks.csv",
-        metrics="results/surface/metrics.csv",
-        spectra="results/surface/spectra.nc",
-        profiles="results/surface/profiles.nc",
+        peaks=artefact("surface.peaks"),
+        metrics=artefact("surface.metrics"),
+        spectra=artefact("surface.spectra"),
+        profiles=artefact("surface.profiles"),
     log:
         "results/logs/surface/gather.log",
     benchmark:
@@ -152,21 +156,22 @@ rule surface_gather:
 # Areal scans gathered: ISO 25178 parameters with each instrument's statements, the spectra,
 # and for cuts with both a stylus profile and a scan the two side by side.
 AREAL_OUTPUTS = {
-    "areal": "results/surface/areal.csv",
-    "areal_spectra": "results/surface/areal_spectra.nc",
-    "profile_vs_areal": "results/surface/profile_vs_areal.csv",
+    "areal": artefact("surface.areal"),
+    "areal_spectra": artefact("surface.areal_spectra"),
+    "profile_vs_areal": artefact("surface.profile_vs_areal"),
 }
 if AREAL_FILES:
 
     rule surface_areal_gather:
         input:
-            scans=expand("results/surface/areal/{cut}.nc", cut=AREAL_FILES),
-            profiles=expand("results/surface/areal/{cut}_profile.csv", cut=AREAL_FILES),
+            scans=expand(artefact("surface.areal_cut"), cut=AREAL_FILES),
+            profiles=expand(artefact("surface.areal_profile"), cut=AREAL_FILES),
             stylus=[
-                f"results/surface/cuts/{c}.nc"
+                artefact("surface.cut", cut=c)
                 for c in AREAL_FILES
                 if c in SURFACE_FILES
             ],
+            code=code_inputs("surface_areal_gather.py"),
         output:
             **AREAL_OUTPUTS,
         log:
@@ -187,13 +192,14 @@ if AREAL_FILES:
 # Profiles whose file states its own parameters (SMATS XML ROUGHNESS_/WAVINESS_SURFACE_
 # PARAMETERS, kept in the manifest entry's `reference`): ours beside them, with the filter.
 SURFACE_REFERENCE = [c for c, f in SURFACE_FILES.items() if f.get("reference")]
-SURFACE_REFERENCE_CSV = "results/surface/reference_comparison.csv"
+SURFACE_REFERENCE_CSV = artefact("surface.reference_comparison")
 if SURFACE_REFERENCE:
 
     rule surface_reference:
         input:
             raw=[f"{RAW}/{SURFACE_FILES[c]['path']}" for c in SURFACE_REFERENCE],
             study=STUDY,
+            code=code_inputs("surface_reference.py"),
         output:
             SURFACE_REFERENCE_CSV,
         log:
@@ -213,10 +219,11 @@ if SURFACE_REFERENCE:
 
 rule surface_recovery:
     input:
-        metrics="results/surface/metrics.csv",
-        truth="results/synthetic/truth.nc",
+        metrics=artefact("surface.metrics"),
+        truth=artefact("synthetic.truth"),
+        code=code_inputs("surface_recovery.py"),
     output:
-        "results/surface/recovery.csv",
+        artefact("surface.recovery"),
     log:
         "results/logs/surface/recovery.log",
     benchmark:
@@ -233,7 +240,7 @@ rule surface_recovery:
 rule surface_findings:
     input:
         unpack(
-            lambda w: {"recovery": "results/surface/recovery.csv"} if SYNTHETIC else {}
+            lambda w: {"recovery": artefact("surface.recovery")} if SYNTHETIC else {}
         ),
         unpack(
             lambda w: {"reference": SURFACE_REFERENCE_CSV} if SURFACE_REFERENCE else {}
@@ -241,15 +248,16 @@ rule surface_findings:
         unpack(lambda w: AREAL_OUTPUTS if AREAL_FILES else {}),
         # Tables 2.1/2.2 and the thesis comparison (the scorecard reads the tables)
         **SURFACE_TABLES,
-        metrics="results/surface/metrics.csv",
-        peaks="results/surface/peaks.csv",
-        profiles="results/surface/profiles.nc",
-        cuts="results/ingest/cuts.csv",
-        references=str(REPO / "src" / "robomill" / "data" / "references.yaml"),
+        metrics=artefact("surface.metrics"),
+        peaks=artefact("surface.peaks"),
+        profiles=artefact("surface.profiles"),
+        cuts=artefact("ingest.cuts"),
+        references=package_data("references.yaml"),
         # the scorecard checks: their reasons are quoted in the findings
-        checks=str(REPO / "src" / "robomill" / "data" / "scorecard.yaml"),
+        checks=package_data("scorecard.yaml"),
+        code=code_inputs("surface_findings.py"),
     output:
-        findings="results/surface/findings.yaml",
+        findings=artefact("surface.findings"),
     log:
         "results/logs/surface/findings.log",
     benchmark:
@@ -268,12 +276,12 @@ rule surface_findings:
 
 rule surface:
     input:
-        "results/surface/findings.yaml",
+        artefact("surface.findings"),
         list(SURFACE_TABLES.values()),
-        "results/surface/peaks.csv",
-        "results/surface/metrics.csv",
-        "results/surface/spectra.nc",
-        optional_input(SYNTHETIC, "results/surface/recovery.csv"),
+        artefact("surface.peaks"),
+        artefact("surface.metrics"),
+        artefact("surface.spectra"),
+        optional_input(SYNTHETIC, artefact("surface.recovery")),
         optional_input(bool(SURFACE_REFERENCE), SURFACE_REFERENCE_CSV),
         optional_input(bool(AREAL_FILES), list(AREAL_OUTPUTS.values())),
 
@@ -281,7 +289,7 @@ rule surface:
 use rule chapter as ch2 with:
     input:
         unpack(
-            lambda w: {"recovery": "results/surface/recovery.csv"} if SYNTHETIC else {}
+            lambda w: {"recovery": artefact("surface.recovery")} if SYNTHETIC else {}
         ),
         unpack(
             lambda w: {"reference": SURFACE_REFERENCE_CSV} if SURFACE_REFERENCE else {}
@@ -289,12 +297,12 @@ use rule chapter as ch2 with:
         unpack(lambda w: AREAL_OUTPUTS if AREAL_FILES else {}),
         **SURFACE_TABLES,
         **chapter_files("ch2"),
-        findings="results/surface/findings.yaml",
-        cuts="results/ingest/cuts.csv",
-        peaks="results/surface/peaks.csv",
-        metrics="results/surface/metrics.csv",
-        spectra="results/surface/spectra.nc",
-        profiles="results/surface/profiles.nc",
+        findings=artefact("surface.findings"),
+        cuts=artefact("ingest.cuts"),
+        peaks=artefact("surface.peaks"),
+        metrics=artefact("surface.metrics"),
+        spectra=artefact("surface.spectra"),
+        profiles=artefact("surface.profiles"),
     output:
         **chapter_outputs("ch2"),
     log:

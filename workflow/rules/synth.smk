@@ -3,7 +3,7 @@
 # analyses read the raw folder (results/synthetic/raw/: manifest.yaml, cell.yaml, data files)
 # exactly as they read real data.
 from robomill.experiment import tracker_pass
-from robomill.synth.cutstate import cut_state_path, planned_cut_states
+from robomill.synth.cutstate import planned_cut_states
 
 SYNTH_CFG = {
     "cell": config["cell"],
@@ -26,6 +26,8 @@ SYNTH_CUT_STATES = planned_cut_states(SYNTH_CFG, PLAN.files if SYNTHETIC else []
 
 
 rule synth_cell:
+    input:
+        code=code_inputs("cell_write.py"),
     output:
         "results/synthetic/raw/cell.yaml",
     log:
@@ -41,8 +43,10 @@ rule synth_cell:
 
 
 rule synth_truth:
+    input:
+        code=code_inputs("synth_truth.py"),
     output:
-        "results/synthetic/truth.nc",
+        artefact("synthetic.truth"),
     log:
         "results/logs/synth/truth.log",
     benchmark:
@@ -60,8 +64,10 @@ rule synth_truth:
 # library and the compiled kernels start once), one file per cut. Every instrument's job below
 # samples these files.
 rule synth_cuts:
+    input:
+        code=code_inputs("synth_cuts.py"),
     output:
-        [cut_state_path("results", c) for c in SYNTH_CUT_STATES],
+        [artefact("synthetic.cut_state", cut=c) for c in SYNTH_CUT_STATES],
     log:
         "results/logs/synth/cuts.log",
     benchmark:
@@ -95,7 +101,8 @@ SYNTH_FORCE_CUTS = [
 
 rule surface_synth_profiles:
     input:
-        states=[cut_state_path("results", c.id) for c in SYNTH_PROFILE_CUTS],
+        code=code_inputs("synth_profiles.py"),
+        states=[artefact("synthetic.cut_state", cut=c.id) for c in SYNTH_PROFILE_CUTS],
     output:
         [f"results/synthetic/raw/profiles/{c.id}.csv" for c in SYNTH_PROFILE_CUTS],
     log:
@@ -113,7 +120,8 @@ rule surface_synth_profiles:
 
 rule synth_dynamometer:
     input:
-        states=[cut_state_path("results", c.id) for c in SYNTH_FORCE_CUTS],
+        code=code_inputs("synth_dynamometer.py"),
+        states=[artefact("synthetic.cut_state", cut=c.id) for c in SYNTH_FORCE_CUTS],
     output:
         [
             f"results/synthetic/raw/forces/{c.id}.{SYNTH_FORCE_FORMAT}"
@@ -133,7 +141,8 @@ rule synth_dynamometer:
 
 
 # The microphone's and the spindle accelerometer's recordings of the same cuts (off by
-# default: synth.recordings), one job for all, as the dynamometer's.
+# default: synth.recordings), each with its air pass (synth.recordings.air_pass), one job for
+# all, as the dynamometer's.
 # (in the layout's order: a cut's sound and vibration follow each other, integrated once)
 SYNTH_RECORDINGS = [
     f for f in (PLAN.files if SYNTHETIC else []) if f["kind"] in ("sound", "vibration")
@@ -142,7 +151,8 @@ SYNTH_RECORDINGS = [
 
 rule synth_recordings:
     input:
-        states=[cut_state_path("results", f["cut"]) for f in SYNTH_RECORDINGS],
+        code=code_inputs("synth_recordings.py"),
+        states=[artefact("synthetic.cut_state", cut=f["cut"]) for f in SYNTH_RECORDINGS],
     output:
         [f"results/synthetic/raw/{f['path']}" for f in SYNTH_RECORDINGS],
     log:
@@ -158,7 +168,7 @@ rule synth_recordings:
                 "kind": f["kind"],
                 "cut": SYNTH_CUT_BY_ID[f["cut"]].as_dict(),
                 "pass": f.get("pass") or "loaded",
-                "state": cut_state_path("results", f["cut"]),
+                "state": artefact("synthetic.cut_state", cut=f["cut"]),
             }
             for f in SYNTH_RECORDINGS
         ],
@@ -168,9 +178,10 @@ rule synth_recordings:
 
 rule synth_tracker:
     input:
+        code=code_inputs("synth_tracker.py"),
         states=sorted(
             {
-                cut_state_path("results", f["cut"])
+                artefact("synthetic.cut_state", cut=f["cut"])
                 for f in SYNTH_TRACKER_RUNS.values()
                 if tracker_pass(f) == "loaded"
             }
@@ -193,7 +204,7 @@ rule synth_tracker:
                 "pass": tracker_pass(f),
                 "run": run,
                 "state": (
-                    cut_state_path("results", f["cut"])
+                    artefact("synthetic.cut_state", cut=f["cut"])
                     if tracker_pass(f) == "loaded"
                     else None
                 ),
@@ -205,6 +216,8 @@ rule synth_tracker:
 
 
 rule synth_impact:
+    input:
+        code=code_inputs("synth_impact.py"),
     output:
         [f"results/synthetic/raw/{f['path']}" for f in SYNTH_FILES.get("impact", [])],
     log:
@@ -224,6 +237,8 @@ rule synth_impact:
 
 
 rule synth_ctrack:
+    input:
+        code=code_inputs("synth_ctrack.py"),
     output:
         "results/synthetic/raw/ctrack/{table}.csv",
     log:
@@ -242,6 +257,8 @@ rule synth_ctrack:
 
 
 rule synth_loadtests_robot:
+    input:
+        code=code_inputs("synth_loadtests_robot.py"),
     output:
         robot="results/synthetic/raw/stiffness/{robot}.yaml",
     log:
@@ -260,6 +277,8 @@ rule synth_loadtests_robot:
 
 
 rule synth_loadtests:
+    input:
+        code=code_inputs("synth_loadtests.py"),
     output:
         tests="results/synthetic/raw/stiffness/load_tests_{robot}.csv",
     log:
@@ -280,7 +299,8 @@ rule synth_loadtests:
 rule synth_manifest:
     input:
         files=[f"results/synthetic/raw/{f['path']}" for f in PLAN.files],
-        truth="results/synthetic/truth.nc",
+        truth=artefact("synthetic.truth"),
+        code=code_inputs("synth_manifest.py"),
     output:
         "results/synthetic/raw/manifest.yaml",
     log:

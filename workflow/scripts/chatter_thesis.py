@@ -1,4 +1,4 @@
-"""Thesis robot: lobes for +X, +Y, -Y, mode coupling, recommendations."""
+"""The study's robot: lobes for each slot of the study's cuts, mode coupling, recommendations."""
 
 import os
 
@@ -10,6 +10,7 @@ import pandas as pd  # noqa: E402
 from robomill.chatter.thesis_study import run_thesis  # noqa: E402
 from robomill.io import write_artefact, write_table  # noqa: E402
 from robomill.pipeline.runlog import setup  # noqa: E402
+from robomill.study import read_study  # noqa: E402
 
 log = setup(snakemake.log[0], "chatter")
 inp, p = snakemake.input, snakemake.params
@@ -20,11 +21,10 @@ missing = [c for c in ("f_n_hz", "zeta", "k_modal_N_m", "shape_x", "shape_y")
            if c not in modes.columns]
 if missing:
     raise ValueError(f"{inp.modes}: missing columns {missing} (contract: CONTRACTS.md)")
-lobes, rec = run_thesis(modes, coeffs, peaks, dict(p.thesis), teeth=p.flutes,
-                        spindle_rpm=p.spindle_rpm, depths_mm=list(p.depths_mm),
+lobes, rec = run_thesis(modes, coeffs, peaks, dict(p.thesis), study=read_study(inp.study),
                         accuracy=p.accuracy)
 write_artefact(lobes, snakemake.output.lobes, rule="chatter_thesis",
-               inputs=[inp.modes, inp.coefficients, inp.peaks],
+               inputs=[inp.modes, inp.coefficients, inp.peaks, inp.study],
                config_section={**dict(p.thesis), "accuracy": p.accuracy})
 write_table(rec, snakemake.output.recommendations)
 log.info("recommendations:\n%s", rec.to_string())

@@ -1,5 +1,6 @@
 """Chatter verdicts of every cut's force record and every sound/vibration recording
-(robomill.chatter.recordings): results/chatter/verdicts.csv and the pooled spectrograms."""
+(robomill.chatter.recordings), their chatter lines tested on the cuts' air passes:
+results/chatter/verdicts.csv and the pooled spectrograms."""
 
 from robomill.pipeline.runlog import setup
 
@@ -7,6 +8,7 @@ log = setup(snakemake.log[0], "chatter_verdicts")
 
 from robomill.chatter.recordings import (  # noqa: E402
     JUDGED_KINDS,
+    is_air_pass,
     judge_study,
     verdict_findings,
 )
@@ -26,4 +28,5 @@ write_artefact(spectrograms, snakemake.output.spectrograms, rule="chatter_verdic
                inputs=list(snakemake.input.raw), config_section=snakemake.params.settings)
 counts = table["verdict"].value_counts().to_dict() if len(table) else {}
 log.info("%d records judged: %s", len(table), counts)
-write_findings(verdict_findings(table, settings), snakemake.output.findings)
+n_air = sum(is_air_pass(e) for e in entries)
+write_findings(verdict_findings(table, settings, n_air), snakemake.output.findings)

@@ -6,5 +6,5 @@ from robomill.study import write_study
 
 log = setup(snakemake.log[0], "ingest_study")
 m = load_study_manifest(list(snakemake.input.manifest))
-write_study(m, snakemake.output[0])
+write_study(m, snakemake.output[0], layout=snakemake.params.layout)
 log.info("study of %d cuts and %d files from %s", len(m.cuts), len(m.files), m.path)

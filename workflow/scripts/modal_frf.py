@@ -6,6 +6,7 @@ from robomill.io import write_artefact, write_table
 from robomill.io.impact import load_impact_test
 from robomill.modal.frf import combine_frfs, force_spectrum, frf_from_groups
 from robomill.modal.hits import check_and_group, empty_traces, hit_table_empty, hit_traces
+from robomill.modal.layout import measured_directions
 from robomill.modal.ncio import split_complex
 from robomill.modal.uff import write_frf_uff
 from robomill.pipeline.runlog import setup
@@ -39,6 +40,13 @@ else:
     hits, traces = hit_table_empty(), None
     log.info("FRFs read from %d UFF file(s): %d responses x %d references", len(test.frfs),
              ds.sizes["output"], ds.sizes["input"])
+dirs = measured_directions(ds)  # one-direction tests: what the plan must extrapolate
+ds.attrs["directions_hit"] = dirs["hammer"]
+ds.attrs["directions_measured"] = dirs["measured"]
+ds.attrs["directions_not_measured"] = dirs["not_measured"]
+if dirs["not_measured"]:
+    log.info("directions not measured (no hit and response along them): %s",
+             dirs["not_measured"])
 inputs = [str(p) for p in snakemake.input.hits]
 write_artefact(split_complex(ds), snakemake.output.frf, rule="modal_frf", inputs=inputs,
                config_section=cfg)

@@ -30,8 +30,9 @@ log = setup(snakemake.log[0], "plan")
 inp, out, p = snakemake.input, snakemake.output, snakemake.params
 req = read_request(inp.request)
 cell_file = read_cell(inp.cell)
-cuts = load_study(inp.study).cuts  # the study's own cuts (raw folder or virtual cell)
-experiment = dict(p.experiment)  # the study's (the manifest's), the block layout beside it
+study = load_study(inp.study)
+cuts = study.cuts  # the study's own cuts (raw folder or virtual cell)
+experiment = dict(study.experiment)  # the study's (the manifest's), its block layout resolved
 # where the study's cuts lie needs their length; without it they are not placed
 placed = bool(cuts) and experiment.get("cut_length_mm") is not None
 if cuts and not placed:
@@ -103,9 +104,10 @@ write_table(plan.evidence if plan.evidence is not None
 wobj = req.work_object or BASE
 header = (f"robomill plan of {req.path}: the planned cuts, ranked by removal rate; "
           f"robot {cell.robot.name}\ncheck it in the offline programming tool before running")
-program = write_program(plan.paths, cell_file.controller,
-                        program_cell(cell.robot, wobj.T_base_part, cell_file.mass_model),
-                        out.program, header=header)
+pcell = program_cell(cell.robot, wobj.T_base_part, cell_file.mass_model,
+                     frames=cell_file.controller_frames, spindle=cell_file.spindle,
+                     motion=req.motion, q_home_deg=cell_file.q_home_deg)
+program = write_program(plan.paths, cell_file.controller, pcell, out.program, header=header)
 log.info("program (%s): %s", cell_file.controller or "no controller named: stations only",
          ", ".join(str(f) for f in program))
 for path in plan.paths:

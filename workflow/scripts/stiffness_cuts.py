@@ -3,7 +3,7 @@
 import numpy as np
 import pandas as pd
 
-from robomill.experiment import Cut, cut_joint_path_rad
+from robomill.experiment import cut_joint_path_rad
 from robomill.io import write_table
 from robomill.io.cell import read_cell
 from robomill.pipeline.runlog import setup
@@ -18,9 +18,10 @@ if p.cell_relpath:
     manifest.verify_file(p.cell_relpath)
 cell = read_cell(snakemake.input.cell)
 c = compliance_from_table(pd.read_csv(snakemake.input.joints))
-cuts = [Cut(**d) for d in p.cuts]
-L = float(p.experiment["cut_length_mm"])
-q = np.array([cut_joint_path_rad(cell.robot, cut, p.experiment, np.array([L / 2]),
+cuts = list(manifest.cuts)  # the study's cuts and experiment (its block layout resolved)
+experiment = manifest.experiment
+L = float(experiment["cut_length_mm"])
+q = np.array([cut_joint_path_rad(cell.robot, cut, experiment, np.array([L / 2]),
                                  tool_rotation=cell.tool_rotation, q0_rad=cell.q_home_rad)[0]
               for cut in cuts])
 table = cut_stiffness_table(cell.robot, c, cuts, q)

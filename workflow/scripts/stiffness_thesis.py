@@ -4,7 +4,7 @@ import numpy as np
 import pandas as pd
 
 from robomill.beamframe import sections_from_config, slot_stiffness_table
-from robomill.experiment import Cut, cut_joint_path_rad
+from robomill.experiment import cut_joint_path_rad
 from robomill.io import write_table
 from robomill.io.cell import read_cell
 from robomill.io.robots import read_robot_file
@@ -21,9 +21,10 @@ if p.cell_relpath:
 robot, _ = read_robot_file(snakemake.input.robot)
 cell = read_cell(snakemake.input.cell)  # posture and tool orientation of the cell
 c = compliance_from_table(pd.read_csv(snakemake.input.joints))
-cuts = [Cut(**d) for d in p.cuts]
-L = float(p.experiment["cut_length_mm"])
-q = np.array([cut_joint_path_rad(robot, cut, p.experiment, np.array([L / 2]),
+cuts = list(manifest.cuts)  # the study's cuts and experiment (its block layout resolved)
+experiment = manifest.experiment
+L = float(experiment["cut_length_mm"])
+q = np.array([cut_joint_path_rad(robot, cut, experiment, np.array([L / 2]),
                                  tool_rotation=cell.tool_rotation, q0_rad=cell.q_home_rad)[0]
               for cut in cuts])
 bf = p.beamframe

@@ -10,11 +10,12 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from robomill import catalogue
 from robomill.calibration.accuracy import improvement_ratios
 from robomill.findings import Findings
 
-_MODEL = "results/calibration/model.nc"
-_ACCURACY = "results/calibration/accuracy.csv"
+_MODEL = catalogue.artefact("calibration.model")
+_ACCURACY = catalogue.artefact("calibration.accuracy")
 _ARCSEC_RAD = np.pi / 180 / 3600
 _FORMS = ("polynomial", "fourier", "fourier+polynomial")
 

@@ -124,7 +124,7 @@ def detection_figure(sim: xr.Dataset) -> plt.Figure:
 def robot_lobes_figure(lobes: xr.Dataset) -> plt.Figure:
     """The identified robot's lobes per slot direction (``results/chatter/lobes.nc``): ZOA,
     spectral element with its error band; red: the configured depths
-    (``attrs.thesis_depths_mm``), dotted: the study's spindle speed."""
+    (``attrs.thesis_depths_mm``), dotted: the speed of most of the slot's cuts."""
     dirs = lobes["direction"].values
     fig, axes = plt.subplots(1, len(dirs), figsize=(11, 3.8), sharey=True, squeeze=False)
     for ax, d in zip(axes[0], dirs, strict=True):
@@ -137,7 +137,9 @@ def robot_lobes_figure(lobes: xr.Dataset) -> plt.Figure:
                         label="sem ± error")
         for dep in np.atleast_1d(lobes.attrs["thesis_depths_mm"]):
             ax.axhline(dep, color="r", lw=0.6)
-        ax.axvline(lobes.attrs["thesis_spindle_rpm"], color="0.6", ls=":")
+        rpm = (lobes["study_spindle_rpm"].sel(direction=d) if "study_spindle_rpm" in lobes
+               else lobes.attrs["thesis_spindle_rpm"])
+        ax.axvline(float(rpm), color="0.6", ls=":")
         ax.set_title(f"slot {d}")
         ax.set_xlabel("spindle speed [rpm]")
     axes[0, 0].set_ylabel("critical axial depth [mm]")

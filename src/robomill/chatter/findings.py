@@ -19,21 +19,21 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill import references
+from robomill import catalogue, references
 from robomill.chatter.tables import onset_table
 from robomill.findings import Findings
 
 BENCHMARK = "insperger2004_down005"
 SLOT = "insperger2004_slot"
-SIM = "results/chatter/simulation.nc"
-LOBES = "results/chatter/lobes.nc"
-RECS = "results/chatter/recommendations.csv"
+SIM = catalogue.artefact("chatter.simulation")
+LOBES = catalogue.artefact("chatter.lobes")
+RECS = catalogue.artefact("chatter.recommendations")
 CHECK_RPM = (6400.0, 8400.0)
 """Speeds at which the benchmark's converged semi-discretization depth is known."""
 
 
 def _case(f: Findings, name: str, ds: xr.Dataset) -> None:
-    art = f"results/chatter/cases/{name}.nc"
+    art = catalogue.artefact("chatter.case", chatter_case=name)
     rpm = ds["spindle_rpm"].values
     a_z = ds["a_crit_mm"].sel(solver="zoa").values
     a_s = ds["a_crit_mm"].sel(solver="sem").values
@@ -128,11 +128,11 @@ def _seed_setup(f: Findings, sim: xr.Dataset) -> None:
 
 
 def _slot(f: Findings, ds: xr.Dataset | None) -> None:
-    f.add("has_slot", ds is not None, artefact=f"results/chatter/cases/{SLOT}.nc",
-          what="file")
+    f.add("has_slot", ds is not None,
+          artefact=catalogue.artefact("chatter.case", chatter_case=SLOT), what="file")
     if ds is None:
         return
-    art = f"results/chatter/cases/{SLOT}.nc"
+    art = catalogue.artefact("chatter.case", chatter_case=SLOT)
     f.add("slot_teeth", int(ds.attrs["case_teeth"]), artefact=art, what="attrs.case_teeth")
     modes = json.loads(ds.attrs["case_modes"])
     f.add("slot_symmetric", modes.get("x") == modes.get("y"), artefact=art,
@@ -217,8 +217,15 @@ def _seed(f: Findings, sim: xr.Dataset) -> None:
 
 
 def _robot(f: Findings, lobes: xr.Dataset, rec: pd.DataFrame, safety_fraction: float) -> None:
-    f.add("robot_rpm", float(lobes.attrs["thesis_spindle_rpm"]), "rpm", artefact=LOBES,
-          what="attrs.thesis_spindle_rpm")
+    thesis = rec[(rec["kind"] == "thesis") & (rec["solver"] == "sem")]
+    speeds = sorted({float(n) for n in thesis["spindle_rpm"]})
+    f.add("robot_rpms", speeds, "rpm", artefact=RECS,
+          what="kind == thesis: spindle_rpm, each speed once (the cuts' own)")
+    f.add("robot_rpm", speeds[0] if len(speeds) == 1 else None, "rpm", artefact=RECS,
+          what="kind == thesis: spindle_rpm, where every cut has the same")
+    f.add("robot_speeds", (f"{speeds[0]:.0f} rpm" if len(speeds) == 1 else
+                           ", ".join(f"{n:.0f}" for n in speeds) + " rpm"), artefact=RECS,
+          what="kind == thesis: spindle_rpm")
     f.add("robot_accuracy_pct", 100 * float(lobes.attrs["accuracy"]), "%", artefact=LOBES,
           what="attrs.accuracy", config_key="chatter.accuracy")
     rel = (lobes["a_crit_error_mm"] / lobes["a_crit_mm"].sel(solver="sem")).values
@@ -233,7 +240,8 @@ def _robot(f: Findings, lobes: xr.Dataset, rec: pd.DataFrame, safety_fraction: f
           artefact=LOBES, what="a_crit_error_mm")
     ok = rec[(rec["kind"] == "thesis") & (rec["solver"] == "sem")]
     best = rec[(rec["kind"] == "recommended") & (rec["solver"] == "sem")]
-    f.add("cut_margins", [f"{r.direction} {r.axial_depth_mm:.2f} mm: "
+    at = (lambda r: "") if len(speeds) == 1 else (lambda r: f" at {r.spindle_rpm:.0f} rpm")
+    f.add("cut_margins", [f"{r.direction} {r.axial_depth_mm:.2f} mm{at(r)}: "
                           f"{100 * r.stability_margin:.0f} %" for r in ok.itertuples()],
           artefact=RECS, what="kind == thesis, solver == sem: stability_margin")
     f.add("n_cuts_chatter_free", int(ok["chatter_free"].astype(bool).sum()), artefact=RECS,

@@ -5,6 +5,15 @@ spectrograms, pooled to a common size, in ``results/chatter/spectrograms.nc`` fo
 
 A record that cannot be read gets the verdict ``undetermined`` with the reader's one line as
 its evidence; the other records are judged as usual.
+
+**Air passes** (manifest ``pass: air`` on a ``sound`` or ``vibration`` entry: the same path
+moved without material, :func:`is_air_pass`) are no record of a cut's outcome and get no
+row; they are the evidence that tells a forced line from chatter
+(:func:`robomill.chatter.verdicts.air_test`). A chatter verdict of a cut's record is tested
+on the air pass of the same instrument (the same kind at the same rate); a force record's on
+the cut's other instruments, each record against its own air pass, at the force record's line:
+the dynamometer sits under the workpiece and feels the arm's vibration only through the chip,
+so its own air pass is silent. The first air test that finds the line forced decides.
 """
 
 from __future__ import annotations
@@ -15,13 +24,21 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from robomill.chatter.verdicts import Verdict, VerdictSettings, judge
+from robomill import catalogue
+from robomill.chatter.verdicts import VERDICTS, Verdict, VerdictSettings, judge
 from robomill.errors import RawDataError
 
 VERDICT_COLUMNS = ("cut", "verdict", "chatter_hz", "source", "evidence")
 """The table's first columns, in this order (others read it by these names)."""
 JUDGED_KINDS = ("force", "sound", "vibration")
 """Manifest kinds whose records are judged."""
+AIR_KINDS = ("sound", "vibration")
+"""Manifest kinds that may list an air pass (``pass: air``)."""
+
+
+def is_air_pass(entry: Mapping[str, Any]) -> bool:
+    """Whether a manifest entry is an air pass (``pass: air``) of a recording."""
+    return entry.get("kind") in AIR_KINDS and str(entry.get("pass") or "loaded") == "air"
 IMAGE_F, IMAGE_T = 160, 80
 """Frequency and time bins of the pooled spectrograms."""
 
@@ -84,16 +101,64 @@ def judge_entry(manifest, entry: Mapping[str, Any], settings: VerdictSettings) -
     return judge(x, fs, settings, spindle_rpm=rpm, flutes=z, keep_spectrogram=True)
 
 
+def _air_pairs(entry: Mapping[str, Any], judged, air) -> list[tuple[Mapping, Mapping]]:
+    """The (cut record, air pass) pairs that can test ``entry``'s line: its own with each air
+    pass of its kind and cut; for a force record, each recording of the cut with each air pass
+    of the recording's kind."""
+    cut = entry.get("cut")
+    mine = [a for a in air if a.get("cut") == cut]
+    if entry["kind"] != "force":
+        return [(entry, a) for a in mine if a["kind"] == entry["kind"]]
+    return [(r, a) for r in judged if r.get("cut") == cut and r["kind"] in AIR_KINDS
+            for a in mine if a["kind"] == r["kind"]]
+
+
+def forced_or_chatter(manifest, entry: Mapping[str, Any], verdict: Verdict, judged, air,
+                      settings: VerdictSettings) -> Verdict:
+    """A chatter verdict of ``entry`` tested on the air passes of its cut (module docstring):
+    ``forced`` with the deciding test first in its evidence, else ``chatter`` with each test's
+    sentence added; unchanged when no air pass can test it."""
+    from robomill.chatter.verdicts import air_test, call_forced
+
+    out = verdict
+    for rec, a in _air_pairs(entry, judged, air):
+        try:
+            x, fs = read_samples(manifest, rec)
+            xa, fsa = read_samples(manifest, a)
+        except RawDataError as exc:
+            out = call_forced(out, _no_test(f"`{a['path']}` not read: {exc}", verdict))
+            continue
+        name = (f"the air pass `{a['path']}`" if rec is entry else
+                f"the air pass `{a['path']}` against `{rec['path']}`")
+        test = air_test(x, fs, xa, fsa, verdict.chatter_hz, settings, air_name=name)
+        out = call_forced(out, test)
+        if out.verdict == "forced":
+            return out
+    return out
+
+
+def _no_test(text: str, verdict: Verdict):
+    from robomill.chatter.verdicts import AirTest
+
+    return AirTest(False, verdict.chatter_hz, float("nan"), float("nan"), text)
+
+
 def judge_study(manifest, entries: Iterable[Mapping[str, Any]], settings: VerdictSettings,
                 log=None):
-    """``(table, spectrograms)``: one row per record (columns :data:`VERDICT_COLUMNS`, then
-    ``kind`` and :meth:`Verdict.row`'s evidence), and an :class:`xarray.Dataset` of the
-    pooled spectrograms (dims ``record, f_bin, t_bin``)."""
+    """``(table, spectrograms)``: one row per record but the air passes (columns
+    :data:`VERDICT_COLUMNS`, then ``kind`` and :meth:`Verdict.row`'s evidence; a chatter
+    verdict tested on the cut's air passes, :func:`forced_or_chatter`), and an
+    :class:`xarray.Dataset` of the pooled spectrograms (dims ``record, f_bin, t_bin``)."""
     import xarray as xr
 
+    entries = list(entries)
+    air = [e for e in entries if is_air_pass(e)]
+    judged = [e for e in entries if not is_air_pass(e)]
     rows, images = [], []
-    for e in entries:
+    for e in judged:
         v = judge_entry(manifest, e, settings)
+        if v.verdict == "chatter" and air:
+            v = forced_or_chatter(manifest, e, v, judged, air, settings)
         row = {"cut": e.get("cut", ""), **v.row(), "source": e["path"], "kind": e["kind"]}
         rows.append(row)
         if log is not None:
@@ -131,6 +196,8 @@ def _line(r: Mapping[str, Any]) -> str:
         head += f" at {float(r['chatter_hz']):.1f} Hz"
         if isinstance(r.get("speeds_rpm"), str) and r["speeds_rpm"]:
             head += f"; speeds to try {r['speeds_rpm'].replace(' ', ', ')} rpm"
+    elif r["verdict"] == "forced":
+        head += f" at {float(r['line_hz']):.1f} Hz (forced vibration, not chatter)"
     return f"{head} — {r['evidence']}"
 
 
@@ -157,22 +224,26 @@ def comparison_table(table: pd.DataFrame) -> pd.DataFrame:
                                        "recording_chatter_hz", "agree"])
 
 
-def verdict_findings(table: pd.DataFrame, settings: VerdictSettings):
+def verdict_findings(table: pd.DataFrame, settings: VerdictSettings, n_air_passes: int = 0):
     """Chapter 4's findings of the verdicts (``results/chatter/verdict_findings.yaml``):
     counts per verdict and kind, one line per recording (and per chattering or undetermined
     force record), the force-vs-recording comparison and the threshold that decided."""
     from robomill.findings import Findings
 
-    art = "results/chatter/verdicts.csv"
+    art = catalogue.artefact("chatter.verdicts")
     f = Findings("chatter_verdicts")
     f.add("verdict_threshold", settings.energy_ratio_threshold, artefact=art,
           what="energy_ratio_threshold", config_key="chatter.verdicts.energy_ratio_threshold")
+    f.add("air_rise_db", settings.air_rise_db, "dB", artefact=art, what="air_rise_db",
+          config_key="chatter.verdicts.air_rise_db")
+    f.add("n_air_passes", int(n_air_passes), artefact="manifest.yaml",
+          what="files with pass: air (sound, vibration), the evidence of the air test")
     kinds = table["kind"] if len(table) else pd.Series(dtype=str)
     f.add("n_records", int(len(table)), artefact=art, what="rows")
     f.add("n_force_records", int((kinds == "force").sum()), artefact=art, what="kind force")
     f.add("n_recordings", int(kinds.isin(["sound", "vibration"]).sum()), artefact=art,
           what="kind sound or vibration")
-    for v in ("stable", "chatter", "undetermined"):
+    for v in VERDICTS:
         f.add(f"n_{v}", int((table["verdict"] == v).sum()) if len(table) else 0, artefact=art,
               what=f"verdict {v}")
     rec = table[kinds != "force"] if len(table) else table
@@ -181,6 +252,9 @@ def verdict_findings(table: pd.DataFrame, settings: VerdictSettings):
     odd = table[(kinds == "force") & (table["verdict"] != "stable")] if len(table) else table
     f.add("force_lines", [_line(r) for _, r in odd.iterrows()], artefact=art,
           what="force rows not stable")
+    forced = table[table["verdict"] == "forced"] if len(table) else table
+    f.add("forced_lines", [_line(r) for _, r in forced.iterrows()], artefact=art,
+          what="rows forced: a line the cut's air pass shows without cutting")
     if len(table) and (kinds == "force").any():
         fr = table[kinds == "force"]
         f.add("force_ratio_max", float(fr["energy_ratio"].max()), artefact=art,

@@ -48,8 +48,9 @@ def coupling_table(lobes: xr.Dataset) -> pd.DataFrame:
 
     The mode-coupling critical depth ``a_mc`` and frequency of the coupled pair (Tlusty's
     mode-coupling limit, Pan et al. 2006), beside the zero-order regenerative chatter
-    frequency linearly interpolated at the thesis' spindle speed (attribute
-    ``thesis_spindle_rpm``) and the range of the force peaks of the cuts (thesis §3.1).
+    frequency linearly interpolated at each slot's spindle speed (``study_spindle_rpm``, the
+    speed of most of its cuts; in artefacts without it, the attribute ``thesis_spindle_rpm``)
+    and the range of the force peaks of the cuts (thesis §3.1).
 
     Returns
     -------
@@ -57,16 +58,20 @@ def coupling_table(lobes: xr.Dataset) -> pd.DataFrame:
         ``direction, mode-coupling a_mc [mm], coupling frequency [Hz], coupled pair [Hz],
         regenerative chatter [Hz] (ZOA, <rpm> rpm), force peaks [Hz] (min–max)``.
     """
-    rpm = float(lobes.attrs["thesis_spindle_rpm"])
+    dirs = lobes["direction"].values
+    rpms = (lobes["study_spindle_rpm"].values.astype(float) if "study_spindle_rpm" in lobes
+            else np.full(len(dirs), float(lobes.attrs["thesis_spindle_rpm"])))
     chatter = [float(lobes["chatter_hz"].sel(direction=d, solver="zoa")
-                     .interp(spindle_rpm=rpm)) for d in lobes["direction"].values]
+                     .interp(spindle_rpm=n)) for d, n in zip(dirs, rpms, strict=True)]
+    rpm = rpms[0] if np.all(rpms == rpms[0]) else None
+    speed = f"{f'{rpm:,.0f}'.replace(',', ' ')} rpm" if rpm is not None else "each slot's speed"
     return pd.DataFrame({
         "direction": lobes["direction"].values,
         "mode-coupling a_mc [mm]": lobes["mode_coupling_a_mm"].values,
         "coupling frequency [Hz]": lobes["mode_coupling_hz"].values,
         "coupled pair [Hz]": [" & ".join(f"{f:.1f}" for f in p)
                               for p in lobes["coupled_mode_hz"].values],
-        f"regenerative chatter [Hz] (ZOA, {f'{rpm:,.0f}'.replace(',', ' ')} rpm)": chatter,
+        f"regenerative chatter [Hz] (ZOA, {speed})": chatter,
         "force peaks [Hz] (min–max)": [f"{a:.0f}–{b:.0f}" for a, b in
                                        zip(lobes["force_peak_min_hz"].values,
                                            lobes["force_peak_max_hz"].values, strict=True)],

@@ -2,8 +2,9 @@
 identified tool-tip modes in the frame of each slot, the mode-coupling check, and chatter-free
 parameter recommendations.
 
-Slot frames: the feed direction f is the cut direction in the base XY plane (+X, +Y, −Y) and
-the normal direction is f turned +90° about the tool axis, n = (−f_Y, f_X). A mode with shape
+Slot frames: the feed direction f is the cut's direction in the base XY plane (a unit vector
+from the study: ``px`` +X, ``py`` +Y, ``my`` −Y in the thesis, any angle in a free design)
+and the normal direction is f turned +90° about the tool axis, n = (−f_Y, f_X). A mode with shape
 (φ_X, φ_Y, φ_Z) has the in-plane shape (φ·f, φ·n) in that frame; φ_Z does not enter the 2-D
 model. Reversing the feed reverses both axes, so the linear model gives +Y and −Y the same
 lobes (only a pose change, not modelled here, could tell them apart).
@@ -17,13 +18,11 @@ import pandas as pd
 from robomill.chatter.model import CuttingModel, LinearTool, ModeXY, tool_from_modes
 from robomill.settings import schema_default
 
-DIRECTIONS = {"px": (1.0, 0.0), "py": (0.0, 1.0), "my": (0.0, -1.0)}
-"""Feed unit vectors (base X, Y) of the thesis slots."""
 
-
-def modes_in_slot_frame(modes: pd.DataFrame, direction: str) -> list[ModeXY]:
+def modes_in_slot_frame(modes: pd.DataFrame, feed_xy: tuple[float, float]) -> list[ModeXY]:
     """Modes of ``results/modal/modes.csv`` (``f_n_hz, zeta, k_modal_N_m, shape_x, shape_y``)
-    in the (feed, normal) frame of a slot direction. Modes with a non-positive modal
+    in the (feed, normal) frame of a cut whose unit feed direction in the base XY plane is
+    ``feed_xy`` (:attr:`robomill.study.StudyCut.feed_xy`). Modes with a non-positive modal
     stiffness (flagged non-physical by the modal analysis: a negative modal constant) are
     left out: a negative spring makes no oscillator of the tool. A shape component the test
     did not measure (NaN: e.g. responses along X only) counts as 0 (no measured flexibility
@@ -34,7 +33,7 @@ def modes_in_slot_frame(modes: pd.DataFrame, direction: str) -> list[ModeXY]:
     ValueError
         When no mode has a positive modal stiffness.
     """
-    f = np.asarray(DIRECTIONS[direction])
+    f = np.asarray(feed_xy, float)[:2]
     n = np.array([-f[1], f[0]])
     out = []
     ok = np.asarray(modes["k_modal_N_m"], float) > 0
@@ -116,23 +115,26 @@ def mode_coupling(modes: list[ModeXY], cut: CuttingModel, *, depth_max_m: float,
 
 
 def recommend(a_crit_m: np.ndarray, spindle_rpm: np.ndarray, chatter_hz: np.ndarray,
-              direction: str, *, thesis_rpm: float, thesis_depths_m: list[float],
+              direction: str, *, study_points: list[tuple[float, float]],
               safety_fraction: float, solver: str, a_error_m: np.ndarray | None = None
               ) -> list[dict]:
-    """Rows of ``recommendations.csv`` for one slot direction: the thesis' own (speed, depth)
-    pairs with their margin, and the recommended chatter-free point: the speed of the grid with
-    the largest pessimistic critical depth a_crit − error, and a depth ``safety_fraction``
-    below that pessimistic depth, (1 − safety_fraction)(a_crit − error). The stability margin
-    is a_crit/a − 1 (> 0 stable; 0.25 = 25 % deeper would still be stable); ``a_error_m`` is
-    the estimated error of each critical depth (None: taken as exact and written as NaN, as
-    for the zero-order method, whose approximation error is a model error, not estimated)."""
+    """Rows of ``recommendations.csv`` for one slot direction: the study's own (speed [rpm],
+    depth [m]) pairs ``study_points`` with their margin, each at the speed of the grid
+    nearest the cut's (rows of kind ``thesis``), and the recommended chatter-free point: the
+    speed of the grid with the largest pessimistic critical depth a_crit − error, and a depth
+    ``safety_fraction`` below that pessimistic depth, (1 − safety_fraction)(a_crit − error).
+    The stability margin is a_crit/a − 1 (> 0 stable; 0.25 = 25 % deeper would still be
+    stable); ``a_error_m`` is the estimated error of each critical depth (None: taken as exact
+    and written as NaN, as for the zero-order method, whose approximation error is a model
+    error, not estimated)."""
     rows = []
     a = np.where(np.isfinite(a_crit_m), a_crit_m, np.inf)
     err = (np.zeros_like(a) if a_error_m is None
            else np.where(np.isfinite(a_error_m), a_error_m, 0.0))
     err_mm = err * 1e3 if a_error_m is not None else np.full_like(a, np.nan)
-    i_th = int(np.argmin(np.abs(spindle_rpm - thesis_rpm)))
-    for d in thesis_depths_m:
+    i_first = int(np.argmin(np.abs(spindle_rpm - study_points[0][0])))
+    for rpm_cut, d in study_points:
+        i_th = int(np.argmin(np.abs(spindle_rpm - rpm_cut)))
         rows.append({"direction": direction, "kind": "thesis", "solver": solver,
                      "spindle_rpm": float(spindle_rpm[i_th]), "axial_depth_mm": d * 1e3,
                      "a_crit_mm": a[i_th] * 1e3, "a_crit_error_mm": err_mm[i_th],
@@ -140,9 +142,9 @@ def recommend(a_crit_m: np.ndarray, spindle_rpm: np.ndarray, chatter_hz: np.ndar
                      "chatter_hz": float(chatter_hz[i_th]),
                      "chatter_free": bool(a[i_th] - err[i_th] > d)})
     fin = np.isfinite(a_crit_m)
-    i = int(np.argmax(np.where(fin, a_crit_m - err, -1))) if fin.any() else i_th
+    i = int(np.argmax(np.where(fin, a_crit_m - err, -1))) if fin.any() else i_first
     a_rec = ((a[i] - err[i]) * (1 - safety_fraction) if np.isfinite(a[i])
-             else max(thesis_depths_m))
+             else max(d for _, d in study_points))
     rows.append({"direction": direction, "kind": "recommended", "solver": solver,
                  "spindle_rpm": float(spindle_rpm[i]), "axial_depth_mm": a_rec * 1e3,
                  "a_crit_mm": a[i] * 1e3, "a_crit_error_mm": err_mm[i],

@@ -1,63 +1,151 @@
-"""The thesis robot's chatter study: lobes for the +X, +Y, −Y slots, the mode-coupling
-check, the force-peak comparison and the recommended parameters."""
+"""The study's robot in chapter 4: lobes for each slot of the study (the cuts that share a
+feed direction and a tool), the mode-coupling check, the force-peak comparison and the
+recommended parameters, each cut at its own speed and depth.
+
+The cuts come from the study (:func:`robomill.study.read_study`): a slot is the set of cuts
+with one feed direction (their unit vector in the base XY plane: ``px``, ``py``, ``my`` in the
+thesis' design, any ``direction_deg`` in a free one) and one tool (flutes, radial immersion,
+milling); its name is the direction's (``px``, ``d45``), with the tool added where the study
+cut one direction with several tools. Cut ids carry no meaning here.
+"""
 
 from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pandas as pd
 import xarray as xr
 
 from robomill.chatter.lobe_maps import SOLVERS, lobes_dataset, speed_grid
-from robomill.chatter.model import tool_from_modes
+from robomill.chatter.model import CuttingModel, tool_from_modes
 from robomill.chatter.thesis import (
-    DIRECTIONS,
     cutting_from_coefficients,
     mode_coupling,
     modes_in_slot_frame,
     recommend,
 )
 
+if TYPE_CHECKING:  # the study object is handed in; the science loads no reader of it
+    from robomill.study import Study, StudyCut
+
 MODE_COUPLING_RTOL = 0.005
 """Bisection bracket of the mode-coupling depth (its error is half of it)."""
 
 
+@dataclass(frozen=True)
+class Slot:
+    """The cuts of the study with one feed direction and one tool."""
+
+    name: str
+    feed_xy: tuple[float, float]
+    flutes: int
+    radial_immersion: float
+    milling: str
+    cuts: tuple[StudyCut, ...]
+
+    @property
+    def points(self) -> list[tuple[float, float]]:
+        """The cuts' own (spindle speed [rpm], depth [m]) pairs, each once, in order."""
+        return sorted({(float(c.spindle_rpm), float(c.depth_mm) * 1e-3) for c in self.cuts})
+
+    @property
+    def spindle_rpm(self) -> float:
+        """The speed most of the slot's cuts were made at (the lowest of a tie) [rpm]."""
+        counts = Counter(float(c.spindle_rpm) for c in self.cuts)
+        return min(counts, key=lambda s: (-counts[s], s))
+
+    def cutting(self, coeffs: pd.DataFrame) -> CuttingModel:
+        """The slot's cutting model: the identified coefficients, the slot's flutes and its
+        engagement (a slot: entry 0, exit π; else :meth:`CuttingModel.from_immersion`)."""
+        slot = cutting_from_coefficients(coeffs, self.flutes)
+        if self.milling == "slot" or self.radial_immersion >= 1.0:
+            return slot
+        return CuttingModel.from_immersion(self.flutes, slot.Kt_N_m2, slot.Kr,
+                                           self.radial_immersion, self.milling)
+
+
+def study_slots(study: Study) -> list[Slot]:
+    """The slots of the study's cuts that give a speed, flutes and depth, ordered by feed
+    angle (0° = +X, counter-clockwise), then tool.
+
+    Raises
+    ------
+    ValueError
+        No cut of the study gives a spindle speed, flutes and a depth.
+    """
+    groups: dict[tuple, list[StudyCut]] = {}
+    for c in study.cuts:
+        if c.spindle_rpm is None or c.flutes is None or c.depth_mm is None:
+            continue
+        key = (round(c.direction_deg % 360.0, 6), int(c.flutes),
+               float(c.radial_immersion if c.radial_immersion is not None else 1.0),
+               c.milling or "slot")
+        groups.setdefault(key, []).append(c)
+    if not groups:
+        raise ValueError(f"{study.path}: no cut gives a spindle speed, flutes and a depth "
+                         "(chapter 4's lobes are at the cuts' own speeds)")
+    names = Counter(cuts[0].direction for cuts in groups.values())
+    slots = []
+    for key in sorted(groups):
+        cuts = groups[key]
+        _, z, ae, milling = key
+        name = cuts[0].direction
+        if names[name] > 1:  # one direction cut with several tools
+            name = f"{name}_z{z}_ae{ae:g}_{milling}"
+        slots.append(Slot(name, cuts[0].feed_xy, z, ae, milling, tuple(cuts)))
+    return slots
+
+
 def run_thesis(modes: pd.DataFrame, coeffs: pd.DataFrame, peaks: pd.DataFrame, cfg: dict,
-               *, teeth: int, spindle_rpm: float, depths_mm: list[float],
-               accuracy: float) -> tuple[xr.Dataset, pd.DataFrame]:
-    """Lobes for the +X, +Y, −Y slots (converged to ``accuracy``, with their error), the
-    mode-coupling check, the force-peak comparison and the recommendations table.
+               *, study: Study, accuracy: float) -> tuple[xr.Dataset, pd.DataFrame]:
+    """Lobes for each slot of the study (:func:`study_slots`; converged to ``accuracy``, with
+    their error), the mode-coupling check, the force-peak comparison and the recommendations
+    table, each cut's (speed, depth) a row of its own.
 
     The recommended depth applies the safety fraction on top of the error: a_rec =
     (1 − safety_fraction)(a_limit − a_limit_error), with a_limit the smaller of the
     regenerative and mode-coupling depths and a_limit_error the discretization error of the
     regenerative depth (sem; none for zoa) or the bisection half-bracket of the mode-coupling
     depth; ``stability_margin_min`` = (a_limit − a_limit_error)/a − 1 is the margin at the
-    pessimistic end of the error and decides ``chatter_free``. The study's ``spindle_rpm`` is
-    added to the speed grid (``chatter.thesis.spindle_rpm``) where the grid misses it, so that
-    its recommendation rows are at the speed the study cut with."""
-    cut = cutting_from_coefficients(coeffs, teeth)
+    pessimistic end of the error and decides ``chatter_free``. Every speed the study cut at
+    is added to the speed grid (``chatter.thesis.spindle_rpm``) where the grid misses it, so
+    that each cut's rows are at the speed it was made at."""
+    slots = study_slots(study)
     rpm = speed_grid(cfg["spindle_rpm"])
-    if spindle_rpm is not None and not np.isclose(rpm, spindle_rpm, rtol=1e-9, atol=0).any():
-        rpm = np.sort(np.append(rpm, float(spindle_rpm)))  # the study's own speed, exactly
-    lobes, mc, rows = _slot_lobes(modes, cut, rpm, cfg, spindle_rpm=spindle_rpm,
-                                  depths_mm=depths_mm, accuracy=accuracy)
+    for s in sorted({p[0] for sl in slots for p in sl.points}):
+        if not np.isclose(rpm, s, rtol=1e-9, atol=0).any():
+            rpm = np.sort(np.append(rpm, s))  # the study's own speed, exactly
+    lobes, mc, rows = _slot_lobes(modes, coeffs, slots, rpm, cfg, accuracy=accuracy)
     _add_mode_coupling(lobes, mc)
-    fmed = _add_force_peaks(lobes, peaks)
-    _add_frf(lobes, modes)
-    lobes.attrs.update({"Kt_N_m2": cut.Kt_N_m2, "Kr": cut.Kr, "teeth": cut.teeth,
-                        "thesis_spindle_rpm": spindle_rpm, "thesis_depths_mm": list(depths_mm)})
-    return lobes, _recommendations(rows, mc, fmed, cfg["safety_fraction"])
+    fmed = _add_force_peaks(lobes, peaks, slots)
+    _add_frf(lobes, modes, slots)
+    speeds = sorted({p[0] for sl in slots for p in sl.points})
+    teeth = sorted({sl.flutes for sl in slots})
+    cut0 = slots[0].cutting(coeffs)
+    lobes["study_spindle_rpm"] = ("direction", [sl.spindle_rpm for sl in slots],
+                                  {"units": "rpm", "long_name": "spindle speed of most of the "
+                                   "slot's cuts"})
+    lobes.attrs.update({"Kt_N_m2": cut0.Kt_N_m2, "Kr": cut0.Kr,
+                        "teeth": teeth[0] if len(teeth) == 1 else teeth,
+                        "thesis_spindle_rpm": speeds[0] if len(speeds) == 1 else speeds,
+                        "thesis_depths_mm": sorted({float(c.depth_mm) for sl in slots
+                                                    for c in sl.cuts})})
+    return lobes, _recommendations(rows, mc, fmed, cfg["safety_fraction"], slots)
 
 
-def _slot_lobes(modes: pd.DataFrame, cut, rpm: np.ndarray, cfg: dict, *, spindle_rpm,
-                depths_mm: list[float], accuracy: float):
-    """Each slot direction's lobes (zoa and converged sem), its mode-coupling check and its
+def _slot_lobes(modes: pd.DataFrame, coeffs: pd.DataFrame, slots: list[Slot], rpm: np.ndarray,
+                cfg: dict, *, accuracy: float):
+    """Each slot's lobes (zoa and converged sem), its mode-coupling check and its
     recommendation rows (:func:`robomill.chatter.thesis.recommend`), the lobes concatenated
-    over ``direction``."""
+    over ``direction`` (the slots' names)."""
     dmax = cfg["depth_max_mm"] * 1e-3
     per_dir, mc, rows = [], [], []
-    for d in DIRECTIONS:
-        modes_d = modes_in_slot_frame(modes, d)
+    for sl in slots:
+        cut = sl.cutting(coeffs)
+        modes_d = modes_in_slot_frame(modes, sl.feed_xy)
         tool = tool_from_modes(modes_d)
         ds = lobes_dataset(tool, cut, rpm, depth_max_m=dmax, accuracy=accuracy)
         per_dir.append(ds)
@@ -65,27 +153,32 @@ def _slot_lobes(modes: pd.DataFrame, cut, rpm: np.ndarray, cfg: dict, *, spindle
         for s in SOLVERS:
             err = ds["a_crit_error_mm"].values * 1e-3 if s == "sem" else None
             rows += recommend(ds["a_crit_mm"].sel(solver=s).values * 1e-3, rpm,
-                              ds["chatter_hz"].sel(solver=s).values, d,
-                              thesis_rpm=spindle_rpm,
-                              thesis_depths_m=[x * 1e-3 for x in depths_mm],
+                              ds["chatter_hz"].sel(solver=s).values, sl.name,
+                              study_points=sl.points,
                               safety_fraction=cfg["safety_fraction"], solver=s,
                               a_error_m=err)
-    lobes = xr.concat(per_dir, dim=xr.DataArray(list(DIRECTIONS), dims="direction"))
+    lobes = xr.concat(per_dir, dim=xr.DataArray([sl.name for sl in slots], dims="direction"))
     lobes["direction"].attrs = {"units": "1", "long_name": "slot feed direction (px: +X, "
-                                "py: +Y, my: -Y)"}
+                                "py: +Y, mx: -X, my: -Y, d<deg>: deg from +X)"}
+    lobes["feed_x"] = ("direction", [sl.feed_xy[0] for sl in slots],
+                       {"units": "1", "long_name": "feed direction, base X component"})
+    lobes["feed_y"] = ("direction", [sl.feed_xy[1] for sl in slots],
+                       {"units": "1", "long_name": "feed direction, base Y component"})
     rel = lobes["a_crit_error_mm"] / lobes["a_crit_mm"].sel(solver="sem")
     lobes.attrs["worst_relative_error"] = float(rel.max()) if rel.notnull().any() else np.nan
     return lobes, mc, rows
 
 
-def _add_force_peaks(lobes: xr.Dataset, peaks: pd.DataFrame) -> list[float]:
-    """The dominant force peaks (60–120 Hz in the thesis) by direction: smallest, median and
-    largest over the cuts, added to ``lobes``; returns the medians."""
+def _add_force_peaks(lobes: xr.Dataset, peaks: pd.DataFrame, slots: list[Slot]) -> list[float]:
+    """The dominant force peaks (60–120 Hz in the thesis) of each slot's cuts: smallest,
+    median and largest, added to ``lobes``; returns the medians."""
+    slot_of = {c.id: sl.name for sl in slots for c in sl.cuts}
     pk = peaks.copy()
-    pk["direction"] = pk["cut"].astype(str).str.rsplit("_", n=1).str[-1]
-    fmin = [pk.loc[pk.direction == d, "dominant_hz"].min() for d in DIRECTIONS]
-    fmed = [pk.loc[pk.direction == d, "dominant_hz"].median() for d in DIRECTIONS]
-    fmax = [pk.loc[pk.direction == d, "dominant_hz"].max() for d in DIRECTIONS]
+    pk["direction"] = pk["cut"].astype(str).map(slot_of)
+    names = [sl.name for sl in slots]
+    fmin = [pk.loc[pk.direction == d, "dominant_hz"].min() for d in names]
+    fmed = [pk.loc[pk.direction == d, "dominant_hz"].median() for d in names]
+    fmax = [pk.loc[pk.direction == d, "dominant_hz"].max() for d in names]
     for name, vals, ln in (("force_peak_min_hz", fmin, "smallest"),
                            ("force_peak_median_hz", fmed, "median"),
                            ("force_peak_max_hz", fmax, "largest")):
@@ -110,12 +203,12 @@ def _add_mode_coupling(lobes: xr.Dataset, mc: list[dict]) -> None:
     lobes["pair"] = ("pair", [0, 1], {"units": "1", "long_name": "member of the pair"})
 
 
-def _add_frf(lobes: xr.Dataset, modes: pd.DataFrame) -> None:
-    """|G| of each direction's tool in the slot frame, 1–200 Hz, added to ``lobes``."""
+def _add_frf(lobes: xr.Dataset, modes: pd.DataFrame, slots: list[Slot]) -> None:
+    """|G| of each slot's tool in the slot frame, 1–200 Hz, added to ``lobes``."""
     lobes["frequency"] = ("frequency", np.linspace(1.0, 200.0, 400),
                           {"units": "Hz", "long_name": "frequency"})
-    frf = np.stack([np.abs(tool_from_modes(modes_in_slot_frame(modes, d))
-                           .frf(lobes["frequency"].values)) for d in DIRECTIONS])
+    frf = np.stack([np.abs(tool_from_modes(modes_in_slot_frame(modes, sl.feed_xy))
+                           .frf(lobes["frequency"].values)) for sl in slots])
     lobes["frf_abs_m_N"] = (("direction", "out", "in", "frequency"), frf,
                             {"units": "m/N", "long_name": "|G| in the slot frame"})
     lobes["out"] = ("out", ["feed", "normal"], {"units": "1", "long_name": "response axis"})
@@ -123,12 +216,13 @@ def _add_frf(lobes: xr.Dataset, modes: pd.DataFrame) -> None:
 
 
 def _recommendations(rows: list[dict], mc: list[dict], fmed: list[float],
-                     safety_fraction: float) -> pd.DataFrame:
+                     safety_fraction: float, slots: list[Slot]) -> pd.DataFrame:
     """The recommendation rows with the mode-coupling cap, the limit and its error, the
     recommended depth and its margins (the rule of :func:`run_thesis`)."""
     rec = pd.DataFrame(rows)
     # mode coupling does not depend on speed: it caps the depth at every speed
-    amc = {d: x["a_mc_m"] * 1e3 for d, x in zip(DIRECTIONS, mc, strict=True)}
+    names = [sl.name for sl in slots]
+    amc = {d: x["a_mc_m"] * 1e3 for d, x in zip(names, mc, strict=True)}
     rec["a_mode_coupling_mm"] = rec["direction"].map(amc)
     limit = np.fmin(rec["a_crit_mm"], rec["a_mode_coupling_mm"])
     by_mc = rec["a_mode_coupling_mm"] < rec["a_crit_mm"]
@@ -143,6 +237,6 @@ def _recommendations(rows: list[dict], mc: list[dict], fmed: list[float],
     rec["stability_margin_min"] = ((rec["a_limit_mm"] - rec["a_limit_error_mm"])
                                    / rec["axial_depth_mm"] - 1)
     rec["chatter_free"] = rec["stability_margin_min"] > 0
-    fpk = dict(zip(DIRECTIONS, fmed, strict=True))
+    fpk = dict(zip(names, fmed, strict=True))
     rec["force_peak_median_hz"] = rec["direction"].map(fpk)
     return rec

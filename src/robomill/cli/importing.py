@@ -30,7 +30,7 @@ class ImportFailed(Exception):
 
 
 def _check_entries(entries: Any, staging: Path, module: str) -> list[dict[str, Any]]:
-    from robomill.io.manifest import KIND_KEYS
+    from robomill.io.kinds import KIND_KEYS
 
     if not isinstance(entries, list) or not entries:
         raise ImportFailed([f"importer {module} returned {entries!r} (expected a non-empty "
@@ -171,6 +171,41 @@ def _designs_from_names(args: argparse.Namespace, sources: list[Path]
     return designs
 
 
+def _sidecar_design(args: argparse.Namespace) -> None:
+    """A ``--sidecar`` file (YAML or JSON: the cut's conditions as a lab writes them beside a
+    recording, keys among the ``--design`` names, e.g. ``{spindle_rpm: 12500, flutes: 4,
+    feed_mm_min: 600, depth_mm: 0.5, tool_diameter_mm: 6}``) added to ``args.design``.
+
+    Raises
+    ------
+    ImportFailed
+        An unreadable file, not a mapping, or a key that is not a design name.
+    """
+    import yaml
+
+    from robomill.importers.names import GROUPS
+
+    path = getattr(args, "sidecar", None)
+    if path is None:
+        return
+    path = Path(path)
+    try:
+        data = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        raise ImportFailed([f"{path}: sidecar cannot be read ({type(exc).__name__}) "
+                            "(expected a YAML or JSON mapping of the cut's design keys)"]
+                           ) from None
+    if not isinstance(data, Mapping) or not data:
+        raise ImportFailed([f"{path}: sidecar holds {type(data).__name__} (expected a YAML or "
+                            "JSON mapping of the cut's design keys)"])
+    unknown = [str(k) for k in data if k not in GROUPS]
+    if unknown:
+        raise ImportFailed([f"{path}: sidecar key(s) {', '.join(unknown)} unknown (expected "
+                            "keys among " + ", ".join(GROUPS) + ")"])
+    args.design = list(getattr(args, "design", None) or []) + [
+        f"{k}={v}" for k, v in data.items()]
+
+
 def import_files(module, sources: list[Path], raw_dir: Path, args: argparse.Namespace, *,
                  overwrite: bool = False) -> list[dict[str, Any]]:
     """Convert ``sources`` with importer ``module`` and add them to ``raw_dir`` atomically.
@@ -196,6 +231,7 @@ def import_files(module, sources: list[Path], raw_dir: Path, args: argparse.Name
         data, header = read_manifest_text(mpath)
     except RawDataError as exc:
         raise ImportFailed([" ".join(str(exc).split())]) from None
+    _sidecar_design(args)
     designs = _designs_from_names(args, [Path(s) for s in sources])
     staging = Path(tempfile.mkdtemp(prefix="robomill-import-"))
     placed: list[tuple[Path, Path | None]] = []  # (file placed, backup of what it replaced)

@@ -16,23 +16,13 @@ import numpy as np
 
 from robomill.errors import RawDataError
 from robomill.experiment import CUT_ID
-
-KIND_FOLDERS: dict[str, str] = {
-    "profile": "profiles",
-    "areal": "areal",
-    "force": "forces",
-    "tracker": "tracker",
-    "impact": "impact",
-    "ctrack": "ctrack",
-    "robot": "stiffness",
-    "stiffness": "stiffness",
-    "sound": "sound",
-    "vibration": "vibration",
-}
-"""Folder of each file kind inside the raw folder (the contract's layout)."""
-
-IGNORED_NAMES = ("manifest.yaml", "cell.yaml", "README.md", ".gitkeep")
-"""Files of a raw folder that are not data files listed under ``files``."""
+from robomill.io.kinds import (  # noqa: F401  (the names the command line's tools import here)
+    IGNORED_NAMES,
+    KIND_FOLDERS,
+    KIND_KEYS,
+    data_files,
+    ignored,
+)
 
 CUT_IN_NAME = re.compile(r"s(?P<set>\d+)_g(?P<segment>\d+)_(?P<direction>px|py|my)(?![a-z])")
 TRACKER_NAME = re.compile(r"^(?:(?P<direction>px|mx|py|my)|d(?P<deg>-?\d+(?:\.\d+)?))"
@@ -144,7 +134,6 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
     naming the import command.
     """
     from robomill.io.ctrack import READERS as CTRACK_TABLES
-    from robomill.io.manifest import KIND_KEYS
 
     rel = path.relative_to(raw_dir).as_posix()
     inf = Inference(rel)
@@ -213,6 +202,8 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
         entry["robot"] = LOAD_TESTS_NAME.match(stem)["robot"]
     if cut:
         entry["cut"] = cut
+        if kind in ("sound", "vibration") and stem.endswith("_air"):
+            entry["pass"] = "air"  # <cut>_air: the cut's air pass (data-contract.md)
     if "fs_hz" in KIND_KEYS.get(kind, {}):
         fs = file_rate_hz(path)
         if fs is not None:
@@ -220,36 +211,6 @@ def infer_file(raw_dir: Path, path: Path) -> Inference:
     inf.entry = entry
     inf.missing = [k for k in KIND_KEYS.get(kind, {}) if k not in entry]
     return inf
-
-
-def ignored(rel_paths: list[str], patterns: list[str]) -> set[str]:
-    """The paths of ``rel_paths`` (relative, ``/``-separated) that ``patterns`` match, with
-    the rules of ``.gitignore`` (``pathspec.GitIgnoreSpec``: ``*.jpg`` anywhere, ``notes/``
-    a folder and all it holds, ``/x`` anchored at the raw folder, ``!keep`` re-includes)."""
-    if not patterns:
-        return set()
-    import pathspec
-
-    spec = pathspec.GitIgnoreSpec.from_lines(patterns)
-    return {r for r in rel_paths if spec.match_file(r)}
-
-
-def data_files(raw_dir: Path, ignore: list[str] | None = None) -> list[Path]:
-    """Every data file of the raw folder (hidden files, the manifest and README/.gitkeep
-    excluded; the cell file too unless the manifest has a kind ``cell`` to list it; files
-    matching the manifest's ``ignore`` patterns, :func:`ignored`), sorted."""
-    from robomill.io.manifest import KIND_KEYS
-
-    ignored_names = [n for n in IGNORED_NAMES if not (n == "cell.yaml" and "cell" in KIND_KEYS)]
-    out = []
-    for p in sorted(raw_dir.rglob("*")):
-        rel = p.relative_to(raw_dir)
-        if (p.is_file() and not any(part.startswith(".") for part in rel.parts)
-                and not (len(rel.parts) == 1 and p.name in ignored_names)
-                and p.name not in ("README.md", ".gitkeep")):
-            out.append(p)
-    skip = ignored([p.relative_to(raw_dir).as_posix() for p in out], ignore or [])
-    return [p for p in out if p.relative_to(raw_dir).as_posix() not in skip]
 
 
 def cut_stub(cut_id: str) -> dict[str, Any]:

@@ -1,7 +1,9 @@
-"""``robomill listen FILE [--rpm N --flutes Z]``: did this cut chatter, at what frequency, and
-which spindle speeds to try instead, from one recording (sound, vibration or a force record in
-CSV), with the pipeline's verdict (:func:`robomill.chatter.verdicts.judge`, settings
-``chatter.verdicts`` of the schema).
+"""``robomill listen FILE [--rpm N --flutes Z] [--air AIRFILE]``: did this cut chatter, at what
+frequency, and which spindle speeds to try instead, from one recording (sound, vibration or a
+force record in CSV), with the pipeline's verdict (:func:`robomill.chatter.verdicts.judge`,
+settings ``chatter.verdicts`` of the schema). With ``--air``, the recording of the same path
+moved without material by the same instrument: a chatter line that it shows and the cut does
+not raise is ``forced`` (:func:`robomill.chatter.verdicts.air_test`).
 """
 
 from __future__ import annotations
@@ -13,7 +15,7 @@ from typing import Any
 from robomill.errors import RawDataError
 
 HELP = ("chatter verdict of one recording (WAV/FLAC/MP3 sound, accelerometer CSV/TDMS/UFF 58): "
-        "stable | chatter | undetermined, the chatter frequency and the speeds to try")
+        "stable | chatter | forced | undetermined, the chatter frequency and the speeds to try")
 
 
 def add_parser(sub: Any) -> None:  # what ArgumentParser.add_subparsers() returns
@@ -27,6 +29,10 @@ def add_parser(sub: Any) -> None:  # what ArgumentParser.add_subparsers() return
                    help="the recording's kind (default: from the suffix)")
     p.add_argument("--fs-hz", type=float, default=None,
                    help="sampling rate of a vibration CSV (default: from its t_s column)")
+    p.add_argument("--air", type=Path, metavar="AIRFILE", default=None,
+                   help="an air pass of the same cut by the same instrument (the same path "
+                        "without material): a chatter line it shows, which the cut raises by "
+                        "less than chatter.verdicts.air_rise_db, is forced vibration")
     p.add_argument("--range", type=float, nargs=2, metavar=("MIN", "MAX"), default=None,
                    help="range of the recommended speeds [rpm] (default: "
                         "chatter.verdicts.speed_range_rpm)")
@@ -36,7 +42,7 @@ def add_parser(sub: Any) -> None:  # what ArgumentParser.add_subparsers() return
 def run(args: argparse.Namespace) -> int:
     import dataclasses
 
-    from robomill.chatter.verdicts import default_settings, judge
+    from robomill.chatter.verdicts import air_test, call_forced, default_settings, judge
     from robomill.io.recordings import read_recording
 
     settings = default_settings()
@@ -47,9 +53,22 @@ def run(args: argparse.Namespace) -> int:
     except RawDataError as exc:
         print(f"robomill listen: {exc}")
         return 1
+    air = None
+    if args.air is not None:
+        try:
+            air = read_recording(args.air, args.kind or rec.kind, fs_hz=args.fs_hz)
+        except RawDataError as exc:
+            print(f"robomill listen: {exc}")
+            return 1
     v = judge(rec.samples, rec.fs_hz, settings, spindle_rpm=args.rpm, flutes=args.flutes)
+    if air is not None and v.verdict == "chatter":
+        v = call_forced(v, air_test(rec.samples, rec.fs_hz, air.samples, air.fs_hz,
+                                    v.chatter_hz, settings,
+                                    air_name=f"the air pass {args.air}"))
     print(f"{args.file}: {v.verdict}"
-          + (f" at {v.chatter_hz:.1f} Hz" if v.verdict == "chatter" else ""))
+          + (f" at {v.chatter_hz:.1f} Hz" if v.verdict == "chatter" else "")
+          + (f" at {v.line_hz:.1f} Hz (forced vibration, not chatter)"
+             if v.verdict == "forced" else ""))
     print(f"  {rec.duration_s:.1f} s at {rec.fs_hz:g} Hz, {len(rec.channels)} channel(s)")
     print(f"  evidence: {v.evidence}")
     if v.speeds_rpm:

@@ -61,7 +61,8 @@ def update_manifest(raw_dir: str | Path) -> tuple[dict[str, Any], list[str], lis
     unknown top-level keys stay. Every listed file's sha256 is recomputed from its bytes.
     Required keys that cannot be inferred are written as ``null``.
     """
-    from robomill.io.manifest import KIND_KEYS, build_manifest
+    from robomill.io.kinds import KIND_KEYS
+    from robomill.io.manifest import build_manifest
     from robomill.io.needs import (
         chapter_list,
         file_kinds,

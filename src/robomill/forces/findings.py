@@ -23,7 +23,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill import references
+from robomill import catalogue, references
 from robomill.findings import Findings
 from robomill.forces.coefficients import (
     FLAG_COLUMNS,
@@ -35,12 +35,12 @@ from robomill.forces.peaks import nearest_modes
 from robomill.forces.tables import figure_cuts, process_table
 from robomill.settings import section_settings
 
-_PEAKS = "results/forces/peaks.csv"
-_MODES = "results/modal/modes.csv"
-_SPECTRA = "results/forces/spectra.nc"
-_MEANS = "results/forces/mean_forces.csv"
-_COEFFICIENTS = "results/forces/cutting_coefficients.csv"
-_CUTS = "results/ingest/cuts.csv"
+_PEAKS = catalogue.artefact("forces.peaks")
+_MODES = catalogue.artefact("modal.modes")
+_SPECTRA = catalogue.artefact("forces.spectra")
+_MEANS = catalogue.artefact("forces.mean_forces")
+_COEFFICIENTS = catalogue.artefact("forces.cutting_coefficients")
+_CUTS = catalogue.artefact("ingest.cuts")
 _REFERENCES = "src/robomill/data/references.yaml"
 
 

@@ -1,6 +1,6 @@
 """Settings of the per-cut force analysis (config section ``forces``): the streaming
 spectra's parameters and those of the peak search. Their defaults are the schema's
-(``workflow/schemas/config/forces.schema.yaml``; :func:`robomill.settings.schema_default`).
+(``src/robomill/data/schemas/config/forces.schema.yaml``; :func:`robomill.settings.schema_default`).
 """
 
 from __future__ import annotations

@@ -17,15 +17,15 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill import references
+from robomill import catalogue, references
 from robomill.findings import Findings
 from robomill.hexapod.geometry import G0_M_S2
 from robomill.hexapod.sensitivity import drift_antisymmetry
 
-_TRAJECTORY = "results/hexapod/trajectory.nc"
-_FORCES = "results/hexapod/forces.nc"
-_SENSITIVITY = "results/hexapod/sensitivity.nc"
-_ACCURACY = "results/hexapod/force_accuracy.csv"
+_TRAJECTORY = catalogue.artefact("hexapod.trajectory")
+_FORCES = catalogue.artefact("hexapod.forces")
+_SENSITIVITY = catalogue.artefact("hexapod.sensitivity")
+_ACCURACY = catalogue.artefact("hexapod.force_accuracy")
 _REFS = "src/robomill/data/references.yaml"
 _CONFIG = "config.yaml"
 _TABLE1 = ("spindle_rpm", "feed_m_min", "depth_mm", "hardness_hrc_max")

@@ -30,6 +30,10 @@ FORMATS: dict[str, str] = {
     "x3p": "robomill.importers.x3p",
     "sdf": "robomill.importers.sdf",
     "areal": "robomill.importers.topography",
+    "lvm": "robomill.importers.lvm",
+    "mat": "robomill.importers.mat",
+    "text": "robomill.importers.text",
+    "recording": "robomill.importers.recording",
 }
 """Registered formats and the module implementing each (imported lazily)."""
 

@@ -167,10 +167,15 @@ XML_UNITS_UM = {"um": 1.0, "µm": 1.0, "μm": 1.0, "micron": 1.0, "microns": 1.0
 """SMATS XML ``<UNITS>`` (of the spacing and the heights) → µm per unit."""
 COUNT_UNITS = ("count", "counts", "cnt", "cnts", "lsb", "bit", "bits", "digit", "digits")
 """Denominators of a ``KCAL`` that converts instrument counts into a length."""
+VOLTAGE_UNITS = ("v", "mv", "uv", "µv", "volt", "volts")
+"""Denominators of a ``KCAL`` that is the transducer's sensitivity (``1um/mv``, as the NPL
+profiles exported by SMATS write it): the heights are already in ``UNITS``."""
 _NUMBER_UNIT = re.compile(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$")
 PARAMETER_SECTIONS = {"ROUGHNESS_SURFACE_PARAMETERS": "roughness",
                       "WAVINESS_SURFACE_PARAMETERS": "waviness",
-                      "PRIMARY_SURFACE_PARAMETERS": "primary"}
+                      "PRIMARY_SURFACE_PARAMETERS": "primary",
+                      "SHORT_CUTOFF_PROFILE_SURFACE_PARAMETERS": "primary",
+                      "RAW_PROFILE_SURFACE_PARAMETERS": "raw"}
 """The file's reference parameter sections and the profile each describes."""
 _PARAMETER = re.compile(r"^[PRW](A|Q|Z|T|P|V|C|SK|KU)$", re.IGNORECASE)
 _DIMENSIONLESS = ("SK", "KU")
@@ -281,8 +286,8 @@ def kcal_factor(source: Path, text: str, where: str) -> tuple[float, bool]:
         Not a number, or a unit that is neither a length ratio nor a length per count.
     """
     got = number_unit(text)
-    expected = ("a number, a number and a ratio of lengths (1.0 um/um) or a length per count "
-                "(0.1 nm/count)")
+    expected = ("a number, a number and a ratio of lengths (1.0 um/um), a length per count "
+                "(0.1 nm/count) or a length per volt (1um/mv)")
     if got is None:
         raise RawDataError(source, f"KCAL {text!r} is not a number", where=where,
                            expected=expected)
@@ -294,8 +299,33 @@ def kcal_factor(source: Path, text: str, where: str) -> tuple[float, bool]:
         return k * _unit_um(num) / _unit_um(den), False
     if slash and _unit_um(num) is not None and den in COUNT_UNITS:
         return k * _unit_um(num), True
+    if slash and _unit_um(num) is not None and den in VOLTAGE_UNITS:
+        return 1.0, False  # the transducer's sensitivity: the heights are in UNITS already
     raise RawDataError(source, f"KCAL {text!r}: unit {unit!r} is not understood", where=where,
                        expected=expected)
+
+
+def _analysis_settings(root) -> dict[str, Any]:
+    """What the NPL/SMATS ``<ANALYSIS>`` block states about the parameters it lists: the
+    short-wavelength (λs) Gaussian filter of the ``SHORT_CUTOFF_PROFILE``
+    (``<FILTER>``: ``FILTER_TYPE``, ``SHORT_CUTOFF`` in ``UNITS``, default mm) →
+    ``lambda_s_mm``, and the form removed before them (``<CURVATURE_REMOVAL>``
+    ``<LSQ_COEFF>``: the order of the least-squares polynomial removed, 0 = the mean only)
+    → ``form_order``."""
+    out: dict[str, Any] = {}
+    lsq = root.find(".//ANALYSIS/CURVATURE_REMOVAL/LSQ_COEFF")
+    if lsq is not None and (got := number_unit(lsq.text or "")) is not None and not got[1]:
+        out["form_order"] = int(round(got[0]))
+    flt = root.find(".//ANALYSIS/FILTER")
+    if flt is not None:
+        ftype = " ".join((flt.findtext("FILTER_TYPE") or "").split())
+        short = number_unit(flt.findtext("SHORT_CUTOFF") or "")
+        unit = (flt.findtext("UNITS") or "mm").strip()
+        um = _unit_um(short[1] or unit) if short is not None else None
+        if ftype and ftype.upper() != "N/A" and short is not None and um and short[0] > 0:
+            out["lambda_s_mm"] = short[0] * um * 1e-3
+            out["lambda_s_filter"] = ftype
+    return out
 
 
 def reference_parameters(source: Path, root, datafile, heights_um_per_unit: float
@@ -305,10 +335,15 @@ def reference_parameters(source: Path, root, datafile, heights_um_per_unit: floa
 
     Sections inside the chosen ``<DATAFILE>`` come first; those elsewhere in the document
     are read when the data file has none. Parameter names keep their letter (P, R or W) and
-    type (a, q, z, t, p, v, c, sk, ku); amplitudes are converted to µm (their own unit, or
-    ``UNITS``), sk and ku are dimensionless. Other children are the section's settings, kept
-    as text under ``filter``; a cut-off among them (``CUTOFF``, ``LAMBDA_C``…) with a length
-    unit (mm when none) also gives ``lambda_c_mm``.
+    type (a, q, z, t, p, v, c, sk, ku); amplitudes are converted to µm (their own unit, the
+    section's ``<UNITS>``, or the heights' ``UNITS``), sk and ku are dimensionless; an empty
+    element (``<PA/>``: not computed by the exporter) is skipped. Other children are the
+    section's settings, kept as text under ``filter``; a cut-off among them (``CUTOFF``,
+    ``LAMBDA_C``…) with a length unit (mm when none) also gives ``lambda_c_mm``. The NPL
+    exports' ``RAW_PROFILE`` (profile ``raw``: the heights as measured) and
+    ``SHORT_CUTOFF_PROFILE`` (profile ``primary``: after the λs filter) also carry what the
+    ``<ANALYSIS>`` block states (:func:`_analysis_settings`: ``lambda_s_mm`` for the
+    primary profile, ``form_order`` for both).
 
     Raises
     ------
@@ -316,6 +351,7 @@ def reference_parameters(source: Path, root, datafile, heights_um_per_unit: floa
         A parameter whose value is not a number, or has an unknown unit.
     """
     out: dict[str, dict[str, Any]] = {}
+    analysis = _analysis_settings(root)
     for tag, profile in PARAMETER_SECTIONS.items():
         sec = datafile.find(f".//{tag}")
         if sec is None:
@@ -325,6 +361,8 @@ def reference_parameters(source: Path, root, datafile, heights_um_per_unit: floa
         where = f"{tag}"
         values: dict[str, Any] = {}
         settings: dict[str, str] = {}
+        sec_unit = " ".join((sec.findtext("UNITS") or "").split())
+        sec_um = _unit_um(sec_unit) if sec_unit else None
         for child in sec:
             if not isinstance(child.tag, str):
                 continue
@@ -333,6 +371,8 @@ def reference_parameters(source: Path, root, datafile, heights_um_per_unit: floa
             if m is None:
                 if text:
                     settings[child.tag] = text
+                continue
+            if not text:
                 continue
             got = number_unit(text)
             if got is not None and not got[1]:
@@ -346,10 +386,17 @@ def reference_parameters(source: Path, root, datafile, heights_um_per_unit: floa
             if m[1].upper() in _DIMENSIONLESS:
                 values[name] = got[0]
             else:
-                scale = _unit_um(got[1]) if got[1] else heights_um_per_unit
+                scale = (_unit_um(got[1]) if got[1] else sec_um or heights_um_per_unit)
                 values[f"{name}_um"] = got[0] * scale
         if not values:
             continue
+        if tag in ("SHORT_CUTOFF_PROFILE_SURFACE_PARAMETERS", "RAW_PROFILE_SURFACE_PARAMETERS"):
+            if "form_order" in analysis:
+                values["form_order"] = analysis["form_order"]
+            if profile == "primary" and "lambda_s_mm" in analysis:
+                values["lambda_s_mm"] = analysis["lambda_s_mm"]
+                settings = {"FILTER_TYPE": analysis["lambda_s_filter"],
+                            "SHORT_CUTOFF": f"{analysis['lambda_s_mm']:g} mm", **settings}
         if settings:
             values["filter"] = settings
         for key in _CUTOFF_TAGS:
@@ -358,6 +405,8 @@ def reference_parameters(source: Path, root, datafile, heights_um_per_unit: floa
                 if um is not None and got[0] > 0:
                     values["lambda_c_mm"] = got[0] * um * 1e-3
                     break
+        if profile in out:  # PRIMARY_SURFACE_PARAMETERS and a SHORT_CUTOFF_PROFILE: the first
+            continue
         out[profile] = values
     return out
 

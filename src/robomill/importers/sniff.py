@@ -2,9 +2,9 @@
 
 The contract readers (:mod:`robomill.io.tables`, :mod:`robomill.io.forces`, …) call
 :func:`hint` on their header/format error path, so that a DynoWare, TDMS, X3P, SMATS/SDF,
-SpatialAnalyzer, FARO or UFF file handed to them directly is named and the import command
-given, instead of a bare "column 't_s' is missing". Only the first :data:`HEAD_BYTES` bytes
-are read; nothing here imports numpy, pandas or the importers.
+SpatialAnalyzer, FARO, UFF, LabVIEW or MATLAB file handed to them directly is named and the
+import command given, instead of a bare "column 't_s' is missing". Only the first
+:data:`HEAD_BYTES` bytes are read; nothing here imports numpy, pandas or the importers.
 """
 
 from __future__ import annotations
@@ -22,6 +22,8 @@ NAMES = {
     "spatialanalyzer": "a SpatialAnalyzer point export",
     "faro": "a FARO tracker export",
     "uff": "a UFF (universal file format) file",
+    "lvm": "a LabVIEW measurement file",
+    "mat": "a MATLAB .mat file",
 }
 
 EXAMPLE_OPTIONS = {
@@ -32,6 +34,8 @@ EXAMPLE_OPTIONS = {
     "spatialanalyzer": "--direction DIR --feed-mm-s FEED --fs-hz RATE",
     "faro": "--direction DIR --feed-mm-s FEED --fs-hz RATE",
     "uff": "",
+    "lvm": "--hammer CH[:unit] --response CH:DIR[:unit] --direction DIR",
+    "mat": "--hammer VAR[:unit] --response VAR:DIR[:unit] --direction DIR",
 }
 
 
@@ -50,13 +54,18 @@ def sniff(path: str | Path) -> str | None:
     (X3P); an SDF first line (``aISO-1.0``, ``aBCR-1.0``, … with ``NumPoints``) or an XML file
     naming SMATS or holding a ``<DATAFILE>`` (SMATS XML); the
     words Kistler/DynoWare; SpatialAnalyzer/``::`` point names with ``//`` comments; FARO; a
-    UFF data set (``-1`` delimiter line then a set number such as 58).
+    UFF data set (``-1`` delimiter line then a set number such as 58); a MATLAB v5/v7.3 header;
+    an LVM first line ``LabVIEW Measurement``.
     """
     head = _head(Path(path))
     if not head:
         return None
     if head.startswith(b"TDSm"):
         return "tdms"
+    if head.startswith(b"MATLAB 5.0 MAT-file") or head.startswith(b"MATLAB 7.3 MAT-file"):
+        return "mat"
+    if head.lstrip(b"\xef\xbb\xbf").startswith(b"LabVIEW Measurement"):
+        return "lvm"
     if head.startswith(b"PK\x03\x04"):
         return "x3p" if b"main.xml" in head else None
     text = head.decode("utf-8", errors="replace")

@@ -18,6 +18,9 @@ simulators (``docs/data-contract.md``, section *The cell*)::
     mass_model:                                # optional: point masses (manufacturer data / CAD)
       links: [{link: 1, mass_kg: 60.0, com_mm: [40.0, 0.0, 300.0]}, ...]
       tool: {mass_kg: 5.0, com_mm: [880.0, 10.0, 1186.5]}
+    controller_frames:                         # optional: the controller's flange and joints
+      flange: {xyz_mm: [0, 0, 0], rpy_deg: [0, 0, 180]}
+    spindle: {speed: aoSpindleSpeed, start: doSpindleOn, ready: diSpindleAtSpeed}  # optional
 
 ``robot`` follows the robot-file schema of the stiffness section
 (:func:`robomill.io.robots.parse_robot`); its tool frame, working range, axis speeds and
@@ -43,12 +46,19 @@ import numpy as np
 import yaml
 
 from robomill.errors import RawDataError
+from robomill.io.controller import (
+    ControllerFrames,
+    SpindleInterface,
+    parse_controller_frames,
+    parse_spindle,
+)
 from robomill.io.robots import parse_robot
 from robomill.kinematics import SerialRobot, reachable_joint_path_rad, robot_from_mapping
 
 CELL_KEYS = ("robot", "q_home_deg", "tool_rotation", "transmissions", "base_from_instrument",
-             "mass_model")
-"""Top-level keys of ``cell.yaml`` (``base_from_instrument`` and ``mass_model`` optional)."""
+             "mass_model", "controller_frames", "spindle")
+"""Top-level keys of ``cell.yaml`` (the last four optional; ``controller_frames`` and
+``spindle``: :mod:`robomill.io.controller`)."""
 
 MASS_KEYS = ("link", "mass_kg", "com_mm")
 """Keys of one ``mass_model.links`` entry (``mass_model.tool`` has ``mass_kg, com_mm``)."""
@@ -137,6 +147,8 @@ class Cell:
     transmissions: list[Transmission]
     base_from_instrument: dict[str, Registration] = field(default_factory=dict)
     mass_model: CellMassModel | None = None
+    controller_frames: ControllerFrames | None = None
+    spindle: SpindleInterface | None = None
 
     @property
     def q_home_rad(self) -> np.ndarray:
@@ -290,7 +302,7 @@ def parse_cell(data: Any, path: str | Path) -> Cell:
     """
     path = Path(path)
     top = ("keys robot, q_home_deg, tool_rotation, transmissions (base_from_instrument, "
-           "mass_model optional)")
+           "mass_model, controller_frames, spindle optional)")
     if not isinstance(data, Mapping):
         raise RawDataError(path, "not a YAML mapping", expected=top)
     unknown = sorted(set(data) - set(CELL_KEYS))
@@ -383,9 +395,11 @@ def parse_cell(data: Any, path: str | Path) -> Cell:
             regs[str(inst)] = Registration(R, t)
     masses = data.get("mass_model")
     masses = None if masses is None else parse_mass_model(masses, path, n)
+    frames = parse_controller_frames(data.get("controller_frames"), path, n)
+    spindle = parse_spindle(data.get("spindle"), path, spec.get("controller"))
     return Cell(path=path, robot=robot, robot_spec=spec, q_home_deg=q_home,
                 tool_rotation=R_tool, transmissions=transmissions, base_from_instrument=regs,
-                mass_model=masses)
+                mass_model=masses, controller_frames=frames, spindle=spindle)
 
 
 def read_cell(path: str | Path) -> Cell:
@@ -407,8 +421,9 @@ def cell_mapping(cell: Mapping[str, Any]) -> dict[str, Any]:
     out["transmissions"] = [{k: t[k] for k in TRANSMISSION_KEYS} for t in cell["transmissions"]]
     if cell.get("base_from_instrument"):
         out["base_from_instrument"] = dict(cell["base_from_instrument"])
-    if cell.get("mass_model") is not None:
-        out["mass_model"] = dict(cell["mass_model"])
+    for key in ("mass_model", "controller_frames", "spindle"):
+        if cell.get(key) is not None:
+            out[key] = dict(cell[key])
     return _plain(out)
 
 

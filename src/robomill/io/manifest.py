@@ -28,11 +28,10 @@ from robomill.experiment import (
     DIRECTION_VECTORS,
     FREE_CUT_ID,
     MILLING,
-    TRACKER_PASSES,
     Cut,
-    tracker_run,
 )
 from robomill.io.hashing import sha256_file
+from robomill.io.kinds import KIND_FOLDERS, check_file_entry, check_keys, data_files
 from robomill.io.needs import (
     chapter_list,
     file_kinds,
@@ -78,28 +77,6 @@ tool's rotation about its axis ``redundancy_deg`` (default 0: the cell's tool or
 
 REDUNDANCY_LIMIT_DEG = 360.0
 """The largest |redundancy_deg| a cut may give (one turn either way)."""
-
-KIND_KEYS: dict[str, dict[str, tuple[type, ...]]] = {
-    # kind -> metadata keys every file of that kind must carry (besides path, kind, sha256)
-    "profile": {"cut": (str,)},
-    "force": {"cut": (str,), "fs_hz": (int, float)},
-    "tracker": {"feed_mm_s": (int, float), "fs_hz": (int, float)},  # + direction(_deg)
-    # impact: CSV hits need 'direction', UFF files need nothing; robomill.io.impact
-    # .entry_metadata checks direction, hit, node, response_node, range_N, range_ms2
-    "impact": {},
-    "ctrack": {"table": (str,)},
-    "robot": {"robot": (str,)},
-    "stiffness": {"robot": (str,)},
-    "cell": {},
-    # recordings of the cut (robomill.io.recordings); optional spindle_rpm, flutes (else the
-    # cut's design), fs_hz (CSV), channels (TDMS)
-    "sound": {"cut": (str,)},
-    "vibration": {"cut": (str,)},
-    # areal scans: the cut's feed direction in the scan's frame (robomill.io.areal)
-    "areal": {"cut": (str,), "feed_angle_deg": (int, float)},
-}
-"""Metadata keys required per file kind. Chapter issues extend their kind's entry."""
-
 
 @dataclass
 class Manifest:
@@ -165,9 +142,9 @@ class Manifest:
 
         A raw folder holds more than data (notes, photos, an instrument's project files).
         Files matching the manifest's ``ignore:`` patterns (gitignore syntax,
-        :func:`robomill.cli.layout.ignored`) are skipped. An unlisted file inside a kind's
+        :func:`robomill.io.kinds.ignored`) are skipped. An unlisted file inside a kind's
         folder (``profiles/``, ``forces/``, ``areal/`` …: the folders of
-        :data:`robomill.cli.layout.KIND_FOLDERS` and the top folders of the listed files; the
+        :data:`robomill.io.kinds.KIND_FOLDERS` and the top folders of the listed files; the
         cell file ``cell.yaml``) stops ingestion, naming every such file: it is data that would
         silently be left out. Unlisted files elsewhere are returned, one line in all, for the
         caller to warn with.
@@ -182,8 +159,6 @@ class Manifest:
         RawDataError
             A listed file is missing or changed (sha256); unlisted files in a kind folder.
         """
-        from robomill.cli.layout import KIND_FOLDERS, data_files
-
         for f in self.files:
             self.verify_file(f["path"])
         listed = {f["path"] for f in self.files}
@@ -234,20 +209,6 @@ def _check_ignore(path: Path, patterns: Any) -> None:
                                     "['notes/', '*.jpg']")
 
 
-def _check_keys(path: Path, where: str, obj: Any, keys: Mapping[str, tuple[type, ...]]) -> None:
-    if not isinstance(obj, Mapping):
-        raise RawDataError(path, f"{type(obj).__name__} found", where=where,
-                           expected="a mapping with keys " + ", ".join(keys))
-    for key, types in keys.items():
-        if key not in obj:
-            raise RawDataError(path, f"key '{key}' is missing", where=where,
-                               expected="keys " + ", ".join(keys))
-        value = obj[key]
-        if isinstance(value, bool) or not isinstance(value, types):
-            raise RawDataError(path, f"key '{key}' is {value!r}", where=where,
-                               expected=" or ".join(t.__name__ for t in types))
-
-
 def _check_needed(path: Path, where: str, obj: Mapping[str, Any],
                   keys: Mapping[str, tuple[type, ...]], needed: Mapping[str, list[str]],
                   kinds: str) -> None:
@@ -285,53 +246,6 @@ def _check_modal_band(path: Path, band: Any) -> None:
     if not ok:
         raise RawDataError(path, f"modal_band_hz is {band!r}", where="experiment.modal_band_hz",
                            expected="[f_lo_hz, f_hi_hz] with 0 <= f_lo_hz < f_hi_hz, or null")
-
-
-def _check_tracker_direction(path: Path, where: str, f: Mapping[str, Any]) -> None:
-    """A tracker run's feed direction: ``direction`` (px, mx, py, my) or ``direction_deg``
-    (base XY plane, 0 = +X), exactly one (the same forms as a cut)."""
-    direction, deg = f.get("direction"), f.get("direction_deg")
-    if (direction is None) == (deg is None):
-        raise RawDataError(path, "give one of direction, direction_deg"
-                           + (" (both are given)" if direction is not None else ""),
-                           where=where, expected="direction (px, mx, py, my) or direction_deg")
-    if direction is not None and direction not in DIRECTION_VECTORS:
-        raise RawDataError(path, f"direction {direction!r} is unknown",
-                           where=f"{where}.direction",
-                           expected="one of " + ", ".join(DIRECTION_VECTORS))
-    if deg is not None and (isinstance(deg, bool) or not isinstance(deg, int | float)):
-        raise RawDataError(path, f"key 'direction_deg' is {deg!r}",
-                           where=f"{where}.direction_deg", expected="a number [deg]")
-
-
-def _check_tracker_run(path: Path, where: str, f: Mapping[str, Any],
-                       earlier: list[dict[str, Any]]) -> None:
-    """A tracker run's id (its optional ``run`` key, else ``<direction>_f<feed>``,
-    :func:`robomill.experiment.tracker_run`): a name of letters, digits, ``_ . -``, and
-    each run's id once (two runs of one direction at one feed need their own ``run``)."""
-    run = f.get("run")
-    if run is not None and (not isinstance(run, str) or not FREE_CUT_ID.match(run)):
-        raise RawDataError(path, f"run id {run!r} is malformed", where=f"{where}.run",
-                           expected="letters, digits, '_', '.', '-' only ([A-Za-z0-9_.-]+)")
-    rid = tracker_run(f)
-    for g in earlier:
-        if g["kind"] == "tracker" and tracker_run(g) == rid:
-            raise RawDataError(path, f"tracker run id {rid!r} also names {g['path']!r}",
-                               where=f"{where}.run",
-                               expected="a distinct run key for each tracker run of one "
-                                        "direction and feed")
-
-
-def _check_tracker_pass(path: Path, where: str, f: Mapping[str, Any]) -> None:
-    """A tracker run's ``pass`` (optional): ``loaded`` (default) or ``air``; an air pass names
-    the ``cut`` whose path it follows (its loaded pass is that cut's)."""
-    value = f.get("pass")
-    if value is not None and value not in TRACKER_PASSES:
-        raise RawDataError(path, f"pass is {value!r}", where=f"{where}.pass",
-                           expected="one of " + ", ".join(TRACKER_PASSES))
-    if value == "air" and f.get("cut") is None:
-        raise RawDataError(path, "an air pass names no cut", where=f"{where}.cut",
-                           expected="the id of the cut whose path the air pass follows")
 
 
 def _parse_cut(path: Path, where: str, c: Mapping[str, Any], seen: Mapping[str, int]) -> Cut:
@@ -463,7 +377,7 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True,
     seen: dict[str, int] = {}
     for i, c in enumerate(data["cuts"]):
         where = f"cuts[{i}]"
-        _check_keys(path, where, c, {"id": CUT_KEYS["id"]})
+        check_keys(path, where, c, {"id": CUT_KEYS["id"]})
         _check_needed(path, where, c, {k: t for k, t in CUT_KEYS.items() if k != "id"},
                       cut_needed, what)
         cuts.append(_parse_cut(path, where, c, seen))
@@ -475,24 +389,9 @@ def parse_manifest(data: Any, path: str | Path, *, require_sha256: bool = True,
     paths: dict[str, int] = {}
     for i, f in enumerate(data["files"]):
         where = f"files[{i}]"
-        _check_keys(path, where, f, {"path": (str,), "kind": (str,),
+        check_keys(path, where, f, {"path": (str,), "kind": (str,),
                                      **({"sha256": (str,)} if require_sha256 else {})})
-        if f["kind"] not in KIND_KEYS:
-            raise RawDataError(path, f"unknown kind {f['kind']!r}", where=f"{where}.kind",
-                               expected="one of " + ", ".join(KIND_KEYS))
-        required = KIND_KEYS[f["kind"]]
-        if f["kind"] == "tracker" and f.get("time_base") == "none":  # spatial-only: no rate
-            required = {k: v for k, v in required.items() if k != "fs_hz"}
-        _check_keys(path, f"{where} ({f['path']})", f, required)
-        if f["kind"] == "tracker":
-            _check_tracker_direction(path, f"{where} ({f['path']})", f)
-            _check_tracker_run(path, f"{where} ({f['path']})", f, files)
-            _check_tracker_pass(path, f"{where} ({f['path']})", f)
-            if f.get("time_base", "none") != "none":
-                raise RawDataError(path, f"time_base is {f['time_base']!r}",
-                                   where=f"{where} ({f['path']}).time_base",
-                                   expected="none (a stream without a time base, imported "
-                                            "with --spatial-only), or no time_base")
+        check_file_entry(path, where, f, files)
         if f["path"] in paths:
             first = paths[f["path"]]
             raise RawDataError(path, f"duplicate path {f['path']!r} (also files[{first}])",

@@ -41,18 +41,6 @@ CHAPTER_NEEDS: dict[str, ChapterNeeds] = {
 """Chapter label → what it needs, for the chapters ``all`` builds (the chapter registry's rows;
 the chapters' own inputs follow from their rules)."""
 
-STAGE_KINDS: dict[str, tuple[str, ...]] = {
-    "calibration": ("ctrack",),
-    "surface": ("profile",),
-    "forces": ("force",),
-    "straightness": ("tracker",),
-    "modal": ("impact",),
-    "chatter": ("impact", "force"),
-    "stiffness": ("robot", "stiffness"),
-}
-"""The kinds each stage's analysis reads (``results/<stage>/``; target ``<stage>``)."""
-
-
 def kind_present(kind: str, have: Iterable[str]) -> bool:
     """Whether ``have`` holds ``kind``; ``profile|areal`` is met by either alternative."""
     have = set(have)

@@ -157,3 +157,42 @@ def load_study_manifest(paths: str | Path | Sequence[str | Path]) -> Manifest:
     if isinstance(paths, str | Path):
         paths = [paths]
     return merge_manifests([load_manifest(p) for p in paths])
+
+
+def synthetic_plan(config: dict[str, Any]) -> Manifest:
+    """The manifest the virtual cell's simulators will write (``data.source: synthetic``),
+    planned from the configuration without importing a simulator
+    (:func:`robomill.io.synthetic_layout.synthetic_manifest`) and validated as a plan (no
+    sha256 yet)."""
+    from robomill.io.manifest import parse_manifest
+    from robomill.io.synthetic_layout import synthetic_manifest
+
+    path = f"{raw_folders(config['data'])[0]}/manifest.yaml"
+    return parse_manifest(synthetic_manifest(config), path, require_sha256=False)
+
+
+def first_plan(config: dict[str, Any]) -> Manifest:
+    """The first raw folder's manifest (``data.raw_dirs[0]``), or for synthetic data the
+    virtual cell's (:func:`synthetic_plan`)."""
+    if config["data"]["source"] == "synthetic":
+        return synthetic_plan(config)
+    return load_manifest(f"{raw_folders(config['data'])[0]}/manifest.yaml")
+
+
+def study_plan(config: dict[str, Any], first: Manifest | None = None) -> Manifest:
+    """The study as the workflow's DAG takes its shape from it (cut ids, kinds, files), one
+    parser in both modes: the ``manifest.yaml`` of each raw folder (``data.raw_dirs`` in order,
+    merged by :func:`merge_manifests`), or for synthetic data (``data.source: synthetic``) the
+    manifest the virtual cell's simulators will write (:func:`synthetic_plan`), merged with
+    any later raw folder's; ``first``: the first folder's (:func:`first_plan`) when the caller
+    has it.
+
+    Raises
+    ------
+    RawDataError
+        A manifest that cannot be read or validated (one line: file, where, what).
+    """
+    manifests = [f"{d}/manifest.yaml" for d in raw_folders(config["data"])]
+    if first is None:
+        first = first_plan(config)
+    return merge_manifests([first] + [load_manifest(m) for m in manifests[1:]])

@@ -163,11 +163,15 @@ def instrument_files(config: Mapping[str, Any], instrument: str) -> list[dict[st
         s = _settings(config, "recordings")
         files = []
         for c in synthetic_cuts(config):
-            if s["sound"]:
-                files.append({"path": f"sound/{c.id}.wav", "kind": "sound", "cut": c.id})
-            if s["vibration"]:
-                files.append({"path": f"vibration/{c.id}.csv", "kind": "vibration",
-                              "cut": c.id, "fs_hz": float(s["accel_fs_hz"])})
+            # the cut's recordings, then their air passes (the same path without material)
+            for p in ("", "_air") if s["air_pass"] else ("",):
+                air = {"pass": "air"} if p else {}
+                if s["sound"]:
+                    files.append({"path": f"sound/{c.id}{p}.wav", "kind": "sound",
+                                  "cut": c.id, **air})
+                if s["vibration"]:
+                    files.append({"path": f"vibration/{c.id}{p}.csv", "kind": "vibration",
+                                  "cut": c.id, "fs_hz": float(s["accel_fs_hz"]), **air})
         return files
     raise ValueError(f"unknown instrument {instrument!r} (one of {', '.join(SIMULATORS)})")
 

@@ -16,13 +16,13 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill import references
+from robomill import catalogue, references
 from robomill.findings import Findings
 from robomill.modal.checks import synthesis_misfit
-from robomill.modal.layout import TOOLTIP, points
+from robomill.modal.layout import TOOLTIP, measured_directions, points
 
-FRF = "results/modal/frf.nc"
-MODES = "results/modal/modes.csv"
+FRF = catalogue.artefact("modal.frf")
+MODES = catalogue.artefact("modal.modes")
 
 
 def _layout(f: Findings, ds: xr.Dataset, synth: xr.Dataset) -> list[tuple[str, str]]:
@@ -36,12 +36,20 @@ def _layout(f: Findings, ds: xr.Dataset, synth: xr.Dataset) -> list[tuple[str, s
     f.add("n_frf_measured", len(measured), artefact=FRF, what="H finite per pair")
     f.add("tooltip_layout", outs == list(TOOLTIP) and ins == list(TOOLTIP), artefact=FRF,
           what="output/input points equal the thesis' X, Y, Z at the tool tip")
+    dirs = {k: " and ".join(v) for k, v in measured_directions(ds).items()}
+    for key, value in (("directions_hit", dirs["hammer"]),
+                       ("directions_response", dirs["response"]),
+                       ("directions_not_measured", dirs["not_measured"] or None)):
+        f.add(key, value, artefact=FRF, what="input/output direction codes (axes)")
+    f.add("directions_measured_text", dirs["measured"] or "no axis", artefact=FRF,
+          what="axes both hit and measured")
     band = [float(b) for b in np.atleast_1d(synth.attrs["band_hz"])]
-    f.add("band_hz", band, "Hz", artefact="results/modal/frf_synth.nc", what="attrs.band_hz")
+    f.add("band_hz", band, "Hz", artefact=catalogue.artefact("modal.frf_synth"),
+          what="attrs.band_hz")
     f.add("band_source", str(synth.attrs.get("band_source", "")),
-          artefact="results/modal/frf_synth.nc", what="attrs.band_source")
+          artefact=catalogue.artefact("modal.frf_synth"), what="attrs.band_source")
     flag = synth.attrs.get("band_flag")
-    f.add("band_flag", str(flag) if flag else None, artefact="results/modal/frf_synth.nc",
+    f.add("band_flag", str(flag) if flag else None, artefact=catalogue.artefact("modal.frf_synth"),
           what="attrs.band_flag")
     freq = ds["frequency"].values
     f.add("line_hz", float(freq[1] - freq[0]), "Hz", artefact=FRF, what="frequency")
@@ -49,13 +57,13 @@ def _layout(f: Findings, ds: xr.Dataset, synth: xr.Dataset) -> list[tuple[str, s
 
 
 def _hits(f: Findings, ds: xr.Dataset, hits: pd.DataFrame) -> None:
-    f.add("has_hits", bool(len(hits)), artefact="results/modal/hits.csv", what="rows")
-    f.add("n_hits", len(hits), artefact="results/modal/hits.csv", what="rows")
+    f.add("has_hits", bool(len(hits)), artefact=catalogue.artefact("modal.hits"), what="rows")
+    f.add("n_hits", len(hits), artefact=catalogue.artefact("modal.hits"), what="rows")
     n_rej = int((~hits["accepted"].astype(bool)).sum()) if len(hits) else 0
-    f.add("n_rejected", n_rej, artefact="results/modal/hits.csv", what="accepted == False")
+    f.add("n_rejected", n_rej, artefact=catalogue.artefact("modal.hits"), what="accepted == False")
     per_ref = hits.groupby("reference").size() if len(hits) else pd.Series(dtype=int)
     f.add("hits_per_reference", [f"{k}: {int(v)}" for k, v in per_ref.items()],
-          artefact="results/modal/hits.csv", what="rows per reference")
+          artefact=catalogue.artefact("modal.hits"), what="rows per reference")
     f.add("fs_hz", ds.attrs.get("fs_hz"), "Hz", artefact=FRF, what="attrs.fs_hz")
     f.add("record_samples", ds.attrs.get("record_samples"), artefact=FRF,
           what="attrs.record_samples")
@@ -65,7 +73,7 @@ def _hits(f: Findings, ds: xr.Dataset, hits: pd.DataFrame) -> None:
 
 def _peaks(f: Findings, peaks: pd.DataFrame, groups: pd.DataFrame,
            coherence_min: float) -> None:
-    art = "results/modal/peak_picking.csv"
+    art = catalogue.artefact("modal.peak_picking")
     f.add("n_peak_candidates", len(peaks), artefact=art, what="rows")
     f.add("n_real_sign_change", int(peaks["real_sign_change"].astype(bool).sum()),
           artefact=art, what="real_sign_change")
@@ -74,14 +82,15 @@ def _peaks(f: Findings, peaks: pd.DataFrame, groups: pd.DataFrame,
           config_key="modal.coherence_min")
     f.add("n_natural", int(peaks["natural_frequency"].astype(bool).sum()), artefact=art,
           what="natural_frequency")
-    f.add("n_peak_groups", len(groups), artefact="results/modal/peak_groups.csv", what="rows")
+    f.add("n_peak_groups", len(groups), artefact=catalogue.artefact("modal.peak_groups"),
+          what="rows")
     f.add("peak_groups_hz", groups["f_hz"].to_numpy(float), "Hz",
-          artefact="results/modal/peak_groups.csv", what="f_hz")
+          artefact=catalogue.artefact("modal.peak_groups"), what="f_hz")
 
 
 def _modes(f: Findings, modes: pd.DataFrame, stab: pd.DataFrame, mac: pd.DataFrame) -> None:
     f.add("n_stable_poles", int((stab["status"] == "stable").sum()),
-          artefact="results/modal/stabilization.csv", what="status == stable")
+          artefact=catalogue.artefact("modal.stabilization"), what="status == stable")
     f.add("n_modes", len(modes), artefact=MODES, what="rows")
     fn = modes["f_n_hz"].to_numpy(float)
     f.add("modes_hz", fn, "Hz", artefact=MODES, what="f_n_hz")
@@ -97,11 +106,11 @@ def _modes(f: Findings, modes: pd.DataFrame, stab: pd.DataFrame, mac: pd.DataFra
     m = mac.set_index("mode").to_numpy(float) if "mode" in mac else mac.to_numpy(float)
     off = m[~np.eye(len(m), dtype=bool)] if m.size else np.array([])
     f.add("mac_offdiag_max", float(off.max()) if off.size else None,
-          artefact="results/modal/mac.csv", what="largest off-diagonal value")
+          artefact=catalogue.artefact("modal.mac"), what="largest off-diagonal value")
 
 
 def _truth(f: Findings, check: pd.DataFrame, modes: pd.DataFrame) -> None:
-    art = "results/modal/truth_check.csv"
+    art = catalogue.artefact("modal.truth_check")
     has = bool(len(check))
     f.add("has_truth", has, artefact=art, what="rows")
     if not has:
@@ -120,18 +129,25 @@ def _truth(f: Findings, check: pd.DataFrame, modes: pd.DataFrame) -> None:
 
 
 def _misfit(f: Findings, ds: xr.Dataset, synth: xr.Dataset) -> None:
+    dirs = {k: " and ".join(v) for k, v in measured_directions(ds).items()}
+    for key, value in (("directions_hit", dirs["hammer"]),
+                       ("directions_response", dirs["response"]),
+                       ("directions_not_measured", dirs["not_measured"] or None)):
+        f.add(key, value, artefact=FRF, what="input/output direction codes (axes)")
+    f.add("directions_measured_text", dirs["measured"] or "no axis", artefact=FRF,
+          what="axes both hit and measured")
     band = [float(b) for b in np.atleast_1d(synth.attrs["band_hz"])]
     err = synthesis_misfit(ds, synth["H_synth"].values, band).to_numpy(float)
     finite = err[np.isfinite(err)]
     f.add("misfit_median_pct", float(np.median(finite)) if finite.size else None, "%",
-          artefact="results/modal/frf_synth.nc", what="‖H_synth − H‖/‖H‖ per FRF, median")
+          artefact=catalogue.artefact("modal.frf_synth"), what="‖H_synth − H‖/‖H‖ per FRF, median")
     f.add("misfit_worst_pct", float(finite.max()) if finite.size else None, "%",
-          artefact="results/modal/frf_synth.nc", what="‖H_synth − H‖/‖H‖ per FRF, max")
+          artefact=catalogue.artefact("modal.frf_synth"), what="‖H_synth − H‖/‖H‖ per FRF, max")
 
 
 def _coupling(f: Findings, coupling: pd.DataFrame, pairs: pd.DataFrame,
               tolerance: float) -> None:
-    art = "results/modal/coupling.csv"
+    art = catalogue.artefact("modal.coupling")
     has = bool(len(coupling))
     f.add("has_coupling", has, artefact=art, what="rows")
     if not has:
@@ -146,9 +162,9 @@ def _coupling(f: Findings, coupling: pd.DataFrame, pairs: pd.DataFrame,
     f.add("close_hz", close["f_n_hz"].to_numpy(float), "Hz", artefact=art, what="f_n_hz")
     f.add("coupling_pairs", [f"modes {int(p.mode_a)}–{int(p.mode_b)}: shapes "
                              f"{p.shape_angle_deg:.0f}° apart" for p in pairs.itertuples()],
-          artefact="results/modal/coupling_pairs.csv", what="shape_angle_deg")
-    f.add("has_coupling_pairs", bool(len(pairs)), artefact="results/modal/coupling_pairs.csv",
-          what="rows")
+          artefact=catalogue.artefact("modal.coupling_pairs"), what="shape_angle_deg")
+    f.add("has_coupling_pairs", bool(len(pairs)),
+          artefact=catalogue.artefact("modal.coupling_pairs"), what="rows")
 
 
 def _stability(f: Findings, settings: Mapping[str, float]) -> None:

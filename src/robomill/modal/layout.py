@@ -106,3 +106,24 @@ def driving_points(outputs: Sequence[tuple[int, int]],
 def _is_tooltip(outputs, inputs) -> bool:
     return ([tuple(p) for p in outputs] == list(TOOLTIP)
             and [tuple(p) for p in inputs] == list(TOOLTIP))
+
+
+def measured_directions(ds: xr.Dataset) -> dict[str, str]:
+    """Which base axes an impact test covered: ``{"hammer": "X", "response": "XY",
+    "measured": "X", "not_measured": "YZ"}`` (axes by letter, sign and node ignored).
+
+    An axis is *measured* when it was both hit and measured (an FRF along it exists at some
+    node); the others are *not measured*: the test gives no mode of that direction, the
+    mode-shape components along it are empty (NaN) in ``modes.csv``, and what depends on them
+    (the tool model of chapter 4, the plan's predictions) is extrapolated there. Written as
+    the attributes ``directions_hit``, ``directions_measured``, ``directions_not_measured``
+    of ``results/modal/frf.nc`` by the modal stage.
+    """
+    def axes(pts) -> set[str]:
+        return {"XYZ"[abs(int(d)) - 1] for _, d in pts}
+
+    hit, resp = axes(points(ds, "input")), axes(points(ds, "output"))
+    both = hit & resp
+    return {"hammer": "".join(sorted(hit)), "response": "".join(sorted(resp)),
+            "measured": "".join(sorted(both)),
+            "not_measured": "".join(a for a in "XYZ" if a not in both)}

@@ -120,30 +120,33 @@ STUDY_PART = PARTS["study"]
 REFERENCE_PART = PARTS["reference"]
 
 
-def chapter_key(stem: str) -> tuple:
+def chapter_key(stem: str, registry: str | Path | None = None) -> tuple:
     """Book order of a chapter page (file stem ``ch3_forces``): the study's chapters, then
     the reference studies, each in the chapter registry's order
-    (:func:`robomill.registry.book_order`); pages that are no chapter last."""
-    return book_order(stem)
+    (:func:`robomill.registry.book_order`; ``registry``: another chapter table than the
+    package's); pages that are no chapter last."""
+    return book_order(stem, registry)
 
 
-def book_part(stem: str) -> str:
+def book_part(stem: str, registry: str | Path | None = None) -> str:
     """The part of the book a chapter page belongs to (:data:`STUDY_PART` or
-    :data:`REFERENCE_PART`: the registry row's ``part``)."""
-    row = by_notebook().get(stem)
+    :data:`REFERENCE_PART`: the registry row's ``part``; ``registry`` as in
+    :func:`chapter_key`)."""
+    row = by_notebook(registry).get(stem)
     return PARTS[row.part] if row is not None else STUDY_PART
 
 
 def print_document(chapter_html: Sequence[str | Path], out_html: str | Path, *,
                    title: str = "Robotic milling quality — the study, reproduced",
                    description: str | None = None,
-                   pages: Mapping[str, int] | None = None) -> Path:
+                   pages: Mapping[str, int] | None = None,
+                   registry: str | Path | None = None) -> Path:
     """Every chapter in one page for printing: a title page (``title`` and the study's
     one-line ``description``), a contents list (each entry links to its chapter and shows
     ``pages[chapter name]`` when given), then each chapter's body on a new page in book
     order. Scripts fetched from the network (MathJax, require.js) are left out so the page
-    prints offline."""
-    paths = sorted(map(Path, chapter_html), key=lambda p: chapter_key(p.stem))
+    prints offline. ``registry``: another chapter table than the package's."""
+    paths = sorted(map(Path, chapter_html), key=lambda p: chapter_key(p.stem, registry))
     if not paths:
         raise ValueError("print_document: no chapter pages given")
     texts = [p.read_text(errors="replace") for p in paths]
@@ -159,9 +162,9 @@ def print_document(chapter_html: Sequence[str | Path], out_html: str | Path, *,
                  '<div class="contents-title">Contents</div>')
     part = None
     for path, name in zip(paths, titles, strict=True):
-        if book_part(path.stem) != part:
+        if book_part(path.stem, registry) != part:
             parts.append("</ol>" if part is not None else "")
-            part = book_part(path.stem)
+            part = book_part(path.stem, registry)
             parts.append(f'<div class="part-title">{html.escape(part)}</div>'
                          '<ol class="contents">')
         page = (pages or {}).get(path.stem)
@@ -171,8 +174,9 @@ def print_document(chapter_html: Sequence[str | Path], out_html: str | Path, *,
     parts.append("</ol></section>")
     part = STUDY_PART
     for text, path in zip(texts, paths, strict=True):
-        if book_part(path.stem) != part:  # the reference studies open with a part title page
-            part = book_part(path.stem)
+        # the reference studies open with a part title page
+        if book_part(path.stem, registry) != part:
+            part = book_part(path.stem, registry)
             parts.append(f'<section class="part"><h1 class="part-title">{html.escape(part)}'
                          "</h1><p>Reproductions of the source papers that use no data of this "
                          "study.</p></section>")

@@ -21,6 +21,7 @@ panels of one thesis figure share its number and carry a letter (``part="a"``).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 
 @dataclass
@@ -85,16 +86,18 @@ class Numbering:
         return self.label(key)
 
     @classmethod
-    def for_chapter(cls, chapter_id: str, fig_dir: str | None = None) -> Numbering:
+    def for_chapter(cls, chapter_id: str, fig_dir: str | None = None,
+                    registry: str | Path | None = None) -> Numbering:
         """The numbering of chapter ``chapter_id`` as the chapter registry gives it
         (:mod:`robomill.registry`): labels prefixed by its chapter number (page 3.1:
         ``Figure 3.12``), and on a page of a chapter printed across pages (6.1-6.3) only the
-        figure and table numbers of that page (:func:`robomill.registry.figure_range`)."""
+        figure and table numbers of that page (:func:`robomill.registry.figure_range`).
+        ``registry``: another chapter table than the package's."""
         from robomill.registry import chapter, figure_range
 
-        return cls(chapter(chapter_id).figure_prefix, fig_dir=fig_dir, ranges={
-            "Figure": figure_range(chapter_id, "figure"),
-            "Table": figure_range(chapter_id, "table")})
+        return cls(chapter(chapter_id, registry).figure_prefix, fig_dir=fig_dir, ranges={
+            "Figure": figure_range(chapter_id, "figure", registry),
+            "Table": figure_range(chapter_id, "table", registry)})
 
     def figure(self, key: str, caption: str, number: int | None = None, part: str = "",
                stem: str | None = None) -> str:

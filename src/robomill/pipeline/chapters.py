@@ -87,20 +87,20 @@ def check_parameters(notebook: str | Path, parameters: Mapping[str, Any]) -> dic
     return declared
 
 
-#: the repository (notebooks/, src/): a chapter's notebook and templates are read from it
-#: when the run's folder is elsewhere (``snakemake --directory``)
-REPOSITORY = Path(__file__).resolve().parents[3]
+#: the folder holding the package (``src/`` of a checkout, ``site-packages`` of an install): a
+#: chapter's templates are package data, shown relative to it (``robomill/data/templates/...``)
+PACKAGE_PARENT = Path(__file__).resolve().parents[2]
 
 
 def shown_value(value: Any, root: str | Path | None = None) -> str:
     """A parameter value as the chapter page shows it: an absolute path below ``root`` (the
-    run's folder, the one holding ``results/``) or below the repository (the chapter's
-    templates) becomes relative to it, so that no machine-specific folder appears on the
+    run's folder, the one holding ``results/``) or below the package's folder (the
+    chapter's templates) becomes relative to it, so that no machine-specific folder appears on the
     page."""
     text = str(value)
     if not (isinstance(value, str | Path) and os.path.isabs(text)):
         return text
-    for base in ([root] if root is not None else []) + [REPOSITORY]:
+    for base in ([root] if root is not None else []) + [PACKAGE_PARENT]:
         try:
             return str(Path(text).resolve().relative_to(Path(base).resolve()))
         except ValueError:

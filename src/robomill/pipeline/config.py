@@ -2,7 +2,7 @@
 benchmarks).
 
 The Snakefile validates with :func:`validate_config` too: the same JSON schema
-(``workflow/schemas/config.schema.yaml`` and its per-section files) with the same default
+(``src/robomill/data/schemas/config.schema.yaml`` and its per-section files) with the same default
 filling, so library users get exactly the configuration the pipeline sees. The schemas are read
 with libyaml's C loader (``snakemake.utils.validate`` read them through yte, ~0.4 s of every
 workflow start) and a bad key is one line naming it.
@@ -318,10 +318,12 @@ def validate_config_cached(config: Mapping[str, Any], schema_path: str | Path,
 def load_config(path: str | Path = "config.yaml",
                 schema_path: str | Path | None = None) -> dict[str, Any]:
     """Read ``config.yaml`` (safe loader) and validate it; ``schema_path`` defaults to the
-    repository's ``workflow/schemas/config.schema.yaml`` beside the config file."""
+    repository's ``src/robomill/data/schemas/config.schema.yaml`` beside the config file."""
     path = Path(path)
     if schema_path is None:
-        schema_path = repo_root(path) / "workflow" / "schemas" / "config.schema.yaml"
+        from robomill.settings import SCHEMAS
+
+        schema_path = SCHEMAS / "config.schema.yaml"
     return validate_config(_load_yaml(path) or {}, schema_path)
 
 

@@ -1,6 +1,6 @@
 """Sentences from findings: the chapters' prose as templates filled from a findings artefact.
 
-A chapter keeps its sentences as data (``notebooks/templates/<chapter>.yaml``): one template
+A chapter keeps its sentences as data (``src/robomill/data/templates/<chapter>.yaml``): one template
 per statement, Markdown with named fields (``{n_modes}``, ``{f_hz:.2f}``, ``{band_hz[0]:.4g}``),
 so the notebook holds templates and calls, no computation, no threshold and no typed number
 (docs/design.md, principle 10; the habit of Quarto's inline expressions and myst-nb's ``glue``). A
@@ -31,7 +31,7 @@ import yaml
 
 from robomill.findings import Findings
 
-TEMPLATES_DIR = Path(__file__).resolve().parents[3] / "notebooks" / "templates"
+TEMPLATES_DIR = Path(__file__).resolve().parents[1] / "data" / "templates"
 
 
 class _Missing(LookupError):
@@ -108,7 +108,7 @@ def render(template: str | Mapping[str, Any], findings: Findings | Mapping[str, 
 
 def load_templates(chapter: str, directory: str | Path | None = None) -> dict[str, Any]:
     """The templates of one chapter: ``<directory>/<chapter>.yaml`` (default
-    ``notebooks/templates``), or ``directory`` itself when it names a ``.yaml`` file (the
+    ``src/robomill/data/templates``), or ``directory`` itself when it names a ``.yaml`` file (the
     chapter rule's ``templates`` input), a mapping name → template."""
     if directory is not None and str(directory).endswith(".yaml"):
         path = Path(directory)

@@ -38,6 +38,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from robomill import catalogue
 from robomill.plan.evidence import (
     air_runs,
     coverage_summary,
@@ -250,17 +251,17 @@ def _outcomes(runs: list[RunOutcomes], peaks,
     for run in runs:
         if _present(run.mean_forces):
             out.append(("force", "N", force_outcomes(run.mean_forces),
-                        run.path("results/forces/mean_forces.csv")))
+                        run.path(catalogue.artefact("forces.mean_forces"))))
         if _present(run.deflection):
             for name, series in deflection_outcomes(run.deflection).items():
                 out.append((name, "um", series,
-                            run.path("results/straightness/deflection.csv")))
+                            run.path(catalogue.artefact("straightness.deflection"))))
         if _present(run.run_gears) and run.profiles is not None:
             out.append(("waviness", "um",
                         waviness_outcomes(elements, run.run_gears, run.profiles,
                                           min_cycles=min_cycles,
                                           skip_runs=air_runs(run.deflection)),
-                        run.path("results/straightness/profiles.nc")))
+                        run.path(catalogue.artefact("straightness.profiles"))))
     return out
 
 
@@ -272,11 +273,11 @@ def _stabilities(runs: list[RunOutcomes],
     for run in runs:
         if _present(run.verdicts):
             out.append((verdict_stability(run.verdicts),
-                        run.path("results/chatter/verdicts.csv")))
+                        run.path(catalogue.artefact("chatter.verdicts"))))
         elif _present(run.force_peaks) and _present(run.mean_forces):
             out.append((spectrum_stability(run.force_peaks, run.mean_forces,
                                            chatter_fraction_of_mean),
-                        run.path("results/forces/peaks.csv")))
+                        run.path(catalogue.artefact("forces.peaks"))))
     return out
 
 

@@ -1,12 +1,19 @@
 """One chosen cut as a path a robot can run: stations on the slot floor, the rotation about the
 tool axis at each (:mod:`robomill.plan.path`), feasible postures in one configuration
-(:mod:`robomill.plan.feasible`), and the approach and retract moves above the part.
+(:mod:`robomill.plan.feasible`), scored and checked by the candidate grid's own predictions at
+each station (:mod:`robomill.plan.stationgrid`), and the moves around it
+(:mod:`robomill.plan.motion`).
 
 The cut's placement point lies on the part's top face; the tool point runs along the slot
 floor, ``depth_mm`` below it along the part's z axis, from the cut's start to its end. The
-approach and retract points lie ``clearance_mm`` above the top face over the start and the end,
-at the first and last station's rotation. A cut no feasible path reaches (every path leaves
-the joint limits, meets the wrist singularity or needs a configuration change) is refused.
+rows of ``stations`` are the move targets in order: the safe point ``safe_height_mm`` above the
+top face over the start, the approach ``clearance_mm`` above it, the entry ramp (``entry``),
+the cut's stations, the retract ``clearance_mm`` above the end (straight up the tool axis) and
+the safe point over the end; the targets before the cut keep the first station's rotation,
+those after it the last's. A station's rotation may be used only where every one of these
+targets is feasible too. A cut no feasible path reaches (every path leaves the joint limits,
+meets the wrist singularity, needs a configuration change or a station the grid would refuse)
+is refused.
 """
 
 from __future__ import annotations
@@ -46,31 +53,25 @@ class CutPath:
     ``configuration`` and the chosen ``path`` (indices), for the pose map."""
 
 
-def _scores(measured, cell, req, q, frame, rpm, depth_mm):
-    """Per node ``(S, R)``: pessimistic stability margin and the tool tip's static stiffness
-    normal to the wall at its softest end (:mod:`robomill.plan.tooltip`)."""
-    from robomill.plan.predict import critical_depth_m
+def _stiffness(measured, cell, req, q, frame):
+    """Per node ``(S, R)``: the tool tip's static stiffness normal to the wall at its softest
+    end (:mod:`robomill.plan.tooltip`); empty without a joint or modal model."""
     from robomill.plan.tooltip import static_compliance_m_N
 
     S, R, n = q.shape
-    flat = q.reshape(-1, n)
-    out = {}
-    a = critical_depth_m(measured, cell, req, flat, np.broadcast_to(frame, (S * R, 3, 3)),
-                         np.array([rpm]), corners=True)
-    if a is not None:
-        out["stability_margin_low"] = (a["low"][:, 0] / (depth_mm * 1e-3) - 1).reshape(S, R)
-    comp = static_compliance_m_N(measured, cell, flat, req.robot_mode_max_hz)
-    if comp is not None:  # the softest end of the tool tip's static compliance
-        nrm = frame[:, 1]
-        c_nn = np.max([np.einsum("i,bij,j->b", nrm, C, nrm) for C in comp.values()], axis=0)
-        with np.errstate(divide="ignore"):
-            out["k_normal_low_N_m"] = (1.0 / c_nn).reshape(S, R)
-    return out
+    comp = static_compliance_m_N(measured, cell, q.reshape(-1, n), req.robot_mode_max_hz)
+    if comp is None:
+        return {}
+    nrm = frame[:, 1]
+    c_nn = np.max([np.einsum("i,bij,j->b", nrm, C, nrm) for C in comp.values()], axis=0)
+    with np.errstate(divide="ignore"):
+        return {"k_normal_low_N_m": (1.0 / c_nn).reshape(S, R)}
 
 
 def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: float,
                   feed_mm_s: float, spindle_rpm: float, req, measured, cell,
-                  wobj: WorkObject, allowed_rotations: np.ndarray | None = None) -> CutPath:
+                  wobj: WorkObject, allowed_rotations: np.ndarray | None = None,
+                  reach=None) -> CutPath:
     """The path of one chosen cut (module docstring). ``mid_mm``: the placement point on the
     top face in the base frame; ``cell``: :class:`robomill.plan.predict.Cell`;
     ``allowed_rotations`` ``(R,)``: the rotations at which the cut meets every constraint of
@@ -118,10 +119,22 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
                          min_wrist_angle_deg=req.min_wrist_angle_deg)
         node_ok[i] &= (ce["status"] == 0) & (ce["configuration"] == cfg[i])
         ends[kind] = (qe, Te[:, :3, 3])
-    sc = _scores(measured, cell, req, q, frame, spindle_rpm, depth_mm)
-    lim_margin = req.constraints.get("min_stability_margin")
-    if lim_margin is not None and "stability_margin_low" in sc:   # at every station
-        node_ok &= ~(sc["stability_margin_low"] < lim_margin)
+    # the safe points over the start and the end and the entry ramp (plan.motion), likewise
+    air = _air_targets(req, wobj, mid_mm, depth_mm, pts, u, zp)
+    for i, kind in ((0, "in"), (S - 1, "out")):
+        good, q_air = _feasible_at(robot, lim, req, Rt, air[kind], q[i], cfg[i])
+        node_ok[i] &= good
+        ends[kind] = q_air
+    from robomill.plan.stationgrid import station_grid
+
+    grid = station_grid(req, measured, cell, reach, pts + depth_mm * zp, direction_deg,
+                        spindle_rpm, depth_mm, feed_mm_s)
+    before_grid = node_ok.copy()
+    node_ok &= grid["feasible"]                 # reachable, every constraint, as the grid
+    sc = {}
+    if np.isfinite(grid["stability_margin_low"]).any():
+        sc["stability_margin_low"] = grid["stability_margin_low"]
+    sc.update(_stiffness(measured, cell, req, q, frame))
     names = list(sc)
     scores = [sc[k] for k in names]
     dt = (s_mm[1] - s_mm[0]) / feed_mm_s
@@ -140,10 +153,17 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
              **sc, "path": None}
     if best is None:
         reasons = np.unique(chk["status"][~node_ok])
+        blocked = [f"{s_mm[i]:g} mm" for i in range(S) if before_grid[i].any()
+                   and not node_ok[i].any()]
         why = ("no path keeps one configuration within the joint limits, the wrist angle, the "
                "axis speeds, the rotation step and the request's constraints (the stability "
-               "margin at every station) from the approach to the retract"
+               "margin at every station) from the safe point to the retract"
+               + (f"; the candidate grid refuses every posable rotation at the station(s) "
+                  f"{', '.join(blocked)} (its constraints, widened where the study does not "
+                  "reach)" if blocked else "")
                if node_ok.any() else
+               "the candidate grid refuses every posable station and rotation (its "
+               "constraints, widened where the study does not reach)" if before_grid.any() else
                "no station is feasible at any rotation ("
                + ", ".join(REASONS[int(r)] for r in reasons if r > 0) + ")")
         return CutPath(cut, feed_mm_s, spindle_rpm, pd.DataFrame(), summary, refused=why,
@@ -173,8 +193,15 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
         T[:3, :3], T[:3, 3] = Rt[i_rot], p_mm
         return T
 
-    rows = [_row(wobj, "approach", np.nan, th[idx[0]], app,
+    r0, r1 = idx[0], idx[-1]
+    q_in, T_in = ends["in"][-1, r0], target(air["in"][-1], r0)
+    q_out, T_out = ends["out"][0, r1], target(air["out"][0], r1)
+    ramp = [(target(pt, r0), ends["in"][k, r0]) for k, pt in enumerate(air["in"][:-1])]
+    rows = [_row(wobj, "safe_in", np.nan, th[idx[0]], q_in, T_in, None),
+            _row(wobj, "approach", np.nan, th[idx[0]], app,
                  target(ends["approach"][1][idx[0]], idx[0]), None)]
+    rows += [_row(wobj, "entry", float((T[:3, 3] - pts[0]) @ u), th[idx[0]], q, T, None)
+             for T, q in ramp]
     for i in range(S):
         extra = {name: float(sc[name][i, idx[i]]) for name in names}
         extra.update({"wrist_angle_deg": float(chk["wrist_deg"][i, idx[i]]),
@@ -184,6 +211,7 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
                          target(pts[i], idx[i]), extra))
     rows.append(_row(wobj, "retract", np.nan, th[idx[-1]], ret,
                      target(ends["retract"][1][idx[-1]], idx[-1]), None))
+    rows.append(_row(wobj, "safe_out", np.nan, th[idx[-1]], q_out, T_out, None))
     st = pd.DataFrame(rows)
     st.insert(0, "cut", cut)
     st.insert(1, "configuration", configuration_name(best_cfg))
@@ -192,6 +220,34 @@ def plan_cut_path(cut: str, mid_mm: np.ndarray, direction_deg: float, depth_mm: 
                     "min_limit_clearance_deg": float(cutrows["limit_clearance_deg"].min()),
                     "min_sigma": float(cutrows["sigma_min"].min())})
     return CutPath(cut, feed_mm_s, spindle_rpm, st, summary, nodes=nodes)
+
+
+def _air_targets(req, wobj, mid_mm, depth_mm, pts, u, zp) -> dict[str, np.ndarray]:
+    """Points in the air and on the way in (:mod:`robomill.plan.motion`): ``in`` the entry
+    ramp's points then the safe point over the start, ``out`` the safe point over the end."""
+    from robomill.plan.motion import Motion, ramp_points
+
+    mo = req.motion or Motion()
+    top = depth_mm + wobj.top_z_offset_mm(mid_mm)           # the slot floor → the top face
+    ramp = ramp_points(pts[0], u, zp, top + mo.ramp_gap_mm, req.length_mm, mo.ramp_angle_deg)
+    return {"in": np.vstack([ramp, pts[0] + (top + mo.safe_height_mm) * zp]),
+            "out": (pts[-1] + (top + mo.safe_height_mm) * zp)[None]}
+
+
+def _feasible_at(robot, lim, req, Rt, points, q_seed, config):
+    """Per rotation ``(R,)``: whether every point ``(k, 3)`` at that rotation is feasible in
+    the station's configuration, and the joints ``(k, R, n)`` [rad] (solved near the
+    station's ``q_seed`` ``(R, n)``)."""
+    k, R, n = len(points), len(Rt), q_seed.shape[-1]
+    T = np.broadcast_to(np.eye(4), (k, R, 4, 4)).copy()
+    T[..., :3, :3], T[..., :3, 3] = Rt[None], np.asarray(points)[:, None]
+    seed = np.broadcast_to(q_seed, (k, R, n)).reshape(-1, n)
+    qe, ok = ik_batch(robot, T.reshape(-1, 4, 4), seed)
+    qe = into_limits(qe, lim, seed)
+    ce = pose_checks(robot, qe, ok, limits_deg=lim, limit_margin_deg=req.joint_limit_margin_deg,
+                     min_wrist_angle_deg=req.min_wrist_angle_deg)
+    good = ((ce["status"] == 0) & (ce["configuration"] == np.tile(config, k))).reshape(k, R)
+    return good.all(0), qe.reshape(k, R, n)
 
 
 def _better(key, other, scores) -> bool:

@@ -4,9 +4,10 @@ intervals held against their nominal level.
 
 * **Stability** from the run's chatter verdicts (``results/chatter/verdicts.csv``: one row per
   cut and recording, columns ``cut, verdict, chatter_hz, source, evidence``, verdict
-  ``stable`` | ``chatter`` | ``undetermined``): a cut chatters when any of its recordings is
-  called chatter, is stable when none is and at least one is called stable, and is
-  undetermined otherwise (NaN: no outcome to judge).
+  ``stable`` | ``chatter`` | ``forced`` | ``undetermined``): a cut chatters when any of its
+  recordings is called chatter, is stable when none is and at least one is called stable or
+  forced (a forced line is vibration the cut did not make: no chatter), and is undetermined
+  otherwise (NaN: no outcome to judge).
 * **Deflection** from the run's tracker passes (``results/straightness/deflection.csv``: the
   loaded pass minus the air pass along the same path,
   :func:`robomill.straightness.deflection.pass_deflection_um`), as the magnitudes the planner
@@ -36,8 +37,8 @@ from robomill.errors import RawDataError
 VERDICT_COLUMNS = ("cut", "verdict", "chatter_hz", "source", "evidence")
 """Columns of ``results/chatter/verdicts.csv``."""
 
-VERDICTS = ("stable", "chatter", "undetermined")
-"""The verdicts of a cut's recording."""
+VERDICTS = ("stable", "chatter", "forced", "undetermined")
+"""The verdicts of a cut's recording (``forced``: a line its air pass shows, not chatter)."""
 
 
 def read_verdicts(path: str | Path) -> pd.DataFrame:
@@ -68,7 +69,7 @@ def verdict_stability(verdicts: pd.DataFrame) -> pd.Series:
     out = {}
     for cut, g in verdicts.groupby(verdicts["cut"].astype(str), sort=False):
         v = set(g["verdict"])
-        out[cut] = 0.0 if "chatter" in v else 1.0 if "stable" in v else np.nan
+        out[cut] = 0.0 if "chatter" in v else 1.0 if v & {"stable", "forced"} else np.nan
     return pd.Series(out, dtype=float)
 
 

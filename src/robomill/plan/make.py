@@ -156,7 +156,7 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
                                                         r["placement_z_mm"]], float),
                                float(r["direction_deg"]), float(r["depth_mm"]),
                                float(r["feed_mm_s"]), float(r["spindle_rpm"]), req, measured,
-                               cell, wobj, rotations_meeting_constraints(mask, r))
+                               cell, wobj, rotations_meeting_constraints(mask, r), reach)
                  for _, r in chosen.iterrows()]
     chosen = follow_paths(chosen, cand, mask, cut_paths)
     paths = [manifest_path(p, cand["station"].values) for p in cut_paths]

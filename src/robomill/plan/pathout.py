@@ -125,7 +125,10 @@ def path_summary(failures: pd.DataFrame, plan: pd.DataFrame, rotation_effect_pct
     that run and that are refused, the chosen cuts moved or dropped so that no slot crosses
     another or leaves the block (``slots_moved``, ``slots_dropped``;
     :mod:`robomill.plan.slots`), the largest path gain over the best fixed rotation (critical
-    depth and stiffness ratios, and the cut), the tie resolution ``tie_rel`` and the case of
+    depth and stiffness ratios, and the cut), the runnable cuts no rotation held fixed can run
+    (``cuts_path_only``, ``path_only_cuts``: only the path runs them, no ratio exists; the
+    gain case ``path_only`` when no cut has a ratio), the tie resolution ``tie_rel`` and the
+    case of
     the chosen rotations: ``nominal_tie`` (every cut at 0° everywhere and no rotation changes a
     prediction by more than the tie resolution: the spindle sits on the flange axis),
     ``nominal_best`` (every cut at 0°, the rotation mattering elsewhere) or ``turned``."""
@@ -144,8 +147,14 @@ def path_summary(failures: pd.DataFrame, plan: pd.DataFrame, rotation_effect_pct
         rows.append((f"{col}_cut", str(plan.loc[ok.idxmax(), "cut"]) if len(ok) else ""))
     gains = [v for k, v in rows if k in ("path_gain_a_crit_max", "path_gain_stiffness_max")
              and np.isfinite(v)]
-    rows.append(("path_gain_case", "" if not gains else
-                 "gain" if max(gains) > 1 + TIE_REL else "none"))
+    fixed = (plan["fixed_rotation_deg"].astype(float) if "fixed_rotation_deg" in plan
+             else pd.Series(np.nan, index=plan.index))
+    only = plan.loc[runs.to_numpy(bool) & ~np.isfinite(fixed.to_numpy()), "cut"] if len(plan) \
+        else pd.Series([], dtype=str)
+    rows += [("cuts_path_only", int(len(only))),
+             ("path_only_cuts", ";".join(str(c) for c in only))]
+    rows.append(("path_gain_case", "path_only" if not gains and len(only) else
+                 "" if not gains else "gain" if max(gains) > 1 + TIE_REL else "none"))
     angles = [float(a) for s in plan.get("redundancy_path_deg", pd.Series([], dtype=str))
               .fillna("").astype(str) for a in s.split(";") if a != ""]
     at_zero = bool(angles) and all(a == 0.0 for a in angles)

@@ -5,9 +5,12 @@ cell's ``robot.controller`` (:mod:`robomill.plan.program_abb`, RAPID;
 
 Orientations: ABB writes a rotation as the unit quaternion [q1, q2, q3, q4] = [w, x, y, z]
 with w ≥ 0 [ABB RAPID reference, *orient*]; KUKA as the angles A, B, C of
-R = Rz(A) Ry(B) Rx(C) (Z-Y'-X'' Euler) [KUKA System Software 8, *Frames*]. The joint angles
-are the robot model's (``cell.yaml``); the lab checks the program in its offline programming
-tool, where a controller's axis zero or sign differs from the model's.
+R = Rz(A) Ry(B) Rx(C) (Z-Y'-X'' Euler) [KUKA System Software 8, *Frames*]. Joint angles,
+the tool data and the configuration data are the controller's (the cell's
+``controller_frames``, :mod:`robomill.plan.controller`); the motion around each cut is
+:mod:`robomill.plan.motion`'s and the spindle is driven through the cell's ``spindle``
+interface (:mod:`robomill.io.controller`), or the program stops for the operator before the
+first cut. ``docs/usage.md`` reads one program of each kind line by line.
 """
 
 from __future__ import annotations
@@ -15,6 +18,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -22,8 +26,8 @@ import pandas as pd
 PROGRAM_NAME = "robomill_plan"
 """Module (RAPID) and program (KRL) name."""
 
-SPINDLE_PROC = "SetSpindle"
-"""The one procedure the program sets the spindle speed through (the lab maps it to its I/O)."""
+MOVES = ("safe_in", "approach", "entry", "cut", "retract", "safe_out")
+"""The kinds of move target of ``stations.csv``, in the order a cut runs them."""
 
 
 def quaternion_wxyz(R: np.ndarray) -> np.ndarray:
@@ -55,39 +59,66 @@ def quaternion_wxyz(R: np.ndarray) -> np.ndarray:
 
 
 def zyx_abc_deg(R: np.ndarray) -> np.ndarray:
-    """KUKA angles [A, B, C] [deg] with R = Rz(A) Ry(B) Rx(C) (B in [−90°, 90°])."""
+    """KUKA angles [A, B, C] [deg] with R = Rz(A) Ry(B) Rx(C) (B in [−90°, 90°]); at
+    B = ±90° (x along ∓z, where only A ∓ C is defined) C = 0 and A from the y column."""
     R = np.asarray(R, float)
-    A = np.arctan2(R[1, 0], R[0, 0])
     B = np.arctan2(-R[2, 0], np.hypot(R[0, 0], R[1, 0]))
+    if np.hypot(R[0, 0], R[1, 0]) < 1e-9:
+        return np.rad2deg([np.arctan2(-R[0, 1], R[1, 1]), B, 0.0])
+    A = np.arctan2(R[1, 0], R[0, 0])
     C = np.arctan2(R[2, 1], R[2, 2])
     return np.rad2deg([A, B, C])
 
 
 @dataclass(frozen=True)
 class ProgramCell:
-    """What a program states about the cell: the tool frame in the flange frame (mm, 3×3),
-    the work object's frame in the base frame (4×4), the tool's mass and centre of mass in
-    the flange frame, and the robot's name."""
+    """What a program states about the cell: the robot model and the controller's
+    conventions (:mod:`robomill.plan.controller`), the work object's frame in the base frame
+    (4×4), the tool's mass and centre of mass (base frame, model's zero posture), the
+    spindle's interface, the motion settings and the home posture (model angles)."""
 
-    tool_mm: np.ndarray
-    tool_R: np.ndarray
+    robot: Any
     T_base_part: np.ndarray
     tool_mass_kg: float
-    tool_cog_mm: np.ndarray
-    robot_name: str
+    tool_com_base_mm: np.ndarray
+    frames: Any
+    spindle: Any = None
+    motion: Any = None
+    home_model_deg: np.ndarray | None = None
+    plan_name: str = "plan"
+
+    @property
+    def robot_name(self) -> str:
+        return self.robot.name
 
 
-def program_cell(robot, T_base_part: np.ndarray, mass_model=None) -> ProgramCell:
-    """The program's view of the cell; the tool's load from ``mass_model.tool`` (its centre
-    of mass moved from the base frame at the zero posture into the flange frame), else 1 kg
-    at the tool point (stated in the program as assumed)."""
-    mass, cog = 1.0, np.asarray(robot.tool_mm, float)
+def program_cell(robot, T_base_part: np.ndarray, mass_model=None, *, frames=None,
+                 spindle=None, motion=None, q_home_deg=None, plan_name: str = "plan"
+                 ) -> ProgramCell:
+    """The program's view of the cell; the tool's load from ``mass_model.tool``, else 1 kg at
+    the tool point (stated in the program as assumed); ``frames`` the cell's
+    ``controller_frames`` (None: the model's, :func:`robomill.io.controller.model_frames`);
+    home: ``motion.home_deg`` (controller angles), else ``q_home_deg`` (model angles)."""
+    from robomill.io.controller import model_frames
+    from robomill.plan.motion import Motion
+
+    frames = frames or model_frames(robot.n_joints)
+    motion = motion or Motion()
+    mass, com = 1.0, robot.fk(np.zeros(robot.n_joints))[:3, 3]
     if mass_model is not None and getattr(mass_model, "tool", None) is not None:
-        F0 = robot.frames(np.zeros(robot.n_joints))[-1]
         mass = float(mass_model.tool.mass_kg)
-        cog = (np.asarray(mass_model.tool.com_mm, float) - F0[:3, 3]) @ F0[:3, :3]
-    return ProgramCell(np.asarray(robot.tool_mm, float), np.asarray(robot.tool_R, float),
-                       np.asarray(T_base_part, float), max(mass, 1e-3), cog, robot.name)
+        com = np.asarray(mass_model.tool.com_mm, float)
+    if motion.home_deg is not None:
+        home = frames.model_deg(np.asarray(motion.home_deg, float))
+    else:
+        home = None if q_home_deg is None else np.asarray(q_home_deg, float)
+    return ProgramCell(robot, np.asarray(T_base_part, float), max(mass, 1e-3),
+                       np.asarray(com, float), frames, spindle, motion, home, plan_name)
+
+
+def spindle_rpm_int(rpm: float) -> int:
+    """The speed the program commands: the planned speed rounded to a whole rpm."""
+    return int(round(float(rpm)))
 
 
 def write_program(paths: Sequence, controller: str | None, pcell: ProgramCell, out_dir,

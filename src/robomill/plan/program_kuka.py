@@ -1,13 +1,18 @@
 """The planned cuts as a KUKA KRL program [KUKA System Software 8, *Programming*]: a ``.dat``
-file with the tool frame, the base (work object) frame, one ``E6AXIS`` joint target and one
-``E6POS`` Cartesian target (in the base frame of the work object, with its Status and Turn)
-per move target, and a ``.src`` file that per cut moves to the start configuration by ``PTP``,
-sets the spindle speed through the one subprogram ``SetSpindle`` (which the lab maps to its
-I/O), plunges, feeds along the stations by ``LIN`` at the planned feed (``$VEL.CP`` [m/s])
-and retracts.
-
-Status S (bits 2 1 0): wrist− · down · back of :func:`robomill.plan.feasible.configuration`;
-Turn T: bit j set when joint j+1's angle is negative.
+file with the tool frame (in ``$FLANGE``, x along the spindle axis: the default tool
+direction), the base (work object) frame, the home axis target, one ``E6AXIS`` joint target
+and one ``E6POS`` Cartesian target (in the base frame of the work object, with its Status and
+Turn from the angles as printed) per move target; and a ``.src`` file that sets the motion
+defaults (``BAS(#INITMOV,0)``, then the PTP velocity and acceleration, ``$VEL.CP``,
+``$ACC.CP``, ``$APO.CDIS``), the tool, base and load (``$LOAD``), and runs
+:mod:`robomill.plan.motion`'s moves: home by ``PTP``, per cut a ``PTP`` to the safe point
+(exact stop: the spindle is set there), the approach, the entry ramp and the cut by
+``LIN ... C_DIS`` at the feed (``$VEL.CP`` [m/s]) in the cut zone, the retract along the
+tool axis and the safe point over the end, and home. The spindle is driven by the cell's
+``$ANOUT``/``$OUT``/``$IN`` (``WAIT FOR`` ready and/or ``WAIT SEC`` run-up; stopped at the
+end), each after a ``WAIT SEC 0`` that stops the advance run so that the outputs switch when
+the robot stands where they belong; or the program ``HALT``\\ s with the operator's
+instruction before the first cut.
 """
 
 from __future__ import annotations
@@ -16,11 +21,20 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from robomill.plan.program import PROGRAM_NAME, SPINDLE_PROC, ProgramCell, zyx_abc_deg
+from robomill.plan.controller import (
+    cog_in_flange,
+    kuka_status_turn,
+    printed,
+    tcp_turn,
+    tool_in_flange,
+)
+from robomill.plan.program import PROGRAM_NAME, ProgramCell, spindle_rpm_int, zyx_abc_deg
+
+TAG = {"safe_in": "SIN", "approach": "APP", "retract": "RET", "safe_out": "SOUT"}
 
 
 def _num(x: float) -> str:
-    return f"{round(float(x), 6) + 0.0:.6f}".rstrip("0").rstrip(".")  # no "-0"
+    return f"{float(printed(x)):.6f}".rstrip("0").rstrip(".")
 
 
 def _frame(pos, R) -> str:
@@ -29,59 +43,115 @@ def _frame(pos, R) -> str:
             f"C {_num(c)}}}")
 
 
-def status_turn(q_deg, code: int) -> tuple[str, str]:
-    """KRL Status and Turn as binary literals ('B010', 'B000101')."""
-    code = int(code)
-    s = ((code & 1) << 2) | (code & 2) | ((code >> 2) & 1)
-    t = sum(1 << j for j, v in enumerate(q_deg) if v < 0)
-    return f"'B{s:03b}'", f"'B{t:06b}'"
+def _axes(q) -> str:
+    return ("{" + ",".join(f"A{j + 1} {_num(v)}" for j, v in enumerate(q))
+            + ",E1 0,E2 0,E3 0,E4 0,E5 0,E6 0}")
 
 
-def _name(cut: str, k: int, move: str) -> str:
-    tag = {"approach": "APP", "retract": "RET"}.get(move, f"S{k:02d}")
-    return f"{cut.upper()}_{tag}"
+def target_names(cut: str, moves) -> list[str]:
+    """Target names of a cut's moves (``PLAN_01_SIN``, ``_APP``, ``_E00``, ``_S00`` …)."""
+    out, k = [], {"entry": 0, "cut": 0}
+    for m in moves:
+        if m in k:
+            out.append(f"{cut.upper()}_{m[0].upper()}{k[m]:02d}")
+            k[m] += 1
+        else:
+            out.append(f"{cut.upper()}_{TAG[m]}")
+    return out
+
+
+def _spindle(pc: ProgramCell, rpm: int, first: bool) -> list[str]:
+    sp = pc.spindle
+    if sp is None or not sp.wired:
+        return [f"  ; operator: set the spindle to {rpm} rpm"
+                + (" and start it" if first else "") + ", then restart the program",
+                "  HALT"]
+    out = ["  WAIT SEC 0"]            # stop the advance run: the I/O after the robot stands
+    if sp.speed is not None:
+        out.append(f"  $ANOUT[{sp.speed}]={_num(rpm * sp.speed_per_rpm)}")
+    if first:
+        out.append(f"  $OUT[{sp.start}]=TRUE")
+    if sp.ready is not None:
+        out.append(f"  WAIT FOR $IN[{sp.ready}]")
+    if sp.runup_s is not None:
+        out.append(f"  WAIT SEC {_num(sp.runup_s)}")
+    return out
 
 
 def krl_files(paths: Sequence, pc: ProgramCell, *, header: str) -> tuple[str, str]:
     """(``.src``, ``.dat``) text of the runnable :class:`robomill.plan.cutpath.CutPath`
     objects."""
+    robot, fr, mo = pc.robot, pc.frames, pc.motion
+    T_tool = tool_in_flange(robot, fr, "kuka")
+    cog = cog_in_flange(robot, fr, pc.tool_com_base_mm)
+    turn = tcp_turn("kuka")
     dat = ["&ACCESS RVP", f"DEFDAT {PROGRAM_NAME} PUBLIC"]
     dat += [f"; {line}" for line in header.splitlines()]
     dat.append(f"; robot {pc.robot_name}; targets in the base frame F_PART [mm, deg: "
-               "R = Rz(A) Ry(B) Rx(C)]; joint angles of the robot model [deg]")
-    dat.append(f"DECL FRAME F_SPINDLE={_frame(pc.tool_mm, pc.tool_R)}")
+               "R = Rz(A) Ry(B) Rx(C)], tool x along the spindle axis; joint angles and tool "
+               "data in the controller's frames " + ("(cell.yaml controller_frames)" if fr.stated
+                                                     else "(assumed: the model's)"))
+    dat.append(f"DECL FRAME F_SPINDLE={_frame(T_tool[:3, 3], T_tool[:3, :3])}")
     dat.append(f"DECL FRAME F_PART={_frame(pc.T_base_part[:3, 3], pc.T_base_part[:3, :3])}")
+    if pc.home_model_deg is not None:
+        dat.append(f"DECL E6AXIS XJ_HOME={_axes(fr.joints_deg(pc.home_model_deg))}")
     src = ["&ACCESS RVP", f"DEF {PROGRAM_NAME}()"]
     src += [f"  ; {line}" for line in header.splitlines()]
-    src += ["  BAS(#INITMOV,0)", "  $TOOL=F_SPINDLE", "  $BASE=F_PART"]
+    src += ["  BAS(#INITMOV,0)",
+            f"  BAS(#VEL_PTP,{_num(mo.joint_speed_pct)})",
+            f"  BAS(#ACC_PTP,{_num(mo.joint_speed_pct)})",
+            f"  $VEL.CP={_num(mo.air_speed_mm_s / 1000.0)}",
+            f"  $ACC.CP={_num(mo.cp_acceleration_m_s2)}",
+            f"  $APO.CDIS={_num(mo.zone_air_mm)}",
+            "  $TOOL=F_SPINDLE", "  $BASE=F_PART",
+            f"  $LOAD.M={_num(pc.tool_mass_kg)}",
+            f"  $LOAD.CM={{X {_num(cog[0])},Y {_num(cog[1])},Z {_num(cog[2])},A 0,B 0,C 0}}",
+            "  $LOAD.J={X 0,Y 0,Z 0}"]
+    if pc.home_model_deg is not None:
+        src.append("  PTP XJ_HOME")
+    rpm_now = None
     for p in paths:
         st = p.stations
-        code = int(p.summary.get("configuration_code", 0))
-        names = [_name(p.cut, k - 1, m) for k, m in enumerate(st["move"])]
-        for name, (_, r) in zip(names, st.iterrows(), strict=True):
-            q = [float(r[f"q{j}_deg"]) for j in range(1, 7)]
-            dat.append(f"DECL E6AXIS XJ_{name}={{" + ",".join(
-                f"A{j + 1} {_num(v)}" for j, v in enumerate(q))
-                + ",E1 0,E2 0,E3 0,E4 0,E5 0,E6 0}")
-            R = _quat_matrix([r["qw_part"], r["qx_part"], r["qy_part"], r["qz_part"]])
+        q = st[[f"q{j}_deg" for j in range(1, 7)]].to_numpy(float)
+        status, turns = kuka_status_turn(robot, fr, q)
+        names = target_names(p.cut, st["move"])
+        for name, (_, r), qq, s, t in zip(names, st.iterrows(), q, status, turns, strict=True):
+            dat.append(f"DECL E6AXIS XJ_{name}={_axes(fr.joints_deg(qq))}")
+            R = _quat_matrix([r["qw_part"], r["qx_part"], r["qy_part"], r["qz_part"]]) @ turn
             a, b, c = zyx_abc_deg(R)
-            s, t = status_turn(q, code)
             dat.append(f"DECL E6POS XP_{name}={{X {_num(r['x_part_mm'])},Y {_num(r['y_part_mm'])},"
                        f"Z {_num(r['z_part_mm'])},A {_num(a)},B {_num(b)},C {_num(c)},"
-                       f"S {s},T {t},E1 0,E2 0,E3 0,E4 0,E5 0,E6 0}}")
-        src.append(f"  ; {p.cut}: configuration {p.summary.get('configuration', '')}; rotation "
-                   f"about the tool axis per station {p.summary.get('rotation_path_deg', '')}")
-        src.append(f"  PTP XJ_{names[0]}")
-        src.append(f"  {SPINDLE_PROC}({_num(p.spindle_rpm)})")
-        src.append(f"  $VEL.CP={_num(p.feed_mm_s / 1000.0)}")
-        for name, move in zip(names[1:], st["move"].iloc[1:], strict=True):
-            if move == "retract":
-                src.append("  $VEL.CP=0.1")
-            src.append(f"  LIN XP_{name}")
-        src.append(f"  {SPINDLE_PROC}(0)")
-    src += ["END", "", f"DEF {SPINDLE_PROC}(RPM:IN)", "  REAL RPM",
-            "  ; the lab maps this to its spindle I/O (e.g. $ANOUT[1]=RPM/24000) and waits "
-            "until the spindle runs at speed", "END"]
+                       f"S 'B{int(s):03b}',T 'B{int(t):06b}',E1 0,E2 0,E3 0,E4 0,E5 0,E6 0}}")
+        rpm = spindle_rpm_int(p.spindle_rpm)
+        src.append(f"  ; {p.cut}: {rpm} rpm, feed {_num(p.feed_mm_s)} mm/s; configuration "
+                   f"{p.summary.get('configuration', '')}; rotation about the tool axis per "
+                   f"station {p.summary.get('rotation_path_deg', '')}")
+        for name, move in zip(names, st["move"], strict=True):
+            if move == "safe_in":
+                src += [f"  $VEL.CP={_num(mo.air_speed_mm_s / 1000.0)}",
+                        f"  $APO.CDIS={_num(mo.zone_air_mm)}", f"  PTP XP_{name}"]
+                if rpm != rpm_now:
+                    src += _spindle(pc, rpm, rpm_now is None)
+                    rpm_now = rpm
+            elif move == "entry" and name.endswith("E00"):
+                src += [f"  $VEL.CP={_num(p.feed_mm_s / 1000.0)}",
+                        f"  $APO.CDIS={_num(mo.zone_cut_mm)}", f"  LIN XP_{name} C_DIS"]
+            elif move == "retract":
+                src += [f"  $VEL.CP={_num(mo.air_speed_mm_s / 1000.0)}",
+                        f"  $APO.CDIS={_num(mo.zone_air_mm)}", f"  LIN XP_{name} C_DIS"]
+            else:
+                src.append(f"  LIN XP_{name} C_DIS")
+    if rpm_now is not None:
+        sp = pc.spindle
+        if sp is not None and sp.wired:
+            src += ["  WAIT SEC 0", f"  $OUT[{sp.start}]=FALSE"]
+            if sp.speed is not None:
+                src.append(f"  $ANOUT[{sp.speed}]=0")
+        else:
+            src += ["  ; operator: stop the spindle, then restart the program", "  HALT"]
+    if pc.home_model_deg is not None:
+        src.append("  PTP XJ_HOME")
+    src.append("END")
     dat.append("ENDDAT")
     return "\n".join(src) + "\n", "\n".join(dat) + "\n"
 

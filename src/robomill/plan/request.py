@@ -30,11 +30,14 @@ A request states the job and what counts as acceptable:
     min_wrist_angle_deg: 5           # and its wrist at least this far from the singularity
     clearance_mm: 10                 # approach and retract this far above the part
     work_object: {frame: {xyz_mm, rpy_deg}, block_mm: {min, max}}   # optional (plan.workobject)
+    program: {safe_height_mm: 50, ramp_angle_deg: 3, zone_cut_mm: 0.1}  # optional (plan.motion)
 
 The rotation grid always holds 0 (the cell's nominal tool orientation).
-Directions are names (``px``, ``py``, ``mx``, ``my``) or angles in degrees in the part frame,
-whose axes are parallel to the base frame's. Every problem is reported as one line naming the
-file, the field and what was expected (:class:`PlanRequestError`).
+Directions are names (``px``, ``py``, ``mx``, ``my``) or angles in degrees in the part frame
+(the work object's); a yawed work object turns them into the base frame when the request is
+read (``direction_deg`` and the plan's directions are the base frame's, named
+``d<angle>``). Every problem is reported as one line naming the file, the field and what was
+expected (:class:`PlanRequestError`).
 """
 
 from __future__ import annotations
@@ -100,6 +103,8 @@ class PlanRequest:
     raw: dict[str, Any] = field(default_factory=dict)
     purpose: str = "production"
     extrapolation: dict[str, Any] = field(default_factory=lambda: dict(EXTRAPOLATION))
+    motion: Any = None
+    """The ``program:`` settings (:class:`robomill.plan.motion.Motion`; None: defaults)."""
 
     @property
     def width_mm(self) -> float:
@@ -241,7 +246,7 @@ def parse_request(data: Any, path: str | Path = "plan.yaml") -> PlanRequest:
              "depth_mm", "feed_mm_s", "constraints", "n_cuts", "max_rotation_step_deg",
              "path_stations", "robot_mode_max_hz", "reference_point_mm", "purpose",
              "extrapolation", "joint_limit_margin_deg", "min_wrist_angle_deg", "clearance_mm",
-             "work_object"}
+             "work_object", "program"}
     for k in data:
         if k not in known:
             raise PlanRequestError(path, str(k), f"unknown field (expected one of "
@@ -290,6 +295,10 @@ def parse_request(data: Any, path: str | Path = "plan.yaml") -> PlanRequest:
     if purpose not in PURPOSES:
         raise PlanRequestError(path, "purpose", f"expected one of {', '.join(PURPOSES)}, got "
                                f"{purpose!r}")
+    wobj = _work_object(path, data.get("work_object"))
+    if wobj is not None and abs(wobj.yaw_deg) > 0:     # part-frame directions → base frame
+        deg = (deg + wobj.yaw_deg) % 360.0
+        names = tuple(f"d{a:g}" for a in deg)
     return PlanRequest(
         purpose=purpose, extrapolation=_extrapolation(path, data.get("extrapolation")),
         path=str(path), milling=milling, radial_immersion=ae, length_mm=length,
@@ -312,8 +321,16 @@ def parse_request(data: Any, path: str | Path = "plan.yaml") -> PlanRequest:
                                     data.get("min_wrist_angle_deg", 5.0), minimum=0.0),
         clearance_mm=_number(path, "clearance_mm", data.get("clearance_mm", 10.0),
                              positive=True),
-        work_object=_work_object(path, data.get("work_object")),
+        work_object=wobj,
+        motion=parse_motion(data.get("program"), path, PlanRequestError),
         raw=data)
+
+
+def parse_motion(value, path, error):
+    """``program:`` (:func:`robomill.plan.motion.parse_motion`)."""
+    from robomill.plan.motion import parse_motion as parse
+
+    return parse(value, path, error)
 
 
 def _work_object(path, value):

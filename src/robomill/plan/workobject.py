@@ -52,8 +52,15 @@ class WorkObject:
         R, t = self.T_base_part[:3, :3], self.T_base_part[:3, 3]
         return (np.asarray(p_base, float) - t) @ R
 
+    @property
+    def yaw_deg(self) -> float:
+        """The part frame's yaw about the base z axis [deg]."""
+        return float(np.rad2deg(np.arctan2(self.T_base_part[1, 0], self.T_base_part[0, 0])))
+
     def to_base_dir(self, u: np.ndarray) -> np.ndarray:
-        """A base-frame direction, unchanged (directions are given in the base frame)."""
+        """A base-frame direction, unchanged: the request's feed directions, given in the
+        part frame, are turned into the base frame when it is read
+        (:func:`robomill.plan.request.parse_request`)."""
         return np.asarray(u, float)
 
     def top_z_offset_mm(self, p_base: np.ndarray) -> float:

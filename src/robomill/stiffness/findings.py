@@ -16,17 +16,17 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill import references
+from robomill import catalogue, references
 from robomill.findings import Findings
 from robomill.stiffness.cuts import stiffness_spread_pct, waviness_by_direction
 
-_MAPS = "results/stiffness/maps.nc"
-_OPTIMAL = "results/stiffness/optimal_poses.csv"
-_BEAMFRAME = "results/stiffness/beamframe.nc"
-_SLOTS = "results/stiffness/thesis_slots.csv"
-_CUTS = "results/stiffness/cut_stiffness.csv"
-_WAVINESS = "results/surface/table_2_1_waviness_rms.csv"
-_TRUTH = "results/synthetic/truth.nc"
+_MAPS = catalogue.artefact("stiffness.maps")
+_OPTIMAL = catalogue.artefact("stiffness.optimal_poses")
+_BEAMFRAME = catalogue.artefact("stiffness.beamframe")
+_SLOTS = catalogue.artefact("stiffness.thesis_slots")
+_CUTS = catalogue.artefact("stiffness.cut_stiffness")
+_WAVINESS = catalogue.artefact("surface.table_2_1_waviness_rms")
+_TRUTH = catalogue.artefact("synthetic.truth")
 _REFS = "src/robomill/data/references.yaml"
 _N_UM = 1e6  # N/m per N/µm
 _K_AXES = ("feed", "normal", "axial")
@@ -70,7 +70,7 @@ def _workspace(found: Findings, maps: xr.Dataset) -> None:
 
 def _identification(found: Findings, robot: str, joints: pd.DataFrame,
                     validation: pd.DataFrame, planted_k_Nm_rad: Sequence[float] | None) -> None:
-    src = f"results/stiffness/{robot}/joint_stiffness.csv"
+    src = catalogue.artefact("stiffness.joint_stiffness", robot=robot)
     k = joints["k_Nm_rad"].to_numpy(float)
     found.add("n_joints", int(len(joints)), artefact=src, what="rows")
     found.add("joint_k_kNm_rad", k / 1e3, "kN m/rad", artefact=src, what="k_Nm_rad")
@@ -95,7 +95,7 @@ def _identification(found: Findings, robot: str, joints: pd.DataFrame,
                   what=f"stiffness_k_Nm_rad[stiffness_robot = {robot}]")
         found.add("n_planted_in_ci", int(np.sum((planted >= lo) & (planted <= hi))),
                   artefact=src, what="planted value within ci95_low_Nm_rad … ci95_high_Nm_rad")
-    vsrc = f"results/stiffness/{robot}/validation.csv"
+    vsrc = catalogue.artefact("stiffness.validation", robot=robot)
     found.add("n_validation_poses", int(validation["pose"].nunique()) if len(validation) else 0,
               artefact=vsrc, what="pose")
     if len(validation):

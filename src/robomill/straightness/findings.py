@@ -22,7 +22,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill import references
+from robomill import catalogue, references
 from robomill.findings import Findings
 from robomill.settings import schema_default
 from robomill.straightness.attribution import NO_TIME_BASE
@@ -35,10 +35,10 @@ from robomill.straightness.tables import (
 )
 from robomill.straightness.truth import attribution_counts
 
-_PEAKS = "results/straightness/peaks.csv"
-_PROFILES = "results/straightness/profiles.nc"
-_SURFACE_PEAKS = "results/surface/peaks.csv"
-_TRUTH_CHECK = "results/straightness/truth_check.csv"
+_PEAKS = catalogue.artefact("straightness.peaks")
+_PROFILES = catalogue.artefact("straightness.profiles")
+_SURFACE_PEAKS = catalogue.artefact("surface.peaks")
+_TRUTH_CHECK = catalogue.artefact("straightness.truth_check")
 _REFERENCES = "src/robomill/data/references.yaml"
 THESIS_DIRECTIONS = ("py", "my", "px")
 """The thesis' order of the path directions in its figures (±Y, then +X)."""
@@ -185,7 +185,7 @@ def _runs(found: Findings, profiles: xr.Dataset, peaks: pd.DataFrame,
     dirs = figure_directions(profiles["direction"].values, layout)
     main = [d for d in dirs if d in ("py", "my")] if layout else dirs
     extra = [d for d in dirs if d not in main]
-    found.add("thesis_layout", layout, artefact="results/ingest/study.yaml",
+    found.add("thesis_layout", layout, artefact=catalogue.artefact("ingest.study"),
               what="the thesis' design (robomill.experiment.is_thesis_design)")
     found.add("directions", dirs, artefact=_PROFILES, what="direction, the figures' order")
     found.add("direction_labels", [direction_text(d) for d in dirs], artefact=_PROFILES,

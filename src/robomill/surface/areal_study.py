@@ -12,6 +12,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from robomill import catalogue
 from robomill.surface.areal import PARAMETERS
 
 AREAL_COLUMNS = ["cut", *PARAMETERS, "valid_share", "form_degree", "feed_angle_deg", "nx",
@@ -100,8 +101,8 @@ def gather_areal(scans: Sequence[xr.Dataset], profiles: Mapping[str, tuple[np.nd
     return {"areal": areal, "spectra": spectra, "profile_vs_areal": vs}
 
 
-_AREAL = "results/surface/areal.csv"
-_VS = "results/surface/profile_vs_areal.csv"
+_AREAL = catalogue.artefact("surface.areal")
+_VS = catalogue.artefact("surface.profile_vs_areal")
 
 
 def add_areal_findings(found, areal: pd.DataFrame, vs: pd.DataFrame | None) -> None:

@@ -15,6 +15,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from robomill import catalogue
 from robomill.findings import Findings
 from robomill.surface.tables import (
     example_cut,
@@ -23,11 +24,11 @@ from robomill.surface.tables import (
     with_directions,
 )
 
-_METRICS = "results/surface/metrics.csv"
-_PEAKS = "results/surface/peaks.csv"
-_PROFILES = "results/surface/profiles.nc"
-_RECOVERY = "results/surface/recovery.csv"
-_COMPARISON = "results/surface/thesis_comparison.csv"
+_METRICS = catalogue.artefact("surface.metrics")
+_PEAKS = catalogue.artefact("surface.peaks")
+_PROFILES = catalogue.artefact("surface.profiles")
+_RECOVERY = catalogue.artefact("surface.recovery")
+_COMPARISON = catalogue.artefact("surface.thesis_comparison")
 
 
 def _span(values) -> list[float] | None:

@@ -1,5 +1,5 @@
 """The ``config.yaml: surface`` settings of the profile analysis: the schema's
-(``workflow/schemas/config/surface.schema.yaml``) defaults where a section lacks a key."""
+(``src/robomill/data/schemas/config/surface.schema.yaml``) defaults where a section lacks a key."""
 
 from __future__ import annotations
 

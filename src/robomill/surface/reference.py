@@ -4,7 +4,10 @@
 ``reference``).
 
 Each section names the profile its parameters describe: ``primary`` (the measured profile
-with its least-squares line removed), ``roughness`` and ``waviness`` (the ISO 16610-21
+with its least-squares line removed, or only its mean where the file says it removed no form,
+``form_order`` 0; low-pass filtered at the file's ``lambda_s_mm`` by the same Gaussian where it
+states one [ISO 16610-21]), ``raw`` (the NPL exports' unfiltered profile, the same without
+λs), ``roughness`` and ``waviness`` (the ISO 16610-21
 Gaussian split of the primary profile, :func:`robomill.surface.profile.split_profile`, at
 the cut-off the file states, or at ``surface.lambda_c_mm`` when it states none; the row says
 which). The parameter's type is its last letters, whatever its first (``Pq``, ``Rq`` and
@@ -26,6 +29,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from robomill import catalogue
 from robomill.surface.profile import detrend_profile, rz_um, split_profile
 
 REFERENCE_COLUMNS = ["cut", "profile", "parameter", "unit", "file_value", "ours", "rel_diff",
@@ -69,6 +73,14 @@ def _filter_text(section: Mapping[str, Any], lambda_c_mm: float, stated: bool) -
             f"λc = {lambda_c_mm:g} mm (surface.lambda_c_mm)")
 
 
+def _primary_text(form_order: int | None, lambda_s_mm: float | None) -> str:
+    removed = ("the mean removed, the file's LSQ_COEFF 0" if form_order == 0
+               else "least-squares line removed")
+    if lambda_s_mm:
+        return f"{removed}; Gaussian λs = {lambda_s_mm * 1e3:g} µm (the file's)"
+    return f"no filter; {removed}"
+
+
 def reference_comparison(x_mm: np.ndarray, z_um: np.ndarray, reference: Mapping[str, Any], *,
                          lambda_c_mm: float, rtol: float, cut: str = "") -> pd.DataFrame:
     """Our value of every parameter ``reference`` states, beside it.
@@ -108,14 +120,19 @@ def reference_comparison(x_mm: np.ndarray, z_um: np.ndarray, reference: Mapping[
     for profile, section in reference.items():
         stated = section.get("lambda_c_mm") is not None
         lc = float(section["lambda_c_mm"]) if stated else float(lambda_c_mm)
-        if profile == "primary":
-            p, n_sampling = primary, None
+        form = section.get("form_order")
+        base = (np.asarray(z_um, float) - np.mean(z_um)) if form == 0 else primary
+        lambda_s = section.get("lambda_s_mm")
+        if profile in ("primary", "raw"):
+            p, n_sampling = base, None
+            if lambda_s and profile == "primary":
+                p = split_profile(base, dx, float(lambda_s))[0]
         else:
             w, r = split_profile(primary, dx, lc)
             p, n_sampling = (r, max(int(round(lc / dx)), 2)) if profile == "roughness" else (
                 w, None)
         for key, value in section.items():
-            if key in ("filter", "lambda_c_mm"):
+            if key in ("filter", "lambda_c_mm", "lambda_s_mm", "form_order"):
                 continue
             name, _, unit = key.partition("_")
             ours = profile_parameter(p, name[1:], n_sampling)
@@ -126,21 +143,29 @@ def reference_comparison(x_mm: np.ndarray, z_um: np.ndarray, reference: Mapping[
             rows.append({"cut": cut, "profile": profile, "parameter": name, "unit": unit or "-",
                          "file_value": file_value, "ours": ours, "rel_diff": rel,
                          "within_tolerance": bool(np.isfinite(rel) and abs(rel) <= rtol),
-                         "lambda_c_mm": lc if profile != "primary" else float("nan"),
-                         "filter": ("none (least-squares line removed)" if profile == "primary"
+                         "lambda_c_mm": (lc if profile not in ("primary", "raw")
+                                         else float("nan")),
+                         "filter": (_primary_text(form, lambda_s if profile == "primary"
+                                                  else None)
+                                    if profile in ("primary", "raw")
                                     else _filter_text(section, lc, stated))})
     return pd.DataFrame(rows, columns=REFERENCE_COLUMNS)
 
 
-_REFERENCE = "results/surface/reference_comparison.csv"
+_REFERENCE = catalogue.artefact("surface.reference_comparison")
 
 
 def add_reference_findings(found, table: pd.DataFrame, rtol: float) -> None:
     """Chapter 2's statements about :func:`reference_comparison`'s table: how many of the
     files' own parameters ours match within ``rtol`` (verdict ``reference_agreement``:
-    pass when all do), the largest difference, and Pq of every file and profile beside ours.
+    pass when all do; a type we do not compute, such as the NPL exports' Pc, is listed in the
+    table with ours empty and left out of the count), the largest difference, and Pq of every
+    file and profile beside ours.
     Nothing is added for an empty table (the chapter then says nothing about it)."""
     if table is None or not len(table):
+        return
+    table = table[np.isfinite(table["ours"].astype(float))]  # types we compute (not Pc)
+    if not len(table):
         return
     within = table["within_tolerance"].astype(bool)
     found.add("has_reference", True, artefact=_REFERENCE)

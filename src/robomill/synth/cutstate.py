@@ -79,11 +79,6 @@ def planned_cut_states(config: Mapping[str, Any], files: Iterable[Mapping[str, A
     return {c: {"length_mm": span_mm(config, k), "air": air[c]} for c, k in kinds.items()}
 
 
-def cut_state_path(results: str | Path, cut_id: str) -> str:
-    """Where the simulated state of cut ``cut_id`` is stored under the results folder."""
-    return f"{Path(results).as_posix()}/synthetic/truth/cuts/{cut_id}.nc"
-
-
 def cut_state_dataset(sims: Mapping[str, Any]):
     """The dataset of one cut's passes ``{pass: SimulatedCut}`` (the same cut, span and
     rate)."""

@@ -36,6 +36,15 @@ recording has none either.
 
 Each file's noise is seeded per cut (``[seed, 8, crc32(cut)]`` and ``[seed, 9, …]``).
 
+**Air pass** (``synth.recordings.air_pass``, :func:`simulate_air_pass_file`): each recorded cut
+is recorded a second time by the same instrument while the robot moves along the same path
+without material (:func:`robomill.synth.process.simulate_cut` with ``cutting=False``, the
+``air`` pass of the cut's stored state: the servo excitation and the gear trains' path error
+remain, no chip, no cutting force), as a lab
+records an air cut to tell forced vibration from chatter; ``sound/<cut>_air.wav``,
+``vibration/<cut>_air.csv``, manifest ``pass: air``. Its noise is seeded apart
+(``[seed, 8 or 9, crc32(cut), 1]``); the spindle turns, so the microphone hears its tone.
+
 Reference: Kinsler, L. E.; Frey, A. R.; Coppens, A. B.; Sanders, J. V. *Fundamentals of
 Acoustics*, 4th ed. Wiley, New York, 2000 (§7.4, radiation from a baffled circular piston:
 at ka ≪ 1 the far-field pressure is ρ₀ S times the piston's acceleration over 2π r).
@@ -85,7 +94,8 @@ def tool_acceleration_m_s2(sim) -> np.ndarray:
 
 
 def _record(cut, config: Mapping[str, Any], sim):
-    """The simulated cut ``sim`` over the dynamometer's span and that span's sample count."""
+    """The simulated cut (or its air pass) ``sim`` over the dynamometer's span and that span's
+    sample count."""
     from robomill.synth.dynamometer import record_length_mm
 
     length = record_length_mm(config)
@@ -94,25 +104,30 @@ def _record(cut, config: Mapping[str, Any], sim):
     return sim, n
 
 
-def _rng(cell, cut, number: int) -> np.random.Generator:
-    return np.random.default_rng([cell.seed, number, zlib.crc32(cut.id.encode())])
+def _rng(cell, cut, number: int, cutting: bool = True) -> np.random.Generator:
+    key = [cell.seed, number, zlib.crc32(cut.id.encode())]
+    return np.random.default_rng(key if cutting else [*key, 1])
 
 
-def simulate_vibration(cell, cut, config: Mapping[str, Any], sim) -> tuple[np.ndarray, float]:
-    """The accelerometer's record of one cut: ``(a (m, 3) [m/s², base axes], fs_hz)``
-    (``sim``: the simulated cut, :class:`robomill.synth.process.SimulatedCut`)."""
+def simulate_vibration(cell, cut, config: Mapping[str, Any], sim, *, cutting: bool = True
+                       ) -> tuple[np.ndarray, float]:
+    """The accelerometer's record of one cut (``cutting=False``: of its air pass):
+    ``(a (m, 3) [m/s², base axes], fs_hz)``; ``sim`` the simulated cut, or its air pass
+    (:class:`robomill.synth.process.SimulatedCut`)."""
     s = settings(config)
     sim, n = _record(cut, config, sim)
     a = tool_acceleration_m_s2(sim)[:n]
-    a = a + _rng(cell, cut, VIBRATION_NUMBER).normal(0.0, float(s["accel_noise_m_s2"]),
+    a = a + _rng(cell, cut, VIBRATION_NUMBER, cutting).normal(0.0, float(s["accel_noise_m_s2"]),
                                                      a.shape)
     fs = float(s["accel_fs_hz"])
     return _resample(a, sim.fs_hz, fs), fs
 
 
-def simulate_sound(cell, cut, config: Mapping[str, Any], sim) -> tuple[np.ndarray, float]:
-    """The microphone's record of one cut: ``(p (m,) [Pa], fs_hz)`` (module docstring;
-    ``sim``: the simulated cut)."""
+def simulate_sound(cell, cut, config: Mapping[str, Any], sim, *, cutting: bool = True
+                   ) -> tuple[np.ndarray, float]:
+    """The microphone's record of one cut (``cutting=False``: of its air pass):
+    ``(p (m,) [Pa], fs_hz)`` (module docstring; ``sim`` the simulated cut, or its air
+    pass)."""
     import scipy.signal
 
     from robomill.experiment import cut_process
@@ -133,7 +148,7 @@ def simulate_sound(cell, cut, config: Mapping[str, Any], sim) -> tuple[np.ndarra
     lag = int(round(r / float(s["speed_of_sound_m_s"]) * fs))  # the sound's travel time
     if lag:
         p = np.concatenate([np.full(lag, p[0]), p[:-lag]])
-    rng = _rng(cell, cut, SOUND_NUMBER)
+    rng = _rng(cell, cut, SOUND_NUMBER, cutting)
     t = np.arange(p.size) / fs
     rpm = float(cut_process(cut, cell.experiment)["spindle_rpm"])
     p = p + float(s["spindle_tone_Pa"]) * np.sin(2 * np.pi * rpm / 60.0 * t
@@ -145,11 +160,21 @@ def simulate_sound(cell, cut, config: Mapping[str, Any], sim) -> tuple[np.ndarra
     return p, fs
 
 
+def simulate_air_pass_file(config: Mapping[str, Any], cut, path: str | Path, kind: str,
+                           air, cell=None) -> Path:
+    """The air pass of one cut (the same path without material; module docstring) as the
+    instrument ``kind`` records it, written as :func:`simulate_file` writes the cut's own;
+    ``air`` the simulated air pass (the cut state's ``air`` pass,
+    :func:`robomill.synth.cutstate.read_cut_state`)."""
+    return simulate_file(config, cut, path, kind, air, cell=cell, cutting=False)
+
+
 def simulate_file(config: Mapping[str, Any], cut, path: str | Path, kind: str, sim,
-                  cell=None) -> Path:
+                  cell=None, *, cutting: bool = True) -> Path:
     """Simulate one cut's recording of ``kind`` (``sound``: a 24-bit WAV scaled to
     ``full_scale_Pa``; ``vibration``: CSV ``t_s, ax_m_s2, ay_m_s2, az_m_s2``) from the
-    simulated cut ``sim`` into ``path``; returns ``path``."""
+    simulated cut ``sim`` into ``path`` (``cutting=False``: its air pass, ``sim`` the air
+    pass, :func:`simulate_air_pass_file`); returns ``path``."""
     from robomill.io.atomic import atomic_path
     from robomill.synth.cell import cell_from_config
 
@@ -159,14 +184,14 @@ def simulate_file(config: Mapping[str, Any], cut, path: str | Path, kind: str, s
         if kind == "sound":
             import soundfile
 
-            p, fs = simulate_sound(cell, cut, config, sim)
+            p, fs = simulate_sound(cell, cut, config, sim, cutting=cutting)
             full = float(settings(config)["full_scale_Pa"])
             soundfile.write(str(tmp), np.clip(p / full, -1.0, 1.0), int(round(fs)),
                             subtype="PCM_24", format="WAV")
         elif kind == "vibration":
             import pandas as pd
 
-            a, fs = simulate_vibration(cell, cut, config, sim)
+            a, fs = simulate_vibration(cell, cut, config, sim, cutting=cutting)
             pd.DataFrame({"t_s": np.arange(a.shape[0]) / fs, "ax_m_s2": a[:, 0],
                           "ay_m_s2": a[:, 1], "az_m_s2": a[:, 2]}).to_csv(
                 tmp, index=False, float_format="%.9g")

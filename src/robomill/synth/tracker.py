@@ -18,7 +18,7 @@ static and dynamic deflection in the cut where the tool is (path abscissa s; low
 at 0.4 × the tracker's rate, the tracker's own averaging) + a servo ripple at a constant
 ``ripple_hz`` (13 Hz) along a fixed direction + white tracker noise (``noise_std_um`` per
 axis). Configuration: ``config.yaml: synth.tracker`` (schema
-``workflow/schemas/config/synth_tracker.schema.yaml``).
+``src/robomill/data/schemas/config/synth_tracker.schema.yaml``).
 """
 
 from __future__ import annotations
