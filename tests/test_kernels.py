@@ -61,3 +61,11 @@ def test_the_cache_is_the_environments_unless_set(monkeypatch, tmp_path):
     assert kernels.cache_dir() == Path(sys.prefix) / "numba-cache"
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
     assert kernels.cache_dir() == tmp_path
+
+
+def test_a_cache_folder_that_cannot_be_made_takes_no_lock_and_stops_nothing(tmp_path):
+    blocker = tmp_path / "a_file"
+    blocker.write_text("")  # a folder cannot be made below a file (read-only environments)
+    with kernels.one_compiler(blocker / "cache"):
+        ran = True
+    assert ran and not (blocker / "cache").exists()

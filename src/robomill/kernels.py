@@ -38,12 +38,19 @@ def cache_dir() -> Path:
 @contextlib.contextmanager
 def one_compiler(folder: Path | None = None):
     """Hold the kernels' lock (an exclusive ``flock`` on ``.robomill-kernels.lock`` in the
-    cache folder) for the duration: one process of the environment compiles at a time."""
+    cache folder) for the duration: one process of the environment compiles at a time. Where
+    the folder cannot be written (a read-only environment) there is no lock to take, and
+    numba compiles in memory as it does without a cache."""
     import fcntl
 
     folder = Path(folder or cache_dir())
-    folder.mkdir(parents=True, exist_ok=True)
-    with open(folder / ".robomill-kernels.lock", "w") as lock:
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        lock = open(folder / ".robomill-kernels.lock", "w")  # noqa: SIM115 (held below)
+    except OSError:
+        yield
+        return
+    with lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         try:
             yield
