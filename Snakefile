@@ -6,10 +6,15 @@ import sys
 from snakemake.utils import min_version
 
 from robomill.io import ConfigError
+from robomill.kernels import cache_dir
 from robomill.pipeline.config import run_folder, validate_config_cached
 from robomill.settings import SCHEMAS
 
 min_version("9.0")
+
+# numba's compiled kernels: one cache per virtual environment, which every job shares (set
+# before any job starts; robomill.kernels), not one per clone of the sources
+os.environ.setdefault("NUMBA_CACHE_DIR", str(cache_dir()))
 
 
 configfile: "config.yaml"
