@@ -141,3 +141,28 @@ def test_listen_idle_seconds_line_is_forced_with_the_other_idle_seconds(props, s
     assert rc == 0
     assert out.splitlines()[0].endswith(
         f"forced at {line_hz:.1f} Hz (forced vibration, not chatter)"), out
+
+
+def test_listen_whole_record_with_air_pass_sets_the_idle_line_aside(props, imported, segments,
+                                                                     capsys):
+    """The whole 8 s record (6.7 s of it idle) with the idle seconds before the cut as its air
+    pass: the idle 150 Hz line is the strongest and forced; set aside, the cut's own line is
+    the chatter (before ``judge_beside_air`` the record was called forced at 150 Hz)."""
+    fs, x = segments["fs"], segments["x"]
+    rc, out = _listen(capsys, str(imported), "--rpm", str(props["S"]), "--flutes",
+                      str(props["numFlutes"]))
+    alone = float(out.splitlines()[0].split(" chatter at ")[1].split(" Hz")[0])
+    f, pb = _spectrum(x[segments["before"]], fs)
+    floor = float(np.median(pb[np.abs(f - alone) <= 50.0]))
+    assert _power_near(f, pb, alone) > 1000.0 * floor  # the strongest line is the idle one
+    rc, out = _listen(capsys, str(imported), "--rpm", str(props["S"]), "--flutes",
+                      str(props["numFlutes"]), "--air", str(segments["before_csv"]))
+    assert rc == 0
+    first = out.splitlines()[0]
+    assert " chatter at " in first, out
+    chatter_hz = float(first.split(" chatter at ")[1].split(" Hz")[0])
+    rc, cut_out = _listen(capsys, str(segments["cut_csv"]), "--rpm", str(props["S"]),
+                          "--flutes", str(props["numFlutes"]))
+    assert cut_out.splitlines()[0].endswith(f"chatter at {chatter_hz:.1f} Hz"), (out, cut_out)
+    assert abs(chatter_hz - alone) > 100.0
+    assert f"set aside as forced by the air pass: {alone:.1f} Hz" in out
