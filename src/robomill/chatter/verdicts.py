@@ -462,7 +462,8 @@ def air_test(cut_signal: np.ndarray, cut_fs_hz: float, air_signal: np.ndarray,
                 "depth, not forced")
     else:
         text = (f"{air_name} has no line at {line_hz:.1f} Hz ({above:.1f} dB above its floor, "
-                f"< {s.prominence_db:g} dB): not forced")
+                f"< {s.prominence_db:g} dB) and the cut raises the power there by {rise:+.1f} dB "
+                f"(≥ {s.air_rise_db:g} dB): not forced")
     return AirTest(forced, line_hz, above, rise, text)
 
 
