@@ -11,7 +11,8 @@ from conftest import NO_BOOK_PDF, run_snakemake
 
 from robomill.cli import main
 from robomill.errors import RawDataError
-from robomill.plan.cutlist import PREDICT_COLUMNS, parse_cuts, read_cut_entries
+from robomill.io.cutlist import parse_cuts, read_cut_entries
+from robomill.plan.cutlist import PREDICT_COLUMNS
 
 
 def _parse(tmp_path, text, suffix=".yaml"):
