@@ -40,6 +40,9 @@ ALLOWED = {
     ("src/robomill/modal/frf.py", "force_window_s"):
         "an attribute of an frf.nc written before the window was stored in it",
     ("src/robomill/modal/frf.py", "exponential_end"): "as force_window_s",
+    ("src/robomill/plan/stability.py", "seed"):
+        "plan.yaml's stability.seed: the plan request's own key (no configuration key), "
+        "the bootstrap's draws; the same number as the configuration's seeds by choice",
     ("src/robomill/straightness/study.py", "ik_points"):
         "inverse-kinematics samples along a tracker path in the straightness analysis, not "
         "the dynamometer simulator's synth.dynamometer.ik_points along a cut",

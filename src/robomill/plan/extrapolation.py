@@ -158,7 +158,7 @@ def widen(ds: xr.Dataset, code: xr.DataArray, excess: xr.DataArray,
     if "a_crit_members_mm" in ds and "member_weight" in ds:
         mem = widen_members(ds["a_crit_members_mm"].values, wa[None])
         wts = ds["member_weight"].values
-        level = float(ds.attrs.get("interval_level", 0.95))
+        level = float(ds.attrs["interval_level"])  # predict_grid states the level it used
         sm = summary(mem, wts, level)
         out["a_crit_members_mm"] = ds["a_crit_members_mm"].copy(data=mem)
         reach_ok = np.isfinite(ds["a_crit_mm"].values)
