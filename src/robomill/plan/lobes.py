@@ -109,7 +109,7 @@ def batch_coupling_depth(fn_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.ndarray,
                          n_scan: int = 40, n_bisect: int = 12) -> np.ndarray:
     """Mode-coupling depth ``(B,)`` [m]: the smallest depth a at which ṡ = (A + a B W̄ C) s has
     an unstable eigenvalue (the delay-free oriented cutting stiffness; Tlusty's mode coupling,
-    as :func:`robomill.chatter.thesis.mode_coupling`), by a log scan up to ``depth_max_m`` and
+    as :func:`robomill.chatter.slot_model.mode_coupling`), by a log scan up to ``depth_max_m`` and
     bisection; +inf where stable up to ``depth_max_m``. The zero-order lobes miss this limit
     when the tooth frequency is far above the modes (the robot's structure)."""
     A, Bm, C = state_space(fn_hz, zeta, k_N_m, shape)
