@@ -1,5 +1,5 @@
 """Chatter: stability lobes for any machine, the Shagniev 2019 time-domain robot–tool–surface model,
-FFT chatter detection with adaptive depth, and the thesis robot's chatter-free parameters.
+FFT chatter detection with adaptive depth, and the study's robot's chatter-free parameters.
 
 Conventions (used by every module of this package and by chapter 4)
 --------------------------------------------------------------------
