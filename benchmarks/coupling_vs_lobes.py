@@ -1,13 +1,15 @@
-"""Which stability limit of the planner binds on a study's own cuts, and what the cell said
-(the evidence behind the in-sample stability rows of ``check.csv`` that did not hold: the
-planner predicts chatter for most of the default study's cuts, which its files call stable).
+"""Two stability limits of the identified modes on a study's own cuts, and what the cell said:
+why the planner's stability model (:mod:`robomill.plan.stability`) is the regenerative model
+alone and the delay-free mode-coupling depth only chapter 4's diagnostic (the planner once
+took the lower of the two, and called most of the default study's cuts unstable, which its
+files call stable).
 
-The planner's critical depth (:mod:`robomill.plan.predict`) is the lower of two limits of the
-identified tool-tip modes and the calibrated coefficients: the zero-order lobes at the cut's
+The two limits of the identified tool-tip modes and the calibrated coefficients: the
+zero-order lobes at the cut's
 spindle speed (regenerative chip, d(t) − d(t − τ); Altintas & Budak 1995) and the delay-free
 mode-coupling depth (the oriented cutting stiffness acting on d(t) itself; Tlusty's mode
 coupling, the thesis' §3.3). This script evaluates both with the planner's own routines
-(:func:`robomill.plan.lobes.batch_zoa_lobes`, :func:`robomill.plan.lobes.batch_coupling_depth`)
+(:func:`robomill.plan.lobes.batch_zoa_lobes`, :func:`robomill.chatter.coupling.coupling_depth`)
 on a finished study's artefacts — ``results/modal/modes.csv``,
 ``results/forces/cutting_coefficients.csv``, ``results/ingest/cuts.csv``,
 ``results/chatter/verdicts.csv`` — for each cut's feed direction (shapes turned into its cut
@@ -31,10 +33,11 @@ from pathlib import Path
 import numpy as np
 import pandas as pd
 
+from robomill.chatter.coupling import coupling_depth
 from robomill.chatter.model import CuttingModel
 from robomill.experiment import DIRECTION_VECTORS
 from robomill.forces.model import cut_frame, engagement_angles_rad
-from robomill.plan.lobes import batch_coupling_depth, batch_zoa_lobes
+from robomill.plan.lobes import batch_zoa_lobes
 from robomill.plan.tooltip import modes_arrays
 
 
@@ -63,7 +66,7 @@ def limits(study: Path, radial_immersion: float, milling: str) -> pd.DataFrame:
         model = CuttingModel(int(v["flutes"]), float(coef["Ktc"]) * 1e6,
                              float(coef["Krc"]) / float(coef["Ktc"]), entry, exit_)
         rpm = float(v["spindle_rpm"])
-        a_mc = 1e3 * float(batch_coupling_depth(fn[None], zeta, k[None], inplane, model)[0])
+        a_mc = 1e3 * float(coupling_depth(fn[None], zeta, k[None], inplane, model)[0])
         a_zoa = 1e3 * float(batch_zoa_lobes(fn[None], zeta, k[None], inplane, model,
                                             np.array([rpm]))[0, 0])
         rows.append({"cut": cut, "direction": direction,

@@ -4,11 +4,16 @@ The page is generated, never kept by hand: ``make bench`` runs the benchmarks
 (``benchmarks/run.py``), then this script, so the figures in the documentation are those of
 the last bench. Each row of the summary (``benchmark, metric, value, unit, baseline, ratio,
 note``) becomes one table row, grouped by benchmark in the order of the file; the page says
-when, where and from which file it was made. The dated history of how the figures came
-down, and why, is ``docs/performance-history.md`` (linked from the page).
+when, where and from which file it was made, and leads with what a newcomer waits for: a
+fresh clone's ``snakemake -j2 all`` beside its floor (``benchmarks/bench_fresh.py``), where the
+summary has it. With ``--keep-other`` the rows the summary lacks (a partial ``run.py
+--only``) are kept from the page being replaced, in its order of tables, and the page says
+so. The dated
+history of how the figures came down, and why, is ``docs/performance-history.md`` (linked
+from the page).
 
 Usage: ``python benchmarks/performance_md.py [SUMMARY_CSV] [OUT_MD] [--note TEXT]
-[--machine TEXT]``.
+[--machine TEXT] [--keep-other]``.
 """
 
 from __future__ import annotations
@@ -17,6 +22,7 @@ import argparse
 import math
 import os
 import platform
+import re
 import time
 from pathlib import Path
 
@@ -49,6 +55,46 @@ def _ratio(value) -> str:
     return f"{float(value):.3g}×"
 
 
+FRESH_METRIC = "fresh clone: `snakemake -j2 all`"
+"""The summary's row of a fresh clone's study (``benchmark`` ``fresh clone``)."""
+
+
+def headline(summary: pd.DataFrame) -> str | None:
+    """The sentence that leads the page: a fresh clone's ``snakemake -j2 all`` beside its
+    floor and the goal (None where the summary has no such row)."""
+    rows = summary[(summary["benchmark"] == "fresh clone")
+                   & (summary["metric"] == FRESH_METRIC)]
+    if rows.empty:
+        return None
+    r = rows.iloc[0]
+    return (f"**A fresh clone's `make all`**: `snakemake -j2 all` took {_number(r['value'])} s "
+            f"against a floor of {_number(r['baseline'])} s (the summed work of its jobs over "
+            "2 cores; `benchmarks/bench_fresh.py`); the table *fresh clone* has the set-up "
+            "`make venv` adds, *study* the same target with warm caches.")
+
+
+def page_rows(text: str) -> pd.DataFrame:
+    """The rows of a page this module wrote (its tables read back: value and baseline as
+    printed, the unit split off), for :func:`write_performance_md` ``keep_other``."""
+    rows, bench = [], None
+    for line in text.splitlines():
+        m = re.match(r"## (.+)$", line)
+        if m:
+            bench = m[1].strip()
+            continue
+        if not bench or not line.startswith("| ") or line.startswith(("| metric", "|---")):
+            continue
+        cells = [c.strip() for c in line.strip().strip("|").split(" | ")]
+        if len(cells) != 5:
+            continue
+        metric, value, base, ratio, note = cells
+        number, _, unit = value.partition(" ")
+        rows.append({"benchmark": bench, "metric": metric, "value": number, "unit": unit,
+                     "baseline": base.partition(" ")[0] or None,
+                     "ratio": float(ratio.rstrip("×")) if ratio else None, "note": note})
+    return pd.DataFrame(rows, columns=list(COLUMNS))
+
+
 def performance_markdown(summary: pd.DataFrame, *, source: str, made: str, machine: str,
                          note: str | None = None) -> str:
     """The page's Markdown for ``summary`` (one table per benchmark, in file order).
@@ -73,6 +119,9 @@ def performance_markdown(summary: pd.DataFrame, *, source: str, made: str, machi
         "ratios, not seconds. Per-rule wall time and peak memory are in",
         "`results/benchmarks/rules.csv`; the book has the same table on its benchmarks page.",
     ]
+    lead = headline(summary)
+    if lead:
+        lines += ["", lead]
     if note:
         lines += ["", _cell(note)]
     for bench, rows in summary.groupby("benchmark", sort=False):
@@ -91,13 +140,33 @@ def performance_markdown(summary: pd.DataFrame, *, source: str, made: str, machi
 
 
 def write_performance_md(summary_csv: str | Path, out_md: str | Path, *,
-                         note: str | None = None, machine: str | None = None) -> Path:
+                         note: str | None = None, machine: str | None = None,
+                         keep_other: bool = False) -> Path:
     """Write ``out_md`` from ``summary_csv``; return its path. ``machine`` defaults to this
-    one (system, architecture, CPU cores), where ``make bench`` ran."""
+    one (system, architecture, CPU cores), where ``make bench`` ran. ``keep_other``: the
+    rows (benchmark, metric) the summary lacks are kept from the page ``out_md`` replaces,
+    the summary's rows first in each table (the note says which tables, and the date of that
+    page)."""
     summary_csv = Path(summary_csv)
     df = pd.read_csv(summary_csv)
     made = time.strftime("%Y-%m-%d", time.localtime(summary_csv.stat().st_mtime))
     machine = machine or f"{platform.system()} {platform.machine()}, {os.cpu_count()} CPU cores"
+    if keep_other and Path(out_md).is_file():
+        old_text = Path(out_md).read_text()
+        old = page_rows(old_text)
+        new_keys = set(zip(df["benchmark"], df["metric"], strict=True))
+        old = old[[k not in new_keys for k in zip(old["benchmark"], old["metric"], strict=True)]]
+        if not old.empty:
+            # rows the old page had kept from an earlier one keep that page's date
+            when = (re.search(r"are kept from the page of (\S+?)\.", old_text)
+                    or re.search(r"Generated by `make bench` on (\S+)", old_text))
+            kept = ", ".join(dict.fromkeys(old["benchmark"]))
+            note = " ".join(filter(None, [note, f"Rows this bench did not measure (of {kept}) "
+                                          "are kept from the page of "
+                                          f"{when[1] if when else 'an earlier bench'}."]))
+            order = list(dict.fromkeys([*old["benchmark"], *df["benchmark"]]))
+            df = pd.concat([pd.concat([df[df["benchmark"] == b], old[old["benchmark"] == b]])
+                            for b in order], ignore_index=True)
     text = performance_markdown(df, source=summary_csv.as_posix(), made=made, machine=machine,
                                 note=note)
     out = Path(out_md)
@@ -113,13 +182,15 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--note", default=None, help="a sentence printed under the introduction")
     ap.add_argument("--machine", default=None,
                     help="the machine the summary was measured on (default: this one)")
+    ap.add_argument("--keep-other", action="store_true",
+                    help="keep the rows the summary lacks from the old page")
     args = ap.parse_args(argv)
     if not Path(args.summary).is_file():
         print(f"{args.summary}: no benchmark summary (expected make bench to have written it)")
         return 1
     try:
         page = write_performance_md(args.summary, args.out, note=args.note,
-                                    machine=args.machine)
+                                    machine=args.machine, keep_other=args.keep_other)
         print(f"performance page: {page}")
     except ValueError as exc:
         print(exc)

@@ -19,7 +19,7 @@ BENCH_DIR = Path(__file__).resolve().parent
 sys.path.insert(0, str(BENCH_DIR))
 
 MODULES = ["bench_chatter", "bench_surface", "bench_forces", "bench_straightness",
-           "bench_longrecord", "bench_study", "bench_plan"]
+           "bench_longrecord", "bench_fresh", "bench_study", "bench_plan"]
 """Benchmark modules in benchmarks/; each exposes ``run(out_dir) -> list[dict]``."""
 
 

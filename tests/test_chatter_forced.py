@@ -139,3 +139,41 @@ def test_the_planner_reads_forced_as_not_chatter(tmp_path):
                  ).to_csv(path, index=False)
     stability = verdict_stability(read_verdicts(path))
     assert stability.to_dict() == {"a": 1.0, "b": 0.0, "c": 1.0}
+
+
+def _two_lines(machine_amp: float, chatter_amp: float, comb: bool, seed: int) -> np.ndarray:
+    """A machine line at 180 Hz (off the 100 Hz spindle comb) and the chatter line."""
+    t = np.arange(int(FS_HZ * 3.0)) / FS_HZ
+    return _record(chatter_amp, comb, seed) + machine_amp * np.sin(2 * np.pi * 180.0 * t)
+
+
+def test_a_forced_line_stronger_than_the_chatter_line_is_set_aside(settings):
+    from robomill.chatter.verdicts import judge_beside_air
+
+    cut = _two_lines(2.0, 0.6, comb=True, seed=1)
+    first = judge(cut, FS_HZ, settings, spindle_rpm=RPM, flutes=FLUTES)
+    assert first.chatter_hz == pytest.approx(180.0, abs=2.0)  # the machine's line first
+
+    def with_air(air):
+        return judge_beside_air(cut, FS_HZ, settings, lambda hz: [
+            air_test(cut, FS_HZ, air, FS_HZ, hz, settings)], spindle_rpm=RPM, flutes=FLUTES)
+
+    # the air pass holds the machine's line only: chatter at the line the cut makes
+    v = with_air(_two_lines(2.0, 0.0, comb=False, seed=2))
+    assert v.verdict == "chatter" and v.chatter_hz == pytest.approx(LINE_HZ, abs=2.0)
+    assert "set aside as forced by the air pass: 180.0 Hz" in v.evidence
+    assert v.speeds_rpm  # chatter: speeds to try
+    # the air pass holds both at the cut's level: forced at the first, nothing else left
+    v = with_air(_two_lines(2.0, 0.6, comb=False, seed=2))
+    assert v.verdict == "forced" and v.line_hz == pytest.approx(180.0, abs=2.0)
+    assert v.evidence.startswith("air test: forced") and "without the forced line(s)" in v.evidence
+
+
+def test_a_line_the_cut_does_not_raise_is_forced_even_faint_in_the_air(settings):
+    """A line the air pass shows below ``prominence_db`` that the cut does not raise does not
+    grow with depth: forced, and the evidence says the air pass holds it only faintly."""
+    cut = _record(0.007, comb=True, seed=1)  # a faint line (about 8 dB over the floor)
+    air = _record(0.007, comb=False, seed=2)
+    test = air_test(cut, FS_HZ, air, FS_HZ, LINE_HZ, settings)
+    assert test.air_above_floor_db < settings.prominence_db, test.evidence
+    assert test.forced and abs(test.rise_db) < 3.0 and "holds the power" in test.evidence

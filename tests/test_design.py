@@ -51,13 +51,17 @@ def test_each_simulated_record_carries_its_own_tooth_passing_line(tiny_config, t
     """Known truth: the dynamometer's force is periodic at each cut's own N·n (600, 900 and
     1200 Hz), not at the experiment's 933 Hz."""
     from robomill.io.forces import open_force_record
+    from robomill.synth.cell import cell_from_config
     from robomill.synth.dynamometer import simulate_file
+    from robomill.synth.process import simulate_cut
 
     cfg = _design(tiny_config, SERIES)
     cfg["synth"]["dynamometer"] = {**cfg["synth"]["dynamometer"], "record_length_mm": 1.0,
                                    "format": "csv"}
     for cut, f_tp in zip(synthetic_cuts(cfg), (600.0, 900.0, 1200.0), strict=True):
-        path = simulate_file(cfg, cut, tmp_path / f"{cut.id}.csv")
+        cell = cell_from_config(cfg)
+        path = simulate_file(cfg, cut, tmp_path / f"{cut.id}.csv",
+                             simulate_cut(cell, cut, cfg, length_mm=1.0), cell=cell)
         rec = open_force_record(path, 25000.0)
         force = np.concatenate([f for _, f in rec.chunks(1 << 20)])
         w = np.hanning(len(force))[:, None]
@@ -89,6 +93,7 @@ def test_a_partial_immersion_cut_is_simulated_with_its_own_chip_model(tiny_confi
     from robomill.io.forces import open_force_record
     from robomill.synth.cell import cell_from_config
     from robomill.synth.dynamometer import simulate_file
+    from robomill.synth.process import simulate_cut
 
     cuts = copy.deepcopy(SERIES[:1])
     cuts[0].update({"radial_immersion": ae, "milling": mode})
@@ -103,7 +108,9 @@ def test_a_partial_immersion_cut_is_simulated_with_its_own_chip_model(tiny_confi
                                "servo_force_N": 0.0}
     cut = synthetic_cuts(cfg)[0]
     cell = cell_from_config(cfg)
-    rec = open_force_record(simulate_file(cfg, cut, tmp_path / "f.csv", cell=cell), 25000.0)
+    rec = open_force_record(simulate_file(cfg, cut, tmp_path / "f.csv",
+                                          simulate_cut(cell, cut, cfg, length_mm=2.0),
+                                          cell=cell), 25000.0)
     force = np.concatenate([f for _, f in rec.chunks(1 << 20)])
     mean_cut = cut_frame(feed_direction(cut)).T @ force.mean(axis=0)
     proc = cut_process(cut, cell.experiment)

@@ -332,7 +332,7 @@ def test_real_files_get_a_job_per_cut_the_virtual_cell_one_per_instrument(other_
     synthetic = _job_counts(run_snakemake(tmp_path / "synthetic", "-n", "all", timeout=300))
     for rule in ("surface_profiles", "straightness_runs", "forces_cuts", "synth_impact",
                  "synth_tracker", "surface_synth_profiles",
-                 "synth_dynamometer"):
+                 "synth_dynamometer", "synth_cuts"):
         assert synthetic[rule] == 1, rule
     assert not {"surface_profile", "straightness_run", "forces_cut"} & set(synthetic)
 

@@ -81,3 +81,49 @@ def test_make_bench_writes_the_page_and_the_committed_page_is_generated():
                                          (7.9e6, "7.9e+06"), (float("nan"), "")])
 def test_numbers_have_three_significant_digits(value, text):
     assert _generator()._number(value) == text
+
+
+FRESH = pd.DataFrame([
+    {"benchmark": "fresh clone", "metric": "fresh clone: `snakemake -j2 all`", "value": 131.2,
+     "unit": "s", "baseline": 97.44, "ratio": 1.346, "note": "clone of abc, 83 jobs"},
+])
+
+
+def test_the_page_leads_with_a_fresh_clones_study_and_keeps_tables_not_rerun(tmp_path):
+    """A fresh clone's figure leads the page; a partial bench (only the fresh clone) keeps
+    the other benchmarks' tables of the page it replaces, exactly as they were, and says so."""
+    gen = _generator()
+    full, fresh = tmp_path / "full.csv", tmp_path / "fresh.csv"
+    FAKE.to_csv(full, index=False)
+    FRESH.to_csv(fresh, index=False)
+    page = gen.write_performance_md(full, tmp_path / "performance.md")
+    before = page.read_text()
+    assert "A fresh clone" not in before  # no fresh-clone row, no headline
+    gen.write_performance_md(fresh, page, keep_other=True)
+    after = page.read_text()
+    assert "`snakemake -j2 all` took 131 s against a floor of 97.4 s" in after
+    assert "Rows this bench did not measure (of surface, chatter) are kept from the page of" \
+        in after
+    assert after.index("## surface") < after.index("## chatter") < after.index("## fresh")
+
+    def rows(text):
+        return [ln for ln in text.splitlines() if ln.startswith("| ")
+                and not ln.startswith("| metric")]
+
+    assert [ln for ln in rows(after) if ln in rows(before)] == rows(before)  # as they were
+    assert "| fresh clone: `snakemake -j2 all` | 131 s | 97.4 s | 1.35× |" in after
+    gen.write_performance_md(fresh, tmp_path / "alone.md")  # without keep: only the summary
+    assert "## surface" not in (tmp_path / "alone.md").read_text()
+
+
+def test_a_partial_bench_keeps_the_other_rows_of_a_table_it_shares(tmp_path):
+    gen = _generator()
+    full, part = tmp_path / "full.csv", tmp_path / "part.csv"
+    FAKE.to_csv(full, index=False)
+    FAKE.iloc[[1]].assign(value=0.5).to_csv(part, index=False)  # SEM map measured again
+    page = gen.write_performance_md(full, tmp_path / "performance.md")
+    gen.write_performance_md(part, page, keep_other=True)
+    text = page.read_text()
+    assert "| SEM map | 0.5 s |" in text and "| SEM map | 0.68 s |" not in text
+    assert text.index("| SEM map | 0.5 s |") < text.index("| RK4 speed | 76.3 s/s |")
+    assert "| analysis of 45 profiles | 0.758 s |" in text

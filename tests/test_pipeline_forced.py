@@ -41,6 +41,7 @@ def _force_verdict_without_servo(cut: dict) -> str:
     from robomill.pipeline.config import load_config
     from robomill.synth.cell import cell_from_config
     from robomill.synth.dynamometer import simulate_blocks
+    from robomill.synth.process import simulate_cut
 
     cfg = load_config(REPO / ".test" / "config.yaml",
                       REPO / "src/robomill/data/schemas/config.schema.yaml")
@@ -48,7 +49,8 @@ def _force_verdict_without_servo(cut: dict) -> str:
     cfg["experiment"]["cut_length_mm"] = 8.0
     cfg["synth"]["dynamometer"]["record_length_mm"] = 8.0
     cfg["synth"]["process"]["servo_force_N"] = 0.0
-    _, fs, blocks = simulate_blocks(cell_from_config(cfg), Cut(**cut), cfg)
+    cell, the_cut = cell_from_config(cfg), Cut(**cut)
+    _, fs, blocks = simulate_blocks(cell, the_cut, cfg, simulate_cut(cell, the_cut, cfg))
     force = np.concatenate([b for _, b in blocks])
     return judge(force, fs, default_settings(), spindle_rpm=RPM, flutes=2).verdict
 

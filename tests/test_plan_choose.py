@@ -120,3 +120,22 @@ def test_pareto_front_keeps_only_non_dominated_points():
     # (24, 9) is dominated by (24, 4); (12, 6) by (18, 5) and (24, 4)
     assert list(pareto_front(mrr, err)) == [0, 4]
 
+
+
+def test_min_feed_per_tooth_and_the_line_for_fewer_cuts():
+    """The feed per tooth here is 2·60/(2·20000) = 0.003 mm: a minimum of 0.01 mm refuses
+    every candidate, in one line naming the constraint; 0.001 mm keeps them. With the
+    critical depth at 0.25 mm and a margin of 0.2, only the depths 0.1 and 0.2 remain: fewer
+    cuts than n_cuts, and the line says the stability margin binds the larger removal rates."""
+    ds = planted([0.25, 0.25, 0.25], [10.0, 10.0, 10.0])
+    ds["feed_per_tooth_mm"] = (("spindle_rpm", "feed_mm_s"),
+                               FEEDS[None] * 60 / (2 * RPM[:, None]))
+    with pytest.raises(PlanInfeasible) as e:
+        choose(ds, request(min_feed_per_tooth_mm=0.01, min_p_stable=None))
+    assert "min_feed_per_tooth_mm" in str(e.value) and "\n" not in str(e.value)
+    chosen, _ = choose(ds, request(min_feed_per_tooth_mm=0.001, min_p_stable=None,
+                                   min_stability_margin=0.2))
+    assert len(chosen) < 5
+    line = ds.attrs["shortfall"]
+    assert line.startswith(f"{len(chosen)} of n_cuts 5 planned")
+    assert "constraints.min_stability_margin" in line and "\n" not in line

@@ -10,7 +10,7 @@ import pytest
 from robomill.chatter.modal_timedomain import ModalCut, simulate_modal_cut, stability_verdict
 from robomill.chatter.model import CuttingModel
 from robomill.plan.check import RunOutcomes, check_table
-from robomill.plan.lobes import batch_coupling_depth, batch_zoa_lobes
+from robomill.plan.lobes import batch_zoa_lobes
 
 # one mode along the wall normal, slot milling with two teeth (no edge forces)
 F_HZ, ZETA, K_N_M = 2000.0, 0.03, 2.0e7
@@ -24,7 +24,7 @@ A_LIM_M = 8 * K_N_M * ZETA * (1 + ZETA) / (TEETH * KT_N_M2 * KR)
 def predicted_margin(depth_m, rpm):
     cut = CuttingModel(TEETH, KT_N_M2, KR, 0.0, np.pi)
     args = ([[F_HZ]], [ZETA], [[K_N_M]], [[[0.0, 1.0]]], cut)
-    a = min(batch_zoa_lobes(*args, np.array([rpm]))[0, 0], batch_coupling_depth(*args)[0])
+    a = batch_zoa_lobes(*args, np.array([rpm]))[0, 0]
     return a / depth_m - 1
 
 
@@ -277,3 +277,32 @@ def test_a_cut_without_a_prediction_has_no_row_even_with_an_outcome():
          "deflection_normal_um": [4.0], "deflection_axial_um": [1.0]}))
     t = check_table(PRED, study=study).set_index(["cut", "quantity"])
     assert ("s1", "deflection_normal") not in t.index and ("s1", "force") in t.index
+
+
+def test_brier_score_and_sharpness_by_hand():
+    """Two judged stability rows with p 0.9 (stable) and 0.3 (chatter): B = (0.1² + 0.3²)/2;
+    a force interval 90-110 around 100 and one 45-55 around 50: half-width 10 % both; an
+    undetermined stability row and one without a probability do not count."""
+    from robomill.plan.check import CHECK_COLUMNS, check_summary
+
+    rows = [
+        {"cut": "a", "quantity": "stability", "predicted": 1.0, "low": 0.5, "high": 2.0,
+         "outcome": 1.0, "p_stable": 0.9},
+        {"cut": "b", "quantity": "stability", "predicted": -0.2, "low": -0.5, "high": 0.1,
+         "outcome": 0.0, "p_stable": 0.3},
+        {"cut": "c", "quantity": "stability", "predicted": 0.5, "low": 0.1, "high": 1.0,
+         "outcome": np.nan, "p_stable": 0.8},
+        {"cut": "d", "quantity": "stability", "predicted": 0.5, "low": 0.1, "high": 1.0,
+         "outcome": 1.0, "p_stable": np.nan},
+        {"cut": "a", "quantity": "force", "predicted": 100.0, "low": 90.0, "high": 110.0,
+         "outcome": 95.0},
+        {"cut": "b", "quantity": "force", "predicted": 50.0, "low": 45.0, "high": 55.0,
+         "outcome": 70.0},
+    ]
+    t = pd.DataFrame(rows).reindex(columns=CHECK_COLUMNS)
+    t["in_sample"] = False
+    s = check_summary(t)
+    assert s["brier_score"] == pytest.approx((0.1**2 + 0.3**2) / 2)
+    assert s["n_brier"] == 2
+    assert s["sharpness_force_percent"] == pytest.approx(10.0)
+    assert s["sharpness_force_oos_percent"] == pytest.approx(10.0)

@@ -34,10 +34,10 @@ def test_the_rotation_effect_is_the_largest_spread_over_rotations():
                                                  reachable=[[False] * 3])))
 
 
-def _comparison(study_feasible, rotation_effect, rotations=12.0):
+def _comparison(study_feasible, rotation_effect, rotations=12.0, verdicts=("", "", "")):
     plan = pd.DataFrame({"cut": ["plan_01", "plan_02"], "mrr_mm3_s": [30.0, 20.0]})
     study = pd.DataFrame({"cut": ["s1", "s2", "s3"], "mrr_mm3_s": [15.0, 12.0, 40.0],
-                          "feasible": study_feasible})
+                          "feasible": study_feasible, "verdict": list(verdicts)})
     return comparison_table(plan, study, rotation_effect, rotations).set_index("quantity")
 
 
@@ -51,8 +51,17 @@ def test_chapter_7_states_the_ratio_and_the_rotation_effect_from_the_comparison(
     say = Prose(load_templates("ch7"),
                 comparison_values(_comparison([False, False, False], 16.7)))
     text = " ".join(say("comparison", "rotation_effect").split())
-    assert "none of the study's 3 cuts meets them, so there is no ratio" in text
+    # never NaN: without a verdict or a feasible study cut, the best of them all
+    assert "none of the study's 3 cuts has a verdict or meets them" in text
+    assert "(s3) removes 40 mm³/s: a ratio of **0.75**" in text
     assert "by at most 16.7 %" in text and "{" not in text
+    # with verdicts: the best cut judged stable, whatever the constraints say of it
+    table = _comparison([True, False, False], 0.0, verdicts=("stable", "stable", "chatter"))
+    assert table.loc["mrr_ratio", "value"] == 2.0 and table.loc["mrr_ratio", "cut"] == \
+        "judged_stable"
+    text = " ".join(Prose(load_templates("ch7"), comparison_values(table))("comparison")
+                    .split())
+    assert "judged stable from their own recordings (2 are, s1) removes 15 mm³/s" in text
 
 
 def test_one_allowed_rotation_is_not_an_effect_of_zero():

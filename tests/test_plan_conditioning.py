@@ -1,8 +1,8 @@
-"""The stability limit conditioned on observed verdicts (robomill.plan.conditioning): on a
-planted one-mode structure whose true limit is computed here in closed form, a stable cut
-below and a chattering cut above the limit narrow the critical-depth interval at their speed
-to within their bracket and keep the truth inside; verdicts no member can agree with leave the
-prior interval and one line saying so."""
+"""The stability model learned from observed verdicts (robomill.plan.conditioning,
+robomill.plan.stability): on a planted one-mode structure whose true limit is computed here in
+closed form, a stable cut below and a chattering cut above the limit narrow the critical-depth
+interval at their speed and keep the truth inside, and move p_stable the right way; verdicts
+no member can agree with change no weight and are named in one line."""
 
 import io
 
@@ -13,17 +13,19 @@ import yaml
 from scipy.optimize import brentq
 
 from robomill.kinematics import robot_from_mapping
-from robomill.plan.conditioning import evidence_values, member_kt_ranges, study_evidence
+from robomill.plan.conditioning import evidence_values, study_evidence
 from robomill.plan.evidence import identified_cuts, in_sample
 from robomill.plan.measured import Measured
 from robomill.plan.poses import cut_frames
 from robomill.plan.predict import Cell, critical_depth_m
 from robomill.plan.request import parse_request
+from robomill.plan.stability import p_stable, verdict_weights
 
 FN_HZ, ZETA, K_N_M = 40.0, 0.04, 1.0e6           # the planted mode, along the wall normal
 KTC, KRC = 800.0, 240.0                           # N/mm²
 FLUTES = 2
 SPEED_RPM = 2000.0
+ERROR = 0.05
 
 
 def true_limit_m(n_rpm: float) -> float:
@@ -73,7 +75,8 @@ def planted():
                          "tool": {"diameter_mm": 6, "flutes": FLUTES},
                          "placement": {"points_mm": [[650, 0, 200]]},
                          "spindle_rpm": {"min": 1200, "max": 2900, "n": 35},
-                         "depth_mm": [1.0], "feed_mm_s": [1]})
+                         "depth_mm": [1.0], "feed_mm_s": [1],
+                         "stability": {"members": 96, "verdict_error": ERROR}})
     m = Measured(modes=modes, coefficients=coeffs)
     q = np.asarray(cell.q_seed_rad, float)[None]             # unused without joint stiffness
     return cell, req, m, q, frames
@@ -85,13 +88,18 @@ def depth(m, planted, rpm, **kw):
 
 
 def evidence(planted, cuts):
-    """The update from ``cuts`` ``[(cut, verdict, depth_m)]``, all at SPEED_RPM and the pose."""
+    """The weights from ``cuts`` ``[(cut, verdict, depth_m)]``, all at SPEED_RPM and the
+    pose."""
     _, _, m, _, _ = planted
     a = depth(m, planted, SPEED_RPM, members=True)
     rows = [{"cut": c, "verdict": v, "spindle_rpm": SPEED_RPM, "depth_mm": d * 1e3}
             for c, v, d in cuts]
     mem = np.repeat(a["members"][:, 0, :], len(rows), axis=1)
-    return study_evidence(rows, mem, a["kt"], a["member_names"], "verdicts.csv")
+    return study_evidence(rows, mem, 0.95, ERROR, "verdicts.csv")
+
+
+def with_evidence(m, ev):
+    return Measured(modes=m.modes, coefficients=m.coefficients, stability_evidence=ev)
 
 
 def test_the_planner_nominal_is_the_closed_form_limit(planted):
@@ -99,62 +107,61 @@ def test_the_planner_nominal_is_the_closed_form_limit(planted):
     a = depth(planted[2], planted, SPEED_RPM)
     assert np.isfinite(a_true)
     assert a["nominal"][0, 0] == pytest.approx(a_true, rel=2e-3)
-    assert a["low"][0, 0] < 0.7 * a_true and a["high"][0, 0] > 1.4 * a_true   # a wide prior
+    assert a["low"][0, 0] < 0.75 * a_true and a["high"][0, 0] > 1.3 * a_true   # a wide prior
 
 
-def test_a_bracket_narrows_the_interval_to_within_it_and_keeps_the_truth(planted):
+def test_a_bracket_narrows_the_interval_keeps_the_truth_and_moves_p_stable(planted):
     _, req, m, _, _ = planted
     a_true = true_limit_m(SPEED_RPM)
     d_stable, d_chatter = 0.85 * a_true, 1.2 * a_true
     ev = evidence(planted, [("s1", "stable", d_stable), ("s2", "chatter", d_chatter),
                             ("s3", "undetermined", 3 * a_true)])
-    assert ev.note == "" and ev.active and 0 < ev.kept <= len(ev.kt_low)
     assert ev.table["used"].tolist() == [True, True, False]
     assert ev.table["prior_admits"].iloc[:2].tolist() == [True, True]
-    prior = depth(m, planted, req.spindle_rpm)
-    post = depth(Measured(modes=m.modes, coefficients=m.coefficients, stability_evidence=ev),
-                 planted, req.spindle_rpm)
-    here = depth(Measured(modes=m.modes, coefficients=m.coefficients, stability_evidence=ev),
-                 planted, SPEED_RPM)
+    assert 1 < ev.effective_members < len(ev.weights)
+    prior = depth(m, planted, SPEED_RPM, members=True)
+    here = depth(with_evidence(m, ev), planted, SPEED_RPM, members=True)
     lo, hi = here["low"][0, 0], here["high"][0, 0]
-    assert d_stable * (1 - 1e-12) <= lo <= a_true <= hi <= d_chatter * (1 + 1e-12)
-    assert hi - lo <= d_chatter - d_stable
-    # everywhere inside the prior, and narrower at most speeds
-    assert np.all(post["low"] >= prior["low"] * (1 - 1e-12))
-    assert np.all(post["high"] <= prior["high"] * (1 + 1e-12))
-    narrowed = (post["high"] - post["low"]) < 0.9 * (prior["high"] - prior["low"])
-    assert narrowed.mean() > 0.5
-    # at every speed the truth stays inside (the planted structure is a kept member)
+    assert lo <= a_true <= hi
+    assert hi - lo < 0.7 * (prior["high"][0, 0] - prior["low"][0, 0])
+    # p_stable: up below the stable cut's depth, down above the chattering cut's
+    for d, up in ((d_stable, True), (d_chatter, False)):
+        p0 = float(p_stable(prior["members"][:, 0, 0], prior["weights"], d))
+        p1 = float(p_stable(here["members"][:, 0, 0], here["weights"], d))
+        assert (p1 > p0) if up else (p1 < p0)
+    assert ev.table["p_stable"].iloc[0] > 0.8 and ev.table["p_stable"].iloc[1] < 0.2
+    # at every speed the truth stays inside the conditioned interval
+    post = depth(with_evidence(m, ev), planted, req.spindle_rpm)
     truth = np.array([true_limit_m(n) for n in req.spindle_rpm])
     assert np.all(post["low"][0] <= truth * (1 + 3e-3))
     assert np.all(truth * (1 - 3e-3) <= post["high"][0])
 
 
-def test_contradicting_verdicts_keep_the_prior_and_say_so_in_one_line(planted):
+def test_contradicting_verdicts_change_no_weight_and_are_named(planted):
     _, _, m, _, _ = planted
     prior = depth(m, planted, SPEED_RPM)
     ev = evidence(planted, [("deep", "stable", 2.0 * prior["high"][0, 0])])
-    assert ev.kept == 0 and not ev.active
-    assert "contradicts" in ev.note and "\n" not in ev.note and "deep" in ev.note
     assert ev.table["prior_admits"].tolist() == [False]
-    post = depth(Measured(modes=m.modes, coefficients=m.coefficients, stability_evidence=ev),
-                 planted, SPEED_RPM)
+    assert ev.effective_members == pytest.approx(len(ev.weights))
+    post = depth(with_evidence(m, ev), planted, SPEED_RPM)
     for key in ("nominal", "low", "high"):
         assert post[key][0, 0] == prior[key][0, 0]
+    from robomill.plan.conditioning import contradiction_note
+
+    note = contradiction_note(ev.table)
+    assert "\n" not in note and "deep" in note and "outside the prior interval" in note
 
 
-def test_member_ranges_by_hand():
+def test_verdict_weights_by_hand():
+    # members 1 and 2 mm deep; a stable verdict at 1.5 mm: member 1 disagrees
     a = np.array([[1.0], [2.0]])
-    lo, hi = member_kt_ranges(a, np.array([1.5]), np.array([True]), 1.0, 0.5, 2.0)
-    assert lo == pytest.approx([0.5, 0.5]) and hi == pytest.approx([1 / 1.5, 2 / 1.5])
-    lo, hi = member_kt_ranges(a, np.array([1.5]), np.array([False]), 1.0, 0.5, 2.0)
-    assert lo == pytest.approx([1 / 1.5, 2 / 1.5]) and hi == pytest.approx([2.0, 2.0])
-    # stable at 1.5 and chatter at 1.6: member 0 would need K_t <= 0.67 and >= 0.625
-    lo, hi = member_kt_ranges(np.array([[1.0, 1.0], [4.0, 4.0]]), np.array([1.5, 1.6]),
-                              np.array([True, False]), 1.0, 0.5, 2.0)
-    assert lo[0] == pytest.approx(1 / 1.6) and hi[0] == pytest.approx(1 / 1.5)
-    assert np.isnan(lo[1]) and np.isnan(hi[1])       # K_t >= 4/1.6 = 2.5 > K_t+ = 2: empty
-
+    w = verdict_weights(a, np.array([1.5]), np.array([True]), 0.1)
+    assert w == pytest.approx([0.1 / 1.0, 0.9 / 1.0])
+    # and a chatter verdict at 1.8 mm: member 2 disagrees there: both now equally likely
+    a2 = np.array([[1.0, 1.0], [2.0, 2.0]])
+    w = verdict_weights(a2, np.array([1.5, 1.8]), np.array([True, False]), 0.1)
+    assert w == pytest.approx([0.5, 0.5])
+    assert p_stable(np.array([1.0, 2.0]), np.array([0.1, 0.9]), 1.5) == pytest.approx(0.9)
 
 
 def test_evidence_cuts_are_in_sample_and_counted(planted):
@@ -167,12 +174,14 @@ def test_evidence_cuts_are_in_sample_and_counted(planted):
     assert ident == {"s1", "plan_01", "plan_02"}
     assert in_sample(["s1", "plan_01", "plan_03", "plan_04"], ident).tolist() == [
         True, True, False, False]
-    v = evidence_values(table, {"stability_members": len(ev.kt_low),
-                                "stability_members_kept": ev.kept})
+    attrs = {"stability_members": len(ev.weights),
+             "stability_members_kept": round(ev.effective_members),
+             "stability_verdict_error": ERROR}
+    v = evidence_values(table, attrs)
     assert (v["n_used"], v["n_stable"], v["n_chatter"], v["n_left_out"]) == (2, 1, 1, 1)
     assert v["evidence_case"] == "conditioned" and v["n_contradicting"] == 0
     bad = evidence(planted, [("deep", "stable", 5 * a_true)])
-    v = evidence_values(bad.table, {"stability_members": 5, "stability_members_kept": 0})
+    v = evidence_values(bad.table, attrs)
     assert v["evidence_case"] == "contradicted" and v["worst"].startswith("deep stable at")
     prior_high = bad.table["a_crit_high_mm"].iloc[0]
     assert v["model_error_factor"] == pytest.approx(5 * a_true * 1e3 / prior_high)
@@ -186,13 +195,13 @@ def test_chapter_states_the_update_or_the_contradiction(planted):
     templates = load_templates("ch7", Path("src/robomill/data/templates/ch7.yaml"))
     a_true = true_limit_m(SPEED_RPM)
     ok = evidence(planted, [("s1", "stable", 0.85 * a_true), ("s2", "chatter", 1.2 * a_true)])
-    text = Prose(templates, evidence_values(ok.table, {"stability_members": len(ok.kt_low),
-                                                       "stability_members_kept": ok.kept}))(
-        "stability_evidence")
-    assert f"{ok.kept} agree with every verdict" in text and "1 stable, 1 chatter" in text
+    attrs = {"stability_members": len(ok.weights),
+             "stability_members_kept": round(ok.effective_members),
+             "stability_verdict_error": ERROR}
+    text = Prose(templates, evidence_values(ok.table, attrs))("stability_evidence")
+    assert f"count as {round(ok.effective_members)} equal ones" in text
+    assert "1 stable, 1 chatter" in text and "wrong with probability 5 %" in text
     bad = evidence(planted, [("deep", "stable", 5 * a_true)])
-    text = Prose(templates, evidence_values(bad.table, {"stability_members": 5,
-                                                        "stability_members_kept": 0}))(
-        "stability_evidence")
-    assert "**None of the 5 members" in text and "contradicts its own observations" in text
+    text = Prose(templates, evidence_values(bad.table, attrs))("stability_evidence")
+    assert "**1 of the 1 verdicts lie outside the prior interval" in text
     assert "deep stable at" in text

@@ -59,35 +59,44 @@ def _plan(cell, req, reach):
     return ds, apply_extrapolation(ds, req, m, cell, reach)
 
 
-def test_speeds_reaching_above_the_band_are_flagged_and_claim_no_narrow_margin(cell):
-    req = _request(extrapolation={"harmonics": 2})
-    reach = StudyReach(modal_band_hz=(10.0, 100.0))
-    before, ds = _plan(cell, req, reach)
+def test_a_mode_above_the_band_enters_as_a_prior_and_its_interval_holds_the_truth(cell):
+    """The impact test never saw HIDDEN (400 Hz); the request states a prior of modes above
+    the band (250-700 Hz, 1-6 N/um, 2-5 %) that holds it. The truth: both modes, by the
+    package's single-tool solver. The interval must hold the true limit at the speeds where
+    the measured mode alone misleads (no claim of stability beyond the truth), without a cap
+    at the measured modes' absolute limit (speeds inside the band keep their pockets)."""
+    prior = {"members": 48, "tool_modes": [{"f_hz": [250.0, 700.0], "zeta": [0.02, 0.05],
+                                            "k_N_m": [1.0e6, 6.0e6], "shape": [1, 0, 0]}]}
+    req = _request(stability=prior)
+    _, ds = _plan(cell, req, StudyReach(modal_band_hz=(10.0, 100.0)))
     rpm = ds["spindle_rpm"].values
-    # by hand: tooth passing N n / 60 and its second harmonic against the band's top
-    expected = 2 * 2 * rpm / 60.0 > 100.0
-    flagged = ds["extrapolation"].isel(placement=0, feed_mm_s=0).values
-    assert np.array_equal(flagged, expected)
-    assert expected.any() and not expected.all()
-    code = int(ds["extrapolation_code"].isel(placement=0, feed_mm_s=0).values[-1])
-    assert reason_text(code) == "modal band"
-    # the truth: the measured mode and the hidden one, the package's single-tool solver
+    assert not bool(ds["extrapolation"].any())          # the band is no extrapolation reason
     cut = CuttingModel(2, KTC * 1e6, KRC / KTC, 0.0, np.pi)
     a_true, _ = zoa_lobes(tool_from_modes([MEASURED, HIDDEN]), cut, rpm)
-    a = ds["a_crit_mm"].isel(placement=0, rotation=0, direction=0).values * 1e-3
-    lo = ds["a_crit_low_mm"].isel(placement=0, rotation=0, direction=0).values * 1e-3
-    hi = ds["a_crit_high_mm"].isel(placement=0, rotation=0, direction=0).values * 1e-3
-    wrong = expected & (a_true < 0.8 * a)             # where the measured modes mislead
-    assert wrong.sum() >= 3
-    assert np.all(lo[expected] <= a_true[expected] * 1.02)    # no stable claim beyond truth
-    fin = wrong & np.isfinite(a)                                # and not a narrow interval
-    assert fin.sum() >= 3 and np.all((hi - lo)[fin] / a[fin] > 0.5)
-    assert np.all(np.isfinite(lo[wrong & ~np.isfinite(a)]))      # "never chatters": not claimed
-    # inside the band: the interval as the identification gives it
-    lo0 = before["a_crit_low_mm"].isel(placement=0, rotation=0, direction=0).values * 1e-3
-    assert np.allclose(lo[~expected], lo0[~expected])
-    hi0 = before["a_crit_high_mm"].isel(placement=0, rotation=0, direction=0).values * 1e-3
-    assert np.allclose(hi[~expected], hi0[~expected])
+    a_meas, _ = zoa_lobes(tool_from_modes([MEASURED]), cut, rpm)
+    a_true = np.nan_to_num(a_true, nan=np.inf)
+    a_meas = np.nan_to_num(a_meas, nan=np.inf)
+    sel = {"placement": 0, "rotation": 0, "direction": 0}
+    lo = ds["a_crit_low_mm"].isel(**sel).values * 1e-3
+    hi = ds["a_crit_high_mm"].isel(**sel).values * 1e-3
+    wrong = a_true < 0.5 * a_meas                          # where the measured mode misleads
+    assert wrong.sum() >= 10
+    assert np.all(lo[wrong] <= a_true[wrong] * 1.02)
+    held = (lo <= a_true * 1.02) & (hi >= a_true * 0.98)
+    assert held.mean() >= 0.9
+    # p_stable at twice the true limit: the members mostly see the chatter
+    p2 = ds["p_stable"].isel(**sel)
+    assert p2.dims == ("spindle_rpm", "depth_mm")
+    # no cap: the pessimistic limit still follows the lobes over the speeds (a cap at an
+    # absolute limit would be one flat value)
+    assert np.nanmax(lo) > 1.3 * np.nanmin(lo)
+
+
+def test_the_widening_is_continuous_in_the_distance(cell):
+    req = _request(spindle_rpm=[10000.0, 10007.0, 15000.0])
+    _, ds = _plan(cell, req, StudyReach(spindle_rpm=(1000.0, 10000.0)))
+    w = ds["interval_widening"].isel(placement=0, feed_mm_s=0).values
+    assert w == pytest.approx([1.0, 1.0007, 1.5], rel=1e-9)
 
 
 def test_ranges_and_poses_outside_the_study_widen_by_the_stated_rule(cell):
@@ -99,13 +108,15 @@ def test_ranges_and_poses_outside_the_study_widen_by_the_stated_rule(cell):
     sel = {"spindle_rpm": 15000.0, "feed_mm_s": 1.0}
     # 15000 rpm is 50 % above the identified 10000; c = 1·60/(2·15000) = 0.002 mm: inside
     assert reason_text(int(ds["extrapolation_code"].sel(placement=0, **sel))) == "spindle speed"
-    assert float(ds["interval_widening"].sel(placement=0, **sel)) == pytest.approx(3.0)
+    assert float(ds["interval_widening"].sel(placement=0, **sel)) == pytest.approx(1.5)
+    # placement 1 lies 380 mm from the study's cut, 100 mm allowed: e = 2.8
+    assert float(ds["interval_widening"].sel(placement=1, **sel)) == pytest.approx(3.8)
     assert reason_text(int(ds["extrapolation_code"].sel(placement=1, **sel))) == \
         "spindle speed; pose"
     f, f0 = ds["force_high_N"].sel(depth_mm=0.5, **sel), before["force_high_N"].sel(
         depth_mm=0.5, **sel)
     nom = before["force_N"].sel(depth_mm=0.5, **sel)
-    assert float(f - nom) == pytest.approx(3.0 * float(f0 - nom), rel=1e-9)
+    assert float(f - nom) == pytest.approx(3.8 * float(f0 - nom), rel=1e-9)
     # 4 mm/s at 1000 rpm: c = 0.12 mm, 11 times the identified 0.01 mm
     c_sel = {"spindle_rpm": 1000.0, "feed_mm_s": 4.0}
     assert "feed per tooth" in reason_text(int(ds["extrapolation_code"].sel(placement=0,
@@ -115,7 +126,7 @@ def test_ranges_and_poses_outside_the_study_widen_by_the_stated_rule(cell):
 
 
 def test_one_line_when_every_candidate_is_extrapolated_and_none_is_allowed(cell):
-    req = _request(extrapolation={"allow": False, "harmonics": 1})
+    req = _request(extrapolation={"allow": False})
     _, ds = _plan(cell, req, StudyReach(spindle_rpm=(50.0, 100.0)))
     with pytest.raises(PlanInfeasible) as e:
         choose(ds, req)
@@ -145,9 +156,9 @@ def test_chapter_7_states_the_band_against_the_chosen_speeds():
 
 def test_the_modes_intervals_carry_into_the_critical_depth(cell):
     """One mode, exact coefficients: the lobes' minimum scales with k ζ (1 + ζ) (Altintas 2012
-    §4.3: the most negative real part of an SDOF receptance is −1/(4kζ(1+ζ))), so the
-    pessimistic end of the critical depth's minimum over the speeds is that of ζ and k at
-    their low ends, by hand: 0.95 · 0.97 · (1 + 0.95 ζ)/(1 + ζ)."""
+    §4.3), so the members (ζ and k drawn with the σ of their 95 % intervals, 5 % and 3 %) put
+    the pessimistic end of the minimum below the nominal's, but not below ζ and k both at
+    3 σ: 0.923 · 0.954 (1 + 0.923 ζ)/(1 + ζ); without intervals the interval is a point."""
     names = ["Ktc", "Krc", "Kac", "Kte", "Kre", "Kae"]
     vals = [KTC, KRC, 200.0, 25.0, 30.0, 6.0]
     coeffs = pd.DataFrame({"name": names, "value": vals, "ci_low": vals, "ci_high": vals})
@@ -158,8 +169,40 @@ def test_the_modes_intervals_carry_into_the_critical_depth(cell):
     a = ds["a_crit_mm"].isel(**sel).values
     lo = ds["a_crit_low_mm"].isel(**sel).values
     z = MEASURED.zeta
-    assert lo.min() / a.min() == pytest.approx(0.95 * 0.97 * (1 + 0.95 * z) / (1 + z),
-                                               rel=0.02)
+    r3 = (1 - 3 * 0.05 / 1.96) * (1 - 3 * 0.03 / 1.96) * (1 + (1 - 3 * 0.05 / 1.96) * z) / (1 + z)
+    assert r3 < lo.min() / a.min() < 0.995
     bare = predict_grid(req, Measured(modes=_modes(MEASURED).iloc[:, :6], coefficients=coeffs),
                         cell)
-    assert np.allclose(bare["a_crit_low_mm"].isel(**sel).values, a)   # no intervals: a point
+    a_bare = bare["a_crit_mm"].isel(**sel).values
+    assert np.allclose(bare["a_crit_low_mm"].isel(**sel).values, a_bare)  # a point
+    assert np.allclose(bare["a_crit_high_mm"].isel(**sel).values, a_bare)
+
+
+def test_the_studys_own_stable_cuts_stay_inside_what_the_plan_allows(cell):
+    """A study cut at 28 000 rpm, 0.5 mm deep, judged stable, its tooth frequency (933 Hz) far
+    above the impact test's 10-100 Hz band, predicted at its own pose with the study's reach:
+    inside what the study covered (no extrapolation flag, no modal-band cap), it meets the
+    plan's stability constraints (p_stable ≥ 0.95, pessimistic margin ≥ 0.2), before and
+    after its own verdict weights the members."""
+    import dataclasses
+
+    from robomill.experiment import Cut
+    from robomill.plan.compare import predict_study_cut
+    from robomill.plan.make import verdict_conditioned
+
+    prior = {"members": 24, "tool_modes": [{"f_hz": [1500.0, 4000.0], "zeta": [0.02, 0.06],
+                                            "k_N_m": [3.0e7, 3.0e8], "shape": [1, 0, 0]}]}
+    req = _request(stability=prior, constraints={"min_stability_margin": 0.2})
+    m = Measured(modes=_modes(MEASURED), coefficients=_coefficients())
+    exp = {"spindle_rpm": 28000.0, "flutes": 2, "tool_diameter_mm": 6.0, "cut_length_mm": 20.0}
+    cut = Cut("s2_g5_py", 2, 5, "py", 5.0, 0.5, start_mm=(650.0, -10.0, 199.5))
+    reach = StudyReach(spindle_rpm=(28000.0, 28000.0), feed_per_tooth_mm=(0.001, 0.011),
+                       radial_immersion=(1.0, 1.0), midpoints_mm=np.array([[650.0, 0.0, 200.0]]),
+                       modal_band_hz=(10.0, 100.0))
+    row = predict_study_cut(cut, exp, req, m, cell, reach)
+    assert row["reachable"] and not row["extrapolation"]
+    assert row["p_stable"] >= 0.95 and row["stability_margin_low"] >= 0.2 and row["feasible"]
+    m2, ev = verdict_conditioned(m, req, cell, [cut], exp, pd.Series({cut.id: 1.0}))
+    assert ev is not None and ev.n_used == 1
+    again = predict_study_cut(dataclasses.replace(cut), exp, req, m2, cell, reach)
+    assert again["p_stable"] >= 0.95 and again["feasible"]

@@ -36,7 +36,8 @@ def test_the_next_config_names_its_own_run_folder_inside_the_plan():
     assert [c["id"] for c in cfg["experiment"]["cuts"]] == ["plan_01", "plan_02"]
     # each planned cut tracked on its own, loaded and in the air
     assert cfg["synth"] == {"tracker": {"per_cut": True, "air_pass": True,
-                                        "directions": ["px"], "feeds_mm_s": None}}
+                                        "directions": ["px"], "feeds_mm_s": None},
+                            "recordings": {"vibration": True}}
 
 
 def test_per_cut_tracking_gives_each_cut_its_own_run():
@@ -219,3 +220,21 @@ def test_without_a_planned_run_the_table_is_as_before():
     a = check_table(PRED, study=STUDY)
     b = check_table(PRED, study=STUDY, planned_run=RunOutcomes(NEXT_RUN_DIR))
     pd.testing.assert_frame_equal(a, b)
+
+
+def test_the_next_run_records_each_planned_cut_and_its_air_pass_by_accelerometer():
+    """The planned cuts' run writes an accelerometer record and its air pass per cut, so that
+    its chatter verdicts can call a line forced (the servo-excited learn cut of the study)."""
+    from snakemake.utils import update_config
+
+    from robomill.io.synthetic_layout import instrument_files
+    from robomill.pipeline.config import load_config
+
+    base = load_config(REPO / "config.yaml")
+    overlay = next_config(MANIFEST)
+    overlay.pop("workdir")
+    update_config(base, overlay)
+    files = [f for f in instrument_files(base, "recordings") if f["kind"] == "vibration"]
+    passes = sorted((f["cut"], f.get("pass", "loaded")) for f in files)
+    assert passes == [("plan_01", "air"), ("plan_01", "loaded"), ("plan_02", "air"),
+                      ("plan_02", "loaded")]

@@ -8,10 +8,11 @@ import pytest
 import yaml
 
 from robomill.chatter import CuttingModel, ModeXY, tool_from_modes, zoa_lobes
+from robomill.chatter.coupling import coupling_depth
 from robomill.chatter.lobes_zoa import default_frequency_grid
 from robomill.chatter.slot_model import mode_coupling
 from robomill.kinematics import robot_from_mapping
-from robomill.plan.lobes import batch_coupling_depth, batch_zoa_lobes
+from robomill.plan.lobes import batch_zoa_lobes
 from robomill.plan.measured import Measured, gear_joint_amplitudes, waviness_um
 from robomill.plan.predict import Cell, critical_depth_m, predict_grid
 from robomill.plan.request import parse_request
@@ -44,13 +45,28 @@ def test_batch_lobes_match_the_single_tool_solver():
     assert np.quantile(np.abs(a_own[ok] / a_ref[ok] - 1), 0.95) < 1e-3
 
 
-def test_batch_coupling_matches_the_thesis_check():
+def test_one_coupling_routine_serves_the_batch_and_the_thesis_check():
+    """The delay-free depth by the one routine, against the instability of A + a B W̄ C built
+    here by hand (two modes): stable just below, unstable just above."""
     modes = [ModeXY(20.0, 0.04, 8e5, (0.29, 0.94)), ModeXY(35.0, 0.035, 1.2e6, (0.94, 0.19))]
     cut = CuttingModel(2, 7.96e8, 0.21, 0.0, np.pi)
     ref = mode_coupling(modes, cut, depth_max_m=0.02)["a_mc_m"]
-    a = batch_coupling_depth(*_arrays(modes, 2), cut)
+    a = coupling_depth(*_arrays(modes, 2), cut, rtol=1e-6)
     assert np.isfinite(ref)
-    assert np.allclose(a, ref, rtol=0.01)
+    assert np.allclose(a, ref, rtol=0.01)    # the thesis check's own resolution
+
+    def rate(depth):
+        n = 2 * len(modes)
+        A, B, C = np.zeros((n, n)), np.zeros((n, 2)), np.zeros((2, n))
+        for r, m in enumerate(modes):
+            w = 2 * np.pi * m.f_hz
+            A[2 * r, 2 * r + 1], A[2 * r + 1, 2 * r] = 1.0, -w**2
+            A[2 * r + 1, 2 * r + 1] = -2 * m.zeta * w
+            B[2 * r + 1] = np.asarray(m.shape) * w**2 / m.k_N_m
+            C[:, 2 * r] = m.shape
+        return np.linalg.eigvals(A + depth * B @ cut.mean_matrix() @ C).real.max()
+
+    assert rate(a[0] * 0.999) < 0 < rate(a[0] * 1.001)
 
 
 @pytest.fixture(scope="module")

@@ -615,9 +615,8 @@ def test_joint_figure_draws_every_limit_and_margin(tmp_path):
 
 
 def test_the_path_and_the_plan_state_one_margin_at_the_middle_station():
-    """A whole plan with the study's reach (speeds and tooth-passing frequencies outside it:
-    flagged and widened, above the modal band at the lobes' ratio over the request's speed
-    grid): each runnable cut's middle station carries exactly the plan row's
+    """A whole plan with the study's reach (speeds outside it: flagged and widened with the
+    distance from the evidence): each runnable cut's middle station carries exactly the plan row's
     pessimistic margin (the candidate the grid chose), and no station is below the limit."""
     from robomill.plan.extrapolation import StudyReach
     from robomill.plan.make import make_plan
@@ -634,14 +633,15 @@ def test_the_path_and_the_plan_state_one_margin_at_the_middle_station():
     rows = plan.plan.set_index("cut")
     runnable = [p for p in plan.paths if p.refused is None]
     assert runnable
-    assert (rows["extrapolation_code"].astype(int) & 16).all()   # widened above the band
+    assert (rows["extrapolation_code"].astype(int) & 1).all()    # speed outside the study's
+    assert (rows["interval_widening"].astype(float) > 1).all()   # widened
     for p in runnable:
         cut = p.stations[p.stations["move"] == "cut"]
         mid = cut.iloc[len(cut) // 2]
         # rel 1e-3: the grid evaluates the lobes on a frequency grid spanning its whole batch
         # of poses (robomill.plan.lobes.frequency_grid), so one pose's critical depth moves
         # with the batch by that grid's discretization (up to ~3e-4 here); the widening and
-        # the band's bound (factors of 2 and more) lie far outside it
+        # the speed's widening (a factor 2 and more here) lies far outside it
         assert mid["stability_margin_low"] == pytest.approx(
             float(rows.loc[p.cut, "stability_margin_low"]), rel=1e-3)
         assert (cut["stability_margin_low"] >= 0.2).all()

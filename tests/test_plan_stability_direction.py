@@ -15,9 +15,10 @@ no eigenvalue with a positive real part."""
 import numpy as np
 import pytest
 
+from robomill.chatter.coupling import coupling_depth
 from robomill.chatter.modal_timedomain import ModalCut, simulate_modal_cut, stability_verdict
 from robomill.chatter.model import CuttingModel
-from robomill.plan.lobes import batch_coupling_depth, batch_zoa_lobes
+from robomill.plan.lobes import batch_zoa_lobes
 from robomill.plan.poses import cut_frames
 
 TEETH = 2
@@ -37,12 +38,18 @@ def verdict(f_hz, zeta, k_N_m, shape_xy, rpm, entry, exit_, c_m, depth_m, Kt, Kr
 
 
 def critical_depth_m(f_hz, zeta, k_N_m, shape_xy, rpm, entry, exit_, Kt, Kr):
-    """The planner's critical depth: the smaller of the zero-order lobes and the mode-coupling
-    depth (robomill.plan.predict.critical_depth_m)."""
+    """The planner's critical depth: the regenerative lobes of the modes (zero-order,
+    robomill.plan.stability)."""
     cut = CuttingModel(TEETH, Kt, Kr, entry, exit_)
     args = ([f_hz], zeta, [k_N_m], [shape_xy], cut)
-    return min(batch_zoa_lobes(*args, np.array([rpm]))[0, 0],
-               batch_coupling_depth(*args, depth_max_m=1.0)[0])
+    return batch_zoa_lobes(*args, np.array([rpm]))[0, 0]
+
+
+def delay_free_depth_m(f_hz, zeta, k_N_m, shape_xy, entry, exit_, Kt, Kr):
+    """The delay-free mode-coupling depth, chapter 4's diagnostic (the one routine,
+    robomill.chatter.coupling.coupling_depth)."""
+    cut = CuttingModel(TEETH, Kt, Kr, entry, exit_)
+    return coupling_depth([f_hz], zeta, [k_N_m], [shape_xy], cut, depth_max_m=1.0)[0]
 
 
 # two modes in the base frame, neither along a cut axis (planted)
@@ -135,7 +142,9 @@ def test_delay_free_check_follows_its_linear_model_at_a_micrometre_feed(depth_m)
     out of the cut; unstable at 1 mm, and the check must say so."""
     stable = delay_free_rate(depth_m) < 0
     assert stable == (depth_m == 0.25e-3)
-    assert (critical_depth_m(F6, Z6, K6, S6, RPM6, 0.0, np.pi, KT6, KR6) > depth_m) == stable
+    assert (delay_free_depth_m(F6, Z6, K6, S6, 0.0, np.pi, KT6, KR6) > depth_m) == stable
+    # the regenerative limit of the same modes lies far deeper (the chip's overlap factor 1)
+    assert critical_depth_m(F6, Z6, K6, S6, RPM6, 0.0, np.pi, KT6, KR6) > 4 * depth_m
     v = verdict(F6, Z6, K6, S6, RPM6, 0.0, np.pi, C6, depth_m, KT6, KR6, duration_s=3.0,
                 steps=32, band_hz=(5.0, 500.0))
     assert v.stable == stable

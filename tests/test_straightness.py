@@ -12,6 +12,7 @@ import scipy.interpolate
 from robomill import straightness as st
 from robomill.synth import tracker
 from robomill.synth.cell import cell_from_config
+from robomill.synth.process import simulate_cut
 
 
 def _wavy_line(wavelength_mm=2.5, amp_um=3.0, length_mm=40.0, fs_hz=815.0, v=4.0):
@@ -103,7 +104,8 @@ ANALYSIS = dict(ds_mm=0.01, trim_mm=1.0, nfft=2**15, fmin_cycles=2.5, fmax_per_m
 
 
 def _analyse(cfg, cell, run):
-    df = tracker.simulate_run(cfg, cell, run["direction"], run["feed_mm_s"], run["cut"])
+    df = tracker.simulate_run(cfg, cell, run["direction"], run["feed_mm_s"], run["cut"],
+                              sim=simulate_cut(cell, run["cut"], cfg))
     prof, spec, gears, peaks = st.analyse_run(
         df["t_s"].to_numpy(), df[["x_mm", "y_mm", "z_mm"]].to_numpy(), robot=cell.robot,
         gears=cell.gears, tool_rotation=cell.tool_rotation(), q0_rad=cell.q_home_rad, **ANALYSIS)
@@ -198,7 +200,8 @@ def test_a_tracker_run_in_its_own_frame_is_refused_then_registered(tiny_config):
 
     cell = cell_from_config(tiny_config)
     run = next(r for r in tracker.tracker_runs(tiny_config) if r["direction"] == "px")
-    df = tracker.simulate_run(tiny_config, cell, run["direction"], run["feed_mm_s"], run["cut"])
+    df = tracker.simulate_run(tiny_config, cell, run["direction"], run["feed_mm_s"], run["cut"],
+                              sim=simulate_cut(cell, run["cut"], tiny_config))
     t, p_base = df["t_s"].to_numpy(), df[["x_mm", "y_mm", "z_mm"]].to_numpy()
     c, s = np.cos(np.pi / 6), np.sin(np.pi / 6)
     R, T = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1.0]]), np.array([3000.0, -500.0, 100.0])

@@ -95,6 +95,7 @@ def test_the_virtual_cells_loaded_pass_minus_its_air_pass_is_the_planted_deflect
     tracker's noise."""
     from robomill.experiment import Cut
     from robomill.synth.cell import cell_from_config
+    from robomill.synth.process import simulate_cut
     from robomill.synth.tracker import deflection_along_path_mm, simulate_run
 
     cfg = config
@@ -102,16 +103,18 @@ def test_the_virtual_cells_loaded_pass_minus_its_air_pass_is_the_planted_deflect
     cut = Cut("plan_01", None, None, "px", 10.0, 0.5, spindle_rpm=30000.0, flutes=2,
               tool_diameter_mm=6.0, radial_immersion=1.0, milling="slot",
               start_mm=(580.0, -50.0, 200.0))
-    loaded = simulate_run(cfg, cell, "px", 10.0, cut, "loaded", "plan_01")
+    sim = simulate_cut(cell, cut, cfg)
+    loaded = simulate_run(cfg, cell, "px", 10.0, cut, "loaded", "plan_01", sim=sim)
     air = simulate_run(cfg, cell, "px", 10.0, cut, "air", "plan_01_air")
     xyz = ["x_mm", "y_mm", "z_mm"]
     d = pass_deflection_um(loaded[xyz].to_numpy(), air[xyz].to_numpy(), ds_mm=0.05,
                            trim_mm=2.0, t_air_s=air["t_s"].to_numpy())
     s = np.linspace(2.0, 38.0, 37)
-    truth_um = 1e3 * deflection_along_path_mm(cfg, cell, cut, s, 815.0).mean(0)
+    truth_um = 1e3 * deflection_along_path_mm(sim, s, 815.0).mean(0)
     assert np.linalg.norm(truth_um) > 2.0                       # a deflection worth measuring
     # px: wall normal z x x = +y, tool axis z
     assert d["deflection_normal_um"] == pytest.approx(truth_um[1], abs=0.5)
     assert d["deflection_axial_um"] == pytest.approx(truth_um[2], abs=0.5)
-    same = simulate_run({**config}, cell, "px", 10.0, cut)       # default pass, run id
-    assert same.equals(simulate_run(config, cell, "px", 10.0, cut, "loaded", "px_f10"))
+    same = simulate_run({**config}, cell, "px", 10.0, cut, sim=sim)  # default pass, run id
+    assert same.equals(simulate_run(config, cell, "px", 10.0, cut, "loaded", "px_f10",
+                                    sim=sim))

@@ -10,6 +10,7 @@ from robomill.io import RawDataError
 from robomill.io.synthetic_layout import instrument_files
 from robomill.io.tracker import read_tracker
 from robomill.synth import tracker
+from robomill.synth.process import simulate_cut
 
 
 def _write(tmp_path, df, name="py_f2.csv"):
@@ -59,11 +60,13 @@ def test_simulated_run_follows_the_contract(tmp_path, tiny_config):
 
     cell = cell_from_config(tiny_config)
     run = tracker.tracker_runs(tiny_config)[-1]
-    df = tracker.simulate_run(tiny_config, cell, run["direction"], run["feed_mm_s"], run["cut"])
+    sim = simulate_cut(cell, run["cut"], tiny_config)
+    df = tracker.simulate_run(tiny_config, cell, run["direction"], run["feed_mm_s"], run["cut"],
+                              sim=sim)
     path = tracker.write_run(df, tmp_path / "run.csv")
     t, p = read_tracker(path, fs_hz=815.0)
     a, b = cell.cut_endpoints_mm(run["cut"])
     assert np.linalg.norm(p[0] - a) < 0.1 and np.linalg.norm(p[-1] - b) < 0.1
     again = tracker.simulate_run(tiny_config, cell, run["direction"], run["feed_mm_s"],
-                                 run["cut"])
+                                 run["cut"], sim=simulate_cut(cell, run["cut"], tiny_config))
     pd.testing.assert_frame_equal(df, again)  # deterministic

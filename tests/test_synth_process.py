@@ -148,6 +148,15 @@ def test_a_prefix_of_a_cut_is_the_start_of_the_whole_cut(default_study):
     again = simulate_cut(cell, cut, config, length_mm=3.0)
     np.testing.assert_array_equal(again.force_N[:n], whole.force_N[:n])
     np.testing.assert_array_equal(again.deflection_m[:n], whole.deflection_m[:n])
+    # the span of the whole cut is the prefix simulated alone, bit for bit (the force's
+    # filter tail held as the prefix holds it): what every instrument samples
+    spanned = whole.span(3.0)
+    assert spanned.t_s.size == again.t_s.size
+    for name in ("t_s", "force_N", "deflection_m", "path_error_m"):
+        np.testing.assert_array_equal(getattr(spanned, name), getattr(again, name))
+    assert whole.span(None) is whole
+    with pytest.raises(ValueError, match="within the simulated one"):
+        again.span(None)
 
 
 def test_an_air_pass_has_no_force_and_the_tracker_sees_the_deflection(default_study):
@@ -162,7 +171,7 @@ def test_an_air_pass_has_no_force_and_the_tracker_sees_the_deflection(default_st
     assert np.all(np.abs(air.deflection_m.mean(axis=0)) < 0.05 * np.abs(
         loaded.deflection_m.mean(axis=0)).max())
     np.testing.assert_array_equal(air.path_error_m, loaded.path_error_m[:air.t_s.size])
-    run_l = simulate_run(config, cell, cut.direction, cut.feed_mm_s, cut)
+    run_l = simulate_run(config, cell, cut.direction, cut.feed_mm_s, cut, sim=loaded)
     run_a = simulate_run(config, cell, cut.direction, cut.feed_mm_s, cut, "air")
     diff_um = 1e3 * (run_l[["x_mm", "y_mm", "z_mm"]] - run_a[["x_mm", "y_mm", "z_mm"]])
     static_um = 1e6 * (loaded.deflection_m @ loaded.frame.T).mean(axis=0)

@@ -60,9 +60,10 @@ def _cut(config, **changes):
 def _judged(config, cell, cut, folder):
     """The verdicts of the cut's sound and vibration files, as written and read back."""
     out = {}
+    sim = simulate_cut(cell, cut, config, length_mm=4.0)  # the recordings' span
     for kind, path in (("sound", folder / f"{cut.id}.wav"),
                        ("vibration", folder / f"{cut.id}.csv")):
-        simulate_file(config, cut, path, kind, cell=cell)
+        simulate_file(config, cut, path, kind, sim, cell=cell)
         rec = read_recording(path, kind)
         out[kind] = judge(rec.samples, rec.fs_hz, default_settings(), spindle_rpm=RPM,
                           flutes=FLUTES)
@@ -112,8 +113,11 @@ def test_the_air_pass_hears_the_arm_and_not_the_teeth(study, tmp_path):
 
     config, cell = study
     cut = _cut(config, id="design")
-    simulate_file(config, cut, tmp_path / "cut.csv", "vibration", cell=cell)
-    simulate_air_pass_file(config, cut, tmp_path / "air.csv", "vibration", cell=cell)
+    simulate_file(config, cut, tmp_path / "cut.csv", "vibration",
+                  simulate_cut(cell, cut, config, length_mm=4.0), cell=cell)
+    simulate_air_pass_file(config, cut, tmp_path / "air.csv", "vibration",
+                           simulate_cut(cell, cut, config, cutting=False, length_mm=4.0),
+                           cell=cell)
     power = {}
     for name in ("cut", "air"):
         rec = read_recording(tmp_path / f"{name}.csv", "vibration")
@@ -171,7 +175,7 @@ def test_a_chattering_and_a_stable_cut_get_their_verdicts_and_the_speed_is_stabl
     amp, _ = _spindle_non_harmonic_line(sim)
     assert sim.teeth_out < 0.05
     assert amp < 0.05 * float(np.linalg.norm(sim.force_N.mean(axis=0)))
-    again = simulate_file(config, moved, tmp_path / "moved.csv", "vibration", cell=cell)
+    again = simulate_file(config, moved, tmp_path / "moved.csv", "vibration", sim, cell=cell)
     rec = read_recording(again, "vibration")
     assert judge(rec.samples, rec.fs_hz, default_settings(), spindle_rpm=n,
                  flutes=FLUTES).verdict == "stable"
@@ -184,5 +188,6 @@ def test_a_microphone_without_a_direction_is_refused_in_one_line(study, tmp_path
     bad = copy.deepcopy(config)
     bad["synth"]["recordings"]["direction"] = [0.0, 0.0, 0.0]
     with pytest.raises(ConfigError, match=r"synth\.recordings\.direction.*non-zero"):
-        simulate_file(bad, _cut(bad, id="design"), tmp_path / "x.wav", "sound", cell=cell)
+        simulate_file(bad, _cut(bad, id="design"), tmp_path / "x.wav", "sound",
+                      simulate_cut(cell, _cut(bad, id="design"), bad), cell=cell)
     assert not (tmp_path / "x.wav").exists()

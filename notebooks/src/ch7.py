@@ -5,9 +5,12 @@
 # cutting coefficients (dynamometer) and the gear lines printed on its paths (tracker). This
 # chapter turns them into a plan (`robomill.plan`, request `plan.yaml`): every candidate cut —
 # where the part sits, how the spindle turns about the tool axis, the feed direction, speed,
-# depth and feed — with its predicted stability margin (zero-order lobes and the mode-coupling
-# limit of the modes, the robot's low-frequency modes scaled with the pose through the joint
-# stiffness), static deflection (mean cutting force over the pose's stiffness), waviness (the
+# depth and feed — with its predicted critical depth and probability of a stable cut (the
+# regenerative lobes of every identified mode at the pose, the robot's low-frequency modes
+# scaled with the pose through the joint stiffness, and a stated prior of the spindle/tool
+# modes above the impact test's band; a bootstrap of members weighted by the study's own
+# chatter verdicts, `robomill.plan.stability`), static deflection (mean cutting force over
+# the pose's stiffness), waviness (the
 # gear lines carried through the Jacobian to the new pose), force, feed marks and removal
 # rate, each with an interval from the identified quantities' uncertainty. The waviness has
 # two: the spread between the tracker runs that identified its gear lines (the wall's
@@ -51,6 +54,10 @@ from robomill.plan.pathout import summary_values
 num = Numbering.for_chapter("ch7", fig_dir=fig_dir)
 num.figure("pareto", "Removal rate against the predicted form error (upper bound): the "
            "plan's Pareto front and the study's own cuts")
+num.figure("p_stable", "Probability of a stable cut over spindle speed × depth at the plan's "
+           "best cut's pose, before (left) and after (right) weighting the stability model's "
+           "members by the study's verdicts; the study's judged cuts marked (o stable, x "
+           "chatter)")
 num.figure("pose_map", "Pose map: the largest pessimistic critical depth over the speed range "
            "(top) and the upper deflection normal to the wall at the best cut's speed, depth "
            "and feed (bottom), over placement × rotation about the tool axis")
@@ -244,10 +251,11 @@ if len(stations):
 # Every cut of the study with a chatter verdict (`results/chatter/verdicts.csv`, the learn
 # cuts' among them once their folder joined the study) is evidence on the stability limit at
 # its own pose, speed and depth: stable, the true limit there is at least its depth; chatter,
-# at most; undetermined, nothing. The critical-depth interval is the envelope of a set of
-# members over the uncertain parameters, and the plan keeps only the members that agree with
-# every verdict (a set-membership update, `robomill.plan.conditioning`); which cuts entered is
-# in `results/plan/evidence_used.csv`.
+# at most; undetermined, nothing. The critical-depth interval is the weighted central range of
+# a set of members over the uncertain parameters: each member of the stability model is
+# weighted by the likelihood of the verdicts, each taken as wrong with a stated probability
+# (`robomill.plan.conditioning`); which
+# cuts entered is in `results/plan/evidence_used.csv`.
 
 # %%
 from robomill.plan.conditioning import evidence_values
@@ -261,6 +269,34 @@ if len(outside):
     display(outside.sort_values("outside_factor", ascending=False)[
         ["cut", "verdict", "spindle_rpm", "depth_mm", "a_crit_low_mm", "a_crit_high_mm",
          "outside_factor"]])
+
+# %% [markdown]
+# The probability of a stable cut at the plan's best cut's pose, over speed and depth: the
+# share of the stability model's members whose critical depth lies above the depth, each
+# member weighted equally (before) and by the likelihood of the study's verdicts (after).
+
+# %%
+if "p_stable_post" in pmap:
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
+    for ax, name, title in ((axes[0], "p_stable_prior", "before the verdicts"),
+                            (axes[1], "p_stable_post", "after the verdicts")):
+        v = pmap[name].transpose("map_depth_mm", "spindle_rpm")
+        im = ax.pcolormesh(pmap["spindle_rpm"].values, pmap["map_depth_mm"].values, v.values,
+                           shading="nearest", vmin=0, vmax=1, cmap="RdYlGn")
+        ax.set_yscale("log")
+        ax.set_xlabel("spindle speed [rpm]")
+        ax.set_title(title)
+        judged = used[used["used"].astype(str).str.lower().eq("true")]
+        for verdict, marker in (("stable", "o"), ("chatter", "x")):
+            j = judged[judged["verdict"] == verdict]
+            ax.plot(j["spindle_rpm"], j["depth_mm"], marker, color="k", mfc="none", ms=5)
+    axes[0].set_ylabel("axial depth [mm]")
+    fig.colorbar(im, ax=axes, label="p_stable")
+    num.show(fig, "p_stable")
+    display(Markdown(say("p_stable_map", ref_p_stable=num.ref("p_stable"))))
+err = cand.attrs.get("stability_solver_error")
+display(Markdown(say("solver_error", stability_solver_error_percent=None if err is None
+                     else 100 * float(err))))
 
 # %%
 from robomill.plan.binding import binding_values
@@ -288,16 +324,17 @@ display(Markdown(Prose(load_templates("ch7", templates), comparison_values(cmp_)
 # the next `snakemake -j2 plan` reads that run's files only: stability from its chatter
 # verdicts (else its force spectrum), force from its dynamometer's means, deflection from the
 # loaded minus the air tracker path, waviness from its loaded tracker runs. A `stability` row
-# gives the predicted margin a_crit/a − 1 with its interval and the outcome 1 (stable) or 0
-# (chatter); `held` says whether the outcome fell inside the stated interval, `in_sample`
-# whether its data identified a model the prediction rests on.
+# gives the predicted margin a_crit/a − 1 with its interval, the probability of a stable cut
+# `p_stable` and the outcome 1 (stable) or 0 (chatter); `held` says whether the outcome fell
+# inside the stated interval, `in_sample` whether its data identified a model the prediction
+# rests on.
 
 # %%
 display(Markdown(say("check_stability_plan", "check_stability_study", "check_deflection",
                      "check_force", "check_waviness")))
 display(Markdown(Prose(load_templates("ch7", templates),
                        {**summary, "coverage_case": coverage_case(summary)})(
-    "check_evidence", "check_coverage")))
+    "check_evidence", "check_coverage", "check_brier", "check_sharpness", "check_sharpness_oos")))
 display(Markdown(say("check_table", ref_check=num.ref("check"))))
 display(num.caption("check"))
 if len(chk):

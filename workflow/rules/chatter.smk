@@ -78,6 +78,9 @@ rule chatter_thesis:
         "results/logs/chatter/thesis.log",
     benchmark:
         "results/benchmarks/rules/chatter/thesis.tsv"
+    # the longest chain of the study's end (lobes, findings, chapter 6.1, scorecard): before
+    # the chapters ready beside it, whose inputs the greedy scheduler would rank first
+    priority: 10
     conda:
         ENV
     params:
@@ -147,6 +150,7 @@ rule chatter_findings:
         "results/logs/chatter/findings.log",
     benchmark:
         "results/benchmarks/rules/chatter/findings.tsv"
+    priority: 10
     conda:
         ENV
     params:

@@ -55,6 +55,9 @@ PLAN_OUTPUTS = {
     # the study's cuts whose chatter verdicts conditioned the stability limit
     # (robomill.plan.conditioning)
     "evidence": artefact("plan.evidence_used"),
+    # the artefacts and parameters the plan read (robomill.plan.inputs): robomill predict
+    # predicts any cuts from them with the same code
+    "model": artefact("plan.model"),
 }
 # the controller program of the planned cuts and its stations.csv (robomill.plan.program)
 PLAN_PROGRAM = artefact("plan.next_program")

@@ -3,6 +3,7 @@
 # analyses read the raw folder (results/synthetic/raw/: manifest.yaml, cell.yaml, data files)
 # exactly as they read real data.
 from robomill.experiment import tracker_pass
+from robomill.synth.cutstate import planned_cut_states
 
 SYNTH_CFG = {
     "cell": config["cell"],
@@ -18,6 +19,10 @@ SYNTH_FILES = {}
 for _f in PLAN.files if SYNTHETIC else []:
     SYNTH_FILES.setdefault(_f["kind"], []).append(_f)
 SYNTH_TRACKER_RUNS = {tracker_run(f): f for f in SYNTH_FILES.get("tracker", [])}
+SYNTH_CUT_BY_ID = {c.id: c for c in CUTS}
+# every cut an instrument samples, integrated once: its span and whether an air pass is
+# recorded (robomill.synth.cutstate)
+SYNTH_CUT_STATES = planned_cut_states(SYNTH_CFG, PLAN.files if SYNTHETIC else [])
 
 
 rule synth_cell:
@@ -54,6 +59,33 @@ rule synth_truth:
         "../scripts/synth_truth.py"
 
 
+# The closed-loop cuts themselves: each cut integrated once over the longest span any
+# instrument samples (with its air pass where one is recorded), one job for all (Python, the
+# library and the compiled kernels start once), one file per cut. Every instrument's job below
+# samples these files.
+rule synth_cuts:
+    input:
+        code=code_inputs("synth_cuts.py"),
+    output:
+        [artefact("synthetic.cut_state", cut=c) for c in SYNTH_CUT_STATES],
+    log:
+        "results/logs/synth/cuts.log",
+    benchmark:
+        "results/benchmarks/rules/synth/cuts.tsv"
+    # first when cores are free: every instrument's job, then every analysis, waits for it
+    priority: 10
+    conda:
+        ENV
+    params:
+        cfg=SYNTH_CFG,
+        cuts=[
+            {"cut": SYNTH_CUT_BY_ID[c].as_dict(), **spec}
+            for c, spec in SYNTH_CUT_STATES.items()
+        ],
+    script:
+        "../scripts/synth_cuts.py"
+
+
 # Stylus profiles, dynamometer records, tracker runs and impact hits: one simulator job each
 # for all the planned cuts, runs or hits, simulated one after the other in one process, so that
 # Python and the library start once (a per-cut job would pay the start-up 45 times for under a
@@ -70,6 +102,7 @@ SYNTH_FORCE_CUTS = [
 rule surface_synth_profiles:
     input:
         code=code_inputs("synth_profiles.py"),
+        states=[artefact("synthetic.cut_state", cut=c.id) for c in SYNTH_PROFILE_CUTS],
     output:
         [f"results/synthetic/raw/profiles/{c.id}.csv" for c in SYNTH_PROFILE_CUTS],
     log:
@@ -88,6 +121,7 @@ rule surface_synth_profiles:
 rule synth_dynamometer:
     input:
         code=code_inputs("synth_dynamometer.py"),
+        states=[artefact("synthetic.cut_state", cut=c.id) for c in SYNTH_FORCE_CUTS],
     output:
         [
             f"results/synthetic/raw/forces/{c.id}.{SYNTH_FORCE_FORMAT}"
@@ -113,12 +147,12 @@ rule synth_dynamometer:
 SYNTH_RECORDINGS = [
     f for f in (PLAN.files if SYNTHETIC else []) if f["kind"] in ("sound", "vibration")
 ]
-SYNTH_CUT_BY_ID = {c.id: c for c in CUTS}
 
 
 rule synth_recordings:
     input:
         code=code_inputs("synth_recordings.py"),
+        states=[artefact("synthetic.cut_state", cut=f["cut"]) for f in SYNTH_RECORDINGS],
     output:
         [f"results/synthetic/raw/{f['path']}" for f in SYNTH_RECORDINGS],
     log:
@@ -133,7 +167,8 @@ rule synth_recordings:
             {
                 "kind": f["kind"],
                 "cut": SYNTH_CUT_BY_ID[f["cut"]].as_dict(),
-                "pass": f.get("pass", "loaded"),
+                "pass": f.get("pass") or "loaded",
+                "state": artefact("synthetic.cut_state", cut=f["cut"]),
             }
             for f in SYNTH_RECORDINGS
         ],
@@ -144,6 +179,13 @@ rule synth_recordings:
 rule synth_tracker:
     input:
         code=code_inputs("synth_tracker.py"),
+        states=sorted(
+            {
+                artefact("synthetic.cut_state", cut=f["cut"])
+                for f in SYNTH_TRACKER_RUNS.values()
+                if tracker_pass(f) == "loaded"
+            }
+        ),
     output:
         [f"results/synthetic/raw/tracker/{run}.csv" for run in SYNTH_TRACKER_RUNS],
     log:
@@ -161,6 +203,11 @@ rule synth_tracker:
                 "cut": f["cut"],
                 "pass": tracker_pass(f),
                 "run": run,
+                "state": (
+                    artefact("synthetic.cut_state", cut=f["cut"])
+                    if tracker_pass(f) == "loaded"
+                    else None
+                ),
             }
             for run, f in SYNTH_TRACKER_RUNS.items()
         ],

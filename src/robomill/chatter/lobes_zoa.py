@@ -28,12 +28,13 @@ from robomill.chatter.model import CuttingModel, LinearTool, lobe_parameters
 
 
 def _left_multiply(W: np.ndarray, G: np.ndarray) -> np.ndarray:
-    """W G for one real 2 × 2 ``W`` and a stack ``(..., 2, 2)``, written out (faster than a
-    general product for 2 × 2 blocks)."""
+    """W G for a real 2 × 2 ``W`` (one, or a stack broadcasting against ``G`` without its
+    last two axes) and a stack ``G`` ``(..., 2, 2)``, written out (faster than a general
+    product for 2 × 2 blocks)."""
     out = np.empty_like(G)
     for i in range(2):
         for j in range(2):
-            out[..., i, j] = W[i, 0] * G[..., 0, j] + W[i, 1] * G[..., 1, j]
+            out[..., i, j] = W[..., i, 0] * G[..., 0, j] + W[..., i, 1] * G[..., 1, j]
     return out
 
 
@@ -122,7 +123,8 @@ def _scatter_min(env: np.ndarray, rpm: np.ndarray, a: np.ndarray, n_t: np.ndarra
 
 
 def zoa_envelope(G: np.ndarray, f_hz: np.ndarray, cut: CuttingModel,
-                 spindle_rpm: np.ndarray, *, chatter_frequency: bool = False
+                 spindle_rpm: np.ndarray, *, chatter_frequency: bool = False,
+                 mean_matrix: np.ndarray | None = None
                  ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
     """Zero-order critical axial depth ``(B, len(spindle_rpm))`` [m] of B tool models whose
     receptances ``G`` ``(B, nf, 2, 2)`` [m/N] are given on the chatter frequencies ``f_hz``
@@ -130,14 +132,17 @@ def zoa_envelope(G: np.ndarray, f_hz: np.ndarray, cut: CuttingModel,
     where no branch reaches a speed (no regenerative chatter possible there).
 
     With ``chatter_frequency``, also the chatter frequency [Hz] of the branch that sets each
-    depth (NaN where the depth is +inf).
+    depth (NaN where the depth is +inf). ``mean_matrix`` ``(B, 2, 2)``: each tool model's own
+    mean directional matrix W̄ (its own coefficients; default ``cut``'s for all; ``cut``
+    gives the teeth).
     """
     f = np.asarray(f_hz, float)
     rpm_in = np.atleast_1d(np.asarray(spindle_rpm, float))
     order = np.argsort(rpm_in)
     n_t = rpm_in[order]
     n_lobes = int(np.ceil(f.max() * 60.0 / (cut.teeth * n_t.min()))) + 2
-    lam = _track(_eig2(_left_multiply(cut.mean_matrix(), np.asarray(G))))  # (B, nf, 2)
+    W = cut.mean_matrix() if mean_matrix is None else np.asarray(mean_matrix)[:, None]
+    lam = _track(_eig2(_left_multiply(W, np.asarray(G))))  # (B, nf, 2)
     with np.errstate(divide="ignore", invalid="ignore"):
         inv = 1.0 / np.where(np.abs(lam) > 0, lam, np.nan)
         u, v = inv.real, inv.imag

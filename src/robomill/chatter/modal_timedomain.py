@@ -174,6 +174,14 @@ def _run(Phi, Gam, shape, eta, n_steps, m_delay, dt, omega, teeth, phst, phex, c
     return nrec
 
 
+def warm_kernels() -> None:
+    """Run a tiny cut (compiles :func:`_run`, or loads it from the cache;
+    :func:`robomill.kernels.ready`)."""
+    cut = ModalCut(np.array([50.0]), np.array([0.05]), np.array([1e7]), np.array([[0.0, 1.0]]),
+                   30000.0, 2, 0.0, np.pi, 1e-5, 5e-4, 796e6, 168e6, 222e6)
+    _simulate_modal_cut(cut, duration_s=1e-3, steps_per_tooth=8)
+
+
 def simulate_modal_cut(cut: ModalCut, *, duration_s: float, steps_per_tooth: int = 32,
                        Kt_noise_fraction: float = 0.005, noise_seed: int = 0,
                        record_every: int = 1) -> dict[str, np.ndarray | float]:
@@ -197,6 +205,17 @@ def simulate_modal_cut(cut: ModalCut, *, duration_s: float, steps_per_tooth: int
     >>> bool(np.allclose(F, ref, rtol=2e-3))
     True
     """
+    from robomill.kernels import ready
+
+    ready(__name__)  # the kernel compiled once per environment (robomill.kernels)
+    return _simulate_modal_cut(cut, duration_s=duration_s, steps_per_tooth=steps_per_tooth,
+                               Kt_noise_fraction=Kt_noise_fraction, noise_seed=noise_seed,
+                               record_every=record_every)
+
+
+def _simulate_modal_cut(cut: ModalCut, *, duration_s: float, steps_per_tooth: int = 32,
+                        Kt_noise_fraction: float = 0.005, noise_seed: int = 0,
+                        record_every: int = 1) -> dict[str, np.ndarray | float]:
     tau = 60.0 / (cut.teeth * cut.spindle_rpm)
     m = int(steps_per_tooth)
     dt = tau / m

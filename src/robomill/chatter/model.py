@@ -41,14 +41,24 @@ class LinearTool:
     A: np.ndarray
     B: np.ndarray
     C: np.ndarray
+    modes: tuple[ModeXY, ...] = ()
+    """The modes a modal tool was built from (:func:`tool_from_modes`); empty otherwise."""
 
     @property
     def n_states(self) -> int:
         return self.A.shape[0]
 
     def frf(self, f_hz: np.ndarray) -> np.ndarray:
-        """Receptance G(jω) = C (jωI − A)⁻¹ B, shape ``(2, 2, len(f))`` [m/N]."""
+        """Receptance G(jω), shape ``(2, 2, len(f))`` [m/N]: of a modal tool the one modal sum
+        (:func:`robomill.chatter.coupling.receptance`), else C (jωI − A)⁻¹ B."""
         f = np.atleast_1d(np.asarray(f_hz, float))
+        if self.modes:
+            from robomill.chatter.coupling import receptance
+
+            m = self.modes
+            G = receptance(f, [[x.f_hz for x in m]], [x.zeta for x in m],
+                           [[x.k_N_m for x in m]], [[x.shape for x in m]])[0]
+            return np.moveaxis(G, 0, -1)
         lam, V = np.linalg.eig(self.A)
         CV = self.C @ V
         VB = np.linalg.solve(V, self.B)
@@ -84,7 +94,7 @@ def tool_from_modes(modes: Iterable[ModeXY]) -> LinearTool:
         A[i + 1, i + 1] = -2 * m.zeta * w
         B[i + 1] = phi / m.m_kg
         C[:, i] = phi
-    return LinearTool(A, B, C)
+    return LinearTool(A, B, C, tuple(modes))
 
 
 def modes_from_xy_lists(x: Iterable[dict], y: Iterable[dict]) -> list[ModeXY]:

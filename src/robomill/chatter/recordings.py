@@ -115,32 +115,44 @@ def _air_pairs(entry: Mapping[str, Any], judged, air) -> list[tuple[Mapping, Map
 
 def forced_or_chatter(manifest, entry: Mapping[str, Any], verdict: Verdict, judged, air,
                       settings: VerdictSettings) -> Verdict:
-    """A chatter verdict of ``entry`` tested on the air passes of its cut (module docstring):
-    ``forced`` with the deciding test first in its evidence, else ``chatter`` with each test's
-    sentence added; unchanged when no air pass can test it."""
-    from robomill.chatter.verdicts import air_test, call_forced
+    """A chatter verdict of ``entry`` tested on the air passes of its cut (module docstring)
+    by :func:`robomill.chatter.verdicts.judge_beside_air`: a line an air pass finds forced is
+    set aside and the record judged on its other lines; ``forced`` with the deciding test
+    first in its evidence, else ``chatter`` with each test's sentence added; unchanged when
+    no air pass can test it."""
+    from robomill.chatter.verdicts import AirTest, air_test, judge_beside_air
 
-    out = verdict
-    for rec, a in _air_pairs(entry, judged, air):
-        try:
-            x, fs = read_samples(manifest, rec)
-            xa, fsa = read_samples(manifest, a)
-        except RawDataError as exc:
-            out = call_forced(out, _no_test(f"`{a['path']}` not read: {exc}", verdict))
-            continue
-        name = (f"the air pass `{a['path']}`" if rec is entry else
-                f"the air pass `{a['path']}` against `{rec['path']}`")
-        test = air_test(x, fs, xa, fsa, verdict.chatter_hz, settings, air_name=name)
-        out = call_forced(out, test)
-        if out.verdict == "forced":
-            return out
-    return out
+    pairs = _air_pairs(entry, judged, air)
+    if not pairs:
+        return verdict
+    read: dict[str, tuple[np.ndarray, float] | RawDataError] = {}
 
+    def samples(e: Mapping[str, Any]) -> tuple[np.ndarray, float] | RawDataError:
+        if e["path"] not in read:
+            try:
+                read[e["path"]] = read_samples(manifest, e)
+            except RawDataError as exc:
+                read[e["path"]] = exc
+        return read[e["path"]]
 
-def _no_test(text: str, verdict: Verdict):
-    from robomill.chatter.verdicts import AirTest
+    def test_line(line_hz: float) -> list[AirTest]:
+        tests = []
+        for rec, a in pairs:
+            xs, xa = samples(rec), samples(a)
+            bad = next((r for r in (xs, xa) if isinstance(r, RawDataError)), None)
+            if bad is not None:
+                tests.append(AirTest(False, line_hz, float("nan"), float("nan"),
+                                     f"`{a['path']}` not read: {bad}"))
+                continue
+            name = (f"the air pass `{a['path']}`" if rec is entry else
+                    f"the air pass `{a['path']}` against `{rec['path']}`")
+            tests.append(air_test(*xs, *xa, line_hz, settings, air_name=name))
+        return tests
 
-    return AirTest(False, verdict.chatter_hz, float("nan"), float("nan"), text)
+    x, fs = samples(entry)
+    rpm, z = record_design(manifest, entry)
+    return judge_beside_air(x, fs, settings, test_line, spindle_rpm=rpm, flutes=z,
+                            keep_spectrogram=verdict.spectrogram is not None)
 
 
 def judge_study(manifest, entries: Iterable[Mapping[str, Any]], settings: VerdictSettings,

@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from robomill.chatter.coupling import coupling_depth
 from robomill.chatter.model import CuttingModel, LinearTool, ModeXY, tool_from_modes
 from robomill.settings import schema_default
 
@@ -75,9 +76,10 @@ def mode_coupling(modes: list[ModeXY], cut: CuttingModel, *, depth_max_m: float,
     """Mode-coupling check: the 2-D model without delay, ṡ = (A + a B W̄ C) s (the oriented
     cutting stiffness a W̄ acting on the current displacement; Tlusty's mode coupling, Pan et
     al. 2006 for robots). The non-symmetric stiffness can merge two modes into a flutter pair
-    with a growing oscillation; the smallest such depth a_mc is found by scan + bisection, and
+    with a growing oscillation; the smallest such depth a_mc is the one routine's
+    (:func:`robomill.chatter.coupling.coupling_depth`, scan + bisection to ``rtol``), and
     the coupled pair is the two modes carrying most of the unstable eigenvector's energy
-    (k_r |q_r|²).
+    (k_r |q_r|²) just above it.
 
     Returns
     -------
@@ -85,24 +87,12 @@ def mode_coupling(modes: list[ModeXY], cut: CuttingModel, *, depth_max_m: float,
     frequencies, participation (per mode).
     """
     tool = tool_from_modes(modes)
-    scan = np.geomspace(depth_max_m / 1e4, depth_max_m, 60)
-    re, _ = _max_real(tool, cut, scan)
-    bad = np.nonzero(re > 0)[0]
+    a, hi = coupling_depth([[m.f_hz for m in modes]], [m.zeta for m in modes],
+                           [[m.k_N_m for m in modes]], [[m.shape for m in modes]], cut,
+                           depth_max_m=depth_max_m, n_scan=60, rtol=rtol, upper=True)
     k = np.array([m.k_N_m for m in modes])
-    if bad.size == 0:
-        a_mc = float("nan")
-        probe = depth_max_m
-    else:
-        j = int(bad[0])
-        lo, hi = (scan[j - 1] if j else 0.0), scan[j]
-        while hi - lo > rtol * hi:
-            mid = 0.5 * (lo + hi)
-            if _max_real(tool, cut, np.array([mid]))[0][0] > 0:
-                hi = mid
-            else:
-                lo = mid
-        a_mc = 0.5 * (lo + hi)
-        probe = hi
+    a_mc = float(a[0]) if np.isfinite(a[0]) else float("nan")
+    probe = float(hi[0]) if np.isfinite(hi[0]) else depth_max_m
     _, eig = _max_real(tool, cut, np.array([probe]))
     lam, v = eig[0]
     q = v[0::2]

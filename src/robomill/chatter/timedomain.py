@@ -253,6 +253,15 @@ def _packed(p: SeedParams, dt_s: float) -> np.ndarray:
                      0.25 * dt_s * 2 * np.pi * p.spindle_rpm / 60.0])
 
 
+def warm_kernels() -> None:
+    """Advance a tiny simulation a few steps (compiles :func:`_integrate` and :func:`_rhs`, or
+    loads them from the cache; :func:`robomill.kernels.ready`)."""
+    p = SeedParams()
+    sim = SeedSimulation(p, 1e-4, steps_per_tooth=8, duration_s=4 * p.tooth_period_s,
+                         record_every=1)
+    sim._advance(2 * p.tooth_period_s)
+
+
 class SeedSimulation:
     """Resumable fixed-step simulation of the Shagniev 2019 system.
 
@@ -328,6 +337,12 @@ class SeedSimulation:
 
     def run(self, seconds: float) -> None:
         """Advance by ``seconds`` (rounded to whole steps)."""
+        from robomill.kernels import ready
+
+        ready(__name__)  # the kernels compiled once per environment (robomill.kernels)
+        self._advance(seconds)
+
+    def _advance(self, seconds: float) -> None:
         n = min(int(round(seconds / self.dt)), self.n_total - self.k)
         if n <= 0:
             return

@@ -41,13 +41,16 @@ teeth):
 6. **Forced, not chatter** (:func:`air_test`): a line is forced vibration when it is present
    while the same path is moved without cutting (an **air pass** of the same instrument: the
    robot's servos and motors shake the arm whether it cuts or not) and the cut does not make
-   it grow: in the air pass's mean spectrum it stands ``prominence_db`` above its local floor
-   within ``max(harmonic_halfwidth_hz, 2 Δf)`` of ``f_c``, and the cut's power there exceeds the
-   air pass's by less than ``air_rise_db``. Depth 0 (the air pass) against the cut's depth is
-   the test of growth with depth: regenerative chatter exists only above a limiting depth
-   [Altintas 2012, ch. 4] and raises its line by orders of magnitude over the air pass
-   (tens of dB on the virtual cell), a forced line is there at depth 0 already. A chatter
-   verdict so tested becomes **forced**; its evidence names the air pass and the numbers.
+   it grow: within ``max(harmonic_halfwidth_hz, 2 Δf)`` of ``f_c`` the cut's power exceeds the
+   air pass's by less than ``air_rise_db`` (the evidence says whether the air pass's mean
+   spectrum shows the line ``prominence_db`` above its local floor). Depth 0 (the air pass)
+   against the cut's depth is the test of growth with depth: regenerative chatter exists
+   only above a limiting depth [Altintas 2012, ch. 4] and raises its line by orders of
+   magnitude over the air pass (tens of dB on the virtual cell), a forced line is there at
+   depth 0 already. A forced
+   line is set aside and the record judged again on its other lines
+   (:func:`judge_beside_air`): **chatter** on a line no air pass explains, else **forced**;
+   the evidence names the air pass, the lines set aside and the numbers.
 7. **Speeds** for chatter: the tooth-passing frequency on the chatter frequency,
    ``n_k = 60 f_c / (Z k)``, k = 1, 2, … [Schmitz & Smith 2009, ch. 4], within
    ``speed_range_rpm``, nearest to the cut's speed first, at most ``max_speeds``.
@@ -67,6 +70,7 @@ Time-Delay Systems: Stability and Engineering Applications*. Springer, New York,
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -262,12 +266,14 @@ def _running_median(x: np.ndarray, size: int) -> np.ndarray:
 
 def judge(signal: np.ndarray, fs_hz: float, settings: VerdictSettings, *,
           spindle_rpm: float | None = None, flutes: int | None = None,
-          keep_spectrogram: bool = False) -> Verdict:
+          keep_spectrogram: bool = False, set_aside_hz: tuple[float, ...] = ()) -> Verdict:
     """The verdict of one record (the module's docstring gives the method).
 
     ``signal``: (n,) or (n, channels) samples at ``fs_hz``; ``spindle_rpm`` and ``flutes`` from
     the cut's design when known (``None``: the comb is estimated from the signal, and speeds
     need ``flutes``). ``keep_spectrogram`` keeps ``f_hz, t_s, power`` (band only) for figures.
+    ``set_aside_hz``: lines found forced (:func:`judge_beside_air`), left out of the
+    non-harmonic lines as the comb's are.
     """
     s = settings
     x = np.asarray(signal, float)
@@ -319,7 +325,8 @@ def judge(signal: np.ndarray, fs_hz: float, settings: VerdictSettings, *,
 
     comb_lines = comb * np.arange(1, int(hi / comb) + 2)
     idx = prominent_peaks(f, P, (lo, hi), prominence_db=s.prominence_db,
-                          floor_half_width=s.floor_halfwidth_hz, exclude=comb_lines,
+                          floor_half_width=s.floor_halfwidth_hz,
+                          exclude=np.concatenate([comb_lines, np.asarray(set_aside_hz, float)]),
                           exclude_width=w_h)
     floor_t = np.median(S[band & ~harm], axis=0) if np.any(band & ~harm) else np.zeros(t.size)
     near_h = comb_mask(f, comb, 2.0 * df) & band
@@ -409,8 +416,10 @@ def air_test(cut_signal: np.ndarray, cut_fs_hz: float, air_signal: np.ndarray,
     Both records' mean spectra (Hann windows of ``window_s``: the same bins when the rates
     agree); within ``w = max(harmonic_halfwidth_hz, 2 Δf)`` of ``line_hz`` the air pass's
     largest power ``P_a`` over its local floor (median over ``± floor_halfwidth_hz``) and the
-    cut's largest power ``P_c``: forced when ``10 log10(P_a / floor) ≥ prominence_db`` and
-    ``10 log10(P_c / P_a) < air_rise_db``. Records of other rates (not the same instrument)
+    cut's largest power ``P_c``: forced when ``10 log10(P_c / P_a) < air_rise_db`` (the line
+    does not grow with depth; the evidence says whether the air pass shows it
+    ``prominence_db`` above its floor: a line just under that is no chatter either when the
+    cut does not raise it). Records of other rates (not the same instrument)
     or an air pass shorter than two windows: not forced, and the evidence says why."""
     s = settings
     if not np.isfinite(line_hz):
@@ -437,19 +446,24 @@ def air_test(cut_signal: np.ndarray, cut_fs_hz: float, air_signal: np.ndarray,
     above = 10.0 * np.log10(max(p_air, tiny) / max(floor, tiny))
     rise = 10.0 * np.log10(max(p_cut, tiny) / max(p_air, tiny))
     present = above >= s.prominence_db
-    forced = present and rise < s.air_rise_db
-    if forced:
+    forced = rise < s.air_rise_db
+    if forced and present:
         text = (f"forced: the line {line_hz:.1f} Hz is in {air_name} ({above:.1f} dB above its "
                 f"floor there, ≥ {s.prominence_db:g} dB) and the cut raises it by {rise:+.1f} dB "
                 f"(< {s.air_rise_db:g} dB): present without cutting, it does not grow with "
                 "depth")
+    elif forced:
+        text = (f"forced: {air_name} holds the power at {line_hz:.1f} Hz ({above:.1f} dB above "
+                f"its floor) that the cut raises by {rise:+.1f} dB only (< {s.air_rise_db:g} "
+                "dB): it does not grow with depth")
     elif present:
         text = (f"{air_name} has a line at {line_hz:.1f} Hz ({above:.1f} dB above its floor), but "
                 f"the cut raises it by {rise:+.1f} dB (≥ {s.air_rise_db:g} dB): it grows with "
                 "depth, not forced")
     else:
         text = (f"{air_name} has no line at {line_hz:.1f} Hz ({above:.1f} dB above its floor, "
-                f"< {s.prominence_db:g} dB): not forced")
+                f"< {s.prominence_db:g} dB) and the cut raises the power there by {rise:+.1f} dB "
+                f"(≥ {s.air_rise_db:g} dB): not forced")
     return AirTest(forced, line_hz, above, rise, text)
 
 
@@ -468,3 +482,39 @@ def call_forced(verdict: Verdict, test: AirTest) -> Verdict:
         out.verdict, out.chatter_hz = "forced", float("nan")
         out.speeds_rpm, out.tooth_targets_hz = [], []
     return out
+
+
+def judge_beside_air(signal: np.ndarray, fs_hz: float, settings: VerdictSettings,
+                     test_line: Callable[[float], list[AirTest]], **design: Any) -> Verdict:
+    """:func:`judge` with the air passes (the module's step 6) asked of each chatter line:
+    ``test_line(line_hz)`` gives the air tests of a line, the first forced one decides
+    (:func:`call_forced`). A forced line is set aside and the record judged again on its
+    other lines, so that a forced line stronger than a regenerating one (a machine's line
+    through a record with seconds out of the cut) does not hide it: **chatter** on the first
+    line that no air pass explains (its evidence names the lines set aside), else the first
+    line's **forced** verdict (its evidence says what the other lines gave). ``design``:
+    :func:`judge`'s keywords. Ends: every pass sets one more prominent line aside."""
+    aside: list[float] = []
+    first: Verdict | None = None
+    while True:
+        v = judge(signal, fs_hz, settings, set_aside_hz=tuple(aside), **design)
+        if v.verdict != "chatter":
+            break
+        out = v
+        for test in test_line(v.chatter_hz):
+            out = call_forced(out, test)
+            if out.verdict == "forced":
+                break
+        if out.verdict != "forced":
+            v = out
+            break
+        first = first or out
+        aside.append(v.chatter_hz)
+    if first is None:
+        return v
+    listed = ", ".join(f"{a:.1f}" for a in aside)
+    if v.verdict == "chatter":
+        v.evidence += (f"; set aside as forced by the air pass: {listed} Hz ({first.evidence})")
+        return v
+    first.evidence += f"; without the forced line(s) {listed} Hz: {v.verdict} ({v.evidence})"
+    return first

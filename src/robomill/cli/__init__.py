@@ -8,7 +8,8 @@ Verbs (each with ``--help``):
 - ``robomill manifest DIR``: write or update ``manifest.yaml`` from the files;
 - ``robomill check DIR``: every problem of the folder, one line each (exit status 1 if any);
 - ``robomill plan DIR --request plan.yaml``: the next cuts from the study's measurements;
-- ``robomill listen FILE [--rpm N --flutes Z]``: the chatter verdict of one recording.
+- ``robomill listen FILE [--rpm N --flutes Z]``: the chatter verdict of one recording;
+- ``robomill predict STUDY CUTS [--out FILE]``: any cuts predicted from a study's results.
 
 Then ``snakemake -j2 all --config data=DIR`` runs the study on it.
 """
@@ -19,18 +20,18 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-VERBS = ("init", "import", "manifest", "check", "plan", "listen")
+VERBS = ("init", "import", "manifest", "check", "plan", "listen", "predict")
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The parser of the ``robomill`` command."""
-    from robomill.cli import check, importing, init, listen, manifest, plan
+    from robomill.cli import check, importing, init, listen, manifest, plan, predict
 
     parser = argparse.ArgumentParser(
         prog="robomill", description="Prepare a folder of real measurements for the robomill "
         "pipeline: init, import, manifest, check; then snakemake -j2 all --config data=DIR.")
     sub = parser.add_subparsers(dest="verb", metavar="VERB", required=True)
-    for module in (init, importing, manifest, check, plan, listen):
+    for module in (init, importing, manifest, check, plan, listen, predict):
         module.add_parser(sub)
     return parser
 

@@ -3,7 +3,8 @@ frequency, and which spindle speeds to try instead, from one recording (sound, v
 force record in CSV), with the pipeline's verdict (:func:`robomill.chatter.verdicts.judge`,
 settings ``chatter.verdicts`` of the schema). With ``--air``, the recording of the same path
 moved without material by the same instrument: a chatter line that it shows and the cut does
-not raise is ``forced`` (:func:`robomill.chatter.verdicts.air_test`).
+not raise is ``forced`` (:func:`robomill.chatter.verdicts.air_test`), and the recording is
+judged again without it (:func:`robomill.chatter.verdicts.judge_beside_air`).
 """
 
 from __future__ import annotations
@@ -31,8 +32,9 @@ def add_parser(sub: Any) -> None:  # what ArgumentParser.add_subparsers() return
                    help="sampling rate of a vibration CSV (default: from its t_s column)")
     p.add_argument("--air", type=Path, metavar="AIRFILE", default=None,
                    help="an air pass of the same cut by the same instrument (the same path "
-                        "without material): a chatter line it shows, which the cut raises by "
-                        "less than chatter.verdicts.air_rise_db, is forced vibration")
+                        "without material): a chatter line that the cut raises over it by less "
+                        "than chatter.verdicts.air_rise_db is forced vibration, set aside, and "
+                        "the recording judged on its other lines")
     p.add_argument("--range", type=float, nargs=2, metavar=("MIN", "MAX"), default=None,
                    help="range of the recommended speeds [rpm] (default: "
                         "chatter.verdicts.speed_range_rpm)")
@@ -42,7 +44,7 @@ def add_parser(sub: Any) -> None:  # what ArgumentParser.add_subparsers() return
 def run(args: argparse.Namespace) -> int:
     import dataclasses
 
-    from robomill.chatter.verdicts import air_test, call_forced, default_settings, judge
+    from robomill.chatter.verdicts import air_test, default_settings, judge, judge_beside_air
     from robomill.io.recordings import read_recording
 
     settings = default_settings()
@@ -60,11 +62,13 @@ def run(args: argparse.Namespace) -> int:
         except RawDataError as exc:
             print(f"robomill listen: {exc}")
             return 1
-    v = judge(rec.samples, rec.fs_hz, settings, spindle_rpm=args.rpm, flutes=args.flutes)
-    if air is not None and v.verdict == "chatter":
-        v = call_forced(v, air_test(rec.samples, rec.fs_hz, air.samples, air.fs_hz,
-                                    v.chatter_hz, settings,
-                                    air_name=f"the air pass {args.air}"))
+    design = {"spindle_rpm": args.rpm, "flutes": args.flutes}
+    if air is None:
+        v = judge(rec.samples, rec.fs_hz, settings, **design)
+    else:
+        v = judge_beside_air(rec.samples, rec.fs_hz, settings, lambda line_hz: [air_test(
+            rec.samples, rec.fs_hz, air.samples, air.fs_hz, line_hz, settings,
+            air_name=f"the air pass {args.air}")], **design)
     print(f"{args.file}: {v.verdict}"
           + (f" at {v.chatter_hz:.1f} Hz" if v.verdict == "chatter" else "")
           + (f" at {v.line_hz:.1f} Hz (forced vibration, not chatter)"

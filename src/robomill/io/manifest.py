@@ -330,6 +330,18 @@ def _parse_cut(path: Path, where: str, c: Mapping[str, Any], seen: Mapping[str, 
                redundancy_deg=None if theta is None else float(theta))
 
 
+def parse_cut(path: str | Path, where: str, entry: Mapping[str, Any],
+              seen: Mapping[str, int]) -> Cut:
+    """One cut mapping with the manifest's rules (keys, types, direction, process keys),
+    ``where`` naming it in a problem's one line; ``seen`` the ids taken before it.
+
+    Raises
+    ------
+    RawDataError
+        The entry breaks a rule (file, cut, key and what was expected)."""
+    return _parse_cut(Path(path), where, entry, seen)
+
+
 def _in_own_folder(raw_dir: Path, f: Mapping[str, Any]) -> bool:
     """Whether a file of a study merged from several raw folders (its entry carries the
     ``folder`` it was listed in; :mod:`robomill.io.rawdirs`) lies inside that folder."""

@@ -27,7 +27,17 @@ Encoding of the ``stability`` rows (unit ``1``): ``predicted``, ``low``, ``high`
 stability margin a_crit/a − 1 and its interval (> 0 predicts stable); ``outcome`` is 1 when
 the cut was stable, 0 when it chattered, NaN when undetermined. ``within_interval``: the
 interval admits the outcome (stable needs ``high`` > 0, chatter ``low`` < 0);
-``within_tolerance``: the nominal verdict (``predicted`` > 0) is the outcome.
+``within_tolerance``: the nominal verdict (``predicted`` > 0) is the outcome; ``p_stable``
+the predicted probability of a stable cut (:mod:`robomill.plan.stability`), scored against
+the outcome by the Brier score [Brier 1950] B = mean (p − o)² over every judged cut
+(:func:`brier_score`; 0 perfect, 0.25 a coin).
+
+**Sharpness** of each interval quantity: the median over its rows of the interval's
+half-width over the prediction, (high − low)/(2 |predicted|) (:func:`sharpness`), beside its
+coverage: an interval can hold every outcome by being wide, and the pair says which.
+
+Brier 1950: Brier, G. W. Verification of forecasts expressed in terms of probability.
+*Monthly Weather Review* 78(1), 1–3, 1950.
 """
 
 from __future__ import annotations
@@ -51,7 +61,8 @@ from robomill.plan.measured import spectrum_amplitude_um
 from robomill.settings import schema_default
 
 CHECK_COLUMNS = ["cut", "quantity", "unit", "predicted", "low", "high", "outcome",
-                 "within_interval", "within_tolerance", "held", "in_sample", "source"]
+                 "within_interval", "within_tolerance", "held", "in_sample", "source",
+                 "p_stable"]
 
 
 def force_outcomes(mean_forces: pd.DataFrame) -> pd.Series:
@@ -218,7 +229,7 @@ def _stability_row(cut: str, r: pd.Series, outcome: float, source: str) -> dict 
     hi = float(r.get("stability_margin_high", p))
     row = {"cut": cut, "quantity": "stability", "unit": "1", "predicted": p, "low": lo,
            "high": hi, "outcome": outcome, "within_interval": None, "within_tolerance": None,
-           "held": None, "source": source}
+           "held": None, "source": source, "p_stable": float(r.get("p_stable", np.nan))}
     if np.isfinite(outcome):
         stable = outcome >= 0.5
         inside = stated_verdict_held(lo, hi, stable)
@@ -352,7 +363,8 @@ def check_summary(check: pd.DataFrame, tolerance: float = 0.25,
     ``n_predicted_stable_stable`` (also with ``_plan``), and ``n_stability_agree`` (nominal
     verdict = outcome); ``tolerance_percent`` the relative tolerance; the out-of-sample and
     in-sample counts and the coverage against ``nominal_coverage``
-    (:func:`robomill.plan.evidence.coverage_summary`)."""
+    (:func:`robomill.plan.evidence.coverage_summary`); ``brier_score`` and ``n_brier``
+    (:func:`brier_score`) and ``sharpness_<q>_percent`` (:func:`sharpness`)."""
     out: dict[str, float] = {"tolerance_percent": 100.0 * float(tolerance)}
     plan = check["cut"].astype(str).str.startswith("plan_")
 
@@ -371,6 +383,39 @@ def check_summary(check: pd.DataFrame, tolerance: float = 0.25,
             (pred & (s["outcome"].astype(float) >= 0.5)).sum())
         out[f"n_stability_agree{suffix}"] = float(true(s["within_tolerance"]).sum())
     out.update(coverage_summary(check, nominal_coverage))
+    out["brier_score"], n = brier_score(check)
+    out["n_brier"] = float(n)
+    out.update(sharpness(check))
+    return out
+
+
+def brier_score(check: pd.DataFrame) -> tuple[float, int]:
+    """Brier score of ``p_stable`` over the judged stability rows (outcome 0 or 1) that have a
+    probability, and their count (NaN, 0 without any)."""
+    if "p_stable" not in check:
+        return float("nan"), 0
+    s = check[check["quantity"] == "stability"]
+    p = s["p_stable"].astype(float)
+    o = s["outcome"].astype(float)
+    ok = np.isfinite(p) & np.isfinite(o)
+    n = int(ok.sum())
+    return (float(np.mean((p[ok] - o[ok]) ** 2)) if n else float("nan")), n
+
+
+def sharpness(check: pd.DataFrame) -> dict[str, float]:
+    """``sharpness_<q>_percent``: per interval quantity (not stability) the median of
+    (high − low)/(2 |predicted|) × 100 over its rows with a finite prediction; also over the
+    out-of-sample rows alone (``sharpness_<q>_oos_percent``)."""
+    out = {}
+    rows = check[check["quantity"] != "stability"]
+    oos = ~rows["in_sample"].astype("boolean").fillna(False).astype(bool)
+    for suffix, part in (("", rows), ("_oos", rows[oos])):
+        for q, g in part.groupby("quantity"):
+            p = g["predicted"].astype(float).abs()
+            hw = (g["high"].astype(float) - g["low"].astype(float)) / 2
+            ok = np.isfinite(p) & np.isfinite(hw) & (p > 0)
+            if ok.any():
+                out[f"sharpness_{q}{suffix}_percent"] = float(100 * np.median(hw[ok] / p[ok]))
     return out
 
 

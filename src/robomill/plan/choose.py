@@ -22,6 +22,8 @@ from robomill.plan.request import PlanRequest
 
 CONSTRAINT_VARS = {
     "min_stability_margin": ("stability_margin_low", "min", "stability margin"),
+    "min_p_stable": ("p_stable", "min", "probability of a stable cut"),
+    "min_feed_per_tooth_mm": ("feed_per_tooth_mm", "min", "feed per tooth [mm]"),
     "max_deflection_normal_um": ("deflection_normal_high_um", "max",
                                  "deflection normal to the wall [um]"),
     "max_deflection_axial_um": ("deflection_axial_high_um", "max",
@@ -31,7 +33,8 @@ CONSTRAINT_VARS = {
 }
 """Constraint key → (variable checked, bound kind, what it is)."""
 
-NEEDS = {"min_stability_margin": "stability_margin", "max_deflection_normal_um": "deflection",
+NEEDS = {"min_stability_margin": "stability_margin", "min_p_stable": "stability_margin",
+         "max_deflection_normal_um": "deflection",
          "max_deflection_axial_um": "deflection", "max_waviness_um": "waviness",
          "max_force_N": "force"}
 """The prediction each constraint needs (:data:`robomill.plan.measured.PREDICTIONS`)."""
@@ -61,7 +64,7 @@ def constraint_masks(ds: xr.Dataset, req: PlanRequest) -> dict[str, xr.DataArray
     out = {}
     for key, (name, kind, _) in CONSTRAINT_VARS.items():
         lim = req.constraints.get(key)
-        if lim is None:
+        if lim is None or name not in ds:
             continue
         v = ds[name]
         out[key] = (v >= lim) if kind == "min" else (v <= lim)
@@ -126,6 +129,33 @@ def binding_constraint(ds: xr.Dataset, req: PlanRequest, robot_name: str = "the 
                 f"other constraint is {best:.4g}, the limit is {lim:g}")
     keys = ", ".join(f"constraints.{k}" for k in masks)
     return f"no candidate meets {keys} together (each one alone leaves none either)"
+
+
+def shortfall_line(ds: xr.Dataset, req: PlanRequest, mask: xr.DataArray, n_chosen: int,
+                   n_front: int) -> str:
+    """One line when fewer than ``n_cuts`` cuts are planned: how many removal rates the
+    Pareto front offers, and the constraint that binds the next larger removal rate (the one
+    refusing the most reachable candidates of a larger removal rate than the plan's best);
+    "" when ``n_cuts`` are planned."""
+    if n_chosen >= req.n_cuts:
+        return ""
+    best = float(ds["mrr_mm3_s"].where(mask.any(("placement", "rotation", "direction",
+                                                 "spindle_rpm"))).max())
+    larger = ds["reachable"] & (ds["mrr_mm3_s"] > best)
+    counts = {}
+    for key, m in constraint_masks(ds, req).items():
+        counts[key] = int((larger & ~m).sum())
+    why = ("no larger removal rate is requested" if not bool(larger.any()) or not counts
+           else None)
+    if why is None:
+        key = max(counts, key=counts.get)
+        why = (f"constraints.{key} binds every larger removal rate" if counts[key] ==
+               int(larger.sum()) else f"constraints.{key} refuses most candidates of a larger "
+               f"removal rate ({counts[key]} of {int(larger.sum())})")
+    where = ("the Pareto front of removal rate against form error holds "
+             f"{n_front} removal rate{'s' if n_front != 1 else ''} within the constraints"
+             if n_front < req.n_cuts else "the others' slots overlap the study's or each other")
+    return f"{n_chosen} of n_cuts {req.n_cuts} planned: {where}; {why} (best {best:g} mm3/s)"
 
 
 def pareto_front(mrr: np.ndarray, error: np.ndarray) -> np.ndarray:
@@ -198,6 +228,7 @@ def choose(ds: xr.Dataset, req: PlanRequest, robot_name: str = "the robot",
         from robomill.plan.extrapolation import reason_text
         for tab in (front, chosen):
             tab["extrapolation_reason"] = [reason_text(c) for c in tab["extrapolation_code"]]
+    ds.attrs["shortfall"] = shortfall_line(ds, req, mask, len(chosen), len(front))
     chosen.insert(0, "rank", np.arange(1, len(chosen) + 1))
     chosen.insert(0, "cut", [f"plan_{i:02d}" for i in chosen["rank"]])
     return chosen.reset_index(drop=True), front

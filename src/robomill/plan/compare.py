@@ -14,7 +14,7 @@ import xarray as xr
 
 from robomill.experiment import Cut, cut_endpoints_mm, cut_process, cut_redundancy_deg
 from robomill.plan.choose import feasible
-from robomill.plan.conditioning import StabilityEvidence, study_evidence
+from robomill.plan.conditioning import study_evidence
 from robomill.plan.measured import Measured
 from robomill.plan.poses import cut_frames
 from robomill.plan.predict import (
@@ -25,6 +25,7 @@ from robomill.plan.predict import (
     solve_request,
 )
 from robomill.plan.request import PlanRequest
+from robomill.plan.stability import VerdictEvidence
 
 PREDICTED = ["stability_margin", "stability_margin_low", "stability_margin_high",
              "deflection_normal_um", "deflection_normal_low_um", "deflection_normal_high_um",
@@ -33,7 +34,10 @@ PREDICTED = ["stability_margin", "stability_margin_low", "stability_margin_high"
              "force_high_N", "form_error_high_um", "waviness_ident_low_um",
              "waviness_ident_high_um", "waviness_noise_um"]
 STUDY_COLUMNS = ["cut", "spindle_rpm", "depth_mm", "feed_mm_s", "mrr_mm3_s", "reachable",
-                 *PREDICTED, "feasible"]
+                 *PREDICTED, "a_crit_mm", "a_crit_low_mm", "a_crit_high_mm", "p_stable",
+                 "feed_per_tooth_mm", "extrapolation", "extrapolation_reason",
+                 "limit_clearance_deg", "wrist_angle_deg", "pose_note", "verdict",
+                 "feasible"]
 
 
 def cut_request(cut: Cut, experiment: Mapping[str, Any], req: PlanRequest
@@ -61,18 +65,20 @@ def cut_request(cut: Cut, experiment: Mapping[str, Any], req: PlanRequest
 def stability_evidence(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: PlanRequest,
                        measured: Measured, cell: Cell, stability: pd.Series,
                        source: str = "results/chatter/verdicts.csv"
-                       ) -> StabilityEvidence | None:
-    """The study's chatter verdicts as a set-membership update of the critical depth
+                       ) -> VerdictEvidence | None:
+    """The study's chatter verdicts as the weights of the stability model's members
     (:mod:`robomill.plan.conditioning`): each cut with a verdict (``stability``: 1 stable,
     0 chatter, NaN undetermined per cut, :func:`robomill.plan.evidence.verdict_stability`)
-    and every member of the critical-depth interval at the cut's own pose and speed
+    and every member's critical depth at the cut's own pose, direction and speed
     (:func:`cut_request`); None where the modes or the coefficients were not measured."""
-    rows, cols, found = [], [], None
+    rows, cols, n_members = [], [], None
     for cut in cuts:
         if cut.id not in stability.index:
             continue
         v = float(stability[cut.id])
         one, p = cut_request(cut, experiment, req)
+        # the cut was cut: its pose counts whatever the request's margins
+        one = replace(one, joint_limit_margin_deg=0.0, min_wrist_angle_deg=0.0)
         row = {"cut": cut.id, "spindle_rpm": float(p["spindle_rpm"]),
                "depth_mm": float(cut.depth_mm),
                "verdict": "undetermined" if v != v else "stable" if v >= 0.5 else "chatter"}
@@ -80,42 +86,79 @@ def stability_evidence(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: 
         a = None
         if bool(poses.reachable.ravel()[0]):
             n = poses.q_mid_rad.shape[-1]
-            a = critical_depth_m(measured, cell, one, poses.q_mid_rad.reshape(-1, n)[:1],
+            a = critical_depth_m(replace(measured, stability_evidence=None), cell, one,
+                                 poses.q_mid_rad.reshape(-1, n)[:1],
                                  cut_frames(one.direction_deg)[:1], one.spindle_rpm,
                                  members=True)
         else:
             row["why"] = "unreachable: no prediction at the cut's pose"
         if a is not None:
-            found = a
+            n_members = a["members"].shape[0]
         rows.append(row)
         cols.append(None if a is None else a["members"][:, 0, 0])
-    if found is None:
+    if n_members is None:
         return None
-    E = found["members"].shape[0]
-    mem = np.stack([np.full(E, np.nan) if c is None else c for c in cols], 1)
-    return study_evidence(rows, mem, found["kt"], found["member_names"], source)
+    mem = np.stack([np.full(n_members, np.nan) if c is None else c for c in cols], 1)
+    return study_evidence(rows, mem, float(measured.level), req.stability.verdict_error,
+                          source)
+
+
+def predict_study_cut(cut: Cut, experiment: Mapping[str, Any], req: PlanRequest,
+                      measured: Measured, cell: Cell, reach=None) -> dict[str, Any]:
+    """One cut at its own place, direction, speed, depth, feed, tool and redundancy angle
+    (``redundancy_deg``, 0: the cell's tool orientation) with the plan's predictions (with
+    ``reach``, flagged and widened as the plan's candidates,
+    :func:`robomill.plan.predict.apply_extrapolation`) and whether it meets the request's
+    constraints (``feasible``).
+
+    A cut is predicted at its pose whatever the request's pose margins
+    (``joint_limit_margin_deg``, ``min_wrist_angle_deg``): its joint-limit clearance and
+    wrist angle are reported, and ``pose_note`` says which margin it would break (then
+    ``feasible`` is false for that reason, never silently)."""
+    from robomill.plan.extrapolation import reason_text
+
+    one, p = cut_request(cut, experiment, req)
+    one = replace(one, joint_limit_margin_deg=0.0, min_wrist_angle_deg=0.0)
+    ds = predict_grid(one, measured, cell)
+    if reach is not None:
+        ds = apply_extrapolation(ds, one, measured, cell, reach)
+    clear = float(ds["limit_clearance_deg"].values.ravel()[0])
+    wrist = float(ds["wrist_angle_deg"].values.ravel()[0])
+    notes = []
+    if clear < req.joint_limit_margin_deg:
+        notes.append(f"joint-limit clearance {clear:.3g} deg below the request's "
+                     f"joint_limit_margin_deg {req.joint_limit_margin_deg:g}")
+    if wrist < req.min_wrist_angle_deg:
+        notes.append(f"wrist angle {wrist:.3g} deg below the request's "
+                     f"min_wrist_angle_deg {req.min_wrist_angle_deg:g}")
+    row = {"cut": cut.id, "spindle_rpm": p["spindle_rpm"], "depth_mm": cut.depth_mm,
+           "feed_mm_s": cut.feed_mm_s,
+           "mrr_mm3_s": float(ds["mrr_mm3_s"].values.ravel()[0]),
+           "reachable": bool(ds["reachable"].values.ravel()[0])}
+    for name in (*PREDICTED, "a_crit_mm", "a_crit_low_mm", "a_crit_high_mm", "p_stable",
+                 "feed_per_tooth_mm"):
+        row[name] = float(ds[name].values.ravel()[0]) if name in ds else np.nan
+    code = int(ds["extrapolation_code"].values.ravel()[0]) if "extrapolation_code" in ds \
+        else 0
+    row.update({"extrapolation": bool(code), "extrapolation_reason": reason_text(code),
+                "limit_clearance_deg": clear, "wrist_angle_deg": wrist,
+                "pose_note": "; ".join(notes),
+                "feasible": bool(feasible(ds, req).values.ravel()[0]) and not notes})
+    return row
 
 
 def study_cuts_table(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: PlanRequest,
-                     measured: Measured, cell: Cell, reach=None) -> pd.DataFrame:
-    """Each of the study's cuts at its own place, direction, speed, depth, feed, tool and
-    redundancy angle (``redundancy_deg``, 0: the cell's tool orientation), with the plan's
-    predictions and whether it meets the request's constraints (with ``reach``, flagged and
-    widened as the plan's candidates, :func:`robomill.plan.predict.apply_extrapolation`)."""
+                     measured: Measured, cell: Cell, reach=None,
+                     stability: pd.Series | None = None) -> pd.DataFrame:
+    """Each of the study's cuts predicted as the plan's candidates
+    (:func:`predict_study_cut`: the study's cuts were cut, so each is predicted at its pose
+    whatever the request's pose margins, which are reported) and ``verdict``: the study's own
+    verdict of the cut (``stability``: 1 stable, 0 chatter)."""
     rows = []
     for cut in cuts:
-        one, p = cut_request(cut, experiment, req)
-        ds = predict_grid(one, measured, cell)
-        if reach is not None:
-            ds = apply_extrapolation(ds, one, measured, cell, reach)
-        ok = bool(feasible(ds, req).values.ravel()[0])
-        row = {"cut": cut.id, "spindle_rpm": p["spindle_rpm"], "depth_mm": cut.depth_mm,
-               "feed_mm_s": cut.feed_mm_s,
-               "mrr_mm3_s": float(ds["mrr_mm3_s"].values.ravel()[0]),
-               "reachable": bool(ds["reachable"].values.ravel()[0])}
-        for name in PREDICTED:
-            row[name] = float(ds[name].values.ravel()[0])
-        row["feasible"] = ok
+        row = predict_study_cut(cut, experiment, req, measured, cell, reach)
+        v = np.nan if stability is None else float(stability.get(cut.id, np.nan))
+        row["verdict"] = "" if v != v else "stable" if v >= 0.5 else "chatter"
         rows.append(row)
     return pd.DataFrame(rows, columns=STUDY_COLUMNS)
 
@@ -142,20 +185,28 @@ def rotation_effect_pct(pose_map: xr.Dataset) -> float:
 def comparison_table(plan: pd.DataFrame, study: pd.DataFrame,
                      rotation_effect: float = np.nan, rotations: float = np.nan
                      ) -> pd.DataFrame:
-    """Findings: the plan's best removal rate, the best of the study's own cuts meeting the same
-    constraints, and their ratio (NaN when no study cut meets them); ``rotation_effect``:
-    :func:`rotation_effect_pct` of the pose map; ``rotations``: how many redundancy angles
-    about the tool axis the request allowed (the pose map's)."""
-    ok = study[study["feasible"]]
+    """Findings: the plan's best removal rate, the best of the study's own cuts, and their
+    ratio; ``rotation_effect``: :func:`rotation_effect_pct` of the pose map; ``rotations``:
+    how many redundancy angles about the tool axis the request allowed (the pose map's).
+
+    The study's best is the largest removal rate among its cuts judged stable (``verdict``);
+    without verdicts, among those meeting the request's constraints; without either, among
+    all its cuts (``study_best_basis`` says which). The ratio is NaN only when the study has
+    no cut."""
+    judged = study[study["verdict"] == "stable"] if "verdict" in study else study.head(0)
+    ok = study[study["feasible"].astype(bool)]
+    basis, pool = (("judged_stable", judged) if len(judged) else
+                   ("feasible", ok) if len(ok) else ("all", study))
     plan_best = float(plan["mrr_mm3_s"].max()) if len(plan) else np.nan
-    study_best = float(ok["mrr_mm3_s"].max()) if len(ok) else np.nan
-    best_cut = str(ok.loc[ok["mrr_mm3_s"].idxmax(), "cut"]) if len(ok) else ""
+    study_best = float(pool["mrr_mm3_s"].max()) if len(pool) else np.nan
+    best_cut = str(pool.loc[pool["mrr_mm3_s"].idxmax(), "cut"]) if len(pool) else ""
     rows = [
         ("plan_best_mrr_mm3_s", plan_best, "mm3/s", str(plan["cut"].iloc[0]) if len(plan) else ""),
         ("study_best_mrr_mm3_s", study_best, "mm3/s", best_cut),
-        ("mrr_ratio", plan_best / study_best if study_best > 0 else np.nan, "1", ""),
+        ("mrr_ratio", plan_best / study_best if study_best > 0 else np.nan, "1", basis),
         ("study_cuts", float(len(study)), "1", ""),
         ("study_cuts_feasible", float(len(ok)), "1", ""),
+        ("study_cuts_judged_stable", float(len(judged)), "1", ""),
         ("rotation_effect_pct", float(rotation_effect), "%", ""),
         ("rotations", float(rotations), "1", ""),
     ]

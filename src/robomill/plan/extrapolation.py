@@ -1,27 +1,31 @@
 """Where the study does not reach: which candidates are extrapolated, why, and how their
-intervals widen.
+intervals widen with the distance from the evidence.
 
 A candidate is *extrapolated* when (bit of ``extrapolation_code``):
 
 * 1 ``spindle speed``: its speed lies outside the identifying cuts' speeds;
-* 2 ``feed per tooth``: its chip load lies outside theirs;
+* 2 ``feed per tooth``: its chip load lies outside the range the cutting coefficients were
+  identified on;
 * 4 ``radial immersion``: the request's immersion lies outside theirs;
 * 8 ``pose``: its placement lies farther than the request's
-  ``extrapolation.max_pose_distance_mm`` from every study cut's midpoint;
-* 16 ``modal band``: its tooth-passing frequency or one of its first
-  ``extrapolation.harmonics`` harmonics lies above the impact test's band, where the
-  structure's modes were not measured.
+  ``extrapolation.max_pose_distance_mm`` from every study cut's midpoint.
 
-The stated widening rule: an extrapolated prediction's interval half-widths (force,
-deflection, critical depth on each side of the nominal) are multiplied by ``2 (1 + e)``, e the
-largest relative excess of speed, chip load or immersion beyond the identified range (0 for a
-pose or band reason alone). Above the modal band, the pessimistic critical depth is instead
-at most the *absolute* stability limit of the measured modes at that pose (the lowest
-point of their lobes at any speed, :func:`absolute_depth_m`, times the lobes' smallest ratio
-of pessimistic to nominal depth over the request's speeds at that pose): an unmeasured mode
-as flexible as the measured ones may put a lobe's minimum at this speed, so no stable pocket
-between lobes (nor "no chatter at any depth") is claimed there; the factor then applies to
-the critical depth only for a speed, chip-load, immersion or pose reason beside the band.
+(Bit 16, ``modal band``, is no longer set: the modes above the impact test's band enter the
+stability model as a stated prior with its interval, :mod:`robomill.plan.stability`.)
+
+**The stated widening law.** Inside the covered range nothing widens. Outside, the relative
+distance from the evidence is e = (x − x_max)/x_max above the range, (x_min − x)/x_min below
+it (speed, chip load, immersion), and e = (d − d_lim)/d_lim for a placement at distance d from
+the nearest study cut beyond d_lim = ``max_pose_distance_mm``; every interval's half-widths
+are multiplied by
+
+.. math:: w = 1 + e
+
+e the largest relative distance of the candidate (force, deflection: every reason; the
+critical depth: the speed and the pose, which the linear stability model depends on; its
+members' log deviations from the nominal are multiplied by w,
+:func:`robomill.plan.stability.widen_members`). The law is continuous: a speed 0.07 % beyond
+the study's widens by 0.07 %.
 """
 
 from __future__ import annotations
@@ -31,9 +35,6 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from robomill.chatter.lobes_zoa import oriented_eigenvalues
-from robomill.chatter.model import CuttingModel
-from robomill.plan.lobes import frequency_grid, receptance
 from robomill.xrvars import var
 
 REASONS = {1: "spindle speed", 2: "feed per tooth", 4: "radial immersion", 8: "pose",
@@ -87,8 +88,9 @@ def _excess(x, lo_hi, rtol: float = 1e-6):
 
 
 def extrapolation_code(ds: xr.Dataset, req, reach: StudyReach, *, rtol: float = 1e-6
-                       ) -> tuple[xr.DataArray, xr.DataArray]:
-    """``extrapolation_code`` (bits of :data:`REASONS`) and the relative excess ``e`` over
+                       ) -> tuple[xr.DataArray, xr.DataArray, xr.DataArray]:
+    """``extrapolation_code`` (bits of :data:`REASONS`), the largest relative distance ``e``
+    from the evidence and that of the stability model (speed and pose only), each over
     ``(placement, spindle_rpm, feed_mm_s)``."""
     n = ds["spindle_rpm"].values
     c = ds["feed_per_tooth_mm"].transpose("spindle_rpm", "feed_mm_s").values
@@ -98,41 +100,25 @@ def extrapolation_code(ds: xr.Dataset, req, reach: StudyReach, *, rtol: float = 
     e_a = float(_excess(req.radial_immersion, reach.radial_immersion, rtol))
     code = (1 * (e_n > 0) + 2 * (e_c > 0) + 4 * (e_a > 0)).astype(np.int64)
     code = np.broadcast_to(code, (P,) + code.shape).copy()
+    e_p = np.zeros(P)
     if reach.midpoints_mm is not None and len(reach.midpoints_mm):
         pts = np.stack([ds[f"placement_{a}_mm"].values for a in "xyz"], -1)
         d = np.linalg.norm(pts[:, None] - reach.midpoints_mm[None], axis=-1).min(1)
         lim = req.extrapolation.get("max_pose_distance_mm")
         if lim is not None:
             code |= np.where(d > lim, 8, 0)[:, None, None]
-    if reach.modal_band_hz is not None:
-        top = reach.modal_band_hz[1] * (1 + rtol)
-        f_tp = n * req.flutes / 60.0
-        above = int(req.extrapolation.get("harmonics", 1)) * f_tp > top
-        code |= np.where(above, 16, 0)[None, :, None]
-    excess = np.broadcast_to(np.maximum(np.maximum(e_n, e_c), e_a), code.shape)
+            e_p = np.where(d > lim, (d - lim) / max(float(lim), 1e-9), 0.0)
+    e_p = e_p[:, None, None]
+    excess = np.maximum(np.maximum(np.maximum(e_n, e_c), e_a)[None], e_p)
+    excess_stab = np.broadcast_to(np.maximum(e_n[None], e_p), code.shape)
     dims = ("placement", "spindle_rpm", "feed_mm_s")
-    return (xr.DataArray(code, dims=dims), xr.DataArray(excess.copy(), dims=dims))
+    return (xr.DataArray(code, dims=dims), xr.DataArray(excess.copy(), dims=dims),
+            xr.DataArray(excess_stab.copy(), dims=dims))
 
 
 def reason_text(code: int) -> str:
     """``"spindle speed; modal band"`` for a code (empty for 0)."""
     return "; ".join(v for b, v in REASONS.items() if int(code) & b)
-
-
-def absolute_depth_m(fn_hz, zeta, k_N_m, shape, cut: CuttingModel) -> np.ndarray:
-    """Absolute stability limit ``(B,)`` [m] of B tool models: the lowest point of the
-    zero-order lobes at any spindle speed, min over chatter frequencies ω of
-    a_lim(ω) = (u² + v²)/(2u), 1/λ = u + jv the eigenvalues of W̄ G(jω) with u > 0 (Altintas &
-    Budak 1995; Altintas 2012 §4.3; every lobe k reaches every a_lim(ω) at some speed)."""
-    fn = np.atleast_2d(np.asarray(fn_hz, float))
-    G = receptance(frequency_grid(fn, n=800, n_fine=150), fn, zeta, np.atleast_2d(k_N_m),
-                   shape)
-    lam = oriented_eigenvalues(cut.mean_matrix(), G)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inv = 1.0 / np.where(np.abs(lam) > 0, lam, np.nan)
-        u, v = inv.real, inv.imag
-        a = np.where(u > 0, (u**2 + v**2) / (2 * u), np.inf)
-    return np.nan_to_num(a, nan=np.inf).min(axis=(1, 2))
 
 
 def _np(da: xr.DataArray, dims) -> np.ndarray:
@@ -143,12 +129,17 @@ def _np(da: xr.DataArray, dims) -> np.ndarray:
 
 
 def widen(ds: xr.Dataset, code: xr.DataArray, excess: xr.DataArray,
-          a_abs_low_mm: xr.DataArray | None = None) -> xr.Dataset:
-    """Apply the stated widening rule (module docstring) to the candidates' intervals and add
+          excess_stability: xr.DataArray | None = None) -> xr.Dataset:
+    """Apply the stated widening law (module docstring) to the candidates' intervals and add
     ``extrapolation`` (bool), ``extrapolation_code``, ``extrapolation_excess`` and
-    ``interval_widening`` (the factor)."""
+    ``interval_widening`` (the factor 1 + e). The critical depth: its members widened
+    (``a_crit_members_mm`` present: interval and ``p_stable`` recomputed from them), else
+    its half-widths multiplied by the speed and pose factor."""
+    from robomill.plan.stability import p_stable, summary, widen_members
+
     flagged = code > 0
-    w = xr.where(flagged, 2.0 * (1.0 + excess), 1.0)
+    w = 1.0 + excess
+    w_stab = 1.0 + (excess if excess_stability is None else excess_stability)
     out: dict[str, xr.DataArray] = {}
 
     def stretch(nom_name, low_name, high_name, w_):
@@ -163,23 +154,34 @@ def widen(ds: xr.Dataset, code: xr.DataArray, excess: xr.DataArray,
     for ax in ("normal", "axial"):
         stretch(f"deflection_{ax}_um", f"deflection_{ax}_low_um", f"deflection_{ax}_high_um", w)
     adims = ds["a_crit_mm"].dims
-    a_nom, a_lo, a_hi = (ds[k].values for k in ("a_crit_mm", "a_crit_low_mm", "a_crit_high_mm"))
-    # the modal band has its own bound on the critical depth (the absolute limit below): the
-    # factor widens it only for the other reasons
-    w_depth = w if a_abs_low_mm is None else xr.where((code & ~16) > 0, w, 1.0)
-    wa = _np(w_depth.max("feed_mm_s"), adims)
-    with np.errstate(invalid="ignore"):
-        ok_lo = np.isfinite(a_nom) & np.isfinite(a_lo)
-        ok_hi = np.isfinite(a_nom) & np.isfinite(a_hi)
-        lo = np.where(ok_lo, a_nom - (np.where(ok_lo, a_nom, 0) - np.where(ok_lo, a_lo, 0))
-                      * wa, a_lo)
-        hi = np.where(ok_hi, a_nom + (np.where(ok_hi, a_hi, 0) - np.where(ok_hi, a_nom, 0))
-                      * wa, a_hi)
-    if a_abs_low_mm is not None:
-        band = _np((code & 16).max("feed_mm_s") > 0, adims)
-        lo = np.where(band, np.minimum(lo, _np(a_abs_low_mm, adims)), lo)
-    out["a_crit_low_mm"] = ds["a_crit_low_mm"].copy(data=np.maximum(lo, 0.0))
-    out["a_crit_high_mm"] = ds["a_crit_high_mm"].copy(data=hi)
+    wa = _np(w_stab.max("feed_mm_s"), adims)
+    if "a_crit_members_mm" in ds and "member_weight" in ds:
+        mem = widen_members(ds["a_crit_members_mm"].values, wa[None])
+        wts = ds["member_weight"].values
+        level = float(ds.attrs.get("interval_level", 0.95))
+        sm = summary(mem, wts, level)
+        out["a_crit_members_mm"] = ds["a_crit_members_mm"].copy(data=mem)
+        reach_ok = np.isfinite(ds["a_crit_mm"].values)
+        out["a_crit_low_mm"] = ds["a_crit_low_mm"].copy(data=np.where(reach_ok, sm["low"],
+                                                                      np.nan))
+        out["a_crit_high_mm"] = ds["a_crit_high_mm"].copy(data=np.where(reach_ok, sm["high"],
+                                                                        np.nan))
+        if "p_stable" in ds:
+            pdims = ds["p_stable"].dims
+            p = p_stable(mem[..., None], wts, ds["depth_mm"].values)
+            p = np.where(np.isfinite(ds["a_crit_mm"].values)[..., None], p, np.nan)
+            out["p_stable"] = ds["p_stable"].copy(data=p.reshape(ds["p_stable"].shape)
+                                                  if pdims[-1] == "depth_mm" else p)
+    else:
+        a_nom, a_lo, a_hi = (ds[k].values for k in ("a_crit_mm", "a_crit_low_mm",
+                                                     "a_crit_high_mm"))
+        with np.errstate(invalid="ignore"):
+            lo = np.where(np.isfinite(a_lo) & np.isfinite(a_nom), a_nom - (a_nom - a_lo) * wa,
+                          a_lo)
+            hi = np.where(np.isfinite(a_hi) & np.isfinite(a_nom), a_nom + (a_hi - a_nom) * wa,
+                          a_hi)
+        out["a_crit_low_mm"] = ds["a_crit_low_mm"].copy(data=np.maximum(lo, 0.0))
+        out["a_crit_high_mm"] = ds["a_crit_high_mm"].copy(data=hi)
     for key in ("low", "high"):
         name = f"stability_margin_{key}"
         dims = ds[name].dims
@@ -192,9 +194,9 @@ def widen(ds: xr.Dataset, code: xr.DataArray, excess: xr.DataArray,
     out["extrapolation_code"] = var(code.dims, code.values, "1", "bits: " + ", ".join(
         f"{b} {r}" for b, r in REASONS.items()))
     out["extrapolation_excess"] = var(code.dims, excess.values, "1", "largest relative "
-                                      "excess beyond the identified ranges")
+                                      "distance beyond the identified ranges")
     out["interval_widening"] = var(code.dims, w.values, "1", "factor on the interval "
-                                   "half-widths, 2 (1 + excess) when extrapolated")
+                                   "half-widths, 1 + the relative distance from the evidence")
     return ds.assign(out)
 
 

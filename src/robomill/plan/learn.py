@@ -19,8 +19,9 @@ narrowing of the interval it aims at.
   :mod:`robomill.forces.prediction`; the straight line in the chip load whose intercept is the
   edge force and slope the shearing force).
 
-The request's constraints other than the stability margin apply (a cut above the limit is
-the point of the design); every cut lies on its own material (:mod:`robomill.plan.material`).
+The request's constraints other than the stability margin and ``min_p_stable`` apply (a cut
+above the limit is the point of the design); every cut lies on its own material
+(:mod:`robomill.plan.material`).
 """
 
 from __future__ import annotations
@@ -42,7 +43,7 @@ def _allowed(ds: xr.Dataset, req: PlanRequest) -> xr.DataArray:
     m = ds["reachable"] & xr.ones_like(ds["mrr_mm3_s"], dtype=bool)
     m = m & xr.ones_like(ds["feed_mark_um"], dtype=bool)
     for key, mask in constraint_masks(ds, req).items():
-        if key != "min_stability_margin":
+        if key not in ("min_stability_margin", "min_p_stable"):
             m = m & mask
     return m.transpose(*DIMS)
 

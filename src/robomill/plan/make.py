@@ -25,7 +25,13 @@ from robomill.plan.compare import (
 )
 from robomill.plan.cutpath import plan_cut_path
 from robomill.plan.measured import Measured, missing_predictions
-from robomill.plan.outputs import next_config, next_manifest, plan_table, pose_map
+from robomill.plan.outputs import (
+    next_config,
+    next_manifest,
+    p_stable_map,
+    plan_table,
+    pose_map,
+)
 from robomill.plan.pathout import (
     floor_starts,
     follow_paths,
@@ -36,7 +42,8 @@ from robomill.plan.pathout import (
     pose_failure_table,
     rotations_meeting_constraints,
 )
-from robomill.plan.predict import Cell, apply_extrapolation, predict_grid
+from robomill.plan.poses import cut_frames
+from robomill.plan.predict import Cell, apply_extrapolation, predict_grid, solver_error
 from robomill.plan.request import PlanRequest
 from robomill.plan.slots import separate_slots
 from robomill.plan.slots import study_slots as study_slot_segments
@@ -98,6 +105,19 @@ def learn_plan(cand: xr.Dataset, req: PlanRequest, measured: Measured, occupied,
     return chosen, front, None if prod is None or prod.empty else prod.iloc[0]
 
 
+def verdict_conditioned(measured: Measured, req: PlanRequest, cell: Cell, cuts: Sequence[Cut],
+                        experiment: Mapping[str, Any], stability: pd.Series | None):
+    """``measured`` with the stability model's members weighted by the study's verdicts
+    (:func:`robomill.plan.compare.stability_evidence`), and that evidence (None without
+    verdicts or a stability prediction)."""
+    if stability is None or not len(stability):
+        return measured, None
+    evidence = stability_evidence(cuts, experiment, req, measured, cell, stability)
+    if evidence is None:
+        return measured, None
+    return replace(measured, stability_evidence=evidence), evidence
+
+
 def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[Cut],
               experiment: Mapping[str, Any], *, robot_name: str = "the robot",
               reach=None, study_slots=None, binding_constraint: str | None = None,
@@ -117,11 +137,7 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     interval of the plan (:mod:`robomill.plan.conditioning`)."""
     missing = missing_predictions(measured)
     check_needs(req, missing)
-    evidence = None
-    if stability is not None and len(stability):
-        evidence = stability_evidence(cuts, experiment, req, measured, cell, stability)
-        if evidence is not None:
-            measured = replace(measured, stability_evidence=evidence)
+    measured, evidence = verdict_conditioned(measured, req, cell, cuts, experiment, stability)
     cand = predict_grid(req, measured, cell)
     if reach is not None:  # what the study measured (robomill.plan.extrapolation)
         cand = apply_extrapolation(cand, req, measured, cell, reach)
@@ -165,7 +181,7 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
          for _, r in chosen.iterrows()]
     chosen["tooth_passing_hz"] = chosen["spindle_rpm"].to_numpy(float) * req.flutes / 60.0
     table = path_columns(plan_table(chosen), cut_paths)
-    study = study_cuts_table(cuts, experiment, req, measured, cell, reach)
+    study = study_cuts_table(cuts, experiment, req, measured, cell, reach, stability)
     manifest = next_manifest(chosen, req, dict(experiment), cand.attrs["missing_predictions"],
                              np.asarray(q), paths)
     floor_starts(manifest, cut_paths)
@@ -176,10 +192,19 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     if reach is not None and reach.modal_band_hz is not None:
         cand.attrs["modal_band_hz"] = np.asarray(reach.modal_band_hz, float)
     cand.attrs.update(evidence_attrs(evidence))
+    if prod_first is not None:  # the zero-order solution's error at the binding cut
+        at = {"placement": int(prod_first["i_placement"]),
+              "rotation": int(prod_first["i_rotation"]),
+              "direction": int(prod_first["i_direction"])}
+        cand.attrs["stability_solver_error"] = solver_error(
+            measured, cell, req, np.deg2rad(cand["q_deg"].isel(at).values),
+            cut_frames(np.array([float(prod_first["direction_deg"])]))[0],
+            float(prod_first["spindle_rpm"]))
     cand.attrs["constraints"] = "; ".join(f"{k}={v}" for k, v in req.constraints.items()
                                           if v is not None)
     pmap = path_map(pose_map(cand, chosen.iloc[0]), cut_paths[0] if cut_paths else None, req,
                     measured, cell)
+    pmap = pmap.merge(p_stable_map(cand, chosen.iloc[0]))
     effect = rotation_effect_pct(pmap)
     return Plan(cand, pmap, table, plan_table(front), study,
                 comparison_table(table, study, effect, pmap.sizes["rotation"]), manifest,
@@ -191,12 +216,17 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
 def evidence_attrs(evidence) -> dict[str, Any]:
     """The attributes of ``candidates.nc`` that say what conditioned the critical depth:
     ``stability_evidence_cuts`` (cuts whose verdict entered), ``stability_members`` and
-    ``stability_members_kept`` (members of the interval, those agreeing with every verdict),
-    ``stability_evidence_note`` (one line when none agrees: the prior interval kept)."""
+    ``stability_members_kept`` (members of the model, and their effective number after the
+    verdicts' weights, Kish's (Σw)²/Σw²), ``stability_verdict_error`` (the assumed rate of
+    a wrong verdict), ``stability_evidence_note`` (one line when the prior interval does not
+    admit some verdicts)."""
     if evidence is None:
         return {"stability_evidence_cuts": 0, "stability_members": 0,
                 "stability_members_kept": 0, "stability_evidence_note": ""}
+    from robomill.plan.conditioning import contradiction_note
+
     return {"stability_evidence_cuts": evidence.n_used,
-            "stability_members": len(evidence.kt_low),
-            "stability_members_kept": evidence.kept,
-            "stability_evidence_note": evidence.note}
+            "stability_members": len(evidence.weights),
+            "stability_members_kept": round(evidence.effective_members),
+            "stability_verdict_error": float(evidence.error_rate),
+            "stability_evidence_note": contradiction_note(evidence.table)}

@@ -61,8 +61,8 @@ class Measured:
     level: float = schema_default("plan", "interval_level")
     """Nominal two-sided level of the plan's intervals (config ``plan.interval_level``)."""
     stability_evidence: object | None = None
-    """The study's chatter verdicts as a set-membership update of the critical depth
-    (:class:`robomill.plan.conditioning.StabilityEvidence`); None: the prior interval."""
+    """The study's chatter verdicts as the weights of the stability model's members
+    (:class:`robomill.plan.stability.VerdictEvidence`); None: equal weights."""
 
     def has(self, name: str) -> bool:
         """Whether ``name`` was measured: a table with rows; cutting coefficients must also

@@ -123,13 +123,17 @@ def next_config(manifest: dict[str, Any], workdir: str = NEXT_RUN_DIR) -> dict[s
     last cut only), each run loaded (recorded while the tool cuts) and in the air
     (``synth.tracker.air_pass``): the deflection is the loaded path minus the air path. The
     tracker's ``directions`` are the planned cuts' and its ``feeds_mm_s`` all, so that no
-    selection of the study's runs leaves a planned cut untracked."""
+    selection of the study's runs leaves a planned cut untracked. Each planned cut is also
+    recorded by a spindle accelerometer with its air pass (``synth.recordings``: vibration on,
+    its ``air_pass`` default), as a lab checks a new cut for chatter: a line the air pass shows
+    unchanged is forced vibration, not chatter (``robomill.chatter.recordings``)."""
     dirs = sorted({str(c["direction"]) for c in manifest["cuts"] if c.get("direction")})
     return {"workdir": workdir,
             "experiment": {**manifest["experiment"], "cuts": manifest["cuts"]},
             # every planned cut tracked, whatever directions and feeds the study's runs took
             "synth": {"tracker": {"per_cut": True, "air_pass": True, "directions": dirs,
-                                  "feeds_mm_s": None}}}
+                                  "feeds_mm_s": None},
+                      "recordings": {"vibration": True}}}
 
 
 def cell_of(cell_file, req: PlanRequest, cuts_mid_mm: np.ndarray | None) -> Cell:
@@ -149,6 +153,37 @@ def cell_of(cell_file, req: PlanRequest, cuts_mid_mm: np.ndarray | None) -> Cell
                 cell_file.q_home_rad, np.asarray(ref, float), orders,
                 getattr(cell_file, "joint_limits_deg", None),
                 getattr(cell_file, "joint_speed_limits_deg_s", None))
+
+
+def p_stable_map(cand: xr.Dataset, best: pd.Series, n_depths: int = 80) -> xr.Dataset:
+    """Chapter 7's map of the probability of a stable cut over spindle speed × depth at the
+    binding pose (the placement, rotation and direction of the plan's best cut,
+    ``best``), before the study's verdicts (every member of the stability model weighted
+    equally) and after (the verdicts' weights; :mod:`robomill.plan.stability`):
+    ``p_stable_prior`` and ``p_stable_post`` over ``spindle_rpm`` × ``map_depth_mm`` (log-spaced
+    from a tenth of the smallest to ten times the largest requested depth). Empty without the
+    members."""
+    from robomill.plan.stability import p_stable
+
+    if "a_crit_members_mm" not in cand or "member_weight" not in cand:
+        return xr.Dataset()
+    at = {"placement": int(best["i_placement"]), "rotation": int(best["i_rotation"]),
+          "direction": int(best["i_direction"])}
+    mem = cand["a_crit_members_mm"].isel(at).transpose("member", "spindle_rpm").values
+    d = cand["depth_mm"].values
+    depths = np.geomspace(0.1 * float(d.min()), 10 * float(d.max()), n_depths)
+    w = cand["member_weight"].values.astype(float)
+    flat = np.full(len(w), 1.0 / len(w))
+    dims = ("spindle_rpm", "map_depth_mm")
+    out = xr.Dataset(coords={"spindle_rpm": cand["spindle_rpm"],
+                             "map_depth_mm": ("map_depth_mm", depths,
+                                              attrs("mm", "axial depth of the map"))})
+    for name, weights, what in (("p_stable_prior", flat, "before the study's verdicts"),
+                                ("p_stable_post", w / w.sum(), "after the study's verdicts")):
+        out[name] = (dims, p_stable(mem[..., None], weights, depths[None, :]),
+                     attrs("1", f"probability of a stable cut at the binding pose, {what}"))
+    out.attrs.update({f"binding_{k}": v for k, v in at.items()})
+    return out
 
 
 def pose_map(cand: xr.Dataset, best: pd.Series) -> xr.Dataset:

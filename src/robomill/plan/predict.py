@@ -34,12 +34,10 @@ from dataclasses import dataclass
 import numpy as np
 import xarray as xr
 
-from robomill.chatter.model import CuttingModel, immersion_angles
+from robomill.chatter.model import immersion_angles
 from robomill.forces import CuttingCoefficients, mean_milling_forces
 from robomill.kinematics import SerialRobot
-from robomill.plan.extrapolation import absolute_depth_m
 from robomill.plan.feasible import pose_check_vars
-from robomill.plan.lobes import batch_coupling_depth, batch_zoa_lobes
 from robomill.plan.measured import (
     Measured,
     coefficient_bounds,
@@ -51,7 +49,7 @@ from robomill.plan.poses import (
     solve_grid,
 )
 from robomill.plan.request import PlanRequest
-from robomill.plan.tooltip import mode_scalings, modes_arrays, nominal_key, static_compliance_m_N
+from robomill.plan.tooltip import mode_scalings, nominal_key, static_compliance_m_N
 from robomill.xrvars import attrs, var
 
 
@@ -76,87 +74,63 @@ def engagement(req: PlanRequest) -> tuple[float, float]:
         req.radial_immersion, req.milling)
 
 
-def mode_ends(modes) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
-    """The modes' interval ends the critical depth is recomputed at: every mode's f, ζ and k
-    at their low ends, and at their high ends (a_crit ∝ k ζ for one mode, so these two bound
-    it; the frequency moves the lobes along the speed axis with them); each ``(f, ζ, k)``.
-    Empty without interval columns."""
-    if not {"zeta_low", "k_modal_N_m_low", "f_n_hz_low"} <= set(modes.columns):
-        return []
-    return [modes_arrays(modes, "_low")[:3], modes_arrays(modes, "_high")[:3]]
-
-
 def critical_depth_m(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np.ndarray,
                      frames: np.ndarray, spindle_rpm: np.ndarray, *,
-                     corners: bool = True, absolute: bool = False, members: bool = False
+                     corners: bool = True, members: bool = False
                      ) -> dict[str, np.ndarray] | None:
     """Critical depth ``(B, S)`` [m] at postures ``q_rad`` ``(B, n)`` with cut frames
-    ``frames`` ``(B, 3, 3)`` (columns feed, normal, axis): ``nominal``, ``low``, ``high``.
-    None when the modes or the coefficients were not measured. ``absolute``: the absolute
-    stability limit instead of the lobes at ``spindle_rpm`` (``(B, 1)``,
-    :func:`robomill.plan.extrapolation.absolute_depth_m`). ``members`` (with ``corners``):
-    also ``members`` ``(E, B, S)``, each parameter end's depth at the nominal K_t, their
-    names ``member_names`` and ``kt`` (K_t0, K_t⁻, K_t⁺), the prior set of
-    :mod:`robomill.plan.conditioning`. With ``measured.stability_evidence`` (an active
-    update) ``low``/``high`` are conditioned on the study's verdicts
-    (:func:`robomill.plan.conditioning.conditioned_depth`), and so is ``nominal`` where the
-    corners are computed."""
-    if not (measured.has("modes") and measured.has("coefficients")):
+    ``frames`` ``(B, 3, 3)`` (columns feed, normal, axis) of the stability model
+    (:mod:`robomill.plan.stability`): ``nominal``, ``low``, ``high`` (the weighted central
+    ``measured.level`` range of the members; their weights from the study's verdicts,
+    ``measured.stability_evidence``, else equal). None when the modes or the coefficients
+    were not measured. Without ``corners`` only the nominal member (``low`` = ``high`` =
+    nominal). ``members``: also ``members`` ``(E, B, S)`` and their ``weights`` ``(E,)``."""
+    from robomill.plan.stability import draw_members, member_depths_m, summary
+
+    mem = draw_members(measured, req.stability)
+    if mem is None:
         return None
-    fn, zeta, k, shapes = modes_arrays(measured.modes)
-    if fn.size == 0:
-        return None
-    cb = coefficient_bounds(measured.coefficients)
     ent, ext = engagement(req)
-    nom = cb["nominal"]
-
-    def model(ktc, krc):
-        return CuttingModel(req.flutes, ktc * 1e6, krc / ktc, ent, ext)
-
-    inplane = np.einsum("mi,bid->bmd", shapes, frames[:, :, :2])            # (B, M, 2)
-    scalings = mode_scalings(measured, cell, q_rad, fn < req.robot_mode_max_hz, shapes,
+    fn = mem.f_hz[0]
+    scalings = mode_scalings(measured, cell, q_rad, fn < req.robot_mode_max_hz, mem.shapes,
                              corners=corners)
-
-    def lobes(scale, cut, modal=None):
-        f_, z_, k_ = (fn, zeta, k) if modal is None else modal
-        args = (f_[None] * np.sqrt(scale), z_, k_[None] * scale, inplane, cut)
-        a_mc = batch_coupling_depth(*args)
-        if absolute:
-            return np.minimum(absolute_depth_m(*args), a_mc)[:, None]
-        return np.minimum(batch_zoa_lobes(*args, spindle_rpm), a_mc[:, None])
-
-    a_nom = lobes(scalings["nominal"], model(nom.Ktc, nom.Krc))
-    ends, names = [a_nom], ["nominal"]
-    if corners:
-        lo_c, hi_c = cb["low"], cb["high"]
-        for which, (ktc, krc) in (("K_r low", (hi_c.Ktc, lo_c.Krc)),
-                                  ("K_r high", (lo_c.Ktc, hi_c.Krc))):  # K_r = Krc/Ktc ends
-            # an interval end beyond a physical bound (a negative radial coefficient: the
-            # tool pulled into the wall) is held at the bound, K_r >= 0
-            krc = max(float(krc), 0.0)
-            if not np.isclose(krc / ktc, nom.Krc / nom.Ktc, rtol=1e-12):
-                ends.append(lobes(scalings["nominal"], model(nom.Ktc, krc * nom.Ktc / ktc)))
-                names.append(which)
-        for key in ("low", "high"):
-            if key in scalings:
-                ends.append(lobes(scalings[key], model(nom.Ktc, nom.Krc)))
-                names.append(f"joint compliance {key}")
-        for key, modal in zip(("low", "high"), mode_ends(measured.modes), strict=False):
-            ends.append(lobes(scalings["nominal"], model(nom.Ktc, nom.Krc), modal))
-            names.append(f"modes {key}")
-    stack = np.stack(ends)
-    kt = (nom.Ktc, min(cb["low"].Ktc, nom.Ktc), max(cb["high"].Ktc, nom.Ktc))
-    out = {"nominal": a_nom,
-           "low": stack.min(0) * nom.Ktc / max(cb["high"].Ktc, nom.Ktc),
-           "high": stack.max(0) * nom.Ktc / min(cb["low"].Ktc, nom.Ktc)}
-    ev = measured.stability_evidence
-    if corners and ev is not None and ev.active:
-        from robomill.plan.conditioning import conditioned_depth
-
-        out = conditioned_depth(stack, kt[0], ev.kt_low, ev.kt_high, a_nom)
-    if members and corners:
-        out.update({"members": stack, "member_names": tuple(names), "kt": kt})
+    a = member_depths_m(mem, scalings, frames, np.atleast_1d(spindle_rpm), flutes=req.flutes,
+                        entry_rad=ent, exit_rad=ext,
+                        which=None if corners else slice(0, 1))
+    if not corners:
+        return {"nominal": a[0], "low": a[0], "high": a[0]}
+    w = member_weights(measured, a.shape[0])
+    out = summary(a, w, float(measured.level))
+    if members:
+        out.update({"members": a, "weights": w})
     return out
+
+
+def solver_error(measured: Measured, cell: Cell, req: PlanRequest, q_rad: np.ndarray,
+                 frame: np.ndarray, spindle_rpm: float) -> float:
+    """The stated error of the zero-order solution at one cut (posture ``q_rad`` ``(n,)``,
+    cut frame ``(3, 3)``, speed): the relative difference of the nominal member's critical
+    depth against semi-discretization (:func:`robomill.plan.stability.zoa_error`); NaN
+    without a stability model."""
+    from robomill.plan.stability import draw_members, zoa_error
+
+    mem = draw_members(measured, req.stability)
+    if mem is None:
+        return float("nan")
+    ent, ext = engagement(req)
+    sc = mode_scalings(measured, cell, np.asarray(q_rad, float)[None],
+                       mem.f_hz[0] < req.robot_mode_max_hz, mem.shapes, corners=False)
+    return zoa_error(mem, sc, np.asarray(frame, float), [float(spindle_rpm)], flutes=req.flutes,
+                     entry_rad=ent, exit_rad=ext)
+
+
+def member_weights(measured: Measured, n: int) -> np.ndarray:
+    """The members' weights: from the study's verdicts (``measured.stability_evidence``,
+    :class:`robomill.plan.stability.VerdictEvidence`), else equal."""
+    ev = measured.stability_evidence
+    if ev is not None and len(ev.weights) == n:
+        return np.asarray(ev.weights, float)
+    return np.full(n, 1.0 / n)
 
 
 def mean_forces_N(coeffs: CuttingCoefficients, req: PlanRequest, spindle_rpm, depth_mm,
@@ -190,8 +164,13 @@ def force_interval(measured: Measured, req: PlanRequest, nominal_N: np.ndarray
             "high": nominal_N + (p["high_N"] - p["magnitude_N"])}
 
 
-def _dims(*names):
-    return tuple(names)
+def _p_stable(members_mm: np.ndarray, weights: np.ndarray, depth_mm: np.ndarray,
+              ok: np.ndarray) -> np.ndarray:
+    """p_stable ``(P, R, D, S, A)`` of members ``(E, P, R, D, S)`` [mm] (NaN unreachable)."""
+    from robomill.plan.stability import p_stable
+
+    p = p_stable(members_mm[..., None], weights, np.asarray(depth_mm, float))
+    return np.where(ok[..., None, None], p, np.nan)
 
 
 def solve_request(req: PlanRequest, cell: Cell):
@@ -224,22 +203,37 @@ def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
     data["q_path_deg"] = var(prd + ("station", "joint"), np.rad2deg(poses.q_rad), "deg",
                              "posture at each station along the cut")
     data.update(pose_check_vars(poses.checks, prd))
-    # stability
+    # stability (robomill.plan.stability): the members, their interval and p_stable
     a_crit = None
     if ok.any():
         fb = np.broadcast_to(frames[None, None], (P, R, D, 3, 3))[ok]
         a_crit = critical_depth_m(measured, cell, req, q[ok], fb, req.spindle_rpm,
-                                  corners=corners)
+                                  corners=corners, members=corners)
+    if a_crit is not None and "members" in a_crit:
+        E = a_crit["members"].shape[0]
+        mem = np.full((E, P, R, D, S), np.nan)
+        mem[:, ok] = a_crit["members"]
+        data["a_crit_members_mm"] = var(("member",) + prd + ("spindle_rpm",), mem * 1e3, "mm",
+                                        "critical axial depth of each member of the stability "
+                                        "model (robomill.plan.stability)")
+        data["member_weight"] = var(("member",), a_crit["weights"], "1",
+                                    "weight of each member from the study's verdicts")
     depth_m = req.depth_mm[None, :] * 1e-3
     for key, suffix in (("nominal", ""), ("low", "_low"), ("high", "_high")):
         a_full = np.full((P, R, D, S), np.nan)
         if a_crit is not None:
             a_full[ok] = a_crit[key]
         data[f"a_crit{suffix}_mm"] = var(prd + ("spindle_rpm",), a_full * 1e3, "mm",
-                                         f"critical axial depth (zero-order lobes, {key})")
+                                         f"critical axial depth (regenerative lobes, {key})")
         data[f"stability_margin{suffix}"] = var(
             full, np.broadcast_to((a_full[..., None] / depth_m - 1)[..., None], nan_full.shape),
             "1", f"stability margin a_crit/a - 1 ({key})")
+    if "a_crit_members_mm" in data:
+        data["p_stable"] = var(prd + ("spindle_rpm", "depth_mm"),
+                               _p_stable(data["a_crit_members_mm"][1], a_crit["weights"],
+                                         req.depth_mm, ok), "1",
+                               "probability of a stable cut: weighted share of the members "
+                               "deeper than the cut")
     # forces and deflection
     Fmag = {k: np.full((S, A, V), np.nan) for k in ("nominal", "low", "high")}
     defl = {(ax, k): nan_full.copy() for ax in ("normal", "axial") for k in Fmag}
@@ -370,28 +364,11 @@ def _coords(req: PlanRequest, poses) -> dict:
 
 def apply_extrapolation(ds: xr.Dataset, req: PlanRequest, measured: Measured, cell: Cell,
                         reach) -> xr.Dataset:
-    """Flag the candidates outside what the study measured and widen their intervals
-    (:mod:`robomill.plan.extrapolation`: the reasons, the stated rule; above the modal band
-    the pessimistic critical depth is at most the absolute limit of the measured modes at the
-    pose, :func:`critical_depth_m` with ``absolute``)."""
+    """Flag the candidates outside what the study measured and widen their intervals with
+    the distance from the evidence (:mod:`robomill.plan.extrapolation`: the reasons and the
+    stated law; the critical depth's members widened, :mod:`robomill.plan.stability`)."""
     from robomill.plan.extrapolation import extrapolation_code, widen
 
-    code, excess = extrapolation_code(ds, req, reach)
-    a_abs = None
-    ok = ds["reachable"].values
-    if bool((code & 16).any()) and ok.any():
-        P, R, D = ok.shape
-        frames = cut_frames(req.direction_deg)
-        fb = np.broadcast_to(frames[None, None], (P, R, D, 3, 3))[ok]
-        q = np.deg2rad(ds["q_deg"].values)[ok]
-        a = critical_depth_m(measured, cell, req, q, fb, np.array([1.0]), corners=False,
-                             absolute=True)
-        if a is not None:  # at the lobes' pessimistic ratio over the request's speeds
-            with np.errstate(divide="ignore", invalid="ignore"):
-                r = ds["a_crit_low_mm"] / ds["a_crit_mm"]
-                ratio = r.where(np.isfinite(ds["a_crit_mm"])).min("spindle_rpm").values
-            full = np.full((P, R, D), np.inf)
-            full[ok] = a["nominal"][:, 0] * 1e3 * np.nan_to_num(ratio[ok], nan=1.0)
-            a_abs = xr.DataArray(full, dims=("placement", "rotation", "direction"))
-    out = widen(ds, code, excess, a_abs)
-    return form_error(out)
+    code, excess, excess_stab = extrapolation_code(ds, req, reach)
+    ds = ds.assign_attrs(interval_level=float(measured.level))
+    return form_error(widen(ds, code, excess, excess_stab))

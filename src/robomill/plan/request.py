@@ -20,6 +20,14 @@ A request states the job and what counts as acceptable:
       max_deflection_axial_um: 50
       max_waviness_um: 5
       max_force_N: 200
+      min_p_stable: 0.95             # probability of a stable cut (default 0.95)
+      min_feed_per_tooth_mm: 0.02    # production chip loads
+    stability:                       # robomill.plan.stability
+      members: 24                    # bootstrap members of the stability model
+      verdict_error: 0.05            # assumed rate of a wrong stable/chatter verdict
+      seed: 20240601
+      tool_modes:                    # modes above the impact test's band: a stated prior
+        - {f_hz: [1500, 4000], zeta: [0.02, 0.06], k_N_m: [3.0e+7, 3.0e+8], shape: [1, 0, 0]}
     purpose: production              # production (largest removal rate, each cut on its own
                                      # material) | learn
     extrapolation:                   # robomill.plan.extrapolation
@@ -51,9 +59,13 @@ import yaml
 
 from robomill.experiment import DIRECTION_DEG
 
-CONSTRAINTS = ("min_stability_margin", "max_deflection_normal_um", "max_deflection_axial_um",
-               "max_waviness_um", "max_force_N")
+CONSTRAINTS = ("min_stability_margin", "min_p_stable", "max_deflection_normal_um",
+               "max_deflection_axial_um", "max_waviness_um", "max_force_N",
+               "min_feed_per_tooth_mm")
 """Constraint keys of ``plan.yaml: constraints`` (each optional)."""
+
+CONSTRAINT_DEFAULTS = {"min_p_stable": 0.95}
+"""Constraints that hold unless the request sets them (``null``: not constrained)."""
 
 MILLING = ("slot", "up", "down")
 
@@ -105,6 +117,8 @@ class PlanRequest:
     extrapolation: dict[str, Any] = field(default_factory=lambda: dict(EXTRAPOLATION))
     motion: Any = None
     """The ``program:`` settings (:class:`robomill.plan.motion.Motion`; None: defaults)."""
+    stability: Any = field(default_factory=lambda: _default_stability())
+    """:class:`robomill.plan.stability.StabilitySettings` (``plan.yaml: stability``)."""
 
     @property
     def width_mm(self) -> float:
@@ -246,7 +260,7 @@ def parse_request(data: Any, path: str | Path = "plan.yaml") -> PlanRequest:
              "depth_mm", "feed_mm_s", "constraints", "n_cuts", "max_rotation_step_deg",
              "path_stations", "robot_mode_max_hz", "reference_point_mm", "purpose",
              "extrapolation", "joint_limit_margin_deg", "min_wrist_angle_deg", "clearance_mm",
-             "work_object", "program"}
+             "work_object", "program", "stability"}
     for k in data:
         if k not in known:
             raise PlanRequestError(path, str(k), f"unknown field (expected one of "
@@ -286,10 +300,14 @@ def parse_request(data: Any, path: str | Path = "plan.yaml") -> PlanRequest:
             raise PlanRequestError(path, f"constraints.{k}", "unknown constraint (expected "
                                    f"one of {', '.join(CONSTRAINTS)})")
         cons[k] = None if v is None else _number(
-            path, f"constraints.{k}", v, positive=k != "min_stability_margin",
-            minimum=-1.0 if k == "min_stability_margin" else None)
+            path, f"constraints.{k}", v,
+            positive=k not in ("min_stability_margin", "min_p_stable"),
+            minimum={"min_stability_margin": -1.0, "min_p_stable": 0.0}.get(k))
     for k in CONSTRAINTS:
-        cons.setdefault(k, None)
+        cons.setdefault(k, CONSTRAINT_DEFAULTS.get(k))
+    if cons["min_p_stable"] is not None and not 0 <= cons["min_p_stable"] <= 1:
+        raise PlanRequestError(path, "constraints.min_p_stable", "expected a probability in "
+                               f"[0, 1], got {cons['min_p_stable']:g}")
     ref = data.get("reference_point_mm")
     purpose = data.get("purpose", "production")
     if purpose not in PURPOSES:
@@ -323,7 +341,74 @@ def parse_request(data: Any, path: str | Path = "plan.yaml") -> PlanRequest:
                              positive=True),
         work_object=wobj,
         motion=parse_motion(data.get("program"), path, PlanRequestError),
-        raw=data)
+        stability=_stability(path, data.get("stability")), raw=data)
+
+
+def _default_stability():
+    from robomill.plan.stability import StabilitySettings
+
+    return StabilitySettings()
+
+
+def _range(path, where: str, value) -> tuple[float, float]:
+    if isinstance(value, int | float) and not isinstance(value, bool):
+        v = _number(path, where, value, positive=True)
+        return (v, v)
+    if not (isinstance(value, list) and len(value) == 2):
+        raise PlanRequestError(path, where, f"expected [low, high] or a number, got {value!r}")
+    lo, hi = (_number(path, f"{where}[{i}]", v, positive=True) for i, v in enumerate(value))
+    if hi < lo:
+        raise PlanRequestError(path, f"{where}[1]", f"expected ≥ {lo:g}, got {hi:g}")
+    return (lo, hi)
+
+
+def _stability(path, value):
+    """``plan.yaml: stability`` as :class:`robomill.plan.stability.StabilitySettings`."""
+    from robomill.plan.stability import StabilitySettings, ToolModePrior
+
+    if value is None:
+        return StabilitySettings()
+    if not isinstance(value, dict):
+        raise PlanRequestError(path, "stability", "expected a mapping {members, verdict_error, "
+                               "seed, tool_modes}")
+    for k in value:
+        if k not in ("members", "verdict_error", "seed", "tool_modes"):
+            raise PlanRequestError(path, f"stability.{k}", "unknown field (expected members, "
+                                   "verdict_error, seed, tool_modes)")
+    d = StabilitySettings()
+    err = _number(path, "stability.verdict_error", value.get("verdict_error", d.verdict_error),
+                  positive=True)
+    if err >= 0.5:
+        raise PlanRequestError(path, "stability.verdict_error", f"expected a rate below 0.5, "
+                               f"got {err:g}")
+    modes = value.get("tool_modes") or []
+    if not isinstance(modes, list):
+        raise PlanRequestError(path, "stability.tool_modes", "expected a list of {f_hz, zeta, "
+                               "k_N_m, shape}")
+    priors = []
+    for i, m in enumerate(modes):
+        where = f"stability.tool_modes[{i}]"
+        if not isinstance(m, dict):
+            raise PlanRequestError(path, where, "expected a mapping {f_hz, zeta, k_N_m, shape}")
+        for k in ("f_hz", "zeta", "k_N_m", "shape"):
+            if k not in m:
+                raise PlanRequestError(path, f"{where}.{k}", "missing (a required field)")
+        sh = m["shape"]
+        if not (isinstance(sh, list) and len(sh) == 3):
+            raise PlanRequestError(path, f"{where}.shape", f"expected [x, y, z], got {sh!r}")
+        shape = tuple(_number(path, f"{where}.shape[{j}]", v) for j, v in enumerate(sh))
+        if not any(shape):
+            raise PlanRequestError(path, f"{where}.shape", "expected a non-zero vector")
+        priors.append(ToolModePrior(_range(path, f"{where}.f_hz", m["f_hz"]),
+                                    _range(path, f"{where}.zeta", m["zeta"]),
+                                    _range(path, f"{where}.k_N_m", m["k_N_m"]), shape))
+    return StabilitySettings(
+        members=_number(path, "stability.members", value.get("members", d.members),
+                        positive=True, integer=True),
+        verdict_error=err,
+        seed=_number(path, "stability.seed", value.get("seed", d.seed), minimum=0,
+                     integer=True),
+        tool_modes=tuple(priors))
 
 
 def parse_motion(value, path, error):

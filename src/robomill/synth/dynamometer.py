@@ -3,7 +3,8 @@
 The record of one cut is the force of the cut itself (:func:`robomill.synth.process.simulate_cut`:
 the closed loop of the chip, the cutting force and the structure at the cut's pose, with
 regeneration, run-out, the teeth leaving the cut, the gear trains' path error and the process
-noise; the same cut the tracker and the profilometer see) as the dynamometer measures it:
+noise), sampled from the cut the virtual cell simulated once (:mod:`robomill.synth.cutstate`,
+the same cut the tracker and the profilometer see) as the dynamometer measures it:
 
 - **dynamometer dynamics**: a second-order low-pass per axis, unit static gain, natural
   frequency ``dynamometer_f_n_hz`` and damping ``dynamometer_zeta`` (*assumed*: chosen so that
@@ -75,17 +76,17 @@ def _dynamometer_filter(f_n_hz: float, zeta: float, fs_hz: float):
                                  fs=fs_hz)
 
 
-def simulate_blocks(cell, cut, config: Mapping[str, Any]
+def simulate_blocks(cell, cut, config: Mapping[str, Any], sim
                     ) -> tuple[int, float, Iterator[tuple[np.ndarray, np.ndarray]]]:
     """The record of one cut as ``(n_samples, fs_hz, blocks)``; ``blocks`` yields
-    ``(t_s, force_N (n, 3))`` of at most ``chunk_samples`` samples (R0 axes, on the tool)."""
+    ``(t_s, force_N (n, 3))`` of at most ``chunk_samples`` samples (R0 axes, on the tool).
+    ``sim``: the simulated cut (:class:`robomill.synth.process.SimulatedCut`, at least
+    ``record_length_mm`` long)."""
     import scipy.signal
-
-    from robomill.synth.process import simulate_cut
 
     s = settings(config)
     rng = np.random.default_rng([cell.seed, INSTRUMENT_NUMBER, zlib.crc32(cut.id.encode())])
-    sim = simulate_cut(cell, cut, config, length_mm=record_length_mm(config))
+    sim = sim.span(record_length_mm(config))
     fs = sim.fs_hz
     n = min(int(round(record_length_mm(config) / cut.feed_mm_s * fs)), sim.t_s.size)
     b, a = _dynamometer_filter(float(s["dynamometer_f_n_hz"]), float(s["dynamometer_zeta"]), fs)
@@ -106,16 +107,17 @@ def simulate_blocks(cell, cut, config: Mapping[str, Any]
     return n, fs, blocks()
 
 
-def simulate_file(config: Mapping[str, Any], cut, path: str | Path, cell=None,
+def simulate_file(config: Mapping[str, Any], cut, path: str | Path, sim, cell=None,
                   progress=None) -> Path:
-    """Simulate one cut's record and write it to ``path`` (``.h5`` or ``.csv``) block by
-    block; ``progress(fraction)`` is called after each block."""
+    """Simulate one cut's record from the simulated cut ``sim`` and write it to ``path``
+    (``.h5`` or ``.csv``) block by block; ``progress(fraction)`` is called after each
+    block."""
     from robomill.io.atomic import atomic_path
     from robomill.io.forces import write_forces_csv, write_forces_h5
     from robomill.synth.cell import cell_from_config
 
     cell = cell or cell_from_config(config)
-    n, fs, blocks = simulate_blocks(cell, cut, config)
+    n, fs, blocks = simulate_blocks(cell, cut, config, sim)
     if progress is not None:
         inner = blocks
 

@@ -45,15 +45,16 @@ the cut between steps counts by its share); the force is then low-pass filtered 
 cut-off ``synth.dynamometer.anti_alias_fraction`` × fs: the acquisition's anti-alias filter)
 and decimated to the dynamometer's rate (the displacement, smooth, is decimated as it is).
 The whole cut is
-integrated (``experiment.cut_length_mm`` at the cut's feed). The integration is seeded per
-cut (``[seed, 7, crc32(cut)]``): every instrument's job that needs the cut integrates it again
-and gets the same cut, bit for bit (:func:`simulate_cut` keeps the last few in memory).
+integrated (``experiment.cut_length_mm`` at the cut's feed), or a prefix of it that is
+exactly the whole cut's start (:meth:`SimulatedCut.span`). The integration is seeded per cut
+(``[seed, 7, crc32(cut)]``). The virtual cell integrates each cut once and stores it
+(:mod:`robomill.synth.cutstate`); every instrument samples that stored cut.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import zlib
-from collections import OrderedDict
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -92,6 +93,13 @@ class SimulatedCut:
     teeth_out: float
     n_full: int = 0
     """Samples of the whole cut (``t_s`` may hold a prefix)."""
+    filter_lag: int = 0
+    """Group delay of the force's anti-alias filter [samples]: a prefix's last ``filter_lag``
+    force samples hold the one before them (the filter has not seen past the prefix)."""
+    path_grid_m: np.ndarray | None = None
+    """The gear trains' path error on its own grid ``(m, 3)`` [m, cut frame] (what
+    ``path_error_m`` interpolates), with its step ``path_dt_s`` [s]."""
+    path_dt_s: float = 0.0
 
     def s_mm(self) -> np.ndarray:
         """Path abscissa of every sample [mm] (constant feed)."""
@@ -100,6 +108,43 @@ class SimulatedCut:
     def tool_displacement_base_m(self) -> np.ndarray:
         """Deflection + path error in base axes ``(n, 3)`` [m]."""
         return (self.deflection_m + self.path_error_m) @ self.frame.T
+
+    def span(self, length_mm: float | None) -> SimulatedCut:
+        """The cut as :func:`simulate_cut` gives it over its first ``length_mm`` (None: the
+        whole cut), taken from this longer simulation: the same samples (the integration and
+        the filters are causal), the force's last ``filter_lag`` samples held as a prefix's
+        are (``teeth_out`` stays the count over this simulation). Raises ``ValueError`` where
+        this simulation is shorter than that span."""
+        n = span_samples(self.n_full, self.feed_mm_s, self.fs_hz, self.filter_lag, length_mm)
+        if n > self.t_s.size:
+            raise ValueError(f"cut {self.cut_id}: {n} samples asked of a simulation of "
+                             f"{self.t_s.size} (expected a span within the simulated one)")
+        if n == self.t_s.size:
+            return self
+        force = self.force_N[:n].copy()
+        if self.filter_lag:
+            force[-self.filter_lag:] = force[-self.filter_lag - 1]
+        return dataclasses.replace(self, t_s=self.t_s[:n], force_N=force,
+                                   deflection_m=self.deflection_m[:n],
+                                   path_error_m=self.path_error_m[:n])
+
+
+def span_samples(n_full: int, feed_mm_s: float, fs_hz: float, filter_lag: int,
+                 length_mm: float | None) -> int:
+    """Samples :func:`simulate_cut` integrates for the first ``length_mm`` of a cut of
+    ``n_full`` samples (None: all): the span and the force filter's delay run past it."""
+    if length_mm is None:
+        return int(n_full)
+    return min(int(n_full), int(np.ceil(float(length_mm) / feed_mm_s * fs_hz))
+               + 2 * int(filter_lag) + 1)
+
+
+def path_error_at_m(t_s: np.ndarray, path_grid_m: np.ndarray, path_dt_s: float) -> np.ndarray:
+    """The gear trains' path error ``(n, 3)`` [m] at times ``t_s``, linear between the
+    grid's points (step ``path_dt_s``), held beyond its end."""
+    u = np.clip(t_s / path_dt_s, 0, path_grid_m.shape[0] - 1)
+    grid = np.arange(path_grid_m.shape[0])
+    return np.column_stack([np.interp(u, grid, path_grid_m[:, i]) for i in range(3)])
 
 
 
@@ -215,6 +260,19 @@ def _integrate(k0, n, dt, substeps, omega, phase0, teeth, phst, phex, c, a0, coe
             eta[r, 1] = e1
 
 
+def warm_kernels() -> None:
+    """Call :func:`_integrate` once on a tiny input of the types :func:`simulate_cut` passes
+    (compiles it, or loads it from the cache; :func:`robomill.kernels.ready`)."""
+    M, L, teeth = 1, 4, 2
+    F = np.zeros((3, 3))
+    d = np.zeros((3, 3))
+    _integrate(0, 2, 1e-5, 2, 100.0, 0.0, teeth, 0.0, np.pi, 1e-5, 1e-4, np.ones(6),
+               np.ones(4), np.zeros(teeth), np.zeros((M, 2, 2)), np.zeros((M, 2)),
+               np.zeros((M, 3)), np.zeros((M, 2)), np.zeros((L, teeth)), 1.5,
+               np.zeros((3, 3)), 1.0, np.zeros((3, 3)), 1.0, True, F[1:], d[1:],
+               np.zeros(2, np.int64))
+
+
 def _decimator(fs_hz: float, down: int, fraction: float):
     """FIR low-pass (cut-off ``fraction`` × fs, Hamming, 24 taps per output sample) for the
     ``down``-fold decimation from ``down`` × fs to fs."""
@@ -251,8 +309,10 @@ def _simulate(cell, cut, config: Mapping[str, Any], cutting: bool,
         engagement_angles_rad,
         mean_milling_forces,
     )
+    from robomill.kernels import ready
     from robomill.synth.structure import modes_at
 
+    ready(__name__)  # the kernel compiled once per environment (robomill.kernels)
     proc_cfg = config["synth"]["process"]
     dyn = config["synth"]["dynamometer"]
     rng = np.random.default_rng([cell.seed, STREAM, zlib.crc32(cut.id.encode())])
@@ -265,9 +325,9 @@ def _simulate(cell, cut, config: Mapping[str, Any], cutting: bool,
     duration = L_mm / cut.feed_mm_s
     fir = _decimator(fs, down, float(dyn["anti_alias_fraction"]))
     lag = (fir.size - 1) // 2 // down
-    n_out = int(round(duration * fs))
-    if length_mm is not None:  # a prefix of the cut (exact: the filter's delay is run past it)
-        n_out = min(n_out, int(np.ceil(float(length_mm) / cut.feed_mm_s * fs)) + 2 * lag + 1)
+    n_full = int(round(duration * fs))
+    # a prefix of the cut (exact: the filter's delay is run past it)
+    n_out = span_samples(n_full, float(cut.feed_mm_s), fs, lag, length_mm)
     frame = cut_frame(feed_direction(cut))
     # the structure at the cut's pose (middle of the cut), in the cut frame
     q_mid = cell.joint_path_rad(cut, np.array([0.5 * L_mm]))[0]
@@ -335,17 +395,12 @@ def _simulate(cell, cut, config: Mapping[str, Any], cutting: bool,
         force[:-lag] = force[lag:].copy()
         force[-lag:] = force[-lag - 1]
     t = np.arange(n_out) / fs
-    u = np.clip(t / path_dt, 0, path.shape[0] - 1)
-    path_t = np.column_stack([np.interp(u, np.arange(path.shape[0]), path[:, i])
-                              for i in range(3)])
     out = float(counts[1]) / counts[0] if counts[0] else 0.0
     return SimulatedCut(cut_id=cut.id, fs_hz=fs, t_s=t, force_N=force, deflection_m=defl,
-                        path_error_m=path_t, frame=frame, feed_mm_s=float(cut.feed_mm_s),
-                        tooth_hz=1.0 / tau, modes=tuple(modes), teeth_out=out,
-                        n_full=int(round(duration * fs)))
-
-
-_CACHE: OrderedDict = OrderedDict()
+                        path_error_m=path_error_at_m(t, path, path_dt), frame=frame,
+                        feed_mm_s=float(cut.feed_mm_s), tooth_hz=1.0 / tau,
+                        modes=tuple(modes), teeth_out=out, n_full=n_full, filter_lag=lag,
+                        path_grid_m=path, path_dt_s=float(path_dt))
 
 
 def simulate_cut(cell, cut, config: Mapping[str, Any], *, cutting: bool = True,
@@ -356,16 +411,6 @@ def simulate_cut(cell, cut, config: Mapping[str, Any], *, cutting: bool = True,
     ``cutting=False``: the same path with the cutting force switched off (an air pass: the
     robot moves along the cut's path without material; the gear path error and the arm's
     vibration under its own servo excitation remain, no static deflection).
-    The last two results are kept in memory (the instruments of one job share them)."""
-    key = (id(cell), cut.id, cut.feed_mm_s, cut.depth_mm, bool(cutting))
-    if key in _CACHE and _CACHE[key][0] is cell:
-        done = _CACHE[key][1]
-        if length_mm is None and done.t_s.size >= done.n_full or (
-                length_mm is not None and done.t_s[-1] * cut.feed_mm_s >= float(length_mm)):
-            _CACHE.move_to_end(key)
-            return done
-    result = _simulate(cell, cut, config, bool(cutting), length_mm)
-    _CACHE[key] = (cell, result)
-    while len(_CACHE) > 2:
-        _CACHE.popitem(last=False)
-    return result
+    The virtual cell calls this once per cut and stores the result
+    (:func:`robomill.synth.cutstate.write_cut_state`); the instruments read that."""
+    return _simulate(cell, cut, config, bool(cutting), length_mm)

@@ -24,7 +24,8 @@ cut. The simulated height is the sum of
   chosen to land near thesis Table 2.1: X smallest, +Y largest, growing with feed);
 * **roughness marks** — the tool's vertical vibration in the cut itself
   (:func:`robomill.synth.process.simulate_cut`: the structure at the cut's pose shaken by the
-  closed-loop cutting force, the same cut the dynamometer records), read where the tool
+  closed-loop cutting force, the same cut the dynamometer records, stored once by
+  :mod:`robomill.synth.cutstate`), over the trace's span, read where the tool
   passed each stylus position (time = position / feed, so the marks of a mode keep their
   temporal frequency and their wavelength scales with feed), low-pass filtered by the stylus
   tip (cut-off wavelength ``stylus_lambda_s_mm``) and its shape scaled to a segment-method
@@ -115,6 +116,13 @@ def x_mm(p: Mapping[str, Any]) -> np.ndarray:
     return np.arange(int(p["n_samples"])) / float(p["fs_per_mm"])
 
 
+def trace_end_mm(config: Mapping[str, Any]) -> float:
+    """Path abscissa of the trace's last stylus position [mm] (the span of the cut that the
+    profile samples)."""
+    p = settings(config)
+    return float(float(p["start_mm"]) + x_mm(p)[-1])
+
+
 def kinematic_waviness_um(cell, cut: Cut, p: Mapping[str, Any]) -> np.ndarray:
     """Rigid-model floor deviation [µm] along the trace: base-Z TCP error of the gear errors
     plus the joint-1 axis wobble (see module docstring). Inverse kinematics on a coarse grid
@@ -140,18 +148,18 @@ def _unit_segment_rms(z: np.ndarray, fs: float, segment_mm: float) -> np.ndarray
     return z / rms if rms > 0 else z
 
 
-def floor_vibration_um(cell, cut: Cut, p: Mapping[str, Any]) -> np.ndarray:
+def floor_vibration_um(cell, cut: Cut, p: Mapping[str, Any], sim) -> np.ndarray:
     """The tool's vertical vibration [µm] (deflection, base Z) where the tool passed each
     stylus position, in the roughness band: band-pass filtered (2nd-order Butterworth, zero
     phase) between the roughness cut-off wavelength λc = 0.8 mm (ISO 4288; the slow static
     deflection changes along the cut belong to the waviness) and the stylus tip's
-    ``stylus_lambda_s_mm``, at ``feed / λc`` to ``feed / λs`` Hz."""
+    ``stylus_lambda_s_mm``, at ``feed / λc`` to ``feed / λs`` Hz; ``sim`` the simulated cut
+    (:class:`robomill.synth.process.SimulatedCut`), whose span up to the trace's end is
+    filtered."""
     import scipy.signal
 
-    from robomill.synth.process import simulate_cut
-
     s_mm = float(p["start_mm"]) + x_mm(p)
-    sim = simulate_cut(cell, cut, cell.config, length_mm=float(s_mm[-1]))
+    sim = sim.span(float(s_mm[-1]))
     z = sim.deflection_m[:, 2] - sim.deflection_m[:, 2].mean()
     f_hi = min(cut.feed_mm_s / float(p["stylus_lambda_s_mm"]), 0.45 * sim.fs_hz)
     f_lo = cut.feed_mm_s / ROUGHNESS_CUTOFF_MM
@@ -167,11 +175,11 @@ def feed_mark_height_um(cell, cut: Cut, p: Mapping[str, Any]) -> float:
         np.exp(-np.pi * (ALPHA * float(p["stylus_lambda_s_mm"]) / c_mm) ** 2))
 
 
-def roughness_component_um(cell, cut: Cut, p: Mapping[str, Any]) -> np.ndarray:
-    """Vibration marks + feed marks [µm] (no tilt, no noise)."""
+def roughness_component_um(cell, cut: Cut, p: Mapping[str, Any], sim) -> np.ndarray:
+    """Vibration marks + feed marks [µm] (no tilt, no noise) of the simulated cut ``sim``."""
     x = x_mm(p)
     fs = float(p["fs_per_mm"])
-    vib = floor_vibration_um(cell, cut, p)
+    vib = floor_vibration_um(cell, cut, p, sim)
     vib = roughness_level_um(p, cut) * _unit_segment_rms(vib, fs, ROUGHNESS_SEGMENT_MM)
     c_mm = cut_process(cut, cell.experiment)["feed_per_tooth_mm"]
     phase = _rng(cell, cut, 3).uniform(0, 2 * np.pi)
@@ -179,8 +187,9 @@ def roughness_component_um(cell, cut: Cut, p: Mapping[str, Any]) -> np.ndarray:
     return vib + marks
 
 
-def components_um(cell, cut: Cut, p: Mapping[str, Any]) -> dict[str, np.ndarray]:
-    """Every planted component of one trace [µm]: waviness, roughness, tilt, noise."""
+def components_um(cell, cut: Cut, p: Mapping[str, Any], sim) -> dict[str, np.ndarray]:
+    """Every planted component of one trace [µm]: waviness, roughness, tilt, noise (``sim``:
+    the simulated cut)."""
     x = x_mm(p)
     fs = float(p["fs_per_mm"])
     import scipy.signal  # here, not at the top: keeps Snakemake's start-up short
@@ -191,16 +200,18 @@ def components_um(cell, cut: Cut, p: Mapping[str, Any]) -> dict[str, np.ndarray]
     tilt = rng.uniform(lo, hi) * x + rng.uniform(-5.0, 5.0)
     noise = _rng(cell, cut, 2).normal(0.0, float(p["noise_um"]), x.size)
     return {"kinematic": kin, "waviness": waviness,
-            "roughness": roughness_component_um(cell, cut, p), "tilt": tilt, "noise": noise}
+            "roughness": roughness_component_um(cell, cut, p, sim), "tilt": tilt, "noise": noise}
 
 
-def simulate_profile(config: Mapping[str, Any], cut: Cut, path: str | Path, cell=None) -> Path:
-    """Simulate one cut's profile and write it in the contract format (``x_mm, z_um``)."""
+def simulate_profile(config: Mapping[str, Any], cut: Cut, path: str | Path, sim,
+                     cell=None) -> Path:
+    """Simulate one cut's profile from the simulated cut ``sim`` and write it in the contract
+    format (``x_mm, z_um``)."""
     from robomill.synth.cell import cell_from_config
 
     cell = cell or cell_from_config(config)
     p = settings(config)
-    comp = components_um(cell, cut, p)
+    comp = components_um(cell, cut, p, sim)
     z = comp["waviness"] + comp["roughness"] + comp["tilt"] + comp["noise"]
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -1,6 +1,7 @@
 """A microphone and a spindle accelerometer: ``sound/<cut>.wav`` and ``vibration/<cut>.csv``,
 two more instruments on the same simulated cut as the dynamometer
-(:func:`robomill.synth.process.simulate_cut`), over the same span (the dynamometer's
+(:func:`robomill.synth.process.simulate_cut`, stored once by :mod:`robomill.synth.cutstate`),
+over the same span (the dynamometer's
 ``record_length_mm``). Off by default (``synth.recordings.sound`` / ``vibration``); every
 parameter below is config ``synth.recordings`` and *assumed* (no source gives them).
 
@@ -37,8 +38,9 @@ Each file's noise is seeded per cut (``[seed, 8, crc32(cut)]`` and ``[seed, 9, �
 
 **Air pass** (``synth.recordings.air_pass``, :func:`simulate_air_pass_file`): each recorded cut
 is recorded a second time by the same instrument while the robot moves along the same path
-without material (:func:`robomill.synth.process.simulate_cut` with ``cutting=False``: the
-servo excitation and the gear trains' path error remain, no chip, no cutting force), as a lab
+without material (:func:`robomill.synth.process.simulate_cut` with ``cutting=False``, the
+``air`` pass of the cut's stored state: the servo excitation and the gear trains' path error
+remain, no chip, no cutting force), as a lab
 records an air cut to tell forced vibration from chatter; ``sound/<cut>_air.wav``,
 ``vibration/<cut>_air.csv``, manifest ``pass: air``. Its noise is seeded apart
 (``[seed, 8 or 9, crc32(cut), 1]``); the spindle turns, so the microphone hears its tone.
@@ -91,14 +93,13 @@ def tool_acceleration_m_s2(sim) -> np.ndarray:
     return a
 
 
-def _record(cell, cut, config: Mapping[str, Any], cutting: bool = True):
-    """The simulated cut (``cutting=False``: its air pass) over the dynamometer's span and
-    that span's sample count."""
+def _record(cut, config: Mapping[str, Any], sim):
+    """The simulated cut (or its air pass) ``sim`` over the dynamometer's span and that span's
+    sample count."""
     from robomill.synth.dynamometer import record_length_mm
-    from robomill.synth.process import simulate_cut
 
     length = record_length_mm(config)
-    sim = simulate_cut(cell, cut, config, cutting=cutting, length_mm=length)
+    sim = sim.span(length)
     n = min(int(round(length / cut.feed_mm_s * sim.fs_hz)), sim.t_s.size)
     return sim, n
 
@@ -108,12 +109,13 @@ def _rng(cell, cut, number: int, cutting: bool = True) -> np.random.Generator:
     return np.random.default_rng(key if cutting else [*key, 1])
 
 
-def simulate_vibration(cell, cut, config: Mapping[str, Any], *, cutting: bool = True
+def simulate_vibration(cell, cut, config: Mapping[str, Any], sim, *, cutting: bool = True
                        ) -> tuple[np.ndarray, float]:
     """The accelerometer's record of one cut (``cutting=False``: of its air pass):
-    ``(a (m, 3) [m/s², base axes], fs_hz)``."""
+    ``(a (m, 3) [m/s², base axes], fs_hz)``; ``sim`` the simulated cut, or its air pass
+    (:class:`robomill.synth.process.SimulatedCut`)."""
     s = settings(config)
-    sim, n = _record(cell, cut, config, cutting)
+    sim, n = _record(cut, config, sim)
     a = tool_acceleration_m_s2(sim)[:n]
     a = a + _rng(cell, cut, VIBRATION_NUMBER, cutting).normal(0.0, float(s["accel_noise_m_s2"]),
                                                      a.shape)
@@ -121,16 +123,17 @@ def simulate_vibration(cell, cut, config: Mapping[str, Any], *, cutting: bool = 
     return _resample(a, sim.fs_hz, fs), fs
 
 
-def simulate_sound(cell, cut, config: Mapping[str, Any], *, cutting: bool = True
+def simulate_sound(cell, cut, config: Mapping[str, Any], sim, *, cutting: bool = True
                    ) -> tuple[np.ndarray, float]:
     """The microphone's record of one cut (``cutting=False``: of its air pass):
-    ``(p (m,) [Pa], fs_hz)`` (module docstring)."""
+    ``(p (m,) [Pa], fs_hz)`` (module docstring; ``sim`` the simulated cut, or its air
+    pass)."""
     import scipy.signal
 
     from robomill.experiment import cut_process
 
     s = settings(config)
-    sim, n = _record(cell, cut, config, cutting)
+    sim, n = _record(cut, config, sim)
     u = np.asarray(s["direction"], float)
     if not np.linalg.norm(u) > 0:
         from robomill.errors import ConfigError
@@ -158,17 +161,20 @@ def simulate_sound(cell, cut, config: Mapping[str, Any], *, cutting: bool = True
 
 
 def simulate_air_pass_file(config: Mapping[str, Any], cut, path: str | Path, kind: str,
-                           cell=None) -> Path:
+                           air, cell=None) -> Path:
     """The air pass of one cut (the same path without material; module docstring) as the
-    instrument ``kind`` records it, written as :func:`simulate_file` writes the cut's own."""
-    return simulate_file(config, cut, path, kind, cell=cell, cutting=False)
+    instrument ``kind`` records it, written as :func:`simulate_file` writes the cut's own;
+    ``air`` the simulated air pass (the cut state's ``air`` pass,
+    :func:`robomill.synth.cutstate.read_cut_state`)."""
+    return simulate_file(config, cut, path, kind, air, cell=cell, cutting=False)
 
 
-def simulate_file(config: Mapping[str, Any], cut, path: str | Path, kind: str,
+def simulate_file(config: Mapping[str, Any], cut, path: str | Path, kind: str, sim,
                   cell=None, *, cutting: bool = True) -> Path:
     """Simulate one cut's recording of ``kind`` (``sound``: a 24-bit WAV scaled to
-    ``full_scale_Pa``; ``vibration``: CSV ``t_s, ax_m_s2, ay_m_s2, az_m_s2``) into ``path``
-    (``cutting=False``: its air pass, :func:`simulate_air_pass_file`); returns ``path``."""
+    ``full_scale_Pa``; ``vibration``: CSV ``t_s, ax_m_s2, ay_m_s2, az_m_s2``) from the
+    simulated cut ``sim`` into ``path`` (``cutting=False``: its air pass, ``sim`` the air
+    pass, :func:`simulate_air_pass_file`); returns ``path``."""
     from robomill.io.atomic import atomic_path
     from robomill.synth.cell import cell_from_config
 
@@ -178,14 +184,14 @@ def simulate_file(config: Mapping[str, Any], cut, path: str | Path, kind: str,
         if kind == "sound":
             import soundfile
 
-            p, fs = simulate_sound(cell, cut, config, cutting=cutting)
+            p, fs = simulate_sound(cell, cut, config, sim, cutting=cutting)
             full = float(settings(config)["full_scale_Pa"])
             soundfile.write(str(tmp), np.clip(p / full, -1.0, 1.0), int(round(fs)),
                             subtype="PCM_24", format="WAV")
         elif kind == "vibration":
             import pandas as pd
 
-            a, fs = simulate_vibration(cell, cut, config, cutting=cutting)
+            a, fs = simulate_vibration(cell, cut, config, sim, cutting=cutting)
             pd.DataFrame({"t_s": np.arange(a.shape[0]) / fs, "ax_m_s2": a[:, 0],
                           "ay_m_s2": a[:, 1], "az_m_s2": a[:, 2]}).to_csv(
                 tmp, index=False, float_format="%.9g")

@@ -3,12 +3,13 @@
 The robot moves along the path of a cut at that cut's feed while the tracker samples its
 target at 815 Hz (thesis §3.2): a *loaded* pass is the cut itself
 (:func:`robomill.synth.process.simulate_cut`, the same cut the dynamometer and the
-profilometer see), an *air* pass the same path without material (:func:`simulate_run` with
-``pass_="air"``; deflection is the loaded path minus the air path). For every direction and
-every feed of the experiment one run is simulated, along the path of the last cut (in
-machining order) with that direction and feed (so the feeds 2–10 mm/s follow set 3, as in
-thesis Figs 3.12–3.15). Coordinates are in the robot base frame (the tracker registered to
-the robot, the target's offset to the TCP removed).
+profilometer see, stored once by :mod:`robomill.synth.cutstate`), an *air* pass the same
+path without material (:func:`simulate_run` with ``pass_="air"``; deflection is the loaded
+path minus the air path). For every direction and every feed of the experiment one run is
+simulated, along the path of the last cut (in machining order) with that direction and feed
+(so the feeds 2–10 mm/s follow set 3, as in thesis Figs 3.12–3.15). Coordinates are in the
+robot base frame (the tracker registered to the robot, the target's offset to the TCP
+removed).
 
 Simulated position = nominal motion (trapezoidal speed profile: constant feed, ramps at
 ``accel_mm_s2``) + the TCP error of every eccentric gear stage of the virtual cell (joint
@@ -76,16 +77,14 @@ def _rng(cell: Any, run: str) -> np.random.Generator:
     return np.random.default_rng([cell.seed, INSTRUMENT_NUMBER, zlib.crc32(run.encode())])
 
 
-def deflection_along_path_mm(config: Mapping[str, Any], cell: Any, cut: Cut,
-                             s_mm: np.ndarray, fs_hz: float) -> np.ndarray:
-    """The tool's deflection ``(len(s), 3)`` [mm, base axes] in the cut ``cut`` at path
-    abscissae ``s_mm`` (the structure's static and dynamic displacement of the closed-loop cut,
+def deflection_along_path_mm(sim, s_mm: np.ndarray, fs_hz: float) -> np.ndarray:
+    """The tool's deflection ``(len(s), 3)`` [mm, base axes] in the simulated cut ``sim``
+    (:class:`robomill.synth.process.SimulatedCut`, the whole cut is used) at path abscissae
+    ``s_mm`` (the structure's static and dynamic displacement of the closed-loop cut,
     low-pass filtered at 0.4 × ``fs_hz``; held beyond the cut's ends)."""
     import scipy.signal
 
-    from robomill.synth.process import simulate_cut
-
-    sim = simulate_cut(cell, cut, config)
+    sim = sim.span(None)
     d = sim.deflection_m @ sim.frame.T
     sos = scipy.signal.butter(2, 0.4 * fs_hz, fs=sim.fs_hz, output="sos")
     d = scipy.signal.sosfiltfilt(sos, d - d[0], axis=0) + d[0]
@@ -95,7 +94,7 @@ def deflection_along_path_mm(config: Mapping[str, Any], cell: Any, cut: Cut,
 
 def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
                  feed_mm_s: float, cut: Cut, pass_: str = "loaded",
-                 run: str | None = None) -> pd.DataFrame:
+                 run: str | None = None, sim=None) -> pd.DataFrame:
     """One tracker record ``t_s, x_mm, y_mm, z_mm`` along ``cut``'s path at ``feed_mm_s``.
 
     Joint angles come from inverse kinematics on a grid of ``path_step_mm`` (cubic spline in
@@ -104,8 +103,12 @@ def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
     of the closed-loop cut, :func:`deflection_along_path_mm`), or ``air``, the same path
     without material (no force: the same gear errors, its own ripple phase and noise). ``run``:
     the run's id, which seeds its noise and ripple phase (default ``<dir>_f<feed>``, with
-    ``/air`` for an air pass).
+    ``/air`` for an air pass). ``sim``: the simulated cut (the whole of it), which a loaded
+    pass samples.
     """
+    if pass_ == "loaded" and sim is None:
+        raise ValueError(f"tracker run along {cut.id}: a loaded pass samples the simulated cut "
+                         "(expected sim, robomill.synth.cutstate.read_cut_state)")
     tr = settings(config)
     fs = float(tr["fs_hz"])
     L = float(cell.experiment["cut_length_mm"])
@@ -126,7 +129,7 @@ def simulate_run(config: Mapping[str, Any], cell: Any, direction: str,
     noise = 1e-3 * float(tr["noise_std_um"]) * rng.standard_normal((t.size, 3))
     p = nominal + gear_err + ripple + noise
     if pass_ == "loaded":
-        p = p + deflection_along_path_mm(config, cell, cut, s, fs)
+        p = p + deflection_along_path_mm(sim, s, fs)
     return pd.DataFrame({"t_s": t, "x_mm": p[:, 0], "y_mm": p[:, 1], "z_mm": p[:, 2]})
 
 

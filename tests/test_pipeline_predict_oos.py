@@ -1,0 +1,79 @@
+"""Out of sample: cuts the study never made, predicted with `robomill predict` from the tiny
+study's plan and then cut on the virtual cell as their own study (a configuration overlay with
+those cuts in their own folder). A set spanning three speeds, both feed directions and depths
+on both sides of each predicted boundary; the cell's chatter verdicts, read from that run's
+files, must agree with the nominal prediction on at least 90 % of the judged cuts, with both
+verdicts among them."""
+
+import shutil
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+from conftest import NO_BOOK_PDF, REPO, SNAKEMAKE, run_snakemake
+
+from robomill.cli import main
+from robomill.plan.evidence import read_verdicts, verdict_stability
+
+pytestmark = pytest.mark.pipeline
+
+SPEEDS = (12000.0, 20000.0, 28000.0)
+DIRECTIONS = ("px", "py")
+
+
+def _cut(cid, rpm, depth, direction, i):
+    # on the block's free top face, beside the study's slots (plan.yaml's placement box)
+    start = [630.0 + 25.0 * (i % 6), 65.0 + 30.0 * (i // 6), 200.0 - depth]
+    return {"id": cid, "spindle_rpm": rpm, "depth_mm": round(depth, 3), "feed_mm_s": 5.0,
+            "direction": direction, "start_mm": start}
+
+
+def _predict(study, cuts, path):
+    path.write_text(yaml.safe_dump(cuts))
+    out = path.with_suffix(".csv")
+    assert main(["predict", str(study), str(path), "--out", str(out)]) == 0
+    return pd.read_csv(out)
+
+
+@pytest.mark.xfail(strict=False, reason=(
+    "issue 55's out-of-sample target, not reached yet: the same design on the default study "
+    "agreed on 8 of 12 cuts (the prior of the spindle/tool modes sets the nominal limit at "
+    "12 000 and 28 000 rpm, where the cell's own tool modes differ; one 81 Hz line at 0.36 mm "
+    "is a steady forced line, judged chatter)"))
+def test_predicted_cuts_cut_on_the_cell_agree_with_their_verdicts(tiny_run, tmp_path):
+    study = tmp_path / "study"
+    shutil.copytree(tiny_run, study, symlinks=True)
+    proc = run_snakemake(study, "-j2", "plan", "--config", NO_BOOK_PDF)
+    assert proc.returncode == 0, proc.stderr[-4000:]
+    # the predicted boundary at each speed and direction, then a depth on either side of it
+    probe = [_cut(f"probe_{k}", n, 0.5, d, k)
+             for k, (n, d) in enumerate((n, d) for n in SPEEDS for d in DIRECTIONS)]
+    a = _predict(study, probe, tmp_path / "probe.yaml")["a_crit_mm"].to_numpy(float)
+    assert np.all(np.isfinite(a) & (a > 0))
+    cuts, i = [], 0
+    for (n, d), a_k in zip(((n, d) for n in SPEEDS for d in DIRECTIONS), a, strict=True):
+        for side, f in (("below", 0.5), ("above", 1.8)):
+            cuts.append(_cut(f"oos_{int(n / 1000)}k_{d}_{side}", n, f * a_k, d, i))
+            i += 1
+    pred = _predict(study, cuts, tmp_path / "oos.yaml").set_index("cut")
+    nxt = yaml.safe_load((study / "results/plan/next/config.yaml").read_text())
+    overlay = {"workdir": "oos/run",
+               "experiment": {**{k: v for k, v in nxt["experiment"].items() if k != "cuts"},
+                              "cuts": cuts}}
+    (study / "oos.yaml").write_text(yaml.safe_dump(overlay))
+    import subprocess
+
+    run = subprocess.run([SNAKEMAKE, "-s", str(REPO / "Snakefile"), "--directory", str(study),
+                          "--configfile", str(REPO / ".test" / "config.yaml"),
+                          str(study / "oos.yaml"), "-j2", "results/chatter/verdicts.csv"],
+                         cwd=study, capture_output=True, text=True, timeout=1800)
+    assert run.returncode == 0, run.stderr[-4000:]
+    stable = verdict_stability(read_verdicts(study / "oos/run/results/chatter/verdicts.csv"))
+    judged = stable.dropna()
+    assert set(judged.index) <= set(pred.index) and len(judged) >= 0.8 * len(cuts)
+    predicted = pred.loc[judged.index, "a_crit_mm"] > pred.loc[judged.index, "depth_mm"]
+    agree = (predicted.to_numpy() == (judged.to_numpy() >= 0.5))
+    assert agree.mean() >= 0.9, pd.DataFrame({"predicted_stable": predicted,
+                                              "verdict": judged}).to_string()
+    assert 0 < judged.sum() < len(judged)          # both verdicts among the judged cuts
