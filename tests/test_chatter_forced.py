@@ -1,6 +1,6 @@
 """Forced vibration apart from chatter: a line that an air pass of the same instrument (the same
 path without material) shows, and that the cut does not raise, is ``forced``
-(:func:`robomill.chatter.air_pass.air_test`), on constructed signals whose lines are known and
+(:func:`robomill.chatter.air.air_test`), on constructed signals whose lines are known and
 on a real milling sound (``tests/data/real/chatter_sound``, source and licence in its
 SOURCE.md) through ``robomill listen FILE --air AIRFILE``."""
 
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 import soundfile
 
-from robomill.chatter.air_pass import air_test, call_forced
+from robomill.chatter.air import air_test, call_forced
 from robomill.chatter.verdicts import default_settings, judge
 from robomill.cli import main
 
@@ -149,7 +149,7 @@ def _two_lines(machine_amp: float, chatter_amp: float, comb: bool, seed: int) ->
 
 
 def test_a_forced_line_stronger_than_the_chatter_line_is_set_aside(settings):
-    from robomill.chatter.air_pass import judge_beside_air
+    from robomill.chatter.air import judge_beside_air
 
     cut = _two_lines(2.0, 0.6, comb=True, seed=1)
     first = judge(cut, FS_HZ, settings, spindle_rpm=RPM, flutes=FLUTES)

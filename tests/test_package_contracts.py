@@ -140,7 +140,8 @@ def test_a_wheel_installed_elsewhere_predicts_a_built_studys_cuts(wheel, tiny_ru
     exe, env, _ = wheel
     study = tmp_path / "study"
     shutil.copytree(tiny_run, study, symlinks=True)
-    proc = run_snakemake(study, "-j2", "plan", "--config", NO_BOOK_PDF)
+    request = f"plan={{request: {REPO / '.test' / 'plan.yaml'}}}"  # the tiny study's request
+    proc = run_snakemake(study, "-j2", "plan", "--config", NO_BOOK_PDF, request)
     assert proc.returncode == 0, proc.stderr[-4000:]
     resolved = yaml.safe_load((study / "results/ingest/study.yaml").read_text())
     cuts = [{k: v for k, v in c.items() if k != "process"} for c in resolved["cuts"]][:3]

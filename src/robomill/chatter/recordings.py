@@ -9,7 +9,7 @@ its evidence; the other records are judged as usual.
 **Air passes** (manifest ``pass: air`` on a ``sound`` or ``vibration`` entry: the same path
 moved without material, :func:`is_air_pass`) are no record of a cut's outcome and get no
 row; they are the evidence that tells a forced line from chatter
-(:func:`robomill.chatter.air_pass.air_test`). A chatter verdict of a cut's record is tested
+(:func:`robomill.chatter.air.air_test`). A chatter verdict of a cut's record is tested
 on the air pass of the same instrument (the same kind at the same rate); a force record's on
 the cut's other instruments, each record against its own air pass, at the force record's line:
 the dynamometer sits under the workpiece and feels the arm's vibration only through the chip,
@@ -116,11 +116,11 @@ def _air_pairs(entry: Mapping[str, Any], judged, air) -> list[tuple[Mapping, Map
 def forced_or_chatter(manifest, entry: Mapping[str, Any], verdict: Verdict, judged, air,
                       settings: VerdictSettings) -> Verdict:
     """A chatter verdict of ``entry`` tested on the air passes of its cut (module docstring)
-    by :func:`robomill.chatter.air_pass.judge_beside_air`: a line an air pass finds forced is
+    by :func:`robomill.chatter.air.judge_beside_air`: a line an air pass finds forced is
     set aside and the record judged on its other lines; ``forced`` with the deciding test
     first in its evidence, else ``chatter`` with each test's sentence added; unchanged when
     no air pass can test it."""
-    from robomill.chatter.air_pass import AirTest, air_test, judge_beside_air
+    from robomill.chatter.air import AirTest, air_test, judge_beside_air
 
     pairs = _air_pairs(entry, judged, air)
     if not pairs:

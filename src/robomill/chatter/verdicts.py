@@ -38,19 +38,19 @@ teeth):
    period-doubling chatter sits: it is **chatter** when it grows by at least
    ``synchronous_growth_db`` from the first to the last quarter, else **undetermined** (a
    steady line there cannot say which; a record of the cut's entry or a second speed can).
-6. **Forced, not chatter** (:func:`robomill.chatter.air_pass.air_test`): a line is forced
+6. **Forced, not chatter** (:func:`robomill.chatter.air.air_test`): a line is forced
    vibration when it is present while the same path is moved without cutting (an **air
-   pass** of the same instrument: the robot's servos and motors shake the arm whether it cuts
-   or not) and the cut does not make it grow: within ``max(harmonic_halfwidth_hz, 2 Δf)`` of
-   ``f_c`` the cut's power exceeds the air pass's by less than ``air_rise_db`` (the evidence
-   says whether the air pass's mean spectrum shows the line ``prominence_db`` above its local
-   floor). Depth 0 (the air pass) against the cut's depth is the test of growth with depth:
-   regenerative chatter exists only above a limiting depth [Altintas 2012, ch. 4] and raises
-   its line by orders of magnitude over the air pass, a forced line is there at depth 0
-   already. A forced line is set aside and the record judged again on its other lines
-   (:func:`robomill.chatter.air_pass.judge_beside_air`): **chatter** on a line no air pass
-   explains, else **forced**; the evidence names the air pass, the lines set aside and the
-   numbers.
+   pass** of the same instrument: the robot's servos and motors shake the arm whether it
+   cuts or not) and the cut does not make it grow: within ``max(harmonic_halfwidth_hz,
+   2 Δf)`` of ``f_c`` the cut's power exceeds the air pass's by less than ``air_rise_db``
+   (the evidence says whether the air pass's mean spectrum shows the line ``prominence_db``
+   above its local floor). Depth 0 (the air pass) against the cut's depth is the test of
+   growth with depth: regenerative chatter exists only above a limiting depth
+   [Altintas 2012, ch. 4] and raises its line by orders of magnitude over the air pass, a
+   forced line is there at depth 0 already. A forced line is set aside and the record judged
+   again on its other lines (:func:`robomill.chatter.air.judge_beside_air`): **chatter** on a
+   line no air pass explains, else **forced**; the evidence names the air pass, the lines
+   set aside and the numbers.
 7. **Speeds** for chatter: the tooth-passing frequency on the chatter frequency,
    ``n_k = 60 f_c / (Z k)``, k = 1, 2, … [Schmitz & Smith 2009, ch. 4], within
    ``speed_range_rpm``, nearest to the cut's speed first, at most ``max_speeds``.
@@ -271,8 +271,8 @@ def judge(signal: np.ndarray, fs_hz: float, settings: VerdictSettings, *,
     ``signal``: (n,) or (n, channels) samples at ``fs_hz``; ``spindle_rpm`` and ``flutes`` from
     the cut's design when known (``None``: the comb is estimated from the signal, and speeds
     need ``flutes``). ``keep_spectrogram`` keeps ``f_hz, t_s, power`` (band only) for figures.
-    ``set_aside_hz``: lines found forced (:func:`judge_beside_air`), left out of the
-    non-harmonic lines as the comb's are.
+    ``set_aside_hz``: lines found forced (:func:`robomill.chatter.air.judge_beside_air`), left
+    out of the non-harmonic lines as the comb's are.
     """
     s = settings
     x = np.asarray(signal, float)

@@ -3,8 +3,8 @@ frequency, and which spindle speeds to try instead, from one recording (sound, v
 force record in CSV), with the pipeline's verdict (:func:`robomill.chatter.verdicts.judge`,
 settings ``chatter.verdicts`` of the schema). With ``--air``, the recording of the same path
 moved without material by the same instrument: a chatter line that it shows and the cut does
-not raise is ``forced`` (:func:`robomill.chatter.air_pass.air_test`), and the recording is
-judged again without it (:func:`robomill.chatter.air_pass.judge_beside_air`).
+not raise is ``forced`` (:func:`robomill.chatter.air.air_test`), and the recording is
+judged again without it (:func:`robomill.chatter.air.judge_beside_air`).
 """
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ def add_parser(sub: Any) -> None:  # what ArgumentParser.add_subparsers() return
 def run(args: argparse.Namespace) -> int:
     import dataclasses
 
-    from robomill.chatter.air_pass import air_test, judge_beside_air
+    from robomill.chatter.air import air_test, judge_beside_air
     from robomill.chatter.verdicts import default_settings, judge
     from robomill.io.recordings import read_recording
 

@@ -38,12 +38,8 @@ def add_parser(sub: Any) -> None:  # what ArgumentParser.add_subparsers() return
 
 def run(args: argparse.Namespace) -> int:
     from robomill.errors import RawDataError
-    from robomill.plan.cutlist import (
-        check_placeable,
-        parse_cuts,
-        predict_table,
-        read_cut_entries,
-    )
+    from robomill.io.cutlist import check_placeable, parse_cuts, read_cut_entries
+    from robomill.plan.cutlist import predict_table
     from robomill.plan.inputs import load_recorded
     from robomill.plan.request import PlanRequestError
 

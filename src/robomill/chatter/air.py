@@ -1,9 +1,10 @@
-"""The air test: a line of a cut's record is forced vibration, not chatter, when an air pass of
-the same path (the same instrument, no cut) shows it and the cut does not make it grow
-(:func:`air_test`, step 6 of :mod:`robomill.chatter.verdicts`); a record's forced lines are
-set aside and the record judged again on its other lines (:func:`judge_beside_air`).
-Regenerative chatter exists only above a limiting depth [Altintas 2012, ch. 4]: depth 0 (the
-air pass) against the cut's depth is the test of growth with depth.
+"""Forced vibration apart from chatter: the air test of a chatter line (step 6 of
+:mod:`robomill.chatter.verdicts`) and the record judged again beside its air passes.
+
+A line present while the same path is moved without cutting (an **air pass** of the same
+instrument) that the cut does not raise is forced vibration, not regenerative chatter, which
+exists only above a limiting depth and raises its line far over the air pass
+[Altintas 2012, ch. 4]. The references are those of :mod:`robomill.chatter.verdicts`.
 """
 
 from __future__ import annotations
