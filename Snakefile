@@ -7,7 +7,11 @@ from snakemake.utils import min_version
 
 from robomill.io import ConfigError
 from robomill.kernels import cache_dir
-from robomill.pipeline.config import run_folder, validate_config_cached
+from robomill.pipeline.config import (
+    check_run_folder,
+    run_folder,
+    validate_config_cached,
+)
 from robomill.settings import SCHEMAS
 
 min_version("9.0")
@@ -38,17 +42,22 @@ config.clear()
 config.update(checked)
 
 
-# The run's folder: here, or the one the configuration names (config workdir; inside the
-# folder of snakemake --directory when one is given). The next experiment's configuration
+# The run's folder: here, or the one the configuration names (config workdir), entered by
+# Snakemake's workdir directive. The next experiment's configuration
 # (results/plan/next/config.yaml) names its own, so that running the planned cuts leaves the
-# study's results as they are.
+# study's results as they are. Under snakemake --directory D Snakemake ignores the directive:
+# D must then be that folder itself, or the run stops with one line (check_run_folder).
 RUN_FOLDER = run_folder(config)
-if RUN_FOLDER and workflow.overwrite_workdir is not None:
-    os.makedirs(RUN_FOLDER, exist_ok=True)
-    os.chdir(RUN_FOLDER)  # snakemake changes back to where it started at the end
-elif RUN_FOLDER:
+if RUN_FOLDER:
+    STARTED_IN = os.getcwd()
 
     workdir: RUN_FOLDER
+
+    try:
+        check_run_folder(RUN_FOLDER, STARTED_IN, os.getcwd())
+    except ConfigError as exc:
+        print(f"robomill: {exc}", file=sys.stderr)
+        sys.exit(1)
 
 
 report: "workflow/report/workflow.rst"

@@ -257,7 +257,7 @@ def test_chapters_4_and_5_take_the_design_of_the_raw_folder(other_design, tmp_pa
     assert not {"spindle_rpm", "flutes", "depths_mm"} & set(chatter), chatter
     assert not {"experiment", "cuts"} & set(cuts), cuts
     # the study the ingestion rule writes for this folder, as its rules read it
-    from robomill.chatter.thesis_study import study_slots
+    from robomill.chatter.slot_lobes import study_slots
     from robomill.io.rawdirs import load_study_manifest
     from robomill.study import read_study, write_study
 

@@ -13,7 +13,8 @@ import xarray as xr
 import yaml
 from conftest import REPO, SNAKEMAKE
 
-from robomill.pipeline.config import run_folder
+from robomill.errors import ConfigError
+from robomill.pipeline.config import check_run_folder, run_folder
 from robomill.plan.check import RunOutcomes, check_table
 from robomill.plan.outputs import NEXT_RUN_DIR, next_config
 
@@ -88,32 +89,69 @@ def _tree(folder: Path) -> dict[str, float]:
             if p.is_file()}
 
 
-@pytest.mark.parametrize("directory", [True, False], ids=["--directory", "cwd"])
-def test_a_dry_run_of_the_next_experiment_targets_its_run_folder_only(tmp_path, directory):
-    """`snakemake -n all --configfile results/plan/next/config.yaml` in a study folder: the
-    jobs are planned in results/plan/next/run (its own .snakemake, its synthetic raw folder),
-    nothing else of the study's results/ is touched."""
+def _next_study(tmp_path: Path) -> Path:
+    """A study folder with results and the plan's next-run configuration."""
     study = tmp_path / "study"
     (study / "results" / "plan" / "next").mkdir(parents=True)
     (study / "results" / "forces").mkdir()
     (study / "results" / "forces" / "mean_forces.csv").write_text("cut,Fx_N,Fy_N,Fz_N\n")
     nxt = study / "results" / "plan" / "next" / "config.yaml"
     nxt.write_text(yaml.safe_dump(next_config(MANIFEST), sort_keys=False))
+    return study
+
+
+@pytest.mark.parametrize("directory", [True, False], ids=["--directory", "cwd"])
+def test_a_dry_run_of_the_next_experiment_targets_its_run_folder_only(tmp_path, directory):
+    """`snakemake -n all --configfile results/plan/next/config.yaml` in a study folder (or
+    with `--directory` the run's own folder): the jobs are planned in results/plan/next/run
+    (its own .snakemake, its synthetic raw folder), nothing else of the study's results/ is
+    touched."""
+    study = _next_study(tmp_path)
+    nxt = study / "results" / "plan" / "next" / "config.yaml"
     before = _tree(study / "results")
-    cmd = [SNAKEMAKE, "-s", str(REPO / "Snakefile"), *(["--directory", str(study)]
+    cmd = [SNAKEMAKE, "-s", str(REPO / "Snakefile"), *(["--directory", str(study / NEXT_RUN_DIR)]
                                                         if directory else []),
            "--configfile", str(REPO / ".test" / "config.yaml"),
-           "results/plan/next/config.yaml", "-n", "all"]
+           str(nxt) if directory else "results/plan/next/config.yaml", "-n", "all"]
     proc = subprocess.run(cmd, cwd=study, capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr[-3000:]
     run = study / NEXT_RUN_DIR
     assert (run / ".snakemake").is_dir()
+    assert not (run / NEXT_RUN_DIR).exists()     # not a run folder inside the run folder
     # the planned cuts' synthetic raw files are outputs of this run (in its folder)
     assert "results/synthetic/raw/forces/plan_01." in proc.stdout
     assert "results/synthetic/raw/forces/s1_g1" not in proc.stdout  # the study's cuts: none
     after = {k: v for k, v in _tree(study / "results").items()
              if not k.startswith(NEXT_RUN_DIR.removeprefix("results/"))}
     assert after == before                      # the study's results untouched
+
+
+def test_the_next_experiment_under_the_studys_directory_stops_before_writing(tmp_path):
+    """`--directory STUDY` overrides Snakemake's workdir directive: the run would write the
+    planned cuts' results over the study's, so it stops with one line naming both ways."""
+    study = _next_study(tmp_path)
+    before = _tree(study)
+    cmd = [SNAKEMAKE, "-s", str(REPO / "Snakefile"), "--directory", str(study),
+           "--configfile", str(REPO / ".test" / "config.yaml"),
+           str(study / "results" / "plan" / "next" / "config.yaml"), "-n", "all"]
+    proc = subprocess.run(cmd, cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 1
+    line = [ln for ln in proc.stderr.splitlines() if ln.startswith("robomill:")]
+    assert len(line) == 1 and "Traceback" not in proc.stderr, proc.stderr[-2000:]
+    assert "'workdir'" in line[0] and f"--directory {study / NEXT_RUN_DIR}" in line[0]
+    assert {k: v for k, v in _tree(study).items() if not k.startswith(".snakemake")} == before
+
+
+def test_check_run_folder_accepts_the_entered_folder_or_a_directory_that_is_it(tmp_path):
+    run = tmp_path / NEXT_RUN_DIR
+    run.mkdir(parents=True)
+    check_run_folder(NEXT_RUN_DIR, tmp_path, run)             # the directive entered it
+    check_run_folder(NEXT_RUN_DIR, run, run)                  # --directory the run folder
+    check_run_folder(str(run), tmp_path, run)                 # an absolute folder
+    with pytest.raises(ConfigError, match="workdir"):
+        check_run_folder(NEXT_RUN_DIR, tmp_path, tmp_path)    # --directory the study
+    with pytest.raises(ConfigError, match="workdir"):
+        check_run_folder(NEXT_RUN_DIR, tmp_path / "results", tmp_path / "results")
 
 
 PRED = pd.DataFrame({

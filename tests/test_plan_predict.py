@@ -10,7 +10,7 @@ import yaml
 from robomill.chatter import CuttingModel, ModeXY, tool_from_modes, zoa_lobes
 from robomill.chatter.coupling import coupling_depth
 from robomill.chatter.lobes_zoa import default_frequency_grid
-from robomill.chatter.thesis import mode_coupling
+from robomill.chatter.slot_model import mode_coupling
 from robomill.kinematics import robot_from_mapping
 from robomill.plan.lobes import batch_zoa_lobes
 from robomill.plan.measured import Measured, gear_joint_amplitudes, waviness_um

@@ -343,15 +343,6 @@ DOCUMENTED_WORKFLOW = frozenset({"basedir", "current_basedir", "is_main_process"
 INTERNALS = frozenset({"set_input", "set_output", "set_params", "input_modifier",
                        "output_modifier", "modifier", "path_modifier", "expand_input",
                        "expand_output", "overwrite_workdir", "get_path_or_uri"})
-#: (file relative to the repository, the offending text) → why no documented interface exists
-WORKFLOW_ALLOWED: dict[tuple[str, str], str] = {
-    ("Snakefile", "workflow.overwrite_workdir"):
-        "Snakemake ignores the workdir directive under --directory and documents no way to "
-        "enter a configured run folder inside that folder",
-    ("Snakefile", "os.chdir"):
-        "the configured run folder inside --directory is entered by changing directory, "
-        "which Snakemake undoes at the end of the run",
-}
 
 
 def scan_workflow(files: list[Path] | None = None) -> list[Finding]:
@@ -389,12 +380,8 @@ def scan_workflow(files: list[Path] | None = None) -> list[Finding]:
 
 
 def test_the_workflow_uses_snakemake_through_its_documented_interface():
-    found = [f for f in scan_workflow() if (f.path, f.text) not in WORKFLOW_ALLOWED]
+    found = scan_workflow()
     assert found == [], "\n".join(map(str, found))
-    texts = {(f.path, f.text) for f in scan_workflow()}
-    for key, reason in WORKFLOW_ALLOWED.items():
-        assert key in texts, f"{key} is allowed but no longer found: remove it"
-        assert len(reason.split()) >= 5, key
 
 
 def test_the_workflow_scan_reads_every_rule_file_and_finds_each_kind(tmp_path):

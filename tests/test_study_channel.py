@@ -13,8 +13,8 @@ import pandas as pd
 import pytest
 
 from robomill.chatter.findings import chatter_findings
+from robomill.chatter.slot_lobes import study_lobes, study_slots
 from robomill.chatter.tables import coupling_table
-from robomill.chatter.thesis_study import run_thesis, study_slots
 from robomill.io.manifest import parse_manifest
 from robomill.study import read_study, write_study
 
@@ -71,7 +71,7 @@ def chapter4(study):
                           "dominant_hz": [75.0, 81.0, 64.0, 70.0]})
     cfg = {"spindle_rpm": {"start": 6000, "stop": 14000, "num": 9}, "depth_max_mm": 20.0,
            "safety_fraction": 0.2}
-    return run_thesis(_modes(), _coefficients(), peaks, cfg, study=study, accuracy=0.05)
+    return study_lobes(_modes(), _coefficients(), peaks, cfg, study=study, accuracy=0.05)
 
 
 def test_chapter_4_rates_each_cut_at_its_own_speed_and_depth(study, chapter4):

@@ -281,7 +281,7 @@ def precession_dataset(robot: SerialRobot, sections: Sequence[Section], *, q_see
 
 def slot_stiffness_table(robot: SerialRobot, compliance: np.ndarray, sections: Sequence[Section],
                          cuts, q_mid_rad: np.ndarray):
-    """Stiffness of the thesis robot along each slot's feed, in-plane normal and axial
+    """Stiffness of the study's robot along each slot's feed, in-plane normal and axial
     directions, by the joint model (C = J diag(c) Jᵀ), the beam-frame model (links only)
     and both in series (compliances added).
 

@@ -7,7 +7,7 @@ for _v in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import pandas as pd  # noqa: E402
 
-from robomill.chatter.thesis_study import run_thesis  # noqa: E402
+from robomill.chatter.slot_lobes import study_lobes  # noqa: E402
 from robomill.io import write_artefact, write_table  # noqa: E402
 from robomill.pipeline.runlog import setup  # noqa: E402
 from robomill.study import read_study  # noqa: E402
@@ -21,7 +21,7 @@ missing = [c for c in ("f_n_hz", "zeta", "k_modal_N_m", "shape_x", "shape_y")
            if c not in modes.columns]
 if missing:
     raise ValueError(f"{inp.modes}: missing columns {missing} (contract: CONTRACTS.md)")
-lobes, rec = run_thesis(modes, coeffs, peaks, dict(p.thesis), study=read_study(inp.study),
+lobes, rec = study_lobes(modes, coeffs, peaks, dict(p.thesis), study=read_study(inp.study),
                         accuracy=p.accuracy)
 write_artefact(lobes, snakemake.output.lobes, rule="chatter_thesis",
                inputs=[inp.modes, inp.coefficients, inp.peaks, inp.study],

@@ -1,4 +1,4 @@
-"""Both stiffness models for the thesis robot at the thesis cuts (feed, normal, axial)."""
+"""Both stiffness models for the study's robot at the study's cuts (feed, normal, axial)."""
 
 import numpy as np
 import pandas as pd

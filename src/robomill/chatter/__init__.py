@@ -1,5 +1,5 @@
 """Chatter: stability lobes for any machine, the Shagniev 2019 time-domain robot–tool–surface model,
-FFT chatter detection with adaptive depth, and the thesis robot's chatter-free parameters.
+FFT chatter detection with adaptive depth, and the study's robot's chatter-free parameters.
 
 Conventions (used by every module of this package and by chapter 4)
 --------------------------------------------------------------------
@@ -29,12 +29,13 @@ Modules
 :mod:`~robomill.chatter.detection`  sliding-window FFT detection, adaptive depth logic
 :mod:`~robomill.chatter.modal_timedomain` the Shagniev 2019 chip and force law on a modal tool
                                     (regenerative and delay-free): the plan's stability check
-:mod:`~robomill.chatter.thesis`     thesis robot: slot frames, mode coupling, recommendations
+:mod:`~robomill.chatter.slot_model` the study's robot in a slot's frame: mode coupling,
+                                    recommendations
 :mod:`~robomill.chatter.lobe_maps`  lobe diagrams as datasets (zoa beside sdm or sem)
 :mod:`~robomill.chatter.cases`      the configured lobe cases
 :mod:`~robomill.chatter.seed`       the Shagniev 2019 study (lobes, time domain, onset check)
-:mod:`~robomill.chatter.thesis_study` the thesis robot's slots: lobes, mode coupling,
-                                    recommendations
+:mod:`~robomill.chatter.slot_lobes` the study's slots: lobes, mode coupling, recommendations,
+                                    each cut at its own speed and depth
 :mod:`~robomill.chatter.findings`   chapter 4's findings from the stage's artefacts
 :mod:`~robomill.chatter.tables`     chapter 4's tables (onset checks, mode coupling)
 :mod:`~robomill.chatter.figures`    chapter 4's figures

@@ -5,7 +5,7 @@ Inputs: the lobes of the configured cases (``results/chatter/cases/<name>.nc``),
 time-domain study (``simulation.nc``), the lobes of the identified robot (``lobes.nc``) and
 its recommendations (``recommendations.csv``). A cut is chatter-free when its pessimistic
 stability margin is positive (``stability_margin_min > 0``, decided upstream by
-:mod:`robomill.chatter.thesis`); the recommended depth keeps ``chatter.thesis.safety_fraction``
+:mod:`robomill.chatter.slot_model`); the recommended depth keeps ``chatter.thesis.safety_fraction``
 below the limit; the lobes are converged to ``chatter.accuracy``.
 """
 

@@ -31,10 +31,9 @@ mode-coupling depth is the eigenvalue limit of the linear delay-free system), an
 chip carries no memory of the surface: a tooth that leaves the cut there leaves no uncut
 material for the next one, so the seed's h ≥ 0 clipping would make that run a different,
 unphysical model. At the thesis' feeds per tooth (1–11 µm) that clipping acts at vibrations
-of a fraction of a micrometre near the entry and exit (where c sin φ → 0): it held a delay-free
-run growing at +17.6 1/s in its linear model to no growth, and kicked one decaying at
-−6.1 1/s into a limit cycle with a fifth of the teeth out of the cut (the cuts
-``s2_g4_px`` and ``s1_g1_my`` of the default study). The regenerative run keeps the seed's
+of a fraction of a micrometre near the entry and exit (where c sin φ → 0): it can hold a
+delay-free run that grows in its linear model to no growth, and kick one that decays into a
+limit cycle with teeth out of the cut. The regenerative run keeps the seed's
 chip: the surface it cuts is the one the previous tooth left.
 """
 

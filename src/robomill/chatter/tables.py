@@ -1,7 +1,7 @@
 """The chapter-4 tables, from the chatter artefacts (``simulation.nc``, ``lobes.nc``).
 
 Pure functions of the datasets :mod:`robomill.chatter.seed` and
-:mod:`robomill.chatter.thesis_study` write; the chapter only displays what they return.
+:mod:`robomill.chatter.slot_lobes` write; the chapter only displays what they return.
 """
 
 from __future__ import annotations

@@ -344,7 +344,7 @@ def run_folder(config: dict[str, Any]) -> str | None:
     """The run's folder the configuration names (top-level ``workdir``), or None: run here.
 
     ``results/``, the virtual cell's raw folder and the logs are written there (the Snakefile
-    changes into it; with ``snakemake --directory D`` it is taken inside D), so that a run of
+    enters it by Snakemake's ``workdir`` directive; :func:`check_run_folder`), so that a run of
     other cuts leaves this study's results as they are: the next experiment's configuration
     (``results/plan/next/config.yaml``) names ``results/plan/next/run``
     (:data:`robomill.plan.NEXT_RUN_DIR`). A relative ``data.raw_dir`` (each of
@@ -362,3 +362,31 @@ def run_folder(config: dict[str, Any]) -> str | None:
     return str(folder)
 
 
+def check_run_folder(folder: str, started_in: str | Path, now: str | Path) -> None:
+    """Stop unless the run is in its folder ``folder`` (config ``workdir``, relative to
+    ``started_in``, where the run started) now that the Snakefile's ``workdir`` directive ran.
+
+    Snakemake enters the directive's folder, except under ``snakemake --directory D``, where
+    it stays in D: then D must be the run's folder itself (its path ends with ``folder``,
+    e.g. ``--directory STUDY/results/plan/next/run``), or the run would write the planned
+    cuts' ``results/`` over the study's in D.
+
+    Raises
+    ------
+    ConfigError
+        One line naming the folder, where the run would write, and the two commands that
+        run it in its own folder.
+    """
+    started, here = Path(started_in).resolve(), Path(now).resolve()
+    wanted = Path(folder)
+    if here == (started / wanted).resolve():
+        return
+    if not wanted.is_absolute() and here.parts[-len(wanted.parts):] == wanted.parts:
+        return
+    if wanted.is_absolute() and here == wanted.resolve():
+        return
+    raise ConfigError(
+        f"config key 'workdir': the run's folder is {folder!r}, but snakemake --directory "
+        f"keeps the run in {here} (it overrides the workdir directive), where it would "
+        f"write over that folder's results/; run without --directory from {here}, or give "
+        f"--directory {(here / wanted).resolve()}")

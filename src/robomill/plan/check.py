@@ -84,10 +84,9 @@ def waviness_min_cycles(fmin_cycles: float, exclude_bins: float) -> float:
     (``fmin_cycles`` periods per record, below which the run's slow deviation is left as its
     line) plus the Hann main lobe's half width (``exclude_bins`` resolution bins), so that a
     line's read window (±0.5 bin) lies clear of the slow deviation's lobe. A line read closer
-    reads the leakage of that slow deviation, not a gear: on the default study's planned cut
-    plan_05 the lateral spectrum of its tracker run is a hump of 4.7 µm at 2 bins, and the
-    read at joint 3's reducer-input mesh line, 3.1 periods along the 38 mm path, gave 3.37 µm
-    where no peak stands out."""
+    reads the leakage of that slow deviation, not a gear: the window spreads the deviation's
+    amplitude over its main lobe, so a read there returns a share of it where no peak stands
+    out."""
     return float(fmin_cycles) + float(exclude_bins)
 
 

@@ -171,8 +171,7 @@ def gear_joint_amplitudes(peaks: pd.DataFrame, robot: SerialRobot,
     :func:`robomill.plan.check.waviness_outcomes` measures. Without ``profiles`` (or the run in
     it) A is the peak's ``amplitude_um``, √(2P) of the lateral + vertical power at the peak bin
     (:func:`robomill.straightness.spectrum_peaks`), which exceeds the component's amplitude by
-    the other component's share there (0–20 % on the default study's gear peaks, ≤ 2 % on its
-    strong ones).
+    the other component's share there.
 
     With ``profiles``, each element also gets the tracker's noise level near its line in the
     identifying runs: the lateral spectrum's per-bin noise σ (:func:`robomill.plan.noise.

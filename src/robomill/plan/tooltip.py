@@ -26,10 +26,10 @@ modes above the test's band left out). The plan predicts the static
 deflection δ = C(q) F̄ with it, the same structure its stability prediction uses. The joint
 model alone (C_J: the load tests measure the joints only) is the fallback where the study has
 no impact test; with modes and no load tests, C(q_ref) holds at every pose. Why not C_J where
-both were measured: the joints are one part of the structure in series with the rest, and on
-the virtual cell the first plan checked through files (deflection from the tracker's loaded
-minus air passes) measured 2.8–4.2 times the joint model's deflection along the wall normal
-(1.7–2.3 times along the tool axis).
+both were measured: the joints are one part of the structure in series with the rest, so the
+joint model alone leaves out the compliance of the links, flange, spindle and tool; the plan's
+check (``check.csv``: deflection from the tracker's loaded minus air passes) states how far
+each prediction lies from what was measured.
 """
 
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """Our profile parameters beside the ones a file states about itself (NIST SMATS XML's
 ``ROUGHNESS_SURFACE_PARAMETERS``, ``WAVINESS_SURFACE_PARAMETERS``; read by
-:func:`robomill.importers.smats.reference_parameters` into the manifest entry's
+:func:`robomill.importers.smats_xml.reference_parameters` into the manifest entry's
 ``reference``).
 
 Each section names the profile its parameters describe: ``primary`` (the measured profile

@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 
 from robomill.chatter.model import CuttingModel, ModeXY
-from robomill.chatter.thesis import mode_coupling, modes_in_slot_frame, recommend
+from robomill.chatter.slot_model import mode_coupling, modes_in_slot_frame, recommend
 
 
 def _modes():

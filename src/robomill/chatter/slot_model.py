@@ -1,6 +1,6 @@
-"""The thesis robot ([Pulatbek 2024, §3.3]; the open question [Shagniev 2019] leaves): its
-identified tool-tip modes in the frame of each slot, the mode-coupling check, and chatter-free
-parameter recommendations.
+"""The study's robot in the frame of each slot (the analysis of [Pulatbek 2024, §3.3]; the
+open question [Shagniev 2019] leaves): its identified tool-tip modes in that frame, the
+mode-coupling check, and chatter-free parameter recommendations.
 
 Slot frames: the feed direction f is the cut's direction in the base XY plane (a unit vector
 from the study: ``px`` +X, ``py`` +Y, ``my`` −Y in the thesis, any angle in a free design)

@@ -21,7 +21,7 @@ import xarray as xr
 
 from robomill.chatter.lobe_maps import SOLVERS, lobes_dataset, speed_grid
 from robomill.chatter.model import CuttingModel, tool_from_modes
-from robomill.chatter.thesis import (
+from robomill.chatter.slot_model import (
     cutting_from_coefficients,
     mode_coupling,
     modes_in_slot_frame,
@@ -99,7 +99,7 @@ def study_slots(study: Study) -> list[Slot]:
     return slots
 
 
-def run_thesis(modes: pd.DataFrame, coeffs: pd.DataFrame, peaks: pd.DataFrame, cfg: dict,
+def study_lobes(modes: pd.DataFrame, coeffs: pd.DataFrame, peaks: pd.DataFrame, cfg: dict,
                *, study: Study, accuracy: float) -> tuple[xr.Dataset, pd.DataFrame]:
     """Lobes for each slot of the study (:func:`study_slots`; converged to ``accuracy``, with
     their error), the mode-coupling check, the force-peak comparison and the recommendations
@@ -139,7 +139,7 @@ def run_thesis(modes: pd.DataFrame, coeffs: pd.DataFrame, peaks: pd.DataFrame, c
 def _slot_lobes(modes: pd.DataFrame, coeffs: pd.DataFrame, slots: list[Slot], rpm: np.ndarray,
                 cfg: dict, *, accuracy: float):
     """Each slot's lobes (zoa and converged sem), its mode-coupling check and its
-    recommendation rows (:func:`robomill.chatter.thesis.recommend`), the lobes concatenated
+    recommendation rows (:func:`robomill.chatter.slot_model.recommend`), the lobes concatenated
     over ``direction`` (the slots' names)."""
     dmax = cfg["depth_max_mm"] * 1e-3
     per_dir, mc, rows = [], [], []
@@ -218,7 +218,7 @@ def _add_frf(lobes: xr.Dataset, modes: pd.DataFrame, slots: list[Slot]) -> None:
 def _recommendations(rows: list[dict], mc: list[dict], fmed: list[float],
                      safety_fraction: float, slots: list[Slot]) -> pd.DataFrame:
     """The recommendation rows with the mode-coupling cap, the limit and its error, the
-    recommended depth and its margins (the rule of :func:`run_thesis`)."""
+    recommended depth and its margins (the rule of :func:`study_lobes`)."""
     rec = pd.DataFrame(rows)
     # mode coupling does not depend on speed: it caps the depth at every speed
     names = [sl.name for sl in slots]
