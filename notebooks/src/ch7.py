@@ -15,7 +15,7 @@
 # rate, each with an interval from the identified quantities' uncertainty. The waviness has
 # two: the spread between the tracker runs that identified its gear lines (the wall's
 # waviness), and the interval the next tracker run's reading falls in, that spread combined
-# by the tracker's noise at the cut's record (`robomill.plan.noise`). The constraints are
+# with the tracker's noise at the cut's record (`robomill.plan.noise`). The constraints are
 # checked on the pessimistic end of each interval (the waviness' identification interval).
 # Every number below comes from the plan's artefacts.
 
