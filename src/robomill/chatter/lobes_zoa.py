@@ -146,10 +146,10 @@ def zoa_envelope(G: np.ndarray, f_hz: np.ndarray, cut: CuttingModel,
     with np.errstate(divide="ignore", invalid="ignore"):
         inv = 1.0 / np.where(np.abs(lam) > 0, lam, np.nan)
         u, v = inv.real, inv.imag
-        # a real part within rounding of zero (relative to |1/Λ|) is no negative real part of
-        # Λ: no chatter, not a depth of ~1e308 (which no axis or comparison can take)
-        a = np.where(u > EIG_ZERO * np.abs(inv), (u**2 + v**2) / (2 * u), np.inf)
-    a = np.nan_to_num(a, nan=np.inf)
+        a = np.where(u > 0, (u**2 + v**2) / (2 * u), np.inf)
+    # NaN (a zero eigenvalue) is no branch either; +inf stays +inf (np.nan_to_num would make
+    # it the largest float, a finite "depth" of 1.8e308 m that segments then interpolate)
+    a = np.where(np.isnan(a), np.inf, a)
     eps = 2 * np.arctan2(u, v)
     env = np.full((lam.shape[0], n_t.size), np.inf)
     hz = np.full(env.shape, np.nan) if chatter_frequency else None
