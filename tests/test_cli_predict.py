@@ -7,7 +7,7 @@ import shutil
 import pandas as pd
 import pytest
 import yaml
-from conftest import NO_BOOK_PDF, run_snakemake
+from conftest import NO_BOOK_PDF, REPO, run_snakemake
 
 from robomill.cli import main
 from robomill.errors import RawDataError
@@ -71,6 +71,7 @@ def test_the_study_cuts_predicted_as_the_plan_predicts_them(tiny_run, tmp_path):
     """The study's own cuts through the command: the plan's study_cuts.csv row for row."""
     study = tmp_path / "study"
     shutil.copytree(tiny_run, study, symlinks=True)
+    shutil.copy(REPO / ".test" / "plan.yaml", study / "plan.yaml")  # the tiny study's request
     proc = run_snakemake(study, "-j2", "plan", "--config", NO_BOOK_PDF)
     assert proc.returncode == 0, proc.stderr[-4000:]
     manifest = yaml.safe_load((study / "results/ingest/study.yaml").read_text())
