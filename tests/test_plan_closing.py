@@ -312,7 +312,7 @@ def test_the_stability_row_is_judged_on_the_critical_depth():
     """A stable outcome bounds the true a_crit from below by the cut's depth, a chatter outcome
     from above: the row holds where the predicted a_crit interval reaches that side, and it is
     decisive only where the depth lies inside the interval. By hand: a 0.05 mm cut under an
-    a_crit of 6 mm [5, 20] that stayed stable holds but is not decisive (depth/a_crit 1/120); a
+    a_crit of 6 mm [5, +inf] that stayed stable holds but is not decisive (depth/a_crit 1/120); a
     0.5 mm cut under [0.4, 0.9] that chattered holds (0.4 < 0.5) and is decisive, its nominal
     0.6 mm on the wrong side; a 1 mm cut under [1.2, 3] that chattered misses."""
     from robomill.plan.check import check_summary
@@ -320,7 +320,7 @@ def test_the_stability_row_is_judged_on_the_critical_depth():
     pred = pd.DataFrame({
         "cut": ["plan_01", "plan_02", "plan_03"], "depth_mm": [0.05, 0.5, 1.0],
         "a_crit_mm": [6.0, 0.6, 2.0], "a_crit_low_mm": [5.0, 0.4, 1.2],
-        "a_crit_high_mm": [20.0, 0.9, 3.0]})
+        "a_crit_high_mm": [np.inf, 0.9, 3.0]})  # plan_01: no chatter at any depth in reach
     pred["stability_margin"] = pred["a_crit_mm"] / pred["depth_mm"] - 1
     pred["stability_margin_low"] = pred["a_crit_low_mm"] / pred["depth_mm"] - 1
     pred["stability_margin_high"] = pred["a_crit_high_mm"] / pred["depth_mm"] - 1

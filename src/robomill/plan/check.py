@@ -249,7 +249,9 @@ def _stability_row(cut: str, r: pd.Series, outcome: float, source: str) -> dict 
     a = float(r.get("a_crit_mm", np.nan))
     a_lo = float(r.get("a_crit_low_mm", a))
     a_hi = float(r.get("a_crit_high_mm", a))
-    on_depth = np.isfinite(depth) and np.isfinite(a) and np.isfinite(a_lo) and np.isfinite(a_hi)
+    # a critical depth may be +inf (no chatter at any depth: the interval's high end, or the
+    # nominal member's); NaN is no prediction
+    on_depth = bool(np.isfinite(depth) and not np.isnan([a, a_lo, a_hi]).any())
     row = {"cut": cut, "quantity": "stability", "unit": "1", "predicted": p, "low": lo,
            "high": hi, "outcome": outcome, "within_interval": None, "within_tolerance": None,
            "held": None, "source": source, "p_stable": float(r.get("p_stable", np.nan)),
