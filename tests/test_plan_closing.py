@@ -338,3 +338,9 @@ def test_the_stability_row_is_judged_on_the_critical_depth():
     s = check_summary(t.reset_index())
     assert s["n_stability_decisive_oos"] == 1 and s["n_stability_decisive_agree_oos"] == 0
     assert s["median_depth_over_a_crit_oos"] == pytest.approx(0.5)
+    from robomill.pipeline.prose import Prose, load_templates
+
+    text = Prose(load_templates("ch7"), s)("check_decisive")
+    assert "median 0.5 of their predicted critical depth" in text
+    assert "1 of them inside its interval" in text and "for 0 of these" in text
+    assert Prose(load_templates("ch7"), {})("check_decisive").startswith("No out-of-sample")
