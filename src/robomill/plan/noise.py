@@ -45,11 +45,13 @@ combine as the independent errors they are, and the lines' noises as independent
 sum, instead of adding each term's end at its own extreme: the bounds the interval had before
 (each line's Rice β-quantile below, a + σ √(ln(K/β)) above by the union bound over the K
 points, β = (1 − coverage)/(2G) by Bonferroni over the lines, added to the identification
-ends) held every one of 300 planted draws at a nominal 0.95 and were, on the default study's
-planned cuts, a median half-width of 127 % of the prediction, against about 80 % for the
-distribution's own range (``tests/test_plan_waviness_noise.py`` measures both). What stays
-wide is the noise itself: a planned cut at 20–30 mm/s is a record of 1.3–2 s, whose per-bin
-noise σ is comparable to a 1 µm line; :func:`read_interval_um` keeps the bounds (one line).
+ends) held every one of 300 planted draws at a nominal 0.95, where this range holds the
+nominal share and is narrower (``tests/test_plan_waviness_noise.py``). On a default-study plan
+whose planned cuts (20–30 mm/s) carry one gear line each, the bounds gave half-widths of
+91–127 % of the prediction and this range 59–77 % (recomputed from their ``plan.csv`` rows).
+What stays wide is the noise itself: a record of 40 mm at 20–30 mm/s lasts 1.3–2 s, and its
+per-bin noise σ (0.36–0.47 µm) is comparable to a 1 µm line. :func:`read_interval_um` keeps
+the bounds for one line.
 
 Harris 1978: Harris, F. J. On the use of windows for harmonic analysis with the discrete
 Fourier transform. *Proceedings of the IEEE* 66(1), 51–83, 1978.
