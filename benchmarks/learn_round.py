@@ -1,7 +1,8 @@
 """`make learn-round`: a learn round on the default study, as docs/usage.md tells a lab to run
 it, and the narrowing of the production plan's binding interval it measured.
 
-In a working folder: plan with ``purpose: learn`` (``snakemake -j2 plan``), keep its
+In a working folder: plan with ``purpose: learn`` and at most ``LEARN_CUTS`` cuts
+(``snakemake -j2 plan``), keep its
 ``binding.csv`` (the production plan's binding interval before), cut the learn cuts on the
 virtual cell (``snakemake -j2 all --configfile results/plan/next/config.yaml``), keep their raw
 folder, then plan with ``purpose: production`` from the larger study (``data.raw_dirs``: the
@@ -26,9 +27,16 @@ def _snakemake(work: Path, target: str, *configfiles: Path) -> None:
     snakemake(work, target, ["config.yaml", *configfiles])
 
 
+LEARN_CUTS = 4
+"""A learn round is at most this many cuts (the default request's ``n_cuts`` is the production
+plan's)."""
+
+
 def _request(work: Path, purpose: str) -> None:
     req = yaml.safe_load((REPO / "plan.yaml").read_text())
     req["purpose"] = purpose
+    if purpose == "learn":
+        req["n_cuts"] = min(int(req["n_cuts"]), LEARN_CUTS)
     (work / "plan.yaml").write_text(yaml.safe_dump(req, sort_keys=False))
 
 

@@ -168,3 +168,16 @@ def test_one_zero_order_routine_serves_one_tool_and_the_planners_batches():
     # the same speeds in ascending order give the same depths, reversed
     a_up, _ = zoa_lobes(tool, cut, rpm[::-1], f_hz=f)
     np.testing.assert_array_equal(a_up[::-1][ok], a[ok])
+
+
+def test_no_negative_real_part_is_no_chatter_not_the_largest_float():
+    """W̄G with the eigenvalue Λ = −1e-7 i and 0 (by construction G = W̄⁻¹ diag(Λ, 0)): 1/Λ
+    has no real part, so no branch reaches any speed: +inf at every speed, not the largest
+    float (1.8e308 m, which a learn round's chapter 4 could not draw)."""
+    from robomill.chatter.lobes_zoa import zoa_envelope
+
+    cut = CuttingModel.from_immersion(2, 6e8, 0.3, 1.0, "down")
+    G = np.linalg.solve(cut.mean_matrix(), np.diag([-1e-7j, 0.0]))[None, None]  # (1,1,2,2)
+    a = zoa_envelope(np.repeat(G, 2, axis=1), np.array([500.0, 501.0]), cut,
+                     np.array([3000.0, 6000.0]))
+    assert np.isposinf(a).all()

@@ -39,5 +39,8 @@ def test_the_plan_builds_chapter_7(study):
     for ref in ("Figure 7.1 sets", "Figure 7.2 maps", "Table 7.1 lists", "Table 7.3 sets"):
         assert ref in page
     assert "being drawn" not in page
-    # the Pareto front, the pose map and the best cut's path over station x rotation
-    assert len(list((study / "results/figures/ch7").glob("*.png"))) == 3
+    # the Pareto front, p_stable over speed x depth before and after the verdicts, the pose
+    # map, the best cut's path over station x rotation, and the program's moves and joints
+    assert sorted(p.name for p in (study / "results/figures/ch7").glob("*.png")) == [
+        "fig7_1_pareto.png", "fig7_2_p_stable.png", "fig7_3_pose_map.png", "fig7_4_path.png",
+        "fig7_5_program_path.png", "fig7_6_program_joints.png"]

@@ -306,3 +306,41 @@ def test_brier_score_and_sharpness_by_hand():
     assert s["n_brier"] == 2
     assert s["sharpness_force_percent"] == pytest.approx(10.0)
     assert s["sharpness_force_oos_percent"] == pytest.approx(10.0)
+
+
+def test_the_stability_row_is_judged_on_the_critical_depth():
+    """A stable outcome bounds the true a_crit from below by the cut's depth, a chatter outcome
+    from above: the row holds where the predicted a_crit interval reaches that side, and it is
+    decisive only where the depth lies inside the interval. By hand: a 0.05 mm cut under an
+    a_crit of 6 mm [5, +inf] that stayed stable holds but is not decisive (depth/a_crit 1/120); a
+    0.5 mm cut under [0.4, 0.9] that chattered holds (0.4 < 0.5) and is decisive, its nominal
+    0.6 mm on the wrong side; a 1 mm cut under [1.2, 3] that chattered misses."""
+    from robomill.plan.check import check_summary
+
+    pred = pd.DataFrame({
+        "cut": ["plan_01", "plan_02", "plan_03"], "depth_mm": [0.05, 0.5, 1.0],
+        "a_crit_mm": [6.0, 0.6, 2.0], "a_crit_low_mm": [5.0, 0.4, 1.2],
+        "a_crit_high_mm": [np.inf, 0.9, 3.0]})  # plan_01: no chatter at any depth in reach
+    pred["stability_margin"] = pred["a_crit_mm"] / pred["depth_mm"] - 1
+    pred["stability_margin_low"] = pred["a_crit_low_mm"] / pred["depth_mm"] - 1
+    pred["stability_margin_high"] = pred["a_crit_high_mm"] / pred["depth_mm"] - 1
+    verdicts = pd.DataFrame({"cut": ["plan_01", "plan_02", "plan_03"],
+                             "verdict": ["stable", "chatter", "chatter"],
+                             "chatter_hz": [np.nan, 900.0, 900.0], "source": ["a", "b", "c"],
+                             "evidence": ["", "", ""]})
+    t = check_table(pred, planned_run=RunOutcomes(NEXT, verdicts=verdicts))
+    t = t.set_index("cut")
+    assert t.loc["plan_01", "held"] and not t.loc["plan_01", "decisive"]
+    assert t.loc["plan_01", "depth_over_a_crit"] == pytest.approx(0.05 / 6.0)
+    assert t.loc["plan_02", "held"] and t.loc["plan_02", "decisive"]
+    assert not t.loc["plan_02", "within_tolerance"]
+    assert not t.loc["plan_03", "held"] and not t.loc["plan_03", "decisive"]
+    s = check_summary(t.reset_index())
+    assert s["n_stability_decisive_oos"] == 1 and s["n_stability_decisive_agree_oos"] == 0
+    assert s["median_depth_over_a_crit_oos"] == pytest.approx(0.5)
+    from robomill.pipeline.prose import Prose, load_templates
+
+    text = Prose(load_templates("ch7"), s)("check_decisive")
+    assert "median 0.5 of their predicted critical depth" in text
+    assert "1 of them inside its interval" in text and "for 0 of these" in text
+    assert Prose(load_templates("ch7"), {})("check_decisive").startswith("No out-of-sample")

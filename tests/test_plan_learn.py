@@ -53,6 +53,8 @@ def test_learn_pair_straddles_the_planted_stability_limit():
     below, above = d.iloc[0], d.iloc[1]
     assert below["spindle_rpm"] == above["spindle_rpm"]
     assert below["depth_mm"] < above["depth_mm"]
+    # below the interval's low end (stable at its level), above the nominal limit
+    assert below["depth_mm"] <= below["a_crit_low_mm"] < below["a_crit_mm"] < above["depth_mm"]
     # the truth: the planted mode's lobes by the package's single-tool solver
     cut = CuttingModel(2, KTC * 1e6, KRC / KTC, 0.0, np.pi)
     a_true, _ = zoa_lobes(tool_from_modes([PLANTED]), cut, np.array([below["spindle_rpm"]]))

@@ -3,7 +3,8 @@ by hand: white noise of known standard deviation s per sample gives a per-bin no
 σ = s √(6/N) in the Hann-windowed, coherent-gain corrected spectrum of N samples; the floor
 estimated from a band beside a line recovers it, scales as 1/√(record duration) through the
 tracker's resampling, and the interval built from it covers the read amplitude of planted
-lines in at least the nominal fraction of seeded Monte-Carlo draws."""
+lines in the nominal fraction of seeded Monte-Carlo draws (the distribution's own range,
+sharper than the bounds, which held every draw)."""
 
 import numpy as np
 import pandas as pd
@@ -13,8 +14,10 @@ from conftest import default_cell_posture
 from robomill.plan.measured import spectrum_amplitude_um, waviness_um
 from robomill.plan.noise import (
     READ_POINTS,
+    hann_response,
     noise_floor_um,
     read_interval_um,
+    read_sum_interval_um,
     rice_quantile_um,
     run_duration_s,
 )
@@ -146,10 +149,50 @@ def test_the_interval_covers_the_read_in_the_nominal_fraction(draws):
     assert ((total >= a.sum()) & (total <= a.sum())).mean() < 0.05
 
 
+def test_the_read_sum_interval_is_calibrated_and_sharper_than_the_bounds(draws):
+    """The Monte Carlo interval of the sum of the reads (the lines' exact amplitudes, the hand
+    σ and the one estimated on another run) against the same 300 planted draws read by the
+    outcome's own code: the count inside lies in the central 99 % binomial range of the
+    nominal 0.95 (275–294 of 300: mean 285, sd 3.8), and the interval is narrower than the bounds
+    (Rice/union/Bonferroni), which hold every draw."""
+    from scipy.stats import binom
+
+    n = draws.sizes["run"]
+    total = np.array([sum(spectrum_amplitude_um(draws, f"r{k}", "lateral", f)
+                          for _, f in LINES.values()) for k in range(n)])
+    a = np.array([v[0] for v in LINES.values()])
+    k_lo, k_hi = binom.ppf([0.005, 0.995], n, COVERAGE)
+    assert (k_lo, k_hi) == (275, 294)
+    beta = (1 - COVERAGE) / (2 * len(LINES))
+    for sigma in (SIGMA_UM, noise_floor_um(draws, "r0", 2.2049 + 9 / L_MM)):
+        lo, hi = read_sum_interval_um(a, a, a, np.full(3, sigma), coverage=COVERAGE,
+                                      level=COVERAGE)
+        inside = int(((total >= lo) & (total <= hi)).sum())
+        assert k_lo <= inside <= k_hi
+        b_lo, b_hi = read_interval_um(a, a, sigma, beta)
+        assert ((total >= b_lo.sum()) & (total <= b_hi.sum())).all()
+        assert hi - lo < 0.8 * (b_hi.sum() - b_lo.sum())
+
+
+def test_the_read_sum_interval_by_hand_limits():
+    """Without noise the sum of split normals: one line of 1 µm with the interval 0.8-1.4 at
+    the 95 % level is its own interval; with a strong line (ν = 50 σ) and an exact amplitude
+    the read is Gaussian about ν with σ/√2 (in phase), its largest over the window adding a
+    little: the range lies within [ν ± 1.96 σ/√2] widened by 10 %; the Hann window's response
+    by hand: 1 at the line, 0.5 one bin off, 0 two bins off."""
+    lo, hi = read_sum_interval_um([1.0], [0.8], [1.4], [np.nan], coverage=0.95, level=0.95)
+    assert (lo, hi) == (pytest.approx(0.8, abs=0.01), pytest.approx(1.4, abs=0.02))
+    sig = 0.02
+    lo, hi = read_sum_interval_um([1.0], [1.0], [1.0], [sig], coverage=0.95, level=0.95)
+    half = 1.959964 * sig / np.sqrt(2)
+    assert 1.0 - 1.1 * half < lo < 1.0 and 1.0 < hi < 1.0 + 1.1 * half + 0.1 * sig
+    assert np.abs(hann_response([0.0, 1.0, 2.0])) == pytest.approx([1.0, 0.5, 0.0], abs=1e-9)
+
+
 def test_waviness_read_interval_scales_with_the_feed():
     """The prediction at a pose: nominal and identification ends unchanged by the feeds;
-    the noise per bin ρ √(v/L) exactly, and the read interval contains the identification
-    interval and widens with the feed."""
+    the noise per bin ρ √(v/L) exactly, and the read interval is the Monte Carlo range of the
+    two lines' reads by hand (their amplitudes through the Jacobian), widening with the feed."""
     rb, q = default_cell_posture([700.0, 0.0, 200.0])
     gears = pd.DataFrame({"joint": [2, 3], "stage": ["motor", "motor"], "order": ["mesh"] * 2,
                           "dq_urad": [10.0, 8.0], "dq_low_urad": [9.0, 7.0],
@@ -158,18 +201,22 @@ def test_waviness_read_interval_scales_with_the_feed():
     n = np.array([0.0, 1.0, 0.0])
     feeds = np.array([1.0, 4.0, 16.0])
     plain = waviness_um(rb, q[0], n, gears)
-    w = waviness_um(rb, q[0], n, gears, length_mm=40.0, feed_mm_s=feeds, coverage=0.9)
+    w = waviness_um(rb, q[0], n, gears, length_mm=40.0, feed_mm_s=feeds, coverage=0.9,
+                    level=0.95)
     for k in ("nominal", "low", "high"):
         assert w[k] == plain[k]
     assert w["noise"] == pytest.approx(0.5 * np.sqrt(feeds / 40.0), rel=1e-12)
-    assert np.all(w["read_low"] <= plain["low"]) and np.all(w["read_high"] >= plain["high"])
-    assert np.all(np.diff(w["read_high"]) > 0) and np.all(np.diff(w["read_low"]) <= 0)
-    # the high end by hand: Σ a_high + σ_e √(ln(K/β)), β = 0.1/(2·2)
+    # wider with the feed (these lines are near the noise: the read's low end rises too)
+    assert np.all(np.diff(w["read_high"]) > 0)
+    assert np.all(np.diff(w["read_high"] - w["read_low"]) > 0)
     J = np.asarray(rb.jacobian(q[0]))[:3] * 1e3                  # µm/rad
-    a_hi = np.array([11.0, 9.0]) * 1e-6 * np.abs(n @ J[:, [1, 2]])
-    sig = np.array([0.4, 0.5])[:, None] * np.sqrt(feeds / 40.0)
-    hand = a_hi.sum() + (sig * np.sqrt(np.log(READ_POINTS / 0.025))).sum(0)
-    assert w["read_high"] == pytest.approx(hand, rel=1e-9)
+    s = np.abs(n @ J[:, [1, 2]])
+    sig = np.array([0.4, 0.5])[None, :] * np.sqrt(feeds / 40.0)[:, None]
+    hand = read_sum_interval_um(np.array([10.0, 8.0]) * 1e-6 * s,
+                                np.array([9.0, 7.0]) * 1e-6 * s,
+                                np.array([11.0, 9.0]) * 1e-6 * s, sig, coverage=0.9, level=0.95)
+    assert w["read_low"] == pytest.approx(hand[0], rel=1e-9)
+    assert w["read_high"] == pytest.approx(hand[1], rel=1e-9)
 
 
 def test_the_chapter_states_the_waviness_check_from_the_summary():

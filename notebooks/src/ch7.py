@@ -14,8 +14,8 @@
 # gear lines carried through the Jacobian to the new pose), force, feed marks and removal
 # rate, each with an interval from the identified quantities' uncertainty. The waviness has
 # two: the spread between the tracker runs that identified its gear lines (the wall's
-# waviness), and the interval the next tracker run's reading falls in, that spread widened
-# by the tracker's noise at the cut's record (`robomill.plan.noise`). The constraints are
+# waviness), and the interval the next tracker run's reading falls in, that spread combined
+# with the tracker's noise at the cut's record (`robomill.plan.noise`). The constraints are
 # checked on the pessimistic end of each interval (the waviness' identification interval).
 # Every number below comes from the plan's artefacts.
 
@@ -325,12 +325,16 @@ display(Markdown(Prose(load_templates("ch7", templates), comparison_values(cmp_)
 # verdicts (else its force spectrum), force from its dynamometer's means, deflection from the
 # loaded minus the air tracker path, waviness from its loaded tracker runs. A `stability` row
 # gives the predicted margin a_crit/a − 1 with its interval, the probability of a stable cut
-# `p_stable` and the outcome 1 (stable) or 0 (chatter); `held` says whether the outcome fell
-# inside the stated interval, `in_sample` whether its data identified a model the prediction
-# rests on.
+# `p_stable` and the outcome 1 (stable) or 0 (chatter), judged on the critical depth: the
+# outcome says on which side of the true a_crit the cut's depth lies, and the row holds where
+# the predicted a_crit interval reaches that side (`decisive`: the depth inside that interval,
+# so that the outcome tests the critical depth, not only the sign of the margin); `held` says
+# whether the outcome fell inside the stated interval, `in_sample` whether its data identified
+# a model the prediction rests on.
 
 # %%
-display(Markdown(say("check_stability_plan", "check_stability_study", "check_deflection",
+display(Markdown(say("check_stability_plan", "check_stability_study", "check_decisive",
+                     "check_deflection",
                      "check_force", "check_waviness")))
 display(Markdown(Prose(load_templates("ch7", templates),
                        {**summary, "coverage_case": coverage_case(summary)})(

@@ -147,7 +147,9 @@ def zoa_envelope(G: np.ndarray, f_hz: np.ndarray, cut: CuttingModel,
         inv = 1.0 / np.where(np.abs(lam) > 0, lam, np.nan)
         u, v = inv.real, inv.imag
         a = np.where(u > 0, (u**2 + v**2) / (2 * u), np.inf)
-    a = np.nan_to_num(a, nan=np.inf)
+    # NaN (a zero eigenvalue) is no branch either; +inf stays +inf (np.nan_to_num would make
+    # it the largest float, a finite "depth" of 1.8e308 m that segments then interpolate)
+    a = np.where(np.isnan(a), np.inf, a)
     eps = 2 * np.arctan2(u, v)
     env = np.full((lam.shape[0], n_t.size), np.inf)
     hz = np.full(env.shape, np.nan) if chatter_frequency else None

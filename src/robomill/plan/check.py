@@ -25,9 +25,16 @@ outcome is undetermined (a chatter verdict ``undetermined``).
 
 Encoding of the ``stability`` rows (unit ``1``): ``predicted``, ``low``, ``high`` are the
 stability margin a_crit/a − 1 and its interval (> 0 predicts stable); ``outcome`` is 1 when
-the cut was stable, 0 when it chattered, NaN when undetermined. ``within_interval``: the
-interval admits the outcome (stable needs ``high`` > 0, chatter ``low`` < 0);
-``within_tolerance``: the nominal verdict (``predicted`` > 0) is the outcome; ``p_stable``
+the cut was stable, 0 when it chattered, NaN when undetermined. The row is judged on the
+critical depth: the outcome says on which side of the true a_crit the cut's depth a
+(``depth_mm``) lies — stable: a_crit > a, chatter: a_crit < a — and ``within_interval``
+says whether the predicted interval [``a_crit_low_mm``, ``a_crit_high_mm``] reaches that
+side (stable needs a_crit_high > a, chatter a_crit_low < a; without a critical depth, the
+margin's ``high`` > 0 and ``low`` < 0); ``within_tolerance``: the nominal a_crit
+(``a_crit_mm``) lies on the outcome's side. ``depth_over_a_crit`` is a / a_crit (nominal)
+and ``decisive`` says whether the depth lies inside the a_crit interval, where the interval
+leaves the verdict open and the outcome tests the critical depth itself (a cut at 1/100 of
+a_crit confirms only the sign: :func:`decisive_summary`). ``p_stable``
 the predicted probability of a stable cut (:mod:`robomill.plan.stability`), scored against
 the outcome by the Brier score [Brier 1950] B = mean (p − o)² over every judged cut
 (:func:`brier_score`; 0 perfect, 0.25 a coin).
@@ -62,7 +69,8 @@ from robomill.settings import schema_default
 
 CHECK_COLUMNS = ["cut", "quantity", "unit", "predicted", "low", "high", "outcome",
                  "within_interval", "within_tolerance", "held", "in_sample", "source",
-                 "p_stable"]
+                 "p_stable", "depth_mm", "a_crit_mm", "a_crit_low_mm", "a_crit_high_mm",
+                 "depth_over_a_crit", "decisive"]
 
 
 def force_outcomes(mean_forces: pd.DataFrame) -> pd.Series:
@@ -221,20 +229,44 @@ def spectrum_stability(force_peaks: pd.DataFrame, mean_forces: pd.DataFrame,
     return (line[common] / F[common] <= chatter_fraction_of_mean).astype(float)
 
 
+def stability_judgement(a_crit_low_mm: float, a_crit_high_mm: float, depth_mm: float,
+                        stable: bool) -> bool:
+    """Whether the critical depth's interval reaches the outcome's side of the cut's depth:
+    a stable cut bounds the true a_crit from below (a_crit > a), so the interval holds where
+    its high end exceeds a; a chattering cut bounds it from above (a_crit < a), so its low
+    end must lie below a."""
+    return bool(a_crit_high_mm > depth_mm if stable else a_crit_low_mm < depth_mm)
+
+
 def _stability_row(cut: str, r: pd.Series, outcome: float, source: str) -> dict | None:
     p = float(r.get("stability_margin", np.nan))
     if not np.isfinite(p):
         return None
     lo = float(r.get("stability_margin_low", p))
     hi = float(r.get("stability_margin_high", p))
+    depth = float(r.get("depth_mm", np.nan))
+    a = float(r.get("a_crit_mm", np.nan))
+    a_lo = float(r.get("a_crit_low_mm", a))
+    a_hi = float(r.get("a_crit_high_mm", a))
+    # a critical depth may be +inf (no chatter at any depth: the interval's high end, or the
+    # nominal member's); NaN is no prediction
+    on_depth = bool(np.isfinite(depth) and not np.isnan([a, a_lo, a_hi]).any())
     row = {"cut": cut, "quantity": "stability", "unit": "1", "predicted": p, "low": lo,
            "high": hi, "outcome": outcome, "within_interval": None, "within_tolerance": None,
-           "held": None, "source": source, "p_stable": float(r.get("p_stable", np.nan))}
+           "held": None, "source": source, "p_stable": float(r.get("p_stable", np.nan)),
+           "depth_mm": depth, "a_crit_mm": a, "a_crit_low_mm": a_lo, "a_crit_high_mm": a_hi,
+           "depth_over_a_crit": depth / a if on_depth and a > 0 else np.nan,
+           "decisive": bool(a_lo <= depth <= a_hi) if on_depth else None}
     if np.isfinite(outcome):
         stable = outcome >= 0.5
-        inside = stated_verdict_held(lo, hi, stable)
+        if on_depth:
+            inside = stability_judgement(a_lo, a_hi, depth, stable)
+            nominal = bool((a > depth) == stable)
+        else:
+            inside = stated_verdict_held(lo, hi, stable)
+            nominal = bool((p > 0) == stable)
         row.update({"outcome": float(stable), "within_interval": inside,
-                    "within_tolerance": bool((p > 0) == stable), "held": inside})
+                    "within_tolerance": nominal, "held": inside})
     return row
 
 
@@ -348,7 +380,7 @@ def check_table(predicted: pd.DataFrame, *, study: RunOutcomes | None = None,
                 break
     table = pd.DataFrame(rows, columns=CHECK_COLUMNS)
     table["in_sample"] = in_sample(table["cut"], identified_cuts)
-    for col in ("within_interval", "within_tolerance", "held"):
+    for col in ("within_interval", "within_tolerance", "held", "decisive"):
         table[col] = table[col].astype("boolean")
     return table
 
@@ -386,6 +418,31 @@ def check_summary(check: pd.DataFrame, tolerance: float = 0.25,
     out["brier_score"], n = brier_score(check)
     out["n_brier"] = float(n)
     out.update(sharpness(check))
+    out.update(decisive_summary(check))
+    return out
+
+
+def decisive_summary(check: pd.DataFrame) -> dict[str, float]:
+    """How hard the stability rows tested the critical depth, over the judged stability rows
+    out of sample (``_oos``) and in sample (``_in``): ``n_stability_decisive<s>``, those cut
+    at a depth inside the predicted a_crit interval (where the outcome bounds a_crit inside
+    the interval rather than confirming a verdict the interval had already made),
+    ``n_stability_decisive_agree<s>`` those of them whose nominal a_crit lay on the outcome's
+    side, and ``median_depth_over_a_crit<s>`` the median depth over the nominal critical
+    depth (≪ 1: the rows test only the sign of the margin)."""
+    out: dict[str, float] = {}
+    if "decisive" not in check:
+        return out
+    s = check[(check["quantity"] == "stability") & check["outcome"].astype(float).notna()]
+    flag = s["in_sample"].astype("boolean").fillna(False).astype(bool)
+    for suffix, rows in (("_oos", s[~flag]), ("_in", s[flag])):
+        dec = rows["decisive"].astype("boolean").fillna(False).astype(bool)
+        agree = rows["within_tolerance"].astype("boolean").fillna(False).astype(bool)
+        ratio = rows["depth_over_a_crit"].astype(float)
+        out[f"n_stability_decisive{suffix}"] = float(dec.sum())
+        out[f"n_stability_decisive_agree{suffix}"] = float((dec & agree).sum())
+        out[f"median_depth_over_a_crit{suffix}"] = (
+            float(ratio[np.isfinite(ratio)].median()) if np.isfinite(ratio).any() else np.nan)
     return out
 
 

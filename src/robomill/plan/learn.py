@@ -4,10 +4,12 @@ narrowing of the interval it aims at.
 
 * **Straddle the stability limit where it is least certain**: at the reachable pose and speed
   whose critical-depth interval is widest relative to its nominal (the limit inside the
-  request's depths), one cut at the largest requested depth below the nominal limit and one at
-  the smallest above it (a parallel slot two tool diameters beside the first, on its own
-  material; the pose moves by that much). Their verdicts (stable, chatter) bracket the true
-  limit between the two depths: expected narrowing 1 − (d_above − d_below)/(a_high − a_low).
+  request's depths), one cut at the largest requested depth below the interval's low end (a
+  stable verdict at the interval's level; below the nominal limit where no depth is that low)
+  and one at the smallest above the nominal limit (a parallel slot two tool diameters beside
+  the first, on its own material; the pose moves by that much). Their verdicts (stable,
+  chatter) bracket the true limit between the two depths: expected narrowing
+  1 − (d_above − d_below)/(a_high − a_low).
 * **The farthest pose**: the reachable placement farthest from the study's cuts, at a depth
   the pessimistic margin still calls stable where one is; when the pose is extrapolated
   (farther than ``extrapolation.max_pose_distance_mm``) it removes the widening factor w:
@@ -97,7 +99,12 @@ def straddle(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray,
             break
         if (pos[0], pos[3]) in skip:
             continue
-        i_lo = int(np.flatnonzero(depths <= a[pos]).max())
+        # below: the largest depth under the interval's low end, stable at the interval's
+        # level (else the largest under the nominal limit); above: the smallest over the
+        # nominal limit. Below the nominal alone, a member share of 0.17 chatters: on the
+        # default study both cuts of a round at 10 000 rpm chattered (0.3 mm, p_stable 0.83)
+        safe = np.flatnonzero(depths <= lo[pos])
+        i_lo = int(safe.max() if safe.size else np.flatnonzero(depths <= a[pos]).max())
         i_hi = int(np.flatnonzero(depths > a[pos]).min())
         feeds = np.flatnonzero(allowed.values[pos + (i_lo,)] & allowed.values[pos + (i_hi,)])
         if feeds.size == 0:

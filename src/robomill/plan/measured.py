@@ -18,7 +18,12 @@ from scipy import stats
 from robomill.forces import CuttingCoefficients
 from robomill.forces.coefficients import identification_status, not_identified_sentence
 from robomill.kinematics import SerialRobot
-from robomill.plan.noise import noise_floor_um, read_interval_um, record_duration_s, run_duration_s
+from robomill.plan.noise import (
+    noise_floor_um,
+    read_sum_interval_um,
+    record_duration_s,
+    run_duration_s,
+)
 from robomill.settings import schema_default
 from robomill.stiffness import jacobian_m
 from robomill.straightness import perpendicular_axes
@@ -249,7 +254,8 @@ def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
                 gears: pd.DataFrame, *, direction: np.ndarray | None = None,
                 length_mm: float | None = None, orders: Mapping | None = None,
                 min_cycles: float = 4.5, feed_mm_s: np.ndarray | None = None,
-                coverage: float = schema_default("plan.waviness_noise", "coverage")
+                coverage: float = schema_default("plan.waviness_noise", "coverage"),
+                level: float = schema_default("plan", "interval_level")
                 ) -> dict[str, np.ndarray]:
     """Path waviness normal to the wall at postures ``q_rad`` ``(..., n)``: each gear element's
     joint amplitude carried through the Jacobian, A = δq_j |nᵀ J_v[:, j](q)|, summed over the
@@ -270,10 +276,10 @@ def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
     With the feeds ``feed_mm_s`` ``(V,)`` and the elements' ``noise_um_sqrt_s`` (the tracker's
     noise level, :func:`gear_joint_amplitudes`), also the interval of the amplitude the next
     tracker run along the cut reads, ``read_low``/``read_high`` ``(..., V)``: per counted
-    element the noise per bin σ_e = ρ_e / √(L/v) of a record of duration L/v, and the line's
-    interval widened by it at β = (1 − ``coverage``)/(2G), G the counted elements
-    (:func:`robomill.plan.noise.read_interval_um`; Bonferroni over the lines: the sum of the
-    reads lies outside the sum of the lines' intervals with probability ≤ 1 − coverage);
+    element the noise per bin σ_e = ρ_e / √(L/v) of a record of duration L/v, and the central
+    ``coverage`` range of the sum of the lines' reads, each line's amplitude drawn from its
+    identification interval (at the two-sided ``level``) and read through the window with that
+    noise (:func:`robomill.plan.noise.read_sum_interval_um`);
     ``noise`` the largest σ_e over the counted elements (NaN where none counts or no level
     is known).
 
@@ -313,27 +319,25 @@ def waviness_um(robot: SerialRobot, q_rad: np.ndarray, normal: np.ndarray,
     if feed_mm_s is not None and length_mm is not None and "noise_um_sqrt_s" in gears:
         out.update(_read_interval(terms, counted, gears["noise_um_sqrt_s"].to_numpy(float),
                                   record_duration_s(length_mm, np.atleast_1d(feed_mm_s)),
-                                  s.shape[:-1], coverage))
+                                  s.shape[:-1], coverage, level))
     return out
 
 
-def _read_interval(terms, counted, rho, duration_s, shape, coverage):
+def _read_interval(terms, counted, rho, duration_s, shape, coverage, level):
     """``read_low``, ``read_high``, ``noise`` ``(*shape, V)`` of :func:`waviness_um`."""
     V = duration_s.size
     lo, hi = np.zeros(shape + (V,)), np.zeros(shape + (V,))
     noise = np.full(shape + (V,), np.nan)
     if not counted:
         return {"read_low": lo, "read_high": hi, "noise": noise}
-    n_lines = np.sum(counted, axis=0)[..., None]                             # G (..., 1)
-    beta = (1.0 - float(coverage)) / (2.0 * np.maximum(n_lines, 1))
-    for e, count in enumerate(counted):
-        sigma = rho[e] / np.sqrt(duration_s)                                 # (V,)
-        sig = np.where(count[..., None], sigma, np.nan)
-        lo_e, hi_e = read_interval_um(terms["low"][e][..., None], terms["high"][e][..., None],
-                                      sig, beta)
-        lo = lo + np.where(count[..., None], lo_e, 0.0)
-        hi = hi + np.where(count[..., None], hi_e, 0.0)
-        noise = np.fmax(noise, sig)
+    cnt = np.stack(counted, -1)[..., None, :]                               # (..., 1, G)
+    sigma = rho[None, :] / np.sqrt(duration_s)[:, None]                     # (V, G)
+    sig = np.where(cnt, sigma, np.nan)                                      # (..., V, G)
+    line = {k: np.where(cnt, np.stack(terms[k], -1)[..., None, :], 0.0)
+            for k in ("nominal", "low", "high")}
+    lo, hi = read_sum_interval_um(line["nominal"], line["low"], line["high"], sig,
+                                  coverage=coverage, level=level)
+    noise = np.fmax.reduce(np.where(np.isfinite(sig), sig, np.nan), axis=-1)
     return {"read_low": lo, "read_high": hi, "noise": noise}
 
 

@@ -294,7 +294,7 @@ def predict_grid(req: PlanRequest, measured: Measured, cell: Cell, *,
         w = waviness_um(cell.robot, q, n_vec, measured.gears, direction=u_vec,
                         length_mm=req.length_mm, orders=cell.gear_orders,
                         feed_mm_s=req.feed_mm_s, coverage=measured.waviness_coverage,
-                        min_cycles=measured.waviness_min_cycles)
+                        level=measured.level, min_cycles=measured.waviness_min_cycles)
         w.setdefault("read_low", w["low"][..., None] + np.zeros(V))
         w.setdefault("read_high", w["high"][..., None] + np.zeros(V))
         wav.update({k: np.where(ok if v.ndim == 3 else ok[..., None], v, np.nan)
