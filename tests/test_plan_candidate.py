@@ -128,6 +128,10 @@ def test_the_candidate_takes_the_process_resolved_in_the_study_file(tmp_path):
     c = study_candidate(edited.cut("q.1"), edited.experiment)
     assert (c.spindle_rpm, c.flutes) == (11111.0, 4)
     assert study_candidate(study.cut("q.1"), study.experiment).spindle_rpm == 10000.0
+    # a listed cut no ingestion resolved (robomill predict's cut list): resolved once, as
+    # the ingestion rule resolves the study's
+    assert study_candidate(study.cut("q.1").cut, study.experiment) == \
+        study_candidate(study.cut("q.1"), study.experiment)
     a7 = study_candidate(edited.cut("A7"), edited.experiment)
     assert (a7.id, a7.spindle_rpm, a7.direction_deg, a7.length_mm) == ("A7", 9000.0, 45.0,
                                                                        20.0)
