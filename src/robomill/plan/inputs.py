@@ -61,7 +61,7 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
     from robomill.io.cell import read_cell
     from robomill.plan.check import waviness_min_cycles
     from robomill.plan.evidence import read_verdicts, verdict_stability
-    from robomill.plan.extrapolation import reach_from_means
+    from robomill.plan.extrapolation import axes_not_measured, reach_from_means
     from robomill.plan.measured import Measured, cut_mid_poses, gear_joint_amplitudes
     from robomill.plan.outputs import cell_of
     from robomill.plan.request import read_request
@@ -107,7 +107,9 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
     if paths.get("modal_fit"):
         with xr.open_dataset(paths["modal_fit"]) as fit:
             band = [float(b) for b in np.atleast_1d(fit.attrs.get("band_hz", []))] or None
-    reach = reach_from_means(table("means"), experiment, mids, band)
+    # the axes the impact test did not measure: empty shape columns of modes.csv
+    reach = reach_from_means(table("means"), experiment, mids, band,
+                             axes_not_measured(measured.modes))
     slots = ([np.asarray(cut_endpoints_mm(c, experiment), float) for c in cuts] if placed
              else None)
     stability = None
