@@ -14,7 +14,6 @@ from robomill.plan.make import make_plan
 from robomill.plan.outputs import compact
 from robomill.plan.program import program_cell, write_program
 from robomill.plan.workobject import BASE
-from robomill.study import read_study
 
 log = setup(snakemake.log[0], "plan")
 inp, out, p = snakemake.input, snakemake.output, snakemake.params
@@ -29,7 +28,7 @@ for note in loaded.notes:
 req, measured, cell = loaded.req, loaded.measured, loaded.cell
 # the study's cuts with the process the ingestion rule resolved (robomill.study), each
 # predicted as a planning candidate (robomill.plan.candidate)
-cuts = read_study(paths["study"]).cuts
+cuts = loaded.study_cuts
 experiment, cell_file = loaded.experiment, loaded.cell_file
 log.info("study reach: %s", loaded.reach)
 # an earlier plan's binding interval (config plan.binding_before): the narrowing is measured

@@ -15,13 +15,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from robomill.experiment import Cut, cut_endpoints_mm, cut_redundancy_deg
 from robomill.plan.request import PlanRequest
-from robomill.study import StudyCut, study_cut
+
+if TYPE_CHECKING:  # robomill.study reads the manifest: imported where a cut needs resolving
+    from robomill.study import StudyCut
 
 MILLING = ("slot", "up", "down")
 """The engagements the planner's force and stability models know."""
@@ -79,7 +81,12 @@ def study_candidate(cut: StudyCut | Cut, experiment: Mapping[str, Any]) -> Candi
     ValueError
         One line naming the cut when the study gives no spindle speed or flutes for it.
     """
-    sc = cut if isinstance(cut, StudyCut) else study_cut(cut, experiment)
+    if isinstance(cut, Cut):  # a cut no ingestion saw (robomill predict's list)
+        from robomill.study import study_cut
+
+        sc = study_cut(cut, experiment)
+    else:
+        sc = cut
     if sc.spindle_rpm is None or sc.flutes is None:
         raise ValueError(f"cut {sc.id}: no spindle_rpm or flutes (neither the cut's nor the "
                          "experiment's): the planner cannot predict it")

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -27,7 +27,9 @@ from robomill.plan.predict import (
 )
 from robomill.plan.request import PlanRequest
 from robomill.plan.stability import VerdictEvidence
-from robomill.study import StudyCut
+
+if TYPE_CHECKING:  # robomill.study reads the manifest: typing only
+    from robomill.study import StudyCut
 
 PREDICTED = ["stability_margin", "stability_margin_low", "stability_margin_high",
              "deflection_normal_um", "deflection_normal_low_um", "deflection_normal_high_um",

@@ -32,8 +32,8 @@ def predict_table(inputs, cuts: list) -> pd.DataFrame:
     from robomill.plan.compare import predict_study_cut
     from robomill.plan.make import verdict_conditioned
 
-    measured = verdict_conditioned(inputs.measured, inputs.req, inputs.cell, inputs.cuts,
-                                   inputs.experiment, inputs.stability)[0]
+    measured = verdict_conditioned(inputs.measured, inputs.req, inputs.cell,
+                                   inputs.study_cuts, inputs.experiment, inputs.stability)[0]
     rows = [predict_study_cut(cut, inputs.experiment, inputs.req, measured, inputs.cell,
                               inputs.reach) for cut in cuts]
     t = pd.DataFrame(rows)

@@ -49,6 +49,9 @@ class PlanInputs:
     stability: pd.Series | None
     slots: list | None
     notes: list[str] = field(default_factory=list)
+    study_cuts: list = field(default_factory=list)
+    """The study's cuts with the process the ingestion rule resolved
+    (:class:`robomill.study.StudyCut`): the candidates of the study's own cuts."""
 
 
 def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
@@ -65,7 +68,7 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
     from robomill.plan.measured import Measured, cut_mid_poses, gear_joint_amplitudes
     from robomill.plan.outputs import cell_of
     from robomill.plan.request import read_request
-    from robomill.study import load_study
+    from robomill.study import load_study, read_study
 
     log = log or logging.getLogger("robomill.plan")
     req = read_request(paths["request"])
@@ -119,7 +122,7 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
         except RawDataError as err:
             notes.append(f"{err} (the stability model is not weighted by verdicts)")
     return PlanInputs(req, measured, cell, cell_file, cuts, experiment, mids, reach,
-                      stability, slots, notes)
+                      stability, slots, notes, study_cuts=list(read_study(paths["study"]).cuts))
 
 
 def model_record(paths: Mapping[str, str], params: Mapping[str, Any]) -> dict[str, Any]:

@@ -8,7 +8,7 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -48,7 +48,9 @@ from robomill.plan.request import PlanRequest
 from robomill.plan.slots import separate_slots
 from robomill.plan.slots import study_slots as study_slot_segments
 from robomill.plan.workobject import BASE
-from robomill.study import StudyCut
+
+if TYPE_CHECKING:  # robomill.study reads the manifest: typing only
+    from robomill.study import StudyCut
 
 
 @dataclass
@@ -163,7 +165,7 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell,
     if binding:  # the earlier plan's binding prediction at its own binding cut, now
         binding["width_same_cut"] = same_cut_width(cand, req, binding_before)
     wobj = req.work_object or BASE
-    own = [c.cut if isinstance(c, StudyCut) else c for c in cuts]
+    own = [c if isinstance(c, Cut) else c.cut for c in cuts]  # a StudyCut carries its Cut
     chosen, slot_notes = separate_slots(chosen, cand, req,
                                         study_slot_segments(own, experiment, wobj), wobj)
     # the slots' renumbering (plan_01 …) again after the study's own plan_NN cuts
