@@ -130,6 +130,14 @@ def direction_name(cut: Cut, deg: float) -> str:
     return cut.direction if cut.direction else f"d{deg:g}"
 
 
+def study_cut(cut: Cut, experiment: Mapping[str, Any]) -> StudyCut:
+    """The :class:`StudyCut` of a cut that no ingestion resolved (a cut list handed to
+    ``robomill predict``), its process resolved as the ingestion rule resolves a study's
+    cuts (:func:`resolved_process`, the same routine). A study's own cuts come resolved
+    from ``study.yaml`` (:func:`read_study`): never resolve them again."""
+    return _study_cut(cut, resolved_process(cut, dict(experiment)))
+
+
 def _study_cut(cut: Cut, process: Mapping[str, Any] | None) -> StudyCut:
     proc = dict(process or {})
     deg = proc.get("direction_deg")

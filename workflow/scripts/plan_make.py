@@ -25,7 +25,10 @@ params = {"waviness_noise": p.waviness_noise, "fmin_cycles": p.fmin_cycles,
 loaded = load_inputs(paths, params, log=log)
 for note in loaded.notes:
     log.warning("%s", note)
-req, measured, cell, cuts = loaded.req, loaded.measured, loaded.cell, loaded.cuts
+req, measured, cell = loaded.req, loaded.measured, loaded.cell
+# the study's cuts with the process the ingestion rule resolved (robomill.study), each
+# predicted as a planning candidate (robomill.plan.candidate)
+cuts = loaded.study_cuts
 experiment, cell_file = loaded.experiment, loaded.cell_file
 log.info("study reach: %s", loaded.reach)
 # an earlier plan's binding interval (config plan.binding_before): the narrowing is measured

@@ -6,13 +6,14 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
 import xarray as xr
 
-from robomill.experiment import Cut, cut_endpoints_mm, cut_process, cut_redundancy_deg
+from robomill.experiment import Cut
+from robomill.plan.candidate import study_candidate
 from robomill.plan.choose import feasible
 from robomill.plan.conditioning import study_evidence
 from robomill.plan.measured import Measured
@@ -27,6 +28,9 @@ from robomill.plan.predict import (
 from robomill.plan.request import PlanRequest
 from robomill.plan.stability import VerdictEvidence
 
+if TYPE_CHECKING:  # robomill.study reads the manifest: typing only
+    from robomill.study import StudyCut
+
 PREDICTED = ["stability_margin", "stability_margin_low", "stability_margin_high",
              "deflection_normal_um", "deflection_normal_low_um", "deflection_normal_high_um",
              "deflection_axial_um", "deflection_axial_low_um", "deflection_axial_high_um",
@@ -40,47 +44,24 @@ STUDY_COLUMNS = ["cut", "spindle_rpm", "depth_mm", "feed_mm_s", "mrr_mm3_s", "re
                  "feasible"]
 
 
-def cut_request(cut: Cut, experiment: Mapping[str, Any], req: PlanRequest
-                ) -> tuple[PlanRequest, dict[str, Any]]:
-    """A request of the one candidate that is the study's cut ``cut``: its own place,
-    direction, speed, depth, feed, tool and redundancy angle (``redundancy_deg``, 0: the
-    cell's tool orientation); and its process parameters
-    (:func:`robomill.experiment.cut_process`)."""
-    p = cut_process(cut, experiment)
-    a, b = cut_endpoints_mm(cut, experiment)
-    milling = p["milling"] if p["milling"] in ("slot", "up", "down") else "slot"
-    one = replace(req, milling=milling, radial_immersion=float(p["radial_immersion"]),
-                  length_mm=float(np.linalg.norm(b - a)),
-                  direction_deg=np.array([float(p["direction_deg"])]),
-                  direction_names=(cut.id,),
-                  tool_diameter_mm=float(p["tool_diameter_mm"] or req.tool_diameter_mm),
-                  flutes=int(p["flutes"]), placements_mm=((a + b) / 2)[None],
-                  rotations_deg=np.array([cut_redundancy_deg(cut)]),
-                  spindle_rpm=np.array([p["spindle_rpm"]]),
-                  depth_mm=np.array([cut.depth_mm]), feed_mm_s=np.array([cut.feed_mm_s]),
-                  path_stations=3)
-    return one, p
-
-
-def stability_evidence(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: PlanRequest,
-                       measured: Measured, cell: Cell, stability: pd.Series,
+def stability_evidence(cuts: Sequence[StudyCut | Cut], experiment: Mapping[str, Any],
+                       req: PlanRequest, measured: Measured, cell: Cell, stability: pd.Series,
                        source: str = "results/chatter/verdicts.csv"
                        ) -> VerdictEvidence | None:
     """The study's chatter verdicts as the weights of the stability model's members
     (:mod:`robomill.plan.conditioning`): each cut with a verdict (``stability``: 1 stable,
     0 chatter, NaN undetermined per cut, :func:`robomill.plan.evidence.verdict_stability`)
-    and every member's critical depth at the cut's own pose, direction and speed
-    (:func:`cut_request`); None where the modes or the coefficients were not measured."""
+    and every member's critical depth at the cut's own pose, direction and speed (the cut
+    as a planning candidate, :func:`robomill.plan.candidate.study_candidate`); None where the
+    modes or the coefficients were not measured."""
     rows, cols, n_members = [], [], None
     for cut in cuts:
         if cut.id not in stability.index:
             continue
         v = float(stability[cut.id])
-        one, p = cut_request(cut, experiment, req)
-        # the cut was cut: its pose counts whatever the request's margins
-        one = replace(one, joint_limit_margin_deg=0.0, min_wrist_angle_deg=0.0)
-        row = {"cut": cut.id, "spindle_rpm": float(p["spindle_rpm"]),
-               "depth_mm": float(cut.depth_mm),
+        c = study_candidate(cut, experiment)
+        one = c.grid(req)  # the cut was cut: its pose counts whatever the request's margins
+        row = {"cut": c.id, "spindle_rpm": c.spindle_rpm, "depth_mm": c.depth_mm,
                "verdict": "undetermined" if v != v else "stable" if v >= 0.5 else "chatter"}
         poses = solve_request(one, cell)
         a = None
@@ -103,10 +84,12 @@ def stability_evidence(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: 
                           source)
 
 
-def predict_study_cut(cut: Cut, experiment: Mapping[str, Any], req: PlanRequest,
+def predict_study_cut(cut: StudyCut | Cut, experiment: Mapping[str, Any], req: PlanRequest,
                       measured: Measured, cell: Cell, reach=None) -> dict[str, Any]:
     """One cut at its own place, direction, speed, depth, feed, tool and redundancy angle
-    (``redundancy_deg``, 0: the cell's tool orientation) with the plan's predictions (with
+    (``redundancy_deg``, 0: the cell's tool orientation), as a planning candidate
+    (:func:`robomill.plan.candidate.study_candidate`: the process the ingestion rule
+    resolved, never resolved again), with the plan's predictions (with
     ``reach``, flagged and widened as the plan's candidates,
     :func:`robomill.plan.predict.apply_extrapolation`) and whether it meets the request's
     constraints (``feasible``).
@@ -117,8 +100,8 @@ def predict_study_cut(cut: Cut, experiment: Mapping[str, Any], req: PlanRequest,
     ``feasible`` is false for that reason, never silently)."""
     from robomill.plan.extrapolation import reason_text
 
-    one, p = cut_request(cut, experiment, req)
-    one = replace(one, joint_limit_margin_deg=0.0, min_wrist_angle_deg=0.0)
+    c = study_candidate(cut, experiment)
+    one = c.grid(req)
     ds = predict_grid(one, measured, cell)
     if reach is not None:
         ds = apply_extrapolation(ds, one, measured, cell, reach)
@@ -131,8 +114,8 @@ def predict_study_cut(cut: Cut, experiment: Mapping[str, Any], req: PlanRequest,
     if wrist < req.min_wrist_angle_deg:
         notes.append(f"wrist angle {wrist:.3g} deg below the request's "
                      f"min_wrist_angle_deg {req.min_wrist_angle_deg:g}")
-    row = {"cut": cut.id, "spindle_rpm": p["spindle_rpm"], "depth_mm": cut.depth_mm,
-           "feed_mm_s": cut.feed_mm_s,
+    row = {"cut": c.id, "spindle_rpm": c.spindle_rpm, "depth_mm": c.depth_mm,
+           "feed_mm_s": c.feed_mm_s,
            "mrr_mm3_s": float(ds["mrr_mm3_s"].values.ravel()[0]),
            "reachable": bool(ds["reachable"].values.ravel()[0])}
     for name in (*PREDICTED, "a_crit_mm", "a_crit_low_mm", "a_crit_high_mm", "p_stable",
@@ -147,8 +130,8 @@ def predict_study_cut(cut: Cut, experiment: Mapping[str, Any], req: PlanRequest,
     return row
 
 
-def study_cuts_table(cuts: Sequence[Cut], experiment: Mapping[str, Any], req: PlanRequest,
-                     measured: Measured, cell: Cell, reach=None,
+def study_cuts_table(cuts: Sequence[StudyCut | Cut], experiment: Mapping[str, Any],
+                     req: PlanRequest, measured: Measured, cell: Cell, reach=None,
                      stability: pd.Series | None = None) -> pd.DataFrame:
     """Each of the study's cuts predicted as the plan's candidates
     (:func:`predict_study_cut`: the study's cuts were cut, so each is predicted at its pose

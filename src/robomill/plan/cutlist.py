@@ -1,7 +1,10 @@
 """Any list of cuts predicted from a study (``robomill predict STUDY CUTS``): read the cuts
 (CSV or YAML, the manifest's cut keys), predict each at its own pose, speed, depth and feed
 with the plan's code (:func:`robomill.plan.compare.predict_study_cut`, the stability model
-weighted by the study's verdicts), one row per cut.
+weighted by the study's verdicts), one row per cut. Each listed cut becomes a planning
+candidate through the plan's one adapter (:func:`robomill.plan.candidate.study_candidate`),
+its process resolved once as the ingestion rule resolves a study's cuts
+(:func:`robomill.study.study_cut`).
 
 The cut list is read by :mod:`robomill.io.cutlist` (CSV or YAML, the manifest's cut keys; a
 bad entry is one line naming the file, the cut and the key).
@@ -29,8 +32,8 @@ def predict_table(inputs, cuts: list) -> pd.DataFrame:
     from robomill.plan.compare import predict_study_cut
     from robomill.plan.make import verdict_conditioned
 
-    measured = verdict_conditioned(inputs.measured, inputs.req, inputs.cell, inputs.cuts,
-                                   inputs.experiment, inputs.stability)[0]
+    measured = verdict_conditioned(inputs.measured, inputs.req, inputs.cell,
+                                   inputs.study_cuts, inputs.experiment, inputs.stability)[0]
     rows = [predict_study_cut(cut, inputs.experiment, inputs.req, measured, inputs.cell,
                               inputs.reach) for cut in cuts]
     t = pd.DataFrame(rows)

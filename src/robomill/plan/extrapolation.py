@@ -8,7 +8,15 @@ A candidate is *extrapolated* when (bit of ``extrapolation_code``):
   identified on;
 * 4 ``radial immersion``: the request's immersion lies outside theirs;
 * 8 ``pose``: its placement lies farther than the request's
-  ``extrapolation.max_pose_distance_mm`` from every study cut's midpoint.
+  ``extrapolation.max_pose_distance_mm`` from every study cut's midpoint;
+* 32, 64, 128 ``direction not measured: X`` (``Y``, ``Z``): the impact test gave no mode
+  along that base axis (its mode-shape components are empty in ``modes.csv``) and the
+  candidate's cut frame (feed, wall normal, tool axis: the directions of its cutting force
+  and of its predicted deflections) has a component along it. The stability and deflection
+  models then carry the modes' shapes restricted to the measured axes
+  (:func:`robomill.plan.tooltip.modes_arrays`): no identified mode along the unmeasured
+  one. These bits widen nothing (there is no distance from the evidence to measure along an
+  axis never excited); the flag and its reason say the prediction is extrapolated.
 
 (Bit 16, ``modal band``, is no longer set: the modes above the impact test's band enter the
 stability model as a stated prior with its interval, :mod:`robomill.plan.stability`.)
@@ -37,28 +45,67 @@ import xarray as xr
 
 from robomill.xrvars import var
 
+AXIS_BITS = {"X": 32, "Y": 64, "Z": 128}
+"""Bit of ``extrapolation_code`` for a base axis the impact test did not measure."""
+
 REASONS = {1: "spindle speed", 2: "feed per tooth", 4: "radial immersion", 8: "pose",
-           16: "modal band"}
+           16: "modal band", **{b: f"direction not measured: {a}" for a, b in AXIS_BITS.items()}}
 """Bit of ``extrapolation_code`` → its reason."""
+
+_AXIS_TOL = 1e-9
+"""A cut-frame vector's component along an axis below this counts as none (cos 90°)."""
 
 
 @dataclass(frozen=True)
 class StudyReach:
     """What the study measured: ranges of the identifying cuts' spindle speed [rpm], feed per
     tooth [mm] and radial immersion, the study cuts' midpoints [mm] (base frame; None when
-    not placed) and the impact test's band [Hz] (None without one)."""
+    not placed), the impact test's band [Hz] (None without one) and the base axes it did
+    not measure (``"YZ"``; empty when every axis was measured or there is no test)."""
 
     spindle_rpm: tuple[float, float] | None = None
     feed_per_tooth_mm: tuple[float, float] | None = None
     radial_immersion: tuple[float, float] | None = None
     midpoints_mm: np.ndarray | None = None
     modal_band_hz: tuple[float, float] | None = None
+    axes_not_measured: str = ""
 
 
-def reach_from_means(means, experiment: dict, midpoints_mm=None, modal_band_hz=None
-                     ) -> StudyReach:
+def axes_not_measured(modes) -> str:
+    """The base axes (``"YZ"``) along which ``modes.csv`` ``modes`` has no mode-shape
+    component: its ``shape_x``/``shape_y``/``shape_z`` column missing or empty (NaN) for
+    every mode, as the modal stage writes it for an axis the impact test did not both hit
+    and measure (:func:`robomill.modal.layout.measured_directions`). Empty without modes."""
+    if modes is None or not len(modes):
+        return ""
+    out = ""
+    for a in "XYZ":
+        col = f"shape_{a.lower()}"
+        if col not in modes or not np.isfinite(np.asarray(modes[col], float)).any():
+            out += a
+    return out
+
+
+def direction_axis_bits(direction_deg, not_measured: str) -> np.ndarray:
+    """Bits (:data:`AXIS_BITS`) per feed direction ``(D,)``: the unmeasured axes of
+    ``not_measured`` along which the cut frame's feed, wall normal or tool axis
+    (:func:`robomill.plan.poses.cut_frames`) has a component."""
+    from robomill.plan.poses import cut_frames
+
+    frames = cut_frames(np.atleast_1d(np.asarray(direction_deg, float)))   # (D, 3, 3)
+    touch = (np.abs(frames) > _AXIS_TOL).any(-1)                            # (D, axis)
+    bits = np.zeros(len(frames), np.int64)
+    for i, a in enumerate("XYZ"):
+        if a in not_measured:
+            bits |= np.where(touch[:, i], AXIS_BITS[a], 0)
+    return bits
+
+
+def reach_from_means(means, experiment: dict, midpoints_mm=None, modal_band_hz=None,
+                     not_measured: str = "") -> StudyReach:
     """:class:`StudyReach` of ``results/forces/mean_forces.csv`` (its own ``spindle_rpm`` and
-    ``radial_immersion`` columns, else the experiment's speed and slots)."""
+    ``radial_immersion`` columns, else the experiment's speed and slots); ``not_measured``
+    the base axes the impact test did not measure (:func:`axes_not_measured`)."""
     def rng(v):
         v = np.asarray(v, float)
         v = v[np.isfinite(v)]
@@ -72,7 +119,7 @@ def reach_from_means(means, experiment: dict, midpoints_mm=None, modal_band_hz=N
         ae = rng(means["radial_immersion"] if "radial_immersion" in means else [1.0])
     band = None if modal_band_hz is None else tuple(float(b) for b in modal_band_hz)
     mids = None if midpoints_mm is None else np.asarray(midpoints_mm, float).reshape(-1, 3)
-    return StudyReach(sp, fpt, ae, mids, band)
+    return StudyReach(sp, fpt, ae, mids, band, str(not_measured or ""))
 
 
 def _excess(x, lo_hi, rtol: float = 1e-6):
@@ -91,7 +138,9 @@ def extrapolation_code(ds: xr.Dataset, req, reach: StudyReach, *, rtol: float = 
                        ) -> tuple[xr.DataArray, xr.DataArray, xr.DataArray]:
     """``extrapolation_code`` (bits of :data:`REASONS`), the largest relative distance ``e``
     from the evidence and that of the stability model (speed and pose only), each over
-    ``(placement, spindle_rpm, feed_mm_s)``."""
+    ``(placement, spindle_rpm, feed_mm_s)``; with axes not measured the code is over
+    ``(placement, direction, spindle_rpm, feed_mm_s)`` (their bits depend on the feed
+    direction; the distances do not)."""
     n = ds["spindle_rpm"].values
     c = ds["feed_per_tooth_mm"].transpose("spindle_rpm", "feed_mm_s").values
     P = ds.sizes["placement"]
@@ -112,13 +161,24 @@ def extrapolation_code(ds: xr.Dataset, req, reach: StudyReach, *, rtol: float = 
     excess = np.maximum(np.maximum(np.maximum(e_n, e_c), e_a)[None], e_p)
     excess_stab = np.broadcast_to(np.maximum(e_n[None], e_p), code.shape)
     dims = ("placement", "spindle_rpm", "feed_mm_s")
+    if reach.axes_not_measured:
+        bits = direction_axis_bits(ds["direction_deg"].values, reach.axes_not_measured)
+        code_d = code[:, None] | bits[None, :, None, None]
+        return (xr.DataArray(code_d, dims=("placement", "direction", "spindle_rpm",
+                                           "feed_mm_s")),
+                xr.DataArray(excess.copy(), dims=dims),
+                xr.DataArray(excess_stab.copy(), dims=dims))
     return (xr.DataArray(code, dims=dims), xr.DataArray(excess.copy(), dims=dims),
             xr.DataArray(excess_stab.copy(), dims=dims))
 
 
 def reason_text(code: int) -> str:
-    """``"spindle speed; modal band"`` for a code (empty for 0)."""
-    return "; ".join(v for b, v in REASONS.items() if int(code) & b)
+    """``"spindle speed; direction not measured: Y, Z"`` for a code (empty for 0)."""
+    parts = [v for b, v in REASONS.items() if int(code) & b and b not in AXIS_BITS.values()]
+    axes = [a for a, b in AXIS_BITS.items() if int(code) & b]
+    if axes:
+        parts.append("direction not measured: " + ", ".join(axes))
+    return "; ".join(parts)
 
 
 def _np(da: xr.DataArray, dims) -> np.ndarray:
@@ -189,6 +249,9 @@ def widen(ds: xr.Dataset, code: xr.DataArray, excess: xr.DataArray,
         with np.errstate(divide="ignore", invalid="ignore"):
             m = np.broadcast_to(a / _np(ds["depth_mm"], dims) - 1, ds[name].shape)
         out[name] = ds[name].copy(data=np.array(m))
+    if excess.dims != code.dims:  # the directions' bits: the distances broadcast over them
+        excess = excess.broadcast_like(code).transpose(*code.dims)
+        w = (1.0 + excess)
     out["extrapolation"] = var(code.dims, flagged.values, "1", "prediction outside what the "
                                "study measured (extrapolation_code says why)")
     out["extrapolation_code"] = var(code.dims, code.values, "1", "bits: " + ", ".join(

@@ -49,6 +49,9 @@ class PlanInputs:
     stability: pd.Series | None
     slots: list | None
     notes: list[str] = field(default_factory=list)
+    study_cuts: list = field(default_factory=list)
+    """The study's cuts with the process the ingestion rule resolved
+    (:class:`robomill.study.StudyCut`): the candidates of the study's own cuts."""
 
 
 def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
@@ -61,11 +64,11 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
     from robomill.io.cell import read_cell
     from robomill.plan.check import waviness_min_cycles
     from robomill.plan.evidence import read_verdicts, verdict_stability
-    from robomill.plan.extrapolation import reach_from_means
+    from robomill.plan.extrapolation import axes_not_measured, reach_from_means
     from robomill.plan.measured import Measured, cut_mid_poses, gear_joint_amplitudes
     from robomill.plan.outputs import cell_of
     from robomill.plan.request import read_request
-    from robomill.study import load_study
+    from robomill.study import load_study, read_study
 
     log = log or logging.getLogger("robomill.plan")
     req = read_request(paths["request"])
@@ -107,7 +110,9 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
     if paths.get("modal_fit"):
         with xr.open_dataset(paths["modal_fit"]) as fit:
             band = [float(b) for b in np.atleast_1d(fit.attrs.get("band_hz", []))] or None
-    reach = reach_from_means(table("means"), experiment, mids, band)
+    # the axes the impact test did not measure: empty shape columns of modes.csv
+    reach = reach_from_means(table("means"), experiment, mids, band,
+                             axes_not_measured(measured.modes))
     slots = ([np.asarray(cut_endpoints_mm(c, experiment), float) for c in cuts] if placed
              else None)
     stability = None
@@ -117,7 +122,7 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
         except RawDataError as err:
             notes.append(f"{err} (the stability model is not weighted by verdicts)")
     return PlanInputs(req, measured, cell, cell_file, cuts, experiment, mids, reach,
-                      stability, slots, notes)
+                      stability, slots, notes, study_cuts=list(read_study(paths["study"]).cuts))
 
 
 def model_record(paths: Mapping[str, str], params: Mapping[str, Any]) -> dict[str, Any]:

@@ -8,7 +8,7 @@ from __future__ import annotations
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
@@ -48,6 +48,9 @@ from robomill.plan.request import PlanRequest
 from robomill.plan.slots import separate_slots
 from robomill.plan.slots import study_slots as study_slot_segments
 from robomill.plan.workobject import BASE
+
+if TYPE_CHECKING:  # robomill.study reads the manifest: typing only
+    from robomill.study import StudyCut
 
 
 @dataclass
@@ -105,7 +108,8 @@ def learn_plan(cand: xr.Dataset, req: PlanRequest, measured: Measured, occupied,
     return chosen, front, None if prod is None or prod.empty else prod.iloc[0]
 
 
-def verdict_conditioned(measured: Measured, req: PlanRequest, cell: Cell, cuts: Sequence[Cut],
+def verdict_conditioned(measured: Measured, req: PlanRequest, cell: Cell,
+                        cuts: Sequence[StudyCut | Cut],
                         experiment: Mapping[str, Any], stability: pd.Series | None):
     """``measured`` with the stability model's members weighted by the study's verdicts
     (:func:`robomill.plan.compare.stability_evidence`), and that evidence (None without
@@ -118,14 +122,17 @@ def verdict_conditioned(measured: Measured, req: PlanRequest, cell: Cell, cuts: 
     return replace(measured, stability_evidence=evidence), evidence
 
 
-def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[Cut],
+def make_plan(req: PlanRequest, measured: Measured, cell: Cell,
+              cuts: Sequence[StudyCut | Cut],
               experiment: Mapping[str, Any], *, robot_name: str = "the robot",
               reach=None, study_slots=None, binding_constraint: str | None = None,
               stability: pd.Series | None = None,
               binding_before: pd.DataFrame | None = None) -> Plan:
     """The whole plan (raises :class:`robomill.plan.choose.PlanInfeasible` with one line when a
     constraint needs a missing measurement, no candidate meets the constraints, or every
-    candidate is extrapolated and the request does not allow it). ``reach``
+    candidate is extrapolated and the request does not allow it). ``cuts``: the study's
+    cuts (:class:`robomill.study.StudyCut`, their process as the ingestion rule resolved
+    it), each predicted as a planning candidate (:mod:`robomill.plan.candidate`). ``reach``
     (:class:`robomill.plan.extrapolation.StudyReach`): flag and widen what lies outside it;
     ``study_slots``: the study's cuts as segments ``(2, 3)`` [mm], which no planned slot may
     overlap (:mod:`robomill.plan.material`); ``binding_constraint``: the constraint whose
@@ -158,8 +165,9 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell, cuts: Sequence[C
     if binding:  # the earlier plan's binding prediction at its own binding cut, now
         binding["width_same_cut"] = same_cut_width(cand, req, binding_before)
     wobj = req.work_object or BASE
+    own = [c if isinstance(c, Cut) else c.cut for c in cuts]  # a StudyCut carries its Cut
     chosen, slot_notes = separate_slots(chosen, cand, req,
-                                        study_slot_segments(cuts, experiment, wobj), wobj)
+                                        study_slot_segments(own, experiment, wobj), wobj)
     # the slots' renumbering (plan_01 …) again after the study's own plan_NN cuts
     chosen["cut"] = after_study_ids(list(chosen["cut"].astype(str)), study_ids)
     if not len(chosen):

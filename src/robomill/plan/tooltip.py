@@ -45,7 +45,10 @@ ENDS = ("nominal", "low", "high")
 def modes_arrays(modes, end: str = ""):
     """Frequencies, damping ratios, stiffnesses and unit shapes of the modes with a positive
     stiffness; ``end`` ``"_low"``/``"_high"`` takes that end of the interval columns of
-    ``modes.csv`` (the value where a column is missing or NaN)."""
+    ``modes.csv`` (the value where a column is missing or NaN). A shape component left
+    empty (NaN: an axis the impact test did not measure) counts as 0: the shapes restricted
+    to the measured axes, no identified mode along the other
+    (:mod:`robomill.plan.extrapolation` flags what depends on it)."""
     ok = modes["k_modal_N_m"].to_numpy(float) > 0
     m = modes[ok]
     shapes = np.nan_to_num(m[["shape_x", "shape_y", "shape_z"]].to_numpy(float))
