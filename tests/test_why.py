@@ -20,11 +20,15 @@ def _copy_repo(dst):
 
 
 def _snakemake(repo, work, *args):
+    """Snakemake on the copy with the copy's package first (PYTHONPATH): its rules run, and
+    track as their code inputs, the copy's library, as a checkout's rules run its own."""
+    import os
     import subprocess
 
+    env = {**os.environ, "PYTHONPATH": str(repo / "src")}
     return subprocess.run([SNAKEMAKE, "-s", str(repo / "Snakefile"), "--directory", str(work),
                            "--configfile", str(work / "config.yaml"), *args],
-                          capture_output=True, text=True, timeout=900)
+                          capture_output=True, text=True, timeout=900, env=env)
 
 
 def _planned(repo, work, target):
