@@ -37,7 +37,8 @@ def _predict(study, cuts, path):
 
 
 @pytest.mark.xfail(strict=False, reason=(
-    "issue 55's out-of-sample target, not reached yet: the same design on the default study "
+    "the out-of-sample target (90 % of verdicts predicted) is not reached yet: the same design "
+    "on the default study "
     "agreed on 8 of 12 cuts (the prior of the spindle/tool modes sets the nominal limit at "
     "12 000 and 28 000 rpm, where the cell's own tool modes differ; one 81 Hz line at 0.36 mm "
     "is a steady forced line, judged chatter)"))
