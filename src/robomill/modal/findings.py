@@ -129,13 +129,6 @@ def _truth(f: Findings, check: pd.DataFrame, modes: pd.DataFrame) -> None:
 
 
 def _misfit(f: Findings, ds: xr.Dataset, synth: xr.Dataset) -> None:
-    dirs = {k: " and ".join(v) for k, v in measured_directions(ds).items()}
-    for key, value in (("directions_hit", dirs["hammer"]),
-                       ("directions_response", dirs["response"]),
-                       ("directions_not_measured", dirs["not_measured"] or None)):
-        f.add(key, value, artefact=FRF, what="input/output direction codes (axes)")
-    f.add("directions_measured_text", dirs["measured"] or "no axis", artefact=FRF,
-          what="axes both hit and measured")
     band = [float(b) for b in np.atleast_1d(synth.attrs["band_hz"])]
     err = synthesis_misfit(ds, synth["H_synth"].values, band).to_numpy(float)
     finite = err[np.isfinite(err)]
