@@ -271,6 +271,15 @@ def write_hits(source: Path, staging: Path, stem: str, fs_hz: float, force_N: np
     return entries
 
 
+def append_hits(entries: list[dict], got: list[dict]) -> None:
+    """Append the hit entries of one more record (an LVM segment, a ``.mat`` page) of the
+    same file, their hit numbers continued after those already there."""
+    k0 = max((e["hit"] for e in entries), default=0)
+    for e in got:
+        e["hit"] += k0
+    entries.extend(got)
+
+
 def finish_hits(staging: Path, entries: list[dict]) -> list[dict]:
     """Write the hit records :func:`write_hits` prepared, all cut to the shortest (the
     modal stage averages records of one length; the pre-trigger is kept, the tails are

@@ -23,6 +23,7 @@ from robomill.errors import RawDataError
 from robomill.importers._common import nice_rate
 from robomill.importers._impact import (
     add_hit_arguments,
+    append_hits,
     finish_hits,
     parse_hammer,
     parse_response,
@@ -111,7 +112,7 @@ def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> lis
             raise RawDataError(src, "no response channel given", where="option --response",
                                expected="--response CHANNEL:DIRECTION[:unit] (repeatable)")
         stem = safe_stem(src)
-        k0 = 0
+        own: list[dict] = []
         for j, seg in enumerate(segments):
             i_f = pick_channel(src, seg["names"], hammer)
             f_scale, f_origin = scale_to_si(src, hammer, seg["units"][i_f], force=True)
@@ -141,8 +142,6 @@ def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> lis
             got = write_hits(src, staging, name, fs, seg["data"][:, i_f] * f_scale, resp, args,
                              {"source_file": src.name, "source_format": "lvm",
                               "units": units})
-            for e in got:
-                e["hit"] += k0
-            k0 = max(e["hit"] for e in got)
-            entries.extend(got)
+            append_hits(own, got)  # hit numbers go on through the file's records
+        entries.extend(own)
     return finish_hits(staging, entries)

@@ -37,6 +37,7 @@ from robomill.importers._impact import (
     ACCEL_UNITS,
     ChannelSpec,
     add_hit_arguments,
+    append_hits,
     finish_hits,
     hammer_direction,
     parse_hammer,
@@ -316,15 +317,13 @@ def convert(sources: list[Path], staging: Path, args: argparse.Namespace) -> lis
             units[s.channel] = origin
         pages = 1 if force.ndim == 1 else force.shape[1]
         stem = safe_stem(src)
-        k0 = 0
+        own: list[dict] = []
         for p in range(pages):
             fp = force if force.ndim == 1 else force[:, p]
             rp = [(s, a if a.ndim == 1 else a[:, p]) for s, a in resp]
             got = write_hits(src, staging, stem if pages == 1 else f"{stem}_r{p + 1}", fs, fp,
                              rp, args, {"source_file": src.name, "source_format": "mat",
                                         "units": units})
-            for e in got:
-                e["hit"] += k0
-            k0 = max(e["hit"] for e in got)
-            entries.extend(got)
+            append_hits(own, got)  # hit numbers go on through the file's records
+        entries.extend(own)
     return finish_hits(staging, entries)
