@@ -11,6 +11,7 @@ import logging
 
 from robomill.io import write_artefact, write_table
 from robomill.io.profiles import read_profile
+from robomill.pipeline.jobs import path_list
 from robomill.study import load_study
 from robomill.surface.options import settings
 from robomill.surface.peaks import profile_peaks
@@ -22,16 +23,12 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
 
-    def items(paths):
-        """A rule's output or input as a list (one path is a string)."""
-        return [paths] if isinstance(paths, str) else list(paths)
-
     p = params
     opts = settings(p.settings)
     study = load_study(inputs.study)
-    for relpath, raw, cut, nc, peaks_csv in zip(p.relpath, items(inputs.raw), p.cut,
-                                                items(outputs.nc),
-                                                items(outputs.peaks), strict=True):
+    for relpath, raw, cut, nc, peaks_csv in zip(p.relpath, path_list(inputs.raw), p.cut,
+                                                path_list(outputs.nc),
+                                                path_list(outputs.peaks), strict=True):
         # a stylus profile of the raw folder (sha256 checked), or an areal scan's profile along
         # the feed (relpath None: written by rule surface_areal)
         path = study.verify_file(relpath) if relpath is not None else raw
