@@ -22,12 +22,11 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    inp, p = inputs, params
-    load_study(inp.study).verify_file(p.relpath)
-    model = model_from_dataset(open_artefact(inp.model))
-    points = accuracy_points(read_accuracy(inp.accuracy), model)
-    points["region"] = workspace_regions(points, p.regions["reach_edges_mm"],
-                                             p.regions["height_edges_mm"])
+    load_study(inputs.study).verify_file(params.relpath)
+    model = model_from_dataset(open_artefact(inputs.model))
+    points = accuracy_points(read_accuracy(inputs.accuracy), model)
+    points["region"] = workspace_regions(points, params.regions["reach_edges_mm"],
+                                         params.regions["height_edges_mm"])
     table = accuracy_table(points)
     write_table(table, outputs.accuracy)
     write_table(accuracy_by_region(points, points["region"]), outputs.regions)

@@ -19,9 +19,8 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    inp = inputs
-    found = calibration_findings(open_artefact(inp.model),
-                                 pd.read_csv(inp.accuracy).set_index("model"),
+    found = calibration_findings(open_artefact(inputs.model),
+                                 pd.read_csv(inputs.accuracy).set_index("model"),
                                  holdout_every=params.holdout_every)
     found.comparisons = stage_comparisons("calibration",
                                           thesis_study=bool(params.thesis_study))

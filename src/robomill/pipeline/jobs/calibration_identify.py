@@ -21,26 +21,25 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    inp, p = inputs, params
-    manifest = load_study(inp.study)
+    manifest = load_study(inputs.study)
     tables = {}
-    for name, relpath in p.relpaths.items():
+    for name, relpath in params.relpaths.items():
         manifest.verify_file(relpath)
-        tables[name] = READERS[name](inp[name])
-    if p.cell_relpath:
-        manifest.verify_file(p.cell_relpath)
-    c = dict(p.calibration)
+        tables[name] = READERS[name](inputs[name])
+    if params.cell_relpath:
+        manifest.verify_file(params.cell_relpath)
+    c = dict(params.calibration)
     # Fourier orders of the joint errors: the cell's gear trains (r and r·z of every element),
     # unless the configuration lists them explicitly
     em = dict(c["error_model"])
-    cell = read_cell(inp.cell)
+    cell = read_cell(inputs.cell)
     if em.get("orders") is None:
         em["orders"] = cell.fourier_orders()
     c["error_model"] = em
     # the gravity model: the cell's mass model (manufacturer data / CAD), if it states one
     masses = mass_model_from_cell(cell)
     if masses is None:
-        log.warning("%s states no mass_model: gravity model %s", inp.cell, GRAVITY_NONE)
+        log.warning("%s states no mass_model: gravity model %s", inputs.cell, GRAVITY_NONE)
     ident = identify(
         tables["circles"], tables["home"], tables["steps"], tables["loads"], tables["base"],
         masses=masses,
@@ -49,9 +48,9 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
         max_degree=int(em["max_degree"]), holdout_every=int(em["holdout_every"]),
         iterations=int(c["iterations"]),
     )
-    inputs = [inp[k] for k in p.relpaths] + [inp.cell]
+    read = [inputs[k] for k in params.relpaths] + [inputs.cell]
     write_artefact(model_to_dataset(ident), outputs.model, rule="calibration_identify",
-                   inputs=inputs, config_section=c)
+                   inputs=read, config_section=c)
     write_table(joint_error_table(ident, int(em["holdout_every"])), outputs.joint_errors)
     write_table(ident.base, outputs.base)
     write_table(circle_table(tables["circles"], ident), outputs.circles)

@@ -20,12 +20,11 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    inp = inputs
-    found = chatter_findings(load_cases(inp.cases, open_artefact),
-                             open_artefact(inp.simulation),
-                             open_artefact(inp.lobes) if "lobes" in inp.keys() else None,
-                             pd.read_csv(inp.recommendations)
-                             if "recommendations" in inp.keys() else None,
+    found = chatter_findings(load_cases(inputs.cases, open_artefact),
+                             open_artefact(inputs.simulation),
+                             open_artefact(inputs.lobes) if "lobes" in inputs.keys() else None,
+                             pd.read_csv(inputs.recommendations)
+                             if "recommendations" in inputs.keys() else None,
                              safety_fraction=params.safety_fraction,
                              thesis_study=bool(params.thesis_study))
     found.comparisons = stage_comparisons("chatter",

@@ -25,10 +25,9 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    p = params
-    s = p.settings
+    s = params.settings
     manifest = load_study(inputs.study)
-    for args in zip(p.cut, p.relpath, path_list(inputs.raw), path_list(outputs),
+    for args in zip(params.cut, params.relpath, path_list(inputs.raw), path_list(outputs),
                     strict=True):
         analyse_cut(manifest, *args, s=s, log=log)
 

@@ -23,19 +23,18 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    inp, p = inputs, params
-    modes = pd.read_csv(inp.modes) if "modes" in inp.keys() else None
-    truth = open_artefact(inp.truth) if "truth" in inp.keys() else None
-    cuts = pd.read_csv(inp.cuts)
-    design = {"design": describe_design(cuts, p.experiment),
-              "grouping": list(design_factors(cuts, p.experiment).grouping)}
-    found = forces_findings(pd.read_csv(inp.peaks), modes, mode_match_hz=p.mode_match_hz,
-                            band_hz=p.band_hz, prominence_db=p.prominence_db,
-                            spectra=open_artefact(inp.spectra), means=pd.read_csv(inp.means),
-                            coefficients=pd.read_csv(inp.coefficients),
+    modes = pd.read_csv(inputs.modes) if "modes" in inputs.keys() else None
+    truth = open_artefact(inputs.truth) if "truth" in inputs.keys() else None
+    cuts = pd.read_csv(inputs.cuts)
+    design = {"design": describe_design(cuts, params.experiment),
+              "grouping": list(design_factors(cuts, params.experiment).grouping)}
+    found = forces_findings(pd.read_csv(inputs.peaks), modes, mode_match_hz=params.mode_match_hz,
+                            band_hz=params.band_hz, prominence_db=params.prominence_db,
+                            spectra=open_artefact(inputs.spectra), means=pd.read_csv(inputs.means),
+                            coefficients=pd.read_csv(inputs.coefficients),
                             design=design, planted=planted_coefficients(truth),
-                            experiment=p.experiment, settings=p.settings,
-                            thesis_design=p.thesis_design)
-    found.comparisons = stage_comparisons("forces", thesis_study=bool(p.thesis_study))
+                            experiment=params.experiment, settings=params.settings,
+                            thesis_design=params.thesis_design)
+    found.comparisons = stage_comparisons("forces", thesis_study=bool(params.thesis_study))
     write_findings(found, outputs.findings)
     log.info("%d findings, %d comparison rows", len(found.items), len(found.comparisons))

@@ -41,17 +41,16 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     if kept:
         log.warning("cuts judged to chatter kept in the coefficients' identification (without "
                     "them the other cuts identify nothing): %s", ", ".join(kept))
-    out = outputs
-    write_artefact(spectra, out.spectra, rule="forces_gather", inputs=inputs.cuts,
+    write_artefact(spectra, outputs.spectra, rule="forces_gather", inputs=inputs.cuts,
                    config_section=s)
-    write_table(peaks, out.peaks)
-    write_table(coeffs, out.coefficients)
-    write_table(means, out.means)
-    write_table(harmonics, out.harmonics)
+    write_table(peaks, outputs.peaks)
+    write_table(coeffs, outputs.coefficients)
+    write_table(means, outputs.means)
+    write_table(harmonics, outputs.harmonics)
     why = identification_status(coeffs)
     if why is not None:  # a legitimate design: everything else is written as always
         log.warning("cutting coefficients %s: written as NaN (%s)",
-                    not_identified_sentence(why), out.coefficients)
+                    not_identified_sentence(why), outputs.coefficients)
     else:
         log.info("coefficients:\n%s", coeffs.to_string(index=False))
     suspect = coeffs.loc[~coeffs["physical"], "name"].tolist()

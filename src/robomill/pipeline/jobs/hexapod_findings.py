@@ -19,10 +19,9 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    inp, p = inputs, params
-    found = hexapod_findings(open_artefact(inp.trajectory), open_artefact(inp.forces),
-                             open_artefact(inp.sensitivity), pd.read_csv(inp.force_accuracy),
-                             hexapod=p.hexapod)
+    found = hexapod_findings(open_artefact(inputs.trajectory), open_artefact(inputs.forces),
+                             open_artefact(inputs.sensitivity), pd.read_csv(inputs.force_accuracy),
+                             hexapod=params.hexapod)
     # a reference study: its rows hold for any study (scorecard.yaml `any_study`)
     found.comparisons = stage_comparisons("hexapod")
     write_findings(found, outputs.findings)

@@ -19,12 +19,11 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    p = params
     cuts = pd.read_csv(inputs.cuts)
-    found = experiment_findings(cuts, p.experiment,
-                                design=design_summary(cuts, p.experiment),
-                                thesis_design=p.thesis_design,
-                                thesis_study=bool(p.thesis_study))
-    found.comparisons = stage_comparisons("ingest", thesis_study=bool(p.thesis_study))
+    found = experiment_findings(cuts, params.experiment,
+                                design=design_summary(cuts, params.experiment),
+                                thesis_design=params.thesis_design,
+                                thesis_study=bool(params.thesis_study))
+    found.comparisons = stage_comparisons("ingest", thesis_study=bool(params.thesis_study))
     write_findings(found, outputs.findings)
     log.info("%d findings, %d comparison rows", len(found.items), len(found.comparisons))

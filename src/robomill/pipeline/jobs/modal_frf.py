@@ -56,14 +56,14 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     if dirs["not_measured"]:
         log.info("directions not measured (no hit and response along them): %s",
                  dirs["not_measured"])
-    inputs = [str(p) for p in inputs.hits]
-    write_artefact(split_complex(ds), outputs.frf, rule="modal_frf", inputs=inputs,
+    read = [str(p) for p in inputs.hits]
+    write_artefact(split_complex(ds), outputs.frf, rule="modal_frf", inputs=read,
                    config_section=cfg)
     write_frf_uff(ds, outputs.uff)
     write_table(hits, outputs.hits)
     if traces is None:
         traces = empty_traces()
-    write_artefact(traces, outputs.traces, rule="modal_frf", inputs=inputs,
+    write_artefact(traces, outputs.traces, rule="modal_frf", inputs=read,
                    config_section=cfg)
     if len(hits):
         log.info("FRFs from %d accepted hits; %d rejected", int(hits["accepted"].sum()),

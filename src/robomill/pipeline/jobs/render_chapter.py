@@ -16,15 +16,15 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     (:func:`robomill.pipeline.runlog.setup`)."""
     # every named input is a notebook parameter, except the notebook itself and `code`
     # (library modules declared as inputs only so that editing them reruns the chapter)
-    inputs = {k: v for k, v in inputs.items() if k not in ("notebook", "code")}
-    params = dict(params.parameters) if "parameters" in params.keys() else {}
+    named = {k: v for k, v in inputs.items() if k not in ("notebook", "code")}
+    parameters = dict(params.parameters) if "parameters" in params.keys() else {}
     opts = params.options
     render_chapter(
         inputs.notebook,
         outputs.ipynb,
         outputs.html,
         outputs.figures,
-        {**inputs, **params},
+        {**named, **parameters},
         kernel=opts["kernel"],
         start_timeout_s=opts["start_timeout_s"],
         execution_timeout_s=opts["execution_timeout_s"],

@@ -21,10 +21,9 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    p = params
     manifest = load_study(inputs.study)
-    if p.cell_relpath:
-        manifest.verify_file(p.cell_relpath)
+    if params.cell_relpath:
+        manifest.verify_file(params.cell_relpath)
     cell = read_cell(inputs.cell)
     c = compliance_from_table(pd.read_csv(inputs.joints))
     cuts = list(manifest.cuts)  # the study's cuts and experiment (its block layout resolved)

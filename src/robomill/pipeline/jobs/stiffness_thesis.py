@@ -22,11 +22,10 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    p = params
     manifest = load_study(inputs.study)
-    manifest.verify_file(p.robot_rel)
-    if p.cell_relpath:
-        manifest.verify_file(p.cell_relpath)
+    manifest.verify_file(params.robot_rel)
+    if params.cell_relpath:
+        manifest.verify_file(params.cell_relpath)
     robot, _ = read_robot_file(inputs.robot)
     cell = read_cell(inputs.cell)  # posture and tool orientation of the cell
     c = compliance_from_table(pd.read_csv(inputs.joints))
@@ -36,7 +35,7 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     q = np.array([cut_joint_path_rad(robot, cut, experiment, np.array([L / 2]),
                                      tool_rotation=cell.tool_rotation, q0_rad=cell.q_home_rad)[0]
                   for cut in cuts])
-    bf = p.beamframe
+    bf = params.beamframe
     sections = sections_from_config(bf["thesis_sections"], bf["E_Pa"], bf["G_Pa"])
     table = slot_stiffness_table(robot, c, sections, cuts, q)
     write_table(table, outputs.slots)

@@ -20,11 +20,10 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    p = params
-    opt = p.settings
+    opt = params.settings
     manifest = load_study(inputs.study)
-    raw = dict(zip([s["run"] for s in p.specs], inputs.raw, strict=True))
-    specs = {s["run"]: s for s in p.specs}
+    raw = dict(zip([s["run"] for s in params.specs], inputs.raw, strict=True))
+    specs = {s["run"]: s for s in params.specs}
 
     def read(run):
         """One pass' times (None without a time base) and positions, its file verified."""
@@ -36,7 +35,7 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
         return (None if untimed else t), points
 
     rows = []
-    for pair in p.pairs:
+    for pair in params.pairs:
         row = {**pair, "deflection_normal_um": np.nan, "deflection_axial_um": np.nan,
                "stderr_normal_um": np.nan, "stderr_axial_um": np.nan, "length_mm": np.nan}
         if not pair["loaded_run"]:

@@ -17,16 +17,15 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    p = params
     prof = gather_profiles([open_artefact(f) for f in inputs.runs],
-                           [r["run"] for r in p.runs])
+                           [r["run"] for r in params.runs])
     write_artefact(prof, outputs.profiles, rule="straightness_gather",
-                   inputs=inputs.runs, config_section=p.settings)
+                   inputs=inputs.runs, config_section=params.settings)
     write_table(gather_gears([pd.read_csv(f) for f in inputs.gears]),
                 outputs.gears)
     peaks = gather_peaks([pd.read_csv(f, keep_default_na=False, na_values=[""])
                           for f in inputs.peaks], prof,
-                         tol_bins=p.settings["class_tol_bins"])
+                         tol_bins=params.settings["class_tol_bins"])
     write_table(peaks, outputs.peaks)
-    log.info("%d runs, %d peaks: %s", len(p.runs), len(peaks),
+    log.info("%d runs, %d peaks: %s", len(params.runs), len(peaks),
              peaks["mechanism"].value_counts().to_dict())

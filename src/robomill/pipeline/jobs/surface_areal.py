@@ -21,22 +21,21 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    p = params
-    opts = settings(p.settings)
+    opts = settings(params.settings)
     study = load_study(inputs.study)
-    path = study.verify_file(p.relpath)
+    path = study.verify_file(params.relpath)
     z, dx, dy, attrs = read_areal(path)
-    ds, (x, zp) = analyse_scan(z, dx, dy, float(p.entry["feed_angle_deg"]), opts)
+    ds, (x, zp) = analyse_scan(z, dx, dy, float(params.entry["feed_angle_deg"]), opts)
     # the instrument's statements (file and manifest entry) carried into the artefact
     keep = ("instrument", "probe", "lateral_spacing_um", "lateral_resolution_um", "source_file",
             "source_format")
     ds.attrs.update({k: (str(v) if isinstance(v, list) else v) for k, v in
-                     {**attrs, **{k: p.entry[k] for k in keep if k in p.entry}}.items()})
-    ds.attrs["cut"] = p.entry["cut"]
+                     {**attrs, **{k: params.entry[k] for k in keep if k in params.entry}}.items()})
+    ds.attrs["cut"] = params.entry["cut"]
     write_artefact(ds, outputs.nc, rule="surface_areal", inputs=[str(path)],
                    config_section=opts)
     write_table(pd.DataFrame({"x_mm": np.round(x, 9), "z_um": zp}), outputs.profile)
     log.info("%s: %d x %d points, valid %.1f %%; Sq %.4g um (form degree %d); profile along the "
-             "feed: line %d, %d points", p.entry["cut"], z.shape[1], z.shape[0],
+             "feed: line %d, %d points", params.entry["cut"], z.shape[1], z.shape[0],
              100 * float(ds["valid_share"]), float(ds["Sq_um"]), int(opts["areal_form_degree"]),
              int(ds["profile_line"]), x.size)

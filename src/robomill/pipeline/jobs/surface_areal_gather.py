@@ -18,15 +18,14 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    p, inp = params, inputs
-    opts = settings(p.settings)
-    scans = [open_artefact(f) for f in inp.scans]
-    profiles = {c: read_profile(f)[:2] for c, f in zip(p.cuts, inp.profiles, strict=True)}
-    stylus = {c: open_artefact(f) for c, f in zip(p.stylus_cuts, inp.stylus, strict=True)}
+    opts = settings(params.settings)
+    scans = [open_artefact(f) for f in inputs.scans]
+    profiles = {c: read_profile(f)[:2] for c, f in zip(params.cuts, inputs.profiles, strict=True)}
+    stylus = {c: open_artefact(f) for c, f in zip(params.stylus_cuts, inputs.stylus, strict=True)}
     out = gather_areal(scans, profiles, stylus, opts)
     write_table(out["areal"], outputs.areal)
     write_table(out["profile_vs_areal"], outputs.profile_vs_areal)
     write_artefact(out["spectra"], outputs.areal_spectra, rule="surface_areal_gather",
-                   inputs=list(inp.scans), config_section=opts)
+                   inputs=list(inputs.scans), config_section=opts)
     log.info("%d scans (Sq %s um); %d cuts measured both ways", len(out["areal"]),
              out["areal"]["Sq_um"].round(3).tolist(), len(stylus))

@@ -21,17 +21,16 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    inp, p = inputs, params
-    metrics = pd.read_csv(inp.metrics)
-    cuts = pd.read_csv(inp.cuts)
-    optional = {k: pd.read_csv(inp[k]) for k in ("comparison", "recovery", "reference", "areal",
-                                                "profile_vs_areal") if k in inp.keys()}
+    metrics = pd.read_csv(inputs.metrics)
+    cuts = pd.read_csv(inputs.cuts)
+    optional = {k: pd.read_csv(inputs[k]) for k in ("comparison", "recovery", "reference", "areal",
+                                                "profile_vs_areal") if k in inputs.keys()}
     found = surface_findings(
-        metrics, pd.read_csv(inp.peaks), open_artefact(inp.profiles),
-        settings=settings(p.settings), thesis_layout=bool(p.thesis_layout),
-        synthetic=bool(p.synthetic),
-        design=describe_design(cuts[cuts["cut"].isin(metrics["cut"])], p.experiment),
+        metrics, pd.read_csv(inputs.peaks), open_artefact(inputs.profiles),
+        settings=settings(params.settings), thesis_layout=bool(params.thesis_layout),
+        synthetic=bool(params.synthetic),
+        design=describe_design(cuts[cuts["cut"].isin(metrics["cut"])], params.experiment),
         **optional)
-    found.comparisons = stage_comparisons("surface", thesis_study=bool(p.thesis_study))
+    found.comparisons = stage_comparisons("surface", thesis_study=bool(params.thesis_study))
     write_findings(found, outputs.findings)
     log.info("%d findings, %d comparison rows", len(found.items), len(found.comparisons))

@@ -23,10 +23,9 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
 
-    p = params
-    opts = settings(p.settings)
+    opts = settings(params.settings)
     study = load_study(inputs.study)
-    for relpath, raw, cut, nc, peaks_csv in zip(p.relpath, path_list(inputs.raw), p.cut,
+    for relpath, raw, cut, nc, peaks_csv in zip(params.relpath, path_list(inputs.raw), params.cut,
                                                 path_list(outputs.nc),
                                                 path_list(outputs.peaks), strict=True):
         # a stylus profile of the raw folder (sha256 checked), or an areal scan's profile along

@@ -20,11 +20,10 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    p = params
-    opts = settings(p.settings)
+    opts = settings(params.settings)
     study = load_study(inputs.study)
     tables = []
-    for cut, relpath, reference in zip(p.cuts, p.relpath, p.reference, strict=True):
+    for cut, relpath, reference in zip(params.cuts, params.relpath, params.reference, strict=True):
         x, z, _ = read_profile(study.verify_file(relpath))
         tables.append(reference_comparison(x, z, reference, lambda_c_mm=opts["lambda_c_mm"],
                                            rtol=opts["reference_rtol"], cut=cut))

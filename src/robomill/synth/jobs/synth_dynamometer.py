@@ -19,10 +19,9 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    p = params
-    config = dict(p.cfg)
+    config = dict(params.cfg)
     cell = cell_from_config(config)
-    for spec, state, path in zip(p.cuts, inputs.states, outputs, strict=True):
+    for spec, state, path in zip(params.cuts, inputs.states, outputs, strict=True):
         cut = Cut(**spec)
         progress = Progress(log, 1.0, f"dynamometer record of {cut.id}")
         sim = read_cut_state(state, length_mm=record_length_mm(config), variables=["force_N"])

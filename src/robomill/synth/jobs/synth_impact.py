@@ -15,10 +15,9 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    p = params
-    cfg = dict(p.cfg)
+    cfg = dict(params.cfg)
     cell = cell_from_config(cfg)
-    for hit, path in zip(p.hits, outputs, strict=True):
+    for hit, path in zip(params.hits, outputs, strict=True):
         write_hit(cfg, cell, hit["direction"], hit["hit"], path)
         log.info("hit %s_%d written (planted defect: %s)", hit["direction"], hit["hit"],
                  planted_defect(cfg, hit["direction"], hit["hit"]))

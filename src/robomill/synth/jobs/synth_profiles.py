@@ -18,10 +18,9 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    p = params
-    cfg = dict(p.cfg)
+    cfg = dict(params.cfg)
     cell = cell_from_config(cfg)
-    for spec, state, path in zip(p.cuts, inputs.states, outputs, strict=True):
+    for spec, state, path in zip(params.cuts, inputs.states, outputs, strict=True):
         cut = Cut(**spec)
         sim = read_cut_state(state, length_mm=trace_end_mm(cfg), variables=["deflection_m"])
         simulate_profile(cfg, cut, path, sim, cell=cell)

@@ -18,11 +18,10 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
     """The rule's job: ``inputs``, ``outputs`` and ``params`` are the rule's own
     (Snakemake's named lists, read by name), ``log`` its logger
     (:func:`robomill.pipeline.runlog.setup`)."""
-    p = params
-    cfg = dict(p.cfg)
+    cfg = dict(params.cfg)
     cell = cell_from_config(cfg)
     cuts = {c.id: c for c in synthetic_cuts(cfg)}
-    for run, path in zip(p.runs, outputs, strict=True):
+    for run, path in zip(params.runs, outputs, strict=True):
         cut = cuts[run["cut"]]
         sim = read_cut_state(run["state"], variables=["deflection_m"]) if run["state"] else None
         df = simulate_run(cfg, cell, run["direction"], float(run["feed_mm_s"]), cut,
