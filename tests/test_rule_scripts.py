@@ -87,3 +87,64 @@ def test_the_check_finds_thick_scripts():
     looped = thin.replace("snakemake.params,", "{k: snakemake.output[k] for k in OUTPUTS},")
     assert "OUTPUTS" in problems(looped)[0]
     assert problems("from x import y\ny()\n") == ["no docstring"]
+
+
+# --- the jobs are library functions: callable without Snakemake, with plain objects ---
+
+def test_a_job_runs_without_snakemake(tmp_path):
+    """The job behind cell_write.py, called with plain objects in place of Snakemake's named
+    lists, writes the cell file the cell reader reads back."""
+    import logging
+    from types import SimpleNamespace
+
+    from robomill.io.cell import read_cell
+    from robomill.pipeline.config import load_config
+    from robomill.pipeline.jobs import cell_write
+
+    section = load_config(REPO / "config.yaml")["cell"]
+    out = tmp_path / "cell.yaml"
+    cell_write.run(SimpleNamespace(), [str(out)], SimpleNamespace(cell=section),
+                   log=logging.getLogger("test"))
+    assert read_cell(out).robot.name == section["robot"]["name"]
+
+
+def test_a_job_reports_bad_input_in_one_line_naming_the_file(tmp_path):
+    """Bad input raised inside the job, as it was in the script: one line naming the file and
+    what is missing (the workflow's failure summary shows that line)."""
+    import logging
+    from types import SimpleNamespace
+
+    from robomill.pipeline.jobs import chatter_thesis
+
+    modes = tmp_path / "modes.csv"
+    modes.write_text("f_n_hz,zeta\n40.0,0.03\n")
+    empty = tmp_path / "empty.csv"
+    empty.write_text("cut\n")
+    inputs = SimpleNamespace(modes=str(modes), coefficients=str(empty), peaks=str(empty),
+                             study=str(tmp_path / "study.yaml"))
+    with pytest.raises(ValueError) as err:
+        chatter_thesis.run(inputs, SimpleNamespace(), SimpleNamespace(),
+                           log=logging.getLogger("test"))
+    message = str(err.value)
+    assert "\n" not in message and str(modes) in message and "k_modal_N_m" in message
+
+
+def test_the_code_inputs_of_every_script_hold_the_job_it_calls_and_what_that_imports():
+    """A rule's ``code`` inputs are the library files its script imports, followed through the
+    import graph (``code_inputs`` in common.smk): the job module is among them, and so is every
+    library module the job imports, so that editing the moved logic reruns the rule."""
+    from robomill.pipeline.codedeps import code_files, file_imports, module_file
+
+    src = REPO / "src"
+    for script in SCRIPTS:
+        called = ast.parse(script.read_text()).body[-1].value.func
+        name = called.value.id if isinstance(called, ast.Attribute) else called.id
+        module = next(f"{n.module}.{a.name}" if n.module.endswith(".jobs") else n.module
+                      for n in ast.parse(script.read_text()).body
+                      if isinstance(n, ast.ImportFrom) for a in n.names if a.name == name)
+        job = module_file(module, src)
+        assert job is not None, (script.name, module)
+        code = set(code_files([script], src))
+        assert str(job) in code, script.name
+        own = {module_file(m, src) for m in file_imports(job, src)} - {None}
+        assert {str(f) for f in own} <= code, script.name
