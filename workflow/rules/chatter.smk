@@ -27,6 +27,10 @@ rule chatter_case:
         "results/benchmarks/rules/chatter/cases/{chatter_case}.tsv"
     conda:
         ENV
+    # one BLAS/OpenMP thread: Snakemake sets OMP_NUM_THREADS, OPENBLAS_NUM_THREADS and
+    # MKL_NUM_THREADS of a script's process to its threads (many small eigenproblems:
+    # more threads only add overhead)
+    threads: 1
     params:
         case=lambda w: CHATTER_CASES[w.chatter_case],
         accuracy=config["chatter"]["accuracy"],
@@ -46,6 +50,10 @@ rule chatter_seed:
         "results/benchmarks/rules/chatter/simulation.tsv"
     conda:
         ENV
+    # one BLAS/OpenMP thread: Snakemake sets OMP_NUM_THREADS, OPENBLAS_NUM_THREADS and
+    # MKL_NUM_THREADS of a script's process to its threads (many small eigenproblems:
+    # more threads only add overhead)
+    threads: 1
     params:
         seed=config["chatter"]["seed"],
         accuracy=config["chatter"]["accuracy"],
@@ -83,6 +91,10 @@ rule chatter_thesis:
     priority: 10
     conda:
         ENV
+    # one BLAS/OpenMP thread: Snakemake sets OMP_NUM_THREADS, OPENBLAS_NUM_THREADS and
+    # MKL_NUM_THREADS of a script's process to its threads (many small eigenproblems:
+    # more threads only add overhead)
+    threads: 1
     params:
         thesis=config["chatter"]["thesis"],
         accuracy=config["chatter"]["accuracy"],

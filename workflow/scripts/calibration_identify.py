@@ -1,50 +1,8 @@
-"""Identify the calibrated model from the C-Track tables (thesis ch. 1)."""
+"""Identify the calibrated model from the C-Track tables (thesis ch. 1).
+The job: robomill.pipeline.jobs.calibration_identify."""
 
-import numpy as np
-
-from robomill.calibration.dataset import circle_table, joint_error_table, model_to_dataset
-from robomill.calibration.gravity import mass_model_from_cell
-from robomill.calibration.identification import GRAVITY_NONE, identify
-from robomill.io import write_artefact, write_table
-from robomill.io.cell import read_cell
-from robomill.io.ctrack import READERS
+from robomill.pipeline.jobs import calibration_identify
 from robomill.pipeline.runlog import setup
-from robomill.study import load_study
 
-log = setup(snakemake.log[0], "calibration_identify")
-inp, p = snakemake.input, snakemake.params
-manifest = load_study(inp.study)
-tables = {}
-for name, relpath in p.relpaths.items():
-    manifest.verify_file(relpath)
-    tables[name] = READERS[name](inp[name])
-if p.cell_relpath:
-    manifest.verify_file(p.cell_relpath)
-c = dict(p.calibration)
-# Fourier orders of the joint errors: the cell's gear trains (r and r·z of every element),
-# unless the configuration lists them explicitly
-em = dict(c["error_model"])
-cell = read_cell(inp.cell)
-if em.get("orders") is None:
-    em["orders"] = cell.fourier_orders()
-c["error_model"] = em
-# the gravity model: the cell's mass model (manufacturer data / CAD), if it states one
-masses = mass_model_from_cell(cell)
-if masses is None:
-    log.warning("%s states no mass_model: gravity model %s", inp.cell, GRAVITY_NONE)
-ident = identify(
-    tables["circles"], tables["home"], tables["steps"], tables["loads"], tables["base"],
-    masses=masses,
-    fixture_offset_mm=np.asarray(c["fixture_offset_mm"], float),
-    orders={i + 1: o for i, o in enumerate(em["orders"])},
-    max_degree=int(em["max_degree"]), holdout_every=int(em["holdout_every"]),
-    iterations=int(c["iterations"]),
-)
-inputs = [inp[k] for k in p.relpaths] + [inp.cell]
-write_artefact(model_to_dataset(ident), snakemake.output.model, rule="calibration_identify",
-               inputs=inputs, config_section=c)
-write_table(joint_error_table(ident, int(em["holdout_every"])), snakemake.output.joint_errors)
-write_table(ident.base, snakemake.output.base)
-write_table(circle_table(tables["circles"], ident), snakemake.output.circles)
-log.info("compliance %s rad/Nm; base %.3g rad/Nm (R2 %.3f)", ident.model.compliance,
-         ident.base_compliance, ident.base_r2)
+calibration_identify.run(snakemake.input, snakemake.output, snakemake.params,
+                         log=setup(snakemake.log[0], "calibration_identify"))

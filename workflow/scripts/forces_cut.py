@@ -1,56 +1,10 @@
 """Analyse force records in chunks: mean forces, Welch PSD, low-band thesis power, peaks
 (robomill.forces). One cut, or every cut of the virtual cell in one job: ``params.cut`` and
-the outputs in the same order."""
+the outputs in the same order.
+The job: robomill.pipeline.jobs.forces_cut."""
 
+from robomill.pipeline.jobs import forces_cut
 from robomill.pipeline.runlog import setup
 
-log = setup(snakemake.log[0], "forces_cut")
-
-from robomill.experiment import cut_process  # noqa: E402
-from robomill.forces.settings import ForceAnalysisSettings, ForcePeakSettings  # noqa: E402
-from robomill.forces.stream import ForceSpectrumAccumulator  # noqa: E402
-from robomill.forces.study import force_cut_dataset  # noqa: E402
-from robomill.io import write_artefact  # noqa: E402
-from robomill.io.forces import open_force_record  # noqa: E402
-from robomill.study import load_study  # noqa: E402
-
-
-def analyse_cut(cut_id: str, relpath: str, raw: str, out_nc: str) -> None:
-    """One cut's record ``raw`` (manifest path ``relpath``) into ``out_nc``."""
-    path = manifest.verify_file(relpath)
-    entry = manifest.entry(relpath)
-    cut = manifest.cut(cut_id)
-    record = open_force_record(path, float(entry["fs_hz"]))
-    acc = ForceSpectrumAccumulator(record.fs_hz, record.n_samples,
-                                   ForceAnalysisSettings.from_mapping(s))
-    for t, force in record.chunks(int(s["chunk_samples"])):
-        acc.add(t, force)
-    proc = cut_process(cut, manifest.experiment)  # the cut's own speed and flutes (else the
-    ds = force_cut_dataset(acc.result(), cut=cut.as_dict(), fs_hz=record.fs_hz,  # experiment's)
-                           n_samples=record.n_samples, spindle_rpm=proc["spindle_rpm"],
-                           flutes=proc["flutes"], n_harmonics=s["n_harmonics"],
-                           peaks=ForcePeakSettings.from_mapping(s))
-    write_artefact(ds, out_nc, rule="forces_cut", inputs=[raw], config_section=s)
-    log.info("%s: %d samples at %g Hz, decimation %d (%s), dominant %.2f Hz, kinematic %.3f "
-             "1/mm (nan: no peak stands out of its floor)",
-             cut_id, record.n_samples, record.fs_hz, acc.D,
-             "from the rate" if s["decimation"] is None else "forces.decimation",
-             float(ds["dominant_hz"]), float(ds["kinematic_per_mm"]))
-    if bool(ds["kinematic_below_resolution"]):
-        log.warning("%s: kinematic peak %.3f 1/mm is below the record's resolution (%.3f 1/mm,"
-                    " fewer than %g periods in the record)", cut_id,
-                    float(ds["kinematic_per_mm"]), float(ds["kinematic_resolution_per_mm"]),
-                    float(s["min_peak_cycles"]))
-
-
-def items(paths):
-    """A rule's output or input as a list (one path is a string)."""
-    return [paths] if isinstance(paths, str) else list(paths)
-
-
-p = snakemake.params
-s = p.settings
-manifest = load_study(snakemake.input.study)
-for args in zip(p.cut, p.relpath, items(snakemake.input.raw), items(snakemake.output),
-                strict=True):
-    analyse_cut(*args)
+forces_cut.run(snakemake.input, snakemake.output, snakemake.params,
+               log=setup(snakemake.log[0], "forces_cut"))

@@ -1,32 +1,11 @@
 """Chapter 3.1's findings (robomill.forces.findings): the dominant peak and its verdict
 against the modes, the records, the kinematic peak and its sanity flag, the force levels and
 the cutting coefficients, with the scorecard rows of the stage for its "Against the thesis"
-section."""
+section.
+The job: robomill.pipeline.jobs.forces_findings."""
 
-import pandas as pd
-
-from robomill.findings import write_findings
-from robomill.forces.findings import forces_findings
-from robomill.forces.tables import planted_coefficients
-from robomill.io import open_artefact
-from robomill.pipeline.design_tables import describe_design, design_factors
+from robomill.pipeline.jobs import forces_findings
 from robomill.pipeline.runlog import setup
-from robomill.pipeline.scorecard import stage_comparisons
 
-log = setup(snakemake.log[0], "forces_findings")
-inp, p = snakemake.input, snakemake.params
-modes = pd.read_csv(inp.modes) if "modes" in inp.keys() else None
-truth = open_artefact(inp.truth) if "truth" in inp.keys() else None
-cuts = pd.read_csv(inp.cuts)
-design = {"design": describe_design(cuts, p.experiment),
-          "grouping": list(design_factors(cuts, p.experiment).grouping)}
-found = forces_findings(pd.read_csv(inp.peaks), modes, mode_match_hz=p.mode_match_hz,
-                        band_hz=p.band_hz, prominence_db=p.prominence_db,
-                        spectra=open_artefact(inp.spectra), means=pd.read_csv(inp.means),
-                        coefficients=pd.read_csv(inp.coefficients),
-                        design=design, planted=planted_coefficients(truth),
-                        experiment=p.experiment, settings=p.settings,
-                        thesis_design=p.thesis_design)
-found.comparisons = stage_comparisons("forces", thesis_study=bool(p.thesis_study))
-write_findings(found, snakemake.output.findings)
-log.info("%d findings, %d comparison rows", len(found.items), len(found.comparisons))
+forces_findings.run(snakemake.input, snakemake.output, snakemake.params,
+                    log=setup(snakemake.log[0], "forces_findings"))

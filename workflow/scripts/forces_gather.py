@@ -1,53 +1,9 @@
 """Gather the per-cut force analyses: spectra.nc, peaks.csv, mean forces, harmonics and the
-identified cutting coefficients (robomill.forces.study.gather_force_study)."""
+identified cutting coefficients (robomill.forces.study.gather_force_study).
+The job: robomill.pipeline.jobs.forces_gather."""
 
+from robomill.pipeline.jobs import forces_gather
 from robomill.pipeline.runlog import setup
 
-log = setup(snakemake.log[0], "forces_gather")
-
-import pandas as pd  # noqa: E402
-
-from robomill.experiment import cut_process, is_thesis_design  # noqa: E402
-from robomill.forces.coefficients import (  # noqa: E402
-    identification_status,
-    not_identified_sentence,
-)
-from robomill.forces.study import force_record_chatter, gather_force_study  # noqa: E402
-from robomill.io import open_artefact, write_artefact, write_table  # noqa: E402
-from robomill.study import load_study  # noqa: E402
-
-s = snakemake.params.settings
-manifest = load_study(snakemake.input.study)
-exp = manifest.experiment
-datasets = [open_artefact(p) for p in snakemake.input.cuts]
-# a design other than the thesis': each cut's own speed, flutes, immersion and milling mode
-processes = (None if is_thesis_design(manifest.cuts)
-             else {c.id: cut_process(c, exp) for c in manifest.cuts})
-chattered = force_record_chatter(pd.read_csv(snakemake.input.verdicts))
-if chattered:
-    log.info("left out of the coefficients (judged to chatter, %s): %s",
-             snakemake.input.verdicts, ", ".join(chattered))
-spectra, peaks, means, harmonics, coeffs = gather_force_study(
-    datasets, flutes=int(exp["flutes"]), confidence=float(s["confidence"]),
-    processes=processes, chattered=chattered)
-kept = sorted(set(chattered) & set(means.loc[means["in_fit"], "cut"].astype(str)))
-if kept:
-    log.warning("cuts judged to chatter kept in the coefficients' identification (without "
-                "them the other cuts identify nothing): %s", ", ".join(kept))
-out = snakemake.output
-write_artefact(spectra, out.spectra, rule="forces_gather", inputs=snakemake.input.cuts,
-               config_section=s)
-write_table(peaks, out.peaks)
-write_table(coeffs, out.coefficients)
-write_table(means, out.means)
-write_table(harmonics, out.harmonics)
-why = identification_status(coeffs)
-if why is not None:  # a legitimate design: everything else is written as always
-    log.warning("cutting coefficients %s: written as NaN (%s)",
-                not_identified_sentence(why), out.coefficients)
-else:
-    log.info("coefficients:\n%s", coeffs.to_string(index=False))
-suspect = coeffs.loc[~coeffs["physical"], "name"].tolist()
-if suspect and why is None:
-    log.warning("coefficients that cannot be physical (negative, or a fit residual larger "
-                "than the signal): %s", ", ".join(suspect))
+forces_gather.run(snakemake.input, snakemake.output, snakemake.params,
+                  log=setup(snakemake.log[0], "forces_gather"))

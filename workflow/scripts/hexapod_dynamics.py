@@ -1,14 +1,9 @@
 """Rybak n.d.: the programme's inverse dynamics and replay, and the vertical move with a force
-error → trajectory.nc and forces.nc."""
+error → trajectory.nc and forces.nc.
+The job: robomill.pipeline.jobs.hexapod_dynamics."""
 
-from robomill.hexapod.study import dynamics_datasets
-from robomill.io import write_artefact
+from robomill.pipeline.jobs import hexapod_dynamics
 from robomill.pipeline.runlog import setup
 
-log = setup(snakemake.log[0], "hexapod")
-section = snakemake.params.hexapod
-traj, forces = dynamics_datasets(section)
-write_artefact(traj, snakemake.output.trajectory, rule=snakemake.rule, config_section=section)
-write_artefact(forces, snakemake.output.forces, rule=snakemake.rule, config_section=section)
-log.info("vertical move final drift %s mm, replay holds %.3f s",
-         traj["vertical_final_drift_mm"].values.round(4), float(traj["replay_hold_s"]))
+hexapod_dynamics.run(snakemake.input, snakemake.output, snakemake.params,
+                     log=setup(snakemake.log[0], "hexapod"), rule=snakemake.rule)

@@ -2,11 +2,10 @@
 modes (sdypy-EMA), mode shapes over the measured points, MAC matrix, sanity flags, UFF 55
 (robomill.pipeline.jobs.modal_identify)."""
 
-from robomill.pipeline.jobs.modal_identify import OUTPUTS, identify_frf_file
+from robomill.pipeline.jobs.modal_identify import identify_frf_file
 from robomill.pipeline.runlog import setup
 
-log = setup(snakemake.log[0], "modal_identify")
-identify_frf_file(snakemake.input.frf, {k: snakemake.output[k] for k in OUTPUTS},
+identify_frf_file(snakemake.input.frf, snakemake.output,
                   settings=snakemake.params.modal,
                   experiment_band_hz=snakemake.params.experiment_band_hz,
-                  level=snakemake.params.level, log=log)
+                  level=snakemake.params.level, log=setup(snakemake.log[0], "modal_identify"))

@@ -1,79 +1,9 @@
 """The next cuts from what was measured: candidates, the chosen cuts, the Pareto
-front, the study's own cuts beside the plan, and the next experiment's manifest and config."""
+front, the study's own cuts beside the plan, and the next experiment's manifest and config.
+The job: robomill.pipeline.jobs.plan_make."""
 
-import pandas as pd
-import yaml
-
-from robomill.io import write_artefact, write_table
-from robomill.io.atomic import atomic_path
+from robomill.pipeline.jobs import plan_make
 from robomill.pipeline.runlog import setup
-from robomill.plan.binding import binding_table, read_before
-from robomill.plan.conditioning import EVIDENCE_COLUMNS
-from robomill.plan.inputs import INPUT_KEYS, load_inputs, model_record
-from robomill.plan.make import make_plan
-from robomill.plan.outputs import compact
-from robomill.plan.program import program_cell, write_program
-from robomill.plan.workobject import BASE
 
-log = setup(snakemake.log[0], "plan")
-inp, out, p = snakemake.input, snakemake.output, snakemake.params
-# the study's artefacts and parameters (robomill.plan.inputs): the same routine serves
-# robomill predict, which reads them back from results/plan/model.yaml
-paths = {k: str(inp[k]) for k in INPUT_KEYS if k in inp.keys()}
-params = {"waviness_noise": p.waviness_noise, "fmin_cycles": p.fmin_cycles,
-          "level": float(p.level)}
-loaded = load_inputs(paths, params, log=log)
-for note in loaded.notes:
-    log.warning("%s", note)
-req, measured, cell = loaded.req, loaded.measured, loaded.cell
-# the study's cuts with the process the ingestion rule resolved (robomill.study), each
-# predicted as a planning candidate (robomill.plan.candidate)
-cuts = loaded.study_cuts
-experiment, cell_file = loaded.experiment, loaded.cell_file
-log.info("study reach: %s", loaded.reach)
-# an earlier plan's binding interval (config plan.binding_before): the narrowing is measured
-# on its binding prediction
-before = read_before(inp.binding_before) if "binding_before" in inp.keys() else None
-plan = make_plan(req, measured, cell, cuts, experiment, robot_name=cell.robot.name,
-                 reach=loaded.reach, study_slots=loaded.slots,
-                 binding_constraint=None if before is None else str(before["constraint"].iloc[-1]),
-                 binding_before=before,
-                 stability=loaded.stability)
-if plan.candidates.attrs.get("stability_evidence_note"):
-    log.warning("%s", plan.candidates.attrs["stability_evidence_note"])
-inputs = [str(f) for f in inp]
-write_artefact(compact(plan.candidates), out.candidates, rule="plan_make", inputs=inputs,
-               config_section=req.raw)
-write_artefact(plan.pose_map, out.pose_map, rule="plan_make", inputs=inputs,
-               config_section=req.raw)
-write_table(plan.plan, out.plan)
-with atomic_path(out.model) as tmp:
-    tmp.write_text(yaml.safe_dump(model_record(paths, params), sort_keys=False))
-if plan.candidates.attrs.get("shortfall"):
-    log.warning("%s", plan.candidates.attrs["shortfall"])
-write_table(plan.pareto, out.pareto)
-write_table(plan.study, out.study)
-write_table(plan.comparison, out.comparison)
-write_table(plan.path_summary, out.path_summary)
-write_table(plan.evidence if plan.evidence is not None
-            else pd.DataFrame(columns=list(EVIDENCE_COLUMNS)), out.evidence)
-wobj = req.work_object or BASE
-header = (f"robomill plan of {req.path}: the planned cuts, ranked by removal rate; "
-          f"robot {cell.robot.name}\ncheck it in the offline programming tool before running")
-pcell = program_cell(cell.robot, wobj.T_base_part, cell_file.mass_model,
-                     frames=cell_file.controller_frames, spindle=cell_file.spindle,
-                     motion=req.motion, q_home_deg=cell_file.q_home_deg)
-program = write_program(plan.paths, cell_file.controller, pcell, out.program, header=header)
-log.info("program (%s): %s", cell_file.controller or "no controller named: stations only",
-         ", ".join(str(f) for f in program))
-for path in plan.paths:
-    if path.refused:
-        log.info("cut %s refused: %s", path.cut, path.refused)
-write_table(binding_table(plan.binding, req.purpose, len(cuts), int(p.raw_folders), before),
-            out.binding)
-for path, data in ((out.manifest, plan.manifest), (out.config, plan.config)):
-    with atomic_path(path) as tmp:
-        tmp.write_text(yaml.safe_dump(data, sort_keys=False))
-log.info("missing predictions: %s", plan.candidates.attrs["missing_predictions"] or "none")
-log.info("plan:\n%s", plan.plan.to_string())
-log.info("comparison:\n%s", plan.comparison.to_string())
+plan_make.run(snakemake.input, snakemake.output, snakemake.params,
+              log=setup(snakemake.log[0], "plan"))

@@ -1,29 +1,8 @@
-"""Joint-model stiffness of the cell's robot at the middle of every cut (any design)."""
+"""Joint-model stiffness of the cell's robot at the middle of every cut (any design).
+The job: robomill.pipeline.jobs.stiffness_cuts."""
 
-import numpy as np
-import pandas as pd
-
-from robomill.experiment import cut_joint_path_rad
-from robomill.io import write_table
-from robomill.io.cell import read_cell
+from robomill.pipeline.jobs import stiffness_cuts
 from robomill.pipeline.runlog import setup
-from robomill.stiffness.cuts import cut_stiffness_table
-from robomill.stiffness.model import compliance_from_table
-from robomill.study import load_study
 
-log = setup(snakemake.log[0], "stiffness")
-p = snakemake.params
-manifest = load_study(snakemake.input.study)
-if p.cell_relpath:
-    manifest.verify_file(p.cell_relpath)
-cell = read_cell(snakemake.input.cell)
-c = compliance_from_table(pd.read_csv(snakemake.input.joints))
-cuts = list(manifest.cuts)  # the study's cuts and experiment (its block layout resolved)
-experiment = manifest.experiment
-L = float(experiment["cut_length_mm"])
-q = np.array([cut_joint_path_rad(cell.robot, cut, experiment, np.array([L / 2]),
-                                 tool_rotation=cell.tool_rotation, q0_rad=cell.q_home_rad)[0]
-              for cut in cuts])
-table = cut_stiffness_table(cell.robot, c, cuts, q)
-write_table(table, snakemake.output.cuts)
-log.info("%s", table.to_string())
+stiffness_cuts.run(snakemake.input, snakemake.output, snakemake.params,
+                   log=setup(snakemake.log[0], "stiffness"))

@@ -1,32 +1,9 @@
 """Chapter 5's findings (robomill.stiffness.findings), with the scorecard rows of the stage
-for its "Against the source" section."""
+for its "Against the source" section.
+The job: robomill.pipeline.jobs.stiffness_findings."""
 
-import pandas as pd
-
-from robomill.findings import write_findings
-from robomill.io import open_artefact
+from robomill.pipeline.jobs import stiffness_findings
 from robomill.pipeline.runlog import setup
-from robomill.pipeline.scorecard import stage_comparisons
-from robomill.stiffness.findings import stiffness_findings
 
-log = setup(snakemake.log[0], "stiffness_findings")
-inp, p = snakemake.input, snakemake.params
-has = set(inp.keys())
-planted = None
-if "truth" in has:
-    truth = open_artefact(inp.truth)
-    robots = [str(r) for r in truth["stiffness_robot"].values]
-    if p.map_robot in robots:
-        planted = truth["stiffness_k_Nm_rad"].sel(stiffness_robot=p.map_robot).values
-found = stiffness_findings(
-    open_artefact(inp.maps), pd.read_csv(inp.optimal), open_artefact(inp.beamframe),
-    pd.read_csv(inp.joints), pd.read_csv(inp.validation), planted_k_Nm_rad=planted,
-    cut_stiffness=pd.read_csv(inp.cut_stiffness) if "cut_stiffness" in has else None,
-    slots=pd.read_csv(inp.slots) if "slots" in has else None,
-    waviness=pd.read_csv(inp.waviness, index_col=0) if "waviness" in has else None,
-    thesis_joints=pd.read_csv(inp.thesis_joints) if "thesis_joints" in has else None,
-    slot_asymmetry_pct=p.slot_asymmetry_pct)
-found.add("thesis_study", bool(p.thesis_study), what="robomill.experiment.is_thesis_study")
-found.comparisons = stage_comparisons("stiffness", thesis_study=bool(p.thesis_study))
-write_findings(found, snakemake.output.findings)
-log.info("%d findings, %d comparison rows", len(found.items), len(found.comparisons))
+stiffness_findings.run(snakemake.input, snakemake.output, snakemake.params,
+                       log=setup(snakemake.log[0], "stiffness_findings"))

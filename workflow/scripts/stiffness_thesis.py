@@ -1,35 +1,8 @@
-"""Both stiffness models for the study's robot at the study's cuts (feed, normal, axial)."""
+"""Both stiffness models for the study's robot at the study's cuts (feed, normal, axial).
+The job: robomill.pipeline.jobs.stiffness_thesis."""
 
-import numpy as np
-import pandas as pd
-
-from robomill.beamframe import sections_from_config, slot_stiffness_table
-from robomill.experiment import cut_joint_path_rad
-from robomill.io import write_table
-from robomill.io.cell import read_cell
-from robomill.io.robots import read_robot_file
+from robomill.pipeline.jobs import stiffness_thesis
 from robomill.pipeline.runlog import setup
-from robomill.stiffness.model import compliance_from_table
-from robomill.study import load_study
 
-log = setup(snakemake.log[0], "stiffness")
-p = snakemake.params
-manifest = load_study(snakemake.input.study)
-manifest.verify_file(p.robot_rel)
-if p.cell_relpath:
-    manifest.verify_file(p.cell_relpath)
-robot, _ = read_robot_file(snakemake.input.robot)
-cell = read_cell(snakemake.input.cell)  # posture and tool orientation of the cell
-c = compliance_from_table(pd.read_csv(snakemake.input.joints))
-cuts = list(manifest.cuts)  # the study's cuts and experiment (its block layout resolved)
-experiment = manifest.experiment
-L = float(experiment["cut_length_mm"])
-q = np.array([cut_joint_path_rad(robot, cut, experiment, np.array([L / 2]),
-                                 tool_rotation=cell.tool_rotation, q0_rad=cell.q_home_rad)[0]
-              for cut in cuts])
-bf = p.beamframe
-sections = sections_from_config(bf["thesis_sections"], bf["E_Pa"], bf["G_Pa"])
-table = slot_stiffness_table(robot, c, sections, cuts, q)
-write_table(table, snakemake.output.slots)
-log.info("%s", table.groupby(["model", "direction"])[["k_feed_N_m", "k_normal_N_m",
-                                                       "k_axial_N_m"]].mean().to_string())
+stiffness_thesis.run(snakemake.input, snakemake.output, snakemake.params,
+                     log=setup(snakemake.log[0], "stiffness"))

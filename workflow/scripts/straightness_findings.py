@@ -1,25 +1,9 @@
 """Chapter 3.2's findings (robomill.straightness.findings), with the scorecard rows of the
-stage for its "Against the thesis" section."""
+stage for its "Against the thesis" section.
+The job: robomill.pipeline.jobs.straightness_findings."""
 
-import pandas as pd
-
-from robomill.findings import write_findings
-from robomill.io import open_artefact
+from robomill.pipeline.jobs import straightness_findings
 from robomill.pipeline.runlog import setup
-from robomill.pipeline.scorecard import stage_comparisons
-from robomill.straightness.findings import straightness_findings
 
-log = setup(snakemake.log[0], "straightness_findings")
-inp, p = snakemake.input, snakemake.params
-peaks = pd.read_csv(inp.peaks, keep_default_na=False, na_values=[""])
-surface = pd.read_csv(inp.surface_peaks) if "surface_peaks" in inp.keys() else None
-found = straightness_findings(open_artefact(inp.profiles), peaks,
-                              surface_band_per_mm=p.surface_band_per_mm,
-                              fmax_store_per_mm=p.fmax_store_per_mm, threshold=p.threshold,
-                              surface_peaks=surface,
-                              truth_check=pd.read_csv(inp.truth_check),
-                              tol_bins=p.tol_bins, fmin_cycles=p.fmin_cycles,
-                              truth_margin=p.truth_margin, thesis_design=p.thesis_design)
-found.comparisons = stage_comparisons("straightness", thesis_study=bool(p.thesis_study))
-write_findings(found, snakemake.output.findings)
-log.info("%d findings, %d comparison rows", len(found.items), len(found.comparisons))
+straightness_findings.run(snakemake.input, snakemake.output, snakemake.params,
+                          log=setup(snakemake.log[0], "straightness_findings"))

@@ -1,33 +1,9 @@
 """One areal scan: form removal, ISO 25178-2 height parameters, areal PSD (radial, along and
-across the feed) and the profile along the feed (robomill.surface.areal.analyse_scan)."""
+across the feed) and the profile along the feed (robomill.surface.areal.analyse_scan).
+The job: robomill.pipeline.jobs.surface_areal."""
 
-import numpy as np
-import pandas as pd
-
-from robomill.io import write_artefact, write_table
-from robomill.io.areal import read_areal
+from robomill.pipeline.jobs import surface_areal
 from robomill.pipeline.runlog import setup
-from robomill.study import load_study
-from robomill.surface.areal import analyse_scan
-from robomill.surface.options import settings
 
-log = setup(snakemake.log[0], "surface_areal")
-p = snakemake.params
-opts = settings(p.settings)
-study = load_study(snakemake.input.study)
-path = study.verify_file(p.relpath)
-z, dx, dy, attrs = read_areal(path)
-ds, (x, zp) = analyse_scan(z, dx, dy, float(p.entry["feed_angle_deg"]), opts)
-# the instrument's statements (file and manifest entry) carried into the artefact
-keep = ("instrument", "probe", "lateral_spacing_um", "lateral_resolution_um", "source_file",
-        "source_format")
-ds.attrs.update({k: (str(v) if isinstance(v, list) else v) for k, v in
-                 {**attrs, **{k: p.entry[k] for k in keep if k in p.entry}}.items()})
-ds.attrs["cut"] = p.entry["cut"]
-write_artefact(ds, snakemake.output.nc, rule="surface_areal", inputs=[str(path)],
-               config_section=opts)
-write_table(pd.DataFrame({"x_mm": np.round(x, 9), "z_um": zp}), snakemake.output.profile)
-log.info("%s: %d x %d points, valid %.1f %%; Sq %.4g um (form degree %d); profile along the "
-         "feed: line %d, %d points", p.entry["cut"], z.shape[1], z.shape[0],
-         100 * float(ds["valid_share"]), float(ds["Sq_um"]), int(opts["areal_form_degree"]),
-         int(ds["profile_line"]), x.size)
+surface_areal.run(snakemake.input, snakemake.output, snakemake.params,
+                  log=setup(snakemake.log[0], "surface_areal"))

@@ -1,23 +1,10 @@
 """Gather the areal scans: ISO 25178-2 parameters per scan with its instrument's statements,
 the spectra, and stylus against scan for cuts measured both ways
-(robomill.surface.areal_study.gather_areal)."""
+(robomill.surface.areal_study.gather_areal).
+The job: robomill.pipeline.jobs.surface_areal_gather."""
 
-from robomill.io import open_artefact, write_artefact, write_table
-from robomill.io.profiles import read_profile
+from robomill.pipeline.jobs import surface_areal_gather
 from robomill.pipeline.runlog import setup
-from robomill.surface.areal_study import gather_areal
-from robomill.surface.options import settings
 
-log = setup(snakemake.log[0], "surface_areal_gather")
-p, inp = snakemake.params, snakemake.input
-opts = settings(p.settings)
-scans = [open_artefact(f) for f in inp.scans]
-profiles = {c: read_profile(f)[:2] for c, f in zip(p.cuts, inp.profiles, strict=True)}
-stylus = {c: open_artefact(f) for c, f in zip(p.stylus_cuts, inp.stylus, strict=True)}
-out = gather_areal(scans, profiles, stylus, opts)
-write_table(out["areal"], snakemake.output.areal)
-write_table(out["profile_vs_areal"], snakemake.output.profile_vs_areal)
-write_artefact(out["spectra"], snakemake.output.areal_spectra, rule="surface_areal_gather",
-               inputs=list(inp.scans), config_section=opts)
-log.info("%d scans (Sq %s um); %d cuts measured both ways", len(out["areal"]),
-         out["areal"]["Sq_um"].round(3).tolist(), len(stylus))
+surface_areal_gather.run(snakemake.input, snakemake.output, snakemake.params,
+                         log=setup(snakemake.log[0], "surface_areal_gather"))

@@ -1,28 +1,9 @@
 """Chapter 2's findings (robomill.surface.findings), with the scorecard rows of the stage for
-its "Against the thesis" section."""
+its "Against the thesis" section.
+The job: robomill.pipeline.jobs.surface_findings."""
 
-import pandas as pd
-
-from robomill.findings import write_findings
-from robomill.io import open_artefact
-from robomill.pipeline.design_tables import describe_design
+from robomill.pipeline.jobs import surface_findings
 from robomill.pipeline.runlog import setup
-from robomill.pipeline.scorecard import stage_comparisons
-from robomill.surface.findings import surface_findings
-from robomill.surface.options import settings
 
-log = setup(snakemake.log[0], "surface_findings")
-inp, p = snakemake.input, snakemake.params
-metrics = pd.read_csv(inp.metrics)
-cuts = pd.read_csv(inp.cuts)
-optional = {k: pd.read_csv(inp[k]) for k in ("comparison", "recovery", "reference", "areal",
-                                            "profile_vs_areal") if k in inp.keys()}
-found = surface_findings(
-    metrics, pd.read_csv(inp.peaks), open_artefact(inp.profiles),
-    settings=settings(p.settings), thesis_layout=bool(p.thesis_layout),
-    synthetic=bool(p.synthetic),
-    design=describe_design(cuts[cuts["cut"].isin(metrics["cut"])], p.experiment),
-    **optional)
-found.comparisons = stage_comparisons("surface", thesis_study=bool(p.thesis_study))
-write_findings(found, snakemake.output.findings)
-log.info("%d findings, %d comparison rows", len(found.items), len(found.comparisons))
+surface_findings.run(snakemake.input, snakemake.output, snakemake.params,
+                     log=setup(snakemake.log[0], "surface_findings"))

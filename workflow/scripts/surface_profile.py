@@ -1,39 +1,11 @@
 """Analyse stylus profiles: detrend, Gaussian split, spectra, segment RMS, peaks (one cut, or
 every cut of the virtual cell in one job: ``params.cut`` and the outputs in the same order).
 A cut with an areal scan and no stylus profile is analysed from the scan's profile along the
-feed."""
+feed.
+The job: robomill.pipeline.jobs.surface_profile."""
 
-from robomill.io import write_artefact, write_table
-from robomill.io.profiles import read_profile
+from robomill.pipeline.jobs import surface_profile
 from robomill.pipeline.runlog import setup
-from robomill.study import load_study
-from robomill.surface.options import settings
-from robomill.surface.peaks import profile_peaks
-from robomill.surface.psd import analyse_profile
 
-
-def items(paths):
-    """A rule's output or input as a list (one path is a string)."""
-    return [paths] if isinstance(paths, str) else list(paths)
-
-
-log = setup(snakemake.log[0], "surface_profile")
-p = snakemake.params
-opts = settings(p.settings)
-study = load_study(snakemake.input.study)
-for relpath, raw, cut, nc, peaks_csv in zip(p.relpath, items(snakemake.input.raw), p.cut,
-                                            items(snakemake.output.nc),
-                                            items(snakemake.output.peaks), strict=True):
-    # a stylus profile of the raw folder (sha256 checked), or an areal scan's profile along
-    # the feed (relpath None: written by rule surface_areal)
-    path = study.verify_file(relpath) if relpath is not None else raw
-    x, z, fs = read_profile(path)
-    ds = analyse_profile(x, z, opts)
-    ds.attrs.update({"cut": cut["id"], "feed_mm_s": float(cut["feed_mm_s"])})
-    peaks = profile_peaks(ds, opts)
-    peaks.insert(0, "cut", cut["id"])
-    write_artefact(ds, nc, rule="surface_profile", inputs=[str(path)], config_section=opts)
-    write_table(peaks, peaks_csv)
-    log.info("%s: %d samples at %g /mm; waviness RMS %.3f um, roughness RMS %.3f um, %d peaks",
-             cut["id"], x.size, fs, float(ds.waviness_rms_um), float(ds.roughness_rms_um),
-             len(peaks))
+surface_profile.run(snakemake.input, snakemake.output, snakemake.params,
+                    log=setup(snakemake.log[0], "surface_profile"))

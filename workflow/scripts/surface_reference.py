@@ -1,25 +1,9 @@
 """Ours beside the parameters a profile file states about itself (one row per parameter; see
-robomill.surface.reference.reference_comparison)."""
+robomill.surface.reference.reference_comparison).
+The job: robomill.pipeline.jobs.surface_reference."""
 
-import pandas as pd
-
-from robomill.io import write_table
-from robomill.io.profiles import read_profile
+from robomill.pipeline.jobs import surface_reference
 from robomill.pipeline.runlog import setup
-from robomill.study import load_study
-from robomill.surface.options import settings
-from robomill.surface.reference import REFERENCE_COLUMNS, reference_comparison
 
-log = setup(snakemake.log[0], "surface_reference")
-p = snakemake.params
-opts = settings(p.settings)
-study = load_study(snakemake.input.study)
-tables = []
-for cut, relpath, reference in zip(p.cuts, p.relpath, p.reference, strict=True):
-    x, z, _ = read_profile(study.verify_file(relpath))
-    tables.append(reference_comparison(x, z, reference, lambda_c_mm=opts["lambda_c_mm"],
-                                       rtol=opts["reference_rtol"], cut=cut))
-table = pd.concat(tables, ignore_index=True) if tables else pd.DataFrame(columns=REFERENCE_COLUMNS)
-write_table(table, snakemake.output[0])
-log.info("%d parameters of %d files; %d within %g of the file's own", len(table), len(tables),
-         int(table["within_tolerance"].sum()), opts["reference_rtol"])
+surface_reference.run(snakemake.input, snakemake.output, snakemake.params,
+                      log=setup(snakemake.log[0], "surface_reference"))

@@ -1,10 +1,8 @@
-"""Simulate one C-Track table of the virtual robot (results/synthetic/raw/ctrack/<table>.csv)."""
+"""Simulate one C-Track table of the virtual robot (results/synthetic/raw/ctrack/<table>.csv).
+The job: robomill.synth.jobs.synth_ctrack."""
 
 from robomill.pipeline.runlog import setup
-from robomill.synth.cell import cell_from_config
-from robomill.synth.ctrack import write_table
+from robomill.synth.jobs import synth_ctrack
 
-log = setup(snakemake.log[0], "synth_ctrack")
-cfg = dict(snakemake.params.cfg)
-write_table(cfg, cell_from_config(cfg), snakemake.params.table, snakemake.output[0])
-log.info("wrote %s", snakemake.output[0])
+synth_ctrack.run(snakemake.input, snakemake.output, snakemake.params,
+                 log=setup(snakemake.log[0], "synth_ctrack"))

@@ -1,9 +1,8 @@
-"""Synthetic raw file stiffness/load_tests_<robot>.csv (kind stiffness): simulated load tests."""
+"""Synthetic raw file stiffness/load_tests_<robot>.csv (kind stiffness): simulated load tests.
+The job: robomill.synth.jobs.synth_loadtests."""
 
 from robomill.pipeline.runlog import setup
-from robomill.synth.loadtests import write_load_tests
+from robomill.synth.jobs import synth_loadtests
 
-log = setup(snakemake.log[0], "stiffness")
-write_load_tests(dict(snakemake.params.cfg), snakemake.params.robot,
-                 snakemake.output.tests)
-log.info("wrote %s", snakemake.output.tests)
+synth_loadtests.run(snakemake.input, snakemake.output, snakemake.params,
+                    log=setup(snakemake.log[0], "stiffness"))

@@ -1,9 +1,8 @@
-"""Synthetic raw file stiffness/<robot>.yaml (kind robot) from the virtual cell's config."""
+"""Synthetic raw file stiffness/<robot>.yaml (kind robot) from the virtual cell's config.
+The job: robomill.synth.jobs.synth_loadtests_robot."""
 
 from robomill.pipeline.runlog import setup
-from robomill.synth.loadtests import write_robot_file
+from robomill.synth.jobs import synth_loadtests_robot
 
-log = setup(snakemake.log[0], "stiffness")
-write_robot_file(dict(snakemake.params.cfg), snakemake.params.robot,
-                 snakemake.output.robot)
-log.info("wrote %s", snakemake.output.robot)
+synth_loadtests_robot.run(snakemake.input, snakemake.output, snakemake.params,
+                          log=setup(snakemake.log[0], "stiffness"))

@@ -1,24 +1,8 @@
-"""Write the synthetic study's manifest.yaml (sha256 of every simulated raw file)."""
+"""Write the synthetic study's manifest.yaml (sha256 of every simulated raw file).
+The job: robomill.synth.jobs.synth_manifest."""
 
-from pathlib import Path
-
-from robomill.experiment import Cut
-from robomill.io.manifest import build_manifest, write_manifest
 from robomill.pipeline.runlog import setup
+from robomill.synth.jobs import synth_manifest
 
-log = setup(snakemake.log[0], "synth_manifest")
-p = snakemake.params
-cuts = [Cut(**c) for c in p.cuts]
-# The synthetic raw folder is the pipeline's own output: files left by an earlier
-# configuration (no longer planned) are removed so that the folder matches its manifest.
-raw = Path(p.raw_dir)
-planned = {f["path"] for f in p.files}
-for stale in sorted(q for q in raw.rglob("*") if q.is_file()):
-    rel = stale.relative_to(raw).as_posix()
-    if rel not in planned and rel != "manifest.yaml" and not stale.name.startswith("."):
-        log.info("removing %s (not planned by the current configuration)", stale)
-        stale.unlink()
-manifest = build_manifest(p.experiment, cuts, p.files, p.raw_dir)
-manifest["source"] = "synthetic (robomill virtual cell, see results/synthetic/truth.nc)"
-write_manifest(manifest, snakemake.output[0])
-log.info("manifest: %d cuts, %d files", len(cuts), len(p.files))
+synth_manifest.run(snakemake.input, snakemake.output, snakemake.params,
+                   log=setup(snakemake.log[0], "synth_manifest"))

@@ -2,29 +2,11 @@
 (robomill.synth.recordings), and each one's air pass (``pass: air``: the same path without
 material), from the cuts' stored simulated state (rule synth_cuts: the ``air`` pass of the same
 file), one after the other in this process (one output per entry of ``params.files``, in
-order; consecutive entries of one cut and pass read its state once)."""
+order; consecutive entries of one cut and pass read its state once).
+The job: robomill.synth.jobs.synth_recordings."""
 
 from robomill.pipeline.runlog import setup
+from robomill.synth.jobs import synth_recordings
 
-log = setup(snakemake.log[0], "synth_recordings")
-
-from robomill.experiment import Cut  # noqa: E402
-from robomill.synth.cell import cell_from_config  # noqa: E402
-from robomill.synth.cutstate import read_cut_state  # noqa: E402
-from robomill.synth.dynamometer import record_length_mm  # noqa: E402
-from robomill.synth.recordings import simulate_air_pass_file, simulate_file  # noqa: E402
-
-config = dict(snakemake.params.cfg)
-cell = cell_from_config(config)
-read = (None, None)
-for spec, path in zip(snakemake.params.files, snakemake.output, strict=True):
-    cut = Cut(**spec["cut"])
-    air = spec["pass"] == "air"
-    if read[0] != (spec["state"], spec["pass"]):
-        read = ((spec["state"], spec["pass"]),
-                read_cut_state(spec["state"], spec["pass"], record_length_mm(config),
-                               variables=["deflection_m"]))
-    (simulate_air_pass_file if air else simulate_file)(config, cut, path, spec["kind"],
-                                                       read[1], cell=cell)
-    log.info("simulated the %s recording of %s%s -> %s", spec["kind"], cut.id,
-             " (air pass)" if air else "", path)
+synth_recordings.run(snakemake.input, snakemake.output, snakemake.params,
+                     log=setup(snakemake.log[0], "synth_recordings"))

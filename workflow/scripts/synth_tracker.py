@@ -1,23 +1,10 @@
 """Simulate the laser-tracker runs (tracker/<dir>_f<feed>.csv) of the virtual cell, a loaded
 run from its cut's stored simulated state (rule synth_cuts), one after the other in this
-process (one output per run, in the order of ``params.runs``)."""
+process (one output per run, in the order of ``params.runs``).
+The job: robomill.synth.jobs.synth_tracker."""
 
-from robomill.io.synthetic_layout import synthetic_cuts
 from robomill.pipeline.runlog import setup
-from robomill.synth.cell import cell_from_config
-from robomill.synth.cutstate import read_cut_state
-from robomill.synth.tracker import simulate_run, write_run
+from robomill.synth.jobs import synth_tracker
 
-log = setup(snakemake.log[0], "synth_tracker")
-p = snakemake.params
-cfg = dict(p.cfg)
-cell = cell_from_config(cfg)
-cuts = {c.id: c for c in synthetic_cuts(cfg)}
-for run, path in zip(p.runs, snakemake.output, strict=True):
-    cut = cuts[run["cut"]]
-    sim = read_cut_state(run["state"], variables=["deflection_m"]) if run["state"] else None
-    df = simulate_run(cfg, cell, run["direction"], float(run["feed_mm_s"]), cut,
-                      run["pass"], run["run"], sim=sim)
-    write_run(df, path)
-    log.info("tracker run %s_f%g along %s (%s): %d samples, %.2f s", run["direction"],
-             run["feed_mm_s"], cut.id, run["pass"], len(df), df["t_s"].iloc[-1])
+synth_tracker.run(snakemake.input, snakemake.output, snakemake.params,
+                  log=setup(snakemake.log[0], "synth_tracker"))

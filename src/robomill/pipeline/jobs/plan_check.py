@@ -35,6 +35,7 @@ def check_plan_files(inputs: Mapping[str, str], outputs: Mapping[str, str], *,
     ``gears``, ``profiles``, ``deflection``, ``peaks``, and the next run's ``next_*``) into
     ``outputs`` ``check``, ``summary`` and ``misses``; ``next_run``: the planned cuts' run
     folder; the other arguments are the ``plan`` configuration's."""
+    inputs = dict(inputs.items())  # a mapping, or Snakemake's named inputs: by name
 
     def table(name):
         return pd.read_csv(inputs[name]) if name in inputs else None

@@ -17,28 +17,30 @@ from robomill.experiment import cut_redundancy_deg
 from robomill.io import write_artefact, write_table
 from robomill.io.cell import read_cell
 from robomill.io.tracker import read_tracker
+from robomill.pipeline.jobs import path_list
 from robomill.straightness.profile import TRIM_MAX_FRACTION, profile_dataset
 from robomill.straightness.study import analyse_tracker_run
 from robomill.study import load_study
 
 
 def analyse_tracker_files(study: str, cell: str, runs: Sequence[Mapping[str, Any]],
-                          raws: Sequence[str], out_nc: Sequence[str],
-                          out_peaks: Sequence[str], out_gears: Sequence[str], *,
+                          raws: str | Sequence[str], out_nc: str | Sequence[str],
+                          out_peaks: str | Sequence[str], out_gears: str | Sequence[str], *,
                           settings: Mapping[str, Any], cell_relpath: str,
                           log: logging.Logger, rule: str = "straightness_run") -> None:
     """Analyse each tracker run of ``runs`` (the workflow's run specs: ``run``, ``relpath``,
     ``direction``, ``feed_mm_s``, ``fs_hz``, ``time_base``, ``cut``), read from ``raws``, into
-    ``out_nc``, ``out_peaks``, ``out_gears`` (same order); ``study``: ``study.yaml``;
-    ``cell``: the cell file (``cell_relpath``: its path in the raw folder, verified against
-    its sha256; empty for the configuration's cell); ``settings``: the ``straightness``
-    section."""
+    ``out_nc``, ``out_peaks``, ``out_gears`` (same order; one path may be a string);
+    ``study``: ``study.yaml``; ``cell``: the cell file (``cell_relpath``: its path in the raw
+    folder, verified against its sha256; empty for the configuration's cell); ``settings``:
+    the ``straightness`` section."""
     manifest = load_study(study)
     if cell_relpath:  # the raw folder's cell.yaml (else the configuration's cell, ingest_cell)
         manifest.verify_file(cell_relpath)
     the_cell = read_cell(cell)
     theta = {c.id: cut_redundancy_deg(c) for c in manifest.cuts}
-    for run, raw, nc, peaks, gears in zip(runs, raws, out_nc, out_peaks, out_gears,
+    for run, raw, nc, peaks, gears in zip(runs, path_list(raws), path_list(out_nc),
+                                          path_list(out_peaks), path_list(out_gears),
                                           strict=True):
         manifest.verify_file(run["relpath"])
         _analyse_run(run, raw, nc, peaks, gears, the_cell, theta.get(run["cut"], 0.0),
