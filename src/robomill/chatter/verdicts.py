@@ -46,7 +46,10 @@ teeth):
    whose teeth leave the cut spreads its power over a broad band with no line standing
    ``prominence_db`` above its (raised) floor, and one that sets in late in a short record
    weighs little in the record's mean spectrum; both escape steps 3–4, neither escapes this.
-   The frequency named is the strongest off-harmonic bin of that last quarter.
+   The frequency named is the strongest off-harmonic bin of that last quarter. Not on a
+   record judged again beside an air pass (lines set aside, step 6): an accelerometer
+   carries the arm's own broadband vibration off the comb, which the air pass, not this
+   share, tells apart from the cut's.
 6. **Forced, not chatter** (:func:`robomill.chatter.air.air_test`): a line is forced
    vibration when it is present while the same path is moved without cutting (an **air
    pass** of the same instrument: the robot's servos and motors shake the arm whether it
@@ -353,7 +356,7 @@ def judge(signal: np.ndarray, fs_hz: float, settings: VerdictSettings, *,
         out.evidence = (f"no non-harmonic line rises {s.prominence_db:g} dB above its floor in "
                         f"{lo:g}–{hi:g} Hz (energy ratio 0 < {s.energy_ratio_threshold:g}); "
                         f"{comb_text}")
-        return _broadband(out, f, S, band, off, active, s)
+        return _broadband(out, f, S, band, off, active, s, bool(len(set_aside_hz)))
     from robomill.spectral_peaks import interpolate_peak
 
     i = int(idx[0])
@@ -395,16 +398,17 @@ def judge(signal: np.ndarray, fs_hz: float, settings: VerdictSettings, *,
             out.evidence += ("; no flutes given: tooth-passing targets f_c/k = "
                              + ", ".join(f"{v:.1f}" for v in out.tooth_targets_hz) + " Hz")
         return out
-    return _broadband(out, f, S, band, off, active, s)
+    return _broadband(out, f, S, band, off, active, s, bool(len(set_aside_hz)))
 
 
 def _broadband(out: Verdict, f: np.ndarray, S: np.ndarray, band: np.ndarray, off: np.ndarray,
-               active: np.ndarray, s: VerdictSettings) -> Verdict:
+               active: np.ndarray, s: VerdictSettings, set_aside: bool) -> Verdict:
     """Step 5b of the module's docstring on a record otherwise stable: chatter when the share
     of the band's power off the spindle's harmonics (``off``) in the last quarter of the
-    active frames reaches ``broadband_share``; else ``out`` unchanged."""
+    active frames reaches ``broadband_share``; else (or with lines ``set_aside`` as forced)
+    ``out`` unchanged."""
     frames = np.flatnonzero(active)
-    if frames.size == 0 or not np.any(off):
+    if set_aside or frames.size == 0 or not np.any(off):
         return out
     last = frames[-max(1, frames.size // 4):]
     total = float(S[band][:, last].sum())
