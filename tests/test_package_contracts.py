@@ -106,6 +106,7 @@ def wheel(tmp_path_factory) -> tuple[str, dict[str, str], Path]:
     return str(env_dir / "bin" / "robomill"), env, purelib
 
 
+@pytest.mark.wheel
 def test_a_wheel_installed_elsewhere_runs_init_and_check(wheel, tmp_path):
     """In an empty folder outside the checkout, the installed wheel's ``robomill init``,
     ``robomill manifest`` and ``robomill check``."""
@@ -127,6 +128,7 @@ def test_a_wheel_installed_elsewhere_runs_init_and_check(wheel, tmp_path):
 
 
 @pytest.mark.pipeline
+@pytest.mark.wheel
 def test_a_wheel_installed_elsewhere_predicts_a_built_studys_cuts(wheel, planned_run, tmp_path):
     """``robomill predict STUDY CUTS`` of the installed wheel, run in an empty folder outside
     the checkout on a study whose plan was made: the plan's own predictions of those cuts
