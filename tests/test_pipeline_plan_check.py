@@ -13,7 +13,10 @@ from conftest import NO_BOOK_PDF, REPO, SNAKEMAKE, run_snakemake
 
 from robomill.plan import NEXT_RUN_DIR
 
-pytestmark = pytest.mark.pipeline
+# whole_study: it cuts the planned cuts as their own run, and it is the first module to need
+# the shared plan (conftest.planned_run), so `make test` hands it out among the first and the
+# plan's other readers find the plan made
+pytestmark = [pytest.mark.pipeline, pytest.mark.whole_study]
 
 # what plan_check reads of the planned cuts' run (`all` builds these and the chapters)
 NEXT_OUTCOMES = ["results/forces/mean_forces.csv", "results/forces/peaks.csv",
