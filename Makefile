@@ -37,14 +37,15 @@ $(STAMP): environment.lock pyproject.toml
 kernel: $(STAMP)
 
 # Unit tests first, in parallel (pytest-xdist, one worker per job slot); then the slow
-# end-to-end pipeline, browser and cluster tests, also in parallel (the tiny study is built once
-# for both workers, tests/conftest.py). The same tests and assertions as one run.
+# end-to-end pipeline, browser and cluster tests and the installed wheel's (marker wheel: the
+# wheel is built once, for both its tests), also in parallel (the tiny study and its plan are
+# built once for both workers, tests/conftest.py). The same tests and assertions as one run.
 test: $(STAMP)
-	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster"
-	$(BIN)/python -m pytest -q -n $(JOBS) --dist loadscope --no-loadscope-reorder --durations=10 -m "pipeline or browser or cluster"
+	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster and not wheel"
+	$(BIN)/python -m pytest -q -n $(JOBS) --dist loadscope --no-loadscope-reorder --durations=10 -m "pipeline or browser or cluster or wheel"
 
 test-fast: $(STAMP)
-	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster"
+	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster and not wheel"
 
 test-cluster: $(STAMP)
 	$(BIN)/python -m pytest -q -m cluster
