@@ -8,7 +8,6 @@ import copy
 import subprocess
 from pathlib import Path
 
-import h5py
 import numpy as np
 import pytest
 
@@ -43,9 +42,6 @@ def test_a_stored_cut_reads_back_as_simulated_with_its_air_pass_and_spans(short_
     cut = synthetic_cuts(config)[4]
     path = write_cut_state(cell, cut, config, tmp_path / "c.nc", air=True)
     _same(read_cut_state(path), simulate_cut(cell, cut, config))
-    with h5py.File(path, "r") as f:  # stored losslessly compressed, read back bit for bit
-        for name in ("force_N", "deflection_m"):
-            assert (f[name].compression, f[name].shuffle) == ("gzip", True), name
     air = read_cut_state(path, "air")
     _same(air, simulate_cut(cell, cut, config, cutting=False))
     assert not air.force_N.any() and air.deflection_m.any()

@@ -15,9 +15,7 @@ indexed by ``pass`` (``loaded``, ``air``). :func:`read_cut_state` gives back one
 simulation of that span alone.
 
 The file is float64 (an instrument sees the simulated state itself, not a rounded copy) and
-carries no time axis (``t = i / fs_hz``). The per-sample arrays are stored losslessly
-compressed (:data:`SAMPLE_ENCODING`: HDF5 byte shuffle and zlib, which any netCDF-4 reader
-undoes): the same float64 values in about a fifth less space.
+carries no time axis (``t = i / fs_hz``).
 """
 
 from __future__ import annotations
@@ -31,13 +29,6 @@ import numpy as np
 PASSES = ("loaded", "air")
 """The passes of a cut: the cut itself and the same path without material."""
 AXES = ("x", "y", "z")
-SAMPLE_ENCODING = {"zlib": True, "complevel": 1, "shuffle": True}
-"""netCDF-4 encoding of the per-sample arrays: lossless (byte shuffle, then zlib at level 1:
-the higher levels save about 2 % more of these float64 samples at nearly twice the write
-time), in chunks of one axis of one pass."""
-SAMPLE_CHUNK = 65536
-"""Samples per chunk (512 KiB of float64): an instrument reading a span's prefix
-decompresses at most one chunk beyond it."""
 
 
 def span_mm(config: Mapping[str, Any], kinds: Iterable[str]) -> float | None:
@@ -111,7 +102,7 @@ def cut_state_dataset(sims: Mapping[str, Any]):
     def v(dims, data, units, long_name):
         return (dims, data, {"units": units, "long_name": long_name})
 
-    ds = xr.Dataset(
+    return xr.Dataset(
         {
             "force_N": v(("pass", "sample", "axis"), stack("force_N"), "N",
                          "cutting force on the tool (cut frame), anti-alias filtered"),
@@ -138,10 +129,6 @@ def cut_state_dataset(sims: Mapping[str, Any]):
         },
         attrs=attrs,
     )
-    for name in ("force_N", "deflection_m"):
-        ds[name].encoding.update(SAMPLE_ENCODING,
-                                 chunksizes=(1, min(SAMPLE_CHUNK, max(n, 1)), 1))
-    return ds
 
 
 def write_cut_state(cell, cut, config: Mapping[str, Any], path: str | Path, *,
