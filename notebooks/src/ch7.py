@@ -302,7 +302,8 @@ display(Markdown(say("solver_error", stability_solver_error_percent=None if err 
 from robomill.plan.binding import binding_values
 
 display(Markdown(Prose(load_templates("ch7", templates),
-                       binding_values(pd.read_csv(binding)))("binding")))
+                       binding_values(pd.read_csv(binding)))("binding",
+                                                              "binding_stability")))
 
 # %% [markdown]
 # ## The plan beside the study

@@ -183,6 +183,23 @@ def expected_width(target_mm: np.ndarray, weights: np.ndarray, level: float,
     return float(np.sum(p_y * width)), p_y
 
 
+def candidate_widths(target_mm: np.ndarray, weights: np.ndarray, level: float,
+                     patterns: np.ndarray, chosen: Sequence[np.ndarray],
+                     error_rate: float) -> np.ndarray:
+    """The expected interval width at the binding cut (:func:`expected_width`) if each
+    candidate (a column of ``patterns`` ``(E, n)``, the members' predicted verdicts, True
+    stable) joined the ``chosen`` cuts' patterns; +inf for a candidate every member of
+    positive weight predicts alike (its verdict cannot move the weights)."""
+    live = np.asarray(weights, float) > 0
+    pats = np.asarray(patterns, bool)
+    split = pats[live].any(0) & ~pats[live].all(0)
+    out = np.full(pats.shape[1], np.inf)
+    for j in np.flatnonzero(split):
+        out[j] = expected_width(target_mm, weights, level,
+                                np.stack(list(chosen) + [pats[:, j]], 1), error_rate)[0]
+    return out
+
+
 def _nearness(pos: np.ndarray, at: tuple[int, int, int, int], n_speeds: int) -> np.ndarray:
     """Sort key of candidate grid points ``pos`` ``(n, 4)`` (placement, rotation, direction,
     speed index) by nearness to the binding cut ``at``: its own speed, direction, placement
@@ -241,12 +258,10 @@ def bisect_binding(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray, take
              f"{float(ds['rotation'].values[at[1]]):g} deg, direction "
              f"{ds['direction'].values[at[2]]}")
     while len(out) < n_cuts:
-        ew = np.array([expected_width(target, w, level,
-                                      np.stack(chosen + [patterns[:, j]], 1), error_rate)[0]
-                       for j in range(patterns.shape[1])])
+        ew = candidate_widths(target, w, level, patterns, chosen, error_rate)
         placed = False
         for j in np.lexsort((pat_near, np.round(ew / width0, 6))):
-            if now - ew[j] < min_gain * width0:
+            if not np.isfinite(ew[j]) or now - ew[j] < min_gain * width0:
                 break
             for i in np.flatnonzero(which == j)[np.argsort(near[which == j], kind="stable")]:
                 p, r, d, s, a = (int(x) for x in pos[i])
