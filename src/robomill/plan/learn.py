@@ -63,12 +63,17 @@ from robomill.plan.request import PlanRequest
 DIMS = ("placement", "rotation", "direction", "spindle_rpm", "depth_mm", "feed_mm_s")
 
 
-def _allowed(ds: xr.Dataset, req: PlanRequest) -> xr.DataArray:
+def learn_allowed(ds: xr.Dataset, req: PlanRequest) -> xr.DataArray:
+    """Candidates a learn cut may take: reachable, meeting every constraint of the request but
+    the stability margin and ``min_p_stable`` (a cut above the limit is the point), and not
+    extrapolated where the request forbids it; full candidate dims."""
     m = ds["reachable"] & xr.ones_like(ds["mrr_mm3_s"], dtype=bool)
     m = m & xr.ones_like(ds["feed_mark_um"], dtype=bool)
     for key, mask in constraint_masks(ds, req).items():
         if key not in ("min_stability_margin", "min_p_stable"):
             m = m & mask
+    if not req.extrapolation.get("allow", True) and "extrapolation" in ds:
+        m = m & ~ds["extrapolation"]
     return m.transpose(*DIMS)
 
 
@@ -372,7 +377,7 @@ def learn_design(ds: xr.Dataset, req: PlanRequest, *, occupied: Sequence[np.ndar
     further straddle pairs at the next least certain speed and placement while two more fit
     in ``n_cuts``; columns as the production plan's plus ``reason``,
     ``learn_target`` and ``expected_narrowing``. Empty when nothing can be learnt."""
-    allowed = _allowed(ds, req)
+    allowed = learn_allowed(ds, req)
     taken = [np.asarray(o, float) for o in occupied]
     done: set = set()
     parts = bisect_binding(ds, req, allowed, taken, binding, req.n_cuts,

@@ -176,7 +176,11 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell,
         raise PlanInfeasible(f"{req.path}: no chosen cut has a free place on the block: every "
                              "slot would cross the study's or leave the block "
                              "(work_object.block_mm)")
-    mask = feasible(cand, req)
+    if req.purpose == "learn":  # the learn cuts' own constraints: no stability margin
+        from robomill.plan.learn import learn_allowed
+        mask = learn_allowed(cand, req)
+    else:
+        mask = feasible(cand, req)
     cut_paths = [plan_cut_path(str(r["cut"]), np.array([r["placement_x_mm"],
                                                         r["placement_y_mm"],
                                                         r["placement_z_mm"]], float),
