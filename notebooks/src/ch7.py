@@ -159,7 +159,7 @@ display(chosen[[c for c in cols if c in chosen]])
 
 # %%
 display(Markdown(Prose(load_templates("ch7", templates), reach_values(chosen, cand.attrs))(
-    "reach_level", "reach_extrapolated", "reach_band")))
+    "reach_level", "reach_extrapolated", "reach_direction", "reach_band")))
 
 # %% [markdown]
 # ## A path a robot can run
