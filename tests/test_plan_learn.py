@@ -102,6 +102,31 @@ def test_learn_cuts_aim_at_the_binding_cuts_stability_interval():
             assert segment_distance_mm(segs[i], segs[j]) >= 6.0 - 1e-9
 
 
+def test_a_binding_cut_outside_the_study_is_itself_a_learn_cut():
+    """Placement 1 lies 150 mm from the study's only cut (farther than the request's 100 mm):
+    its intervals are widened. With the binding cut there, one learn cut is that cut (its
+    speed, depth and feed) on its own material, expected to remove the widening."""
+    ds, req, reach = _toy()
+    rpm = float(ds["spindle_rpm"].values[14])
+    binding = pd.Series({"i_placement": 1, "i_rotation": 0, "i_direction": 0,
+                         "spindle_rpm": rpm, "depth_mm": 0.25, "feed_mm_s": 2.0})
+    w = float(ds["interval_widening"].isel(placement=1).sel(spindle_rpm=rpm,
+                                                             feed_mm_s=2.0).max())
+    assert w > 1
+    d = learn_design(ds, req, midpoints_mm=reach.midpoints_mm, binding=binding)
+    own = d[d["learn_target"] == "force and deflection at the binding cut"]
+    assert len(own) == 1 and len(d) <= req.n_cuts
+    r = own.iloc[0]
+    assert (r["spindle_rpm"], r["depth_mm"], r["feed_mm_s"]) == (rpm, 0.25, 2.0)
+    assert r["expected_narrowing"] == pytest.approx(1 - 1 / w, rel=1e-5)
+    assert (d["learn_target"] == "a_crit_mm at the binding cut").sum() >= 1
+    # inside the study's reach (placement 0) no such cut
+    inside = binding.copy()
+    inside["i_placement"] = 0
+    d0 = learn_design(ds, req, midpoints_mm=reach.midpoints_mm, binding=inside)
+    assert not (d0["learn_target"] == "force and deflection at the binding cut").any()
+
+
 # the expected-information design at the binding cut (robomill.plan.learn.bisect_binding)
 
 def _threshold_patterns(a_mm, depths_mm):

@@ -17,7 +17,17 @@ narrowing of the interval it aims at.
   itself, with members spread evenly and ε → 0, the first cut lies at the weighted median of
   a_m (bisection). Ties go to the cut nearest the binding cut (its speed, direction,
   placement, rotation). Expected narrowing 1 − E[width]/width. The design stops when one
-  more cut would narrow the expected width by less than 1 % of the prior width.
+  more cut would narrow the expected width by less than 1 % of the prior width. The critical
+  depth does not depend on the feed: each cut takes the allowed feed whose chip load lies
+  nearest the binding cut's, so that its mean force also brings the evidence of the force
+  and deflection predictions toward the binding cut's chip load (their widening by the
+  distance from the evidence, :mod:`robomill.plan.extrapolation`).
+* **The binding cut itself** where its speed or chip load lies outside the study's (its
+  intervals widened by w > 1, :mod:`robomill.plan.extrapolation`): a cut the deflection or
+  force constraint binds is narrowed by what the cut's own measurements add, not by a
+  verdict; run once, its mean force and deflection put the evidence at the binding cut and
+  the widening goes: expected narrowing 1 − 1/w. It takes one of the ``n_cuts`` before the
+  stability cuts are chosen.
 * **Straddle the stability limit where it is least certain** (without a binding cut or
   members): at the reachable pose and speed
   whose critical-depth interval is widest relative to its nominal (the limit inside the
@@ -214,6 +224,18 @@ def _nearness(pos: np.ndarray, at: tuple[int, int, int, int], n_speeds: int) -> 
             + 0.5 * (pos[:, 1] != r))
 
 
+def _nearest_chip_load(ds: xr.Dataset, feeds: np.ndarray, i_speed: int,
+                       binding: pd.Series) -> int:
+    """Of the allowed feed indices ``feeds`` at speed index ``i_speed``, the one whose chip
+    load lies nearest the binding cut's (in ratio; the slower of two as near), else the
+    slowest."""
+    c_b = float(binding.get("feed_per_tooth_mm", np.nan))
+    if not np.isfinite(c_b) or c_b <= 0 or "feed_per_tooth_mm" not in ds:
+        return int(feeds[0])
+    c = ds["feed_per_tooth_mm"].transpose("spindle_rpm", "feed_mm_s").values[i_speed, feeds]
+    return int(feeds[int(np.argmin(np.round(np.abs(np.log(c / c_b)), 9)))])
+
+
 def bisect_binding(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray, taken: list,
                    binding: pd.Series | None, n_cuts: int, error_rate: float = 0.05,
                    min_gain: float = 0.01) -> list[pd.DataFrame]:
@@ -271,7 +293,7 @@ def bisect_binding(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray, take
             for i in np.flatnonzero(which == j)[np.argsort(near[which == j], kind="stable")]:
                 p, r, d, s, a = (int(x) for x in pos[i])
                 feeds = np.flatnonzero(allowed.values[p, r, d, s, a])
-                row = _row(ds, (p, r, d, s, a, int(feeds[0])))
+                row = _row(ds, (p, r, d, s, a, _nearest_chip_load(ds, feeds, s, binding)))
                 if not place_apart(row, req, taken):
                     continue
                 share = float(np.sum(w * pred[:, i]) / w.sum())
@@ -292,6 +314,42 @@ def bisect_binding(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray, take
         if not placed:
             break
     return out
+
+
+def reach_binding(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray, taken: list,
+                  binding: pd.Series | None) -> list[pd.DataFrame]:
+    """The production plan's binding cut itself, on its own material, where its speed or chip
+    load lies outside what the study measured (``interval_widening`` w > 1 there): once run,
+    its mean force and deflection are evidence at the binding cut, and the widening of the
+    force and deflection intervals there goes (expected narrowing 1 − 1/w). Empty inside the
+    study's reach, or where the cut is not allowed."""
+    if binding is None or "interval_widening" not in ds:
+        return []
+    at = {"placement": int(binding["i_placement"]), "rotation": int(binding["i_rotation"]),
+          "direction": int(binding["i_direction"])}
+    idx = []
+    for dim in DIMS:
+        if dim in at:
+            idx.append(at[dim])
+        else:
+            grid = np.asarray(ds[dim].values, float)
+            idx.append(int(np.argmin(np.abs(grid - float(binding[dim])))))
+    if not bool(allowed.values[tuple(idx)]):
+        return []
+    r = _row(ds, tuple(idx))
+    w = float(r["interval_widening"].iloc[0])
+    if not (np.isfinite(w) and w > 1.0):
+        return []
+    if not place_apart(r, req, taken):
+        return []
+    from robomill.plan.extrapolation import reason_text
+
+    why = reason_text(int(r["extrapolation_code"].iloc[0])) if "extrapolation_code" in r else ""
+    r["reason"] = (f"the binding cut itself ({why or 'outside the study'}: its intervals "
+                   f"widened {w:.3g}x): its own force and deflection bring the evidence to it")
+    r["learn_target"] = "force and deflection at the binding cut"
+    r["expected_narrowing"] = float(1 - 1 / w)
+    return [r]
 
 
 def far_pose(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray, taken: list,
@@ -373,17 +431,22 @@ def learn_design(ds: xr.Dataset, req: PlanRequest, *, occupied: Sequence[np.ndar
                  binding: pd.Series | None = None) -> pd.DataFrame:
     """The learn cuts (module docstring): with the production plan's ``binding`` cut and the
     stability model's members, first the cuts that narrow its critical-depth interval most
-    (:func:`bisect_binding`), else the straddle pair; then far pose, separating feed, then
+    (:func:`bisect_binding`), else the straddle pair; the binding cut itself where it lies
+    outside the study's reach (:func:`reach_binding`: placed on the block first, listed after
+    the stability cuts); then far pose,
+    separating feed, then
     further straddle pairs at the next least certain speed and placement while two more fit
     in ``n_cuts``; columns as the production plan's plus ``reason``,
     ``learn_target`` and ``expected_narrowing``. Empty when nothing can be learnt."""
     allowed = learn_allowed(ds, req)
     taken = [np.asarray(o, float) for o in occupied]
     done: set = set()
-    parts = bisect_binding(ds, req, allowed, taken, binding, req.n_cuts,
+    reach = reach_binding(ds, req, allowed, taken, binding) if req.n_cuts > 1 else []
+    parts = bisect_binding(ds, req, allowed, taken, binding, req.n_cuts - len(reach),
                            req.stability.verdict_error)
     if not parts:
         parts = straddle(ds, req, allowed, taken, done)
+    parts += reach
     if len(parts) < req.n_cuts:
         parts += far_pose(ds, req, allowed, taken, midpoints_mm)
     if len(parts) < req.n_cuts:
