@@ -69,6 +69,7 @@ import xarray as xr
 from robomill.plan.choose import constraint_masks, feasible_table
 from robomill.plan.material import overlaps, slot_segment
 from robomill.plan.request import PlanRequest
+from robomill.settings import schema_default
 
 DIMS = ("placement", "rotation", "direction", "spindle_rpm", "depth_mm", "feed_mm_s")
 
@@ -247,7 +248,7 @@ def bisect_binding(ds: xr.Dataset, req: PlanRequest, allowed: xr.DataArray, take
     less than ``min_gain`` of the prior width. Empty without members or a binding cut."""
     if binding is None or "a_crit_members_mm" not in ds or "member_weight" not in ds:
         return []
-    level = float(ds.attrs.get("interval_level", 0.95))
+    level = float(ds.attrs.get("interval_level", schema_default("plan", "interval_level")))
     mem = ds["a_crit_members_mm"].transpose("member", *DIMS[:4]).values      # (E, P, R, D, S)
     w = np.asarray(ds["member_weight"].values, float)
     rpm = ds["spindle_rpm"].values
