@@ -83,7 +83,18 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
                      "lines carried)")
     mids = (np.array([np.mean(cut_endpoints_mm(c, experiment), 0) for c in cuts]) if placed
             else None)
-    cell = cell_of(cell_file, req, mids)
+    band, tcp = None, None
+    if paths.get("modal_fit"):
+        with xr.open_dataset(paths["modal_fit"]) as fit:
+            band = [float(b) for b in np.atleast_1d(fit.attrs.get("band_hz", []))] or None
+            if "impact_tcp_mm" in fit.attrs:  # where the impact test was made
+                tcp = np.asarray(fit.attrs["impact_tcp_mm"], float)
+    if tcp is not None and req.reference_point_mm is not None and not np.allclose(
+            tcp, req.reference_point_mm, rtol=0.0, atol=1e-6):
+        log.info("reference pose: the impact test's TCP %s from its files, not the request's "
+                 "reference_point_mm %s", np.round(tcp, 3).tolist(),
+                 np.round(req.reference_point_mm, 3).tolist())
+    cell = cell_of(cell_file, req, tcp)
 
     def table(name):
         return pd.read_csv(paths[name]) if paths.get(name) else None
@@ -106,10 +117,13 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
                         level=level, waviness_coverage=float(noise["coverage"]),
                         waviness_min_cycles=waviness_min_cycles(
                             params["fmin_cycles"], float(noise["exclude_bins"])))
-    band = None
-    if paths.get("modal_fit"):
-        with xr.open_dataset(paths["modal_fit"]) as fit:
-            band = [float(b) for b in np.atleast_1d(fit.attrs.get("band_hz", []))] or None
+    if (tcp is None and req.reference_point_mm is None and measured.has("modes")
+            and measured.has("joints")):
+        raise RawDataError(paths.get("modal_fit") or paths["modes"],
+                           "the impact test states no pose, so its modes cannot be moved to "
+                           "the cuts' poses", expected="the TCP point of the test as manifest "
+                           "key tcp_mm of its impact entries, or reference_point_mm in "
+                           f"{req.path}")
     # the axes the impact test did not measure: empty shape columns of modes.csv
     reach = reach_from_means(table("means"), experiment, mids, band,
                              axes_not_measured(measured.modes))
