@@ -83,12 +83,7 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
                      "lines carried)")
     mids = (np.array([np.mean(cut_endpoints_mm(c, experiment), 0) for c in cuts]) if placed
             else None)
-    band, tcp = None, None
-    if paths.get("modal_fit"):
-        with xr.open_dataset(paths["modal_fit"]) as fit:
-            band = [float(b) for b in np.atleast_1d(fit.attrs.get("band_hz", []))] or None
-            if "impact_tcp_mm" in fit.attrs:  # where the impact test was made
-                tcp = np.asarray(fit.attrs["impact_tcp_mm"], float)
+    band, tcp = modal_fit_band_and_pose(paths.get("modal_fit"))
     if tcp is not None and req.reference_point_mm is not None and not np.allclose(
             tcp, req.reference_point_mm, rtol=0.0, atol=1e-6):
         log.info("reference pose: the impact test's TCP %s from its files, not the request's "
@@ -137,6 +132,20 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
             notes.append(f"{err} (the stability model is not weighted by verdicts)")
     return PlanInputs(req, measured, cell, cell_file, cuts, experiment, mids, reach,
                       stability, slots, notes, study_cuts=list(read_study(paths["study"]).cuts))
+
+
+def modal_fit_band_and_pose(path: str | None) -> tuple[list[float] | None, np.ndarray | None]:
+    """The impact test's band [Hz] and the TCP point [mm, base frame] where it was made (the
+    modal stage's ``frf_synth.nc`` attributes ``band_hz`` and ``impact_tcp_mm``, from the
+    impact entries' manifest key ``tcp_mm``); None for what the file (or its absence) does
+    not give."""
+    if not path:
+        return None, None
+    with xr.open_dataset(path) as fit:
+        band = [float(b) for b in np.atleast_1d(fit.attrs.get("band_hz", []))] or None
+        tcp = (np.asarray(fit.attrs["impact_tcp_mm"], float).reshape(3)
+               if "impact_tcp_mm" in fit.attrs else None)
+    return band, tcp
 
 
 def model_record(paths: Mapping[str, str], params: Mapping[str, Any]) -> dict[str, Any]:

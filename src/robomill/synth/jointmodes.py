@@ -32,7 +32,8 @@ a rotor inertia a_i (the reflected inertia of its motor and gears, which point m
 
 solved by least squares on the log-frequencies (12 unknowns for at most 6 frequencies: a
 small pull of log s towards 0 and of log a towards 1 % of the mean joint inertia picks one
-solution, then the frequencies are solved exactly from it). The calibration uses the planted
+solution, then the frequencies are solved exactly from it; the Jacobian is the eigenvalue's
+derivative ∂ω_r²/∂p = −ω_r² ψ_rᵀ (∂M̃/∂p) ψ_r). The calibration uses the planted
 frequencies only, never a prediction or an identified mode. The same s and a hold at every
 pose, so the frequencies, shapes and mixing away from q_ref are the model's.
 
@@ -134,7 +135,13 @@ def calibrate_inertia(K_Nm_rad: np.ndarray, M_ref_kg_m2: np.ndarray,
         d_rotor = psi**2 * (cal.scale * cal.rotor_kg_m2)[:, None]   # ∂M̃/∂ln a_i = s_i a_i e_i e_iᵀ
         return -0.5 * np.vstack([d_scale, d_rotor]).T
 
-    x0 = np.r_[np.zeros(n), np.full(n, np.log(1e-2 * np.trace(M) / n))]
+    # start: no scale, a rotor of 1 % of the mean joint inertia (where the point masses give
+    # the joints no inertia at all, the inertia that puts the mean stiffness at the lowest
+    # target)
+    a0 = 1e-2 * np.trace(M) / n
+    if not a0 > 0.0:
+        a0 = float(np.mean(np.diag(K))) / (2 * np.pi * target[0]) ** 2
+    x0 = np.r_[np.zeros(n), np.full(n, np.log(a0))]
     pulled = least_squares(lambda x: np.r_[log_ratio(x), pull * (x - x0)], x0,
                            jac=lambda x: np.vstack([log_ratio_jac(x), pull * np.eye(2 * n)]))
     exact = least_squares(log_ratio, pulled.x, jac=log_ratio_jac, xtol=1e-15, ftol=1e-15,
