@@ -13,7 +13,7 @@ import yaml
 from robomill.errors import RawDataError
 from robomill.io.cell import cell_mapping, parse_cell
 from robomill.io.impact import stated_tcp_mm
-from robomill.plan.inputs import modal_fit_band_and_pose
+from robomill.plan.inputs import modal_fit_band_and_pose, require_reference_pose
 from robomill.plan.measured import Measured
 from robomill.plan.outputs import cell_of
 from robomill.plan.request import parse_request
@@ -94,3 +94,20 @@ def test_the_planner_takes_its_reference_pose_from_the_impact_files(tmp_path):
     _, point = modal_fit_band_and_pose(_fit(tmp_path / "bare.nc", None))
     assert point is None
     np.testing.assert_allclose(cell_of(cf, req, point).reference_point_mm, [650.0, 50.0, 250.0])
+
+
+def test_impact_files_without_a_pose_and_no_fallback_stop_the_plan_in_one_line():
+    cf, req = _cell_and_request()
+    joints = pd.DataFrame({"joint": np.arange(1, 7), "k_Nm_rad": K_JOINT, "observable": True})
+    modes = pd.DataFrame({"f_n_hz": [40.0], "zeta": [0.04], "k_modal_N_m": [1e6],
+                          "shape_x": [1.0], "shape_y": [0.0], "shape_z": [0.0]})
+    with pytest.raises(RawDataError) as err:
+        require_reference_pose(None, req, Measured(modes=modes, joints=joints), "fit.nc")
+    msg = str(err.value)
+    assert "\n" not in msg and "fit.nc" in msg and "tcp_mm" in msg
+    assert "reference_point_mm in p.yaml" in msg
+    # a pose from either source, or nothing to move (no joint model), plans on
+    require_reference_pose(np.zeros(3), req, Measured(modes=modes, joints=joints), "fit.nc")
+    require_reference_pose(None, _cell_and_request([700.0, 0.0, 200.0])[1],
+                           Measured(modes=modes, joints=joints), "fit.nc")
+    require_reference_pose(None, req, Measured(modes=modes), "fit.nc")

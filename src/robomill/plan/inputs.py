@@ -112,13 +112,7 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
                         level=level, waviness_coverage=float(noise["coverage"]),
                         waviness_min_cycles=waviness_min_cycles(
                             params["fmin_cycles"], float(noise["exclude_bins"])))
-    if (tcp is None and req.reference_point_mm is None and measured.has("modes")
-            and measured.has("joints")):
-        raise RawDataError(paths.get("modal_fit") or paths["modes"],
-                           "the impact test states no pose, so its modes cannot be moved to "
-                           "the cuts' poses", expected="the TCP point of the test as manifest "
-                           "key tcp_mm of its impact entries, or reference_point_mm in "
-                           f"{req.path}")
+    require_reference_pose(tcp, req, measured, paths.get("modal_fit") or paths["modes"])
     # the axes the impact test did not measure: empty shape columns of modes.csv
     reach = reach_from_means(table("means"), experiment, mids, band,
                              axes_not_measured(measured.modes))
@@ -132,6 +126,19 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
             notes.append(f"{err} (the stability model is not weighted by verdicts)")
     return PlanInputs(req, measured, cell, cell_file, cuts, experiment, mids, reach,
                       stability, slots, notes, study_cuts=list(read_study(paths["study"]).cuts))
+
+
+def require_reference_pose(tcp_mm: np.ndarray | None, req: Any, measured: Any,
+                           where: str | None) -> None:
+    """Stop with one line where the planner must move the impact test's robot modes to the
+    cuts' poses (modes and joint stiffness measured) but knows no pose of the test: neither
+    the impact files' ``tcp_mm`` nor the request's ``reference_point_mm``."""
+    if (tcp_mm is None and req.reference_point_mm is None and measured.has("modes")
+            and measured.has("joints")):
+        raise RawDataError(where or "results/modal", "the impact test states no pose, so its "
+                           "modes cannot be moved to the cuts' poses",
+                           expected="the TCP point of the test as manifest key tcp_mm of its "
+                           f"impact entries, or reference_point_mm in {req.path}")
 
 
 def modal_fit_band_and_pose(path: str | None) -> tuple[list[float] | None, np.ndarray | None]:
