@@ -166,9 +166,9 @@ def instrument_files(config: Mapping[str, Any], instrument: str) -> list[dict[st
         # the simulated sensors' ranges, as a lab states them in its manifest
         ranges = {"range_N": float(s["force_range_N"]), "range_ms2": float(s["accel_range_ms2"])}
         # where the tool stood when it was hit, as a lab notes the test's pose
-        pose = {"tcp_mm": impact_tcp_mm(config)} if "process" in config["synth"] else {}
+        tcp = impact_tcp_mm(config) if "process" in config["synth"] else None
         return [{"path": hit_path(d, k), "kind": "impact", "direction": d, "hit": k, **ranges,
-                 **pose}
+                 **({"tcp_mm": list(tcp)} if tcp is not None else {})}
                 for d in IMPACT_DIRECTIONS for k in range(1, n + 1)]
     if instrument == "ctrack":
         return [{"path": f"ctrack/{t}.csv", "kind": "ctrack", "table": t} for t in CTRACK_TABLES]
