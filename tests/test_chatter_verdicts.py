@@ -134,3 +134,44 @@ def test_spindle_off_its_command_is_found_not_called_chatter(settings):
     assert "+2.0 %" in v.evidence
     fixed = dataclasses.replace(settings, speed_tolerance=0.0)
     assert judge(x, FS_HZ, fixed, spindle_rpm=RPM, flutes=FLUTES).verdict == "chatter"
+
+
+def broadband_signal(late_amp, forced_amp=0.0, duration_s=4.0, seed=5):
+    """The comb, plus from 3 s on band-limited noise (200–2000 Hz: the force of teeth leaving
+    and re-entering the cut, no line in it) of rms ``late_amp``, plus a steady forced line
+    at 777 Hz of amplitude ``forced_amp`` (off the comb)."""
+    rng = np.random.default_rng(seed)
+    x = comb_signal(duration_s=duration_s, seed=seed)
+    t = np.arange(x.size) / FS_HZ
+    spec = np.fft.rfft(rng.standard_normal(x.size))
+    fr = np.fft.rfftfreq(x.size, 1 / FS_HZ)
+    spec[(fr < 200.0) | (fr > 2000.0)] = 0.0
+    burst = np.fft.irfft(spec, x.size)
+    burst *= late_amp / burst.std() * (t >= 3.0)
+    return x + burst + forced_amp * np.sin(2 * np.pi * 777.0 * t)
+
+
+def test_late_broadband_chatter_is_chatter_and_a_forced_line_is_not(settings):
+    """Power spread off the comb late in the record (no line stands above its floor, and the
+    mean spectrum over the whole record hardly shows it) is chatter; a steady forced line
+    carrying a third of the power, or the comb alone, is not."""
+    rms_comb = float(np.std(comb_signal()))
+    v = judge(broadband_signal(3.0 * rms_comb), FS_HZ, settings, spindle_rpm=RPM,
+              flutes=FLUTES)
+    assert v.verdict == "chatter"
+    assert 200.0 <= v.chatter_hz <= 2000.0
+    assert "off the spindle's harmonics" in v.evidence
+    assert v.speeds_rpm
+    # the same power as a steady forced line: a third of the record's power, stable
+    forced = judge(broadband_signal(0.0, forced_amp=rms_comb), FS_HZ, settings,
+                   spindle_rpm=RPM, flutes=FLUTES)
+    assert forced.verdict == "chatter"  # the line test (step 4) calls the line; the air pass
+    assert abs(forced.chatter_hz - 777.0) < 3.0  # tells it forced
+    assert "off the spindle's harmonics" not in forced.evidence
+    # set aside as forced (judged beside an air pass), the record is stable again
+    again = judge(broadband_signal(0.0, forced_amp=rms_comb), FS_HZ, settings,
+                  spindle_rpm=RPM, flutes=FLUTES, set_aside_hz=(forced.chatter_hz,))
+    assert again.verdict == "stable"
+    weak = judge(broadband_signal(0.3 * rms_comb), FS_HZ, settings, spindle_rpm=RPM,
+                 flutes=FLUTES)
+    assert weak.verdict == "stable"

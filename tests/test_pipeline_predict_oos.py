@@ -17,15 +17,17 @@ from robomill.cli import main
 from robomill.plan.evidence import read_verdicts, verdict_stability
 
 pytestmark = pytest.mark.pipeline
+REQUEST = f"plan={{request: {REPO / '.test' / 'plan.yaml'}}}"
 
 SPEEDS = (12000.0, 20000.0, 28000.0)
 DIRECTIONS = ("px", "py")
 
 
 def _cut(cid, rpm, depth, direction, i):
+    depth = float(depth)
     # on the block's free top face, beside the study's slots (plan.yaml's placement box)
     start = [630.0 + 25.0 * (i % 6), 65.0 + 30.0 * (i // 6), 200.0 - depth]
-    return {"id": cid, "spindle_rpm": rpm, "depth_mm": round(depth, 3), "feed_mm_s": 5.0,
+    return {"id": cid, "spindle_rpm": rpm, "depth_mm": float(round(depth, 3)), "feed_mm_s": 5.0,
             "direction": direction, "start_mm": start}
 
 
@@ -37,15 +39,18 @@ def _predict(study, cuts, path):
 
 
 @pytest.mark.xfail(strict=False, reason=(
-    "the out-of-sample target (90 % of verdicts predicted) is not reached yet: the same design "
-    "on the default study "
-    "agreed on 8 of 12 cuts (the prior of the spindle/tool modes sets the nominal limit at "
-    "12 000 and 28 000 rpm, where the cell's own tool modes differ; one 81 Hz line at 0.36 mm "
-    "is a steady forced line, judged chatter)"))
+    "the out-of-sample target (90 % of verdicts predicted) is not reached yet: 10 of 12 on the "
+    "tiny study. The two misses are cuts the cell makes stably at 1.8 times the predicted limit "
+    "(12 000 rpm px at 1.27 mm, 20 000 rpm py at 4.97 mm; 2 and 18 um of vibration, the "
+    "latter the forced level scaled with depth), where the cell's own modes give a linear "
+    "limit (zero-order and semi-discretization alike) of 0.63 and 2.0 mm: the linear "
+    "regenerative model lacks what keeps the cell stable there (with its edge coefficients "
+    "set to zero the 12 000 rpm cut chatters at 36 um). The spindle/tool modes do not set "
+    "the limit at these cuts (alone they allow 10-15 mm)"))
 def test_predicted_cuts_cut_on_the_cell_agree_with_their_verdicts(tiny_run, tmp_path):
     study = tmp_path / "study"
     shutil.copytree(tiny_run, study, symlinks=True)
-    proc = run_snakemake(study, "-j2", "plan", "--config", NO_BOOK_PDF)
+    proc = run_snakemake(study, "-j2", "plan", "--config", NO_BOOK_PDF, REQUEST)
     assert proc.returncode == 0, proc.stderr[-4000:]
     # the predicted boundary at each speed and direction, then a depth on either side of it
     probe = [_cut(f"probe_{k}", n, 0.5, d, k)
@@ -65,7 +70,9 @@ def test_predicted_cuts_cut_on_the_cell_agree_with_their_verdicts(tiny_run, tmp_
     (study / "oos.yaml").write_text(yaml.safe_dump(overlay))
     import subprocess
 
-    run = subprocess.run([SNAKEMAKE, "-s", str(REPO / "Snakefile"), "--directory", str(study),
+    (study / "oos/run").mkdir(parents=True)   # the overlay's workdir: the run's own folder
+    run = subprocess.run([SNAKEMAKE, "-s", str(REPO / "Snakefile"),
+                          "--directory", str(study / "oos/run"),
                           "--configfile", str(REPO / ".test" / "config.yaml"),
                           str(study / "oos.yaml"), "-j2", "results/chatter/verdicts.csv"],
                          cwd=study, capture_output=True, text=True, timeout=1800)

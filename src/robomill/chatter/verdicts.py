@@ -38,6 +38,18 @@ teeth):
    period-doubling chatter sits: it is **chatter** when it grows by at least
    ``synchronous_growth_db`` from the first to the last quarter, else **undetermined** (a
    steady line there cannot say which; a record of the cut's entry or a second speed can).
+5b. **Chatter off every line** (the synchronous-sampling idea of [Schmitz & Smith 2009,
+   ch. 4]: a stable cut's force repeats every spindle revolution, a chattering one does not):
+   a record otherwise stable is **chatter** when, in the last quarter of its active frames, at
+   least ``broadband_share`` of the band's power lies off the spindle rotation's harmonics
+   ``k n/60`` (run-out lines included, lines set aside as forced excluded). Heavy chatter
+   whose teeth leave the cut spreads its power over a broad band with no line standing
+   ``prominence_db`` above its (raised) floor, and one that sets in late in a short record
+   weighs little in the record's mean spectrum; both escape steps 3–4, neither escapes this.
+   The frequency named is the strongest off-harmonic bin of that last quarter. Not on a
+   record judged again beside an air pass (lines set aside, step 6): an accelerometer
+   carries the arm's own broadband vibration off the comb, which the air pass, not this
+   share, tells apart from the cut's.
 6. **Forced, not chatter** (:func:`robomill.chatter.air.air_test`): a line is forced
    vibration when it is present while the same path is moved without cutting (an **air
    pass** of the same instrument: the robot's servos and motors shake the arm whether it
@@ -101,6 +113,7 @@ class VerdictSettings(FromMapping):
     speed_tolerance: float
     synchronous_growth_db: float
     air_rise_db: float
+    broadband_share: float
 
 
 def default_settings() -> VerdictSettings:
@@ -334,11 +347,16 @@ def judge(signal: np.ndarray, fs_hz: float, settings: VerdictSettings, *,
         out.verdict = "undetermined"
         out.evidence = f"no power on the comb in {lo:g}–{hi:g} Hz; {comb_text}"
         return out
+    spin = (rpm / 60.0 * comb / nominal) if np.isfinite(rpm) else (
+        comb if not z else float("nan"))
+    off = band & ~comb_mask(f, spin if np.isfinite(spin) else comb, w_h)
+    for f_aside in set_aside_hz:
+        off &= np.abs(f - float(f_aside)) > w_h
     if idx.size == 0:
         out.evidence = (f"no non-harmonic line rises {s.prominence_db:g} dB above its floor in "
                         f"{lo:g}–{hi:g} Hz (energy ratio 0 < {s.energy_ratio_threshold:g}); "
                         f"{comb_text}")
-        return out
+        return _broadband(out, f, S, band, off, active, s, bool(len(set_aside_hz)))
     from robomill.spectral_peaks import interpolate_peak
 
     i = int(idx[0])
@@ -361,8 +379,6 @@ def judge(signal: np.ndarray, fs_hz: float, settings: VerdictSettings, *,
     rel = "≥" if ratio >= s.energy_ratio_threshold else "<"
     out.evidence = (f"strongest non-harmonic line {f_c:.1f} Hz: energy ratio {ratio:.3g} {rel} "
                     f"threshold {s.energy_ratio_threshold:g}{growth}; {comb_text}")
-    spin = (rpm / 60.0 * comb / nominal) if np.isfinite(rpm) else (
-        comb if not z else float("nan"))
     k_sync = round(f_c / spin) if np.isfinite(spin) and spin > 0 else 0
     synchronous = k_sync >= 1 and abs(f_c - k_sync * spin) <= w_h
     if ratio >= s.energy_ratio_threshold and synchronous and not (
@@ -381,4 +397,32 @@ def judge(signal: np.ndarray, fs_hz: float, settings: VerdictSettings, *,
         if not z:
             out.evidence += ("; no flutes given: tooth-passing targets f_c/k = "
                              + ", ".join(f"{v:.1f}" for v in out.tooth_targets_hz) + " Hz")
+        return out
+    return _broadband(out, f, S, band, off, active, s, bool(len(set_aside_hz)))
+
+
+def _broadband(out: Verdict, f: np.ndarray, S: np.ndarray, band: np.ndarray, off: np.ndarray,
+               active: np.ndarray, s: VerdictSettings, set_aside: bool) -> Verdict:
+    """Step 5b of the module's docstring on a record otherwise stable: chatter when the share
+    of the band's power off the spindle's harmonics (``off``) in the last quarter of the
+    active frames reaches ``broadband_share``; else (or with lines ``set_aside`` as forced)
+    ``out`` unchanged."""
+    frames = np.flatnonzero(active)
+    if set_aside or frames.size == 0 or not np.any(off):
+        return out
+    last = frames[-max(1, frames.size // 4):]
+    total = float(S[band][:, last].sum())
+    share = float(S[off][:, last].sum()) / total if total > 0 else 0.0
+    if share < s.broadband_share:
+        return out
+    i = int(np.argmax(np.where(off, S[:, last].mean(axis=1), -np.inf)))
+    f_c = float(f[i])
+    out.verdict, out.chatter_hz = "chatter", f_c
+    out.evidence += (f"; but {100 * share:.0f} % of the band's power in the record's last "
+                     f"quarter lies off the spindle's harmonics (≥ {100 * s.broadband_share:.0f}"
+                     f" %: the force no longer repeats each revolution), strongest at "
+                     f"{f_c:.1f} Hz: chatter")
+    out.tooth_targets_hz = [f_c / k for k in range(1, 6)]
+    out.speeds_rpm = recommended_speeds_rpm(f_c, out.flutes or 0, s.speed_range_rpm,
+                                            out.spindle_rpm, s.max_speeds)
     return out
