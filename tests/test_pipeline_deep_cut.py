@@ -104,12 +104,6 @@ def test_a_deep_cut_is_called_chatter_by_chapter_4_and_the_design_cut_is_not(tmp
     assert (work / "results/chapters/ch4.html").stat().st_size > 0
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "with the robot modes from the eigenproblem (60 and 67 Hz along this +X cut's feed) the "
-    "design cut's sound is judged chatter: line 1946.2 Hz (2 f_t + 79.5 Hz), energy ratio "
-    "0.249, growth +0.31 dB/s; its air pass lacks the line (the cut raises it 45.9 dB: a "
-    "sideband of the servo-forced vibration through the chip needs the cut), so the air test "
-    "cannot call it forced; the force record calls the design cut stable"))
 def test_the_microphone_and_the_accelerometer_hear_the_deep_cut_chatter(tmp_path):
     """The same pair recorded by the virtual cell's microphone and spindle accelerometer:
     the design cut's recordings stable, the deep cut's chatter on a line off the comb, as its

@@ -52,8 +52,17 @@ def test_the_calibration_puts_the_lowest_frequencies_at_the_targets():
         calibrate_inertia(K, M, [10.0, 20.0, 30.0, 40.0])
 
 
+def _with_law(config, law):
+    config = copy.deepcopy(config)
+    config["synth"]["process"]["robot_modes"] = law
+    return config
+
+
 @pytest.fixture(scope="module")
 def default_cell(config):
+    """The default cell under the eigen law (``synth.process.robot_modes: eigen``; the default
+    study itself keeps the planted law)."""
+    config = _with_law(config, "eigen")
     return config, cell_from_config(config)
 
 
@@ -141,3 +150,51 @@ def test_without_joint_stiffness_the_planted_modes_hold(default_cell):
     cell = cell_from_config(config)
     q = cell.joint_path_rad(synthetic_cuts(config)[0], np.array([5.0]))[0]
     assert cell.robot_structure is None and robot_modes_at(cell, q) == list(cell.modes)
+
+
+def test_the_config_key_selects_the_law(config):
+    """``synth.process.robot_modes``: under ``planted`` a mode's tip shape is the planted one
+    at every pose (only its stiffness and mass move); under ``eigen`` it turns between poses."""
+    from robomill.synth.structure import robot_modes_at
+
+    assert config["synth"]["process"]["robot_modes"] == "planted"
+    cuts = {c.id: c for c in synthetic_cuts(config)}
+    turned = {}
+    for law in ("planted", "eigen"):
+        cfg = _with_law(config, law)
+        cell = cell_from_config(cfg)
+        assert cell.robot_modes_law == law
+        poses = [cell.joint_path_rad(cuts[c], np.array([50.0]))[0]
+                 for c in ("s1_g1_py", "s3_g5_my")]
+        a, b = (np.array([m.shape for m in robot_modes_at(cell, q)]) for q in poses)
+        cos = np.clip(np.abs(np.sum(a * b, axis=1)), 0.0, 1.0)
+        turned[law] = np.degrees(np.arccos(cos)).max()
+        if law == "planted":
+            # fixed shapes, the planted ones; stiffness (and frequency) rescaled by the pose
+            planted = np.array([m.shape for m in cell.modes])
+            np.testing.assert_array_equal(a, planted)
+            np.testing.assert_array_equal(b, planted)
+            ka, kb = ([m.k_N_m for m in robot_modes_at(cell, q)] for q in poses)
+            assert max(abs(x / y - 1) for x, y in zip(ka, kb, strict=True)) > 0.01
+    assert turned["planted"] < 1e-5 and turned["eigen"] > 10.0, turned
+
+
+def test_point_masses_that_give_the_joints_no_inertia_still_give_finite_eigen_modes(
+        default_cell):
+    # point masses on joint 1's own axis have no inertia about any joint's motion: the
+    # calibrated rotor inertias alone carry the modes, at the planted frequencies at q_ref
+    from robomill.synth.inertia import mass_matrix_kg_m2, rigid_body_model
+    from robomill.synth.structure import robot_modes_at
+
+    config, cell = default_cell
+    cell = copy.copy(cell)
+    base = np.asarray(cell.robot.base, float)
+    on_axis_mm = base[:3, 3] + np.outer([100.0, 300.0], base[:3, 2])
+    cell.rigid_body_model = rigid_body_model(cell.robot, np.array([1, 1]),
+                                             np.array([20.0, 5.0]), on_axis_mm)
+    q = cell.joint_path_rad(synthetic_cuts(config)[0], np.array([5.0]))[0]
+    assert np.abs(mass_matrix_kg_m2(cell.rigid_body_model, q)).max() < 1e-12
+    at_ref = robot_modes_at(cell, cell.q_reference_rad)
+    np.testing.assert_allclose([m.f_hz for m in at_ref], [m.f_hz for m in cell.modes],
+                               rtol=1e-9)
+    assert all(np.isfinite(m.f_hz) and np.isfinite(m.k_N_m) for m in robot_modes_at(cell, q))

@@ -134,13 +134,6 @@ def test_the_air_pass_hears_the_arm_and_not_the_teeth(study, tmp_path):
     assert air_p[robot].max() > 0 and air_p[robot].max() > 0.1 * cut_p[robot].max()
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "the robot modes from the eigenproblem put two modes (60, 67 Hz) along this px cut's "
-    "feed; the servo's forced vibration of them modulates the chip, and at the design depth "
-    "(0.25 mm, a tenth of the zero-order limit at this pose, 2.4 mm) the recordings judge "
-    "a line at 1946 Hz "
-    "(2 f_t + 79.5 Hz, energy ratio 0.37, +2.4 dB/s) chatter; the simulation's own criteria "
-    "say stable (teeth out < 5 %)"))
 def test_a_chattering_and_a_stable_cut_get_their_verdicts_and_the_speed_is_stable(
         study, tmp_path):
     config, cell = study

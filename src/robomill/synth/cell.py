@@ -97,6 +97,10 @@ class VirtualCell:
     rigid_body_model: Any = None
     """The robot's rigid-body model for its mass matrix M(q) (:mod:`robomill.synth.inertia`;
     None without masses)."""
+    robot_modes_law: str | None = None
+    """``synth.process.robot_modes``: ``"eigen"`` moves the robot's modes by the eigenproblem
+    of the joints and the calibrated mass matrix (shapes turning with the pose); anything else
+    by the planted law (fixed shapes), :mod:`robomill.synth.structure`."""
     _structure: Any = field(default=None, repr=False, compare=False)
 
     @property
@@ -202,7 +206,8 @@ class VirtualCell:
 
         gear = np.arange(len(self.gears))
         mode = np.arange(1, len(self.modes) + 1)
-        # the robot's modes where the impact test is made (their shapes the eigenproblem's)
+        # the robot's modes where the impact test is made (under the eigen law their shapes
+        # are the eigenproblem's)
         modes = (robot_modes_at(self, self.q_reference_rad)
                  if self.q_reference_rad is not None else list(self.modes))
 
@@ -296,6 +301,7 @@ def cell_from_config(config: Mapping[str, Any]) -> VirtualCell:
     q_home = np.deg2rad(np.asarray(facts.get("q_home_deg", [0, 0, 0, 0, 0, 0]), float))
     gears = _gears_from_config(facts["transmissions"], syn["gears"], rng)
     R = np.asarray(facts.get("tool_rotation", [[1, 0, 0], [0, -1, 0], [0, 0, -1]]), float)
+    from robomill.settings import config_section
     from robomill.synth.structure import joint_stiffness_Nm_rad, reference_pose_rad
 
     process = syn.get("process") or {}
@@ -309,6 +315,7 @@ def cell_from_config(config: Mapping[str, Any]) -> VirtualCell:
         from robomill.synth.inertia import planted_rigid_body_model
 
         cell.q_reference_rad = reference_pose_rad(cell, config)
+        cell.robot_modes_law = config_section(config, "synth.process")["robot_modes"]
         cell.rigid_body_model = planted_rigid_body_model(robot, config)
     return cell
 

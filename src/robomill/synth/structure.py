@@ -3,14 +3,47 @@
 The planted tool-tip modes (``synth.modes``, thesis §3.3: 20–72 Hz) are the robot's modes *at
 the impact test's pose* q_ref (``synth.process.reference_point_mm``; null: the centre of the
 study's cuts, :func:`robomill.io.synthetic_layout.impact_tcp_mm`): there each keeps its
-planted frequency, damping ratio and tool-tip modal stiffness. What the pose changes follows
-from the planted robot: its joint stiffness K_θ (the ``synth.loadtests`` entry that bears the
-cell robot's name, the same planted robot the load tests measure) and its rigid-body mass
-matrix M(q) (the robot's true point masses, :mod:`robomill.synth.inertia`, with the inertia
-calibrated once at q_ref, :mod:`robomill.synth.jointmodes`).
+planted frequency, damping ratio and tool-tip modal stiffness. Elsewhere the arm is stiffer or
+softer, and heavier or lighter, as its joints see the tool-tip motion through other lever arms.
+Both follow from the planted robot: its joint stiffness K_θ (the ``synth.loadtests`` entry
+that bears the cell robot's name, the same planted robot the load tests measure) and its
+rigid-body mass matrix M(q) (the robot's true point masses, :mod:`robomill.synth.inertia`, the
+same masses whose weight the C-Track simulator's joints carry). How the modes follow them is
+the cell's choice, ``synth.process.robot_modes``:
 
-**Modes at a pose** (the robot has joint stiffness and masses). At each pose q the arm's modes
-are the generalized eigenproblem K_θ ψ_j = ω_j² M̃(q) ψ_j [Géradin & Rixen 2015, §2.4],
+**planted** (shapes fixed). Each planted mode r keeps its tool-tip shape φ_r and damping
+ratio; its stiffness and mass at pose q are moved by the Rayleigh quotient of the joints'
+generalized eigenproblem K_θ ψ = ω² M(q) ψ [Géradin & Rixen 2015, Rayleigh's method]
+evaluated on the joint motion that the mode's tool-tip motion asks of the elastic joints: the
+static joint deflection under a tool-tip load along φ_r, scaled to a unit tool-tip motion
+along φ_r,
+
+.. math:: ψ_r(q) = \\frac{K_θ^{-1} J_v(q)^T φ_r}{φ_r^T C(q) φ_r}, \\qquad
+          C(q) = J_v(q)\\, K_θ^{-1} J_v(q)^T
+
+(C the joints' tool-tip compliance of the load tests; Dumas et al. 2011), whose stiffness and
+mass are
+
+.. math:: κ_r(q) = ψ_r^T K_θ ψ_r = \\frac{1}{φ_r^T C(q) φ_r}, \\qquad
+          μ_r(q) = ψ_r^T M(q)\\, ψ_r .
+
+The joints act in series with the rest of the structure, so each mode's stiffness and mass
+change in proportion:
+
+.. math:: k_r(q) = k_r \\frac{κ_r(q)}{κ_r(q_{ref})}, \\qquad
+          m_r(q) = m_r \\frac{μ_r(q)}{μ_r(q_{ref})}, \\qquad
+          ω_r(q) = \\sqrt{k_r(q)/m_r(q)} .
+
+At q_ref these are exactly the planted modes, shapes included (a cell whose planted shapes
+follow measured ones keeps them there). Where the configuration states no masses (or the
+shape moves none of them at q or q_ref: point masses leave the wrist without inertia) the
+modal masses are held. (The joints also couple the modes where their compliance changes across
+shapes; the planted shapes are not orthogonal, several nearly parallel, and that coupling would
+mix them into modes no measurement supports, so each mode is moved alone.)
+
+**eigen** (shapes turn with the pose; the robot has joint stiffness and masses). At each pose
+q the arm's modes are the generalized eigenproblem K_θ ψ_j = ω_j² M̃(q) ψ_j [Géradin & Rixen
+2015, §2.4] with the inertia calibrated once at q_ref (:mod:`robomill.synth.jointmodes`),
 mapped to the tool tip through the Jacobian: shape u_j(q) ∝ J_v(q) ψ_j, modal stiffness
 κ_j(q) = ω_j²/‖J_v ψ_j‖² (:func:`robomill.synth.jointmodes.eigenmodes`). Planted mode r is
 eigenmode r at q_ref (the lowest ones, in order: the calibration puts them at the planted
@@ -21,19 +54,15 @@ pose the eigenmode that continues its joint motion (largest mass-weighted correl
 .. math:: φ_r(q) = u_r(q), \\qquad ω_r(q) = ω_r \\frac{ω^{eig}_r(q)}{ω^{eig}_r(q_{ref})},
           \\qquad k_r(q) = k_r \\frac{κ_r(q)}{κ_r(q_{ref})},
 
-with ω_r, k_r and ζ_r planted (ζ_r kept with the mode: a modal damping ratio per planted
-mode). The shape is the eigenproblem's at every pose, q_ref included (the planted ``shape``
-serves only cells without a mass model); it turns, and modes mix, with the pose. The joints
-act in series with the rest of the structure (links, spindle mount), so each mode's tool-tip
-stiffness is the planted one scaled by the joint model's change, not the joint model's own
-value (whose static compliance J_v K_θ⁻¹ J_vᵀ [Dumas et al. 2011] is that of the joints
-alone). The ratio of frequencies is 1 where the calibration is exact (it is, to 1e-9, on the
-shipped cells) and keeps the planted frequencies at q_ref where it is not.
+with ω_r, k_r and ζ_r planted (ζ_r kept with the mode). The shape is the eigenproblem's at
+every pose, q_ref included (the planted ``shape`` serves only cells without a mass model); it
+turns, and modes mix, with the pose. Each mode's tool-tip stiffness is the planted one scaled
+by the joint model's change (the joints in series with the rest of the structure). The ratio
+of frequencies is 1 where the calibration is exact (it is, to 1e-9, on the shipped cells) and
+keeps the planted frequencies at q_ref where it is not. Without masses the eigen law falls
+back to the planted law's stiffness (masses held).
 
-**Without masses** (the configuration states none): each planted mode keeps its shape and
-mass, and its stiffness follows the joints' tool-tip compliance C(q) = J_v K_θ⁻¹ J_vᵀ along
-it, k_r(q) = k_r (φ_rᵀ C(q_ref) φ_r)/(φ_rᵀ C(q) φ_r). Without joint stiffness the planted
-modes hold at every pose.
+Without joint stiffness the planted modes hold at every pose, under either law.
 
 The spindle and tool add pose-independent modes above the robot's 10–100 Hz band
 (``synth.process.spindle_modes``, *assumed*: no source gives them; stiff, so that at the
@@ -84,9 +113,9 @@ class RobotStructure:
 
 
 def robot_structure(cell) -> RobotStructure | None:
-    """The arm's calibrated eigenmodel at ``cell.q_reference_rad`` (None where the cell has no
-    joint stiffness, reference pose or mass model: the modes then follow the simpler laws of
-    the module docstring)."""
+    """The arm's calibrated eigenmodel at ``cell.q_reference_rad`` (the eigen law; None where
+    the cell has no joint stiffness, reference pose or mass model: the modes then follow the
+    planted law of the module docstring)."""
     from robomill.synth.inertia import mass_matrix_kg_m2
 
     if (cell.joint_stiffness_Nm_rad is None or cell.q_reference_rad is None
@@ -105,38 +134,62 @@ def _jv(cell, q: np.ndarray) -> np.ndarray:
     return jacobian_m(cell.robot, np.asarray(q, float))[:3]
 
 
-def _compliance_along(cell, q: np.ndarray, shape: np.ndarray) -> float:
-    """φᵀ C(q) φ [m/N]: the joints' tool-tip compliance along a unit shape."""
+def rayleigh_stiffness_mass(cell, q_rad: np.ndarray, shape: np.ndarray
+                            ) -> tuple[float, float]:
+    """κ_r(q) [N/m] and μ_r(q) [kg] of a tool-tip shape φ_r at pose q (module docstring,
+    planted law); μ is NaN where the cell has no rigid-body model."""
     from robomill.stiffness.model import jacobian_m, translational_compliance_m_N
+    from robomill.synth.inertia import mass_matrix_kg_m2
 
-    J = jacobian_m(cell.robot, np.asarray(q, float))
-    c_rad_Nm = 1.0 / np.asarray(cell.joint_stiffness_Nm_rad, float)
+    q = np.asarray(q_rad, float)
     phi = np.asarray(shape, float)
-    return float(phi @ translational_compliance_m_N(J, c_rad_Nm) @ phi)
+    J = jacobian_m(cell.robot, q)
+    c_rad_Nm = 1.0 / np.asarray(cell.joint_stiffness_Nm_rad, float)
+    flexibility_m_N = float(phi @ translational_compliance_m_N(J, c_rad_Nm) @ phi)
+    Jv = J[:3]
+    if cell.rigid_body_model is None:
+        return 1.0 / flexibility_m_N, float("nan")
+    psi = c_rad_Nm * (Jv.T @ phi) / flexibility_m_N
+    return 1.0 / flexibility_m_N, float(psi @ mass_matrix_kg_m2(cell.rigid_body_model, q) @ psi)
 
 
 def robot_modes_at(cell, q_rad: np.ndarray) -> list:
-    """The robot's modes at pose q (module docstring): from the eigenproblem where the cell
-    has joint stiffness and masses; else the planted modes, their stiffness moved along
-    their shape by the joints' compliance where the cell has joint stiffness."""
-    import dataclasses
-
+    """The robot's modes at pose q by the cell's law ``cell.robot_modes_law``
+    (``synth.process.robot_modes``, module docstring); the planted modes themselves where the
+    cell has no joint stiffness, and under the planted law where q is the reference pose."""
     if cell.joint_stiffness_Nm_rad is None or cell.q_reference_rad is None:
         return list(cell.modes)
-    q = np.asarray(q_rad, float)
-    structure = cell.robot_structure
-    if structure is None:
-        if np.allclose(q, cell.q_reference_rad, rtol=0.0, atol=1e-12):
-            return list(cell.modes)
-        out = []
-        for m in cell.modes:
-            ratio = (_compliance_along(cell, cell.q_reference_rad, m.shape)
-                     / _compliance_along(cell, q, m.shape))
-            out.append(dataclasses.replace(m, k_N_m=m.k_N_m * ratio,
-                                           f_hz=m.f_hz * float(np.sqrt(ratio))))
-        return out
+    if cell.robot_modes_law == "eigen" and cell.robot_structure is not None:
+        return _eigen_modes_at(cell, np.asarray(q_rad, float))
+    return _planted_modes_at(cell, np.asarray(q_rad, float))
+
+
+def _planted_modes_at(cell, q: np.ndarray) -> list:
+    """The planted law: fixed shapes, stiffness and mass by the Rayleigh quotient."""
+    import dataclasses
+
+    if np.allclose(q, cell.q_reference_rad, rtol=0.0, atol=1e-12):
+        return list(cell.modes)
+    out = []
+    for m in cell.modes:
+        kappa_ref, mu_ref = rayleigh_stiffness_mass(cell, cell.q_reference_rad, m.shape)
+        kappa_q, mu_q = rayleigh_stiffness_mass(cell, q, m.shape)
+        k_q = m.k_N_m * kappa_q / kappa_ref
+        # the mass ratio where both poses move mass along the shape; else the mass is held
+        moved = np.isfinite([mu_ref, mu_q]).all() and min(mu_ref, mu_q) > 0.0
+        m_q = m.m_kg * (mu_q / mu_ref if moved else 1.0)
+        out.append(dataclasses.replace(m, f_hz=float(np.sqrt(k_q / m_q) / (2 * np.pi)),
+                                       k_N_m=k_q))
+    return out
+
+
+def _eigen_modes_at(cell, q: np.ndarray) -> list:
+    """The eigen law: the calibrated eigenproblem's modes at q, tracked from q_ref."""
+    import dataclasses
+
     from robomill.synth.inertia import mass_matrix_kg_m2
 
+    structure = cell.robot_structure
     ref = structure.reference
     M = calibrated_mass(mass_matrix_kg_m2(cell.rigid_body_model, q), structure.calibration)
     here = eigenmodes(cell.joint_stiffness_Nm_rad, M, _jv(cell, q))
