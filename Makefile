@@ -37,14 +37,15 @@ $(STAMP): environment.lock pyproject.toml
 kernel: $(STAMP)
 
 # Unit tests first, in parallel (pytest-xdist, one worker per job slot); then the slow
-# end-to-end pipeline, browser and cluster tests, also in parallel (the tiny study is built once
-# for both workers, tests/conftest.py). The same tests and assertions as one run.
+# end-to-end pipeline, browser and cluster tests and the installed wheel's (marker wheel: the
+# wheel is built once, for both its tests), also in parallel (the tiny study and its plan are
+# built once for both workers, tests/conftest.py). The same tests and assertions as one run.
 test: $(STAMP)
-	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster"
-	$(BIN)/python -m pytest -q -n $(JOBS) --dist loadscope --no-loadscope-reorder --durations=10 -m "pipeline or browser or cluster"
+	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster and not wheel"
+	$(BIN)/python -m pytest -q -n $(JOBS) --dist loadscope --no-loadscope-reorder --durations=10 -m "(pipeline or browser or cluster or wheel) and not predict_cut"
 
 test-fast: $(STAMP)
-	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster"
+	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster and not wheel"
 
 test-cluster: $(STAMP)
 	$(BIN)/python -m pytest -q -m cluster
@@ -59,9 +60,11 @@ bench: $(STAMP)
 
 # Regenerate the pinned, hashed lock from pyproject.toml (needs network access to PyPI).
 UV ?= $(shell command -v uv || echo $(BIN)/uv)
-# the plan checked through the next run's files on two studies: pooled out-of-sample coverage
+# the plan checked through the next run's files on two studies: pooled out-of-sample coverage;
+# then cuts predicted with `robomill predict` and cut on the virtual cell (marker predict_cut)
 plan-check: $(STAMP)
 	$(BIN)/python benchmarks/plan_coverage.py --out results/benchmarks
+	$(BIN)/python -m pytest -q -rxX -m predict_cut
 
 # a learn round on the default study and the narrowing of the binding interval it measured
 learn-round: $(STAMP)

@@ -8,8 +8,11 @@ virtual cell (``snakemake -j2 all --configfile results/plan/next/config.yaml``),
 folder, then plan with ``purpose: production`` from the larger study (``data.raw_dirs``: the
 study's folder and the learn cuts', ``plan.binding_before``: the kept file). Writes
 ``learn_round.csv`` (the production plan's ``binding.csv``: before, now, ``width_same_cut``,
-``narrowing``) and ``learn_round_plan.csv`` (the learn cuts, their reasons and verdicts) under
-``--out``.
+``narrowing``; ``a_crit_*``: the critical depth's interval at the binding cut, the one the
+learn cuts aim at, and its narrowing at the same cut), ``learn_round_plan.csv`` (the learn
+cuts, their reasons, expected narrowing and verdicts: each cut's as the plan takes it, and
+each recording's) and ``learn_round_check_summary.csv`` (the production plan's check, with
+the Brier score of ``p_stable`` over every judged cut) under ``--out``.
 """
 
 from __future__ import annotations
@@ -21,6 +24,8 @@ from pathlib import Path
 import pandas as pd
 import yaml
 from studyloop import REPO, out_and_work, snakemake
+
+from robomill.plan.evidence import verdict_stability
 
 
 def _snakemake(work: Path, target: str, *configfiles: Path) -> None:
@@ -40,6 +45,19 @@ def _request(work: Path, purpose: str) -> None:
     (work / "plan.yaml").write_text(yaml.safe_dump(req, sort_keys=False))
 
 
+def summary_line(binding: pd.DataFrame, learn: pd.DataFrame) -> str:
+    """One line: the critical depth's interval at the earlier binding cut before and after,
+    its narrowing, the binding prediction's, and the round's verdicts."""
+    b, n = binding.iloc[0], binding.iloc[-1]
+    counts = learn["verdict"].value_counts().to_dict()
+    return (f"binding cut {b['cut']} ({b['spindle_rpm']:g} rpm): a_crit "
+            f"[{b['a_crit_low_mm']:.4g}, {b['a_crit_high_mm']:.4g}] mm (width "
+            f"{b['a_crit_width_mm']:.4g}) -> width {n['a_crit_width_same_cut_mm']:.4g} mm at "
+            f"the same cut: narrowing {100 * n['a_crit_narrowing']:.1f} %; binding "
+            f"{b['constraint']} width {b['width']:.4g} -> {n['width_same_cut']:.4g}: "
+            f"narrowing {100 * n['narrowing']:.1f} %; verdicts {counts}")
+
+
 def main(argv: list[str] | None = None) -> int:
     out, work, remove = out_and_work(__doc__, "learn_round", argv)
     _request(work, "learn")
@@ -51,8 +69,16 @@ def main(argv: list[str] | None = None) -> int:
     shutil.rmtree(raw, ignore_errors=True)
     shutil.copytree(work / "results/plan/next/run/results/synthetic/raw", raw)
     verdicts = pd.read_csv(work / "results/plan/next/run/results/chatter/verdicts.csv")
-    learn = learn.merge(verdicts[verdicts["kind"] == "force"][["cut", "verdict", "chatter_hz"]],
-                        on="cut", how="left")
+    # each cut's verdict as the plan takes it (chatter in any recording, else stable or
+    # forced: stable by evidence), and its recordings' verdicts
+    per_cut = verdict_stability(verdicts)
+    learn["verdict"] = [{1.0: "stable", 0.0: "chatter"}.get(per_cut.get(c), "undetermined")
+                        for c in learn["cut"].astype(str)]
+    learn["recordings"] = [
+        "; ".join(f"{r.kind}: {r.verdict}" + (f" at {r.chatter_hz:.4g} Hz"
+                                              if pd.notna(r.chatter_hz) else "")
+                  for r in verdicts[verdicts["cut"].astype(str) == c].itertuples())
+        for c in learn["cut"].astype(str)]
     _request(work, "production")
     (work / "round.yaml").write_text(yaml.safe_dump(
         {"data": {"raw_dirs": ["results/synthetic/raw", str(raw)]},
@@ -60,13 +86,19 @@ def main(argv: list[str] | None = None) -> int:
     _snakemake(work, "plan", work / "round.yaml")
     binding = pd.read_csv(work / "results/plan/binding.csv")
     binding.to_csv(out / "learn_round.csv", index=False)
-    cols = [c for c in ("cut", "placement", "spindle_rpm", "depth_mm", "feed_mm_s", "reason",
-                        "learn_target", "expected_narrowing", "a_crit_low_mm", "a_crit_mm",
-                        "a_crit_high_mm", "verdict", "chatter_hz") if c in learn]
+    cols = [c for c in ("cut", "placement", "direction", "spindle_rpm", "depth_mm",
+                        "feed_mm_s", "reason", "learn_target", "expected_narrowing", "p_stable",
+                        "a_crit_low_mm", "a_crit_mm", "a_crit_high_mm", "verdict",
+                        "recordings") if c in learn]
     learn[cols].to_csv(out / "learn_round_plan.csv", index=False)
-    with pd.option_context("display.width", 200, "display.max_columns", 30):
+    check = work / "results/plan/check_summary.csv"
+    if check.exists():
+        shutil.copy(check, out / "learn_round_check_summary.csv")
+    with pd.option_context("display.width", 200, "display.max_columns", 30,
+                           "display.max_colwidth", 120):
         print(learn[cols].to_string(index=False))
-        print(binding.to_string(index=False))
+        print(binding.T.to_string())
+    print(summary_line(binding, learn))
     if remove:
         shutil.rmtree(work, ignore_errors=True)
     return 0

@@ -13,12 +13,13 @@ REPO = Path(__file__).resolve().parents[1]
 
 
 def snakemake(work: Path, target: str, configfiles: list) -> None:
-    """``snakemake -j2 <target> -q`` of this repository's workflow in ``work``, with
-    ``configfiles`` (relative ones from the repository) in order; raises on failure."""
+    """``snakemake -j2 <target> -q`` of this repository's workflow started in ``work`` (not
+    with ``--directory``, which would override the ``workdir`` a next run's config sets),
+    with ``configfiles`` (relative ones from the repository) in order; raises on failure."""
     cmd = [str(Path(sys.executable).with_name("snakemake")), "-j2", target, "-q",
-           "--snakefile", str(REPO / "Snakefile"), "--directory", str(work),
+           "--snakefile", str(REPO / "Snakefile"),
            "--configfile", *[str(REPO / c) for c in configfiles]]
-    subprocess.run(cmd, check=True, cwd=REPO)
+    subprocess.run(cmd, check=True, cwd=work)
 
 
 def out_and_work(doc: str, name: str, argv: list[str] | None) -> tuple[Path, Path, bool]:

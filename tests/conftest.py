@@ -149,34 +149,69 @@ def _build_tiny_run(workdir: Path) -> str:
     return ""
 
 
+def _built_once(tmp_path_factory, name: str, build) -> Path:
+    """The folder ``name`` made by ``build(folder)`` (returns "" when it succeeded, else why
+    not) once per test session. Under pytest-xdist the first worker to need it builds it in
+    the session's shared temporary folder while holding a lock; the others wait for it and
+    read the same folder."""
+    if not os.environ.get("PYTEST_XDIST_WORKER"):  # no workers (or xdist not loaded)
+        workdir = tmp_path_factory.mktemp(name)
+        why = build(workdir)
+    else:
+        import fcntl
+
+        shared = tmp_path_factory.getbasetemp().parent  # the same for every worker
+        workdir = shared / name
+        outcome = shared / f"{name}.outcome"
+        with open(shared / f"{name}.lock", "w") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
+            if not outcome.exists():  # a worker killed while building left no outcome:
+                workdir.mkdir(exist_ok=True)  # the next one tries again in the same folder
+                outcome.write_text(build(workdir))
+            why = outcome.read_text()
+    if why:
+        pytest.fail(why)
+    return workdir
+
+
 @pytest.fixture(scope="session")
 def tiny_run(tmp_path_factory) -> Path:
     """The whole workflow (`all`) run once on the tiny config; shared by pipeline tests.
 
     Under pytest-xdist (`make test` runs the pipeline tests on two workers) the run is built
-    once for all workers: the first worker to need it builds it in the session's shared
-    temporary folder while holding a lock, the others wait for it and read the same folder.
-    Tests only read it, except test_pipeline.py (a no-op run and ``--report`` in it) and
-    test_book.py (screenshots into its book); `--dist loadscope` keeps each module on one
-    worker, so those run one after the other (:func:`pytest_collection_modifyitems`)."""
-    if not os.environ.get("PYTEST_XDIST_WORKER"):  # no workers (or xdist not loaded)
-        workdir = tmp_path_factory.mktemp("tiny_run")
-        why = _build_tiny_run(workdir)
-    else:
-        import fcntl
+    once for all workers (:func:`_built_once`). Tests only read it, except test_pipeline.py
+    (a no-op run and ``--report`` in it) and test_book.py (screenshots into its book);
+    `--dist loadscope` keeps each module on one worker, so those run one after the other
+    (:func:`pytest_collection_modifyitems`)."""
+    return _built_once(tmp_path_factory, "tiny_run", _build_tiny_run)
 
-        shared = tmp_path_factory.getbasetemp().parent  # the same for every worker
-        workdir = shared / "tiny_run"
-        outcome = shared / "tiny_run.outcome"
-        with open(shared / "tiny_run.lock", "w") as lock:
-            fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
-            if not outcome.exists():  # a worker killed while building left no outcome:
-                workdir.mkdir(exist_ok=True)  # the next one tries again in the same folder
-                outcome.write_text(_build_tiny_run(workdir))
-            why = outcome.read_text()
-    if why:
-        pytest.fail(why)
-    return workdir
+
+# the tiny study's planning request (chapter 7), as a user puts it: plan.yaml in the study's
+# folder (config plan.request's default)
+TINY_PLAN_REQUEST = REPO / ".test" / "plan.yaml"
+
+
+@pytest.fixture(scope="session")
+def planned_run(tiny_run, tmp_path_factory) -> Path:
+    """A copy of :func:`tiny_run` with the tiny study's request (``plan.yaml``) in its
+    folder and `snakemake plan` made in it (the plan, its check and chapter 7), once per
+    session like the tiny run (:func:`_built_once`). Tests only read it; a test that runs
+    anything more in it copies it first."""
+    import shutil
+
+    def build(workdir: Path) -> str:
+        study = workdir / "study"
+        if study.exists():  # a worker killed while copying
+            shutil.rmtree(study)
+        shutil.copytree(tiny_run, study, symlinks=True,
+                        ignore=shutil.ignore_patterns(".chromium-profile", "locks"))
+        shutil.copy(TINY_PLAN_REQUEST, study / "plan.yaml")
+        proc = run_snakemake(study, "-j2", "plan", "--config", NO_BOOK_PDF, timeout=600)
+        if proc.returncode != 0:
+            return f"snakemake -j2 plan failed in a copy of the tiny run:\n{proc.stderr[-6000:]}"
+        return ""
+
+    return _built_once(tmp_path_factory, "planned_run", build) / "study"
 
 
 def chapter_outputs(workdir, name):

@@ -2,12 +2,10 @@
 the file, the cut and the key for a bad entry), and, on a built study, the same predictions as
 the plan's own table of the study's cuts (the same code), for CSV and YAML alike."""
 
-import shutil
 
 import pandas as pd
 import pytest
 import yaml
-from conftest import NO_BOOK_PDF, REPO, run_snakemake
 
 from robomill.cli import main
 from robomill.errors import RawDataError
@@ -68,13 +66,10 @@ def test_the_command_says_in_one_line_when_the_study_has_no_plan(tmp_path, capsy
 
 
 @pytest.mark.pipeline
-def test_the_study_cuts_predicted_as_the_plan_predicts_them(tiny_run, tmp_path):
-    """The study's own cuts through the command: the plan's study_cuts.csv row for row."""
-    study = tmp_path / "study"
-    shutil.copytree(tiny_run, study, symlinks=True)
-    request = f"plan={{request: {REPO / '.test' / 'plan.yaml'}}}"  # the tiny study's request
-    proc = run_snakemake(study, "-j2", "plan", "--config", NO_BOOK_PDF, request)
-    assert proc.returncode == 0, proc.stderr[-4000:]
+def test_the_study_cuts_predicted_as_the_plan_predicts_them(planned_run, tmp_path):
+    """The study's own cuts through the command: the plan's study_cuts.csv row for row (the
+    tiny study with its plan made, shared: conftest.planned_run)."""
+    study = planned_run
     manifest = yaml.safe_load((study / "results/ingest/study.yaml").read_text())
     cuts = [{k: v for k, v in c.items() if k != "process"} for c in manifest["cuts"]][:4]
     (tmp_path / "cuts.yaml").write_text(yaml.safe_dump(cuts))

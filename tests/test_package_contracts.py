@@ -106,6 +106,7 @@ def wheel(tmp_path_factory) -> tuple[str, dict[str, str], Path]:
     return str(env_dir / "bin" / "robomill"), env, purelib
 
 
+@pytest.mark.wheel
 def test_a_wheel_installed_elsewhere_runs_init_and_check(wheel, tmp_path):
     """In an empty folder outside the checkout, the installed wheel's ``robomill init``,
     ``robomill manifest`` and ``robomill check``."""
@@ -127,22 +128,19 @@ def test_a_wheel_installed_elsewhere_runs_init_and_check(wheel, tmp_path):
 
 
 @pytest.mark.pipeline
-def test_a_wheel_installed_elsewhere_predicts_a_built_studys_cuts(wheel, tiny_run, tmp_path):
+@pytest.mark.wheel
+def test_a_wheel_installed_elsewhere_predicts_a_built_studys_cuts(wheel, planned_run, tmp_path):
     """``robomill predict STUDY CUTS`` of the installed wheel, run in an empty folder outside
     the checkout on a study whose plan was made: the plan's own predictions of those cuts
-    (``study_cuts.csv``), so nothing of the checkout was needed."""
+    (``study_cuts.csv``), so nothing of the checkout was needed. The study is the tiny study
+    with its plan made, shared (conftest.planned_run)."""
     import pandas as pd
     import yaml
-    from conftest import NO_BOOK_PDF, run_snakemake
 
     from robomill.plan.cutlist import PREDICT_COLUMNS
 
     exe, env, _ = wheel
-    study = tmp_path / "study"
-    shutil.copytree(tiny_run, study, symlinks=True)
-    request = f"plan={{request: {REPO / '.test' / 'plan.yaml'}}}"  # the tiny study's request
-    proc = run_snakemake(study, "-j2", "plan", "--config", NO_BOOK_PDF, request)
-    assert proc.returncode == 0, proc.stderr[-4000:]
+    study = planned_run
     resolved = yaml.safe_load((study / "results/ingest/study.yaml").read_text())
     cuts = [{k: v for k, v in c.items() if k != "process"} for c in resolved["cuts"]][:3]
     work = tmp_path / "elsewhere"

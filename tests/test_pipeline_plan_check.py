@@ -13,9 +13,11 @@ from conftest import NO_BOOK_PDF, REPO, SNAKEMAKE, run_snakemake
 
 from robomill.plan import NEXT_RUN_DIR
 
-pytestmark = pytest.mark.pipeline
+# whole_study: it cuts the planned cuts as their own run, and it is the first module to need
+# the shared plan (conftest.planned_run), so `make test` hands it out among the first and the
+# plan's other readers find the plan made
+pytestmark = [pytest.mark.pipeline, pytest.mark.whole_study]
 
-REQUEST = f"plan={{request: {REPO / '.test' / 'plan.yaml'}}}"
 # what plan_check reads of the planned cuts' run (`all` builds these and the chapters)
 NEXT_OUTCOMES = ["results/forces/mean_forces.csv", "results/forces/peaks.csv",
                  "results/straightness/deflection.csv", "results/straightness/gears.csv",
@@ -23,11 +25,11 @@ NEXT_OUTCOMES = ["results/forces/mean_forces.csv", "results/forces/peaks.csv",
 
 
 @pytest.fixture(scope="module")
-def checked_study(tiny_run, tmp_path_factory):
+def checked_study(planned_run, tmp_path_factory):
+    # the tiny study with its request (plan.yaml) and plan made (conftest.planned_run),
+    # copied: the shared study stays as it is
     study = tmp_path_factory.mktemp("plan_check") / "study"
-    shutil.copytree(tiny_run, study, symlinks=True)     # the shared run stays as it is
-    proc = run_snakemake(study, "-j2", "plan", "--config", NO_BOOK_PDF, REQUEST)
-    assert proc.returncode == 0, proc.stderr[-4000:]
+    shutil.copytree(planned_run, study, symlinks=True)
     before = pd.read_csv(study / "results/plan/check.csv")
     nxt = study / "results/plan/next/config.yaml"
     # as docs/usage.md says, from the study's folder (the configuration names the run's own)
@@ -39,7 +41,7 @@ def checked_study(tiny_run, tmp_path_factory):
     run = subprocess.run([*cmd, *NEXT_OUTCOMES], cwd=study, capture_output=True, text=True,
                          timeout=900)
     assert run.returncode == 0, run.stderr[-4000:]
-    proc = run_snakemake(study, "-j2", "plan", "--config", NO_BOOK_PDF, REQUEST)
+    proc = run_snakemake(study, "-j2", "plan", "--config", NO_BOOK_PDF)
     assert proc.returncode == 0, proc.stderr[-4000:]
     return study, before, dry.stdout
 

@@ -16,7 +16,8 @@ from conftest import NO_BOOK_PDF, REPO, SNAKEMAKE, run_snakemake
 from robomill.cli import main
 from robomill.plan.evidence import read_verdicts, verdict_stability
 
-pytestmark = pytest.mark.pipeline
+# minutes of simulation: `make plan-check` runs it, `make test` does not (docs/usage.md)
+pytestmark = [pytest.mark.pipeline, pytest.mark.predict_cut]
 REQUEST = f"plan={{request: {REPO / '.test' / 'plan.yaml'}}}"
 
 SPEEDS = (12000.0, 20000.0, 28000.0)

@@ -188,3 +188,44 @@ def test_planned_ids_number_on_after_an_earlier_plans_cuts_in_the_study():
     assert after_study_ids(["plan_01", "plan_02"], ["S1", "S2"]) == ["plan_01", "plan_02"]
     assert after_study_ids(["plan_01", "plan_02"], ["S1", "plan_01", "plan_04"]) == [
         "plan_05", "plan_06"]
+
+
+def test_the_stability_interval_at_the_binding_cut_is_stated_beside_another_binding():
+    """The force binds; the critical depth's interval at the same cut is kept beside it
+    (before [4, 20] mm) and measured again at the earlier binding cut after the round
+    ([6, 12] mm there: 62.5 % narrower), whatever the new plan's own binding cut."""
+    from pathlib import Path
+
+    from robomill.pipeline.prose import Prose, load_templates
+    from robomill.plan.binding import binding_values, same_cut_stability_width
+
+    def with_a_crit(lo, hi):
+        ds = _candidates()
+        dims = ("placement", "spindle_rpm")
+        ds["a_crit_low_mm"] = (dims, np.array(lo, float))
+        ds["a_crit_high_mm"] = (dims, np.array(hi, float))
+        return ds
+
+    req = SimpleNamespace(constraints={"min_stability_margin": 0.2, "max_force_N": 100.0})
+    before_ds = with_a_crit([[1, 1], [1, 4.0]], [[2, 2], [2, 20.0]])
+    b0 = binding_interval(before_ds, req, ROW)
+    assert b0["constraint"] == "max_force_N"
+    assert (b0["a_crit_low_mm"], b0["a_crit_high_mm"], b0["a_crit_width_mm"]) == (4, 20, 16)
+    before = binding_table(b0, "learn", 45, 1)
+    after_ds = with_a_crit([[1, 1], [1, 6.0]], [[3, 2], [2, 12.0]])
+    w = same_cut_stability_width(after_ds, req, before)
+    assert w == pytest.approx(6.0)
+    new_cut = binding_interval(after_ds, req, pd.Series({"cut": "P9", "i_placement": 0,
+                                                         "spindle_rpm": 10000.0}),
+                               "max_force_N")
+    assert new_cut["a_crit_width_mm"] == pytest.approx(2.0)   # the new cut's own: not used
+    table = binding_table({**new_cut, "width_same_cut": 10.0, "a_crit_width_same_cut_mm": w},
+                          "production", 49, 2, before)
+    assert table["a_crit_narrowing"].iloc[-1] == pytest.approx(1 - 6.0 / 16.0)
+    assert np.isnan(table["a_crit_narrowing"].iloc[0])
+    templates = load_templates("ch7", Path("src/robomill/data/templates/ch7.yaml"))
+    text = Prose(templates, binding_values(table))("binding_stability")
+    assert "[4, 20] mm (width 16 mm)" in text and "width 6 mm at the same cut" in text
+    assert "**62.5 %**" in text and "not at the mean cutting force" in text
+    # no earlier plan: nothing said about a narrowing
+    assert Prose(templates, binding_values(before))("binding_stability") == ""

@@ -152,6 +152,22 @@ def test_chapter_7_states_the_band_against_the_chosen_speeds():
     inside = reach_values(chosen.iloc[2:], attrs)
     assert inside["band_case"] == "inside" and inside["n_extrapolated"] == 0
     assert "stays inside it" in Prose(load_templates("ch7"), inside)("reach_band")
+    assert Prose(load_templates("ch7"), v)("reach_direction") == ""
+
+
+def test_chapter_7_says_why_a_cut_whose_direction_was_not_measured_is_flagged():
+    from robomill.pipeline.prose import Prose, load_templates
+    from robomill.plan.extrapolation import reach_values, reason_text
+
+    codes = [32 | 128, 1, 128]                       # X and Z; speed alone; Z
+    chosen = pd.DataFrame({"tooth_passing_hz": [50.0, 60.0, 70.0],
+                           "extrapolation": [True, True, True],
+                           "extrapolation_reason": [reason_text(c) for c in codes]})
+    v = reach_values(chosen, {"interval_level": 0.95, "modal_band_hz": [10.0, 100.0]})
+    assert v["axes_not_measured"] == "X, Z" and v["n_direction_not_measured"] == 2
+    text = Prose(load_templates("ch7"), v)("reach_direction")
+    assert text.startswith("2 of the chosen cuts are flagged `direction not measured: X, Z`")
+    assert "no interval is widened for it" in text
 
 
 def test_the_modes_intervals_carry_into_the_critical_depth(cell):

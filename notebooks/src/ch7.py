@@ -159,7 +159,7 @@ display(chosen[[c for c in cols if c in chosen]])
 
 # %%
 display(Markdown(Prose(load_templates("ch7", templates), reach_values(chosen, cand.attrs))(
-    "reach_level", "reach_extrapolated", "reach_band")))
+    "reach_level", "reach_extrapolated", "reach_direction", "reach_band")))
 
 # %% [markdown]
 # ## A path a robot can run
@@ -302,7 +302,8 @@ display(Markdown(say("solver_error", stability_solver_error_percent=None if err 
 from robomill.plan.binding import binding_values
 
 display(Markdown(Prose(load_templates("ch7", templates),
-                       binding_values(pd.read_csv(binding)))("binding")))
+                       binding_values(pd.read_csv(binding)))("binding",
+                                                              "binding_stability")))
 
 # %% [markdown]
 # ## The plan beside the study

@@ -24,6 +24,13 @@ binding cut (the grid point ``i_placement, i_rotation, i_direction, spindle_rpm,
 feed_mm_s`` stored in its ``binding.csv``), before and after, so that neither a change of which
 constraint binds nor a move of the binding cut passes for a narrowing (``width_same_cut``: the
 after width there; the new binding cut's own interval is stated beside it).
+
+Beside it, whatever prediction binds, the **stability interval at the binding cut**: the
+critical depth's interval ``[a_crit_low_mm, a_crit_high_mm]`` there (the stability model's
+weighted members, :mod:`robomill.plan.stability`; the interval a learn round's verdicts
+narrow, :mod:`robomill.plan.learn`), and its narrowing at the same grid point,
+``a_crit_narrowing`` = 1 − ``a_crit_width_same_cut_mm`` / the earlier plan's
+``a_crit_width_mm``, both widths from the same candidates' variables.
 """
 
 from __future__ import annotations
@@ -41,7 +48,8 @@ from robomill.plan.request import PlanRequest
 COLUMNS = ("when", "purpose", "cut", "constraint", "prediction", "limit", "low", "high",
            "width", "pessimistic", "slack", "binds", "study_cuts", "raw_folders", "narrowing",
            "i_placement", "i_rotation", "i_direction", "spindle_rpm", "depth_mm", "feed_mm_s",
-           "width_same_cut")
+           "width_same_cut", "a_crit_low_mm", "a_crit_high_mm", "a_crit_width_mm",
+           "a_crit_width_same_cut_mm", "a_crit_narrowing")
 """Columns of ``results/plan/binding.csv``."""
 
 
@@ -129,7 +137,19 @@ def binding_interval(ds: xr.Dataset, req: PlanRequest, row: pd.Series,
                    if pd.notna(row.get(d))}}
         if best is None or cand["slack"] < best["slack"]:
             best = cand
+    if best:
+        best.update(stability_at(ds, row))
     return best or {}
+
+
+def stability_at(ds: xr.Dataset, row: pd.Series) -> dict[str, float]:
+    """The critical depth's interval at ``row``'s grid point (``a_crit_low_mm``,
+    ``a_crit_high_mm``, ``a_crit_width_mm``; NaN without a stability prediction)."""
+    try:
+        lo, hi = _value(ds, "a_crit_low_mm", row), _value(ds, "a_crit_high_mm", row)
+    except (KeyError, IndexError, ValueError):
+        lo = hi = float("nan")
+    return {"a_crit_low_mm": lo, "a_crit_high_mm": hi, "a_crit_width_mm": hi - lo}
 
 
 def same_cut_width(ds: xr.Dataset, req: PlanRequest, before: pd.DataFrame | None
@@ -160,6 +180,20 @@ def same_cut_width(ds: xr.Dataset, req: PlanRequest, before: pd.DataFrame | None
     return float(got["width"]) if got else float("nan")
 
 
+def same_cut_stability_width(ds: xr.Dataset, req: PlanRequest, before: pd.DataFrame | None
+                             ) -> float:
+    """The width now [mm] of the critical depth's interval at the earlier plan's binding cut
+    (as :func:`same_cut_width`); NaN where that cut is not on this grid."""
+    if before is None or before.empty or not np.isfinite(same_cut_width(ds, req, before)):
+        return float("nan")
+    b = before.iloc[-1].copy()
+    for d in ("spindle_rpm", "depth_mm", "feed_mm_s"):
+        if d in ds.dims:
+            grid = np.asarray(ds[d].values, float)
+            b[d] = float(grid[np.argmax(np.isclose(grid, float(b[d]), rtol=1e-5))])
+    return float(stability_at(ds, b)["a_crit_width_mm"])
+
+
 def binding_table(now: dict[str, object], purpose: str, study_cuts: int, raw_folders: int,
                   before: pd.DataFrame | None = None) -> pd.DataFrame:
     """``results/plan/binding.csv``: the row ``now`` (this plan's binding interval, with
@@ -176,6 +210,10 @@ def binding_table(now: dict[str, object], purpose: str, study_cuts: int, raw_fol
         w_same = float(now.get("width_same_cut", np.nan))
         if np.isfinite(w_same) and float(b["width"]) > 0:
             narrowing = 1.0 - w_same / float(b["width"])
+        a_same = float(now.get("a_crit_width_same_cut_mm", np.nan))
+        a_before = float(b.get("a_crit_width_mm", np.nan))
+        if np.isfinite(a_same) and np.isfinite(a_before) and a_before > 0:
+            now = {**now, "a_crit_narrowing": 1.0 - a_same / a_before}
     rows.append({"when": "now", "purpose": purpose, **now, "study_cuts": int(study_cuts),
                  "raw_folders": int(raw_folders), "narrowing": narrowing})
     return pd.DataFrame(rows).reindex(columns=list(COLUMNS))
@@ -209,7 +247,11 @@ def binding_values(table: pd.DataFrame) -> dict[str, object]:
     earlier plan's row its interval and width and the narrowing [%]. ``binding_case``:
     ``narrowed`` (an earlier plan's row, same prediction), ``changed`` (an earlier row whose
     prediction no longer is the one measured), ``now`` (no earlier plan) or ``none`` (no
-    constrained prediction at the binding cut)."""
+    constrained prediction at the binding cut). The critical depth's interval at the earlier
+    binding cut, before and now at the same cut (``a_crit_narrowing_pct``), with
+    ``stability_case``: ``binds`` (the stability constraint binds), ``beside`` (another
+    prediction binds: the stability interval is the one a learn round's verdicts narrow) or
+    ``none`` (no earlier plan or no critical depth there)."""
     now = table[table["when"] == "now"]
     if now.empty or not isinstance(now["constraint"].iloc[-1], str):
         return {"binding_case": "none"}
@@ -217,6 +259,9 @@ def binding_values(table: pd.DataFrame) -> dict[str, object]:
     out = {k: r[k] for k in ("purpose", "cut", "constraint", "prediction")}
     out.update({k: float(r[k]) for k in ("low", "high", "width", "limit")})
     out.update({"study_cuts": int(r["study_cuts"]), "raw_folders": int(r["raw_folders"])})
+    for k in ("a_crit_low_mm", "a_crit_high_mm", "a_crit_width_mm"):
+        out[k] = float(r[k]) if k in r.index and pd.notna(r[k]) else float("nan")
+    out["stability_case"] = "none"
     before = table[table["when"] == "before"]
     if before.empty:
         out["binding_case"] = "now"
@@ -232,4 +277,16 @@ def binding_values(table: pd.DataFrame) -> dict[str, object]:
         out["binding_case"] = "narrowed"
     else:
         out["binding_case"] = "changed"
+    def num(row, key):
+        return float(row[key]) if key in row.index and pd.notna(row[key]) else float("nan")
+
+    if np.isfinite(num(b, "a_crit_width_mm")) and np.isfinite(num(r, "a_crit_narrowing")):
+        out.update({"before_a_crit_low_mm": num(b, "a_crit_low_mm"),
+                    "before_a_crit_high_mm": num(b, "a_crit_high_mm"),
+                    "before_a_crit_width_mm": num(b, "a_crit_width_mm"),
+                    "a_crit_width_same_cut_mm": num(r, "a_crit_width_same_cut_mm"),
+                    "a_crit_narrowing_pct": 100.0 * num(r, "a_crit_narrowing")})
+        out["stability_case"] = ("binds" if b["constraint"] in ("min_stability_margin",
+                                                                "min_p_stable")
+                                 else "beside")
     return out

@@ -268,7 +268,9 @@ def reach_values(chosen, attrs: dict) -> dict:
     the impact test's band [Hz], the chosen cuts' tooth-passing frequencies [Hz] (from
     ``plan.csv``: ``tooth_passing_hz``), how many of the chosen cuts are extrapolated and
     for which reasons, how many reach above the band (``band_case``: ``above``, ``inside``
-    or ``unknown`` without an impact test), and the widening rule."""
+    or ``unknown`` without an impact test), the widening rule, and ``axes_not_measured`` /
+    ``n_direction_not_measured``: the base axes the impact test measured no mode along that
+    some chosen cut's frame has a component along, and how many chosen cuts that is."""
     band = np.atleast_1d(np.asarray(attrs.get("modal_band_hz", []), float))
     out = {"level_percent": 100 * float(attrs.get("interval_level", np.nan)),
            "n_cuts": len(chosen), "harmonics": int(attrs.get("extrapolation_harmonics", 1))}
@@ -277,6 +279,13 @@ def reach_values(chosen, attrs: dict) -> dict:
     reasons = sorted({x for r in chosen.get("extrapolation_reason", []) if isinstance(r, str)
                       for x in r.split("; ") if x})
     out["reasons"] = ", ".join(reasons) if reasons else "none"
+    # the base axes along which some chosen cut's frame lies unmeasured (bits 32-128)
+    out["axes_not_measured"] = ", ".join(sorted({a.strip() for r in reasons
+                                                 if r.startswith("direction not measured: ")
+                                                 for a in r.split(": ", 1)[1].split(",")}))
+    out["n_direction_not_measured"] = sum(
+        1 for r in chosen.get("extrapolation_reason", [])
+        if isinstance(r, str) and "direction not measured" in r)
     tp = chosen["tooth_passing_hz"].to_numpy(float) if "tooth_passing_hz" in chosen else []
     if len(tp):
         out["tooth_passing_min_hz"], out["tooth_passing_max_hz"] = float(min(tp)), float(max(tp))

@@ -15,7 +15,7 @@ import pandas as pd
 import xarray as xr
 
 from robomill.experiment import Cut
-from robomill.plan.binding import binding_interval, same_cut_width
+from robomill.plan.binding import binding_interval, same_cut_stability_width, same_cut_width
 from robomill.plan.choose import PlanInfeasible, check_needs, choose, feasible
 from robomill.plan.compare import (
     comparison_table,
@@ -164,6 +164,8 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell,
                else binding_interval(cand, req, prod_first, binding_constraint))
     if binding:  # the earlier plan's binding prediction at its own binding cut, now
         binding["width_same_cut"] = same_cut_width(cand, req, binding_before)
+        binding["a_crit_width_same_cut_mm"] = same_cut_stability_width(cand, req,
+                                                                       binding_before)
     wobj = req.work_object or BASE
     own = [c if isinstance(c, Cut) else c.cut for c in cuts]  # a StudyCut carries its Cut
     chosen, slot_notes = separate_slots(chosen, cand, req,
@@ -174,7 +176,11 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell,
         raise PlanInfeasible(f"{req.path}: no chosen cut has a free place on the block: every "
                              "slot would cross the study's or leave the block "
                              "(work_object.block_mm)")
-    mask = feasible(cand, req)
+    if req.purpose == "learn":  # the learn cuts' own constraints: no stability margin
+        from robomill.plan.learn import learn_allowed
+        mask = learn_allowed(cand, req)
+    else:
+        mask = feasible(cand, req)
     cut_paths = [plan_cut_path(str(r["cut"]), np.array([r["placement_x_mm"],
                                                         r["placement_y_mm"],
                                                         r["placement_z_mm"]], float),

@@ -9,7 +9,8 @@ centred on an end station would reach past the slot, where the robot need not go
 grid's public functions predict it (:func:`robomill.plan.predict.predict_grid`), flag and
 widen what lies outside the study (:func:`robomill.plan.predict.apply_extrapolation`, over
 the request's own speed, depth and feed grids: its widening depends on them) and check the
-request's constraints (:func:`robomill.plan.choose.feasible`): a station the grid
+request's constraints (:func:`robomill.plan.choose.feasible`; a learn plan's, which leave out
+the stability margin, :func:`robomill.plan.learn.learn_allowed`): a station the grid
 would refuse is not feasible on the path, and the path's margin at a station is the grid's
 pessimistic, widened ``stability_margin_low``. The waviness, which counts a gear line's
 cycles along the whole cut, belongs to the cut, not to a station: the grid checks it on the
@@ -46,7 +47,11 @@ def station_grid(req, measured, cell, reach, top_points_mm: np.ndarray, directio
         one[dim] = int(np.argmin(np.abs(cand[dim].values - float(value))))
     margin = cand["stability_margin_low"]
     margin = margin.isel({d: i for d, i in one.items() if d in margin.dims})
-    ok = feasible(cand, sub).isel(one)
+    if sub.purpose == "learn":  # a learn cut's constraints leave out the stability margin
+        from robomill.plan.learn import learn_allowed
+        ok = learn_allowed(cand, sub).isel(one)
+    else:
+        ok = feasible(cand, sub).isel(one)
     return {"stability_margin_low": np.asarray(margin.transpose("placement", "rotation").values,
                                                float),
             "feasible": np.asarray(ok.transpose("placement", "rotation").values, bool)}
