@@ -191,17 +191,6 @@ def test_tooth_passing_lines_at_each_cuts_own_speed(other_cell_run):
         assert line > 100 * floor, (cid, line, floor)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "measured with synth.process.robot_modes: eigen (this cell's law): the calibration puts "
-    "the planted 67 Hz mode on a pure joint-6 spin (psi = e6, rotor inertia alone, 67.0 Hz at "
-    "every pose), and the TCP lies on joint 6's axis (tool xyz_mm [0, 0, 150]), so that mode "
-    "moves the tool tip by roundoff only (|J_v psi| = 1.3e-16 m at the impact pose): its "
-    "tool-tip shape is roundoff noise and its stiffness a ratio of roundoff values (8e4 N/m "
-    "at n12k_mx_v2's mid pose, 1.1e6 at the impact pose). n12k_mx_v2 then chatters (57 % of "
-    "teeth out, 15.4 um cross-feed vibration; judged chatter, 58 % of the band's power off the "
-    "harmonics), n24k_d45_v2 does not (0.9 % teeth out), n24k_mx_v2 loses 8 % of its teeth and "
-    "stays in the fit (cross-feed forces 4.39, 10.73, 8.84 N), so the XY coefficients are not "
-    "physical (fit residual 0.56 N > signal 0.54 N)"))
 def test_cutting_coefficients_from_half_immersion_down_milling(other_cell_run):
     workdir, _ = other_cell_run
     from robomill.io import open_artefact

@@ -41,6 +41,21 @@ def test_a_two_mass_chain_has_its_closed_form_modes():
     assert np.sum(1.0 / modes.k_tip_N_m) == pytest.approx(1 / k1 + 1 / k2, rel=1e-12)
 
 
+def test_a_mode_that_moves_the_tip_by_rounding_only_is_no_tip_mode():
+    # two uncoupled joints; the second spins about an axis through the tool tip, so its column
+    # of J_v is rounding noise (1e-17 m/rad), the first moves the tip 0.8 m/rad along Y
+    K = np.diag([2.0e6, 5.0e4])
+    M = np.diag([40.0, 0.3])
+    Jv = np.array([[0.0, 1e-17], [0.8, 0.0], [0.0, -2e-17]])
+    modes = eigenmodes(K, M, Jv)
+    spin = int(np.argmin(np.abs(modes.psi[0])))            # the mode that is joint 2 alone
+    arm = 1 - spin
+    assert np.isinf(modes.k_tip_N_m[spin]) and np.all(np.isnan(modes.tip_shape[spin]))
+    # the other mode: k = omega^2 / |J_v psi|^2 with psi = 1/sqrt(m1)
+    assert modes.k_tip_N_m[arm] == pytest.approx(2.0e6 / 0.8**2, rel=1e-12)
+    np.testing.assert_allclose(np.abs(modes.tip_shape[arm]), [0.0, 1.0, 0.0], atol=1e-12)
+
+
 def test_the_calibration_puts_the_lowest_frequencies_at_the_targets():
     K = np.array([3.0e5, 2.0e5, 5.0e4])
     M = np.array([[4.0, 0.5, 0.1], [0.5, 2.0, 0.2], [0.1, 0.2, 0.05]])
@@ -197,4 +212,9 @@ def test_point_masses_that_give_the_joints_no_inertia_still_give_finite_eigen_mo
     at_ref = robot_modes_at(cell, cell.q_reference_rad)
     np.testing.assert_allclose([m.f_hz for m in at_ref], [m.f_hz for m in cell.modes],
                                rtol=1e-9)
-    assert all(np.isfinite(m.f_hz) and np.isfinite(m.k_N_m) for m in robot_modes_at(cell, q))
+    # rotor inertias alone: each mode is one joint; a joint whose spin moves no tool tip (the
+    # wrist about an axis through the TCP) has no tip compliance (k infinite), never a stiffness
+    # made of rounding values; every other mode is finite
+    modes = robot_modes_at(cell, q)
+    assert all(np.isfinite(m.f_hz) and m.k_N_m > 0 for m in modes)
+    assert sum(np.isfinite(m.k_N_m) for m in modes) >= len(modes) - 1

@@ -83,10 +83,16 @@ def calibrated_mass(M_kg_m2: np.ndarray, cal: InertiaCalibration | None) -> np.n
     return s[:, None] * (M + np.diag(cal.rotor_kg_m2)) * s[None, :]
 
 
+TIP_RTOL = 1e-9  # tip motion below this share of the largest mode's: the mode moves no tip
+
+
 def eigenmodes(K_Nm_rad: np.ndarray, M_kg_m2: np.ndarray, Jv_m: np.ndarray) -> JointModes:
     """Solve K_θ ψ = ω² M ψ (K diagonal ``(n,)`` or ``(n, n)``, M positive definite) and map
     each mode to the tool tip through the translational Jacobian ``Jv_m`` ``(3, n)``
-    (module docstring). A mode that moves no tool tip has NaN shape and infinite stiffness."""
+    (module docstring). A mode that moves no tool tip has NaN shape and infinite stiffness:
+    one whose tip motion is below ``TIP_RTOL`` of the largest mode's, which is the rounding of
+    J_v ψ (a wrist joint spinning about an axis through the TCP moves it by about 1e-16 of the
+    others), so that no shape or stiffness is made of rounding noise."""
     import scipy.linalg
 
     K = np.asarray(K_Nm_rad, float)
@@ -94,7 +100,7 @@ def eigenmodes(K_Nm_rad: np.ndarray, M_kg_m2: np.ndarray, Jv_m: np.ndarray) -> J
     w2, psi = scipy.linalg.eigh(K, np.asarray(M_kg_m2, float))
     tip = np.asarray(Jv_m, float) @ psi
     norm = np.linalg.norm(tip, axis=0)
-    moving = norm > 0.0
+    moving = norm > TIP_RTOL * (norm.max() if norm.size else 0.0)
     shape = np.full((psi.shape[1], 3), np.nan)
     shape[moving] = (tip[:, moving] / norm[moving]).T
     k = np.full(psi.shape[1], np.inf)

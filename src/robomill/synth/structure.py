@@ -200,7 +200,9 @@ def _eigen_modes_at(cell, q: np.ndarray) -> list:
         # one sign per mode: the joint motion's continuation of the reference mode's
         if float(ref.psi[:, r] @ M @ here.psi[:, j]) < 0.0:
             shape = -shape
-        if not np.isfinite(shape).all():  # the mode moves no tool tip at this pose
+        if not (np.isfinite(shape).all() and np.isfinite(ref.k_tip_N_m[r])):
+            # the mode moves no tool tip here, or already at q_ref (a spin about an axis
+            # through the TCP): no compliance at the tip, never a ratio of rounding values
             shape, k = np.asarray(m.shape, float), np.inf
         else:
             k = m.k_N_m * here.k_tip_N_m[j] / ref.k_tip_N_m[r]
