@@ -8,7 +8,9 @@ Manifest keys of an impact entry (:func:`entry_metadata`): ``direction`` (the ha
 ``X``/``+X``/``-X``…; CSV only), ``hit``, ``node`` (the node hit, default 1),
 ``response_node`` (where the accelerometer sits, default ``node``: a driving point),
 ``range_N`` and ``range_ms2`` (sensor ranges, optional: without them an overload is found by
-flat-topping alone).
+flat-topping alone), ``tcp_mm`` (optional: the robot's TCP point [mm, base frame] where the
+test was made, the pose at which its modes hold; every entry stating it states the same,
+:func:`stated_tcp_mm`).
 
 UFF 58 ("function at nodal DOF", what modal test software exports), read with ``pyuff``:
 
@@ -73,14 +75,15 @@ def entry_metadata(manifest_path: str | Path, entry: Mapping[str, Any],
     """Validated impact metadata of one manifest entry, with defaults filled.
 
     Returns ``{direction (int code or None for UFF), hit, node, response_node, range_N,
-    range_ms2}``.
+    range_ms2, tcp_mm (a tuple of 3 floats or None)}``.
 
     Raises
     ------
     RawDataError
         Naming the manifest and the key: a CSV entry without ``direction``, a direction that
         is not ±X/±Y/±Z, a hit that is not an integer, a node that is not a positive
-        integer, a range that is not a positive number.
+        integer, a range that is not a positive number, a ``tcp_mm`` that is not three
+        finite numbers.
     """
     from robomill.modal.layout import parse_direction
 
@@ -115,7 +118,37 @@ def entry_metadata(manifest_path: str | Path, entry: Mapping[str, Any],
             raise RawDataError(manifest_path, f"{key} {v!r} is not a sensor range",
                                where=f"{where}.{key}", expected="a positive number")
         out[key] = None if v is None else float(v)
+    v = entry.get("tcp_mm")
+    if v is not None and not (isinstance(v, list | tuple) and len(v) == 3 and all(
+            isinstance(x, int | float) and not isinstance(x, bool) and np.isfinite(x)
+            for x in v)):
+        raise RawDataError(manifest_path, f"tcp_mm {v!r} is not a point",
+                           where=f"{where}.tcp_mm",
+                           expected="[x, y, z] in mm, the TCP in the robot's base frame")
+    out["tcp_mm"] = None if v is None else tuple(float(x) for x in v)
     return out
+
+
+def stated_tcp_mm(manifest_path: str | Path, entries: Sequence[Mapping[str, Any]]
+                ) -> tuple[float, float, float] | None:
+    """The TCP point [mm] the impact entries state (``tcp_mm``), None where none states it.
+
+    Raises
+    ------
+    RawDataError
+        Two entries that state different points (one test, one pose: within 1e-6 mm).
+    """
+    stated = [(k, entry_metadata(manifest_path, f, k)["tcp_mm"]) for k, f in enumerate(entries)]
+    stated = [(k, p) for k, p in stated if p is not None]
+    if not stated:
+        return None
+    k0, p0 = stated[0]
+    for k, p in stated[1:]:
+        if np.max(np.abs(np.subtract(p, p0))) > 1e-6:
+            raise RawDataError(manifest_path, f"tcp_mm {list(p)} differs from files[{k0}]'s "
+                               f"{list(p0)}", where=f"files[{k}].tcp_mm",
+                               expected="one TCP point for the whole impact test")
+    return p0
 
 
 def read_hit_record(path: str | Path, *, fs_hz: float | None = None,
@@ -405,6 +438,8 @@ class ImpactTest:
     hits: list[tuple[HitRecord, dict[str, Any]]]
     frfs: list[xr.Dataset]
     paths: list[str]
+    tcp_mm: tuple[float, float, float] | None = None
+    """The TCP point [mm, base frame] where the test was made (:func:`stated_tcp_mm`)."""
 
 
 def load_impact_test(manifest, entries: Sequence[Mapping[str, Any]]) -> ImpactTest:
@@ -443,5 +478,5 @@ def load_impact_test(manifest, entries: Sequence[Mapping[str, Any]]) -> ImpactTe
                               response_node=meta["response_node"])
         fs = fs or rec.fs_hz
         hits.append((rec, {**meta, "path": f["path"], "hit": meta["hit"]}))
-    return ImpactTest(hits, frfs, paths)
+    return ImpactTest(hits, frfs, paths, stated_tcp_mm(manifest.path, entries))
 

@@ -78,6 +78,23 @@ def experiment_header(config: Mapping[str, Any]) -> dict[str, Any]:
     return header
 
 
+def impact_tcp_mm(config: Mapping[str, Any]) -> list[float]:
+    """The TCP point [mm, base frame] at which the virtual impact test is made, as its
+    manifest entries state it (``tcp_mm``): ``synth.process.reference_point_mm`` (a choice of
+    the test, like a lab's: where the tool stood when it was hit), null: the mean of the
+    midpoints of the study's cuts."""
+    point = (config["synth"].get("process") or {}).get("reference_point_mm")
+    if point is None:
+        import numpy as np
+
+        from robomill.experiment import cut_endpoints_mm
+
+        cuts = synthetic_cuts(config)
+        point = np.mean([np.mean(cut_endpoints_mm(c, config["experiment"]), axis=0)
+                         for c in cuts], axis=0)
+    return [float(v) for v in point]
+
+
 def hit_path(direction: str, hit: int) -> str:
     """Path of one impact hit's file, relative to the raw folder."""
     return f"impact/hit{direction}_{hit}.csv"
@@ -148,7 +165,10 @@ def instrument_files(config: Mapping[str, Any], instrument: str) -> list[dict[st
         n = int(s["hits_per_direction"])
         # the simulated sensors' ranges, as a lab states them in its manifest
         ranges = {"range_N": float(s["force_range_N"]), "range_ms2": float(s["accel_range_ms2"])}
-        return [{"path": hit_path(d, k), "kind": "impact", "direction": d, "hit": k, **ranges}
+        # where the tool stood when it was hit, as a lab notes the test's pose
+        tcp = impact_tcp_mm(config) if "process" in config["synth"] else None
+        return [{"path": hit_path(d, k), "kind": "impact", "direction": d, "hit": k, **ranges,
+                 **({"tcp_mm": list(tcp)} if tcp is not None else {})}
                 for d in IMPACT_DIRECTIONS for k in range(1, n + 1)]
     if instrument == "ctrack":
         return [{"path": f"ctrack/{t}.csv", "kind": "ctrack", "table": t} for t in CTRACK_TABLES]

@@ -83,7 +83,13 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
                      "lines carried)")
     mids = (np.array([np.mean(cut_endpoints_mm(c, experiment), 0) for c in cuts]) if placed
             else None)
-    cell = cell_of(cell_file, req, mids)
+    band, tcp = modal_fit_band_and_pose(paths.get("modal_fit"))
+    if tcp is not None and req.reference_point_mm is not None and not np.allclose(
+            tcp, req.reference_point_mm, rtol=0.0, atol=1e-6):
+        log.info("reference pose: the impact test's TCP %s from its files, not the request's "
+                 "reference_point_mm %s", np.round(tcp, 3).tolist(),
+                 np.round(req.reference_point_mm, 3).tolist())
+    cell = cell_of(cell_file, req, tcp)
 
     def table(name):
         return pd.read_csv(paths[name]) if paths.get(name) else None
@@ -106,10 +112,7 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
                         level=level, waviness_coverage=float(noise["coverage"]),
                         waviness_min_cycles=waviness_min_cycles(
                             params["fmin_cycles"], float(noise["exclude_bins"])))
-    band = None
-    if paths.get("modal_fit"):
-        with xr.open_dataset(paths["modal_fit"]) as fit:
-            band = [float(b) for b in np.atleast_1d(fit.attrs.get("band_hz", []))] or None
+    require_reference_pose(tcp, req, measured, paths.get("modal_fit") or paths["modes"])
     # the axes the impact test did not measure: empty shape columns of modes.csv
     reach = reach_from_means(table("means"), experiment, mids, band,
                              axes_not_measured(measured.modes))
@@ -123,6 +126,33 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
             notes.append(f"{err} (the stability model is not weighted by verdicts)")
     return PlanInputs(req, measured, cell, cell_file, cuts, experiment, mids, reach,
                       stability, slots, notes, study_cuts=list(read_study(paths["study"]).cuts))
+
+
+def require_reference_pose(tcp_mm: np.ndarray | None, req: Any, measured: Any,
+                           where: str | None) -> None:
+    """Stop with one line where the planner must move the impact test's robot modes to the
+    cuts' poses (modes and joint stiffness measured) but knows no pose of the test: neither
+    the impact files' ``tcp_mm`` nor the request's ``reference_point_mm``."""
+    if (tcp_mm is None and req.reference_point_mm is None and measured.has("modes")
+            and measured.has("joints")):
+        raise RawDataError(where or "results/modal", "the impact test states no pose, so its "
+                           "modes cannot be moved to the cuts' poses",
+                           expected="the TCP point of the test as manifest key tcp_mm of its "
+                           f"impact entries, or reference_point_mm in {req.path}")
+
+
+def modal_fit_band_and_pose(path: str | None) -> tuple[list[float] | None, np.ndarray | None]:
+    """The impact test's band [Hz] and the TCP point [mm, base frame] where it was made (the
+    modal stage's ``frf_synth.nc`` attributes ``band_hz`` and ``impact_tcp_mm``, from the
+    impact entries' manifest key ``tcp_mm``); None for what the file (or its absence) does
+    not give."""
+    if not path:
+        return None, None
+    with xr.open_dataset(path) as fit:
+        band = [float(b) for b in np.atleast_1d(fit.attrs.get("band_hz", []))] or None
+        tcp = (np.asarray(fit.attrs["impact_tcp_mm"], float).reshape(3)
+               if "impact_tcp_mm" in fit.attrs else None)
+    return band, tcp
 
 
 def model_record(paths: Mapping[str, str], params: Mapping[str, Any]) -> dict[str, Any]:

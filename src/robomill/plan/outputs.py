@@ -136,14 +136,16 @@ def next_config(manifest: dict[str, Any], workdir: str = NEXT_RUN_DIR) -> dict[s
                       "recordings": {"vibration": True}}}
 
 
-def cell_of(cell_file, req: PlanRequest, cuts_mid_mm: np.ndarray | None) -> Cell:
+def cell_of(cell_file, req: PlanRequest, impact_tcp_mm: np.ndarray | None) -> Cell:
     """The planner's view of the cell: robot, tool orientation, IK seed, and the reference
-    point of the modes (``reference_point_mm`` of the request, else the middle of the study's
-    cuts, else the middle of the placement region)."""
-    if req.reference_point_mm is not None:
+    point of the modes: where the impact test was made (``impact_tcp_mm``, the point its
+    files state, carried by the modal stage as ``frf_synth.nc`` ``impact_tcp_mm``), else
+    ``reference_point_mm`` of the request (the documented fallback for impact files without
+    it), else the middle of the placement region (where no impact test's modes are moved)."""
+    if impact_tcp_mm is not None:
+        ref = np.asarray(impact_tcp_mm, float).reshape(3)
+    elif req.reference_point_mm is not None:
         ref = req.reference_point_mm
-    elif cuts_mid_mm is not None and len(cuts_mid_mm):
-        ref = np.asarray(cuts_mid_mm, float).mean(0)
     else:
         ref = req.placements_mm.mean(0)
     from robomill.straightness import gear_orders

@@ -13,7 +13,10 @@ its stiffness scaled by the joint model's stiffness along its shape,
 Computer-Integrated Manufacturing 27(5), 881–888), f_r ∝ √k_r. Modes above the robot's band
 (spindle, tool) are the same at every pose. The modal mass is held because the study measures
 no inertia away from q_ref; a real arm's (and the virtual cell's) mass at the tool tip moves
-with the pose too, so far from q_ref this law is one source of a missed prediction.
+with the pose too, and its modes' shapes may turn and mix (the virtual cell's do under
+``synth.process.robot_modes: eigen``: the eigenproblem of its joints and mass matrix at each
+pose), so far from q_ref this law is one source of a missed prediction. q_ref is where the
+impact files say the test was made (their ``tcp_mm``).
 
 **Static compliance.** The impact test sees the whole structure at the tool tip (joints, links,
 flange, spindle, tool); its frequency response at ω → 0 is the modal compliance

@@ -97,6 +97,26 @@ class VirtualCell:
     rigid_body_model: Any = None
     """The robot's rigid-body model for its mass matrix M(q) (:mod:`robomill.synth.inertia`;
     None without masses)."""
+    robot_modes_law: str | None = None
+    """``synth.process.robot_modes``: ``"eigen"`` moves the robot's modes by the eigenproblem
+    of the joints and the calibrated mass matrix (shapes turning with the pose); anything else
+    by the planted law (fixed shapes), :mod:`robomill.synth.structure`."""
+    _structure: Any = field(default=None, repr=False, compare=False)
+
+    @property
+    def robot_structure(self) -> Any:
+        """The arm's calibrated eigenmodel at :attr:`q_reference_rad`
+        (:func:`robomill.synth.structure.robot_structure`; None without joint stiffness,
+        reference pose or masses), computed once for the cell's current model."""
+        from robomill.synth.structure import robot_structure
+
+        key = (id(self.rigid_body_model), id(self.modes),
+               None if self.q_reference_rad is None else np.asarray(self.q_reference_rad).tobytes(),
+               None if self.joint_stiffness_Nm_rad is None
+               else np.asarray(self.joint_stiffness_Nm_rad).tobytes())
+        if self._structure is None or self._structure[0] != key:
+            self._structure = (key, robot_structure(self))
+        return self._structure[1]
 
     # ---- geometry of the cuts -------------------------------------------------------------
     def cut_endpoints_mm(self, cut: Cut, set_index: int | None = None) -> tuple[np.ndarray,
@@ -182,8 +202,14 @@ class VirtualCell:
     # ---- truth --------------------------------------------------------------------------
     def truth(self) -> xr.Dataset:
         """The planted ground truth as a labelled dataset (``results/synthetic/truth.nc``)."""
+        from robomill.synth.structure import robot_modes_at
+
         gear = np.arange(len(self.gears))
         mode = np.arange(1, len(self.modes) + 1)
+        # the robot's modes where the impact test is made (under the eigen law their shapes
+        # are the eigenproblem's)
+        modes = (robot_modes_at(self, self.q_reference_rad)
+                 if self.q_reference_rad is not None else list(self.modes))
 
         def v(dim, data, units, long_name):
             return (dim, np.asarray(data), {"units": units, "long_name": long_name})
@@ -203,14 +229,15 @@ class VirtualCell:
                                            "rad", "runout phase"),
                 "gear_mesh_phase_rad": v("gear", [g.mesh_phase_rad for g in self.gears], "rad",
                                          "mesh phase"),
-                "mode_f_hz": v("mode", [m.f_hz for m in self.modes], "Hz", "natural frequency"),
-                "mode_zeta": v("mode", [m.zeta for m in self.modes], "1", "damping ratio"),
-                "mode_k_N_m": v("mode", [m.k_N_m for m in self.modes], "N/m",
+                "mode_f_hz": v("mode", [m.f_hz for m in modes], "Hz", "natural frequency"),
+                "mode_zeta": v("mode", [m.zeta for m in modes], "1", "damping ratio"),
+                "mode_k_N_m": v("mode", [m.k_N_m for m in modes], "N/m",
                                 "modal stiffness at the tool tip"),
-                "mode_m_kg": v("mode", [m.m_kg for m in self.modes], "kg",
+                "mode_m_kg": v("mode", [m.m_kg for m in modes], "kg",
                                "modal mass at the tool tip"),
-                "mode_shape": (("mode", "axis"), np.array([m.shape for m in self.modes]),
-                               {"units": "1", "long_name": "unit mode shape at the tool tip"}),
+                "mode_shape": (("mode", "axis"), np.array([m.shape for m in modes]),
+                               {"units": "1", "long_name": "unit mode shape at the tool "
+                                                           "tip, at the impact test's pose"}),
             },
             coords={
                 "gear": ("gear", gear, {"units": "1", "long_name": "gear index"}),
@@ -274,6 +301,7 @@ def cell_from_config(config: Mapping[str, Any]) -> VirtualCell:
     q_home = np.deg2rad(np.asarray(facts.get("q_home_deg", [0, 0, 0, 0, 0, 0]), float))
     gears = _gears_from_config(facts["transmissions"], syn["gears"], rng)
     R = np.asarray(facts.get("tool_rotation", [[1, 0, 0], [0, -1, 0], [0, 0, -1]]), float)
+    from robomill.settings import config_section
     from robomill.synth.structure import joint_stiffness_Nm_rad, reference_pose_rad
 
     process = syn.get("process") or {}
@@ -287,6 +315,7 @@ def cell_from_config(config: Mapping[str, Any]) -> VirtualCell:
         from robomill.synth.inertia import planted_rigid_body_model
 
         cell.q_reference_rad = reference_pose_rad(cell, config)
+        cell.robot_modes_law = config_section(config, "synth.process")["robot_modes"]
         cell.rigid_body_model = planted_rigid_body_model(robot, config)
     return cell
 

@@ -49,6 +49,8 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
         hits, traces = hit_table_empty(), None
         log.info("FRFs read from %d UFF file(s): %d responses x %d references", len(test.frfs),
                  ds.sizes["output"], ds.sizes["input"])
+    if test.tcp_mm is not None:  # the pose of the test, for the planner's reference pose
+        ds.attrs["impact_tcp_mm"] = list(test.tcp_mm)
     dirs = measured_directions(ds)  # one-direction tests: what the plan must extrapolate
     ds.attrs["directions_hit"] = dirs["hammer"]
     ds.attrs["directions_measured"] = dirs["measured"]

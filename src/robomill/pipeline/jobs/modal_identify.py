@@ -101,4 +101,6 @@ def _synthesis(ds: xr.Dataset, idn: Any, band: list[float], choice: Any) -> xr.D
     synth.attrs["data_band_hz"] = np.asarray(choice.data_band_hz or (np.nan, np.nan), float)
     synth.attrs["band_coverage"] = float(choice.coverage)
     synth.attrs["band_flag"] = choice.flag
+    if "impact_tcp_mm" in ds.attrs:  # where the test was made (the modes' pose)
+        synth.attrs["impact_tcp_mm"] = np.asarray(ds.attrs["impact_tcp_mm"], float)
     return synth
