@@ -94,7 +94,8 @@ def test_check_and_manifest_on_the_tiny_runs_raw_folder(tiny_run, tmp_path, caps
     `robomill manifest` on a copy without its manifest finds every file again with the same
     kind, metadata and sha256 (aside: the tracker's optional `cut`, absent from its name, and
     the sensors' ranges `range_N`/`range_ms2` of the impact hits, which are the instruments'
-    specifications a lab states, not something a file holds)."""
+    specifications a lab states, and the impact test's TCP point `tcp_mm`, where the lab made
+    the test: stated, not something a file holds)."""
     import shutil
 
     from robomill.cli import main
@@ -109,7 +110,7 @@ def test_check_and_manifest_on_the_tiny_runs_raw_folder(tiny_run, tmp_path, caps
     theirs = {f["path"]: f for f in yaml.safe_load((raw / "manifest.yaml").read_text())["files"]}
     assert set(ours) == set(theirs)
     for path, f in theirs.items():
-        stated = {"tracker": {"cut"}, "impact": {"range_N", "range_ms2"}}.get(f["kind"], set())
+        stated = {"tracker": {"cut"}, "impact": {"range_N", "range_ms2", "tcp_mm"}}.get(f["kind"], set())
         expected = {k: v for k, v in f.items() if k not in stated}
         assert ours[path] == expected, path
 
