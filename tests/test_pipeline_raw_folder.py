@@ -110,7 +110,8 @@ def test_check_and_manifest_on_the_tiny_runs_raw_folder(tiny_run, tmp_path, caps
     theirs = {f["path"]: f for f in yaml.safe_load((raw / "manifest.yaml").read_text())["files"]}
     assert set(ours) == set(theirs)
     for path, f in theirs.items():
-        stated = {"tracker": {"cut"}, "impact": {"range_N", "range_ms2", "tcp_mm"}}.get(f["kind"], set())
+        stated = {"tracker": {"cut"},
+                  "impact": {"range_N", "range_ms2", "tcp_mm"}}.get(f["kind"], set())
         expected = {k: v for k, v in f.items() if k not in stated}
         assert ours[path] == expected, path
 
