@@ -50,14 +50,16 @@ from __future__ import annotations
 import zlib
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pandas as pd
-import xarray as xr
 
 from robomill.experiment import DIRECTION_DEG, Cut, cut_process
 from robomill.settings import config_section
+
+if TYPE_CHECKING:  # the workflow imports this module to plan the DAG: xarray only when used
+    import xarray as xr
 
 INSTRUMENT_NUMBER = 1
 """Stream number of this instrument in the per-file random generators."""
@@ -223,6 +225,8 @@ def truth(config: Mapping[str, Any], cell) -> xr.Dataset:
     """Planted truth per cut (dim ``surface_cut``): waviness and roughness RMS by the
     segment method, the rigid-model waviness RMS (before the load/direction scaling) and the
     feed-mark height after the stylus filter."""
+    import xarray as xr
+
     p = settings(config)
     fs = float(p["fs_per_mm"])
     cuts = _cuts(config)
