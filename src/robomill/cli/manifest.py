@@ -163,10 +163,6 @@ def update_manifest(raw_dir: str | Path) -> tuple[dict[str, Any], list[str], lis
             c.setdefault("direction", None)
             todo.append(f"manifest.yaml: cuts[{i}] ({c.get('id')}): direction not inferred "
                         "(write direction px, mx, py or my, or direction_deg)")
-    if any(f.get("kind") == "impact" and f.get("tcp_mm") is None for f in files):
-        todo.append("manifest.yaml: impact files: tcp_mm not stated (write the TCP point [mm] "
-                    "where the impact test was made; the plan takes its reference pose from "
-                    "it, else from plan.yaml: reference_point_mm)")
     out = {"experiment": experiment, "cuts": cuts, "files": files}
     # unknown top-level keys stay, ignore: (the user's gitignore patterns) among them
     out.update({k: v for k, v in old.items() if k not in out})
