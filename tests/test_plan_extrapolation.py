@@ -5,14 +5,13 @@ claim to be stable against."""
 import numpy as np
 import pandas as pd
 import pytest
-import yaml
+from plan_cell import coefficients, default_cell
 
 from robomill.chatter import CuttingModel, ModeXY, tool_from_modes, zoa_lobes
-from robomill.kinematics import robot_from_mapping
 from robomill.plan.choose import PlanInfeasible, choose
 from robomill.plan.extrapolation import StudyReach, reason_text
 from robomill.plan.measured import Measured
-from robomill.plan.predict import Cell, apply_extrapolation, predict_grid
+from robomill.plan.predict import apply_extrapolation, predict_grid
 from robomill.plan.request import parse_request
 
 KTC, KRC = 800.0, 240.0
@@ -22,17 +21,11 @@ HIDDEN = ModeXY(400.0, 0.03, 2.0e6, (0.0, 1.0))      # above it: the test never 
 
 @pytest.fixture(scope="module")
 def cell():
-    cfg = yaml.safe_load(open("config.yaml"))["cell"]
-    return Cell(robot_from_mapping(cfg["robot"]), np.asarray(cfg["tool_rotation"], float),
-                np.deg2rad(cfg["q_home_deg"]), np.array([650.0, 0.0, 200.0]))
+    return default_cell()
 
 
 def _coefficients():
-    rows = [("Ktc", KTC), ("Krc", KRC), ("Kac", 200.0), ("Kte", 25.0), ("Kre", 30.0),
-            ("Kae", 6.0)]
-    return pd.DataFrame({"name": [r[0] for r in rows], "value": [r[1] for r in rows],
-                         "ci_low": [r[1] * 0.99 for r in rows],
-                         "ci_high": [r[1] * 1.01 for r in rows]})
+    return coefficients(KTC, KRC)
 
 
 def _modes(mode):

@@ -5,9 +5,8 @@ every candidate whose cut frame has a component along an unmeasured axis, naming
 import numpy as np
 import pandas as pd
 import pytest
-import yaml
+from plan_cell import coefficients, default_cell
 
-from robomill.kinematics import robot_from_mapping
 from robomill.plan.choose import choose
 from robomill.plan.extrapolation import (
     AXIS_BITS,
@@ -18,7 +17,7 @@ from robomill.plan.extrapolation import (
     reason_text,
 )
 from robomill.plan.measured import Measured
-from robomill.plan.predict import Cell, apply_extrapolation, predict_grid
+from robomill.plan.predict import apply_extrapolation, predict_grid
 from robomill.plan.request import parse_request
 
 PREDICTIONS = ("a_crit_mm", "a_crit_low_mm", "a_crit_high_mm", "deflection_normal_um",
@@ -27,17 +26,11 @@ PREDICTIONS = ("a_crit_mm", "a_crit_low_mm", "a_crit_high_mm", "deflection_norma
 
 @pytest.fixture(scope="module")
 def cell():
-    cfg = yaml.safe_load(open("config.yaml"))["cell"]
-    return Cell(robot_from_mapping(cfg["robot"]), np.asarray(cfg["tool_rotation"], float),
-                np.deg2rad(cfg["q_home_deg"]), np.array([650.0, 0.0, 200.0]))
+    return default_cell()
 
 
 def _coefficients():
-    rows = [("Ktc", 800.0), ("Krc", 240.0), ("Kac", 200.0), ("Kte", 25.0), ("Kre", 30.0),
-            ("Kae", 6.0)]
-    return pd.DataFrame({"name": [r[0] for r in rows], "value": [r[1] for r in rows],
-                         "ci_low": [r[1] * 0.99 for r in rows],
-                         "ci_high": [r[1] * 1.01 for r in rows]})
+    return coefficients()
 
 
 def _modes(shape_y, shape_z):
