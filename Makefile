@@ -36,13 +36,14 @@ $(STAMP): environment.lock pyproject.toml
 
 kernel: $(STAMP)
 
-# Unit tests first, in parallel (pytest-xdist, one worker per job slot); then the slow
-# end-to-end pipeline, browser and cluster tests and the installed wheel's (marker wheel: the
-# wheel is built once, for both its tests), also in parallel (the tiny study and its plan are
-# built once for both workers, tests/conftest.py). The same tests and assertions as one run.
+# Every test but the predict-then-cut ones (make plan-check) in one session on one worker per
+# job slot (pytest-xdist, whole modules per worker): the end-to-end pipeline, browser and
+# cluster tests and the installed wheel's (marker wheel: the wheel is built once, for both its
+# tests) first, the unit tests last, filling both workers' ends (the tiny study and its plan
+# are built once for both workers; the order is tests/conftest.py's). The same tests and
+# assertions as one run.
 test: $(STAMP)
-	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster and not wheel"
-	$(BIN)/python -m pytest -q -n $(JOBS) --dist loadscope --no-loadscope-reorder --durations=10 -m "(pipeline or browser or cluster or wheel) and not predict_cut"
+	$(BIN)/python -m pytest -q -n $(JOBS) --dist loadscope --no-loadscope-reorder --durations=10 -m "not predict_cut"
 
 test-fast: $(STAMP)
 	$(BIN)/python -m pytest -q -n $(JOBS) -m "not pipeline and not browser and not cluster and not wheel"

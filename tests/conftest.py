@@ -87,28 +87,36 @@ def run_snakemake(workdir: Path, *args: str, configfile: Path | None = None,
                           env=env)
 
 
+#: markers of the tests that run the workflow, a browser, a cluster or the built wheel
+WHOLE_RUN_MARKERS = ("pipeline", "browser", "cluster", "wheel")
+
+
 def pytest_collection_modifyitems(config, items):
     """Order the test modules for two workers (`make test`: ``-n 2 --dist loadscope
     --no-loadscope-reorder`` hands whole modules out in this order): the first module that
     needs the shared tiny run (:func:`tiny_run`) goes first, so one worker starts building it
-    at once; then the modules that do not need it, which keep the other worker busy meanwhile;
-    then the other modules that need it. In each group the modules marked ``whole_study``
-    (they build whole studies: minutes each) go first, so that the short modules fill the
-    workers' ends. Within a module the order is unchanged, and a run without workers runs the
-    same tests in this order."""
+    at once; then the workflow modules that do not need it, which keep the other worker busy
+    meanwhile; then the other modules that need it; last the unit-test modules (seconds
+    each), which fill both workers' ends. In each group the modules marked ``whole_study``
+    (they build whole studies: minutes each) go first. Within a module the order is
+    unchanged, and a run without workers runs the same tests in this order."""
     modules: dict[str, int] = {}
     needs: dict[str, bool] = {}
     heavy: dict[str, bool] = {}
+    runs: dict[str, bool] = {}
     for item in items:
         name = item.nodeid.split("::")[0]
         modules.setdefault(name, len(modules))
         needs[name] = needs.get(name, False) or "tiny_run" in getattr(item, "fixturenames", ())
         heavy[name] = heavy.get(name, False) or item.get_closest_marker("whole_study") is not None
+        runs[name] = runs.get(name, False) or any(item.get_closest_marker(m) is not None
+                                                  for m in WHOLE_RUN_MARKERS)
     first = next((m for m in modules if needs[m]), None)
 
     def rank(item):
         name = item.nodeid.split("::")[0]
-        group = 0 if name == first else 1 if not needs[name] else 2
+        group = (0 if name == first else 3 if not (runs[name] or needs[name])
+                 else 1 if not needs[name] else 2)
         return group, not heavy[name], modules[name]
 
     items.sort(key=rank)  # stable: a module's own order is kept

@@ -1,9 +1,9 @@
 """A deep cut of the default study's design chatters on the virtual cell and chapter 4 calls it
 chatter from the files alone: the virtual cell writes the dynamometer records of a cut at the
 thesis speed and design depth and of the same cut 16 times deeper, snakemake judges them
-(results/chatter/verdicts.csv) and renders chapter 4; the test reads only those files. A
-second study records the same pair with the virtual cell's microphone and spindle
-accelerometer (synth.recordings) and asks the same of their verdicts.
+(results/chatter/verdicts.csv) and renders chapter 4; the test reads only those files. The
+same study records its cuts with the virtual cell's microphone and spindle accelerometer too
+(synth.recordings), and the second test asks the same of their verdicts.
 
 The structure is the default study's: the planted robot modes hold at the impact test's pose,
 by default the centre of the study's cuts, so the test states the default study's centre
@@ -71,14 +71,20 @@ def _off_comb_hz(f_hz: float) -> float:
     return abs(f_hz / SPINDLE_HZ - round(f_hz / SPINDLE_HZ)) * SPINDLE_HZ
 
 
-def test_a_deep_cut_is_called_chatter_by_chapter_4_and_the_design_cut_is_not(tmp_path):
-    work = _study(tmp_path, [
-        # two more feeds at the design depth: the lobes of chapter 4 need the coefficients,
-        # fitted from three cuts at least once the chattering one is left out
+@pytest.fixture(scope="module")
+def deep_study(tmp_path_factory):
+    """One study for both tests: the pair and two more feeds at the design depth (the lobes of
+    chapter 4 need the coefficients, fitted from three cuts at least once the chattering one
+    is left out), each recorded by the dynamometer, the microphone and the spindle
+    accelerometer (with their air passes), through chapter 4."""
+    return _study(tmp_path_factory.mktemp("deep"), [
         {"id": "s1_g1_px", **DESIGN, "segment": 1, "feed_mm_s": 1.0, "depth_mm": 0.25},
         {"id": "s1_g5_px", **DESIGN, "segment": 5, "feed_mm_s": 5.0, "depth_mm": 0.25},
-        *PAIR], "ch4")
+        *PAIR], "ch4", recordings={"sound": True, "vibration": True})
 
+
+def test_a_deep_cut_is_called_chatter_by_chapter_4_and_the_design_cut_is_not(deep_study):
+    work = deep_study
     table = pd.read_csv(work / "results/chatter/verdicts.csv").set_index("source")
     deep = table.loc["forces/s1_g3_px_deep.h5"]
     assert deep["cut"] == "s1_g3_px_deep" and deep["verdict"] == "chatter", deep["evidence"]
@@ -96,24 +102,29 @@ def test_a_deep_cut_is_called_chatter_by_chapter_4_and_the_design_cut_is_not(tmp
         assert row["cut"] == cut and row["verdict"] == "stable", row["evidence"]
 
     text = " ".join(chapter_outputs(work, "ch4").split())
-    assert ("4 records: 3 stable, 1 chatter, 0 forced, 0 undetermined (4 force records, "
-            "0 recordings, 0 air passes)") in text
+    # the chapter counts what the verdict table and the manifest hold (counted here)
+    n = table["verdict"].value_counts()
+    kinds = table.index.str.split("/").str[0]
+    manifest = yaml.safe_load((work / "results/synthetic/raw/manifest.yaml").read_text())
+    air = [f for f in manifest["files"] if f.get("pass") == "air"]
+    assert len(air) == 8 and (kinds == "forces").sum() == 4 and len(table) == 12
+    assert (f"12 records: {n.get('stable', 0)} stable, {n.get('chatter', 0)} chatter, "
+            f"{n.get('forced', 0)} forced, {n.get('undetermined', 0)} undetermined "
+            f"(4 force records, 8 recordings, 8 air passes)") in text
     assert (f"`forces/s1_g3_px_deep.h5` (cut s1_g3_px_deep, force): **chatter** at "
             f"{f_c:.1f} Hz") in text
     assert "`forces/s1_g3_px.h5`" not in text.split("Force records not judged stable")[-1]
     assert (work / "results/chapters/ch4.html").stat().st_size > 0
 
 
-def test_the_microphone_and_the_accelerometer_hear_the_deep_cut_chatter(tmp_path):
+def test_the_microphone_and_the_accelerometer_hear_the_deep_cut_chatter(deep_study):
     """The same pair recorded by the virtual cell's microphone and spindle accelerometer:
     the design cut's recordings stable, the deep cut's chatter on a line off the comb, as its
     force record. (Their chatter frequency need not be the force record's: the sensors
     weight the vibration by ω², and the spindle modes near 2.1 kHz make the second harmonic
     of the force's line, or another member of its family, the strongest line they hear.)"""
-    work = _study(tmp_path, PAIR, "results/chatter/verdicts.csv",
-                  recordings={"sound": True, "vibration": True})
-    table = pd.read_csv(work / "results/chatter/verdicts.csv").set_index("source")
-    assert len(table) == 6  # the air passes (synth.recordings.air_pass) are no rows
+    table = pd.read_csv(deep_study / "results/chatter/verdicts.csv").set_index("source")
+    assert len(table) == 12  # four cuts, three records each: the air passes are no rows
     for source in ("forces/s1_g3_px.h5", "sound/s1_g3_px.wav", "vibration/s1_g3_px.csv"):
         row = table.loc[source]
         assert row["cut"] == "s1_g3_px" and row["verdict"] == "stable", (source,

@@ -2,7 +2,6 @@
 edit reruns the rules that use it (and what depends on them), nothing else."""
 
 import shutil
-from pathlib import Path
 
 import pytest
 from conftest import REPO, SNAKEMAKE, raw_copy_of_run
@@ -80,12 +79,22 @@ def test_edits_rerun_only_what_uses_them(tiny_run, tmp_path):
     assert jobs["modal_identify"].categories == ["input changed"]
 
 
+def _inputs_of(repo, work, rule, target):
+    """The input files Snakemake lists for ``rule`` in a dry run of ``target`` (forced)."""
+    proc = _snakemake(repo, work, "-n", "--forceall", target)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    block = (proc.stdout + proc.stderr).split(f"rule {rule}:", 1)[1]
+    return [i.strip() for i in block.split("input:", 1)[1].split("\n", 1)[0].split(", ")]
+
+
 def test_editing_any_module_a_rule_imports_makes_why_list_it(tiny_run, tmp_path):
     """Every library file that ch0's script (render_chapter.py) and notebook import, through
-    the import graph (robomill.pipeline.codedeps), is an input of ch0: editing any one of them makes
-    `make why` list ch0 ("input changed"). Likewise stiffness/poses.py for stiffness_optimal, whose
-    hand-kept code() list was empty. (Content edits: Snakemake ignores a newer mtime when the
-    checksum of a small input is unchanged.)"""
+    the import graph (robomill.pipeline.codedeps), is an input of ch0 (one forced dry run
+    lists them all), and editing one makes `make why` list ch0 ("input changed"): shown for
+    the package's root, a module the notebook reaches through two imports, and the rule's own
+    job module. Likewise stiffness/poses.py for stiffness_optimal, whose hand-kept code() list
+    was empty. (Content edits: Snakemake ignores a newer mtime when the checksum of a small
+    input is unchanged.)"""
     import os
 
     from robomill.pipeline.codedeps import code_files
@@ -101,10 +110,14 @@ def test_editing_any_module_a_rule_imports_makes_why_list_it(tiny_run, tmp_path)
     modules = code_files([repo / "workflow/scripts/render_chapter.py",
                           repo / "notebooks/ch0.ipynb"], repo / "src")
     names = {os.path.relpath(m, repo / "src") for m in modules}
+    edited = ("robomill/__init__.py", "robomill/forces/model.py",
+              "robomill/pipeline/jobs/render_chapter.py")
     assert {"robomill/pipeline/chapters.py", "robomill/plotting.py",
-            "robomill/pipeline/captions.py", "robomill/pipeline/runlog.py",
-            "robomill/__init__.py"} <= names, names
-    for module in map(Path, modules):
+            "robomill/pipeline/captions.py", "robomill/pipeline/runlog.py", *edited} <= names, names
+    inputs = set(_inputs_of(repo, work, "ch0", "ch0"))
+    assert not {str(m) for m in modules} - inputs, sorted({str(m) for m in modules} - inputs)
+    for name in edited:
+        module = repo / "src" / name
         text = module.read_text()
         module.write_text(text + "\n# an edit\n")  # content: an mtime alone is not enough
         try:
@@ -117,8 +130,5 @@ def test_editing_any_module_a_rule_imports_makes_why_list_it(tiny_run, tmp_path)
             (module, jobs["ch0"].categories)
     assert _planned(repo, work, "ch0") == {}
     # a rule whose hand-kept list was empty, checked on the DAG without building it
-    proc = _snakemake(repo, work, "-n", "--forceall", "stiffness_optimal")
-    assert proc.returncode == 0, proc.stderr[-3000:]
-    block = (proc.stdout + proc.stderr).split("rule stiffness_optimal:", 1)[1]
-    inputs = block.split("input:", 1)[1].split("\n", 1)[0].split(", ")
-    assert str(repo / "src" / "robomill" / "stiffness" / "poses.py") in [i.strip() for i in inputs]
+    assert str(repo / "src" / "robomill" / "stiffness" / "poses.py") in \
+        _inputs_of(repo, work, "stiffness_optimal", "stiffness_optimal")
