@@ -82,14 +82,8 @@ from typing import Any
 
 import numpy as np
 
-from robomill.synth.jointmodes import (
-    InertiaCalibration,
-    JointModes,
-    calibrate_inertia,
-    calibrated_mass,
-    eigenmodes,
-    track,
-)
+from robomill.synth.jointmodes import JointModes, eigenmodes, track
+from robomill.synth.shapecal import ShapeCalibration, calibrate_shapes, shape_calibrated_mass
 
 
 def joint_stiffness_Nm_rad(config: Mapping[str, Any]) -> np.ndarray | None:
@@ -107,7 +101,7 @@ class RobotStructure:
     """The planted arm's vibration model (module docstring): the calibrated inertia and the
     eigenmodes at the reference pose; ``count`` planted robot modes."""
 
-    calibration: InertiaCalibration
+    calibration: ShapeCalibration
     reference: JointModes
     count: int
 
@@ -116,15 +110,15 @@ def robot_structure(cell) -> RobotStructure | None:
     """The arm's calibrated eigenmodel at ``cell.q_reference_rad`` (the eigen law; None where
     the cell has no joint stiffness, reference pose or mass model: the modes then follow the
     planted law of the module docstring)."""
-    from robomill.synth.inertia import mass_matrix_kg_m2
-
     if (cell.joint_stiffness_Nm_rad is None or cell.q_reference_rad is None
             or cell.rigid_body_model is None or not cell.modes):
         return None
     q = np.asarray(cell.q_reference_rad, float)
-    M = mass_matrix_kg_m2(cell.rigid_body_model, q)
-    cal = calibrate_inertia(cell.joint_stiffness_Nm_rad, M, [m.f_hz for m in cell.modes])
-    ref = eigenmodes(cell.joint_stiffness_Nm_rad, calibrated_mass(M, cal), _jv(cell, q))
+    Jv = _jv(cell, q)
+    cal = calibrate_shapes(cell.rigid_body_model, q, cell.joint_stiffness_Nm_rad, Jv,
+                           [m.f_hz for m in cell.modes], [m.shape for m in cell.modes])
+    ref = eigenmodes(cell.joint_stiffness_Nm_rad,
+                     shape_calibrated_mass(cell.rigid_body_model, q, cal), Jv)
     return RobotStructure(cal, ref, len(cell.modes))
 
 
@@ -187,11 +181,9 @@ def _eigen_modes_at(cell, q: np.ndarray) -> list:
     """The eigen law: the calibrated eigenproblem's modes at q, tracked from q_ref."""
     import dataclasses
 
-    from robomill.synth.inertia import mass_matrix_kg_m2
-
     structure = cell.robot_structure
     ref = structure.reference
-    M = calibrated_mass(mass_matrix_kg_m2(cell.rigid_body_model, q), structure.calibration)
+    M = shape_calibrated_mass(cell.rigid_body_model, q, structure.calibration)
     here = eigenmodes(cell.joint_stiffness_Nm_rad, M, _jv(cell, q))
     which = track(ref, M, here, structure.count)
     out = []
