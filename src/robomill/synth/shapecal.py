@@ -70,6 +70,7 @@ from robomill.synth.jointmodes import TIP_RTOL
 
 SIGMA_F = 1e-3
 SIGMA_U = 0.1
+SIGMA_K = 0.5
 PULL = 1e-3
 STARTS = 12
 SEED = 0
@@ -94,6 +95,7 @@ class ShapeCalibration:
     f_target_hz: np.ndarray
     mac: np.ndarray
     tip_visible: np.ndarray
+    k_tip_N_m: np.ndarray
     cost: float
 
     @property
@@ -147,12 +149,14 @@ class _Fit:
     """Residuals and their Jacobian at q_ref (module docstring)."""
 
     def __init__(self, b: _Bodies, K: np.ndarray, Jv: np.ndarray, f_hz: np.ndarray,
-                 shapes: np.ndarray):
+                 shapes: np.ndarray, k_N_m: np.ndarray | None):
         self.b, self.K, self.Jv = b, K, Jv
         self.n = K.size
         self.w_target = 2 * np.pi * f_hz
         self.phi = shapes / np.linalg.norm(shapes, axis=1, keepdims=True)
         self.m = f_hz.size
+        self.log_k = None if k_N_m is None else np.log(np.asarray(k_N_m, float))
+        self.with_stiffness = False
         self._memo = (None, None)
 
     def mass_and_derivatives(self, x):
@@ -200,13 +204,19 @@ class _Fit:
                     ((u - sign * self.phi.T) / SIGMA_U).T.ravel()]
         jac = np.vstack([(0.5 * dlam / lam[None, :m] / SIGMA_F).T,
                          (du / SIGMA_U).transpose(2, 1, 0).reshape(3 * m, -1)])
-        out = (res, jac, lam, u, visible)
+        if self.log_k is not None and self.with_stiffness:
+            # ln κ_r = ln ω_r² − 2 ln‖J_v ψ_r‖ (visible modes only)
+            log_kappa = np.log(lam[:m]) - 2 * np.log(safe)
+            dlog_kappa = dlam / lam[None, :m] - 2 * np.einsum("kr,pkr->pr", u, dt) / safe
+            res = np.r_[res, np.where(visible, log_kappa - self.log_k, 0.0) / SIGMA_K]
+            jac = np.vstack([jac, np.where(visible, dlog_kappa, 0.0).T / SIGMA_K])
+        out = (res, jac, lam, u, visible, safe)
         self._memo = (x.copy(), out)
         return out
 
 
 def calibrate_shapes(model, q_ref_rad: np.ndarray, K_Nm_rad: np.ndarray, Jv_m: np.ndarray,
-                     f_target_hz, shapes) -> ShapeCalibration:
+                     f_target_hz, shapes, k_N_m=None) -> ShapeCalibration:
     """Fit the inertia of the module docstring so that the lowest ``len(f_target_hz)``
     eigenmodes at ``q_ref_rad`` have the planted frequencies ``f_target_hz`` (ascending)
     and tool-tip shapes ``shapes`` ``(m, 3)``; ``Jv_m`` the TCP's translational Jacobian at
@@ -224,7 +234,8 @@ def calibrate_shapes(model, q_ref_rad: np.ndarray, K_Nm_rad: np.ndarray, Jv_m: n
         raise ValueError(f"synth.modes: {f.size} planted robot modes, but the robot's {n} "
                          f"joints give {n} (expected at most {n})")
     b = _bodies(model, q_ref_rad)
-    fit = _Fit(b, K, np.asarray(Jv_m, float), f, np.asarray(shapes, float).reshape(-1, 3))
+    fit = _Fit(b, K, np.asarray(Jv_m, float), f, np.asarray(shapes, float).reshape(-1, 3),
+               k_N_m)
     M0 = b.P.sum(axis=0)
     a0 = 1e-2 * np.trace(M0) / n
     if not a0 > 0.0:
@@ -254,9 +265,15 @@ def calibrate_shapes(model, q_ref_rad: np.ndarray, K_Nm_rad: np.ndarray, Jv_m: n
             best = r
     best = least_squares(fun, best.x, jac=jac, bounds=(lo, hi), max_nfev=MAX_NFEV,
                          tr_solver="lsmr")
-    _, _, lam, u, visible = fit.evaluate(best.x)
+    if fit.log_k is not None:
+        # second stage: from the shapes' fit, the tool-tip stiffness joins the objective
+        fit.with_stiffness, fit._memo = True, (None, None)
+        best = least_squares(fun, best.x, jac=jac, bounds=(lo, hi), max_nfev=MAX_NFEV,
+                             tr_solver="lsmr")
+    _, _, lam, u, visible, tip_norm = fit.evaluate(best.x)
     s, a, L = _unpack(best.x, n)
     mac = np.einsum("kr,rk->r", u, fit.phi) ** 2
+    kappa = np.where(visible, lam[:f.size] / tip_norm**2, np.inf)
     return ShapeCalibration(s, a, np.einsum("lik,ljk->lij", L, L),
-                            np.sqrt(lam[:f.size]) / (2 * np.pi), f, mac, visible,
+                            np.sqrt(lam[:f.size]) / (2 * np.pi), f, mac, visible, kappa,
                             float(best.cost))

@@ -116,7 +116,8 @@ def robot_structure(cell) -> RobotStructure | None:
     q = np.asarray(cell.q_reference_rad, float)
     Jv = _jv(cell, q)
     cal = calibrate_shapes(cell.rigid_body_model, q, cell.joint_stiffness_Nm_rad, Jv,
-                           [m.f_hz for m in cell.modes], [m.shape for m in cell.modes])
+                           [m.f_hz for m in cell.modes], [m.shape for m in cell.modes],
+                           [m.k_N_m for m in cell.modes])
     ref = eigenmodes(cell.joint_stiffness_Nm_rad,
                      shape_calibrated_mass(cell.rigid_body_model, q, cal), Jv)
     return RobotStructure(cal, ref, len(cell.modes))
