@@ -34,14 +34,24 @@ Jacobian from the eigenpair derivatives ∂ω_r²/∂p = −ω_r² ψ_rᵀ M̃_p
           + λ^2 \\lVert x - x_0 \\rVert^2
 
 with σ_f = ``SIGMA_F`` (0.1 % in frequency), σ_u = ``SIGMA_U`` (0.1; the shape term is
-2(1 − |cos|), so 1 − MAC^{½} = 0.005 weighs like a 0.1 % frequency error) and a small pull
+2(1 − |cos|), so 1 − |cos| = 0.005 weighs like a 0.1 % frequency error) and a small pull
 λ = ``PULL`` of the log-parameters x towards the start x_0 (no scale, rotors of 1 % of the
 mean joint inertia, links of no rotational inertia beyond 5 cm radii of gyration), which picks
 one solution where the data leave several. The fit starts from x_0 and from ``STARTS`` − 1
-seeded random perturbations of it (the objective has several local minima), and keeps the
-lowest. The residual is stated: the fitted frequencies, the MAC = (u_r·φ_r)² of each mode
-(:class:`ShapeCalibration`). Only the planted frequencies and shapes at q_ref enter; never a
-prediction or an identified mode.
+seeded random perturbations of it (the objective has several local minima), screens each for
+``SCREEN_NFEV`` evaluations and polishes the lowest.
+
+A second stage, from that fit, adds the planted tool-tip stiffness (``synth.modes``
+``k_N_m``) of each mode at q_ref, Σ_r (ln(κ_r/k_r)/σ_k)² with κ_r = ω_r²/‖J_v ψ_r‖² and
+σ_k = ``SIGMA_K`` (0.5: a factor 1.65). Without it a mode can match its frequency and shape
+while barely moving the tool tip at q_ref, and the eigen law's stiffness ratio
+κ_r(q)/κ_r(q_ref) (:mod:`robomill.synth.structure`) then makes it up to 40× softer a few
+centimetres away (measured on the default cell: 0.04·10⁶ N/m at study poses against the
+planted 1.5·10⁶). The three kinds of planted data are not all consistent with the planted
+joint stiffness (below), so the stage trades shape for stiffness where they conflict; the
+residual is stated: the fitted frequencies, the MAC = (u_r·φ_r)² and κ_r of each mode
+(:class:`ShapeCalibration`). Only the planted frequencies, shapes and stiffnesses at q_ref
+enter; never a prediction or an identified mode.
 
 **Shapes no mass matrix holds.** With K_θ fixed, the tool-tip shapes of a full set of modes
 are bound by Σ_j u_j u_jᵀ/κ_j = J_v K_θ⁻¹ J_vᵀ (the static compliance, :mod:`jointmodes`):
@@ -86,7 +96,8 @@ class ShapeCalibration:
     """The fitted inertia (module docstring): ``link_scale`` s_l ``(n,)``, ``rotor_kg_m2``
     a_i ``(n,)``, ``second_moment_kg_m2`` Σ_l ``(n, 3, 3)`` (link frame); the fit's residual
     at q_ref: ``f_hz`` ``(m,)`` against the planted ``f_target_hz``, ``mac`` ``(m,)``,
-    ``tip_visible`` ``(m,)``, and ``cost`` (the objective above, halved)."""
+    ``tip_visible`` ``(m,)``, the eigenmodes' tool-tip stiffness ``k_tip_N_m`` ``(m,)``, and
+    ``cost`` (the objective above, halved)."""
 
     link_scale: np.ndarray
     rotor_kg_m2: np.ndarray
@@ -219,7 +230,8 @@ def calibrate_shapes(model, q_ref_rad: np.ndarray, K_Nm_rad: np.ndarray, Jv_m: n
                      f_target_hz, shapes, k_N_m=None) -> ShapeCalibration:
     """Fit the inertia of the module docstring so that the lowest ``len(f_target_hz)``
     eigenmodes at ``q_ref_rad`` have the planted frequencies ``f_target_hz`` (ascending)
-    and tool-tip shapes ``shapes`` ``(m, 3)``; ``Jv_m`` the TCP's translational Jacobian at
+    and tool-tip shapes ``shapes`` ``(m, 3)`` (and, where given, tool-tip stiffness
+    ``k_N_m`` ``(m,)``: the second stage); ``Jv_m`` the TCP's translational Jacobian at
     q_ref. Deterministic (seeded starts)."""
     from scipy.optimize import least_squares
 
