@@ -104,8 +104,13 @@ def eigen_cell(config):
 
 def test_the_default_cell_keeps_the_planted_frequencies_and_shapes_at_the_impact_pose(
         eigen_cell):
-    """Stated tolerance: frequencies within 0.1 %, every MAC ≥ 0.85, and the thesis' measured
-    shapes of the 60 and 72 Hz modes (mostly along Z) kept: |u_z| ≥ 0.9."""
+    """Stated tolerance at q_ref: frequencies within 0.1 %; the thesis' measured shapes of
+    the 60 and 72 Hz modes (mostly along Z) kept, |u_z| ≥ 0.9; MAC ≥ 0.7 for every mode but
+    the 20 Hz one, whose planted Y shape and planted stiffness the planted joints cannot
+    both give (the fit's second stage keeps the stiffness: each mode's tip stiffness within
+    a factor 5 of the planted one, closer than the first stage's); from frequencies and
+    shapes alone (first stage) every MAC ≥ 0.85."""
+    from robomill.stiffness.model import jacobian_m
     from robomill.synth.structure import robot_modes_at
 
     _, cell = eigen_cell
@@ -113,13 +118,21 @@ def test_the_default_cell_keeps_the_planted_frequencies_and_shapes_at_the_impact
     planted = np.array([m.f_hz for m in cell.modes])
     np.testing.assert_allclose(cal.f_hz, planted, rtol=1e-3)
     assert cal.f_error_rel < 1e-3 and cal.tip_visible.all()
-    assert cal.mac.min() >= 0.85, cal.mac
     modes = robot_modes_at(cell, cell.q_reference_rad)
     shapes = np.array([m.shape for m in modes])
     phi = np.array([np.asarray(m.shape) / np.linalg.norm(m.shape) for m in cell.modes])
     np.testing.assert_allclose(np.sum(shapes * phi, axis=1) ** 2, cal.mac, rtol=1e-9)
     for f_hz in (60.0, 72.0):
         assert abs(shapes[list(planted).index(f_hz), 2]) >= 0.9
+    assert cal.mac[1:].min() >= 0.7, cal.mac
+    k_planted = np.array([m.k_N_m for m in cell.modes])
+    worst = np.max(np.abs(np.log(cal.k_tip_N_m / k_planted)))
+    assert worst < np.log(5.0), cal.k_tip_N_m
+    q = cell.q_reference_rad
+    shapes_only = calibrate_shapes(cell.rigid_body_model, q, cell.joint_stiffness_Nm_rad,
+                                   jacobian_m(cell.robot, q)[:3], planted, phi)
+    assert shapes_only.mac.min() >= 0.85 and shapes_only.f_error_rel < 1e-3, shapes_only.mac
+    assert np.max(np.abs(np.log(shapes_only.k_tip_N_m / k_planted))) > worst
 
 
 def test_the_calibrated_mass_matrix_is_the_kinetic_energy_of_the_calibrated_bodies(

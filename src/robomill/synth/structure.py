@@ -43,10 +43,11 @@ mix them into modes no measurement supports, so each mode is moved alone.)
 
 **eigen** (shapes turn with the pose; the robot has joint stiffness and masses). At each pose
 q the arm's modes are the generalized eigenproblem K_θ ψ_j = ω_j² M̃(q) ψ_j [Géradin & Rixen
-2015, §2.4] with the inertia calibrated once at q_ref (:mod:`robomill.synth.jointmodes`),
+2015, §2.4] with the inertia fitted once at q_ref to the planted modes' frequencies,
+tool-tip shapes and stiffnesses (:mod:`robomill.synth.shapecal`),
 mapped to the tool tip through the Jacobian: shape u_j(q) ∝ J_v(q) ψ_j, modal stiffness
 κ_j(q) = ω_j²/‖J_v ψ_j‖² (:func:`robomill.synth.jointmodes.eigenmodes`). Planted mode r is
-eigenmode r at q_ref (the lowest ones, in order: the calibration puts them at the planted
+eigenmode r at q_ref (the lowest ones, in order: the fit puts them at the planted
 frequencies, so they are the modes the impact test's 10–100 Hz band sees), and at another
 pose the eigenmode that continues its joint motion (largest mass-weighted correlation,
 :func:`robomill.synth.jointmodes.track`). Mode r at q takes
@@ -55,11 +56,12 @@ pose the eigenmode that continues its joint motion (largest mass-weighted correl
           \\qquad k_r(q) = k_r \\frac{κ_r(q)}{κ_r(q_{ref})},
 
 with ω_r, k_r and ζ_r planted (ζ_r kept with the mode). The shape is the eigenproblem's at
-every pose, q_ref included (the planted ``shape`` serves only cells without a mass model); it
-turns, and modes mix, with the pose. Each mode's tool-tip stiffness is the planted one scaled
+every pose, q_ref included (there it is the fit's, with its stated MAC against the planted
+``shape``, which otherwise serves only cells without a mass model); it turns, and modes mix,
+with the pose. Each mode's tool-tip stiffness is the planted one scaled
 by the joint model's change (the joints in series with the rest of the structure). The ratio
-of frequencies is 1 where the calibration is exact (it is, to 1e-9, on the shipped cells) and
-keeps the planted frequencies at q_ref where it is not. Without masses the eigen law falls
+of frequencies keeps the planted frequencies at q_ref where the fit misses them (by at most
+1e-4 relative on the shipped cells). Without masses the eigen law falls
 back to the planted law's stiffness (masses held).
 
 Without joint stiffness the planted modes hold at every pose, under either law.
