@@ -19,3 +19,32 @@ def kinetic_energy_J(robot, link, mass_kg, com_mm, q, qdot, eps=1e-6) -> float:
 
     v = (centres(q + eps * qdot) - centres(q - eps * qdot)) / (2 * eps)
     return 0.5 * float(np.sum(np.asarray(mass_kg) * np.sum(v**2, axis=1)))
+
+
+def rotational_kinetic_energy_J(robot, second_moment_kg_m2, q, qdot, eps=1e-6) -> float:
+    """½ Σ_l ω_lᵀ I_l ω_l [J] of rigid links with rotational inertia I_l = tr(Σ_l)·1 − Σ_l
+    about their centres (Σ_l ``(n, 3, 3)``, second moment of mass in the frame that turns with
+    joint l about its axis: D-H frame l without its twist α_l, or modified D-H frame l),
+    ω_l from numerical derivatives of the analysis kinematics' frame rotations."""
+    n = robot.n_joints
+
+    def rotations(qq):
+        R = robot.frames(qq)[1:, :3, :3]
+        if robot.convention == "dh":
+            # undo the twist Rx(α_l) that D-H frame l carries after the joint's rotation
+            c, s = np.cos(robot.alpha_rad), np.sin(robot.alpha_rad)
+            Rx_inv = np.zeros((n, 3, 3))
+            Rx_inv[:, 0, 0] = 1.0
+            Rx_inv[:, 1, 1], Rx_inv[:, 1, 2] = c, s
+            Rx_inv[:, 2, 1], Rx_inv[:, 2, 2] = -s, c
+            R = R @ Rx_inv
+        return R
+
+    R = rotations(q)
+    dR = (rotations(q + eps * qdot) - rotations(q - eps * qdot)) / (2 * eps)
+    energy = 0.0
+    for Rl, dRl, S in zip(R, dR, np.asarray(second_moment_kg_m2, float), strict=True):
+        W = Rl.T @ dRl                       # body angular velocity, skew-symmetric
+        w = np.array([W[2, 1], W[0, 2], W[1, 0]])
+        energy += 0.5 * float(w @ (np.trace(S) * np.eye(3) - S) @ w)
+    return energy

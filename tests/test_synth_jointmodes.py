@@ -12,11 +12,11 @@ import copy
 
 import numpy as np
 import pytest
-from point_masses import kinetic_energy_J
+from point_masses import kinetic_energy_J, rotational_kinetic_energy_J
 
 from robomill.io.synthetic_layout import synthetic_cuts
 from robomill.synth.cell import cell_from_config
-from robomill.synth.jointmodes import calibrate_inertia, calibrated_mass, eigenmodes
+from robomill.synth.jointmodes import eigenmodes
 
 
 def test_a_two_mass_chain_has_its_closed_form_modes():
@@ -56,17 +56,6 @@ def test_a_mode_that_moves_the_tip_by_rounding_only_is_no_tip_mode():
     np.testing.assert_allclose(np.abs(modes.tip_shape[arm]), [0.0, 1.0, 0.0], atol=1e-12)
 
 
-def test_the_calibration_puts_the_lowest_frequencies_at_the_targets():
-    K = np.array([3.0e5, 2.0e5, 5.0e4])
-    M = np.array([[4.0, 0.5, 0.1], [0.5, 2.0, 0.2], [0.1, 0.2, 0.05]])
-    cal = calibrate_inertia(K, M, [22.0, 41.0])
-    w2 = np.linalg.eigvals(np.linalg.solve(calibrated_mass(M, cal), np.diag(K))).real
-    np.testing.assert_allclose(np.sort(np.sqrt(w2) / (2 * np.pi))[:2], [22.0, 41.0], rtol=1e-9)
-    assert (cal.scale > 0).all() and (cal.rotor_kg_m2 > 0).all() and cal.f_error_rel < 1e-9
-    with pytest.raises(ValueError, match="at most 3"):
-        calibrate_inertia(K, M, [10.0, 20.0, 30.0, 40.0])
-
-
 def _with_law(config, law):
     config = copy.deepcopy(config)
     config["synth"]["process"]["robot_modes"] = law
@@ -82,14 +71,20 @@ def default_cell(config):
 
 
 def _mass_matrix(cell, config, q):
-    """M(q) by polarization of the point masses' kinetic energy (no rigid-body library)."""
+    """M̃(q) by polarization of the calibrated bodies' kinetic energy (no rigid-body library):
+    the point masses scaled per link, the links' rotational inertia and the rotors
+    (robomill.synth.shapecal)."""
     from robomill.calibration.gravity import mass_model_from_mapping
 
+    cal = cell.robot_structure.calibration
     mm = mass_model_from_mapping(config["cell"]["mass_model"], 6)
+    scaled = mm.mass_kg * cal.link_scale[np.asarray(mm.link, int) - 1]
     n = cell.robot.n_joints
 
     def two_t(v):
-        return 2.0 * kinetic_energy_J(cell.robot, mm.link, mm.mass_kg, mm.com_mm, q, v)
+        return 2.0 * (kinetic_energy_J(cell.robot, mm.link, scaled, mm.com_mm, q, v)
+                      + rotational_kinetic_energy_J(cell.robot, cal.second_moment_kg_m2, q, v)
+                      + 0.5 * float(v @ (cal.rotor_kg_m2 * v)))
 
     E = np.eye(n)
     M = np.array([[0.5 * (two_t(E[i] + E[j]) - two_t(E[i]) - two_t(E[j])) for j in range(n)]
@@ -105,8 +100,8 @@ def _tip_jacobian(cell, q, eps=1e-7):
 
 def _independent_modes(cell, config, q):
     """Frequencies [Hz] and tip directions of K_θ ψ = ω² M̃(q) ψ by numpy's symmetric
-    eigensolver on M̃^-½ K M̃^-½ (M̃: the cell's calibration applied to the kinetic-energy M)."""
-    Mt = calibrated_mass(_mass_matrix(cell, config, q), cell.robot_structure.calibration)
+    eigensolver on M̃^-½ K M̃^-½ (M̃ from the calibrated bodies' kinetic energy)."""
+    Mt = _mass_matrix(cell, config, q)
     lam, V = np.linalg.eigh(Mt)
     Mih = V @ np.diag(lam**-0.5) @ V.T
     w2, X = np.linalg.eigh(Mih @ np.diag(cell.joint_stiffness_Nm_rad) @ Mih)
@@ -120,8 +115,9 @@ def test_at_the_impact_pose_the_robot_modes_are_the_planted_ones_with_eigen_shap
     config, cell = default_cell
     q = cell.q_reference_rad
     f, u, _ = _independent_modes(cell, config, q)
-    # the calibration: the planted frequencies are the eigenproblem's lowest at q_ref
-    np.testing.assert_allclose(f, [m.f_hz for m in cell.modes], rtol=1e-6)
+    # the calibration: the planted frequencies are the eigenproblem's lowest at q_ref (to the
+    # fit's stated tolerance, 0.1 %, robomill.synth.shapecal)
+    np.testing.assert_allclose(f, [m.f_hz for m in cell.modes], rtol=1e-3)
     for r, (planted, m) in enumerate(zip(cell.modes, robot_modes_at(cell, q), strict=True)):
         assert (m.f_hz, m.zeta, m.k_N_m) == pytest.approx(
             (planted.f_hz, planted.zeta, planted.k_N_m), rel=1e-9)
@@ -134,19 +130,24 @@ def test_at_a_study_pose_the_modes_turn_and_move_with_the_eigenproblem(default_c
     config, cell = default_cell
     cuts = {c.id: c for c in synthetic_cuts(config)}
     ref = robot_modes_at(cell, cell.q_reference_rad)
-    _, _, tip_ref = _independent_modes(cell, config, cell.q_reference_rad)
+    f_ref, _, tip_ref = _independent_modes(cell, config, cell.q_reference_rad)
     shapes = {}
     for cut in ("s1_g1_py", "s3_g5_my"):
         q = cell.joint_path_rad(cuts[cut], np.array([50.0]))[0]
         f, u, tip = _independent_modes(cell, config, q)
         moved = robot_modes_at(cell, q)
         shapes[cut] = np.array([m.shape for m in moved])
-        # modes stay apart on the default cell, so the tracked mode is the same order
-        for r, (planted, m) in enumerate(zip(cell.modes, moved, strict=True)):
-            assert m.f_hz == pytest.approx(f[r], rel=1e-6)
-            assert abs(float(np.dot(m.shape, u[:, r]))) == pytest.approx(1.0, abs=1e-6)
-            k_ratio = (np.linalg.norm(tip_ref[:, r]) / np.linalg.norm(tip[:, r]))**2 \
-                * (f[r] / planted.f_hz)**2
+        # each planted mode continues one eigenmode here (the 67-72 Hz modes may cross, so
+        # the tracked one is found by its shape: the same direction, one mode each)
+        which = [int(np.argmax(np.abs(u.T @ np.asarray(m.shape)))) for m in moved]
+        assert sorted(which) == list(range(len(moved)))
+        for r, (planted, m, j) in enumerate(zip(cell.modes, moved, which, strict=True)):
+            # the planted frequency moved by the eigenproblem's ratio (exactly f[j] where the
+            # calibration is exact; it is to 0.1 %)
+            assert m.f_hz == pytest.approx(planted.f_hz * f[j] / f_ref[r], rel=1e-6)
+            assert abs(float(np.dot(m.shape, u[:, j]))) == pytest.approx(1.0, abs=1e-6)
+            k_ratio = (np.linalg.norm(tip_ref[:, r]) / np.linalg.norm(tip[:, j]))**2 \
+                * (f[j] / f_ref[r])**2
             assert m.k_N_m == pytest.approx(planted.k_N_m * k_ratio, rel=1e-5)
             assert m.zeta == planted.zeta
         assert modes_at(cell, q)[len(moved):] == list(cell.spindle_modes)

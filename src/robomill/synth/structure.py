@@ -43,10 +43,11 @@ mix them into modes no measurement supports, so each mode is moved alone.)
 
 **eigen** (shapes turn with the pose; the robot has joint stiffness and masses). At each pose
 q the arm's modes are the generalized eigenproblem K_θ ψ_j = ω_j² M̃(q) ψ_j [Géradin & Rixen
-2015, §2.4] with the inertia calibrated once at q_ref (:mod:`robomill.synth.jointmodes`),
+2015, §2.4] with the inertia fitted once at q_ref to the planted modes' frequencies,
+tool-tip shapes and stiffnesses (:mod:`robomill.synth.shapecal`),
 mapped to the tool tip through the Jacobian: shape u_j(q) ∝ J_v(q) ψ_j, modal stiffness
 κ_j(q) = ω_j²/‖J_v ψ_j‖² (:func:`robomill.synth.jointmodes.eigenmodes`). Planted mode r is
-eigenmode r at q_ref (the lowest ones, in order: the calibration puts them at the planted
+eigenmode r at q_ref (the lowest ones, in order: the fit puts them at the planted
 frequencies, so they are the modes the impact test's 10–100 Hz band sees), and at another
 pose the eigenmode that continues its joint motion (largest mass-weighted correlation,
 :func:`robomill.synth.jointmodes.track`). Mode r at q takes
@@ -55,11 +56,12 @@ pose the eigenmode that continues its joint motion (largest mass-weighted correl
           \\qquad k_r(q) = k_r \\frac{κ_r(q)}{κ_r(q_{ref})},
 
 with ω_r, k_r and ζ_r planted (ζ_r kept with the mode). The shape is the eigenproblem's at
-every pose, q_ref included (the planted ``shape`` serves only cells without a mass model); it
-turns, and modes mix, with the pose. Each mode's tool-tip stiffness is the planted one scaled
+every pose, q_ref included (there it is the fit's, with its stated MAC against the planted
+``shape``, which otherwise serves only cells without a mass model); it turns, and modes mix,
+with the pose. Each mode's tool-tip stiffness is the planted one scaled
 by the joint model's change (the joints in series with the rest of the structure). The ratio
-of frequencies is 1 where the calibration is exact (it is, to 1e-9, on the shipped cells) and
-keeps the planted frequencies at q_ref where it is not. Without masses the eigen law falls
+of frequencies keeps the planted frequencies at q_ref where the fit misses them (by at most
+1e-4 relative on the shipped cells). Without masses the eigen law falls
 back to the planted law's stiffness (masses held).
 
 Without joint stiffness the planted modes hold at every pose, under either law.
@@ -82,14 +84,8 @@ from typing import Any
 
 import numpy as np
 
-from robomill.synth.jointmodes import (
-    InertiaCalibration,
-    JointModes,
-    calibrate_inertia,
-    calibrated_mass,
-    eigenmodes,
-    track,
-)
+from robomill.synth.jointmodes import JointModes, eigenmodes, track
+from robomill.synth.shapecal import ShapeCalibration, calibrate_shapes, shape_calibrated_mass
 
 
 def joint_stiffness_Nm_rad(config: Mapping[str, Any]) -> np.ndarray | None:
@@ -107,7 +103,7 @@ class RobotStructure:
     """The planted arm's vibration model (module docstring): the calibrated inertia and the
     eigenmodes at the reference pose; ``count`` planted robot modes."""
 
-    calibration: InertiaCalibration
+    calibration: ShapeCalibration
     reference: JointModes
     count: int
 
@@ -116,15 +112,16 @@ def robot_structure(cell) -> RobotStructure | None:
     """The arm's calibrated eigenmodel at ``cell.q_reference_rad`` (the eigen law; None where
     the cell has no joint stiffness, reference pose or mass model: the modes then follow the
     planted law of the module docstring)."""
-    from robomill.synth.inertia import mass_matrix_kg_m2
-
     if (cell.joint_stiffness_Nm_rad is None or cell.q_reference_rad is None
             or cell.rigid_body_model is None or not cell.modes):
         return None
     q = np.asarray(cell.q_reference_rad, float)
-    M = mass_matrix_kg_m2(cell.rigid_body_model, q)
-    cal = calibrate_inertia(cell.joint_stiffness_Nm_rad, M, [m.f_hz for m in cell.modes])
-    ref = eigenmodes(cell.joint_stiffness_Nm_rad, calibrated_mass(M, cal), _jv(cell, q))
+    Jv = _jv(cell, q)
+    cal = calibrate_shapes(cell.rigid_body_model, q, cell.joint_stiffness_Nm_rad, Jv,
+                           [m.f_hz for m in cell.modes], [m.shape for m in cell.modes],
+                           [m.k_N_m for m in cell.modes])
+    ref = eigenmodes(cell.joint_stiffness_Nm_rad,
+                     shape_calibrated_mass(cell.rigid_body_model, q, cal), Jv)
     return RobotStructure(cal, ref, len(cell.modes))
 
 
@@ -187,11 +184,9 @@ def _eigen_modes_at(cell, q: np.ndarray) -> list:
     """The eigen law: the calibrated eigenproblem's modes at q, tracked from q_ref."""
     import dataclasses
 
-    from robomill.synth.inertia import mass_matrix_kg_m2
-
     structure = cell.robot_structure
     ref = structure.reference
-    M = calibrated_mass(mass_matrix_kg_m2(cell.rigid_body_model, q), structure.calibration)
+    M = shape_calibrated_mass(cell.rigid_body_model, q, structure.calibration)
     here = eigenmodes(cell.joint_stiffness_Nm_rad, M, _jv(cell, q))
     which = track(ref, M, here, structure.count)
     out = []
