@@ -48,3 +48,26 @@ def rotational_kinetic_energy_J(robot, second_moment_kg_m2, q, qdot, eps=1e-6) -
         w = np.array([W[2, 1], W[0, 2], W[1, 0]])
         energy += 0.5 * float(w @ (np.trace(S) * np.eye(3) - S) @ w)
     return energy
+
+
+def calibrated_mass_matrix(cell, mass_model_mapping, q) -> np.ndarray:
+    """M̃(q) of a cell under the eigen law, by polarization of its calibrated bodies' kinetic
+    energy (no rigid-body library): the point masses of ``mass_model_mapping`` (the config's
+    ``cell.mass_model``) scaled per link, the links' rotational inertia and the rotors
+    (robomill.synth.shapecal), 2T(v) = vᵀ M̃ v."""
+    from robomill.calibration.gravity import mass_model_from_mapping
+
+    cal = cell.robot_structure.calibration
+    n = cell.robot.n_joints
+    mm = mass_model_from_mapping(mass_model_mapping, n)
+    scaled = mm.mass_kg * cal.link_scale[np.asarray(mm.link, int) - 1]
+
+    def two_t(v):
+        return 2.0 * (kinetic_energy_J(cell.robot, mm.link, scaled, mm.com_mm, q, v)
+                      + rotational_kinetic_energy_J(cell.robot, cal.second_moment_kg_m2, q, v)
+                      + 0.5 * float(v @ (cal.rotor_kg_m2 * v)))
+
+    E = np.eye(n)
+    M = np.array([[0.5 * (two_t(E[i] + E[j]) - two_t(E[i]) - two_t(E[j])) for j in range(n)]
+                  for i in range(n)])
+    return (M + M.T) / 2

@@ -12,7 +12,7 @@ import copy
 
 import numpy as np
 import pytest
-from point_masses import kinetic_energy_J, rotational_kinetic_energy_J
+from point_masses import calibrated_mass_matrix
 
 from robomill.io.synthetic_layout import synthetic_cuts
 from robomill.synth.cell import cell_from_config
@@ -71,25 +71,8 @@ def default_cell(config):
 
 
 def _mass_matrix(cell, config, q):
-    """M̃(q) by polarization of the calibrated bodies' kinetic energy (no rigid-body library):
-    the point masses scaled per link, the links' rotational inertia and the rotors
-    (robomill.synth.shapecal)."""
-    from robomill.calibration.gravity import mass_model_from_mapping
-
-    cal = cell.robot_structure.calibration
-    mm = mass_model_from_mapping(config["cell"]["mass_model"], 6)
-    scaled = mm.mass_kg * cal.link_scale[np.asarray(mm.link, int) - 1]
-    n = cell.robot.n_joints
-
-    def two_t(v):
-        return 2.0 * (kinetic_energy_J(cell.robot, mm.link, scaled, mm.com_mm, q, v)
-                      + rotational_kinetic_energy_J(cell.robot, cal.second_moment_kg_m2, q, v)
-                      + 0.5 * float(v @ (cal.rotor_kg_m2 * v)))
-
-    E = np.eye(n)
-    M = np.array([[0.5 * (two_t(E[i] + E[j]) - two_t(E[i]) - two_t(E[j])) for j in range(n)]
-                  for i in range(n)])
-    return (M + M.T) / 2
+    """M̃(q) from the calibrated bodies' kinetic energy (tests/point_masses.py)."""
+    return calibrated_mass_matrix(cell, config["cell"]["mass_model"], q)
 
 
 def _tip_jacobian(cell, q, eps=1e-7):
