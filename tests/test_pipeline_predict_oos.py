@@ -1,9 +1,10 @@
 """Out of sample: cuts the study never made, predicted with `robomill predict` from the tiny
 study's plan and then cut on the virtual cell as their own study (a configuration overlay with
 those cuts in their own folder). A set spanning three speeds, both feed directions and depths
-on both sides of each predicted boundary; the cell's chatter verdicts, read from that run's
-files, must agree with the nominal prediction on at least 90 % of the judged cuts, with both
-verdicts among them."""
+on both sides of each predicted boundary; the cell's chatter verdicts are read from that run's
+files. No cut the nominal prediction calls stable may chatter (the plan's safe side, checked
+strictly), and the nominal prediction should agree with at least 90 % of the judged cuts,
+with both verdicts among them (the issue's target, not reached yet: expected to fail)."""
 
 import shutil
 
@@ -39,18 +40,11 @@ def _predict(study, cuts, path):
     return pd.read_csv(out)
 
 
-@pytest.mark.xfail(strict=False, reason=(
-    "the out-of-sample target (90 % of verdicts predicted) is not reached yet: 10 of 12 on the "
-    "tiny study. The two misses are cuts the cell makes at 1.8 times the predicted limit and "
-    "its verdicts call stable (12 000 rpm px at 1.27 mm, 20 000 rpm py at 4.97 mm; the cell's "
-    "own modes give a linear limit of 0.63 and 2.0 mm). The cell is not stable there in the "
-    "linear sense: its edge forces, switching where a tooth's chip vanishes, turn the first "
-    "into a period doubling at the spindle frequency (200 Hz, a spindle harmonic; 7.8 um of "
-    "regenerative motion, without them 75 Hz chatter at 57 um) and hold the second in a 17 um "
-    "cycle with 35 % of the teeth out; both states saturate at the chip's size. That switching "
-    "linearised (benchmarks/edge_switching.py) predicts these onsets but not the verdicts: "
-    "added to the model it agrees with 8 (zero-order) or 5 (semi-discretization) of the 12"))
-def test_predicted_cuts_cut_on_the_cell_agree_with_their_verdicts(tiny_run, tmp_path):
+@pytest.fixture(scope="module")
+def outcomes(tiny_run, tmp_path_factory) -> pd.DataFrame:
+    """The set predicted, cut on the cell as its own study and judged: per judged cut its depth,
+    the predicted critical depth and ``p_stable``, and the verdict (1 stable, 0 chatter)."""
+    tmp_path = tmp_path_factory.mktemp("oos")
     study = tmp_path / "study"
     shutil.copytree(tiny_run, study, symlinks=True)
     proc = run_snakemake(study, "-j2", "plan", "--config", NO_BOOK_PDF, REQUEST)
@@ -82,9 +76,38 @@ def test_predicted_cuts_cut_on_the_cell_agree_with_their_verdicts(tiny_run, tmp_
     assert run.returncode == 0, run.stderr[-4000:]
     stable = verdict_stability(read_verdicts(study / "oos/run/results/chatter/verdicts.csv"))
     judged = stable.dropna()
-    assert set(judged.index) <= set(pred.index) and len(judged) >= 0.8 * len(cuts)
-    predicted = pred.loc[judged.index, "a_crit_mm"] > pred.loc[judged.index, "depth_mm"]
-    agree = (predicted.to_numpy() == (judged.to_numpy() >= 0.5))
-    assert agree.mean() >= 0.9, pd.DataFrame({"predicted_stable": predicted,
-                                              "verdict": judged}).to_string()
-    assert 0 < judged.sum() < len(judged)          # both verdicts among the judged cuts
+    return pd.DataFrame({"depth_mm": pred.loc[judged.index, "depth_mm"],
+                         "a_crit_mm": pred.loc[judged.index, "a_crit_mm"],
+                         "p_stable": pred.loc[judged.index, "p_stable"],
+                         "stable": judged, "n_cuts": len(cuts)})
+
+
+def test_no_cut_predicted_stable_chatters_on_the_cell(outcomes):
+    """The side of the plan a machinist relies on: a cut the nominal prediction calls stable
+    (predicted critical depth above its depth) never chatters on the cell; the set is judged
+    (at least 80 % of its cuts) and holds both verdicts, so that the check can fail."""
+    o = outcomes
+    assert len(o) >= 0.8 * int(o["n_cuts"].iloc[0])
+    assert 0 < o["stable"].sum() < len(o)          # both verdicts among the judged cuts
+    unsafe = o[(o["a_crit_mm"] > o["depth_mm"]) & (o["stable"] < 0.5)]
+    assert unsafe.empty, unsafe.to_string()
+
+
+@pytest.mark.xfail(strict=False, reason=(
+    "the out-of-sample target (90 % of verdicts predicted) is not reached yet: 10 of 12 on the "
+    "tiny study. The two misses are cuts the cell makes at 1.8 times the predicted limit and "
+    "its verdicts call stable (12 000 rpm px at 1.27 mm, 20 000 rpm py at 4.97 mm; the cell's "
+    "own modes give a linear limit of 0.63 and 2.0 mm). The cell is not stable there in the "
+    "linear sense: its edge forces, switching where a tooth's chip vanishes, turn the first "
+    "into a period doubling at the spindle frequency (200 Hz, a spindle harmonic; 7.8 um of "
+    "regenerative motion, without them 75 Hz chatter at 57 um) and hold the second in a 17 um "
+    "cycle with 35 % of the teeth out; both states saturate at the chip's size. That switching "
+    "linearised (benchmarks/edge_switching.py) predicts these onsets but not the verdicts: "
+    "added to the model it agrees with 8 (zero-order) or 5 (semi-discretization) of the 12"))
+def test_nine_in_ten_verdicts_predicted_right(outcomes):
+    """The out-of-sample target: the nominal prediction agrees with at least 90 % of the
+    judged cuts' verdicts."""
+    o = outcomes
+    predicted = o["a_crit_mm"] > o["depth_mm"]
+    agree = predicted.to_numpy() == (o["stable"].to_numpy() >= 0.5)
+    assert agree.mean() >= 0.9, o.assign(predicted_stable=predicted).to_string()
