@@ -13,6 +13,10 @@ learn cuts aim at, and its narrowing at the same cut), ``learn_round_plan.csv`` 
 cuts, their reasons, expected narrowing and verdicts: each cut's as the plan takes it, and
 each recording's) and ``learn_round_check_summary.csv`` (the production plan's check, with
 the Brier score of ``p_stable`` over every judged cut) under ``--out``.
+
+``--members N`` runs the round with N members of the stability model in both requests
+(``stability.members``; default: ``plan.yaml``'s), to see whether the narrowing holds with
+more members than the default request draws.
 """
 
 from __future__ import annotations
@@ -37,9 +41,11 @@ LEARN_CUTS = 4
 plan's)."""
 
 
-def _request(work: Path, purpose: str) -> None:
+def _request(work: Path, purpose: str, members: int | None = None) -> None:
     req = yaml.safe_load((REPO / "plan.yaml").read_text())
     req["purpose"] = purpose
+    if members:
+        req["stability"]["members"] = int(members)
     if purpose == "learn":
         req["n_cuts"] = min(int(req["n_cuts"]), LEARN_CUTS)
     (work / "plan.yaml").write_text(yaml.safe_dump(req, sort_keys=False))
@@ -59,8 +65,13 @@ def summary_line(binding: pd.DataFrame, learn: pd.DataFrame) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    out, work, remove = out_and_work(__doc__, "learn_round", argv)
-    _request(work, "learn")
+    import argparse
+
+    ap = argparse.ArgumentParser(add_help=False)
+    ap.add_argument("--members", type=int, default=None)
+    known, rest = ap.parse_known_args(argv)
+    out, work, remove = out_and_work(__doc__, "learn_round", rest)
+    _request(work, "learn", known.members)
     _snakemake(work, "plan")
     shutil.copy(work / "results/plan/binding.csv", work / "binding_before.csv")
     learn = pd.read_csv(work / "results/plan/plan.csv")
@@ -79,7 +90,7 @@ def main(argv: list[str] | None = None) -> int:
                                               if pd.notna(r.chatter_hz) else "")
                   for r in verdicts[verdicts["cut"].astype(str) == c].itertuples())
         for c in learn["cut"].astype(str)]
-    _request(work, "production")
+    _request(work, "production", known.members)
     (work / "round.yaml").write_text(yaml.safe_dump(
         {"data": {"raw_dirs": ["results/synthetic/raw", str(raw)]},
          "plan": {"binding_before": str(work / "binding_before.csv")}}))
