@@ -22,8 +22,10 @@ cut (``--cut``, an id of the configuration's cuts) at each feed of ``--feeds-mm-
     .venv/bin/python benchmarks/thin_chip.py --config .test/config.yaml \\
         examples/other_cell/config.yaml --cut n24k_d45_v2 --out results/benchmarks
 
-(overlays merged over ``config.yaml`` in order, as Snakemake merges them). Writes
-``<out>/thin_chip.csv``.
+(overlays merged over ``config.yaml`` in order, as Snakemake merges them in a folder that
+holds ``config.yaml``, the repository's root; in a folder without one, as the tests' runs,
+Snakemake takes the ``--configfile`` files alone, and a key that only ``config.yaml`` sets
+then has its schema default). Writes ``<out>/thin_chip.csv``.
 
 Altintas & Budak 1995: Altintas, Y.; Budak, E. Analytical prediction of stability lobes in
 milling. *CIRP Annals* **44**(1), 357–362, 1995.
