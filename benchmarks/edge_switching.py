@@ -52,8 +52,9 @@ the cut beside the semi-discretization's limit with γ = 0, ½ and 1.
         examples/other_cell/config.yaml --out results/benchmarks
 
 (overlays merged over ``config.yaml`` in order, dictionaries key by key, lists replaced, as
-Snakemake merges them). Writes ``<out>/edge_switching.csv`` (and
-``edge_switching_one_mode.csv``).
+Snakemake merges them in the repository's root; ``--without-config-yaml``: the overlays alone
+with the schema's defaults, as the tests' runs in folders without a ``config.yaml``).
+Writes ``<out>/edge_switching.csv`` (and ``edge_switching_one_mode.csv``).
 
 Altintas 2012: Altintas, Y. *Manufacturing Automation: Metal Cutting Mechanics, Machine Tool
 Vibrations, and CNC Design*, 2nd ed. Cambridge University Press, 2012.
@@ -130,8 +131,11 @@ class EdgeSwitchingCut(CuttingModel):
         return out
 
 
-def merged_config(overlays: list[str]) -> dict:
-    """``config.yaml`` with the overlays merged over it in order (Snakemake's merge)."""
+def merged_config(overlays: list[str], base: bool = True) -> dict:
+    """``config.yaml`` with the overlays merged over it in order, as Snakemake merges them in
+    a folder holding ``config.yaml`` (the repository's root); ``base=False``: the overlays
+    alone, as in a folder without one (the tests' runs: a key only ``config.yaml`` sets then
+    takes its schema default when the workflow validates the configuration)."""
     def merge(a, b):
         for k, v in b.items():
             if isinstance(v, dict) and isinstance(a.get(k), dict):
@@ -140,10 +144,15 @@ def merged_config(overlays: list[str]) -> dict:
                 a[k] = v
         return a
 
-    config = yaml.safe_load((REPO / "config.yaml").read_text())
+    config = yaml.safe_load((REPO / "config.yaml").read_text()) if base else {}
     for path in overlays:
         merge(config, yaml.safe_load(Path(path).read_text()))
-    return config
+    if base:
+        return config
+    from robomill.pipeline.config import validate_config
+    from robomill.settings import SCHEMAS
+
+    return validate_config(config, SCHEMAS / "config.schema.yaml")  # the schema's defaults
 
 
 def limits(cell, cut, gains) -> dict:
@@ -252,6 +261,8 @@ def one_mode(depths_mm: list[float]) -> pd.DataFrame:
 def main(argv: list[str] | None = None) -> pd.DataFrame:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--config", nargs="*", default=[], help="overlays over config.yaml")
+    ap.add_argument("--without-config-yaml", action="store_true",
+                    help="the overlays alone, as the tests' runs take them (merged_config)")
     ap.add_argument("--cuts", help="YAML list of cuts (manifest keys); default experiment.cuts")
     ap.add_argument("--gains", default="0,0.5,1")
     ap.add_argument("--one-mode", action="store_true")
@@ -262,7 +273,7 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     pd.set_option("display.width", 250)
-    config = merged_config(args.config)
+    config = merged_config(args.config, base=not args.without_config_yaml)
     if args.cuts:
         config["experiment"]["cuts"] = yaml.safe_load(Path(args.cuts).read_text())
     cell = cell_from_config(config)

@@ -118,8 +118,10 @@ def test_no_cut_predicted_stable_chatters_on_the_cell(outcomes):
     "below the energy threshold); at 20 000 rpm py in a broadband motion with about a fifth of "
     "the tooth passes out of the cut, whose force record shows no line and less than half its "
     "power off the spindle harmonics. The edge forces' switching, linearised "
-    "(benchmarks/edge_switching.py), does not mend it (8 or 5 of 12 with it); the assertion's "
-    "table gives the cell's own state per cut"))
+    "(benchmarks/edge_switching.py --without-config-yaml), does not mend it (8 or 6 of 12 "
+    "with it, zero-order or semi-discretization), and the cell's own modes in the same linear "
+    "model miss the same two (10 of 12): not an identification error. The assertion's table "
+    "gives the cell's own state per cut"))
 def test_nine_in_ten_verdicts_predicted_right(outcomes):
     """The out-of-sample target: the nominal prediction agrees with at least 90 % of the
     judged cuts' verdicts."""
