@@ -4,7 +4,7 @@ those cuts in their own folder). A set spanning three speeds, both feed directio
 on both sides of each predicted boundary; the cell's chatter verdicts are read from that run's
 files. No cut the nominal prediction calls stable may chatter (the plan's safe side, checked
 strictly), and the nominal prediction should agree with at least 90 % of the judged cuts,
-with both verdicts among them (the issue's target, not reached yet: expected to fail)."""
+with both verdicts among them (the planner's target, not reached yet: expected to fail)."""
 
 import shutil
 
