@@ -191,19 +191,31 @@ def no_edge(config: dict) -> dict:
     return config
 
 
+def strongest_line_hz(x: np.ndarray, fs_hz: float, fmin_hz: float = 5.0) -> float:
+    """The strongest line of ``x`` ``(n,)`` or ``(n, k)`` (Hann window, the columns' magnitude
+    spectra summed) above ``fmin_hz`` [Hz]: the highest local maximum there
+    (:func:`scipy.signal.find_peaks`), so never the falling skirt of a lower-frequency line;
+    NaN when the spectrum has none."""
+    from scipy.signal import find_peaks
+
+    x = np.asarray(x, float).reshape(len(x), -1)
+    spec = np.abs(np.fft.rfft(x * np.hanning(len(x))[:, None], axis=0)).sum(axis=1)
+    f = np.fft.rfftfreq(len(x), 1.0 / fs_hz)
+    peaks, _ = find_peaks(spec)
+    peaks = peaks[f[peaks] > fmin_hz]
+    return float(f[peaks[np.argmax(spec[peaks])]]) if peaks.size else float("nan")
+
+
 def regenerative(sim, along: np.ndarray | None = None) -> tuple[np.ndarray, float]:
     """Δ = d(t) − d(t − τ) in the cut plane (or along ``along``) and its strongest line over
-    the second half [Hz]."""
+    the second half [Hz] (:func:`strongest_line_hz`)."""
     t, d = sim.t_s, sim.deflection_m[:, :2]
     back = np.stack([np.interp(t - 1.0 / sim.tooth_hz, t, d[:, j]) for j in range(2)], 1)
     delta = d - back
     delta[t < 2.0 / sim.tooth_hz] = 0.0
     if along is not None:
         delta = (delta @ along)[:, None]
-    x = delta[delta.shape[0] // 2:]
-    spec = np.abs(np.fft.rfft(x * np.hanning(len(x))[:, None], axis=0)).sum(1)
-    f = np.fft.rfftfreq(len(x), 1.0 / sim.fs_hz)
-    return delta, float(f[np.argmax(np.where(f > 5.0, spec, 0.0))])
+    return delta, strongest_line_hz(delta[delta.shape[0] // 2:], sim.fs_hz)
 
 
 def truth(config: dict, cut_id: str, variant: str) -> dict:

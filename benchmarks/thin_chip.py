@@ -40,7 +40,7 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-from edge_switching import limits, merged_config
+from edge_switching import limits, merged_config, strongest_line_hz
 
 from robomill.chatter.verdicts import default_settings, judge
 from robomill.experiment import cut_process
@@ -49,19 +49,15 @@ from robomill.synth.cell import cell_from_config
 from robomill.synth.process import simulate_cut
 
 
+def plane_motion_m(sim) -> np.ndarray:
+    """The tool's motion in the cut plane about its mean over the second half ``(n, 2)`` [m]."""
+    d = sim.deflection_m[sim.deflection_m.shape[0] // 2:, :2]
+    return d - d.mean(axis=0)
+
+
 def plane_rms_um(sim) -> float:
     """The tool's vibration in the cut plane about its mean over the second half [µm rms]."""
-    d = sim.deflection_m[sim.deflection_m.shape[0] // 2:, :2]
-    return 1e6 * float(np.sqrt(np.mean(np.sum((d - d.mean(axis=0)) ** 2, axis=1))))
-
-
-def strongest_hz(sim) -> float:
-    """The strongest line of the in-plane vibration over the second half, above 5 Hz [Hz]."""
-    d = sim.deflection_m[sim.deflection_m.shape[0] // 2:, :2]
-    d = d - d.mean(axis=0)
-    spec = np.abs(np.fft.rfft(d * np.hanning(len(d))[:, None], axis=0)).sum(axis=1)
-    f = np.fft.rfftfreq(len(d), 1.0 / sim.fs_hz)
-    return float(f[np.argmax(np.where(f > 5.0, spec, 0.0))])
+    return 1e6 * float(np.sqrt(np.mean(np.sum(plane_motion_m(sim) ** 2, axis=1))))
 
 
 def state(cell, cut, config, rpm: float, flutes: int) -> dict:
@@ -69,7 +65,8 @@ def state(cell, cut, config, rpm: float, flutes: int) -> dict:
     sim = simulate_cut(cell, cut, config)
     v = judge(sim.force_N, sim.fs_hz, default_settings(), spindle_rpm=rpm, flutes=flutes)
     return {"teeth_out": float(sim.teeth_out), "vibration_um_rms": plane_rms_um(sim),
-            "line_hz": strongest_hz(sim), "verdict": v.verdict}
+            "line_hz": strongest_line_hz(plane_motion_m(sim), sim.fs_hz),
+            "verdict": v.verdict}
 
 
 def main(argv: list[str] | None = None) -> pd.DataFrame:
@@ -85,7 +82,10 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
     quiet = copy.deepcopy(config)
     quiet["synth"]["process"]["servo_force_N"] = 0.0
     cell, cell_quiet = cell_from_config(config), cell_from_config(quiet)
-    base = next(c for c in synthetic_cuts(config) if c.id == args.cut)
+    base = next((c for c in synthetic_cuts(config) if c.id == args.cut), None)
+    if base is None:
+        ap.error(f"--cut {args.cut}: no cut of that id in the configuration's cuts (expected "
+                 "one of " + ", ".join(c.id for c in synthetic_cuts(config)) + ")")
     linear = limits(cell, base, [0.0])
     rows = []
     for feed in (float(x) for x in args.feeds_mm_s.split(",")):
