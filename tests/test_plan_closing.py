@@ -344,3 +344,25 @@ def test_the_stability_row_is_judged_on_the_critical_depth():
     assert "median 0.5 of their predicted critical depth" in text
     assert "1 of them inside its interval" in text and "for 0 of these" in text
     assert Prose(load_templates("ch7"), {})("check_decisive").startswith("No out-of-sample")
+
+
+def test_stability_sharpness_on_the_critical_depth_by_hand():
+    """The stability row's sharpness is the a_crit interval's half-width over the nominal
+    a_crit: 2 mm in [1, 4] is 75 %, 5 mm in [4, 6] is 20 %, their median 47.5 %; a judged row
+    whose interval is unbounded (high +inf) is counted apart, an undetermined row not at all,
+    and the in-sample row (5 mm in [4, 6]) leaves the out-of-sample median at 75 %."""
+    from robomill.plan.check import CHECK_COLUMNS, sharpness
+
+    def row(cut, a, lo, hi, outcome, in_sample):
+        return {"cut": cut, "quantity": "stability", "predicted": a / 0.5 - 1, "low": np.nan,
+                "high": np.nan, "outcome": outcome, "a_crit_mm": a, "a_crit_low_mm": lo,
+                "a_crit_high_mm": hi, "depth_mm": 0.5, "in_sample": in_sample}
+
+    t = pd.DataFrame([row("a", 2.0, 1.0, 4.0, 1.0, False), row("b", 5.0, 4.0, 6.0, 0.0, True),
+                      row("c", 3.0, 1.0, np.inf, 1.0, False),
+                      row("d", 3.0, 2.9, 3.1, np.nan, False)]).reindex(columns=CHECK_COLUMNS)
+    s = sharpness(t)
+    assert s["sharpness_stability_percent"] == pytest.approx(47.5)
+    assert s["sharpness_stability_oos_percent"] == pytest.approx(75.0)
+    assert (s["n_stability_bounded"], s["n_stability_unbounded"]) == (2, 1)
+    assert (s["n_stability_bounded_oos"], s["n_stability_unbounded_oos"]) == (1, 1)

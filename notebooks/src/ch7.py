@@ -339,7 +339,8 @@ display(Markdown(say("check_stability_plan", "check_stability_study", "check_dec
                      "check_force", "check_waviness")))
 display(Markdown(Prose(load_templates("ch7", templates),
                        {**summary, "coverage_case": coverage_case(summary)})(
-    "check_evidence", "check_coverage", "check_brier", "check_sharpness", "check_sharpness_oos")))
+    "check_evidence", "check_coverage", "check_brier", "check_sharpness", "check_sharpness_oos",
+    "check_sharpness_stability", "check_sharpness_stability_oos")))
 display(Markdown(say("check_table", ref_check=num.ref("check"))))
 display(num.caption("check"))
 if len(chk):

@@ -41,7 +41,9 @@ the outcome by the Brier score [Brier 1950] B = mean (p − o)² over every judg
 
 **Sharpness** of each interval quantity: the median over its rows of the interval's
 half-width over the prediction, (high − low)/(2 |predicted|) (:func:`sharpness`), beside its
-coverage: an interval can hold every outcome by being wide, and the pair says which.
+coverage: an interval can hold every outcome by being wide, and the pair says which. The
+stability row's interval is the critical depth's, so its sharpness is the a_crit interval's
+half-width over the nominal a_crit.
 
 Brier 1950: Brier, G. W. Verification of forecasts expressed in terms of probability.
 *Monthly Weather Review* 78(1), 1–3, 1950.
@@ -460,19 +462,33 @@ def brier_score(check: pd.DataFrame) -> tuple[float, int]:
 
 
 def sharpness(check: pd.DataFrame) -> dict[str, float]:
-    """``sharpness_<q>_percent``: per interval quantity (not stability) the median of
+    """``sharpness_<q>_percent``: per interval quantity the median of
     (high − low)/(2 |predicted|) × 100 over its rows with a finite prediction; also over the
-    out-of-sample rows alone (``sharpness_<q>_oos_percent``)."""
+    out-of-sample rows alone (``sharpness_<q>_oos_percent``). For stability (q = ``stability``)
+    the interval is the critical depth's, (a_crit_high − a_crit_low)/(2 a_crit), over the
+    judged rows whose interval is bounded (``n_stability_bounded``); ``n_stability_unbounded``
+    counts the judged rows left out because an end of their interval is infinite (no chatter
+    at any depth in some member); both also ``_oos``."""
     out = {}
-    rows = check[check["quantity"] != "stability"]
-    oos = ~rows["in_sample"].astype("boolean").fillna(False).astype(bool)
-    for suffix, part in (("", rows), ("_oos", rows[oos])):
-        for q, g in part.groupby("quantity"):
+    oos = ~check["in_sample"].astype("boolean").fillna(False).astype(bool)
+    for suffix, part in (("", check), ("_oos", check[oos])):
+        for q, g in part[part["quantity"] != "stability"].groupby("quantity"):
             p = g["predicted"].astype(float).abs()
             hw = (g["high"].astype(float) - g["low"].astype(float)) / 2
             ok = np.isfinite(p) & np.isfinite(hw) & (p > 0)
             if ok.any():
                 out[f"sharpness_{q}{suffix}_percent"] = float(100 * np.median(hw[ok] / p[ok]))
+        g = part[(part["quantity"] == "stability") & part["outcome"].astype(float).notna()]
+        if "a_crit_mm" not in g or g.empty:
+            continue
+        a = g["a_crit_mm"].astype(float)
+        lo, hi = g["a_crit_low_mm"].astype(float), g["a_crit_high_mm"].astype(float)
+        bounded = np.isfinite(lo) & np.isfinite(hi) & np.isfinite(a) & (a > 0)
+        out[f"n_stability_bounded{suffix}"] = float(bounded.sum())
+        out[f"n_stability_unbounded{suffix}"] = float((~bounded & np.isfinite(a)).sum())
+        if bounded.any():
+            hw = (hi[bounded] - lo[bounded]) / (2 * a[bounded])
+            out[f"sharpness_stability{suffix}_percent"] = float(100 * np.median(hw))
     return out
 
 
