@@ -65,6 +65,32 @@ def test_without_vibration_the_mean_force_is_the_closed_form():
     np.testing.assert_allclose(F, ref, rtol=2e-3)
 
 
+def test_the_structures_own_excitation_moves_one_mode_as_its_receptance_says():
+    """Without material (depth 0) the excitation alone moves the tool: one 80 Hz mode along y
+    (ζ 0.05, 10⁶ N/m) under a white force of 5 N rms low-passed to 1 kHz. The regenerative
+    displacement Δ = d(t) − d(t − τ) then has the variance, written by hand from the
+    receptance H = 1/(k (1 − r² + 2iζr)) and the filter (a Butterworth's |B|² = 1/(1 + (f/f_c)⁸),
+    squared once more by the zero-phase pass): σ_Δ² = σ_F² ∫ 4 sin²(πfτ) |H|² |B|⁴ df /
+    ∫ |B|⁴ df. Along x nothing moves (the mode's shape has no x)."""
+    f_n, zeta, k, sigma = 80.0, 0.05, 1.0e6, 5.0
+    rpm, teeth = 12000.0, 2
+    tau = 60.0 / (teeth * rpm)
+    rec = simulate_modal_cut(
+        ModalCut(np.array([f_n]), np.array([zeta]), np.array([k]), np.array([[0.0, 1.0]]),
+                 rpm, teeth, 0.0, np.pi, 1e-5, 0.0, KT_N_M2, KR * KT_N_M2, 0.0),
+        duration_s=30.0, steps_per_tooth=16, excitation_N=sigma, noise_seed=3)
+    keep = rec["t_s"] > 1.0
+    d = rec["delta_m"][keep]
+    f = np.linspace(0.0, 5000.0, 500001)
+    r = f / f_n
+    H2 = 1.0 / (k**2 * ((1 - r**2) ** 2 + (2 * zeta * r) ** 2))
+    B4 = 1.0 / (1.0 + (f / 1000.0) ** 8) ** 2
+    var = sigma**2 * np.trapezoid(4 * np.sin(np.pi * f * tau) ** 2 * H2 * B4, f) / \
+        np.trapezoid(B4, f)
+    assert np.std(d[:, 1]) == pytest.approx(np.sqrt(var), rel=0.06)
+    assert np.std(d[:, 0]) == 0.0
+
+
 PRED = pd.DataFrame({
     "cut": ["plan_01", "plan_02", "s1"],
     "stability_margin": [0.8, -0.5, 0.1], "stability_margin_low": [0.6, -0.7, -0.1],

@@ -106,12 +106,15 @@ def modal_steps(f_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.ndarray, dt_s: flo
 
 @numba.njit(cache=True)
 def _run(Phi, Gam, shape, eta, n_steps, m_delay, dt, omega, teeth, phst, phex, c, a,
-         coef, kt_pass, overlap, d0x, d0y, linear, rec_every, rec):
+         coef, kt_pass, overlap, d0x, d0y, linear, rec_every, rec, f_ext):
     """Advance every mode ``n_steps``; record (Fx, Fy, Fz, Δx, Δy, teeth out of the cut,
     teeth deep in the cut) every ``rec_every`` steps (a tooth is deep in the cut where
     sin φ > 1/2; out of it where its chip is then ≤ 0). ``linear``: a tooth between entry
-    and exit cuts whatever the sign of its chip (the count of teeth with h ≤ 0 is kept)."""
+    and exit cuts whatever the sign of its chip (the count of teeth with h ≤ 0 is kept).
+    ``f_ext`` ``(n_ext, 2)``: an external in-plane force on the tool at each step (step k
+    takes row min(k, n_ext − 1)); it moves the modes and is not recorded."""
     M = Phi.shape[0]
+    n_ext = f_ext.shape[0]
     hx = np.empty(n_steps + 1)
     hy = np.empty(n_steps + 1)
     two_pi = 2.0 * np.pi
@@ -156,8 +159,9 @@ def _run(Phi, Gam, shape, eta, n_steps, m_delay, dt, omega, teeth, phst, phex, c
                     Fx += -Ft * cp - Fr * sp
                     Fy += Ft * sp - Fr * cp
                     Fz += Fa
+        ke = min(k, n_ext - 1)
         for r in range(M):
-            f = shape[r, 0] * Fx + shape[r, 1] * Fy
+            f = shape[r, 0] * (Fx + f_ext[ke, 0]) + shape[r, 1] * (Fy + f_ext[ke, 1])
             e0 = Phi[r, 0, 0] * eta[r, 0] + Phi[r, 0, 1] * eta[r, 1] + Gam[r, 0] * f
             e1 = Phi[r, 1, 0] * eta[r, 0] + Phi[r, 1, 1] * eta[r, 1] + Gam[r, 1] * f
             eta[r, 0] = e0
@@ -184,8 +188,14 @@ def warm_kernels() -> None:
 
 def simulate_modal_cut(cut: ModalCut, *, duration_s: float, steps_per_tooth: int = 32,
                        Kt_noise_fraction: float = 0.005, noise_seed: int = 0,
-                       record_every: int = 1) -> dict[str, np.ndarray | float]:
+                       record_every: int = 1, excitation_N: float = 0.0,
+                       excitation_band_hz: float = 1000.0) -> dict[str, np.ndarray | float]:
     """The cut's force and regenerative displacement over ``duration_s``.
+
+    ``excitation_N``: the structure's own excitation besides the cut (servo noise, motor
+    ripple), a white force on the tool along each in-plane axis with that standard deviation,
+    low-passed to ``excitation_band_hz`` (4th-order Butterworth, zero phase), drawn from
+    ``noise_seed``'s own stream; 0 (default) adds none.
 
     Returns ``t_s``, ``force_N`` ``(n, 3)`` (cut frame, on the tool), ``delta_m`` ``(n, 2)``,
     ``teeth_out`` and ``teeth_deep`` (per sample: teeth with sin φ > 1/2 whose chip is ≤ 0, and
@@ -210,12 +220,29 @@ def simulate_modal_cut(cut: ModalCut, *, duration_s: float, steps_per_tooth: int
     ready(__name__)  # the kernel compiled once per environment (robomill.kernels)
     return _simulate_modal_cut(cut, duration_s=duration_s, steps_per_tooth=steps_per_tooth,
                                Kt_noise_fraction=Kt_noise_fraction, noise_seed=noise_seed,
-                               record_every=record_every)
+                               record_every=record_every, excitation_N=excitation_N,
+                               excitation_band_hz=excitation_band_hz)
+
+
+def white_force_N(n: int, dt_s: float, sigma_N: float, band_hz: float, seed: int
+                  ) -> np.ndarray:
+    """``(n, 2)`` independent white forces low-passed to ``band_hz`` (4th-order Butterworth,
+    zero phase, :func:`scipy.signal.sosfiltfilt`), each scaled to standard deviation
+    ``sigma_N``; ``(1, 2)`` zeros where ``sigma_N`` is 0."""
+    if not sigma_N > 0:
+        return np.zeros((1, 2))
+    from scipy.signal import butter, sosfiltfilt
+
+    w = np.random.default_rng([int(seed), 1]).standard_normal((int(n), 2))
+    if band_hz < 0.5 / dt_s:
+        w = sosfiltfilt(butter(4, float(band_hz), fs=1.0 / dt_s, output="sos"), w, axis=0)
+    return np.ascontiguousarray(w * (float(sigma_N) / w.std(0)))
 
 
 def _simulate_modal_cut(cut: ModalCut, *, duration_s: float, steps_per_tooth: int = 32,
                         Kt_noise_fraction: float = 0.005, noise_seed: int = 0,
-                        record_every: int = 1) -> dict[str, np.ndarray | float]:
+                        record_every: int = 1, excitation_N: float = 0.0,
+                        excitation_band_hz: float = 1000.0) -> dict[str, np.ndarray | float]:
     tau = 60.0 / (cut.teeth * cut.spindle_rpm)
     m = int(steps_per_tooth)
     dt = tau / m
@@ -243,7 +270,7 @@ def _simulate_modal_cut(cut: ModalCut, *, duration_s: float, steps_per_tooth: in
                 int(cut.teeth), float(cut.entry_rad), float(cut.exit_rad),
                 float(cut.feed_per_tooth_m), float(cut.depth_m), coef, kt_pass,
                 float(cut.overlap), float(d0[0]), float(d0[1]), bool(cut.linear_chip), every,
-                rec)
+                rec, white_force_N(n, dt, excitation_N, excitation_band_hz, noise_seed))
     rec = rec[:nrec]
     return {"t_s": np.arange(nrec) * dt * every, "force_N": rec[:, :3], "delta_m": rec[:, 3:5],
             "teeth_out": rec[:, 5], "teeth_deep": rec[:, 6], "fs_hz": 1.0 / (dt * every)}

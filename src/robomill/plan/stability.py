@@ -193,14 +193,15 @@ def _frequency_grid(members: Members, per_bandwidth: float = 8.0) -> np.ndarray:
     return np.unique(np.concatenate(grids))
 
 
-def member_depths_m(members: Members, scalings: dict[str, np.ndarray], frames: np.ndarray,
-                    spindle_rpm: np.ndarray, *, flutes: int, entry_rad: float,
-                    exit_rad: float, which: slice | None = None) -> np.ndarray:
-    """Critical depth ``(E, B, S)`` [m] of the members (``which``: a subset) at B poses
-    (robot-mode stiffness ratios ``scalings`` from :func:`robomill.plan.tooltip.mode_scalings`,
-    keys ``nominal`` and optionally ``low``/``high``, ``(B, M)``), cut frames ``(B, 3, 3)``
-    (columns feed, normal, axis) and speeds ``(S,)`` (zero-order lobes; +inf where no lobe
-    reaches a speed)."""
+def member_modes(members: Members, scalings: dict[str, np.ndarray], frames: np.ndarray,
+                 which: slice | None = None
+                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Every mode of the members (``which``: a subset) at B poses: natural frequencies,
+    damping ratios and modal stiffnesses ``(E, B, M + T)`` (the robot modes moved to each pose
+    by the stiffness ratios ``scalings`` of :func:`robomill.plan.tooltip.mode_scalings`, keys
+    ``nominal`` and optionally ``low``/``high``, ``(B, M)``, between whose ends each member's
+    ``joint_z`` interpolates; then the tool modes) and their in-plane shapes ``(B, M + T, 2)``
+    in the cut frames ``(B, 3, 3)`` (columns feed, normal, axis)."""
     idx = np.arange(members.n)[which if which is not None else slice(None)]
     s_nom = scalings["nominal"]
     B = s_nom.shape[0]
@@ -208,7 +209,6 @@ def member_depths_m(members: Members, scalings: dict[str, np.ndarray], frames: n
     inplane = np.einsum("mi,bid->bmd", members.shapes, frames[:, :, :2])      # (B, M, 2)
     tool_in = np.einsum("ti,bid->btd", members.tool_shapes, frames[:, :, :2])  # (B, T, 2)
     shape = np.concatenate([inplane, tool_in], 1)
-    f_grid = _frequency_grid(members)
     zj = members.joint_z[idx][:, None, None]                                   # (E, 1, 1)
     s_hi = scalings.get("high", s_nom)[None]
     s_lo = scalings.get("low", s_nom)[None]
@@ -221,6 +221,21 @@ def member_depths_m(members: Members, scalings: dict[str, np.ndarray], frames: n
                          np.broadcast_to(members.tool_k_N_m[idx][:, None], (E, B, T))], 2)
     zz = np.broadcast_to(np.concatenate([members.zeta[idx], members.tool_zeta[idx]], 1)[:, None],
                          fn.shape)
+    return fn, zz, kk, shape
+
+
+def member_depths_m(members: Members, scalings: dict[str, np.ndarray], frames: np.ndarray,
+                    spindle_rpm: np.ndarray, *, flutes: int, entry_rad: float,
+                    exit_rad: float, which: slice | None = None) -> np.ndarray:
+    """Critical depth ``(E, B, S)`` [m] of the members (``which``: a subset) at B poses
+    (robot-mode stiffness ratios ``scalings`` from :func:`robomill.plan.tooltip.mode_scalings`,
+    keys ``nominal`` and optionally ``low``/``high``, ``(B, M)``), cut frames ``(B, 3, 3)``
+    (columns feed, normal, axis) and speeds ``(S,)`` (zero-order lobes on the modes of
+    :func:`member_modes`; +inf where no lobe reaches a speed)."""
+    idx = np.arange(members.n)[which if which is not None else slice(None)]
+    fn, zz, kk, shape = member_modes(members, scalings, frames, which)
+    E, B = fn.shape[:2]
+    f_grid = _frequency_grid(members)
     kt0 = float(members.kt_N_mm2[0])
     W = np.stack([CuttingModel(int(flutes), kt0 * 1e6, float(members.kr[e]), float(entry_rad),
                                float(exit_rad)).mean_matrix() for e in idx])     # (E, 2, 2)
