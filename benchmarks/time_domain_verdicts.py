@@ -28,7 +28,7 @@ weighted by the verdicts) would then have to find.
         [--cuts CUTS --verdicts VERDICTS] [--members] [--out FILE]
 
 ``STUDY``: a study folder (or its ``results``) with its plan, as ``robomill predict`` reads
-it; without ``--cuts`` the study's own judged cuts (in sample); with ``--cuts`` (a cut list in
+it (``--request``: another request, as ``robomill predict --request``); without ``--cuts`` the study's own judged cuts (in sample); with ``--cuts`` (a cut list in
 ``robomill predict``'s format) and ``--verdicts`` (``results/chatter/verdicts.csv`` of the run
 that cut them) the cuts out of sample. Prints one row per cut and the agreement of each
 predictor; ``--out`` writes the table as CSV.
@@ -133,6 +133,9 @@ def main(argv=None) -> int:
     ap.add_argument("study", type=Path)
     ap.add_argument("--cuts", type=Path)
     ap.add_argument("--verdicts", type=Path)
+    ap.add_argument("--request", type=Path,
+                    help="another planning request (as robomill predict --request), e.g. a "
+                    "tool-mode prior from a tap test")
     ap.add_argument("--excitation-N", default="0",
                     help="comma-separated white-force levels at the tool [N rms per axis]")
     ap.add_argument("--duration-s", type=float, default=1.0)
@@ -140,7 +143,7 @@ def main(argv=None) -> int:
     ap.add_argument("--out", type=Path)
     args = ap.parse_args(argv)
     levels = [float(x) for x in args.excitation_N.split(",")]
-    inputs = load_recorded(args.study)
+    inputs = load_recorded(args.study, request=args.request)
     measured = verdict_conditioned(inputs.measured, inputs.req, inputs.cell, inputs.study_cuts,
                                    inputs.experiment, inputs.stability)[0]
     cuts, judged = study_verdicts(inputs, args.cuts, args.verdicts)
