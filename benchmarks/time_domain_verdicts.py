@@ -25,10 +25,11 @@ model's form agree, which a model that learns it (from air passes, or as a membe
 weighted by the verdicts) would then have to find.
 
     .venv/bin/python benchmarks/time_domain_verdicts.py STUDY --excitation-N 0,3,6 \\
-        [--cuts CUTS --verdicts VERDICTS] [--members] [--out FILE]
+        [--cuts CUTS --verdicts VERDICTS] [--members] [--request R] [--out FILE]
 
 ``STUDY``: a study folder (or its ``results``) with its plan, as ``robomill predict`` reads
-it (``--request``: another request, as ``robomill predict --request``); without ``--cuts`` the study's own judged cuts (in sample); with ``--cuts`` (a cut list in
+it (``--request``: another request, as ``robomill predict --request``); without ``--cuts``
+the study's own judged cuts (in sample); with ``--cuts`` (a cut list in
 ``robomill predict``'s format) and ``--verdicts`` (``results/chatter/verdicts.csv`` of the run
 that cut them) the cuts out of sample. Prints one row per cut and the agreement of each
 predictor; ``--out`` writes the table as CSV.
