@@ -9,6 +9,13 @@ planned cuts and writes their instrument files under ``results/plan/next/run/``)
 of out-of-sample rows inside their stated interval against the nominal level, with the count
 range the nominal level gives 95 % of the time. Written to ``plan_coverage.csv`` (one row per
 study and one pooled) and each study's ``misses.csv`` copied beside it.
+
+Then, on each study's plan, predict then cut (``benchmarks/predict_then_cut.py``): cuts the
+study never made, on both sides of the predicted boundary at three speeds and both feed
+directions, predicted with ``robomill predict`` and cut by the virtual cell as their own study:
+``predict_then_cut_<study>.csv`` (per judged cut) and ``predict_then_cut.csv`` (per study: the
+judged cuts, those the nominal prediction got right, and those predicted stable that were
+judged chatter).
 """
 
 from __future__ import annotations
@@ -19,6 +26,7 @@ import time
 from pathlib import Path
 
 import pandas as pd
+from predict_then_cut import agreement_table, boundary_set, cut_on_cell
 from studyloop import REPO, out_and_work, snakemake
 
 STUDIES = {
@@ -42,6 +50,18 @@ def run_study(name: str, root: Path) -> pd.DataFrame:
     return check
 
 
+def predict_then_cut(name: str, root: Path, out: Path) -> dict:
+    """Predict then cut on one study's plan (module docstring); its summary row."""
+    configs, _ = STUDIES[name]
+    study = root / name
+    cuts, pred = boundary_set(study, study / "predict_then_cut")
+    t = agreement_table(pred, cut_on_cell(study, cuts, [REPO / c for c in configs],
+                                          study / "predict_then_cut/run"))
+    t.to_csv(out / f"predict_then_cut_{name}.csv")
+    return {"study": name, "n_cut": len(cuts), "n_judged": len(t),
+            "n_agree": int(t["agree"].sum()), "n_unsafe": int(t["unsafe"].sum())}
+
+
 def main(argv: list[str] | None = None) -> int:
     from robomill.plan.evidence import coverage_case, coverage_summary
     from robomill.settings import schema_default
@@ -63,6 +83,9 @@ def main(argv: list[str] | None = None) -> int:
     table.to_csv(out / "plan_coverage.csv", index=False)
     pd.concat(checks, ignore_index=True).to_csv(out / "plan_coverage_check.csv", index=False)
     print(table.to_string(index=False))
+    cut = pd.DataFrame([predict_then_cut(name, work, out) for name in STUDIES])
+    cut.to_csv(out / "predict_then_cut.csv", index=False)
+    print(cut.to_string(index=False))
     if remove:
         shutil.rmtree(work, ignore_errors=True)
     return 0

@@ -152,7 +152,8 @@ def main(argv=None) -> int:
     weights = member_weights(measured, int(inputs.req.stability.members))
     rows = []
     for cut in cuts:
-        p = predict_study_cut(cut, inputs.experiment, inputs.req, measured, inputs.cell)
+        p = predict_study_cut(cut, inputs.experiment, inputs.req, measured, inputs.cell,
+                              inputs.reach)
         mc = member_modal_cut(inputs, measured, cut)
         row = {"cut": cut.id, "depth_mm": p["depth_mm"],
                "feed_per_tooth_um": mc.feed_per_tooth_m * 1e6, "verdict": judged.get(cut.id, ""),

@@ -1,0 +1,160 @@
+"""Predict, then cut: cuts the study never made, predicted with ``robomill predict`` from a
+study's plan and then cut on the virtual cell as their own study, on any study (the issue's
+out-of-sample test: "other sets will be tried").
+
+The set: at each of three speeds (12 000, 20 000 and 28 000 rpm) and both feed directions (px,
+py), one probe (0.5 mm) gives the predicted critical depth a_crit, and two cuts are made at 0.5
+and 1.8 times it (one on each side of the predicted boundary), at 5 mm/s, laid out on the
+block's top face beside the request's placement box (its lowest corner, 25 mm apart along x, 30
+mm along y). The cuts are predicted (``robomill predict``, the plan's code) and cut by the
+virtual cell with the study's own configuration (``--config``, the files the study was run with,
+in order) and the experiment of the plan's next run (``results/plan/next/config.yaml``, its cuts
+replaced), in their own folder, recorded by the instruments that recorded the study's own cuts
+(``--recordings``: also by those the next run adds, an accelerometer or microphone with its air
+passes); the verdicts are read from that run's ``results/chatter/verdicts.csv`` (a cut is
+chatter when any of its records is). Printed and written (``<out>/predict_then_cut.csv``): per
+judged cut its depth, the predicted a_crit and interval, ``p_stable``, the verdict, whether the
+nominal prediction agrees, and ``unsafe`` (predicted stable, judged chatter).
+
+    .venv/bin/python benchmarks/predict_then_cut.py STUDY --config config.yaml --out DIR \
+        [--recordings]
+
+``STUDY``: a study folder whose plan was made (``snakemake -j2 plan``).
+``tests/test_pipeline_predict_oos.py`` runs the same procedure on the tiny study.
+"""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import yaml
+from studyloop import REPO
+
+SPEEDS_RPM = (12000.0, 20000.0, 28000.0)
+DIRECTIONS = ("px", "py")
+FACTORS = (("below", 0.5), ("above", 1.8))
+FEED_MM_S = 5.0
+PROBE_DEPTH_MM = 0.5
+
+
+def placed_cut(study: Path, cid: str, rpm: float, depth_mm: float, direction: str, i: int
+               ) -> dict:
+    """Cut ``i`` of the set: its manifest keys, started beside the request's placement box
+    (its lowest corner less half the cut's length along x, 25 mm apart along x, 30 mm along
+    y, six per row), ``depth_mm`` below the top face (``depth_mm`` rounded to the µm in the
+    cut's keys, the start's height from the depth as given)."""
+    from robomill.plan.inputs import load_recorded
+
+    req = load_recorded(study).req
+    lo = np.asarray(req.placements_mm, float).min(axis=0)
+    depth = float(depth_mm)
+    start = [float(lo[0] - req.length_mm / 2 + 25.0 * (i % 6)), float(lo[1] + 30.0 * (i // 6)),
+             float(lo[2] - depth)]
+    return {"id": cid, "spindle_rpm": float(rpm), "depth_mm": float(round(depth, 3)),
+            "feed_mm_s": FEED_MM_S, "direction": direction, "start_mm": start}
+
+
+def predict_cuts(study: Path, cuts: list[dict], path: Path) -> pd.DataFrame:
+    """``robomill predict STUDY path`` of ``cuts`` (written to ``path``, a YAML cut list)."""
+    from robomill.cli import main
+
+    path.write_text(yaml.safe_dump(cuts))
+    out = path.with_suffix(".csv")
+    if main(["predict", str(study), str(path), "--out", str(out)]) != 0:
+        raise RuntimeError(f"robomill predict failed on {path}")
+    return pd.read_csv(out)
+
+
+def boundary_set(study: Path, work: Path, speeds=SPEEDS_RPM, directions=DIRECTIONS,
+                 factors=FACTORS) -> tuple[list[dict], pd.DataFrame]:
+    """The set (module docstring) and its predictions (indexed by cut); its cut lists and
+    their predictions are written in ``work``."""
+    work.mkdir(parents=True, exist_ok=True)
+    pairs = [(n, d) for n in speeds for d in directions]
+    probe = [placed_cut(study, f"probe_{k}", n, PROBE_DEPTH_MM, d, k)
+             for k, (n, d) in enumerate(pairs)]
+    a = predict_cuts(study, probe, work / "probe.yaml")["a_crit_mm"].to_numpy(float)
+    if not np.all(np.isfinite(a) & (a > 0)):
+        raise RuntimeError(f"no finite critical depth to cut around: {a}")
+    cuts = []
+    for (n, d), a_k in zip(pairs, a, strict=True):
+        for side, f in factors:
+            cuts.append(placed_cut(study, f"oos_{int(n / 1000)}k_{d}_{side}", n, f * a_k, d,
+                                   len(cuts)))
+    return cuts, predict_cuts(study, cuts, work / "oos.yaml").set_index("cut")
+
+
+def cut_on_cell(study: Path, cuts: list[dict], configfiles: list[Path], run: Path, *,
+                recordings: bool = False) -> pd.Series:
+    """The virtual cell cuts ``cuts`` as their own study in ``run`` (the study's
+    ``configfiles`` and its next run's experiment with the cuts replaced: recorded by the
+    instruments that recorded the study's own cuts, whose verdicts the model was weighted
+    by; ``recordings``: also by the next run's recordings, the accelerometer or microphone
+    and its air passes); the chatter verdicts per cut (1 stable or forced, 0 chatter, NaN
+    undetermined)."""
+    from robomill.plan.evidence import read_verdicts, verdict_stability
+
+    nxt = yaml.safe_load((study / "results/plan/next/config.yaml").read_text())
+    overlay = {"workdir": str(run),
+               "experiment": {**{k: v for k, v in nxt["experiment"].items() if k != "cuts"},
+                              "cuts": cuts}}
+    extra = (nxt.get("synth") or {}).get("recordings")
+    if recordings and extra:
+        overlay["synth"] = {"recordings": extra}
+    run.mkdir(parents=True, exist_ok=True)
+    (run.parent / "oos_overlay.yaml").write_text(yaml.safe_dump(overlay))
+    cmd = [str(Path(sys.executable).with_name("snakemake")), "-s", str(REPO / "Snakefile"),
+           "--directory", str(run), "--configfile", *[str(c) for c in configfiles],
+           str(run.parent / "oos_overlay.yaml"), "-j2", "results/chatter/verdicts.csv"]
+    done = subprocess.run(cmd, cwd=run.parent, capture_output=True, text=True, timeout=1800)
+    if done.returncode != 0:
+        raise RuntimeError(done.stderr[-4000:])
+    return verdict_stability(read_verdicts(run / "results/chatter/verdicts.csv"))
+
+
+def agreement_table(pred: pd.DataFrame, stable: pd.Series) -> pd.DataFrame:
+    """Per judged cut: depth, predicted a_crit and interval, ``p_stable``, ``stable`` (the
+    verdict), ``agree`` (the nominal prediction's side) and ``unsafe`` (predicted stable,
+    judged chatter)."""
+    judged = stable.dropna()
+    t = pred.loc[judged.index, ["depth_mm", "a_crit_mm", "a_crit_low_mm", "a_crit_high_mm",
+                                "p_stable"]].assign(stable=judged)
+    predicted = t["a_crit_mm"] > t["depth_mm"]
+    t["agree"] = predicted == (t["stable"] >= 0.5)
+    t["unsafe"] = predicted & (t["stable"] < 0.5)
+    return t
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("study", type=Path)
+    ap.add_argument("--config", nargs="+", type=Path, required=True,
+                    help="the study's configuration files, in order (relative: to the repo)")
+    ap.add_argument("--out", type=Path, default=Path("results/benchmarks"))
+    ap.add_argument("--work", type=Path, help="working folder (default <out>/predict_then_cut)")
+    ap.add_argument("--recordings", action="store_true",
+                    help="also record the cuts as the plan's next run does (accelerometer or "
+                    "microphone with air passes) and judge those records too")
+    args = ap.parse_args(argv)
+    study = args.study.resolve()
+    work = (args.work or args.out / "predict_then_cut").resolve()
+    work.mkdir(parents=True, exist_ok=True)
+    configs = [c if c.is_absolute() else REPO / c for c in args.config]
+    cuts, pred = boundary_set(study, work)
+    t = agreement_table(pred, cut_on_cell(study, cuts, configs, work / "run",
+                                          recordings=args.recordings))
+    args.out.mkdir(parents=True, exist_ok=True)
+    t.to_csv(args.out / "predict_then_cut.csv")
+    print(t.round(3).to_string())
+    print(f"{int(t['agree'].sum())} of {len(t)} judged cuts predicted right "
+          f"({len(cuts)} cut); {int(t['unsafe'].sum())} predicted stable and judged chatter")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
