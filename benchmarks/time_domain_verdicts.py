@@ -34,8 +34,14 @@ the study's own judged cuts (in sample); with ``--cuts`` (a cut list in
 that cut them) the cuts out of sample. Prints one row per cut and the agreement of each
 predictor; ``--out`` writes the table as CSV.
 
+``--edge-term`` adds the nominal member's linear limit with the edge force's switching term
+(``benchmarks/edge_switching.py``), solved by semi-discretization.
+
 Altintas 2012: Altintas, Y. *Manufacturing Automation: Metal Cutting Mechanics, Machine Tool
 Vibrations, and CNC Design*, 2nd ed. Cambridge University Press, 2012.
+Insperger & Stépán 2004: Insperger, T.; Stépán, G. Updated semi-discretization method for
+periodic delay-differential equations with discrete delay. *International Journal for
+Numerical Methods in Engineering* **61**(1), 117–141, 2004.
 """
 
 from __future__ import annotations
@@ -83,6 +89,26 @@ def member_modal_cut(inputs, measured, cut, member: int = 0):
                     cc.Kac * 1e6, cc.Kte * 1e3, cc.Kre * 1e3, cc.Kae * 1e3)
 
 
+def edge_term_limit_mm(mc, gain: float = 0.5) -> float:
+    """The linear critical depth [mm] of ``mc``'s modes and coefficients with the edge force's
+    switching term (gain γ, ``benchmarks/edge_switching.py``'s :class:`EdgeSwitchingCut`),
+    solved by semi-discretization [Insperger & Stépán 2004]."""
+    from edge_switching import DEPTH_MAX_M, SDM_STEPS, EdgeSwitchingCut
+
+    from robomill.chatter.lobes_sdm import critical_depth
+    from robomill.chatter.model import ModeXY, tool_from_modes
+
+    tool = tool_from_modes([ModeXY(float(f), float(z), float(k), (float(sx), float(sy)))
+                            for f, z, k, (sx, sy) in zip(mc.f_hz, mc.zeta, mc.k_N_m,
+                                                         mc.shape_xy, strict=True)])
+    model = EdgeSwitchingCut(int(mc.teeth), mc.Ktc_N_m2, mc.Krc_N_m2 / mc.Ktc_N_m2,
+                             mc.entry_rad, mc.exit_rad, mc.Kte_N_m, mc.Kre_N_m,
+                             mc.feed_per_tooth_m, float(gain))
+    a, _ = critical_depth(tool, model, mc.spindle_rpm, depth_max_m=DEPTH_MAX_M, m=SDM_STEPS,
+                          rtol=1e-3)
+    return 1e3 * float(a)
+
+
 def judged_run(mc, settings, *, excitation_N: float, duration_s: float,
                steps_per_tooth: int = 32) -> dict:
     """Simulate ``mc`` and judge its force as a study judges a dynamometer record: the
@@ -108,19 +134,20 @@ def judged_run(mc, settings, *, excitation_N: float, duration_s: float,
 
 
 def study_verdicts(inputs, cuts_path: Path | None, verdicts_path: Path | None):
-    """The cuts to predict and their judged verdicts (``stable``/``chatter``)."""
+    """The cuts to predict and their judged verdicts (``stable``/``chatter``; a cut is
+    chatter when any of its records is, :func:`robomill.plan.evidence.verdict_stability`)."""
     from robomill.io.cutlist import parse_cuts, read_cut_entries
+    from robomill.plan.evidence import read_verdicts, verdict_stability
 
     if cuts_path is None:
-        judged = {c: ("stable" if v >= 0.5 else "chatter")
-                  for c, v in inputs.stability.items() if v == v}
-        return [c for c in inputs.study_cuts if c.id in judged], judged
-    cuts = parse_cuts(cuts_path, read_cut_entries(cuts_path))
-    t = pd.read_csv(verdicts_path) if verdicts_path else pd.DataFrame(columns=["cut"])
-    if "kind" in t:
-        t = t[t["kind"] == "force"]
-    judged = {r.cut: r.verdict for r in t.itertuples() if r.verdict in ("stable", "chatter")}
-    return cuts, judged
+        stable = inputs.stability
+        cuts = inputs.study_cuts
+    else:
+        cuts = parse_cuts(cuts_path, read_cut_entries(cuts_path))
+        stable = (verdict_stability(read_verdicts(verdicts_path)) if verdicts_path
+                  else pd.Series(dtype=float))
+    judged = {c: ("stable" if v >= 0.5 else "chatter") for c, v in stable.items() if v == v}
+    return [c for c in cuts if c.id in judged], judged
 
 
 def main(argv=None) -> int:
@@ -141,6 +168,9 @@ def main(argv=None) -> int:
                     help="comma-separated white-force levels at the tool [N rms per axis]")
     ap.add_argument("--duration-s", type=float, default=1.0)
     ap.add_argument("--members", action="store_true")
+    ap.add_argument("--edge-term", action="store_true",
+                    help="also the nominal member's linear limit with the edge force's "
+                    "switching term (semi-discretization, gain 1/2)")
     ap.add_argument("--out", type=Path)
     args = ap.parse_args(argv)
     levels = [float(x) for x in args.excitation_N.split(",")]
@@ -159,6 +189,9 @@ def main(argv=None) -> int:
                "feed_per_tooth_um": mc.feed_per_tooth_m * 1e6, "verdict": judged.get(cut.id, ""),
                "a_crit_mm": p["a_crit_mm"], "p_stable": p["p_stable"],
                "linear": "stable" if p["a_crit_mm"] > p["depth_mm"] else "chatter"}
+        if args.edge_term:
+            row["a_edge_mm"] = edge_term_limit_mm(mc)
+            row["edge_term"] = "stable" if row["a_edge_mm"] > p["depth_mm"] else "chatter"
         for s in levels:
             r = judged_run(mc, settings, excitation_N=s, duration_s=args.duration_s)
             row.update({f"td_{s:g}N": r["verdict"], f"td_{s:g}N_line_hz": r["line_hz"],
@@ -174,9 +207,11 @@ def main(argv=None) -> int:
     with pd.option_context("display.width", 250, "display.max_columns", 60):
         print(t.round(3).to_string(index=False))
     j = t[t["verdict"].isin(["stable", "chatter"])]
-    cols = ["linear"] + [f"td_{s:g}N" for s in levels]
+    cols = ["linear"] + (["edge_term"] if args.edge_term else []) + [f"td_{s:g}N" for s in levels]
     for col in cols:
-        print(f"{col}: {int((j[col] == j['verdict']).sum())} of {len(j)} judged cuts agree")
+        unsafe = int(((j[col] == "stable") & (j["verdict"] == "chatter")).sum())
+        print(f"{col}: {int((j[col] == j['verdict']).sum())} of {len(j)} judged cuts agree, "
+              f"{unsafe} predicted stable judged chatter")
     if args.members:
         for s in levels:
             pred = np.where(j[f"p_stable_td_{s:g}N"] >= 0.5, "stable", "chatter")
