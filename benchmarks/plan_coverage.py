@@ -50,7 +50,7 @@ def run_study(name: str, root: Path) -> pd.DataFrame:
     return check
 
 
-def predict_then_cut(name: str, root: Path, out: Path) -> dict:
+def predict_then_cut_row(name: str, root: Path, out: Path) -> dict:
     """Predict then cut on one study's plan (module docstring); its summary row."""
     configs, _ = STUDIES[name]
     study = root / name
@@ -83,7 +83,7 @@ def main(argv: list[str] | None = None) -> int:
     table.to_csv(out / "plan_coverage.csv", index=False)
     pd.concat(checks, ignore_index=True).to_csv(out / "plan_coverage_check.csv", index=False)
     print(table.to_string(index=False))
-    cut = pd.DataFrame([predict_then_cut(name, work, out) for name in STUDIES])
+    cut = pd.DataFrame([predict_then_cut_row(name, work, out) for name in STUDIES])
     cut.to_csv(out / "predict_then_cut.csv", index=False)
     print(cut.to_string(index=False))
     if remove:

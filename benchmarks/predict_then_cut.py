@@ -42,18 +42,34 @@ FEED_MM_S = 5.0
 PROBE_DEPTH_MM = 0.5
 
 
-def placed_cut(study: Path, cid: str, rpm: float, depth_mm: float, direction: str, i: int
-               ) -> dict:
-    """Cut ``i`` of the set: its manifest keys, started beside the request's placement box
-    (its lowest corner less half the cut's length along x, 25 mm apart along x, 30 mm along
-    y, six per row), ``depth_mm`` below the top face (``depth_mm`` rounded to the µm in the
-    cut's keys, the start's height from the depth as given)."""
-    from robomill.plan.inputs import load_recorded
+class SetError(Exception):
+    """A study the set cannot be predicted or cut from (one line naming the file)."""
 
-    req = load_recorded(study).req
-    lo = np.asarray(req.placements_mm, float).min(axis=0)
+
+def layout_origin_mm(study: Path) -> tuple[np.ndarray, float]:
+    """The lowest corner of the study's request placement box [mm] and the request's cut
+    length [mm] (the plan's record, :func:`robomill.plan.inputs.load_recorded`)."""
+    from robomill.errors import RawDataError
+    from robomill.plan.inputs import load_recorded
+    from robomill.plan.request import PlanRequestError
+
+    try:
+        req = load_recorded(study).req
+    except (RawDataError, PlanRequestError) as exc:
+        raise SetError(str(exc)) from exc
+    return np.asarray(req.placements_mm, float).min(axis=0), float(req.length_mm)
+
+
+def placed_cut(origin: tuple[np.ndarray, float], cid: str, rpm: float, depth_mm: float,
+               direction: str, i: int) -> dict:
+    """Cut ``i`` of the set: its manifest keys, started beside the request's placement box
+    (``origin``, :func:`layout_origin_mm`: its lowest corner less half the cut's length along
+    x, 25 mm apart along x, 30 mm along y, six per row), ``depth_mm`` below the top face
+    (``depth_mm`` rounded to the µm in the cut's keys, the start's height from the depth as
+    given)."""
+    lo, length_mm = origin
     depth = float(depth_mm)
-    start = [float(lo[0] - req.length_mm / 2 + 25.0 * (i % 6)), float(lo[1] + 30.0 * (i // 6)),
+    start = [float(lo[0] - length_mm / 2 + 25.0 * (i % 6)), float(lo[1] + 30.0 * (i // 6)),
              float(lo[2] - depth)]
     return {"id": cid, "spindle_rpm": float(rpm), "depth_mm": float(round(depth, 3)),
             "feed_mm_s": FEED_MM_S, "direction": direction, "start_mm": start}
@@ -66,7 +82,7 @@ def predict_cuts(study: Path, cuts: list[dict], path: Path) -> pd.DataFrame:
     path.write_text(yaml.safe_dump(cuts))
     out = path.with_suffix(".csv")
     if main(["predict", str(study), str(path), "--out", str(out)]) != 0:
-        raise RuntimeError(f"robomill predict failed on {path}")
+        raise SetError(f"{path}: robomill predict failed on these cuts (its line above)")
     return pd.read_csv(out)
 
 
@@ -75,16 +91,18 @@ def boundary_set(study: Path, work: Path, speeds=SPEEDS_RPM, directions=DIRECTIO
     """The set (module docstring) and its predictions (indexed by cut); its cut lists and
     their predictions are written in ``work``."""
     work.mkdir(parents=True, exist_ok=True)
+    origin = layout_origin_mm(study)
     pairs = [(n, d) for n in speeds for d in directions]
-    probe = [placed_cut(study, f"probe_{k}", n, PROBE_DEPTH_MM, d, k)
+    probe = [placed_cut(origin, f"probe_{k}", n, PROBE_DEPTH_MM, d, k)
              for k, (n, d) in enumerate(pairs)]
     a = predict_cuts(study, probe, work / "probe.yaml")["a_crit_mm"].to_numpy(float)
     if not np.all(np.isfinite(a) & (a > 0)):
-        raise RuntimeError(f"no finite critical depth to cut around: {a}")
+        raise SetError(f"{work / 'probe.csv'}: expected a finite positive a_crit_mm at every "
+                       f"probe, got {np.round(a, 4).tolist()}")
     cuts = []
     for (n, d), a_k in zip(pairs, a, strict=True):
         for side, f in factors:
-            cuts.append(placed_cut(study, f"oos_{int(n / 1000)}k_{d}_{side}", n, f * a_k, d,
+            cuts.append(placed_cut(origin, f"oos_{int(n / 1000)}k_{d}_{side}", n, f * a_k, d,
                                    len(cuts)))
     return cuts, predict_cuts(study, cuts, work / "oos.yaml").set_index("cut")
 
@@ -99,7 +117,10 @@ def cut_on_cell(study: Path, cuts: list[dict], configfiles: list[Path], run: Pat
     undetermined)."""
     from robomill.plan.evidence import read_verdicts, verdict_stability
 
-    nxt = yaml.safe_load((study / "results/plan/next/config.yaml").read_text())
+    next_config = study / "results/plan/next/config.yaml"
+    if not next_config.is_file():
+        raise SetError(f"{next_config}: not found (the plan writes it: snakemake -j2 plan)")
+    nxt = yaml.safe_load(next_config.read_text())
     overlay = {"workdir": str(run),
                "experiment": {**{k: v for k, v in nxt["experiment"].items() if k != "cuts"},
                               "cuts": cuts}}
@@ -113,7 +134,8 @@ def cut_on_cell(study: Path, cuts: list[dict], configfiles: list[Path], run: Pat
            str(run.parent / "oos_overlay.yaml"), "-j2", "results/chatter/verdicts.csv"]
     done = subprocess.run(cmd, cwd=run.parent, capture_output=True, text=True, timeout=1800)
     if done.returncode != 0:
-        raise RuntimeError(done.stderr[-4000:])
+        raise SetError(f"{run}: the cell's run failed (its log: {run}/.snakemake/log):\n"
+                       + done.stderr[-4000:])
     return verdict_stability(read_verdicts(run / "results/chatter/verdicts.csv"))
 
 
@@ -145,9 +167,16 @@ def main(argv=None) -> int:
     work = (args.work or args.out / "predict_then_cut").resolve()
     work.mkdir(parents=True, exist_ok=True)
     configs = [c if c.is_absolute() else REPO / c for c in args.config]
-    cuts, pred = boundary_set(study, work)
-    t = agreement_table(pred, cut_on_cell(study, cuts, configs, work / "run",
-                                          recordings=args.recordings))
+    missing = [str(c) for c in configs if not c.is_file()]
+    if missing:
+        ap.error(f"--config: no such file: {', '.join(missing)}")
+    try:
+        cuts, pred = boundary_set(study, work)
+        t = agreement_table(pred, cut_on_cell(study, cuts, configs, work / "run",
+                                              recordings=args.recordings))
+    except SetError as exc:
+        print(f"predict_then_cut: {exc}", file=sys.stderr)
+        return 1
     args.out.mkdir(parents=True, exist_ok=True)
     t.to_csv(args.out / "predict_then_cut.csv")
     print(t.round(3).to_string())

@@ -47,6 +47,7 @@ Numerical Methods in Engineering* **61**(1), 117–141, 2004.
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -152,10 +153,12 @@ def study_verdicts(inputs, cuts_path: Path | None, verdicts_path: Path | None):
 
 def main(argv=None) -> int:
     from robomill.chatter.verdicts import default_settings
+    from robomill.errors import RawDataError
     from robomill.plan.compare import predict_study_cut
     from robomill.plan.inputs import load_recorded
     from robomill.plan.make import verdict_conditioned
     from robomill.plan.predict import member_weights
+    from robomill.plan.request import PlanRequestError
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("study", type=Path)
@@ -173,17 +176,32 @@ def main(argv=None) -> int:
                     "switching term (semi-discretization, gain 1/2)")
     ap.add_argument("--out", type=Path)
     args = ap.parse_args(argv)
-    levels = [float(x) for x in args.excitation_N.split(",")]
-    inputs = load_recorded(args.study, request=args.request)
+    try:
+        levels = [float(x) for x in args.excitation_N.split(",")]
+    except ValueError:
+        ap.error(f"--excitation-N {args.excitation_N}: expected comma-separated numbers [N]")
+    if args.cuts is not None and args.verdicts is None:
+        ap.error("--cuts needs --verdicts (the run that cut them: results/chatter/verdicts.csv)")
+    for name, path in (("--cuts", args.cuts), ("--verdicts", args.verdicts)):
+        if path is not None and not path.is_file():
+            ap.error(f"{name} {path}: no such file")
+    try:
+        inputs = load_recorded(args.study, request=args.request)
+        cuts, judged = study_verdicts(inputs, args.cuts, args.verdicts)
+    except (RawDataError, PlanRequestError) as exc:
+        print(f"time_domain_verdicts: {exc}", file=sys.stderr)
+        return 1
     measured = verdict_conditioned(inputs.measured, inputs.req, inputs.cell, inputs.study_cuts,
                                    inputs.experiment, inputs.stability)[0]
-    cuts, judged = study_verdicts(inputs, args.cuts, args.verdicts)
     settings = default_settings()
     weights = member_weights(measured, int(inputs.req.stability.members))
     rows = []
     for cut in cuts:
         p = predict_study_cut(cut, inputs.experiment, inputs.req, measured, inputs.cell,
                               inputs.reach)
+        if not p["reachable"]:  # no posture to move the modes to: nothing to simulate
+            print(f"time_domain_verdicts: {cut.id}: not reachable, left out", file=sys.stderr)
+            continue
         mc = member_modal_cut(inputs, measured, cut)
         row = {"cut": cut.id, "depth_mm": p["depth_mm"],
                "feed_per_tooth_um": mc.feed_per_tooth_m * 1e6, "verdict": judged.get(cut.id, ""),
