@@ -15,7 +15,8 @@ it for each excitation level of ``--excitation-N``
 (:func:`robomill.chatter.modal_timedomain.simulate_modal_cut`: the chip and force law of
 Altintas 2012 eq. 2.25 with the tooth leaving the cut, and a white force at the tool of that
 standard deviation per in-plane axis, 0–1 kHz) and judges the simulated force with the
-study's judge (:func:`robomill.chatter.verdicts.judge`, the schema's verdict settings),
+study's judge (:func:`robomill.chatter.verdicts.judge`, with the verdict settings of the
+study's ``--config`` files, else the schema's),
 beside the linear prediction and the study's own verdict. ``--members`` adds, per level, the
 share of the members (weighted by the study's verdicts, as the plan weights them) whose
 simulated cut is judged stable.
@@ -152,7 +153,7 @@ def study_verdicts(inputs, cuts_path: Path | None, verdicts_path: Path | None):
 
 
 def main(argv=None) -> int:
-    from robomill.chatter.verdicts import default_settings
+    from robomill.chatter.verdicts import VerdictSettings
     from robomill.errors import RawDataError
     from robomill.plan.compare import predict_study_cut
     from robomill.plan.inputs import load_recorded
@@ -174,6 +175,9 @@ def main(argv=None) -> int:
     ap.add_argument("--edge-term", action="store_true",
                     help="also the nominal member's linear limit with the edge force's "
                     "switching term (semi-discretization, gain 1/2)")
+    ap.add_argument("--config", nargs="*", type=Path, default=[],
+                    help="the study's configuration files, in order: its judge's settings "
+                    "(chatter.verdicts; default: the schema's)")
     ap.add_argument("--out", type=Path)
     args = ap.parse_args(argv)
     try:
@@ -193,7 +197,13 @@ def main(argv=None) -> int:
         return 1
     measured = verdict_conditioned(inputs.measured, inputs.req, inputs.cell, inputs.study_cuts,
                                    inputs.experiment, inputs.stability)[0]
-    settings = default_settings()
+    missing = [str(c) for c in args.config if not c.is_file()]
+    if missing:
+        ap.error(f"--config: no such file: {', '.join(missing)}")
+    from edge_switching import merged_config
+
+    settings = VerdictSettings.from_mapping(
+        merged_config([str(c) for c in args.config], base=False)["chatter"]["verdicts"])
     weights = member_weights(measured, int(inputs.req.stability.members))
     rows = []
     for cut in cuts:
