@@ -53,7 +53,9 @@ the cut beside the semi-discretization's limit with γ = 0, ½ and 1.
 
 (overlays merged over ``config.yaml`` in order, dictionaries key by key, lists replaced, as
 Snakemake merges them in the repository's root; ``--without-config-yaml``: the overlays alone
-with the schema's defaults, as the tests' runs in folders without a ``config.yaml``).
+with the schema's defaults, as the tests' runs in folders without a ``config.yaml``;
+``--cuts``: the study's cell cuts them, its modes planted where the study's impact test was
+made, as the plan's next-run configuration pins it).
 Writes ``<out>/edge_switching.csv`` (and ``edge_switching_one_mode.csv``).
 
 Altintas 2012: Altintas, Y. *Manufacturing Automation: Metal Cutting Mechanics, Machine Tool
@@ -287,6 +289,10 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
     pd.set_option("display.width", 250)
     config = merged_config(args.config, base=not args.without_config_yaml)
     if args.cuts:
+        from robomill.io.synthetic_layout import impact_tcp_mm
+
+        # the same cell: its modes stay planted where the study's impact test was made
+        config["synth"]["process"]["reference_point_mm"] = impact_tcp_mm(config)
         config["experiment"]["cuts"] = yaml.safe_load(Path(args.cuts).read_text())
     cell = cell_from_config(config)
     gains = [float(g) for g in args.gains.split(",")]

@@ -124,9 +124,15 @@ def cut_on_cell(study: Path, cuts: list[dict], configfiles: list[Path], run: Pat
     overlay = {"workdir": str(run),
                "experiment": {**{k: v for k, v in nxt["experiment"].items() if k != "cuts"},
                               "cuts": cuts}}
-    extra = (nxt.get("synth") or {}).get("recordings")
-    if recordings and extra:
-        overlay["synth"] = {"recordings": extra}
+    synth = nxt.get("synth") or {}
+    overlay["synth"] = {}
+    if (synth.get("process") or {}).get("reference_point_mm") is not None:
+        # the study's cell: its modes planted where the study's impact test was made, not
+        # at the centre of these cuts (the cell's default for a study that does not say)
+        overlay["synth"]["process"] = {
+            "reference_point_mm": synth["process"]["reference_point_mm"]}
+    if recordings and synth.get("recordings"):
+        overlay["synth"]["recordings"] = synth["recordings"]
     run.mkdir(parents=True, exist_ok=True)
     (run.parent / "oos_overlay.yaml").write_text(yaml.safe_dump(overlay))
     cmd = [str(Path(sys.executable).with_name("snakemake")), "-s", str(REPO / "Snakefile"),

@@ -40,6 +40,47 @@ def test_the_next_config_names_its_own_run_folder_inside_the_plan():
                             "recordings": {"vibration": True}}
 
 
+def test_the_next_runs_cell_is_the_studys_wherever_its_cuts_lie():
+    """A study that does not say where its impact test was made has its cell's modes planted
+    at the centre of its cuts; the next run's cuts lie elsewhere, so its configuration pins
+    the point its impact files state, and the next run's arm is the study's arm: the same
+    modes at the same posture. Without the point, the same cuts would shake another arm."""
+    import copy
+
+    from snakemake.utils import update_config
+
+    from robomill.io.synthetic_layout import impact_tcp_mm, synthetic_cuts
+    from robomill.pipeline.config import load_config
+    from robomill.synth.cell import cell_from_config
+    from robomill.synth.structure import modes_at
+
+    study = load_config(REPO / ".test" / "config.yaml")
+    assert study["synth"]["process"]["reference_point_mm"] is None
+    tcp = impact_tcp_mm(study)
+
+    def next_run(pinned: bool) -> dict:
+        overlay = next_config(MANIFEST, impact_tcp_mm=np.array(tcp) if pinned else None)
+        overlay.pop("workdir")
+        cfg = copy.deepcopy(study)
+        update_config(cfg, overlay)
+        return cfg
+
+    pinned = next_run(True)
+    assert pinned["synth"]["process"]["reference_point_mm"] == tcp
+    assert pinned["synth"]["process"]["servo_force_N"] == study["synth"]["process"][
+        "servo_force_N"]                          # merged key by key, the rest is the study's
+    cut = synthetic_cuts(pinned)[0]
+    cell = cell_from_config(pinned)
+    q = cell.joint_path_rad(cut, np.array([20.0]))[0]
+
+    def modes(cfg):
+        return np.array([(m.f_hz, m.k_N_m) for m in modes_at(cell_from_config(cfg), q)])
+
+    np.testing.assert_allclose(modes(pinned), modes(study), rtol=1e-12)
+    moved = modes(next_run(False))
+    assert np.max(np.abs(moved[:, 1] / modes(study)[:, 1] - 1.0)) > 0.05
+
+
 def test_per_cut_tracking_gives_each_cut_its_own_run():
     """Two planned cuts at one direction and feed: one tracker run each, keyed by the cut's
     id (manifest key run), where one run per direction and feed would follow the last only."""

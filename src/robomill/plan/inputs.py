@@ -52,6 +52,9 @@ class PlanInputs:
     study_cuts: list = field(default_factory=list)
     """The study's cuts with the process the ingestion rule resolved
     (:class:`robomill.study.StudyCut`): the candidates of the study's own cuts."""
+    impact_tcp_mm: np.ndarray | None = None
+    """Where the impact test was made [mm, base frame], as its files state it (None where
+    they do not)."""
 
 
 def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
@@ -125,7 +128,8 @@ def load_inputs(paths: Mapping[str, str], params: Mapping[str, Any], *,
         except RawDataError as err:
             notes.append(f"{err} (the stability model is not weighted by verdicts)")
     return PlanInputs(req, measured, cell, cell_file, cuts, experiment, mids, reach,
-                      stability, slots, notes, study_cuts=list(read_study(paths["study"]).cuts))
+                      stability, slots, notes, study_cuts=list(read_study(paths["study"]).cuts),
+                      impact_tcp_mm=tcp)
 
 
 def require_reference_pose(tcp_mm: np.ndarray | None, req: Any, measured: Any,

@@ -127,7 +127,8 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell,
               experiment: Mapping[str, Any], *, robot_name: str = "the robot",
               reach=None, study_slots=None, binding_constraint: str | None = None,
               stability: pd.Series | None = None,
-              binding_before: pd.DataFrame | None = None) -> Plan:
+              binding_before: pd.DataFrame | None = None,
+              impact_tcp_mm: np.ndarray | None = None) -> Plan:
     """The whole plan (raises :class:`robomill.plan.choose.PlanInfeasible` with one line when a
     constraint needs a missing measurement, no candidate meets the constraints, or every
     candidate is extrapolated and the request does not allow it). ``cuts``: the study's
@@ -141,7 +142,9 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell,
     ``binding.csv``, whose binding cut the narrowing is measured at); ``stability``: the
     study's chatter verdicts per cut (1 stable, 0 chatter, NaN undetermined;
     :func:`robomill.plan.evidence.verdict_stability`), which condition every critical-depth
-    interval of the plan (:mod:`robomill.plan.conditioning`)."""
+    interval of the plan (:mod:`robomill.plan.conditioning`); ``impact_tcp_mm``: where the
+    study's impact test was made, from its files (the next run's cell stands there:
+    :func:`robomill.plan.outputs.next_config`)."""
     missing = missing_predictions(measured)
     check_needs(req, missing)
     measured, evidence = verdict_conditioned(measured, req, cell, cuts, experiment, stability)
@@ -222,7 +225,7 @@ def make_plan(req: PlanRequest, measured: Measured, cell: Cell,
     effect = rotation_effect_pct(pmap)
     return Plan(cand, pmap, table, plan_table(front), study,
                 comparison_table(table, study, effect, pmap.sizes["rotation"]), manifest,
-                next_config(manifest), cut_paths,
+                next_config(manifest, impact_tcp_mm=impact_tcp_mm), cut_paths,
                 path_summary(pose_failure_table(cand), table, effect, slot_notes), binding,
                 None if evidence is None else evidence.table)
 

@@ -114,7 +114,8 @@ def next_manifest(chosen: pd.DataFrame, req: PlanRequest, experiment: dict, miss
     return {"experiment": header, "cuts": cuts, "files": [], "plan": plan}
 
 
-def next_config(manifest: dict[str, Any], workdir: str = NEXT_RUN_DIR) -> dict[str, Any]:
+def next_config(manifest: dict[str, Any], workdir: str = NEXT_RUN_DIR,
+                impact_tcp_mm: Any = None) -> dict[str, Any]:
     """``results/plan/next/config.yaml``: a configuration overlay (``--configfile``) that has the
     virtual cell cut the planned cuts (``experiment.cuts``; robomill.io.synthetic_layout) in their
     own run's folder ``workdir`` (:data:`NEXT_RUN_DIR`; config ``workdir``), not over the study,
@@ -126,14 +127,23 @@ def next_config(manifest: dict[str, Any], workdir: str = NEXT_RUN_DIR) -> dict[s
     selection of the study's runs leaves a planned cut untracked. Each planned cut is also
     recorded by a spindle accelerometer with its air pass (``synth.recordings``: vibration on,
     its ``air_pass`` default), as a lab checks a new cut for chatter: a line the air pass shows
-    unchanged is forced vibration, not chatter (``robomill.chatter.recordings``)."""
+    unchanged is forced vibration, not chatter (``robomill.chatter.recordings``).
+
+    ``impact_tcp_mm``: where the study's impact test was made (its files' ``tcp_mm``); the
+    next run's cell stands where it stood (``synth.process.reference_point_mm``), so that its
+    structure is the study's and not one planted where the next cuts lie (the cell's default
+    for that key is the centre of the run's own cuts)."""
     dirs = sorted({str(c["direction"]) for c in manifest["cuts"] if c.get("direction")})
+    synth: dict[str, Any] = {
+        # every planned cut tracked, whatever directions and feeds the study's runs took
+        "tracker": {"per_cut": True, "air_pass": True, "directions": dirs, "feeds_mm_s": None},
+        "recordings": {"vibration": True}}
+    if impact_tcp_mm is not None:
+        synth["process"] = {"reference_point_mm": [float(v) for v in
+                                                   np.asarray(impact_tcp_mm, float).reshape(3)]}
     return {"workdir": workdir,
             "experiment": {**manifest["experiment"], "cuts": manifest["cuts"]},
-            # every planned cut tracked, whatever directions and feeds the study's runs took
-            "synth": {"tracker": {"per_cut": True, "air_pass": True, "directions": dirs,
-                                  "feeds_mm_s": None},
-                      "recordings": {"vibration": True}}}
+            "synth": synth}
 
 
 def cell_of(cell_file, req: PlanRequest, impact_tcp_mm: np.ndarray | None) -> Cell:

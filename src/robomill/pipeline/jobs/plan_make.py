@@ -47,7 +47,7 @@ def run(inputs, outputs, params, *, log: logging.Logger) -> None:
                      binding_constraint=(None if before is None
                                          else str(before["constraint"].iloc[-1])),
                      binding_before=before,
-                     stability=loaded.stability)
+                     stability=loaded.stability, impact_tcp_mm=loaded.impact_tcp_mm)
     if plan.candidates.attrs.get("stability_evidence_note"):
         log.warning("%s", plan.candidates.attrs["stability_evidence_note"])
     read = [str(f) for f in inputs]
