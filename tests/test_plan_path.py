@@ -133,11 +133,13 @@ def test_noise_ties_go_to_the_nominal_orientation_exactly():
 
 # ---- whole cuts on the shipped cell and an angled spindle ---------------------------------
 def _setup(tool=None, *, rotations=(-90.0, 90.0, 19), length=300.0, direction="py",
-           point=(750.0, 0.0, 200.0), stations=9, margin=True, **extra):
+           point=(750.0, 0.0, 200.0), stations=9, margin=True, tool_com_mm=None, **extra):
     cfg = yaml.safe_load(open("config.yaml"))
     cs = cfg["cell"]
     if tool is not None:
         cs["robot"]["tool"] = tool
+    if tool_com_mm is not None:      # the spindle's mass elsewhere (the modes' mass moves with it)
+        cs["mass_model"]["tool"]["com_mm"] = list(tool_com_mm)
     cf = parse_cell(cell_mapping(cs), "cell.yaml")
     req = parse_request({
         "kind": "plan", "operation": {"length_mm": length, "directions": [direction]},
@@ -211,10 +213,21 @@ def test_angled_spindle_path_beats_the_best_fixed_rotation():
 
 
 def test_on_axis_spindle_keeps_the_nominal_rotation():
-    cs, cf, p = _plan(None, rotations=(-55.0, 55.0, 12), length=40.0, stations=5)
+    """A spindle on the flange axis with its mass on the axis: turning it about the tool axis
+    turns joint 6 alone and moves neither the tool tip's stiffness nor the modes' mass, so
+    every rotation ties and the nominal one is kept. The shipped cell's spindle mass sits
+    10 mm off the axis: turning it moves the modal mass (the margin by about 1 % over ±55°),
+    and the planner takes the better rotation."""
+    on_axis = [880.0, 0.0, 1186.5]
+    cs, cf, p = _plan(None, rotations=(-55.0, 55.0, 12), length=40.0, stations=5,
+                      tool_com_mm=on_axis)
     assert p.refused is None
     assert set(p.stations["rotation_deg"]) == {0.0}
     assert p.summary["fixed_rotation_deg"] == 0.0
+    cs, cf, p = _plan(None, rotations=(-55.0, 55.0, 12), length=40.0, stations=5)
+    margin = p.nodes["stability_margin_low"]
+    assert 0.005 < np.ptp(margin) / margin.max() < 0.05
+    assert set(p.stations["rotation_deg"]) != {0.0}
 
 
 def test_a_path_through_the_wrist_singularity_is_refused_and_never_emitted(tmp_path):

@@ -78,3 +78,65 @@ def test_the_joint_model_without_an_impact_test(cell):
     assert nominal_key(C) == "joints/nominal"
     assert np.allclose(C["joints/nominal"][0], J @ np.diag(1 / K_JOINT) @ J.T, rtol=1e-9)
     assert static_compliance_m_N(Measured(), cell, q, 100.0) is None
+
+
+def test_the_modal_mass_moves_as_the_planar_arm_says_by_hand():
+    """A two-link planar arm (links 0.5 and 0.3 m, point masses 4 and 2.5 kg at their ends,
+    joint compliances 1e-6 and 3e-6 rad/(N·m)): the mass ratio of a mode along φ between two
+    poses, with the textbook Jacobian and mass matrix written out here, not the library's:
+    ψ = C_θ Jᵀ φ / (φᵀ J C_θ Jᵀ φ), μ = ψᵀ M ψ."""
+    from robomill.inertia import rigid_body_model
+    from robomill.kinematics import SerialRobot
+    from robomill.plan.tooltip import mass_ratios
+
+    l1, l2, m1, m2 = 0.5, 0.3, 4.0, 2.5
+    c = np.array([1e-6, 3e-6])
+    robot = SerialRobot("planar", "dh", np.array([l1, l2]) * 1e3, np.zeros(2), np.zeros(2),
+                        np.zeros(2))
+    rigid = rigid_body_model(robot, np.array([1, 2]), np.array([m1, m2]),
+                             np.array([[l1 * 1e3, 0, 0], [(l1 + l2) * 1e3, 0, 0]]))
+    shapes = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [np.cos(0.6), np.sin(0.6), 0.0]])
+
+    def mu(q1, q2):
+        s1, c1, s12, c12 = np.sin(q1), np.cos(q1), np.sin(q1 + q2), np.cos(q1 + q2)
+        J = np.array([[-l1 * s1 - l2 * s12, -l2 * s12], [l1 * c1 + l2 * c12, l2 * c12]])
+        M = np.array([[m1 * l1**2 + m2 * (l1**2 + l2**2 + 2 * l1 * l2 * np.cos(q2)),
+                       m2 * (l2**2 + l1 * l2 * np.cos(q2))],
+                      [m2 * (l2**2 + l1 * l2 * np.cos(q2)), m2 * l2**2]])
+        out = []
+        for phi in shapes[:, :2]:
+            psi = c * (J.T @ phi) / (phi @ J @ np.diag(c) @ J.T @ phi)
+            out.append(psi @ M @ psi)
+        return np.array(out)
+
+    q_ref = np.array([0.3, 1.1])
+    q = np.array([[0.3, 1.1], [0.9, 0.6], [-0.4, 1.9]])
+    got = mass_ratios(robot, rigid, c, q, q_ref, shapes)
+    expected = np.array([mu(*qb) / mu(*q_ref) for qb in q])
+    np.testing.assert_allclose(got, expected, rtol=1e-10)
+    np.testing.assert_allclose(got[0], 1.0, rtol=1e-12)        # the impact test's own pose
+    assert np.ptp(got[1:]) > 0.1                                 # the poses do move the mass
+
+
+def test_without_documented_masses_the_modal_mass_is_held(cell):
+    """No mass model in the cell file: the scalings carry no mass ratio (the frequency
+    follows the stiffness alone, f ∝ √k); with one, a ratio per pose and robot mode, 1 for a
+    mode above the robot's band."""
+    import dataclasses
+
+    from robomill.inertia import rigid_body_model
+    from robomill.plan.tooltip import mode_scalings
+
+    m = Measured(modes=None, coefficients=None, joints=JOINTS, level=0.95)
+    shapes = np.array([[0.0, 1.0, 0.0], [1.0, 0.0, 0.0]])
+    q_ref, _ = solve_poses(cell.robot, cell.reference_point_mm[None], cell.R0, cell.q_seed_rad)
+    q = np.stack([q_ref[0], q_ref[0] + np.deg2rad([10.0, 5.0, -8.0, 0.0, 4.0, 0.0])])
+    robot_mode = np.array([True, False])
+    assert "mass" not in mode_scalings(m, cell, q, robot_mode, shapes)
+    rigid = rigid_body_model(cell.robot, np.array([2, 3, 6]), np.array([35.0, 30.0, 5.0]),
+                             np.array([[170.0, 0.0, 840.0], [250.0, 0.0, 1200.0],
+                                       [880.0, 10.0, 1186.5]]))
+    sc = mode_scalings(m, dataclasses.replace(cell, rigid_body=rigid), q, robot_mode, shapes)
+    assert sc["mass"].shape == (2, 2)
+    np.testing.assert_allclose(sc["mass"][0], 1.0, rtol=1e-9)
+    assert abs(sc["mass"][1, 0] - 1.0) > 0.01 and sc["mass"][1, 1] == 1.0

@@ -151,20 +151,24 @@ def cell_of(cell_file, req: PlanRequest, impact_tcp_mm: np.ndarray | None) -> Ce
     point of the modes: where the impact test was made (``impact_tcp_mm``, the point its
     files state, carried by the modal stage as ``frf_synth.nc`` ``impact_tcp_mm``), else
     ``reference_point_mm`` of the request (the documented fallback for impact files without
-    it), else the middle of the placement region (where no impact test's modes are moved)."""
+    it), else the middle of the placement region (where no impact test's modes are moved);
+    the robot's documented masses (``mass_model``) as its rigid-body model."""
     if impact_tcp_mm is not None:
         ref = np.asarray(impact_tcp_mm, float).reshape(3)
     elif req.reference_point_mm is not None:
         ref = req.reference_point_mm
     else:
         ref = req.placements_mm.mean(0)
+    from robomill.inertia import documented_rigid_body_model
     from robomill.straightness import gear_orders
 
     orders = {(j, st, o): m for j, st, o, m in gear_orders(cell_file.transmissions)}
     return Cell(cell_file.robot, np.asarray(cell_file.tool_rotation, float),
                 cell_file.q_home_rad, np.asarray(ref, float), orders,
                 getattr(cell_file, "joint_limits_deg", None),
-                getattr(cell_file, "joint_speed_limits_deg_s", None))
+                getattr(cell_file, "joint_speed_limits_deg_s", None),
+                documented_rigid_body_model(cell_file.robot,
+                                            getattr(cell_file, "mass_model", None)))
 
 
 def p_stable_map(cand: xr.Dataset, best: pd.Series, n_depths: int = 80) -> xr.Dataset:

@@ -30,6 +30,7 @@ feed), each with an interval carried from the identified quantities' uncertainty
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 import xarray as xr
@@ -56,8 +57,10 @@ from robomill.xrvars import attrs, var
 @dataclass(frozen=True)
 class Cell:
     """What the planner needs of the cell: the robot, the tool orientation R0 (θ = 0), the IK
-    seed, the reference point of the impact test (where the modes were measured) and the
-    gear elements' orders ``{(joint, stage, order): cycles per joint revolution}``."""
+    seed, the reference point of the impact test (where the modes were measured), the
+    gear elements' orders ``{(joint, stage, order): cycles per joint revolution}`` and the
+    robot's documented masses as a rigid-body model (:mod:`robomill.inertia`; None where the
+    cell file states none)."""
 
     robot: SerialRobot
     R0: np.ndarray
@@ -66,6 +69,7 @@ class Cell:
     gear_orders: dict | None = None
     joint_limits_deg: np.ndarray | None = None
     joint_speed_limits_deg_s: np.ndarray | None = None
+    rigid_body: Any = None
 
 
 def engagement(req: PlanRequest) -> tuple[float, float]:

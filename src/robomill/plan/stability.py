@@ -200,7 +200,9 @@ def member_modes(members: Members, scalings: dict[str, np.ndarray], frames: np.n
     damping ratios and modal stiffnesses ``(E, B, M + T)`` (the robot modes moved to each pose
     by the stiffness ratios ``scalings`` of :func:`robomill.plan.tooltip.mode_scalings`, keys
     ``nominal`` and optionally ``low``/``high``, ``(B, M)``, between whose ends each member's
-    ``joint_z`` interpolates; then the tool modes) and their in-plane shapes ``(B, M + T, 2)``
+    ``joint_z`` interpolates, and the frequency by √(stiffness ratio / mass ratio), the mass
+    ratio its ``mass`` where the cell documents the robot's masses, else 1; then the tool
+    modes) and their in-plane shapes ``(B, M + T, 2)``
     in the cut frames ``(B, 3, 3)`` (columns feed, normal, axis)."""
     idx = np.arange(members.n)[which if which is not None else slice(None)]
     s_nom = scalings["nominal"]
@@ -215,7 +217,8 @@ def member_modes(members: Members, scalings: dict[str, np.ndarray], frames: np.n
     sc = s_nom[None] + (np.abs(zj) / Z95) * (np.where(zj > 0, s_hi, s_lo) - s_nom[None])
     sc = np.maximum(sc, 1e-6)                                                  # (E, B, M)
     T = members.tool_f_hz.shape[1]
-    fn = np.concatenate([members.f_hz[idx][:, None] * np.sqrt(sc),
+    mass = np.asarray(scalings.get("mass", np.ones_like(s_nom)), float)[None]  # (1, B, M)
+    fn = np.concatenate([members.f_hz[idx][:, None] * np.sqrt(sc / mass),
                          np.broadcast_to(members.tool_f_hz[idx][:, None], (E, B, T))], 2)
     kk = np.concatenate([members.k_N_m[idx][:, None] * sc,
                          np.broadcast_to(members.tool_k_N_m[idx][:, None], (E, B, T))], 2)

@@ -3,20 +3,28 @@ static compliance the plan predicts deflection with.
 
 **Modes at a pose.** The impact test measures the modes at the tool tip at its own pose q_ref.
 Elsewhere the arm is stiffer or softer as its joints see the tool-tip load through other lever
-arms; each robot mode (below ``robot_mode_max_hz``) keeps its shape φ_r and modal mass and has
-its stiffness scaled by the joint model's stiffness along its shape,
+arms; each robot mode (below ``robot_mode_max_hz``) keeps its shape φ_r and has its
+stiffness scaled by the joint model's stiffness along its shape,
 
 .. math:: k_r(q) = k_r \\frac{k_φ(q)}{k_φ(q_{ref})}, \\qquad k_φ = 1/(φ^T C_J(q) φ),
           \\qquad C_J(q) = J(q) K_θ^{-1} J(q)^T
 
 (the joint-stiffness model of the load tests; Dumas et al. 2011, Robotics and
-Computer-Integrated Manufacturing 27(5), 881–888), f_r ∝ √k_r. Modes above the robot's band
-(spindle, tool) are the same at every pose. The modal mass is held because the study measures
-no inertia away from q_ref; a real arm's (and the virtual cell's) mass at the tool tip moves
-with the pose too, and its modes' shapes may turn and mix (the virtual cell's do under
-``synth.process.robot_modes: eigen``: the eigenproblem of its joints and mass matrix at each
-pose), so far from q_ref this law is one source of a missed prediction. q_ref is where the
-impact files say the test was made (their ``tcp_mm``).
+Computer-Integrated Manufacturing 27(5), 881–888). The modal mass moves too where the cell
+file documents the robot's masses (``mass_model``): by the ratio of the kinetic energies of
+the joint motion that a unit tool-tip motion along φ_r asks of the joints (Rayleigh's quotient
+of the joints' eigenproblem [Géradin & Rixen 2015], :func:`mass_ratios`), so that
+
+.. math:: f_r(q) = f_r \\sqrt{\\frac{k_r(q)/k_r}{m_r(q)/m_r}};
+
+without documented masses it is held (f_r ∝ √k_r). Holding it is not neutral: on the virtual
+cell's arm, whose mass at the tool tip moves with the pose, the held mass put the first mode
+at 14–19 Hz where the arm has 20–23 Hz at the same cuts, and the critical depth 1.2–1.7 times
+the arm's own (``benchmarks/modes_at_cuts.py``). The shapes are held: a real arm's may turn
+and mix (the virtual cell's do under ``synth.process.robot_modes: eigen``: the eigenproblem of
+its joints and mass matrix at each pose), so far from q_ref this law is one source of a missed
+prediction. Modes above the robot's band (spindle, tool) are the same at every pose. q_ref is
+where the impact files say the test was made (their ``tcp_mm``).
 
 **Static compliance.** The impact test sees the whole structure at the tool tip (joints, links,
 flange, spindle, tool); its frequency response at ω → 0 is the modal compliance
@@ -33,6 +41,9 @@ both were measured: the joints are one part of the structure in series with the 
 joint model alone leaves out the compliance of the links, flange, spindle and tool; the plan's
 check (``check.csv``: deflection from the tracker's loaded minus air passes) states how far
 each prediction lies from what was measured.
+
+Géradin, M.; Rixen, D. J. *Mechanical Vibrations: Theory and Application to Structural
+Dynamics*, 3rd ed. Wiley, 2015.
 """
 
 from __future__ import annotations
@@ -68,8 +79,10 @@ def modes_arrays(modes, end: str = ""):
 def mode_scalings(measured: Measured, cell, q_rad: np.ndarray, robot_mode: np.ndarray,
                   shapes: np.ndarray, *, corners: bool = True) -> dict[str, np.ndarray]:
     """k_r(q)/k_r ``(B, M)`` at postures ``q_rad`` ``(B, n)`` for each end of the joint
-    stiffness (``nominal``, and ``low``/``high`` with ``corners``); 1 for the modes above the
-    robot's band and where the study has no load tests or the test pose has no solution."""
+    stiffness (``nominal``, and ``low``/``high`` with ``corners``), and ``mass``: the modal
+    mass ratio m_r(q)/m_r (:func:`mass_ratios`, at the nominal joint stiffness) where the cell
+    file documents the robot's masses; 1 for the modes above the robot's band and where the
+    study has no load tests or the test pose has no solution."""
     B = len(q_rad)
     scalings = {"nominal": np.ones((B, len(shapes)))}
     if not measured.has("joints"):
@@ -83,7 +96,49 @@ def mode_scalings(measured: Measured, cell, q_rad: np.ndarray, robot_mode: np.nd
         C_ref = compliance_grid(cell.robot, q_ref[0], cset[key])
         ratio = directional_ratio(C, C_ref, shapes) if ok[0] else np.ones((B, len(shapes)))
         scalings[key] = np.where(robot_mode, ratio, 1.0)
+    rigid = getattr(cell, "rigid_body", None)
+    if rigid is not None and ok[0]:
+        ratio = mass_ratios(cell.robot, rigid, cset["nominal"], np.asarray(q_rad, float),
+                            q_ref[0], shapes)
+        scalings["mass"] = np.where(robot_mode, ratio, 1.0)
     return scalings
+
+
+def mass_ratios(robot, rigid_body, compliance: np.ndarray, q_rad: np.ndarray,
+                q_ref_rad: np.ndarray, shapes: np.ndarray) -> np.ndarray:
+    """Each robot mode's modal mass at postures ``q_rad`` ``(B, n)`` relative to the impact
+    test's pose, μ_r(q)/μ_r(q_ref) ``(B, M)`` (module docstring): the kinetic energy of the
+    joint motion that a unit tool-tip motion along the mode's shape φ_r asks of the elastic
+    joints (the static deflection under a load along φ_r, scaled),
+
+    .. math:: ψ_r(q) = \\frac{C_θ J_v(q)^T φ_r}{φ_r^T C_J(q) φ_r}, \\qquad
+              μ_r(q) = ψ_r^T M(q)\\, ψ_r
+
+    (C_θ the joint compliances ``compliance`` [rad/(N·m)], M(q) the documented masses' mass
+    matrix, :func:`robomill.inertia.mass_matrix_kg_m2`): Rayleigh's quotient of the joints'
+    eigenproblem on that motion [Géradin & Rixen 2015]. 1 where the motion moves no mass at
+    either pose."""
+    from robomill.inertia import mass_matrix_kg_m2
+    from robomill.stiffness.model import jacobian_m
+
+    c = np.asarray(compliance, float)
+    phi = np.asarray(shapes, float)                                          # (M, 3)
+
+    def mu(q):
+        Jv = jacobian_m(robot, q)[:3]                                         # (3, n)
+        flex = np.einsum("mi,ij,j,kj,mk->m", phi, Jv, c, Jv, phi)             # φᵀ C_J φ
+        with np.errstate(divide="ignore", invalid="ignore"):
+            psi = c[None, :] * (phi @ Jv) / flex[:, None]                     # (M, n)
+        return np.einsum("mi,ij,mj->m", psi, mass_matrix_kg_m2(rigid_body, q), psi)
+
+    mu_ref = mu(np.asarray(q_ref_rad, float))
+    q = np.asarray(q_rad, float).reshape(-1, len(c))
+    out = np.ones((len(q), len(phi)))
+    for b, qb in enumerate(q):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = mu(qb) / mu_ref
+        out[b] = np.where(np.isfinite(r) & (r > 0), r, 1.0)
+    return out
 
 
 def static_compliance_m_N(measured: Measured, cell, q_rad: np.ndarray, robot_mode_max_hz: float,
@@ -101,7 +156,7 @@ def static_compliance_m_N(measured: Measured, cell, q_rad: np.ndarray, robot_mod
             out = {}
             for mend in (ENDS if corners else ("nominal",)):
                 k = modes_arrays(measured.modes, "" if mend == "nominal" else f"_{mend}")[2]
-                for jend, s in scal.items():
+                for jend, s in ((k, v) for k, v in scal.items() if k in ENDS):
                     out[f"{mend}/{jend}"] = np.einsum("mi,mj,bm->bij", shapes, shapes,
                                                       1.0 / (k[None] * s))
             return out

@@ -1,24 +1,12 @@
-"""The planted robot's inertia at a pose: its joint-space mass matrix from a rigid-body model
-(Pinocchio).
-
-The rigid bodies are the virtual robot's true masses (the cell's documented point masses
-``cell.mass_model`` unless ``synth.ctrack.true_mass_model`` plants others, as for the C-Track
-simulator's gravity, :func:`robomill.synth.ctrack.true_masses`),
-each a body on its link at its zero-configuration centre of mass, without rotational inertia
-of its own (the cell documents none). Point masses leave a wrist joint without inertia where
-every mass it carries sits on its axis, so M(q) may be singular; the structure
+"""The planted robot's inertia at a pose: the virtual robot's true masses (the cell's
+documented point masses ``cell.mass_model`` unless ``synth.ctrack.true_mass_model`` plants
+others, as for the C-Track simulator's gravity, :func:`robomill.synth.ctrack.true_masses`) as
+a rigid-body model (:mod:`robomill.inertia`: point masses on the links, Pinocchio's
+composite-rigid-body algorithm [Featherstone 2008, §6.2]). The structure
 (:mod:`robomill.synth.structure`) only evaluates the kinetic energy ½ ψᵀ M(q) ψ of a joint
 motion ψ, never M⁻¹.
 
-The kinematic tree follows the cell robot's D-H (or modified D-H) parameters exactly, so that
-the rigid-body library's frames are the analysis kinematics' frames
-(:class:`robomill.kinematics.SerialRobot`): joint i turns about z of D-H frame i−1 (frame i
-for modified D-H). The mass matrix is Pinocchio's composite-rigid-body algorithm
-[Featherstone 2008, §6.2], M(q) with kinetic energy ½ q̇ᵀ M(q) q̇.
-
 Featherstone, R. *Rigid Body Dynamics Algorithms*. Springer, 2008.
-Carpentier, J. et al. The Pinocchio C++ library. *IEEE/SICE International Symposium on System
-Integration*, 2019, 614–619.
 """
 
 from __future__ import annotations
@@ -26,67 +14,12 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-import numpy as np
 import pinocchio as pin
-from pinocchio.utils import rotate
 
+from robomill.inertia import mass_matrix_kg_m2, rigid_body_model
 from robomill.kinematics import SerialRobot
 
-
-def _rot(axis: str, angle_rad: float) -> pin.SE3:
-    return pin.SE3(rotate(axis, float(angle_rad)), np.zeros(3))
-
-
-def _trans(axis: int, length_m: float) -> pin.SE3:
-    t = np.zeros(3)
-    t[axis] = length_m
-    return pin.SE3(np.eye(3), t)
-
-
-def rigid_body_model(robot: SerialRobot, link: np.ndarray, mass_kg: np.ndarray,
-                     com_mm: np.ndarray) -> pin.Model:
-    """A Pinocchio model of ``robot`` (SI units) carrying point masses ``mass_kg`` on links
-    ``link`` (1..n) at zero-configuration centres ``com_mm`` (base frame).
-
-    Joint i's placement in its parent joint's frame is the fixed part of the D-H transform
-    that precedes its rotation: ``base · Rz(θ₀,₁)`` for the first, then
-    ``Tz(d) Tx(a) Rx(α)`` of the previous link and ``Rz(θ₀,ᵢ)`` (D-H), or
-    ``Tz(d)`` of the previous link and ``Rx(α) Tx(a) Rz(θ₀,ᵢ)`` (modified D-H).
-    """
-    n = robot.n_joints
-    a, d = robot.a_mm * 1e-3, robot.d_mm * 1e-3
-    alpha, off = robot.alpha_rad, robot.theta_offset_rad
-    base = np.asarray(robot.base, float)
-    placement = pin.SE3(base[:3, :3], base[:3, 3] * 1e-3)
-    model = pin.Model()
-    parent = 0
-    for i in range(n):
-        if robot.convention == "dh":
-            before = _rot("z", off[i])
-            after = _trans(2, d[i]) * _trans(0, a[i]) * _rot("x", alpha[i])
-        else:
-            before = _rot("x", alpha[i]) * _trans(0, a[i]) * _rot("z", off[i])
-            after = _trans(2, d[i])
-        parent = model.addJoint(parent, pin.JointModelRZ(), placement * before, f"joint{i + 1}")
-        placement = after
-    data = model.createData()
-    pin.forwardKinematics(model, data, np.zeros(n))
-    for j, m, c in zip(np.asarray(link, int), np.asarray(mass_kg, float),
-                       np.asarray(com_mm, float).reshape(-1, 3), strict=True):
-        if m <= 0.0:
-            continue
-        local = data.oMi[int(j)].actInv(np.asarray(c, float) * 1e-3)
-        model.appendBodyToJoint(int(j), pin.Inertia(float(m), local, np.zeros((3, 3))),
-                                pin.SE3.Identity())
-    return model
-
-
-def mass_matrix_kg_m2(model: pin.Model, q_rad: np.ndarray) -> np.ndarray:
-    """Joint-space mass matrix M(q) ``(n, n)`` by the composite-rigid-body algorithm
-    (kg·m², symmetric)."""
-    data = model.createData()
-    M = np.array(pin.crba(model, data, np.asarray(q_rad, float)))
-    return np.triu(M) + np.triu(M, 1).T
+__all__ = ["mass_matrix_kg_m2", "planted_rigid_body_model", "rigid_body_model"]
 
 
 def planted_rigid_body_model(robot: SerialRobot, config: Mapping[str, Any]) -> pin.Model | None:
