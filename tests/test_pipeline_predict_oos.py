@@ -2,9 +2,9 @@
 study's plan and then cut on the virtual cell as their own study (a configuration overlay with
 those cuts in their own folder). A set spanning three speeds, both feed directions and depths
 on both sides of each predicted boundary; the cell's chatter verdicts are read from that run's
-files. The nominal prediction agrees with at least 90 % of the judged cuts, with both verdicts
-among them (the planner's target), and no cut it calls stable should chatter (the plan's safe
-side, checked strictly: not reached yet, expected to fail).
+files. No cut the nominal prediction calls stable may chatter (the plan's safe side, checked
+strictly), and the nominal prediction should agree with at least 90 % of the judged cuts, with
+both verdicts among them (the planner's target, not reached yet: expected to fail).
 
 The cell that cuts them is the study's: the next run's configuration that the plan writes
 pins where the study's impact test was made (``synth.process.reference_point_mm``), which the
@@ -64,14 +64,6 @@ def _cell_state(run, cuts) -> dict[str, list[float]]:
     return out
 
 
-@pytest.mark.xfail(strict=False, reason=(
-    "the plan's safe side does not hold strictly on any of the three studies: the 12 000 rpm "
-    "py cut at half its predicted critical depth (0.35 mm against 0.67 mm, p_stable 0.83) is "
-    "judged chatter on an 81 Hz line (energy ratio 0.12 over the judge's 0.1). The cell holds "
-    "an edge-driven self-excited vibration there (8.9 µm rms, 7 % of the tooth passes out), "
-    "which the linear regenerative model without the edge force's switching does not have; "
-    "the same cut is the one miss of predict_then_cut on the default study and on other_cell "
-    "(docs/design.md)"))
 def test_no_cut_predicted_stable_chatters_on_the_cell(outcomes):
     """The side of the plan a machinist relies on: a cut the nominal prediction calls stable
     (predicted critical depth above its depth) never chatters on the cell; the set is judged
@@ -85,6 +77,18 @@ def test_no_cut_predicted_stable_chatters_on_the_cell(outcomes):
     assert unsafe.empty, unsafe.to_string()
 
 
+@pytest.mark.xfail(strict=False, reason=(
+    "the out-of-sample target (90 % of verdicts predicted) is not reached: 9 of 12 on the tiny "
+    "study, every miss on the safe side (cuts at 1.8 times the predicted limit judged stable). "
+    "At 12 000 rpm px the cell holds the cut at 3.5 µm with every tooth in (its edge forces; "
+    "the model has none); at 20 000 rpm px it chatters at 69-74 Hz only from about 1.4 s on, "
+    "after the study's 4 mm force record (0.8 s) has ended; at 20 000 rpm py it holds a "
+    "15-26 µm motion with about a quarter of the tooth passes out whose force record shows no "
+    "line and less than half its power off the spindle's harmonics. With the modal mass held "
+    "at the impact test's value (before 2026-12-07) the set read 11 of 12 with one cut "
+    "predicted stable that chattered, its limits 1.2-1.7 times the cell's own "
+    "(benchmarks/modes_at_cuts.py). The assertion's table gives the cell's own state per cut "
+    "over its whole simulated span, longer than the record"))
 def test_nine_in_ten_verdicts_predicted_right(outcomes):
     """The out-of-sample target: the nominal prediction agrees with at least 90 % of the
     judged cuts' verdicts, both verdicts among them."""
