@@ -127,14 +127,14 @@ def main(argv=None) -> int:
         print(pd.DataFrame([row]).round(3).to_string(index=False, header=len(rows) == 1),
               flush=True)
     t = pd.DataFrame(rows)
+    if args.out is not None:
+        args.out.parent.mkdir(parents=True, exist_ok=True)
+        t.to_csv(args.out, index=False)
     for col in [c for c in t.columns if c.endswith("_mm") and c != "depth_mm"]:
         pred = np.where(t[col] > t["depth_mm"], "stable", "chatter")
         unsafe = int(((pred == "stable") & (t["verdict"] == "chatter")).sum())
         print(f"{col}: {int((pred == t['verdict']).sum())} of {len(t)} agree, {unsafe} "
               "predicted stable judged chatter")
-    if args.out is not None:
-        args.out.parent.mkdir(parents=True, exist_ok=True)
-        t.to_csv(args.out, index=False)
     return 0
 
 
