@@ -43,26 +43,9 @@ ROBOT_BAND_HZ = 500.0
 above. Below it the identified modes and the cell's are matched in order (the impact test
 identifies the planted modes in order of frequency at its pose)."""
 
-def limit_mm(modes, mc, gain: float) -> float:
-    """The semi-discretization's critical depth [mm] of ``modes`` ``[(f, ζ, k, (sx, sy))]``
-    (cut frame) with the cutting and edge coefficients and feed of ``mc``, edge gain γ."""
-    from edge_switching import DEPTH_MAX_M, SDM_STEPS, EdgeSwitchingCut
-
-    from robomill.chatter.lobes_sdm import critical_depth
-    from robomill.chatter.model import ModeXY, tool_from_modes
-
-    tool = tool_from_modes([ModeXY(*m) for m in modes])
-    model = EdgeSwitchingCut(int(mc.teeth), mc.Ktc_N_m2, mc.Krc_N_m2 / mc.Ktc_N_m2,
-                             mc.entry_rad, mc.exit_rad, mc.Kte_N_m, mc.Kre_N_m,
-                             mc.feed_per_tooth_m, float(gain))
-    a, _ = critical_depth(tool, model, mc.spindle_rpm, depth_max_m=DEPTH_MAX_M, m=SDM_STEPS,
-                          rtol=1e-3)
-    return 1e3 * float(a)
-
-
 def main(argv=None) -> int:
     from edge_switching import merged_config
-    from time_domain_verdicts import member_modal_cut, study_verdicts
+    from time_domain_verdicts import edge_term_limit_mm, member_modal_cut, study_verdicts
 
     from robomill.errors import RawDataError
     from robomill.experiment import feed_direction
@@ -122,7 +105,7 @@ def main(argv=None) -> int:
                "k_ratio_median": float(np.median([planner[i][2] / own[i][2] for i in robot]))}
         for name, modes in (("Pm", planner), ("Hm", hybrid), ("Cm", own)):
             for g in (0.0, 0.5):
-                row[f"{name}_g{g:g}_mm"] = limit_mm(modes, mc, g)
+                row[f"{name}_g{g:g}_mm"] = edge_term_limit_mm(mc, g, modes)
         rows.append(row)
         print(pd.DataFrame([row]).round(3).to_string(index=False, header=len(rows) == 1),
               flush=True)

@@ -91,18 +91,21 @@ def member_modal_cut(inputs, measured, cut, member: int = 0):
                     cc.Kac * 1e6, cc.Kte * 1e3, cc.Kre * 1e3, cc.Kae * 1e3)
 
 
-def edge_term_limit_mm(mc, gain: float = 0.5) -> float:
-    """The linear critical depth [mm] of ``mc``'s modes and coefficients with the edge force's
-    switching term (gain γ, ``benchmarks/edge_switching.py``'s :class:`EdgeSwitchingCut`),
-    solved by semi-discretization [Insperger & Stépán 2004]."""
+def edge_term_limit_mm(mc, gain: float = 0.5, modes=None) -> float:
+    """The linear critical depth [mm] of ``mc``'s modes (or ``modes``,
+    ``[(f, ζ, k, (sx, sy))]`` in the cut frame) and coefficients with the edge force's
+    switching term (gain γ, ``benchmarks/edge_switching.py``'s :class:`EdgeSwitchingCut`; 0:
+    without it), solved by semi-discretization [Insperger & Stépán 2004]."""
     from edge_switching import DEPTH_MAX_M, SDM_STEPS, EdgeSwitchingCut
 
     from robomill.chatter.lobes_sdm import critical_depth
     from robomill.chatter.model import ModeXY, tool_from_modes
 
-    tool = tool_from_modes([ModeXY(float(f), float(z), float(k), (float(sx), float(sy)))
-                            for f, z, k, (sx, sy) in zip(mc.f_hz, mc.zeta, mc.k_N_m,
-                                                         mc.shape_xy, strict=True)])
+    if modes is None:
+        modes = [(float(f), float(z), float(k), (float(sx), float(sy)))
+                 for f, z, k, (sx, sy) in zip(mc.f_hz, mc.zeta, mc.k_N_m, mc.shape_xy,
+                                              strict=True)]
+    tool = tool_from_modes([ModeXY(*m) for m in modes])
     model = EdgeSwitchingCut(int(mc.teeth), mc.Ktc_N_m2, mc.Krc_N_m2 / mc.Ktc_N_m2,
                              mc.entry_rad, mc.exit_rad, mc.Kte_N_m, mc.Kre_N_m,
                              mc.feed_per_tooth_m, float(gain))
