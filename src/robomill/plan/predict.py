@@ -1,14 +1,16 @@
 """Predictions for every candidate cut (pose × redundancy angle × direction × speed × depth ×
 feed), each with an interval carried from the identified quantities' uncertainty.
 
-* **Stability margin** a_crit/a − 1, a_crit the smaller of the zero-order lobes and the
-  mode-coupling depth (:mod:`robomill.plan.lobes`) of the
-  impact test's modes in the cut frame, the modes below ``robot_mode_max_hz`` (the robot's
-  structure) scaled with the pose: k_r(q) = k_r(q_ref)·k_φ(q)/k_φ(q_ref), f_r ∝ √k_r (modal mass
-  kept), k_φ = 1/(φᵀ C(q) φ) the joint model's stiffness along the mode shape. Interval: the
-  coefficients' K_t interval (a_crit ∝ 1/K_t exactly), the K_r ratio's interval, the joint
-  stiffness interval and the modes' intervals (``modes.csv``: ζ and k together, f; lobes
-  recomputed at each end, :func:`mode_ends`); the lower end is the pessimistic margin.
+* **Stability margin** a_crit/a − 1, a_crit the regenerative model's critical depth
+  (:mod:`robomill.plan.stability`: the zero-order lobes of every mode at the cut's pose, over
+  the members of a bootstrap of the modes, the joint stiffness and the cutting coefficients,
+  weighted by the study's verdicts): the impact test's modes in the cut frame, those below
+  ``robot_mode_max_hz`` (the robot's structure) moved to the pose by
+  :func:`robomill.plan.tooltip.mode_scalings` (stiffness k_r(q) = k_r·k_φ(q)/k_φ(q_ref),
+  k_φ = 1/(φᵀ C(q) φ) the joint model's stiffness along the mode shape; modal mass by the
+  cell file's documented masses, held without them), the spindle/tool modes a stated prior.
+  Interval: the members' weighted quantiles at the ``level``; the lower end is the
+  pessimistic margin.
 * **Static deflection** δ = C(q) F̄ along the wall normal and the tool axis, C(q) the tool
   tip's static compliance at the pose (:mod:`robomill.plan.tooltip`: the impact test's modes
   moved with the joints; the joint model alone without an impact test), F̄ the mean cutting
