@@ -97,7 +97,11 @@ def wheel(tmp_path_factory) -> tuple[str, dict[str, str], Path]:
     assert built.returncode == 0, built.stderr[-2000:]
     purelib = Path(_run([str(py), "-c", "import sysconfig; print(sysconfig.get_paths()"
                          "['purelib'])"], tmp_path).stdout.strip())
-    (purelib / "zz_dependencies.pth").write_text(sysconfig.get_paths()["purelib"] + "\n")
+    # this environment's library folders: its site-packages and those its own .pth files add
+    # there (pinocchio's cmeel prefix), never the checkout's source
+    deps = sysconfig.get_paths()["purelib"]
+    (purelib / "zz_dependencies.pth").write_text(
+        "".join(f"{p}\n" for p in dict.fromkeys([deps, *sys.path]) if p.startswith(deps)))
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "VIRTUAL_ENV")}
     where = _run([str(py), "-c", "import robomill; print(robomill.__file__)"], tmp_path,
                  env=env)
