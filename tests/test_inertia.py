@@ -1,4 +1,5 @@
-"""The planted robot's rigid-body mass matrix (robomill.synth.inertia): the rigid-body library's
+"""A robot's rigid-body mass matrix from point masses (robomill.inertia; the virtual cell's
+robomill.synth.inertia and the planner's documented masses use it): the rigid-body library's
 tree must be the analysis kinematics' robot, for D-H and modified D-H parameters."""
 
 from __future__ import annotations
@@ -7,8 +8,8 @@ import numpy as np
 import pytest
 from point_masses import kinetic_energy_J
 
+from robomill.inertia import mass_matrix_kg_m2, rigid_body_model
 from robomill.kinematics import SerialRobot
-from robomill.synth.inertia import mass_matrix_kg_m2, rigid_body_model
 
 
 def test_two_link_planar_arm_has_the_textbook_mass_matrix():
@@ -47,3 +48,26 @@ def test_kinetic_energy_matches_the_analysis_kinematics(convention):
         assert np.linalg.eigvalsh(M).min() > -1e-9
         assert 0.5 * qdot @ M @ qdot == pytest.approx(
             kinetic_energy_J(robot, link, mass_kg, com_mm, q, qdot), rel=1e-6)
+
+
+def test_a_cell_files_mass_model_is_its_point_masses():
+    """The planner's rigid-body model of a cell file's ``mass_model`` (links, then the tool on
+    the last link) has the kinetic energy of those point masses; none without one."""
+    from robomill.inertia import documented_rigid_body_model
+    from robomill.io.cell import CellMassModel, PointMass
+
+    rng = np.random.default_rng(5)
+    robot = SerialRobot("r6", "dh", rng.uniform(-300, 600, 6), rng.uniform(-np.pi, np.pi, 6),
+                        rng.uniform(-200, 500, 6), rng.uniform(-1, 1, 6))
+    links = tuple(PointMass(j, float(m), tuple(c)) for j, m, c in
+                  zip((1, 2, 3), rng.uniform(1, 40, 3), rng.uniform(-500, 1200, (3, 3)),
+                      strict=True))
+    tool = PointMass(6, 5.0, (880.0, 10.0, 1186.5))
+    model = documented_rigid_body_model(robot, CellMassModel(links, tool))
+    q, qdot = rng.uniform(-2, 2, 6), rng.normal(size=6)
+    pts = [*links, tool]
+    expected = kinetic_energy_J(robot, np.array([p.link for p in pts]),
+                                np.array([p.mass_kg for p in pts]),
+                                np.array([p.com_mm for p in pts]), q, qdot)
+    assert 0.5 * qdot @ mass_matrix_kg_m2(model, q) @ qdot == pytest.approx(expected, rel=1e-6)
+    assert documented_rigid_body_model(robot, None) is None
