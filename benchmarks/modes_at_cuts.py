@@ -15,13 +15,14 @@ each with γ = 0 (no edge term) and γ = ½ (``benchmarks/edge_switching.py``'s
 :class:`EdgeSwitchingCut`). Agreement with the cuts' judged verdicts is printed per column.
 
     .venv/bin/python benchmarks/modes_at_cuts.py STUDY --cuts CUTS \\
-        --verdicts RUN/results/chatter/verdicts.csv --config CONFIG... [--out FILE]
+        --verdicts RUN/results/chatter/verdicts.csv --config CONFIG... [--hold-mass] [--out FILE]
 
 ``STUDY``: a study folder with its plan (as ``robomill predict`` reads it); ``--cuts`` and
 ``--verdicts``: a cut list and the run that cut it (without them: the study's own judged
 cuts); ``--config``: the cell's configuration files, in order (``merged_config`` of
 ``benchmarks/edge_switching.py``; the cell's modes stay planted where the study's impact test
-was made). The cell's truth enters here only to be compared with, never the planner.
+was made); ``--hold-mass``: the planner's modes with their modal mass held, as before it moved
+it. The cell's truth enters here only to be compared with, never the planner.
 
 Insperger & Stépán 2004: Insperger, T.; Stépán, G. Updated semi-discretization method for
 periodic delay-differential equations with discrete delay. *International Journal for
@@ -61,6 +62,10 @@ def main(argv=None) -> int:
     ap.add_argument("--cuts", type=Path)
     ap.add_argument("--verdicts", type=Path)
     ap.add_argument("--config", nargs="+", type=Path, required=True)
+    ap.add_argument("--hold-mass", action="store_true",
+                    help="the planner's robot modes with their modal mass held at the impact "
+                    "test's (f proportional to the square root of the stiffness), as before "
+                    "the planner moved it")
     ap.add_argument("--out", type=Path)
     args = ap.parse_args(argv)
     for name, path in (("--cuts", args.cuts), ("--verdicts", args.verdicts),
@@ -85,7 +90,7 @@ def main(argv=None) -> int:
     truth_cuts = {c.id: c for c in synthetic_cuts(config)}
     rows = []
     for cut in cuts:
-        mc = member_modal_cut(inputs, measured, cut)
+        mc = member_modal_cut(inputs, measured, cut, hold_mass=args.hold_mass)
         planner = [(float(f), float(z), float(k), (float(s[0]), float(s[1])))
                    for f, z, k, s in zip(mc.f_hz, mc.zeta, mc.k_N_m, mc.shape_xy, strict=True)]
         tc = truth_cuts[cut.id]

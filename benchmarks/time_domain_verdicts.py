@@ -59,11 +59,13 @@ DECIMATED_HZ = 10000.0
 (the judge's band lies far below the simulation's rate)."""
 
 
-def member_modal_cut(inputs, measured, cut, member: int = 0):
+def member_modal_cut(inputs, measured, cut, member: int = 0, *, hold_mass: bool = False):
     """Member ``member`` (0: the nominal) of the planner's model at ``cut``'s own pose as a
     :class:`~robomill.chatter.modal_timedomain.ModalCut` (cut frame: feed, normal): its modes
     at the pose (:func:`robomill.plan.stability.member_modes`, the modes the linear model
-    solves), its K_t and K_r, the identified axial and edge coefficients."""
+    solves; ``hold_mass``: the robot modes' modal mass held at the impact test's, as the
+    planner did before it moved it), its K_t and K_r, the identified axial and edge
+    coefficients."""
     from robomill.chatter.modal_timedomain import ModalCut
     from robomill.plan.candidate import study_candidate
     from robomill.plan.measured import coefficient_bounds
@@ -80,6 +82,8 @@ def member_modal_cut(inputs, measured, cut, member: int = 0):
     e = int(member)
     sc = mode_scalings(measured, inputs.cell, q, mem.f_hz[0] < one.robot_mode_max_hz,
                        mem.shapes)
+    if hold_mass:
+        sc.pop("mass", None)
     fn, z, k, shape = member_modes(mem, sc, frame, slice(e, e + 1))
     cc = coefficient_bounds(measured.coefficients)["nominal"]
     rpm, teeth = float(one.spindle_rpm[0]), int(one.flutes)
