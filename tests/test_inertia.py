@@ -71,3 +71,20 @@ def test_a_cell_files_mass_model_is_its_point_masses():
                                 np.array([p.com_mm for p in pts]), q, qdot)
     assert 0.5 * qdot @ mass_matrix_kg_m2(model, q) @ qdot == pytest.approx(expected, rel=1e-6)
     assert documented_rigid_body_model(robot, None) is None
+
+
+def test_a_shape_no_elastic_joint_moves_has_no_rayleigh_mass():
+    """A planar arm's tool tip along z (the joints turn about z): no joint compliance moves
+    it, so the quotient has no stiffness to divide by: κ infinite, μ NaN, never an error; a
+    shape in the plane gets both finite."""
+    from robomill.inertia import rayleigh_stiffness_mass
+
+    robot = SerialRobot("planar", "dh", np.array([500.0, 300.0]), np.zeros(2), np.zeros(2),
+                        np.zeros(2))
+    model = rigid_body_model(robot, np.array([1, 2]), np.array([4.0, 2.5]),
+                             np.array([[500.0, 0, 0], [800.0, 0, 0]]))
+    c = np.array([1e-6, 3e-6])
+    kappa, mu = rayleigh_stiffness_mass(robot, c, model, np.array([0.3, 1.1]), [0, 0, 1.0])
+    assert np.isinf(kappa) and np.isnan(mu)
+    kappa, mu = rayleigh_stiffness_mass(robot, c, model, np.array([0.3, 1.1]), [1.0, 0, 0])
+    assert np.isfinite(kappa) and kappa > 0 and np.isfinite(mu) and mu > 0

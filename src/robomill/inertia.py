@@ -97,3 +97,39 @@ def documented_rigid_body_model(robot: SerialRobot, mass_model) -> pin.Model | N
     return rigid_body_model(robot, np.array([p.link for p in points], int),
                             np.array([p.mass_kg for p in points], float),
                             np.array([p.com_mm for p in points], float).reshape(-1, 3))
+
+
+def rayleigh_stiffness_mass(robot: SerialRobot, compliance_rad_Nm: np.ndarray,
+                            rigid_body: pin.Model | None, q_rad: np.ndarray,
+                            shape: np.ndarray) -> tuple[float, float]:
+    """κ [N/m] and μ [kg] of a tool-tip shape φ at pose q: Rayleigh's quotient of the joints'
+    eigenproblem K_θ ψ = ω² M(q) ψ [Géradin & Rixen 2015] on the joint motion that a unit
+    tool-tip motion along φ asks of the elastic joints (their static deflection under a load
+    along φ, scaled),
+
+    .. math:: ψ(q) = \\frac{C_θ J_v(q)^T φ}{φ^T C(q) φ}, \\qquad
+              κ(q) = \\frac{1}{φ^T C(q) φ}, \\qquad μ(q) = ψ^T M(q)\\, ψ,
+
+    C(q) = J_v C_θ J_vᵀ the joints' tool-tip compliance, C_θ the joint compliances
+    ``compliance_rad_Nm`` [rad/(N·m)] (0: a rigid joint). μ is NaN without a rigid-body model,
+    and κ infinite (μ NaN) where no elastic joint moves the tool tip along φ.
+    The virtual cell moves its planted modes with its planted joints and true masses
+    (:mod:`robomill.synth.structure`), the planner the identified joints and the documented
+    masses (:func:`robomill.plan.tooltip.mass_ratios`).
+
+    Géradin, M.; Rixen, D. J. *Mechanical Vibrations: Theory and Application to Structural
+    Dynamics*, 3rd ed. Wiley, 2015.
+    """
+    from robomill.stiffness.model import jacobian_m, translational_compliance_m_N
+
+    q = np.asarray(q_rad, float)
+    phi = np.asarray(shape, float)
+    c = np.asarray(compliance_rad_Nm, float)
+    J = jacobian_m(robot, q)
+    flexibility_m_N = float(phi @ translational_compliance_m_N(J, c) @ phi)
+    if not flexibility_m_N > 0.0:           # no elastic joint moves the tool tip along φ
+        return float("inf"), float("nan")
+    if rigid_body is None:
+        return 1.0 / flexibility_m_N, float("nan")
+    psi = c * (J[:3].T @ phi) / flexibility_m_N
+    return 1.0 / flexibility_m_N, float(psi @ mass_matrix_kg_m2(rigid_body, q) @ psi)

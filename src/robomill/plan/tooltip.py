@@ -115,25 +115,19 @@ def mass_ratios(robot, rigid_body, compliance: np.ndarray, q_rad: np.ndarray,
               μ_r(q) = ψ_r^T M(q)\\, ψ_r
 
     (C_θ the joint compliances ``compliance`` [rad/(N·m)], M(q) the documented masses' mass
-    matrix, :func:`robomill.inertia.mass_matrix_kg_m2`): Rayleigh's quotient of the joints'
-    eigenproblem on that motion [Géradin & Rixen 2015]. 1 where the motion moves no mass at
-    either pose."""
-    from robomill.inertia import mass_matrix_kg_m2
-    from robomill.stiffness.model import jacobian_m
-
-    c = np.asarray(compliance, float)
-    phi = np.asarray(shapes, float)                                          # (M, 3)
+    matrix): Rayleigh's quotient of the joints' eigenproblem on that motion
+    (:func:`robomill.inertia.rayleigh_stiffness_mass`, the routine the virtual cell's planted
+    law uses with its own joints and masses). 1 where the motion moves no mass at either
+    pose."""
+    from robomill.inertia import rayleigh_stiffness_mass
 
     def mu(q):
-        Jv = jacobian_m(robot, q)[:3]                                         # (3, n)
-        flex = np.einsum("mi,ij,j,kj,mk->m", phi, Jv, c, Jv, phi)             # φᵀ C_J φ
-        with np.errstate(divide="ignore", invalid="ignore"):
-            psi = c[None, :] * (phi @ Jv) / flex[:, None]                     # (M, n)
-        return np.einsum("mi,ij,mj->m", psi, mass_matrix_kg_m2(rigid_body, q), psi)
+        return np.array([rayleigh_stiffness_mass(robot, compliance, rigid_body, q, phi)[1]
+                         for phi in np.asarray(shapes, float)])
 
     mu_ref = mu(np.asarray(q_ref_rad, float))
-    q = np.asarray(q_rad, float).reshape(-1, len(c))
-    out = np.ones((len(q), len(phi)))
+    q = np.asarray(q_rad, float).reshape(-1, len(np.asarray(compliance)))
+    out = np.ones((len(q), len(mu_ref)))
     for b, qb in enumerate(q):
         with np.errstate(divide="ignore", invalid="ignore"):
             r = mu(qb) / mu_ref

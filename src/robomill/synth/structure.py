@@ -134,20 +134,12 @@ def _jv(cell, q: np.ndarray) -> np.ndarray:
 def rayleigh_stiffness_mass(cell, q_rad: np.ndarray, shape: np.ndarray
                             ) -> tuple[float, float]:
     """κ_r(q) [N/m] and μ_r(q) [kg] of a tool-tip shape φ_r at pose q (module docstring,
-    planted law); μ is NaN where the cell has no rigid-body model."""
-    from robomill.stiffness.model import jacobian_m, translational_compliance_m_N
-    from robomill.synth.inertia import mass_matrix_kg_m2
+    planted law: :func:`robomill.inertia.rayleigh_stiffness_mass` with the planted joint
+    stiffness and the true masses); μ is NaN where the cell has no rigid-body model."""
+    from robomill.inertia import rayleigh_stiffness_mass as rayleigh
 
-    q = np.asarray(q_rad, float)
-    phi = np.asarray(shape, float)
-    J = jacobian_m(cell.robot, q)
-    c_rad_Nm = 1.0 / np.asarray(cell.joint_stiffness_Nm_rad, float)
-    flexibility_m_N = float(phi @ translational_compliance_m_N(J, c_rad_Nm) @ phi)
-    Jv = J[:3]
-    if cell.rigid_body_model is None:
-        return 1.0 / flexibility_m_N, float("nan")
-    psi = c_rad_Nm * (Jv.T @ phi) / flexibility_m_N
-    return 1.0 / flexibility_m_N, float(psi @ mass_matrix_kg_m2(cell.rigid_body_model, q) @ psi)
+    return rayleigh(cell.robot, 1.0 / np.asarray(cell.joint_stiffness_Nm_rad, float),
+                    cell.rigid_body_model, q_rad, shape)
 
 
 def robot_modes_at(cell, q_rad: np.ndarray) -> list:
