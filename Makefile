@@ -67,9 +67,12 @@ bench: $(STAMP)
 # Regenerate the pinned, hashed lock from pyproject.toml (needs network access to PyPI).
 UV ?= $(shell command -v uv || echo $(BIN)/uv)
 # the plan checked through the next run's files on two studies: pooled out-of-sample coverage;
-# then cuts predicted with `robomill predict` and cut on the virtual cell (marker predict_cut)
+# then cuts predicted with `robomill predict` and cut on the virtual cell (marker predict_cut);
+# the same loop again on the cell's richer truth of the robot's modes (the eigenproblem law)
 plan-check: $(STAMP)
 	$(BIN)/python benchmarks/plan_coverage.py --out results/benchmarks
+	$(BIN)/python benchmarks/plan_coverage.py --out results/benchmarks/robot_modes_eigen \
+		--overlay benchmarks/robot_modes_eigen.yaml
 	$(BIN)/python -m pytest -q -rxX -m predict_cut
 
 # a learn round on the default study and the narrowing of the binding interval it measured

@@ -14,19 +14,27 @@ Then, on each study's plan, predict then cut (``benchmarks/predict_then_cut.py``
 study never made, on both sides of the predicted boundary at three speeds and both feed
 directions, predicted with ``robomill predict`` and cut by the virtual cell as their own study:
 ``predict_then_cut_<study>.csv`` (per judged cut) and ``predict_then_cut.csv`` (per study: the
-judged cuts, those the nominal prediction got right, and those predicted stable that were
-judged chatter).
+judged cuts, those the nominal prediction got right, those predicted stable that were judged
+chatter, and the Brier score of ``p_stable`` over them).
+
+    .venv/bin/python benchmarks/plan_coverage.py [--out DIR] [--work DIR] [--overlay FILE ...]
+
+``--overlay``: configuration files merged over each study's own, last (the same files for
+both studies and for their predict-then-cut runs): the same loop on another truth of the
+virtual cell, e.g. a file holding ``synth: {process: {robot_modes: eigen}}`` (the robot's
+modes from the joints' eigenproblem at every pose instead of the planted law).
 """
 
 from __future__ import annotations
 
+import argparse
 import shutil
 import sys
 import time
 from pathlib import Path
 
 import pandas as pd
-from predict_then_cut import agreement_table, boundary_set, cut_on_cell
+from predict_then_cut import agreement_table, boundary_set, cut_on_cell, set_summary
 from studyloop import REPO, out_and_work, snakemake
 
 STUDIES = {
@@ -36,9 +44,16 @@ STUDIES = {
 }
 
 
-def run_study(name: str, root: Path) -> pd.DataFrame:
-    """One study's loop (module docstring); its ``check.csv`` with a ``study`` column."""
-    configs, request = STUDIES[name]
+def study_configs(name: str, overlays: list[Path]) -> list[Path]:
+    """The configuration files of study ``name`` in order (absolute), ``overlays`` last."""
+    return [REPO / c for c in STUDIES[name][0]] + [Path(o).resolve() for o in overlays]
+
+
+def run_study(name: str, root: Path, overlays: list[Path] = ()) -> pd.DataFrame:
+    """One study's loop (module docstring) with ``overlays`` over its configuration; its
+    ``check.csv`` with a ``study`` column."""
+    _, request = STUDIES[name]
+    configs = study_configs(name, list(overlays))
     work = root / name
     work.mkdir(parents=True, exist_ok=True)
     shutil.copy(REPO / request, work / "plan.yaml")  # the request, as a lab keeps it
@@ -50,28 +65,33 @@ def run_study(name: str, root: Path) -> pd.DataFrame:
     return check
 
 
-def predict_then_cut_row(name: str, root: Path, out: Path) -> dict:
+def predict_then_cut_row(name: str, root: Path, out: Path, overlays: list[Path] = ()) -> dict:
     """Predict then cut on one study's plan (module docstring); its summary row."""
-    configs, _ = STUDIES[name]
     study = root / name
     cuts, pred = boundary_set(study, study / "predict_then_cut")
-    t = agreement_table(pred, cut_on_cell(study, cuts, [REPO / c for c in configs],
+    t = agreement_table(pred, cut_on_cell(study, cuts, study_configs(name, list(overlays)),
                                           study / "predict_then_cut/run"))
     t.to_csv(out / f"predict_then_cut_{name}.csv")
-    return {"study": name, "n_cut": len(cuts), "n_judged": len(t),
-            "n_agree": int(t["agree"].sum()), "n_unsafe": int(t["unsafe"].sum())}
+    return {"study": name, "n_cut": len(cuts), **set_summary(t)}
 
 
 def main(argv: list[str] | None = None) -> int:
     from robomill.plan.evidence import coverage_case, coverage_summary
     from robomill.settings import schema_default
 
-    out, work, remove = out_and_work(__doc__, "plan_coverage", argv)
+    ap = argparse.ArgumentParser(add_help=False)
+    ap.add_argument("--overlay", nargs="+", type=Path, default=[])
+    known, rest = ap.parse_known_args(argv)
+    missing = [str(o) for o in known.overlay if not o.is_file()]
+    if missing:
+        print(f"plan_coverage: --overlay: no such file: {', '.join(missing)}", file=sys.stderr)
+        return 2
+    out, work, remove = out_and_work(__doc__, "plan_coverage", rest)
     nominal = float(schema_default("plan", "interval_level"))
     rows, checks = [], []
     for name in STUDIES:
         t0 = time.perf_counter()
-        check = run_study(name, work)
+        check = run_study(name, work, known.overlay)
         checks.append(check)
         shutil.copy(work / name / "results/plan/misses.csv", out / f"plan_misses_{name}.csv")
         s = coverage_summary(check, nominal)
@@ -83,7 +103,8 @@ def main(argv: list[str] | None = None) -> int:
     table.to_csv(out / "plan_coverage.csv", index=False)
     pd.concat(checks, ignore_index=True).to_csv(out / "plan_coverage_check.csv", index=False)
     print(table.to_string(index=False))
-    cut = pd.DataFrame([predict_then_cut_row(name, work, out) for name in STUDIES])
+    cut = pd.DataFrame([predict_then_cut_row(name, work, out, known.overlay)
+                        for name in STUDIES])
     cut.to_csv(out / "predict_then_cut.csv", index=False)
     print(cut.to_string(index=False))
     if remove:

@@ -14,7 +14,8 @@ replaced), in their own folder, recorded by the instruments that recorded the st
 passes); the verdicts are read from that run's ``results/chatter/verdicts.csv`` (a cut is
 chatter when any of its records is). Printed and written (``<out>/predict_then_cut.csv``): per
 judged cut its depth, the predicted a_crit and interval, ``p_stable``, the verdict, whether the
-nominal prediction agrees, and ``unsafe`` (predicted stable, judged chatter).
+nominal prediction agrees, and ``unsafe`` (predicted stable, judged chatter); the tally also
+gives the Brier score of ``p_stable`` over the set.
 
     .venv/bin/python benchmarks/predict_then_cut.py STUDY --config config.yaml --out DIR \
         [--recordings]
@@ -158,6 +159,20 @@ def agreement_table(pred: pd.DataFrame, stable: pd.Series) -> pd.DataFrame:
     return t
 
 
+def set_summary(t: pd.DataFrame) -> dict:
+    """The set's tally (:func:`agreement_table`): the judged cuts, those the nominal prediction
+    got right, those predicted stable and judged chatter, and the Brier score of ``p_stable``
+    against the verdicts (:func:`robomill.plan.check.brier_score`, the score chapter 7 gives
+    the study's own cuts: 0 perfect, 0.25 a coin), the calibration of the probabilities
+    beside the nominal's tally."""
+    from robomill.plan.check import brier_score
+
+    brier, _ = brier_score(pd.DataFrame({"quantity": "stability", "p_stable": t["p_stable"],
+                                         "outcome": t["stable"]}))
+    return {"n_judged": len(t), "n_agree": int(t["agree"].sum()),
+            "n_unsafe": int(t["unsafe"].sum()), "brier_score": round(brier, 4)}
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("study", type=Path)
@@ -186,8 +201,10 @@ def main(argv=None) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     t.to_csv(args.out / "predict_then_cut.csv")
     print(t.round(3).to_string())
-    print(f"{int(t['agree'].sum())} of {len(t)} judged cuts predicted right "
-          f"({len(cuts)} cut); {int(t['unsafe'].sum())} predicted stable and judged chatter")
+    tally = set_summary(t)
+    print(f"{tally['n_agree']} of {tally['n_judged']} judged cuts predicted right "
+          f"({len(cuts)} cut); {tally['n_unsafe']} predicted stable and judged chatter; "
+          f"Brier score of p_stable {tally['brier_score']:.3f}")
     return 0
 
 

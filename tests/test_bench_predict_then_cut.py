@@ -1,0 +1,33 @@
+"""The predict-then-cut set's tally (``benchmarks/predict_then_cut.py``), on a small table
+whose answers are counted by hand: which cuts the nominal prediction gets right, which are
+unsafe (predicted stable, judged chatter), and the Brier score of ``p_stable``."""
+
+import sys
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "benchmarks"))
+from predict_then_cut import agreement_table, set_summary  # noqa: E402
+
+
+def test_the_tally_and_the_brier_score_by_hand():
+    pred = pd.DataFrame({
+        "cut": ["a", "b", "c", "d", "e"],
+        "depth_mm": [0.5, 2.0, 0.5, 2.0, 1.0],
+        "a_crit_mm": [1.0, 1.0, 1.0, 1.0, 1.0],
+        "a_crit_low_mm": [0.6] * 5, "a_crit_high_mm": [1.6] * 5,
+        "p_stable": [0.9, 0.2, 0.7, 0.1, 0.5]}).set_index("cut")
+    # a: predicted stable, stable; b: predicted chatter, stable (a miss on the safe side);
+    # c: predicted stable, chatter (unsafe); d: predicted chatter, chatter; e: undetermined
+    verdicts = pd.Series({"a": 1.0, "b": 1.0, "c": 0.0, "d": 0.0, "e": float("nan")})
+    t = agreement_table(pred, verdicts)
+    assert list(t.index) == ["a", "b", "c", "d"]          # the undetermined cut is not judged
+    assert t["agree"].tolist() == [True, False, False, True]
+    assert t["unsafe"].tolist() == [False, False, True, False]
+    s = set_summary(t)
+    assert (s["n_judged"], s["n_agree"], s["n_unsafe"]) == (4, 2, 1)
+    # (0.9 − 1)² + (0.2 − 1)² + (0.7 − 0)² + (0.1 − 0)² over 4
+    assert s["brier_score"] == pytest.approx((0.01 + 0.64 + 0.49 + 0.01) / 4, abs=1e-4)
