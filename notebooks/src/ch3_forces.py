@@ -160,7 +160,8 @@ num.show(figures.mean_forces_figure(process_table(mf, experiment)), "mean_forces
 if IDENTIFIED:
     display(num.caption("coefficients"))
     display(coefficient_table(pd.read_csv(coefficients), planted))
-display(Markdown(say("coefficients", "planted", "physical", "physical_ok", "uses",
+display(Markdown(say("coefficients", "planted", "directions", "directions_agree", "physical",
+                     "physical_ok", "uses",
                      ref_coefficients=num.ref("coefficients") if IDENTIFIED else "")))
 
 # %% [markdown]

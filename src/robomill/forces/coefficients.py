@@ -371,3 +371,87 @@ def identify_cutting_coefficients_general(feed_per_tooth_mm, depth_mm, mean_forc
                           for n, u in COEFFICIENT_UNITS.items()])
     return coefficient_flags(table, rms)
 
+
+
+def direction_heterogeneity(means: pd.DataFrame, *,
+                            flutes: int = schema_default("experiment", "flutes"),
+                            confidence: float = schema_default("forces", "confidence")
+                            ) -> pd.DataFrame | None:
+    """Whether the feed directions share the cutting coefficients: each coefficient identified
+    from each direction's cuts alone (:func:`identify_cutting_coefficients` on the rows of
+    ``mean_forces.csv`` in the fit, grouped by ``direction``), and Cochran's test of
+    homogeneity across the directions [Cochran 1954; Higgins & Thompson 2002]:
+
+    .. math:: Q = \\sum_d w_d (K_d − \\bar K)^2, \\quad w_d = 1/s_d^2, \\quad
+              \\bar K = \\frac{\\sum_d w_d K_d}{\\sum_d w_d}, \\quad
+              I^2 = \\max(0, (Q − (D − 1))/Q)
+
+    with s_d the standard error of direction d's estimate (its interval's half-width over the
+    Student-t quantile of its fit) and p the χ² tail of Q with D − 1 degrees of freedom. The
+    mechanistic model has one set of coefficients for every direction; a p below
+    ``1 − confidence`` says the mean forces depend on the direction too, which the pooled
+    interval of :func:`identify_cutting_coefficients` (the scatter about one line) does not
+    hold.
+
+    Returns
+    -------
+    pandas.DataFrame or None
+        One row per coefficient: ``name, unit, directions`` (``"px, py, …"``), per direction
+        ``value_<d>, ci_low_<d>, ci_high_<d>``, ``q, dof, p_value, i2_pct, disagree``; None
+        with fewer than two directions whose cuts identify the coefficients on their own
+        (:func:`not_identified_reason`) or without a ``direction`` column.
+
+    Cochran 1954: Cochran, W. G. The combination of estimates from different experiments.
+    *Biometrics* **10**(1), 101–129. Higgins & Thompson 2002: Higgins, J. P. T.; Thompson,
+    S. G. Quantifying heterogeneity in a meta-analysis. *Statistics in Medicine* **21**(11),
+    1539–1558.
+    """
+    from scipy import stats
+
+    if "direction" not in means:
+        return None
+    rows = means[means["in_fit"].astype(bool)] if "in_fit" in means else means
+    fits = {}
+    for d, g in rows.groupby(rows["direction"].astype(str), sort=True):
+        c = g["feed_per_tooth_mm"].to_numpy(float)
+        if not_identified_reason(c) is not None:
+            continue
+        general = {}
+        if {"entry_deg", "exit_deg", "flutes"} <= set(g.columns):
+            general = {"entry_rad": np.radians(g["entry_deg"].to_numpy(float)),
+                       "exit_rad": np.radians(g["exit_deg"].to_numpy(float))}
+        z = g["flutes"].to_numpy(int) if "flutes" in g else flutes
+        table = identify_cutting_coefficients(
+            c, g["depth_mm"].to_numpy(float),
+            g[["F_feed_N", "F_cross_feed_N", "F_axial_N"]].to_numpy(float), flutes=z,
+            confidence=confidence, **general).set_index("name")
+        slot = not general or (np.allclose(general["entry_rad"], 0.0)
+                               and np.allclose(general["exit_rad"], np.pi)
+                               and np.all(np.asarray(z) == np.ravel(z)[0]))
+        m = c.size
+        dof = {n: m - 2 if slot or n in ("Kac", "Kae") else 2 * m - 4 for n in table.index}
+        fits[d] = (table, dof)
+    if len(fits) < 2:
+        return None
+    out = []
+    for name, unit in COEFFICIENT_UNITS.items():
+        row = {"name": name, "unit": unit, "directions": ", ".join(fits)}
+        v, s = [], []
+        for d, (table, dof) in fits.items():
+            r = table.loc[name]
+            row |= {f"value_{d}": float(r["value"]), f"ci_low_{d}": float(r["ci_low"]),
+                    f"ci_high_{d}": float(r["ci_high"])}
+            v.append(float(r["value"]))
+            s.append((float(r["ci_high"]) - float(r["ci_low"]))
+                     / (2 * stats.t.ppf(0.5 + confidence / 2, dof[name])))
+        v, s = np.array(v), np.array(s)
+        if np.all(np.isfinite(s) & (s > 0)):
+            w = 1.0 / s**2
+            q = float(np.sum(w * (v - np.sum(w * v) / np.sum(w)) ** 2))
+            p = float(stats.chi2.sf(q, len(v) - 1))
+            i2 = 100 * max(0.0, (q - (len(v) - 1)) / q) if q > 0 else 0.0
+        else:  # an exact fit has no standard error to weigh it by
+            q = p = i2 = float("nan")
+        out.append(row | {"q": q, "dof": len(v) - 1, "p_value": p, "i2_pct": i2,
+                          "disagree": bool(np.isfinite(p) and p < 1 - confidence)})
+    return pd.DataFrame(out)

@@ -11,7 +11,8 @@ the forces stage's artefacts and rendered by the chapter (:mod:`robomill.pipelin
   (:func:`_kinematic`);
 - the design and the mean force levels (:func:`_levels`);
 - the identified cutting coefficients, their sanity flags and, in a synthetic run, their
-  error against the planted values (:func:`_coefficients`).
+  error against the planted values (:func:`_coefficients`), and whether the feed directions
+  share them (:func:`_directions`).
 """
 
 from __future__ import annotations
@@ -27,13 +28,14 @@ from robomill import catalogue, references
 from robomill.findings import Findings
 from robomill.forces.coefficients import (
     FLAG_COLUMNS,
+    direction_heterogeneity,
     identification_status,
     not_identified_sentence,
     not_physical_reasons,
 )
 from robomill.forces.peaks import nearest_modes
 from robomill.forces.tables import figure_cuts, process_table
-from robomill.settings import section_settings
+from robomill.settings import schema_default, section_settings
 
 _PEAKS = catalogue.artefact("forces.peaks")
 _MODES = catalogue.artefact("modal.modes")
@@ -113,6 +115,8 @@ def forces_findings(peaks: pd.DataFrame, modes: pd.DataFrame | None, *,
         _levels(found, means, design, experiment)
     if coefficients is not None:
         _coefficients(found, coefficients, planted, settings.get("confidence"))
+        if means is not None and identification_status(coefficients) is None:
+            _directions(found, means, experiment, settings.get("confidence"))
     _sources(found)
     return found
 
@@ -334,6 +338,43 @@ def _coefficients(found: Findings, coefficients: pd.DataFrame,
             found.add("planted_error_pct_max", err[worst], "%", artefact=_COEFFICIENTS,
                       what="100 (value / planted - 1), largest in magnitude (truth.nc)")
             found.add("planted_error_worst", worst, artefact=_COEFFICIENTS, what="name")
+
+
+def _directions(found: Findings, means: pd.DataFrame, experiment: Mapping[str, Any] | None,
+                confidence: float | None) -> None:
+    """Whether the feed directions share the coefficients
+    (:func:`robomill.forces.coefficients.direction_heterogeneity`, Cochran's test at the level
+    ``1 − forces.confidence``): ``coefficient_direction_groups`` (the directions whose cuts
+    identify the coefficients alone; nothing where fewer than two do), the verdict
+    ``coefficient_directions_agree`` (``pass`` when no coefficient differs between them),
+    ``coefficient_direction_level_pct`` and ``coefficient_directions_disagree``: per
+    coefficient that differs, its value and interval in each direction and the test's Q and p
+    (a sentence each)."""
+    kw = {} if confidence is None else {"confidence": float(confidence)}
+    if experiment and experiment.get("flutes") is not None:
+        kw["flutes"] = int(experiment["flutes"])
+    het = direction_heterogeneity(means, **kw)
+    if het is None:
+        return
+    level = round(1 - (float(confidence) if confidence is not None
+                       else schema_default("forces", "confidence")), 12)
+    groups = het["directions"].iloc[0].split(", ")
+    found.add("coefficient_direction_groups", groups, artefact=_MEANS,
+              what="directions whose cuts identify the coefficients alone")
+    found.add("coefficient_direction_level_pct", 100 * level, "%", artefact=_MEANS,
+              what="1 - forces.confidence")
+    bad = het[het["disagree"]]
+    found.add("coefficient_directions_disagree",
+              [f"{r['name']} " + ", ".join(
+                  f"{r[f'value_{d}']:.1f} [{r[f'ci_low_{d}']:.1f}, {r[f'ci_high_{d}']:.1f}] "
+                  f"({d})" for d in groups) + f" {r['unit']} (Q = {r['q']:.3g}, "
+               f"p = {r['p_value']:.2g}, I² = {r['i2_pct']:.0f} %)"
+               for _, r in bad.iterrows()],
+              artefact=_MEANS, what="coefficients whose directions differ (Cochran's Q)")
+    found.add("coefficient_directions_agree", bad.empty, artefact=_MEANS,
+              what="no coefficient differs between the directions",
+              verdict="pass" if bad.empty else "fail", threshold=level,
+              config_key="forces.confidence")
 
 
 def _sources(found: Findings) -> None:

@@ -1,0 +1,89 @@
+"""Whether the feed directions share the cutting coefficients
+(:func:`robomill.forces.coefficients.direction_heterogeneity`): mean forces written here from the
+slot's mean-force lines (Altintas 2012, §2.4: F̄_y/(Na) = K_tc c/4 + K_te/π,
+F̄_x/(Na) = −(K_rc c/4 + K_re/π), F̄_z/(Na) = K_ac c/π + K_ae/2), and Cochran's Q worked out by
+hand from the least-squares slope's standard error."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from robomill.findings import Findings
+from robomill.forces.coefficients import direction_heterogeneity
+from robomill.forces.findings import _directions
+from robomill.pipeline.prose import load_templates, render
+
+FEEDS_MM = np.array([0.001, 0.002, 0.003, 0.004, 0.005, 0.006])
+DEPTH_MM = 0.5
+N = 2
+# the same small departure from the line in every direction (N/mm per unit N a), so that two
+# directions with the same coefficients give the same estimates exactly
+WIGGLE = np.array([0.02, -0.03, 0.01, 0.03, -0.02, -0.01])
+BASE = {"Ktc": 800.0, "Krc": 200.0, "Kac": 250.0, "Kte": 25.0, "Kre": 30.0, "Kae": 6.0}
+
+
+def _cuts(direction: str, k: dict) -> pd.DataFrame:
+    c, na = FEEDS_MM, N * DEPTH_MM
+    return pd.DataFrame({
+        "cut": [f"{direction}_{i}" for i in range(c.size)], "direction": direction,
+        "feed_per_tooth_mm": c, "depth_mm": DEPTH_MM, "in_fit": True,
+        "F_feed_N": -na * (k["Krc"] * c / 4 + k["Kre"] / np.pi + WIGGLE),
+        "F_cross_feed_N": na * (k["Ktc"] * c / 4 + k["Kte"] / np.pi + WIGGLE),
+        "F_axial_N": na * (k["Kac"] * c / np.pi + k["Kae"] / 2 + WIGGLE)})
+
+
+def _ktc_standard_error() -> float:
+    """4 × the standard error of the slope of F̄_y/(Na) against c, by the textbook formula."""
+    c = FEEDS_MM
+    X = np.column_stack([np.ones_like(c), c])
+    resid = WIGGLE - X @ np.linalg.lstsq(X, WIGGLE, rcond=None)[0]
+    s2 = resid @ resid / (c.size - 2)
+    return 4 * np.sqrt(s2 / np.sum((c - c.mean()) ** 2))
+
+
+def test_directions_with_the_same_coefficients_agree_exactly():
+    means = pd.concat([_cuts("px", BASE), _cuts("py", BASE)], ignore_index=True)
+    het = direction_heterogeneity(means, flutes=N).set_index("name")
+    assert het.loc["Ktc", "directions"] == "px, py"
+    assert het["q"].to_numpy() == pytest.approx(0.0, abs=1e-9)
+    assert not het["disagree"].any()
+    assert het.loc["Ktc", "value_px"] == pytest.approx(het.loc["Ktc", "value_py"], rel=1e-12)
+
+
+def test_a_direction_with_another_ktc_is_found_and_q_is_as_by_hand():
+    other = dict(BASE, Ktc=1200.0)
+    means = pd.concat([_cuts("px", BASE), _cuts("py", other)], ignore_index=True)
+    het = direction_heterogeneity(means, flutes=N).set_index("name")
+    s = _ktc_standard_error()
+    # two estimates 400 N/mm² apart with the same standard error: Q = 2 (200/s)²
+    assert het.loc["Ktc", "value_py"] - het.loc["Ktc", "value_px"] == pytest.approx(400.0)
+    assert het.loc["Ktc", "q"] == pytest.approx(2 * (200.0 / s) ** 2, rel=1e-9)
+    assert het.loc["Ktc", "disagree"]
+    assert het.loc["Ktc", "i2_pct"] == pytest.approx(100 * (1 - 1 / het.loc["Ktc", "q"]))
+    assert not het.drop(index="Ktc")["disagree"].any()   # the others are the same
+
+
+def test_too_few_identifying_directions_say_nothing():
+    one_feed = _cuts("my", BASE).assign(feed_per_tooth_mm=0.003)
+    assert direction_heterogeneity(pd.concat([_cuts("px", BASE), one_feed]), flutes=N) is None
+    assert direction_heterogeneity(_cuts("px", BASE).drop(columns="direction")) is None
+    # cuts left out of the fit (chatter) are left out here too
+    out = _cuts("py", dict(BASE, Ktc=1200.0)).assign(in_fit=False)
+    assert direction_heterogeneity(pd.concat([_cuts("px", BASE), out]), flutes=N) is None
+
+
+def test_the_chapter_says_which_coefficients_the_directions_do_not_share():
+    means = pd.concat([_cuts("px", BASE), _cuts("py", dict(BASE, Ktc=1200.0))],
+                      ignore_index=True)
+    found = Findings("forces")
+    _directions(found, means, {"flutes": N}, 0.95)
+    assert found.values()["verdict_coefficient_directions_agree"] == "fail"
+    [line] = found.values()["coefficient_directions_disagree"]
+    assert line.startswith("Ktc ") and "(px)" in line and "(py)" in line and "Q = " in line
+    templates = load_templates("ch3_forces")
+    assert "do not share" in render(templates["directions"], found)
+    assert render(templates["directions_agree"], found) == ""
+    same = Findings("forces")
+    _directions(same, pd.concat([_cuts("px", BASE), _cuts("py", BASE)]), {"flutes": N}, 0.95)
+    assert render(templates["directions"], same) == ""
+    assert "agree within their scatter" in render(templates["directions_agree"], same)
