@@ -87,3 +87,28 @@ def test_the_chapter_says_which_coefficients_the_directions_do_not_share():
     _directions(same, pd.concat([_cuts("px", BASE), _cuts("py", BASE)]), {"flutes": N}, 0.95)
     assert render(templates["directions"], same) == ""
     assert "agree within their scatter" in render(templates["directions_agree"], same)
+
+
+def test_half_immersion_cuts_take_the_general_fit_per_direction():
+    """Down-milling cuts at half immersion (entry 90°, exit 180°): each direction is identified
+    by the general least squares; the same forces in both directions give the same estimates,
+    and a direction whose forces are twice as large (every coefficient doubled) is found."""
+    from robomill.forces.model import CuttingCoefficients, mean_milling_forces
+
+    def cuts(direction, scale):
+        k = CuttingCoefficients(*(scale * BASE[n] for n in
+                                  ("Ktc", "Krc", "Kac", "Kte", "Kre", "Kae")))
+        F = mean_milling_forces(FEEDS_MM, DEPTH_MM, k, flutes=N, entry_rad=np.pi / 2,
+                                exit_rad=np.pi)
+        F = F + np.outer(WIGGLE, [1.0, -1.0, 1.0])
+        return pd.DataFrame({"direction": direction, "feed_per_tooth_mm": FEEDS_MM,
+                             "depth_mm": DEPTH_MM, "in_fit": True, "flutes": N,
+                             "entry_deg": 90.0, "exit_deg": 180.0, "F_feed_N": F[:, 0],
+                             "F_cross_feed_N": F[:, 1], "F_axial_N": F[:, 2]})
+
+    same = direction_heterogeneity(pd.concat([cuts("px", 1.0), cuts("py", 1.0)]))
+    assert same["q"].to_numpy() == pytest.approx(0.0, abs=1e-9)
+    assert not same["disagree"].any()
+    het = direction_heterogeneity(pd.concat([cuts("px", 1.0), cuts("py", 2.0)])).set_index("name")
+    assert het.loc["Ktc", "value_py"] == pytest.approx(2 * het.loc["Ktc", "value_px"], rel=0.05)
+    assert het["disagree"].all()

@@ -421,10 +421,13 @@ def direction_heterogeneity(means: pd.DataFrame, *,
             general = {"entry_rad": np.radians(g["entry_deg"].to_numpy(float)),
                        "exit_rad": np.radians(g["exit_deg"].to_numpy(float))}
         z = g["flutes"].to_numpy(int) if "flutes" in g else flutes
-        table = identify_cutting_coefficients(
-            c, g["depth_mm"].to_numpy(float),
-            g[["F_feed_N", "F_cross_feed_N", "F_axial_N"]].to_numpy(float), flutes=z,
-            confidence=confidence, **general).set_index("name")
+        try:
+            table = identify_cutting_coefficients(
+                c, g["depth_mm"].to_numpy(float),
+                g[["F_feed_N", "F_cross_feed_N", "F_axial_N"]].to_numpy(float), flutes=z,
+                confidence=confidence, **general).set_index("name")
+        except (ValueError, np.linalg.LinAlgError):
+            continue  # a direction whose cuts do not identify the six alone (general fit)
         slot = not general or (np.allclose(general["entry_rad"], 0.0)
                                and np.allclose(general["exit_rad"], np.pi)
                                and np.all(np.asarray(z) == np.ravel(z)[0]))
