@@ -18,7 +18,10 @@ nominal prediction agrees, and ``unsafe`` (predicted stable, judged chatter); th
 gives the Brier score of ``p_stable`` over the set.
 
     .venv/bin/python benchmarks/predict_then_cut.py STUDY --config config.yaml --out DIR \
-        [--recordings]
+        [--recordings] [--speeds-rpm 12000,20000,28000] [--factors 0.5,1.8]
+
+(``--speeds-rpm`` and ``--factors``: another set of the same kind, at other speeds or at other
+multiples of each predicted limit.)
 
 ``STUDY``: a study folder whose plan was made (``snakemake -j2 plan``).
 ``tests/test_pipeline_predict_oos.py`` runs the same procedure on the tiny study.
@@ -180,6 +183,12 @@ def main(argv=None) -> int:
                     help="the study's configuration files, in order (relative: to the repo)")
     ap.add_argument("--out", type=Path, default=Path("results/benchmarks"))
     ap.add_argument("--work", type=Path, help="working folder (default <out>/predict_then_cut)")
+    ap.add_argument("--speeds-rpm", default=",".join(f"{n:g}" for n in SPEEDS_RPM),
+                    help="the set's spindle speeds, comma-separated")
+    ap.add_argument("--factors", default=None,
+                    help="depths as multiples of each probe's predicted critical depth, "
+                    "comma-separated (default 0.5,1.8: cuts named below/above; others are "
+                    "named by their percentage, e.g. oos_12k_px_250pct)")
     ap.add_argument("--recordings", action="store_true",
                     help="also record the cuts as the plan's next run does (accelerometer or "
                     "microphone with air passes) and judge those records too")
@@ -192,7 +201,10 @@ def main(argv=None) -> int:
     if missing:
         ap.error(f"--config: no such file: {', '.join(missing)}")
     try:
-        cuts, pred = boundary_set(study, work)
+        speeds = [float(x) for x in args.speeds_rpm.split(",")]
+        factors = (FACTORS if args.factors is None else
+                   [(f"{round(100 * f)}pct", f) for f in map(float, args.factors.split(","))])
+        cuts, pred = boundary_set(study, work, speeds=speeds, factors=factors)
         t = agreement_table(pred, cut_on_cell(study, cuts, configs, work / "run",
                                               recordings=args.recordings))
     except SetError as exc:

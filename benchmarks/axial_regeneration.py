@@ -1,0 +1,175 @@
+"""The axial force's regeneration: how far the planar stability model (the planner's and
+chapter 4's) stands from the virtual cell's own onset of chatter, and which term of the cell
+puts it there.
+
+The cell's axial cutting force, F_a = K_ac a h per engaged tooth, carries the regenerative chip
+h as the tangential and radial forces do, and drives every mode with an axial shape component
+(the robot's modes along the tool axis). The planar model drops it: its modal forces are the
+in-plane ones. With it, the chip's feedback is F = a W̄₃ Δ with the 3 × 2 mean directional
+matrix
+
+.. math:: \\bar W_3 = \\begin{pmatrix} \\bar W \\\\ \\frac{N K_{ac}}{2π}
+          \\left(\\cos φ_{st} − \\cos φ_{ex},\\ \\sin φ_{ex} − \\sin φ_{st}\\right)\\end{pmatrix}
+
+(the axial row: the average of K_ac (sin φ, cos φ) over the engaged arc, h = Δx sin φ + Δy
+cos φ as in :class:`robomill.chatter.model.CuttingModel`), and the zero-order eigenvalue problem
+[Altintas & Budak 1995] takes the oriented receptance G₂₃ W̄₃ (2 × 2) in place of W̄ G:
+G₂₃ = Σ_r φ_r,xy φ_r,xyzᵀ / (k_r (1 − ρ² + 2jζ_r ρ)), the in-plane response to a force in
+all three axes. Both are solved by the one zero-order routine
+(:func:`robomill.chatter.lobes_zoa.zoa_envelope`) on the cell's own modes at each cut's middle
+and its planted coefficients, beside the semi-discretization of the planar model
+(``benchmarks/edge_switching.py``'s :func:`limits`).
+
+``--sweep CUT:F1,F2,…`` also simulates the cell at those fractions of the planar
+semi-discretization's limit, without its excitation and edge force (so that nothing but the
+linear regeneration acts at the onset), with and without the axial force (K_ac = K_ae = 0):
+per run the regenerative vibration's rms in the first and last eighth of the cut [µm], its
+line and the share of deep tooth passages out of the cut.
+
+    .venv/bin/python benchmarks/axial_regeneration.py --config OVERLAY... --cuts CUTS \\
+        [--without-config-yaml] [--sweep CUT:0.6,0.62,0.7,0.8] [--out DIR]
+
+Altintas & Budak 1995: Altintas, Y.; Budak, E. Analytical prediction of stability lobes in
+milling. *CIRP Annals* **44**(1), 357–362, 1995.
+"""
+
+from __future__ import annotations
+
+import argparse
+import copy
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import yaml
+from edge_switching import limits, merged_config, no_edge, quiet, regenerative
+
+
+def axial_row(teeth: int, Kac_N_m2: float, phi_st: float, phi_ex: float) -> np.ndarray:
+    """The axial row of the mean directional matrix ``(2,)`` [N/m²] (module docstring)."""
+    return teeth / (2 * np.pi) * Kac_N_m2 * np.array(
+        [np.cos(phi_st) - np.cos(phi_ex), np.sin(phi_ex) - np.sin(phi_st)])
+
+
+def oriented_receptance(f_hz, fn_hz, zeta, k_N_m, shape_xyz, W3) -> np.ndarray:
+    """G₂₃(jω) W̄₃ ``(nf, 2, 2)`` of modes (f_n, ζ, k, shape in the cut frame ``(M, 3)``)."""
+    r = np.asarray(f_hz, float)[:, None] / np.asarray(fn_hz, float)[None]
+    h = 1.0 / (np.asarray(k_N_m, float)[None] * ((1 - r**2) + 2j * np.asarray(zeta)[None] * r))
+    phi = np.asarray(shape_xyz, float)
+    return np.einsum("fm,mi,mj->fij", h, phi[:, :2], phi) @ W3
+
+
+def zoa_planar_and_axial_m(modes, frame, cut_model, Kac_N_m2, rpm) -> tuple[float, float]:
+    """The zero-order critical depth [m] of the planar model and with the axial force's
+    regeneration, on ``modes`` (each with ``f_hz, zeta, k_N_m, shape`` in the base frame)."""
+    from robomill.chatter.lobes_zoa import zoa_envelope
+    from robomill.plan.lobes import frequency_grid
+
+    fn = np.array([m.f_hz for m in modes])
+    ze = np.array([m.zeta for m in modes])
+    kk = np.array([m.k_N_m for m in modes])
+    sh = np.array([np.asarray(m.shape, float) @ frame for m in modes])
+    f = frequency_grid(fn[None])
+    W2 = cut_model.mean_matrix()
+    W3 = np.vstack([W2, axial_row(cut_model.teeth, Kac_N_m2, cut_model.phi_st,
+                                  cut_model.phi_ex)])
+    rpm = np.atleast_1d(float(rpm))
+    planar = oriented_receptance(f, fn, ze, kk, sh, np.vstack([W2, np.zeros(2)]))
+    axial = oriented_receptance(f, fn, ze, kk, sh, W3)
+    eye = np.eye(2)[None]
+    return (float(zoa_envelope(planar[None], f, cut_model, rpm, mean_matrix=eye)[0, 0]),
+            float(zoa_envelope(axial[None], f, cut_model, rpm, mean_matrix=eye)[0, 0]))
+
+
+def cut_row(cell, cut) -> dict:
+    """The cell's own limits at ``cut``'s middle [mm]: planar (zero-order, semi-discretization)
+    and zero-order with the axial regeneration."""
+    from robomill.chatter.model import CuttingModel
+    from robomill.experiment import cut_process, feed_direction
+    from robomill.forces.model import cut_frame, engagement_angles_rad
+    from robomill.synth.structure import modes_at
+
+    proc = cut_process(cut, cell.experiment)
+    q = cell.joint_path_rad(cut, np.array([0.5 * float(cell.experiment["cut_length_mm"])]))[0]
+    k = cell.cutting
+    st, ex = engagement_angles_rad(proc["radial_immersion"], proc["milling"])
+    model = CuttingModel(int(proc["flutes"]), k["Ktc_N_mm2"] * 1e6,
+                         k["Krc_N_mm2"] / k["Ktc_N_mm2"], st, ex)
+    planar, axial = zoa_planar_and_axial_m(modes_at(cell, q), cut_frame(feed_direction(cut)),
+                                           model, k["Kac_N_mm2"] * 1e6, proc["spindle_rpm"])
+    lim = limits(cell, cut, [0.0])
+    return {"cut": cut.id, "depth_mm": float(cut.depth_mm),
+            "zoa_planar_mm": 1e3 * planar, "sdm_planar_mm": lim["sdm_mm_g0.0"],
+            "zoa_axial_mm": 1e3 * axial, "axial_over_planar": axial / planar}
+
+
+def _at_depth(cut: dict, cid: str, depth_mm: float) -> dict:
+    """``cut`` at another depth, its start lowered with it (the top face stays where it is)."""
+    out = copy.deepcopy(cut)
+    depth = round(float(depth_mm), 3)
+    if out.get("start_mm") is not None:
+        out["start_mm"][2] = float(out["start_mm"][2]) + float(cut["depth_mm"]) - depth
+    return dict(out, id=cid, depth_mm=depth)
+
+
+def sweep(config: dict, cut_id: str, fractions: list[float], sdm_mm: float) -> pd.DataFrame:
+    """The cell's own cut at ``fractions`` of ``sdm_mm``, quiet and without edge force, with
+    and without the axial force (module docstring)."""
+    from robomill.io.synthetic_layout import synthetic_cuts
+    from robomill.synth.cell import cell_from_config
+    from robomill.synth.process import simulate_cut
+
+    base = next(c for c in config["experiment"]["cuts"] if c["id"] == cut_id)
+    rows = []
+    for axial in (True, False):
+        c = no_edge(quiet(copy.deepcopy(config)))
+        if not axial:
+            c["synth"]["cutting"].update(Kac_N_mm2=0.0, Kae_N_mm=0.0)
+        c["experiment"]["cuts"] = [_at_depth(base, f"{cut_id}_f{i}", f * sdm_mm)
+                                   for i, f in enumerate(fractions)]
+        cell = cell_from_config(c)
+        for f, cut in zip(fractions, synthetic_cuts(c), strict=True):
+            sim = simulate_cut(cell, cut, c)
+            delta, line = regenerative(sim)
+            parts = np.array_split(delta, 8)
+            rms = [1e6 * float(np.sqrt(np.mean(np.sum(p**2, axis=1)))) for p in parts]
+            rows.append({"axial_force": axial, "fraction": f, "depth_mm": float(cut.depth_mm),
+                         "first_eighth_um": rms[0], "last_eighth_um": rms[-1],
+                         "line_hz": line, "teeth_out": float(sim.teeth_out)})
+            print(pd.DataFrame([rows[-1]]).round(3).to_string(index=False, header=len(rows) == 1),
+                  flush=True)
+    return pd.DataFrame(rows)
+
+
+def main(argv: list[str] | None = None) -> pd.DataFrame:
+    from robomill.io.synthetic_layout import impact_tcp_mm, synthetic_cuts
+    from robomill.synth.cell import cell_from_config
+
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--config", nargs="*", default=[], help="overlays over config.yaml")
+    ap.add_argument("--without-config-yaml", action="store_true")
+    ap.add_argument("--cuts", help="YAML list of cuts (manifest keys); default experiment.cuts")
+    ap.add_argument("--sweep", help="CUT:F1,F2,... fractions of its planar SDM limit")
+    ap.add_argument("--out", default="results/benchmarks")
+    args = ap.parse_args(argv)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    pd.set_option("display.width", 200)
+    config = merged_config(args.config, base=not args.without_config_yaml)
+    if args.cuts:
+        config["synth"]["process"]["reference_point_mm"] = impact_tcp_mm(config)
+        config["experiment"]["cuts"] = yaml.safe_load(Path(args.cuts).read_text())
+    cell = cell_from_config(config)
+    table = pd.DataFrame([cut_row(cell, cut) for cut in synthetic_cuts(config)])
+    print(table.round(3).to_string(index=False))
+    table.to_csv(out / "axial_regeneration.csv", index=False)
+    if args.sweep:
+        cut_id, fr = args.sweep.split(":")
+        sdm = float(table.set_index("cut").loc[cut_id, "sdm_planar_mm"])
+        s = sweep(config, cut_id, [float(x) for x in fr.split(",")], sdm)
+        s.to_csv(out / "axial_regeneration_sweep.csv", index=False)
+    return table
+
+
+if __name__ == "__main__":
+    main()
