@@ -37,12 +37,17 @@ from __future__ import annotations
 
 import argparse
 import copy
-from pathlib import Path
 
 import numpy as np
 import pandas as pd
-import yaml
-from edge_switching import limits, merged_config, no_edge, quiet, regenerative
+from edge_switching import (
+    add_cell_arguments,
+    cell_of_arguments,
+    limits,
+    no_edge,
+    quiet,
+    regenerative,
+)
 
 
 def axial_row(teeth: int, Kac_N_m2: float, phi_st: float, phi_ex: float) -> np.ndarray:
@@ -142,24 +147,14 @@ def sweep(config: dict, cut_id: str, fractions: list[float], sdm_mm: float) -> p
 
 
 def main(argv: list[str] | None = None) -> pd.DataFrame:
-    from robomill.io.synthetic_layout import impact_tcp_mm, synthetic_cuts
-    from robomill.synth.cell import cell_from_config
+    from robomill.io.synthetic_layout import synthetic_cuts
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--config", nargs="*", default=[], help="overlays over config.yaml")
-    ap.add_argument("--without-config-yaml", action="store_true")
-    ap.add_argument("--cuts", help="YAML list of cuts (manifest keys); default experiment.cuts")
+    add_cell_arguments(ap)
     ap.add_argument("--sweep", help="CUT:F1,F2,... fractions of its planar SDM limit")
-    ap.add_argument("--out", default="results/benchmarks")
     args = ap.parse_args(argv)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     pd.set_option("display.width", 200)
-    config = merged_config(args.config, base=not args.without_config_yaml)
-    if args.cuts:
-        config["synth"]["process"]["reference_point_mm"] = impact_tcp_mm(config)
-        config["experiment"]["cuts"] = yaml.safe_load(Path(args.cuts).read_text())
-    cell = cell_from_config(config)
+    out, config, cell = cell_of_arguments(args)
     table = pd.DataFrame([cut_row(cell, cut) for cut in synthetic_cuts(config)])
     print(table.round(3).to_string(index=False))
     table.to_csv(out / "axial_regeneration.csv", index=False)

@@ -157,6 +157,18 @@ def merged_config(overlays: list[str], base: bool = True) -> dict:
     return validate_config(config, SCHEMAS / "config.schema.yaml")  # the schema's defaults
 
 
+def config_with_cuts(config: dict, cuts: str | None) -> dict:
+    """``config`` with its experiment's cuts replaced by the YAML cut list ``cuts`` (None:
+    kept) on the same cell: its modes stay planted where the study's impact test was made
+    (``synth.process.reference_point_mm`` pinned to the impact point), not around these cuts."""
+    if cuts:
+        from robomill.io.synthetic_layout import impact_tcp_mm
+
+        config["synth"]["process"]["reference_point_mm"] = impact_tcp_mm(config)
+        config["experiment"]["cuts"] = yaml.safe_load(Path(cuts).read_text())
+    return config
+
+
 def limits(cell, cut, gains) -> dict:
     """The cell's own linear limit at ``cut`` [mm] for each gain, zero-order and SDM."""
     proc = cut_process(cut, cell.experiment)
@@ -272,29 +284,36 @@ def one_mode(depths_mm: list[float]) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def main(argv: list[str] | None = None) -> pd.DataFrame:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+def add_cell_arguments(ap: argparse.ArgumentParser) -> None:
+    """The options that name the cell and its cuts (``--config``, ``--without-config-yaml``,
+    ``--cuts``) and ``--out``, shared by the benchmarks that read the cell's own truth."""
     ap.add_argument("--config", nargs="*", default=[], help="overlays over config.yaml")
     ap.add_argument("--without-config-yaml", action="store_true",
                     help="the overlays alone, as the tests' runs take them (merged_config)")
     ap.add_argument("--cuts", help="YAML list of cuts (manifest keys); default experiment.cuts")
+    ap.add_argument("--out", default="results/benchmarks")
+
+
+def cell_of_arguments(args) -> tuple[Path, dict, object]:
+    """``--out`` (created), the configuration and the cell that :func:`add_cell_arguments`'
+    options name."""
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    config = config_with_cuts(merged_config(args.config, base=not args.without_config_yaml),
+                              args.cuts)
+    return out, config, cell_from_config(config)
+
+
+def main(argv: list[str] | None = None) -> pd.DataFrame:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    add_cell_arguments(ap)
     ap.add_argument("--gains", default="0,0.5,1")
     ap.add_argument("--one-mode", action="store_true")
     ap.add_argument("--one-mode-depths-mm", default="0.35,0.5,0.6,0.7,0.85,1.0,1.5,2.0")
     ap.add_argument("--skip-cuts", action="store_true", help="only the one-mode check")
-    ap.add_argument("--out", default="results/benchmarks")
     args = ap.parse_args(argv)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     pd.set_option("display.width", 250)
-    config = merged_config(args.config, base=not args.without_config_yaml)
-    if args.cuts:
-        from robomill.io.synthetic_layout import impact_tcp_mm
-
-        # the same cell: its modes stay planted where the study's impact test was made
-        config["synth"]["process"]["reference_point_mm"] = impact_tcp_mm(config)
-        config["experiment"]["cuts"] = yaml.safe_load(Path(args.cuts).read_text())
-    cell = cell_from_config(config)
+    out, config, cell = cell_of_arguments(args)
     gains = [float(g) for g in args.gains.split(",")]
     rows = []
     for cut in [] if args.skip_cuts else synthetic_cuts(config):
