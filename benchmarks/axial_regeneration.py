@@ -28,6 +28,17 @@ line and the share of deep tooth passages out of the cut.
 
     .venv/bin/python benchmarks/axial_regeneration.py --config OVERLAY... --cuts CUTS \\
         [--without-config-yaml] [--sweep CUT:0.6,0.62,0.7,0.8] [--out DIR]
+    .venv/bin/python benchmarks/axial_regeneration.py --set STUDY --study-config FILE... \\
+        [--factors 0.5,1.8] [--out DIR]
+
+``--set``: what the planar and the axial form would score on the predict-then-cut set
+(``benchmarks/predict_then_cut.py``'s layout on ``STUDY``'s request, its three speeds and two
+feed directions), each form standing in for the planner with the cell's own modes and
+coefficients (under the planted law the planner's modes at a cut agree with the cell's
+within 0.1 % in frequency and 1 % in stiffness, ``benchmarks/modes_at_cuts.py``): the cuts at
+``--factors`` times each form's zero-order limit, cut on the study's own cell (its
+``--study-config`` files, in order, and its next run's experiment) and judged from their
+files; per cut the limit, the verdict and whether the form got it right, and the tally.
 
 Altintas & Budak 1995: Altintas, Y.; Budak, E. Analytical prediction of stability lobes in
 milling. *CIRP Annals* **44**(1), 357–362, 1995.
@@ -37,6 +48,7 @@ from __future__ import annotations
 
 import argparse
 import copy
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -44,6 +56,7 @@ from edge_switching import (
     add_cell_arguments,
     cell_of_arguments,
     limits,
+    merged_config,
     no_edge,
     quiet,
     regenerative,
@@ -146,14 +159,76 @@ def sweep(config: dict, cut_id: str, fractions: list[float], sdm_mm: float) -> p
     return pd.DataFrame(rows)
 
 
+def proxy_set(study: Path, configfiles: list[Path], factors: list[float], work: Path
+              ) -> pd.DataFrame:
+    """The planar and the axial form on the predict-then-cut set (module docstring)."""
+    import yaml
+    from predict_then_cut import (
+        DIRECTIONS,
+        SPEEDS_RPM,
+        cut_on_cell,
+        layout_origin_mm,
+        placed_cut,
+    )
+
+    from robomill.io.synthetic_layout import impact_tcp_mm, synthetic_cuts
+    from robomill.synth.cell import cell_from_config
+
+    origin = layout_origin_mm(study)
+    pairs = [(n, d) for n in SPEEDS_RPM for d in DIRECTIONS]
+    probes = [placed_cut(origin, f"probe_{k}", n, 0.5, d, k) for k, (n, d) in enumerate(pairs)]
+    config = merged_config([str(c) for c in configfiles], base=False)
+    nxt = yaml.safe_load((study / "results/plan/next/config.yaml").read_text())
+    config["experiment"].update({k: v for k, v in nxt["experiment"].items() if k != "cuts"})
+    point = ((nxt.get("synth") or {}).get("process") or {}).get("reference_point_mm")
+    config["synth"]["process"]["reference_point_mm"] = (point if point is not None
+                                                        else impact_tcp_mm(config))
+    config["experiment"]["cuts"] = probes
+    cell = cell_from_config(config)
+    lim = {c.id: cut_row(cell, c) for c in synthetic_cuts(config)}
+    rows = []
+    for form in ("planar", "axial"):
+        cuts, limit = [], {}
+        for k, (n, d) in enumerate(pairs):
+            a = lim[f"probe_{k}"][f"zoa_{form}_mm"]
+            for f in factors:
+                cid = f"{form}_{int(n / 1000)}k_{d}_{round(100 * f)}pct"
+                cuts.append(placed_cut(origin, cid, n, f * a, d, len(cuts)))
+                limit[cid] = a
+        stable = cut_on_cell(study, cuts, configfiles, work / form / "run")
+        for c in cuts:
+            v = float(stable.get(c["id"], np.nan))
+            rows.append({"form": form, "cut": c["id"], "depth_mm": c["depth_mm"],
+                         "limit_mm": limit[c["id"]], "stable": v,
+                         "agree": bool((limit[c["id"]] > c["depth_mm"]) == (v >= 0.5)),
+                         "unsafe": bool(limit[c["id"]] > c["depth_mm"] and v < 0.5),
+                         "judged": bool(np.isfinite(v))})
+    return pd.DataFrame(rows)
+
+
 def main(argv: list[str] | None = None) -> pd.DataFrame:
     from robomill.io.synthetic_layout import synthetic_cuts
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     add_cell_arguments(ap)
     ap.add_argument("--sweep", help="CUT:F1,F2,... fractions of its planar SDM limit")
+    ap.add_argument("--set", type=Path, help="a study whose plan was made (module docstring)")
+    ap.add_argument("--study-config", nargs="+", type=Path, default=[],
+                    help="with --set: the study's configuration files, in order")
+    ap.add_argument("--factors", default="0.5,1.8", help="with --set")
     args = ap.parse_args(argv)
     pd.set_option("display.width", 200)
+    if args.set:
+        out = Path(args.out)
+        out.mkdir(parents=True, exist_ok=True)
+        t = proxy_set(args.set.resolve(), [c.resolve() for c in args.study_config],
+                      [float(x) for x in args.factors.split(",")], out / "axial_set_work")
+        t.to_csv(out / "axial_regeneration_set.csv", index=False)
+        print(t.round(3).to_string(index=False))
+        for form, g in t[t["judged"]].groupby("form", sort=False):
+            print(f"{form}: {int(g['agree'].sum())} of {len(g)} judged cuts right, "
+                  f"{int(g['unsafe'].sum())} predicted stable and judged chatter")
+        return t
     out, config, cell = cell_of_arguments(args)
     table = pd.DataFrame([cut_row(cell, cut) for cut in synthetic_cuts(config)])
     print(table.round(3).to_string(index=False))
