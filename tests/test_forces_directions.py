@@ -112,3 +112,42 @@ def test_half_immersion_cuts_take_the_general_fit_per_direction():
     het = direction_heterogeneity(pd.concat([cuts("px", 1.0), cuts("py", 2.0)])).set_index("name")
     assert het.loc["Ktc", "value_py"] == pytest.approx(2 * het.loc["Ktc", "value_px"], rel=0.05)
     assert het["disagree"].all()
+
+
+def test_holm_by_hand():
+    from robomill.forces.coefficients import holm_rejects
+
+    # m = 4 finite: 0.001 ≤ 0.05/4, 0.012 ≤ 0.05/3, 0.03 > 0.05/2 stops; 0.04 not reached
+    p = np.array([0.03, 0.001, np.nan, 0.012, 0.04])
+    assert holm_rejects(p, 0.05).tolist() == [False, True, False, True, False]
+    assert not holm_rejects(np.array([0.02, 0.03]), 0.01).any()
+
+
+def test_directions_that_agree_are_rarely_flagged_as_a_family():
+    """Three directions with the same coefficients and independent scatter (10 cuts each,
+    5 feeds × 2 depths), 200 studies: the family of six tests flags at most about its level
+    (5 %), where testing each coefficient alone at 5 % would flag far more often."""
+    from robomill.forces.coefficients import direction_heterogeneity
+
+    rng = np.random.default_rng(7)
+    feeds = np.repeat([0.001, 0.002, 0.003, 0.004, 0.005], 2)
+    depths = np.tile([0.25, 0.5], 5)
+    flagged, any_alone = 0, 0
+    for _ in range(200):
+        parts = []
+        for d in ("px", "py", "my"):
+            c, a = feeds, depths
+            na = N * a
+            parts.append(pd.DataFrame({
+                "direction": d, "feed_per_tooth_mm": c, "depth_mm": a, "in_fit": True,
+                "F_feed_N": -na * (BASE["Krc"] * c / 4 + BASE["Kre"] / np.pi)
+                + rng.normal(0, 0.05, c.size),
+                "F_cross_feed_N": na * (BASE["Ktc"] * c / 4 + BASE["Kte"] / np.pi)
+                + rng.normal(0, 0.05, c.size),
+                "F_axial_N": na * (BASE["Kac"] * c / np.pi + BASE["Kae"] / 2)
+                + rng.normal(0, 0.05, c.size)}))
+        het = direction_heterogeneity(pd.concat(parts, ignore_index=True), flutes=N)
+        flagged += bool(het["disagree"].any())
+        any_alone += bool((het["p_value"] < 0.05).any())
+    assert flagged / 200 <= 0.10
+    assert any_alone / 200 >= 0.15

@@ -343,9 +343,10 @@ def _coefficients(found: Findings, coefficients: pd.DataFrame,
 def _directions(found: Findings, means: pd.DataFrame, experiment: Mapping[str, Any] | None,
                 confidence: float | None) -> None:
     """Whether the feed directions share the coefficients
-    (:func:`robomill.forces.coefficients.direction_heterogeneity`, Cochran's test at the level
-    ``1 − forces.confidence``): ``coefficient_direction_groups`` (the directions whose cuts
-    identify the coefficients alone; nothing where fewer than two do), the verdict
+    (:func:`robomill.forces.coefficients.direction_heterogeneity`, Cochran's test with Holm's
+    correction over the six at the family-wise level ``1 − forces.confidence``):
+    ``coefficient_direction_groups`` (the directions whose cuts identify the coefficients
+    alone; nothing where fewer than two do), the verdict
     ``coefficient_directions_agree`` (``pass`` when no coefficient differs between them),
     ``coefficient_direction_level_pct`` and ``coefficient_directions_disagree``: per
     coefficient that differs, its value and interval in each direction and the test's Q and p
