@@ -61,6 +61,7 @@ from edge_switching import (
     quiet,
     regenerative,
 )
+from predict_then_cut import positive_floats
 
 
 def axial_row(teeth: int, Kac_N_m2: float, phi_st: float, phi_ex: float) -> np.ndarray:
@@ -206,23 +207,39 @@ def proxy_set(study: Path, configfiles: list[Path], factors: list[float], work: 
     return pd.DataFrame(rows)
 
 
+def _sweep_option(text: str) -> tuple[str, list[float]]:
+    """``--sweep CUT:F1,F2,…`` as (cut, fractions) (one line on anything else)."""
+    cut_id, sep, fractions = str(text).partition(":")
+    if not sep or not cut_id:
+        raise argparse.ArgumentTypeError(f"expected CUT:F1,F2,..., got {text!r}")
+    return cut_id, positive_floats(fractions)
+
+
 def main(argv: list[str] | None = None) -> pd.DataFrame:
     from robomill.io.synthetic_layout import synthetic_cuts
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     add_cell_arguments(ap)
-    ap.add_argument("--sweep", help="CUT:F1,F2,... fractions of its planar SDM limit")
+    ap.add_argument("--sweep", type=_sweep_option,
+                    help="CUT:F1,F2,... fractions of its planar SDM limit")
     ap.add_argument("--set", type=Path, help="a study whose plan was made (module docstring)")
     ap.add_argument("--study-config", nargs="+", type=Path, default=[],
                     help="with --set: the study's configuration files, in order")
-    ap.add_argument("--factors", default="0.5,1.8", help="with --set")
+    ap.add_argument("--factors", type=positive_floats, default=[0.5, 1.8], help="with --set")
     args = ap.parse_args(argv)
     pd.set_option("display.width", 200)
     if args.set:
+        missing = [str(c) for c in args.study_config if not c.is_file()]
+        if not args.study_config or missing:
+            ap.error("--set needs --study-config: the study's configuration files"
+                     + (f" (no such file: {', '.join(missing)})" if missing else ""))
+        if not (args.set / "results/plan/next/config.yaml").is_file():
+            ap.error(f"--set {args.set}: no results/plan/next/config.yaml (make its plan first: "
+                     "snakemake -j2 plan)")
         out = Path(args.out)
         out.mkdir(parents=True, exist_ok=True)
         t = proxy_set(args.set.resolve(), [c.resolve() for c in args.study_config],
-                      [float(x) for x in args.factors.split(",")], out / "axial_set_work")
+                      args.factors, out / "axial_set_work")
         t.to_csv(out / "axial_regeneration_set.csv", index=False)
         print(t.round(3).to_string(index=False))
         for form, g in t[t["judged"]].groupby("form", sort=False):
@@ -234,9 +251,11 @@ def main(argv: list[str] | None = None) -> pd.DataFrame:
     print(table.round(3).to_string(index=False))
     table.to_csv(out / "axial_regeneration.csv", index=False)
     if args.sweep:
-        cut_id, fr = args.sweep.split(":")
+        cut_id, fractions = args.sweep
+        if cut_id not in set(table["cut"]):
+            ap.error(f"--sweep: no cut {cut_id!r} among {', '.join(table['cut'])}")
         sdm = float(table.set_index("cut").loc[cut_id, "sdm_planar_mm"])
-        s = sweep(config, cut_id, [float(x) for x in fr.split(",")], sdm)
+        s = sweep(config, cut_id, fractions, sdm)
         s.to_csv(out / "axial_regeneration_sweep.csv", index=False)
     return table
 

@@ -46,6 +46,19 @@ FEED_MM_S = 5.0
 PROBE_DEPTH_MM = 0.5
 
 
+def positive_floats(text: str) -> list[float]:
+    """An option's comma-separated positive numbers (``argparse`` type: one line, never a
+    traceback, on anything else)."""
+    try:
+        values = [float(x) for x in str(text).split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"expected comma-separated positive numbers, got {text!r}") from None
+    if not values or not all(np.isfinite(v) and v > 0 for v in values):
+        raise argparse.ArgumentTypeError(f"expected comma-separated positive numbers, got {text!r}")
+    return values
+
+
 class SetError(Exception):
     """A study the set cannot be predicted or cut from (one line naming the file)."""
 
@@ -183,9 +196,9 @@ def main(argv=None) -> int:
                     help="the study's configuration files, in order (relative: to the repo)")
     ap.add_argument("--out", type=Path, default=Path("results/benchmarks"))
     ap.add_argument("--work", type=Path, help="working folder (default <out>/predict_then_cut)")
-    ap.add_argument("--speeds-rpm", default=",".join(f"{n:g}" for n in SPEEDS_RPM),
+    ap.add_argument("--speeds-rpm", type=positive_floats, default=list(SPEEDS_RPM),
                     help="the set's spindle speeds, comma-separated")
-    ap.add_argument("--factors", default=None,
+    ap.add_argument("--factors", type=positive_floats, default=None,
                     help="depths as multiples of each probe's predicted critical depth, "
                     "comma-separated (default 0.5,1.8: cuts named below/above; others are "
                     "named by their percentage, e.g. oos_12k_px_250pct)")
@@ -200,11 +213,12 @@ def main(argv=None) -> int:
     missing = [str(c) for c in configs if not c.is_file()]
     if missing:
         ap.error(f"--config: no such file: {', '.join(missing)}")
+    factors = (FACTORS if args.factors is None else
+               [(f"{round(100 * f)}pct", f) for f in args.factors])
+    if len({name for name, _ in factors}) < len(factors):
+        ap.error(f"--factors: two factors name the same cut at the percent: {args.factors}")
     try:
-        speeds = [float(x) for x in args.speeds_rpm.split(",")]
-        factors = (FACTORS if args.factors is None else
-                   [(f"{round(100 * f)}pct", f) for f in map(float, args.factors.split(","))])
-        cuts, pred = boundary_set(study, work, speeds=speeds, factors=factors)
+        cuts, pred = boundary_set(study, work, speeds=args.speeds_rpm, factors=factors)
         t = agreement_table(pred, cut_on_cell(study, cuts, configs, work / "run",
                                               recordings=args.recordings))
     except SetError as exc:

@@ -31,3 +31,14 @@ def test_the_tally_and_the_brier_score_by_hand():
     assert (s["n_judged"], s["n_agree"], s["n_unsafe"]) == (4, 2, 1)
     # (0.9 − 1)² + (0.2 − 1)² + (0.7 − 0)² + (0.1 − 0)² over 4
     assert s["brier_score"] == pytest.approx((0.01 + 0.64 + 0.49 + 0.01) / 4, abs=1e-4)
+
+
+def test_a_set_option_that_is_no_list_of_positive_numbers_is_one_line():
+    import argparse
+
+    from predict_then_cut import positive_floats
+
+    assert positive_floats("0.5,2.5") == [0.5, 2.5]
+    for bad in ("0.5,x", "-1", "0", "", "nan"):
+        with pytest.raises(argparse.ArgumentTypeError, match="positive numbers"):
+            positive_floats(bad)
