@@ -80,9 +80,11 @@ def oriented_receptance(f_hz, fn_hz, zeta, k_N_m, shape_xyz, W3) -> np.ndarray:
 
 def zoa_planar_and_axial_m(modes, frame, cut_model, Kac_N_m2, rpm) -> tuple[float, float]:
     """The zero-order critical depth [m] of the planar model and with the axial force's
-    regeneration, on ``modes`` (each with ``f_hz, zeta, k_N_m, shape`` in the base frame)."""
+    regeneration, on ``modes`` (each with ``f_hz, zeta, k_N_m, shape`` in the base frame): the
+    planar one by the planner's own routine (:func:`robomill.plan.lobes.batch_zoa_lobes`), the
+    axial one by the same zero-order envelope on the oriented receptance G₂₃ W̄₃."""
     from robomill.chatter.lobes_zoa import zoa_envelope
-    from robomill.plan.lobes import frequency_grid
+    from robomill.plan.lobes import batch_zoa_lobes, frequency_grid
 
     fn = np.array([m.f_hz for m in modes])
     ze = np.array([m.zeta for m in modes])
@@ -93,11 +95,10 @@ def zoa_planar_and_axial_m(modes, frame, cut_model, Kac_N_m2, rpm) -> tuple[floa
     W3 = np.vstack([W2, axial_row(cut_model.teeth, Kac_N_m2, cut_model.phi_st,
                                   cut_model.phi_ex)])
     rpm = np.atleast_1d(float(rpm))
-    planar = oriented_receptance(f, fn, ze, kk, sh, np.vstack([W2, np.zeros(2)]))
+    planar = batch_zoa_lobes(fn[None], ze, kk[None], sh[None, :, :2], cut_model, rpm, f_hz=f)
     axial = oriented_receptance(f, fn, ze, kk, sh, W3)
-    eye = np.eye(2)[None]
-    return (float(zoa_envelope(planar[None], f, cut_model, rpm, mean_matrix=eye)[0, 0]),
-            float(zoa_envelope(axial[None], f, cut_model, rpm, mean_matrix=eye)[0, 0]))
+    return (float(planar[0, 0]),
+            float(zoa_envelope(axial[None], f, cut_model, rpm, mean_matrix=np.eye(2)[None])[0, 0]))
 
 
 def cut_row(cell, cut) -> dict:
