@@ -64,26 +64,15 @@ from edge_switching import (
 from predict_then_cut import positive_floats
 
 
-def axial_row(teeth: int, Kac_N_m2: float, phi_st: float, phi_ex: float) -> np.ndarray:
-    """The axial row of the mean directional matrix ``(2,)`` [N/m²] (module docstring)."""
-    return teeth / (2 * np.pi) * Kac_N_m2 * np.array(
-        [np.cos(phi_st) - np.cos(phi_ex), np.sin(phi_ex) - np.sin(phi_st)])
-
-
-def oriented_receptance(f_hz, fn_hz, zeta, k_N_m, shape_xyz, W3) -> np.ndarray:
-    """G₂₃(jω) W̄₃ ``(nf, 2, 2)`` of modes (f_n, ζ, k, shape in the cut frame ``(M, 3)``)."""
-    r = np.asarray(f_hz, float)[:, None] / np.asarray(fn_hz, float)[None]
-    h = 1.0 / (np.asarray(k_N_m, float)[None] * ((1 - r**2) + 2j * np.asarray(zeta)[None] * r))
-    phi = np.asarray(shape_xyz, float)
-    return np.einsum("fm,mi,mj->fij", h, phi[:, :2], phi) @ W3
-
-
 def zoa_planar_and_axial_m(modes, frame, cut_model, Kac_N_m2, rpm) -> tuple[float, float]:
     """The zero-order critical depth [m] of the planar model and with the axial force's
-    regeneration, on ``modes`` (each with ``f_hz, zeta, k_N_m, shape`` in the base frame): the
-    planar one by the planner's own routine (:func:`robomill.plan.lobes.batch_zoa_lobes`), the
-    axial one by the same zero-order envelope on the oriented receptance G₂₃ W̄₃."""
-    from robomill.chatter.lobes_zoa import zoa_envelope
+    regeneration, on ``modes`` (each with ``f_hz, zeta, k_N_m, shape`` in the base frame), both
+    by the planner's own routine (:func:`robomill.plan.lobes.batch_zoa_lobes`): the planar one
+    on the in-plane shapes, the axial one on the shapes with their axial component and the
+    cutting model with K_a = K_ac/K_t (the oriented receptance G₂₃ W̄₃,
+    :mod:`robomill.chatter.model`)."""
+    from dataclasses import replace
+
     from robomill.plan.lobes import batch_zoa_lobes, frequency_grid
 
     fn = np.array([m.f_hz for m in modes])
@@ -91,14 +80,12 @@ def zoa_planar_and_axial_m(modes, frame, cut_model, Kac_N_m2, rpm) -> tuple[floa
     kk = np.array([m.k_N_m for m in modes])
     sh = np.array([np.asarray(m.shape, float) @ frame for m in modes])
     f = frequency_grid(fn[None])
-    W2 = cut_model.mean_matrix()
-    W3 = np.vstack([W2, axial_row(cut_model.teeth, Kac_N_m2, cut_model.phi_st,
-                                  cut_model.phi_ex)])
     rpm = np.atleast_1d(float(rpm))
-    planar = batch_zoa_lobes(fn[None], ze, kk[None], sh[None, :, :2], cut_model, rpm, f_hz=f)
-    axial = oriented_receptance(f, fn, ze, kk, sh, W3)
-    return (float(planar[0, 0]),
-            float(zoa_envelope(axial[None], f, cut_model, rpm, mean_matrix=np.eye(2)[None])[0, 0]))
+    planar = batch_zoa_lobes(fn[None], ze, kk[None], sh[None, :, :2],
+                             replace(cut_model, Ka=None), rpm, f_hz=f)
+    axial = batch_zoa_lobes(fn[None], ze, kk[None], sh[None],
+                            replace(cut_model, Ka=Kac_N_m2 / cut_model.Kt_N_m2), rpm, f_hz=f)
+    return float(planar[0, 0]), float(axial[0, 0])
 
 
 def cut_row(cell, cut) -> dict:

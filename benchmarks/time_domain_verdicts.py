@@ -90,7 +90,7 @@ def member_modal_cut(inputs, measured, cut, member: int = 0, *, hold_mass: bool 
     fz_m = float(one.feed_mm_s[0]) / (teeth * rpm / 60.0) * 1e-3
     ent, ext = engagement(one)
     kt = float(mem.kt_N_mm2[e])
-    return ModalCut(fn[0, 0], z[0, 0], k[0, 0], shape[0], rpm, teeth, ent, ext, fz_m,
+    return ModalCut(fn[0, 0], z[0, 0], k[0, 0], shape[0, :, :2], rpm, teeth, ent, ext, fz_m,
                     float(one.depth_mm[0]) * 1e-3, kt * 1e6, kt * float(mem.kr[e]) * 1e6,
                     cc.Kac * 1e6, cc.Kte * 1e3, cc.Kre * 1e3, cc.Kae * 1e3)
 

@@ -1,7 +1,7 @@
-"""``benchmarks/axial_regeneration.py``'s zero-order depth with the axial force's regeneration:
-without an axial coefficient it is the planar model's, the planar path is the planner's own
-zero-order routine, and on one mode the depth moves as the directional factor written by hand
-says."""
+"""The zero-order depth with the axial force's regeneration (the package's model, through
+``benchmarks/axial_regeneration.py``): without an axial coefficient it is the planar model's,
+the planar path is the planner's own zero-order routine, and on one mode the depth moves as
+the directional factor written by hand says."""
 
 import sys
 from collections import namedtuple

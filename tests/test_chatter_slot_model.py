@@ -19,9 +19,17 @@ def test_slot_frames():
     px = modes_in_slot_frame(_modes(), (1.0, 0.0))
     py = modes_in_slot_frame(_modes(), (0.0, 1.0))
     my = modes_in_slot_frame(_modes(), (0.0, -1.0))
-    assert px[0].shape == pytest.approx((0.0, 1.0))
-    assert py[0].shape == pytest.approx((1.0, 0.0))
-    assert my[0].shape == pytest.approx((-1.0, 0.0))  # both axes reversed: same lobes as +Y
+    assert px[0].shape == pytest.approx((0.0, 1.0, 0.0))
+    assert py[0].shape == pytest.approx((1.0, 0.0, 0.0))
+    assert my[0].shape == pytest.approx((-1.0, 0.0, 0.0))  # in-plane axes reversed: same lobes
+    # the axial component is the base Z one in every frame; without a shape_z column the
+    # shapes are in-plane
+    tilted = _modes().assign(shape_z=[0.5, -0.25, np.nan])
+    d45 = modes_in_slot_frame(tilted, (np.sqrt(0.5), np.sqrt(0.5)))
+    assert [m.shape[2] for m in d45] == pytest.approx([0.5, -0.25, 0.0])
+    assert d45[1].shape[:2] == pytest.approx((1.2 * np.sqrt(0.5), -0.8 * np.sqrt(0.5)))
+    assert modes_in_slot_frame(_modes().drop(columns="shape_z"), (1.0, 0.0))[0].shape == \
+        pytest.approx((0.0, 1.0))
 
 
 def test_mode_coupling_names_the_close_pair():

@@ -46,6 +46,8 @@ num.table("recommendations", "Stability margins of the configured cuts and the "
 display(Markdown(say("robot_title")))
 num.show(figures.robot_lobes_figure(th), "thesis_lobes")
 display(Markdown(say("robot_lobes", ref_thesis_lobes=num.ref("thesis_lobes"))))
+display(Markdown(say("axial")))
+display(Markdown(say("axial_lines")))
 
 # %%
 display(Markdown(say("coupling", ref_coupling=num.ref("coupling"))))

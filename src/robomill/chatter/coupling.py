@@ -2,9 +2,10 @@
 mode-coupling depth: the one routine of each that chapter 4, the planner's stability model
 (:mod:`robomill.plan.stability`) and its diagnostics use.
 
-The receptance of modes (f_r, ζ_r, k_r, in-plane shape φ_r) is the modal sum
-G(jω) = Σ_r φ_r φ_rᵀ / (k_r (1 − ρ² + 2jζ_r ρ)), ρ = ω/ω_r [Ewins 2000]
-(the FRF of :func:`robomill.chatter.model.tool_from_modes`).
+The receptance of modes (f_r, ζ_r, k_r, shape φ_r: in-plane, or with its axial component) is
+the modal sum G(jω) = Σ_r φ_r,xy φ_rᵀ / (k_r (1 − ρ² + 2jζ_r ρ)), ρ = ω/ω_r [Ewins 2000]:
+the in-plane response to each force component (the FRF of
+:func:`robomill.chatter.model.tool_from_modes`).
 
 The mode-coupling depth is the smallest depth a at which ṡ = (A + a B W̄ C) s, the modes
 with the oriented cutting stiffness acting on the current displacement and no delay, has an
@@ -17,12 +18,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from robomill.chatter.model import CuttingModel
+from robomill.chatter.model import CuttingModel, conform_rows
 
 
 def receptance(f_hz: np.ndarray, fn_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.ndarray,
                shape: np.ndarray) -> np.ndarray:
-    """Modal-sum receptance ``(B, nf, 2, 2)`` [m/N] of B tool models.
+    """Modal-sum receptance ``(B, nf, 2, d)`` [m/N] of B tool models.
 
     Parameters
     ----------
@@ -33,37 +34,39 @@ def receptance(f_hz: np.ndarray, fn_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.
     zeta
         ``(M,)`` or ``(B, M)`` damping ratios.
     shape
-        ``(B, M, 2)`` in-plane mode shapes (feed, normal).
+        ``(B, M, d)`` mode shapes (feed, normal) or (feed, normal, axis).
     """
     f = np.asarray(f_hz, float)
     r = f[None, :, None] / np.asarray(fn_hz, float)[:, None, :]          # (B, nf, M)
     z = np.broadcast_to(np.asarray(zeta, float), np.shape(fn_hz))[:, None, :]
     h = 1.0 / (np.asarray(k_N_m, float)[:, None, :] * ((1 - r**2) + 2j * z * r))
     phi = np.asarray(shape, float)
-    outer = (phi[:, :, :, None] * phi[:, :, None, :]).reshape(phi.shape[0], phi.shape[1], 4)
-    return np.einsum("bfm,bmi->bfi", h, outer).reshape(h.shape[:2] + (2, 2))
+    d = phi.shape[-1]
+    outer = (phi[:, :, :2, None] * phi[:, :, None, :]).reshape(phi.shape[0], phi.shape[1], 2 * d)
+    return np.einsum("bfm,bmi->bfi", h, outer).reshape(h.shape[:2] + (2, d))
 
 
 def state_space(fn_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.ndarray, shape: np.ndarray
                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Modal state-space matrices of B tool models at once (as
-    :func:`robomill.chatter.model.tool_from_modes`): A ``(B, 2M, 2M)``, B ``(B, 2M, 2)``,
-    C ``(B, 2, 2M)``."""
+    :func:`robomill.chatter.model.tool_from_modes`): A ``(B, 2M, 2M)``, B ``(B, 2M, d)``,
+    C ``(B, 2, 2M)`` for shapes ``(B, M, d)``."""
     fn = np.atleast_2d(np.asarray(fn_hz, float))
     nb, M = fn.shape
     w = 2 * np.pi * fn
     z = np.broadcast_to(np.asarray(zeta, float), fn.shape)
     k = np.atleast_2d(np.asarray(k_N_m, float))
-    phi = np.asarray(shape, float).reshape(nb, M, 2)
+    phi = np.asarray(shape, float)
+    phi = phi.reshape(nb, M, phi.shape[-1])
     A = np.zeros((nb, 2 * M, 2 * M))
-    Bm = np.zeros((nb, 2 * M, 2))
+    Bm = np.zeros((nb, 2 * M, phi.shape[-1]))
     C = np.zeros((nb, 2, 2 * M))
     i = 2 * np.arange(M)
     A[:, i, i + 1] = 1.0
     A[:, i + 1, i] = -(w**2)
     A[:, i + 1, i + 1] = -2 * z * w
     Bm[:, i + 1, :] = phi / (k / w**2)[..., None]
-    C[:, :, i] = np.swapaxes(phi, 1, 2)
+    C[:, :, i] = np.swapaxes(phi[..., :2], 1, 2)
     return A, Bm, C
 
 
@@ -77,7 +80,7 @@ def coupling_depth(fn_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.ndarray, shape
     interval; +inf where stable up to ``depth_max_m``. ``upper``: also the interval's upper
     end (the shallowest depth found unstable)."""
     A, Bm, C = state_space(fn_hz, zeta, k_N_m, shape)
-    BWC = Bm @ cut.mean_matrix() @ C
+    BWC = Bm @ conform_rows(cut.mean_matrix(), Bm.shape[-1]) @ C
 
     def unstable(a, idx):
         lam = np.linalg.eigvals(A[idx] + np.asarray(a)[:, None, None] * BWC[idx])

@@ -238,6 +238,7 @@ def _robot(f: Findings, lobes: xr.Dataset, rec: pd.DataFrame, safety_fraction: f
           what="spindle_rpm")
     f.add("robot_worst_err_mm", float(lobes["a_crit_error_mm"].values[iw]), "mm",
           artefact=LOBES, what="a_crit_error_mm")
+    _axial(f, lobes, thesis)
     ok = rec[(rec["kind"] == "thesis") & (rec["solver"] == "sem")]
     best = rec[(rec["kind"] == "recommended") & (rec["solver"] == "sem")]
     at = (lambda r: "") if len(speeds) == 1 else (lambda r: f" at {r.spindle_rpm:.0f} rpm")
@@ -255,6 +256,30 @@ def _robot(f: Findings, lobes: xr.Dataset, rec: pd.DataFrame, safety_fraction: f
         f"(margin {100 * r.stability_margin:.0f} %, {100 * r.stability_margin_min:.0f} % at "
         f"the pessimistic end of the error, limited by {r.limited_by})"
         for r in best.itertuples()], artefact=RECS, what="kind == recommended, solver == sem")
+
+
+def _axial(f: Findings, lobes: xr.Dataset, thesis: pd.DataFrame) -> None:
+    """What the axial force does to the robot's lobes: per slot, at the speed most of its
+    cuts were made at, the zero-order depth with it and without it (the planar model)."""
+    ka = float(lobes.attrs.get("Ka", np.nan))
+    f.add("robot_axial_force", bool(np.isfinite(ka)), artefact=LOBES,
+          what="attrs.Ka = Kac/Ktc finite: the lobes carry the axial force's row")
+    if not np.isfinite(ka) or "a_crit_planar_mm" not in lobes:
+        return
+    f.add("robot_Kac_N_mm2", ka * float(lobes.attrs["Kt_N_m2"]) * 1e-6, "N/mm^2",
+          artefact=LOBES, what="attrs.Ka × attrs.Kt_N_m2")
+    lines, ratios = [], []
+    for d in lobes["direction"].values:
+        rpm = float(lobes["study_spindle_rpm"].sel(direction=d))
+        at = lobes.sel(direction=d, spindle_rpm=rpm)
+        axial, planar = float(at["a_crit_mm"].sel(solver="zoa")), float(at["a_crit_planar_mm"])
+        ratios.append(axial / planar)
+        lines.append(f"{d}: {axial:.2f} mm with the axial force, {planar:.2f} mm without "
+                     f"({100 * (axial / planar - 1):+.0f} %) at {rpm:.0f} rpm")
+    f.add("robot_axial_lines", lines, artefact=LOBES,
+          what="a_crit_mm[solver=zoa] and a_crit_planar_mm at study_spindle_rpm")
+    f.add("robot_axial_over_planar", [float(min(ratios)), float(max(ratios))], artefact=LOBES,
+          what="a_crit_mm[solver=zoa] / a_crit_planar_mm at study_spindle_rpm: min, max")
 
 
 def _sources(f: Findings) -> None:

@@ -23,7 +23,7 @@ from functools import lru_cache
 import numpy as np
 import scipy.linalg
 
-from robomill.chatter.model import CuttingModel, LinearTool, lobe_parameters
+from robomill.chatter.model import CuttingModel, LinearTool, conform_rows, lobe_parameters
 from robomill.settings import schema_default
 
 STEPS_PER_PERIOD = 40
@@ -108,7 +108,7 @@ def _interval_means(cut: CuttingModel, m: int) -> np.ndarray:
 def _step_matrices(tool: LinearTool, Wm: np.ndarray, depths_m: np.ndarray, h: float):
     """P, R0 = (J0 − J1)B_i, R1 = J1 B_i for every depth and step: ``(na, m, n, n|2)``."""
     a = np.asarray(depths_m, float)[:, None, None, None]
-    BW = np.einsum("ik,mkl->mil", tool.B, Wm)  # (m, n, 2)
+    BW = np.einsum("ik,mkl->mil", tool.B, conform_rows(Wm, tool.n_inputs))  # (m, n, 2)
     Ai = tool.A[None, None] + a * np.einsum("mil,lj->mij", BW, tool.C)[None]
     P, J0, J1 = _exp_integrals(Ai, h)
     Bi = -a * BW[None]  # (na, m, n, 2)

@@ -53,7 +53,7 @@ from robomill.chatter.lobes_sdm import (
     multiplier_frequency_hz,
     reference_frequencies_hz,
 )
-from robomill.chatter.model import CuttingModel, LinearTool, lobe_parameters
+from robomill.chatter.model import CuttingModel, LinearTool, conform_rows, lobe_parameters
 
 NODES = 8
 """Starting collocation order p per element (p + 1 Chebyshev–Gauss–Lobatto nodes)."""
@@ -131,8 +131,8 @@ def _block_diag(blocks: np.ndarray) -> np.ndarray:
 
 def _w_engaged(cut: CuttingModel, phi0: np.ndarray, teeth: tuple[int, ...]) -> np.ndarray:
     """W at tooth-0 angles φ₀ summed over a fixed set of engaged teeth (one-sided at the
-    segment ends, where g jumps), ``(len(phi0), 2, 2)``."""
-    out = np.zeros(np.shape(phi0) + (2, 2))
+    segment ends, where g jumps), ``(len(phi0), n_rows, 2)``."""
+    out = np.zeros(np.shape(phi0) + (cut.n_rows, 2))
     for j in teeth:
         out += cut.w(phi0 + 2 * np.pi * j / cut.teeth)
     return out
@@ -215,7 +215,7 @@ def speed_operator(tool: LinearTool, cut: CuttingModel, spindle_rpm: float,
             h = eb - ea
             Dt = D * (2.0 / h)
             t_nodes = ea + (x[1:] + 1.0) * 0.5 * h
-            W = _w_engaged(cut, omega * t_nodes, teeth)  # (p, 2, 2)
+            W = conform_rows(_w_engaged(cut, omega * t_nodes, teeth), tool.n_inputs)
             BW = np.einsum("ik,pkl->pil", tool.B, W)  # (p, n, 2)
             K0 = np.kron(Dt[1:, 1:], eye) - np.kron(np.eye(p), tool.A)
             L1, Rd = _block_diag(BW @ tool.C), _block_diag(BW)

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from robomill.chatter.model import CuttingModel, LinearTool, lobe_parameters
+from robomill.chatter.model import CuttingModel, LinearTool, conform_rows, lobe_parameters
 
 
 def _left_multiply(W: np.ndarray, G: np.ndarray) -> np.ndarray:
@@ -57,11 +57,23 @@ def _eig2(A: np.ndarray) -> np.ndarray:
     return np.where(size <= EIG_ZERO * size.max(-1, keepdims=True), 0.0, lam)
 
 
+def _oriented(W: np.ndarray, G: np.ndarray) -> np.ndarray:
+    """The 2 × 2 matrix whose eigenvalues close the zero-order loop: W̄ G for the planar model;
+    with the axial force, G₂₃ W̄₃ (the in-plane response ``G`` ``(..., 2, 3)`` to the force
+    W̄₃ Δ, ``W`` ``(..., 3, 2)``), whose eigenvalues are the non-zero ones of W̄₃ G₂₃. ``W``'s
+    rows are matched to ``G``'s inputs (:func:`robomill.chatter.model.conform_rows`)."""
+    G = np.asarray(G)
+    W = conform_rows(W, G.shape[-1])
+    if G.shape[-1] == 2:
+        return _left_multiply(W, G)
+    return np.einsum("...ik,...kj->...ij", G, W)
+
+
 def oriented_eigenvalues(W: np.ndarray, G: np.ndarray) -> np.ndarray:
-    """Eigenvalues ``(..., 2)`` of W̄ G(jω) for the mean directional matrix ``W`` (2 × 2) and a
-    stack of receptances ``G`` ``(..., 2, 2)``: the zero-order characteristic equation's
-    eigenvalues [Altintas & Budak 1995], untracked."""
-    return _eig2(_left_multiply(W, np.asarray(G)))
+    """Eigenvalues ``(..., 2)`` of W̄ G(jω) for the mean directional matrix ``W`` (2 × 2, or
+    3 × 2 with the axial row) and a stack of receptances ``G`` ``(..., 2, 2|3)``: the
+    zero-order characteristic equation's eigenvalues [Altintas & Budak 1995], untracked."""
+    return _eig2(_oriented(W, G))
 
 
 def _track(lam: np.ndarray) -> np.ndarray:
@@ -127,12 +139,13 @@ def zoa_envelope(G: np.ndarray, f_hz: np.ndarray, cut: CuttingModel,
                  mean_matrix: np.ndarray | None = None
                  ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
     """Zero-order critical axial depth ``(B, len(spindle_rpm))`` [m] of B tool models whose
-    receptances ``G`` ``(B, nf, 2, 2)`` [m/N] are given on the chatter frequencies ``f_hz``
+    receptances ``G`` ``(B, nf, 2, d)`` [m/N] (d = 3: with the response to the axial force,
+    :func:`_oriented`) are given on the chatter frequencies ``f_hz``
     ``(nf,)``: the lower envelope of every lobe and eigenvalue branch (module docstring), +inf
     where no branch reaches a speed (no regenerative chatter possible there).
 
     With ``chatter_frequency``, also the chatter frequency [Hz] of the branch that sets each
-    depth (NaN where the depth is +inf). ``mean_matrix`` ``(B, 2, 2)``: each tool model's own
+    depth (NaN where the depth is +inf). ``mean_matrix`` ``(B, 2|3, 2)``: each tool model's own
     mean directional matrix W̄ (its own coefficients; default ``cut``'s for all; ``cut``
     gives the teeth).
     """
@@ -142,7 +155,7 @@ def zoa_envelope(G: np.ndarray, f_hz: np.ndarray, cut: CuttingModel,
     n_t = rpm_in[order]
     n_lobes = int(np.ceil(f.max() * 60.0 / (cut.teeth * n_t.min()))) + 2
     W = cut.mean_matrix() if mean_matrix is None else np.asarray(mean_matrix)[:, None]
-    lam = _track(_eig2(_left_multiply(W, np.asarray(G))))  # (B, nf, 2)
+    lam = _track(_eig2(_oriented(W, G)))  # (B, nf, 2)
     with np.errstate(divide="ignore", invalid="ignore"):
         inv = 1.0 / np.where(np.abs(lam) > 0, lam, np.nan)
         u, v = inv.real, inv.imag
@@ -201,7 +214,7 @@ def zoa_lobes(tool: LinearTool, cut: CuttingModel, spindle_rpm: np.ndarray,
     True
     """
     f = default_frequency_grid(tool) if f_hz is None else np.asarray(f_hz, float)
-    G = np.moveaxis(tool.frf(f), -1, 0)[None]  # (1, nf, 2, 2)
+    G = np.moveaxis(tool.frf(f), -1, 0)[None]  # (1, nf, 2, n_inputs)
     a, hz = zoa_envelope(G, f, cut, spindle_rpm, chatter_frequency=True)
     a = a[0]
     a[~np.isfinite(a)] = np.nan

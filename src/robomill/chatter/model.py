@@ -8,6 +8,15 @@ The regenerative milling model of every method in this package is
 with ``d = (x, y)`` the tool-tip displacement in the cutting frame, ``R`` the cutting force on
 the tool, ``a`` the axial depth, τ = 60/(N n) the tooth period and W(t) the directional matrix
 (Shagniev 2019 chip and force equations; Altintas 2012 eq. 3.51, there written ½ K_t A(t)).
+
+**The axial force.** The chip h = Δx sin φ + Δy cos φ also drives the axial force
+F_z = K_ac a h on each engaged tooth (Altintas 2012 §2.4), and a mode with a shape
+component along the tool axis feels it: with :attr:`CuttingModel.Ka` = K_ac/K_tc set, W(t)
+gains the axial row K_t K_a (sin φ, cos φ) (3 × 2), and a tool whose modes have three shape
+components (feed, normal, axis) takes R = (F_x, F_y, F_z) through B (n × 3) while the chip
+still reads the in-plane d = C s. The in-plane response to the axial force, G_{xy,z}, closes
+the axial force's regenerative loop; the axial displacement changes no chip. Every solver
+of the package takes either form (:func:`conform_rows` matches W's rows to a tool's inputs).
 """
 
 from __future__ import annotations
@@ -20,13 +29,15 @@ import numpy as np
 
 @dataclass(frozen=True)
 class ModeXY:
-    """A tool-tip mode in the cutting plane: natural frequency, damping ratio, modal stiffness
-    and shape (x, y) (the receptance contribution is φφᵀ / (k (1 − r² + 2jζr)), r = ω/ω_n)."""
+    """A tool-tip mode in the cutting frame: natural frequency, damping ratio, modal stiffness
+    and shape (x, y) or (x, y, z), z along the tool axis (the receptance contribution is
+    φ_xy φᵀ / (k (1 − r² + 2jζr)), r = ω/ω_n: the in-plane response to a force in every axis
+    the shape gives; module docstring)."""
 
     f_hz: float
     zeta: float
     k_N_m: float
-    shape: tuple[float, float] = (1.0, 0.0)
+    shape: tuple[float, ...] = (1.0, 0.0)
 
     @property
     def m_kg(self) -> float:
@@ -36,7 +47,8 @@ class ModeXY:
 
 @dataclass(frozen=True)
 class LinearTool:
-    """State-space model of the tool tip: ṡ = A s + B R, d = C s (R, d: 2-vectors x, y)."""
+    """State-space model of the tool tip: ṡ = A s + B R, d = C s (d: the in-plane 2-vector
+    x, y; R: the force, x, y or x, y, z as B's columns)."""
 
     A: np.ndarray
     B: np.ndarray
@@ -48,16 +60,25 @@ class LinearTool:
     def n_states(self) -> int:
         return self.A.shape[0]
 
+    @property
+    def n_inputs(self) -> int:
+        """Force components the tool takes: 2 (in-plane) or 3 (with the axial force)."""
+        return self.B.shape[1]
+
     def frf(self, f_hz: np.ndarray) -> np.ndarray:
-        """Receptance G(jω), shape ``(2, 2, len(f))`` [m/N]: of a modal tool the one modal sum
+        """Receptance G(jω), shape ``(2, n_inputs, len(f))`` [m/N] (the in-plane response to
+        each force component): of a modal tool the one modal sum
         (:func:`robomill.chatter.coupling.receptance`), else C (jωI − A)⁻¹ B."""
         f = np.atleast_1d(np.asarray(f_hz, float))
         if self.modes:
             from robomill.chatter.coupling import receptance
 
             m = self.modes
+            shapes = np.zeros((len(m), self.n_inputs))
+            for r, x in enumerate(m):
+                shapes[r, :len(x.shape)] = x.shape
             G = receptance(f, [[x.f_hz for x in m]], [x.zeta for x in m],
-                           [[x.k_N_m for x in m]], [[x.shape for x in m]])[0]
+                           [[x.k_N_m for x in m]], shapes[None])[0]
             return np.moveaxis(G, 0, -1)
         lam, V = np.linalg.eig(self.A)
         CV = self.C @ V
@@ -77,24 +98,45 @@ class LinearTool:
 
 def tool_from_modes(modes: Iterable[ModeXY]) -> LinearTool:
     """Modal superposition as state space: q̈_r + 2ζ_rω_r q̇_r + ω_r² q_r = φ_rᵀR / m_r,
-    d = Σ φ_r q_r (Altintas 2012 eq. 3.34 per mode). States (q_1, q̇_1, q_2, q̇_2, …)."""
+    d = Σ φ_r,xy q_r (Altintas 2012 eq. 3.34 per mode). States (q_1, q̇_1, q_2, q̇_2, …).
+    Three inputs (R = F_x, F_y, F_z) when any mode has an axial shape component (the others
+    0 along the axis), else two."""
     modes = list(modes)
     if not modes:
         raise ValueError("a tool model needs at least one mode")
+    d = max(len(m.shape) for m in modes)
+    if d not in (2, 3):
+        raise ValueError(f"a mode shape has 2 (x, y) or 3 (x, y, z) components, got {d}")
     n = 2 * len(modes)
     A = np.zeros((n, n))
-    B = np.zeros((n, 2))
+    B = np.zeros((n, d))
     C = np.zeros((2, n))
     for r, m in enumerate(modes):
         w = 2 * np.pi * m.f_hz
-        phi = np.asarray(m.shape, float)
+        phi = np.zeros(d)
+        phi[:len(m.shape)] = np.asarray(m.shape, float)
         i = 2 * r
         A[i, i + 1] = 1.0
         A[i + 1, i] = -(w**2)
         A[i + 1, i + 1] = -2 * m.zeta * w
         B[i + 1] = phi / m.m_kg
-        C[:, i] = phi
+        C[:, i] = phi[:2]
     return LinearTool(A, B, C, tuple(modes))
+
+
+def conform_rows(W: np.ndarray, n_inputs: int) -> np.ndarray:
+    """A directional matrix ``(..., 2|3, 2)`` with as many rows as a tool has force inputs:
+    the axial row dropped for an in-plane tool (no mode feels it), a zero axial row added for
+    a cut without an axial coefficient."""
+    W = np.asarray(W)
+    rows = W.shape[-2]
+    if rows == n_inputs:
+        return W
+    if rows == 3 and n_inputs == 2:
+        return W[..., :2, :]
+    if rows == 2 and n_inputs == 3:
+        return np.concatenate([W, np.zeros(W.shape[:-2] + (1, 2))], axis=-2)
+    raise ValueError(f"a directional matrix of {rows} rows for a tool of {n_inputs} inputs")
 
 
 def modes_from_xy_lists(x: Iterable[dict], y: Iterable[dict]) -> list[ModeXY]:
@@ -120,41 +162,57 @@ def immersion_angles(radial_immersion: float, milling: str) -> tuple[float, floa
 
 @dataclass(frozen=True)
 class CuttingModel:
-    """Linear cutting-force model: N teeth, K_t [N/m²], K_r = K_rc/K_tc, engagement φ_st…φ_ex."""
+    """Linear cutting-force model: N teeth, K_t [N/m²], K_r = K_rc/K_tc, engagement φ_st…φ_ex,
+    and optionally K_a = K_ac/K_tc: then every directional matrix has the axial row (3 × 2;
+    module docstring), else it is the planar 2 × 2."""
 
     teeth: int
     Kt_N_m2: float
     Kr: float
     phi_st: float
     phi_ex: float
+    Ka: float | None = None
 
     @classmethod
     def from_immersion(cls, teeth: int, Kt_N_m2: float, Kr: float, radial_immersion: float,
-                       milling: str) -> CuttingModel:
+                       milling: str, Ka: float | None = None) -> CuttingModel:
         return cls(int(teeth), float(Kt_N_m2), float(Kr),
-                   *immersion_angles(radial_immersion, milling))
+                   *immersion_angles(radial_immersion, milling),
+                   None if Ka is None else float(Ka))
+
+    @property
+    def n_rows(self) -> int:
+        """Rows of the directional matrices: 3 with the axial force, else 2."""
+        return 2 if self.Ka is None else 3
 
     def w(self, phi: np.ndarray) -> np.ndarray:
-        """Directional matrix of one engaged tooth at angle φ, ``(..., 2, 2)`` [N/m²]:
-        R = a w(φ) Δ with h = Δx sin φ + Δy cos φ [Shagniev 2019]."""
+        """Directional matrix of one engaged tooth at angle φ, ``(..., n_rows, 2)`` [N/m²]:
+        R = a w(φ) Δ with h = Δx sin φ + Δy cos φ [Shagniev 2019]; the axial row
+        K_t K_a (sin φ, cos φ) [Altintas 2012 §2.4]."""
         s, c = np.sin(phi), np.cos(phi)
         kt, kr = self.Kt_N_m2, self.Kr
-        return kt * np.stack([np.stack([-s * (c + kr * s), -c * (c + kr * s)], -1),
-                              np.stack([s * (s - kr * c), c * (s - kr * c)], -1)], -2)
+        rows = [np.stack([-s * (c + kr * s), -c * (c + kr * s)], -1),
+                np.stack([s * (s - kr * c), c * (s - kr * c)], -1)]
+        if self.Ka is not None:
+            rows.append(self.Ka * np.stack([s, c], -1))
+        return kt * np.stack(rows, -2)
 
     def _antiderivative(self, phi: np.ndarray) -> np.ndarray:
-        """∫ w(φ) dφ in closed form, ``(..., 2, 2)``."""
+        """∫ w(φ) dφ in closed form, ``(..., n_rows, 2)``."""
         s2, c2 = np.sin(2 * phi), np.cos(2 * phi)
         kr = self.Kr
         xx = c2 / 4 - kr * (phi / 2 - s2 / 4)
         xy = -(phi / 2 + s2 / 4) + kr * c2 / 4
         yx = (phi / 2 - s2 / 4) + kr * c2 / 4
         yy = -c2 / 4 - kr * (phi / 2 + s2 / 4)
-        return self.Kt_N_m2 * np.stack([np.stack([xx, xy], -1), np.stack([yx, yy], -1)], -2)
+        rows = [np.stack([xx, xy], -1), np.stack([yx, yy], -1)]
+        if self.Ka is not None:
+            rows.append(self.Ka * np.stack([-np.cos(phi), np.sin(phi)], -1))
+        return self.Kt_N_m2 * np.stack(rows, -2)
 
     def _engaged_integral(self, pa: np.ndarray, pb: np.ndarray) -> np.ndarray:
         """∫_{pa}^{pb} g(φ) w(φ) dφ for one tooth, with pa in [0, 2π) and pb − pa < 2π."""
-        total = np.zeros(np.shape(pa) + (2, 2))
+        total = np.zeros(np.shape(pa) + (self.n_rows, 2))
         for shift in (0.0, 2 * np.pi):
             lo = np.clip(pa, self.phi_st + shift, self.phi_ex + shift)
             hi = np.clip(pb, self.phi_st + shift, self.phi_ex + shift)
@@ -173,16 +231,17 @@ class CuttingModel:
         the semi-discretization (Insperger & Stépán 2004 eq. 8)."""
         dphi = 2 * np.pi / self.teeth / m
         start = np.arange(m) * dphi
-        out = np.zeros((m, 2, 2))
+        out = np.zeros((m, self.n_rows, 2))
         for j in range(self.teeth):
             pa = np.mod(start + 2 * np.pi * j / self.teeth, 2 * np.pi)
             out += self._engaged_integral(pa, pa + dphi)
         return out / dphi
 
     def instantaneous(self, phi0: np.ndarray) -> np.ndarray:
-        """W at cutter angle φ₀ of tooth 0 (sum over teeth with engagement g), ``(..., 2, 2)``."""
+        """W at cutter angle φ₀ of tooth 0 (sum over teeth with engagement g),
+        ``(..., n_rows, 2)``."""
         phi0 = np.asarray(phi0, float)
-        out = np.zeros(phi0.shape + (2, 2))
+        out = np.zeros(phi0.shape + (self.n_rows, 2))
         for j in range(self.teeth):
             p = np.mod(phi0 + 2 * np.pi * j / self.teeth, 2 * np.pi)
             g = (p > self.phi_st) & (p < self.phi_ex)

@@ -12,7 +12,7 @@ cut one direction with several tools. Cut ids carry no meaning here.
 from __future__ import annotations
 
 from collections import Counter
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -20,7 +20,8 @@ import pandas as pd
 import xarray as xr
 
 from robomill.chatter.lobe_maps import SOLVERS, lobes_dataset, speed_grid
-from robomill.chatter.model import CuttingModel, tool_from_modes
+from robomill.chatter.lobes_zoa import zoa_lobes
+from robomill.chatter.model import CuttingModel, ModeXY, tool_from_modes
 from robomill.chatter.slot_model import (
     cutting_from_coefficients,
     mode_coupling,
@@ -64,7 +65,7 @@ class Slot:
         if self.milling == "slot" or self.radial_immersion >= 1.0:
             return slot
         return CuttingModel.from_immersion(self.flutes, slot.Kt_N_m2, slot.Kr,
-                                           self.radial_immersion, self.milling)
+                                           self.radial_immersion, self.milling, slot.Ka)
 
 
 def study_slots(study: Study) -> list[Slot]:
@@ -129,6 +130,7 @@ def study_lobes(modes: pd.DataFrame, coeffs: pd.DataFrame, peaks: pd.DataFrame, 
                                   {"units": "rpm", "long_name": "spindle speed of most of the "
                                    "slot's cuts"})
     lobes.attrs.update({"Kt_N_m2": cut0.Kt_N_m2, "Kr": cut0.Kr,
+                        "Ka": cut0.Ka if cut0.Ka is not None else float("nan"),
                         "teeth": teeth[0] if len(teeth) == 1 else teeth,
                         "thesis_spindle_rpm": speeds[0] if len(speeds) == 1 else speeds,
                         "thesis_depths_mm": sorted({float(c.depth_mm) for sl in slots
@@ -148,6 +150,9 @@ def _slot_lobes(modes: pd.DataFrame, coeffs: pd.DataFrame, slots: list[Slot], rp
         modes_d = modes_in_slot_frame(modes, sl.feed_xy)
         tool = tool_from_modes(modes_d)
         ds = lobes_dataset(tool, cut, rpm, depth_max_m=dmax, accuracy=accuracy)
+        ds["a_crit_planar_mm"] = ("spindle_rpm", 1e3 * _planar_zoa_m(modes_d, cut, rpm),
+                                  {"units": "mm", "long_name": "zero-order critical depth of "
+                                   "the planar model (the axial force left out)"})
         per_dir.append(ds)
         mc.append(mode_coupling(modes_d, cut, depth_max_m=dmax, rtol=MODE_COUPLING_RTOL))
         for s in SOLVERS:
@@ -167,6 +172,13 @@ def _slot_lobes(modes: pd.DataFrame, coeffs: pd.DataFrame, slots: list[Slot], rp
     rel = lobes["a_crit_error_mm"] / lobes["a_crit_mm"].sel(solver="sem")
     lobes.attrs["worst_relative_error"] = float(rel.max()) if rel.notnull().any() else np.nan
     return lobes, mc, rows
+
+
+def _planar_zoa_m(modes: list[ModeXY], cut: CuttingModel, rpm: np.ndarray) -> np.ndarray:
+    """The zero-order depth [m] of the planar model of the same modes and cut: the axial
+    force and the modes' axial components left out (what the lobes would be without them)."""
+    planar = [ModeXY(m.f_hz, m.zeta, m.k_N_m, m.shape[:2]) for m in modes]
+    return zoa_lobes(tool_from_modes(planar), replace(cut, Ka=None), rpm)[0]
 
 
 def _add_force_peaks(lobes: xr.Dataset, peaks: pd.DataFrame, slots: list[Slot]) -> list[float]:
@@ -191,7 +203,7 @@ def _add_mode_coupling(lobes: xr.Dataset, mc: list[dict]) -> None:
     """Each direction's mode-coupling depth, frequency and coupled pair, added to ``lobes``."""
     lobes["mode_coupling_a_mm"] = ("direction", [x["a_mc_m"] * 1e3 for x in mc],
                                    {"units": "mm", "long_name": "mode-coupling critical depth "
-                                    "(2-D model without delay)"})
+                                    "(the modal model without delay)"})
     lobes["mode_coupling_hz"] = ("direction", [x["frequency_hz"] for x in mc],
                                  {"units": "Hz", "long_name": "mode-coupling frequency"})
     lobes["coupled_mode_hz"] = (("direction", "pair"), [x["pair_hz"] for x in mc],
@@ -210,9 +222,11 @@ def _add_frf(lobes: xr.Dataset, modes: pd.DataFrame, slots: list[Slot]) -> None:
     frf = np.stack([np.abs(tool_from_modes(modes_in_slot_frame(modes, sl.feed_xy))
                            .frf(lobes["frequency"].values)) for sl in slots])
     lobes["frf_abs_m_N"] = (("direction", "out", "in", "frequency"), frf,
-                            {"units": "m/N", "long_name": "|G| in the slot frame"})
+                            {"units": "m/N", "long_name": "|G| in the slot frame (in-plane "
+                             "response to each force axis)"})
     lobes["out"] = ("out", ["feed", "normal"], {"units": "1", "long_name": "response axis"})
-    lobes["in"] = ("in", ["feed", "normal"], {"units": "1", "long_name": "force axis"})
+    lobes["in"] = ("in", ["feed", "normal", "axis"][:frf.shape[2]],
+                   {"units": "1", "long_name": "force axis"})
 
 
 def _recommendations(rows: list[dict], mc: list[dict], fmed: list[float],

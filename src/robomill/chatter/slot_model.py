@@ -5,9 +5,11 @@ mode-coupling check, and chatter-free parameter recommendations.
 Slot frames: the feed direction f is the cut's direction in the base XY plane (a unit vector
 from the study: ``px`` +X, ``py`` +Y, ``my`` −Y in the thesis, any angle in a free design)
 and the normal direction is f turned +90° about the tool axis, n = (−f_Y, f_X). A mode with shape
-(φ_X, φ_Y, φ_Z) has the in-plane shape (φ·f, φ·n) in that frame; φ_Z does not enter the 2-D
-model. Reversing the feed reverses both axes, so the linear model gives +Y and −Y the same
-lobes (only a pose change, not modelled here, could tell them apart).
+(φ_X, φ_Y, φ_Z) has the shape (φ·f, φ·n, φ_Z) in that frame: the in-plane part carries the
+chip, and φ_Z takes the axial force K_ac a h that the chip drives (the axial row of the
+directional matrix, :mod:`robomill.chatter.model`). Reversing the feed reverses both in-plane
+axes, so the linear model gives +Y and −Y the same lobes (only a pose change, not modelled
+here, could tell them apart).
 """
 
 from __future__ import annotations
@@ -16,16 +18,23 @@ import numpy as np
 import pandas as pd
 
 from robomill.chatter.coupling import coupling_depth
-from robomill.chatter.model import CuttingModel, LinearTool, ModeXY, tool_from_modes
+from robomill.chatter.model import (
+    CuttingModel,
+    LinearTool,
+    ModeXY,
+    conform_rows,
+    tool_from_modes,
+)
 from robomill.settings import schema_default
 
 
 def modes_in_slot_frame(modes: pd.DataFrame, feed_xy: tuple[float, float]) -> list[ModeXY]:
-    """Modes of ``results/modal/modes.csv`` (``f_n_hz, zeta, k_modal_N_m, shape_x, shape_y``)
-    in the (feed, normal) frame of a cut whose unit feed direction in the base XY plane is
-    ``feed_xy`` (:attr:`robomill.study.StudyCut.feed_xy`). Modes with a non-positive modal
-    stiffness (flagged non-physical by the modal analysis: a negative modal constant) are
-    left out: a negative spring makes no oscillator of the tool. A shape component the test
+    """Modes of ``results/modal/modes.csv`` (``f_n_hz, zeta, k_modal_N_m, shape_x, shape_y``
+    and, where the test measured it, ``shape_z``) in the (feed, normal, axis) frame of a cut
+    whose unit feed direction in the base XY plane is ``feed_xy``
+    (:attr:`robomill.study.StudyCut.feed_xy`); without a ``shape_z`` column, in-plane shapes.
+    Modes with a non-positive modal stiffness (flagged non-physical by the modal analysis: a
+    negative modal constant) are left out: a negative spring makes no oscillator of the tool. A shape component the test
     did not measure (NaN: e.g. responses along X only) counts as 0 (no measured flexibility
     along it).
 
@@ -43,14 +52,18 @@ def modes_in_slot_frame(modes: pd.DataFrame, feed_xy: tuple[float, float]) -> li
                          "(every mode flagged non-physical in modes.csv): no tool model")
     for _, r in modes[ok].iterrows():
         phi = np.nan_to_num(np.array([float(r["shape_x"]), float(r["shape_y"])]))
+        shape = (float(phi @ f), float(phi @ n))
+        if "shape_z" in modes:
+            shape += (float(np.nan_to_num(float(r["shape_z"]))),)
         out.append(ModeXY(float(r["f_n_hz"]), float(r["zeta"]), float(r["k_modal_N_m"]),
-                          (float(phi @ f), float(phi @ n))))
+                          shape))
     return out
 
 
 def cutting_from_coefficients(coeffs: pd.DataFrame, teeth: int) -> CuttingModel:
-    """Slotting model from ``results/forces/cutting_coefficients.csv`` (Ktc, Krc in N/mm²):
-    K_t = Ktc·10⁶ N/m², K_r = Krc/Ktc, full immersion (thesis: slotting, entry 0, exit π).
+    """Slotting model from ``results/forces/cutting_coefficients.csv`` (Ktc, Krc, Kac in
+    N/mm²): K_t = Ktc·10⁶ N/m², K_r = Krc/Ktc, K_a = Kac/Ktc where Kac is identified (else the
+    planar model), full immersion (thesis: slotting, entry 0, exit π).
     A table whose Ktc or Krc is not finite (not identified: one feed per tooth, fewer than
     three cuts) raises ``ValueError`` with the reason (the workflow leaves chapter 4 out
     before, :func:`robomill.forces.coefficients.design_not_identified`)."""
@@ -59,11 +72,13 @@ def cutting_from_coefficients(coeffs: pd.DataFrame, teeth: int) -> CuttingModel:
         why = coeffs.get("not_identified_reason", pd.Series(["no finite Ktc, Krc"])).iloc[0]
         raise ValueError(f"results/forces/cutting_coefficients.csv: the cutting coefficients "
                          f"are not identified ({why}): the stability lobes need Ktc and Krc")
-    return CuttingModel(int(teeth), v["Ktc"] * 1e6, v["Krc"] / v["Ktc"], 0.0, float(np.pi))
+    kac = float(v.get("Kac", np.nan))
+    return CuttingModel(int(teeth), v["Ktc"] * 1e6, v["Krc"] / v["Ktc"], 0.0, float(np.pi),
+                        kac / v["Ktc"] if np.isfinite(kac) else None)
 
 
 def _max_real(tool: LinearTool, cut: CuttingModel, a: np.ndarray) -> tuple[np.ndarray, list]:
-    W = cut.mean_matrix()
+    W = conform_rows(cut.mean_matrix(), tool.n_inputs)
     A = tool.A[None] + np.asarray(a)[:, None, None] * (tool.B @ W @ tool.C)[None]
     lam, V = np.linalg.eig(A)
     i = np.argmax(lam.real, axis=-1)

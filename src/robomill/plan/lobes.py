@@ -32,7 +32,9 @@ def batch_zoa_lobes(fn_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.ndarray, shap
                     chunk: int = 64, mean_matrix: np.ndarray | None = None) -> np.ndarray:
     """Critical axial depth ``(B, len(spindle_rpm))`` [m] of B tool models (zero-order lobes,
     lower envelope of every lobe and eigenvalue branch; +inf where no branch reaches a speed:
-    no regenerative chatter possible there).
+    no regenerative chatter possible there). ``shape`` ``(B, M, 2|3)``: in-plane shapes, or
+    with their axial component (then the axial force's row of ``cut`` or ``mean_matrix``
+    ``(B, 3, 2)`` enters, :mod:`robomill.chatter.model`).
 
     Examples
     --------
@@ -46,10 +48,12 @@ def batch_zoa_lobes(fn_hz: np.ndarray, zeta: np.ndarray, k_N_m: np.ndarray, shap
     """
     fn = np.atleast_2d(np.asarray(fn_hz, float))
     k = np.atleast_2d(np.asarray(k_N_m, float))
-    shape = np.asarray(shape, float).reshape(fn.shape + (2,))
+    shape = np.asarray(shape, float)
+    shape = shape.reshape(fn.shape + (shape.shape[-1],))
     f = frequency_grid(fn) if f_hz is None else np.asarray(f_hz, float)
     z = np.broadcast_to(np.asarray(zeta, float), fn.shape)
-    W = None if mean_matrix is None else np.broadcast_to(mean_matrix, (fn.shape[0], 2, 2))
+    W = (None if mean_matrix is None
+         else np.broadcast_to(mean_matrix, (fn.shape[0],) + np.shape(mean_matrix)[-2:]))
     out = [zoa_envelope(receptance(f, fn[sl], z[sl], k[sl], shape[sl]), f, cut, spindle_rpm,
                         mean_matrix=None if W is None else W[sl])
            for sl in (slice(b0, b0 + chunk) for b0 in range(0, fn.shape[0], chunk))]

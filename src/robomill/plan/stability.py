@@ -12,7 +12,11 @@ tool tip's receptance is the modal sum of every identified mode at the cut's pos
 impact test's robot modes moved to the pose, :func:`robomill.plan.tooltip.mode_scalings`) and
 the spindle/tool modes above the impact test's band, which enter as a stated prior
 (:class:`ToolModePrior`); the cut's directional coefficients (immersion, milling mode,
-tangential and radial coefficients) and the tooth-period delay. It is solved by the
+tangential, radial and axial coefficients) and the tooth-period delay. Each mode keeps its
+component along the tool axis: the chip also drives the axial force K_ac a h, and the
+in-plane response to it closes a regenerative loop of its own (the axial row of the
+directional matrix, :mod:`robomill.chatter.model`); a study whose K_ac is not identified
+gets the planar model. It is solved by the
 zero-order approximation (:func:`robomill.plan.lobes.batch_zoa_lobes`). Its error against
 semi-discretization [Insperger & Stépán 2004] is stated by :func:`zoa_error` at the
 reference pose (``benchmarks/coupling_vs_lobes.py``). Mode coupling arises inside this model;
@@ -23,8 +27,9 @@ diagnostic of chapter 4, never a limit here.
 others are a parametric bootstrap [Efron & Tibshirani 1993]: each mode's f, ζ, k drawn
 normal with the standard deviation of its 95 % interval (``modes.csv`` ``*_low``/``*_high``,
 σ = (high − low)/(2·1.96)), the joint stiffness along the same z between its ends, K_t and
-K_r drawn normal from the coefficients' confidence intervals (a_lim ∝ 1/K_t exactly), and
-the tool modes drawn log-uniform over the prior's ranges.
+K_r (and K_ac, drawn after every other draw so that the others stay those of the planar
+model) drawn normal from the coefficients' confidence intervals (a_lim ∝ 1/K_t exactly at
+fixed K_r/K_t and K_ac/K_t), and the tool modes drawn log-uniform over the prior's ranges.
 
 **Learning from verdicts.** A member m predicting a_m(i) at the study's cut i of depth d_i
 predicts stable when a_m(i) > d_i. With a stated verdict error rate ε (a recording judged
@@ -91,7 +96,8 @@ class Members:
     """The parameters of E members (member 0 the nominal): robot/impact-test modes ``f_hz``,
     ``zeta``, ``k_N_m`` ``(E, M)`` with unit ``shapes`` ``(M, 3)``; ``joint_z`` ``(E,)`` the
     joint stiffness' standard-normal draw; ``kt_N_mm2``, ``kr`` ``(E,)``; the tool modes
-    ``tool_f_hz``, ``tool_zeta``, ``tool_k_N_m`` ``(E, T)`` with ``tool_shapes`` ``(T, 3)``."""
+    ``tool_f_hz``, ``tool_zeta``, ``tool_k_N_m`` ``(E, T)`` with ``tool_shapes`` ``(T, 3)``;
+    ``ka`` ``(E,)`` K_ac/K_tc (None: K_ac not identified, the planar model)."""
 
     f_hz: np.ndarray
     zeta: np.ndarray
@@ -104,6 +110,7 @@ class Members:
     tool_zeta: np.ndarray
     tool_k_N_m: np.ndarray
     tool_shapes: np.ndarray
+    ka: np.ndarray | None = None
 
     @property
     def n(self) -> int:
@@ -157,7 +164,14 @@ def draw_members(measured, settings: StabilitySettings) -> Members | None:
         tf[0, j], tz[0, j], tk[0, j] = pr.nominal()
         s = np.asarray(pr.shape, float)
         tshape[j] = s / np.linalg.norm(s)
-    return Members(f, ze, kk, shapes, zj, kt, krc / kt, tf, tz, tk, tshape)
+    ka = None
+    kac0 = cb["nominal"].Kac
+    if np.isfinite(kac0):
+        za = rng.standard_normal(E)
+        za[0] = 0.0
+        kac = np.maximum(kac0 + _sigma(kac0, cb["low"].Kac, cb["high"].Kac) * za, 0.0)
+        ka = kac / kt
+    return Members(f, ze, kk, shapes, zj, kt, krc / kt, tf, tz, tk, tshape, ka)
 
 
 POSE_FREQUENCY_FACTOR = 1.5
@@ -202,15 +216,15 @@ def member_modes(members: Members, scalings: dict[str, np.ndarray], frames: np.n
     ``nominal`` and optionally ``low``/``high``, ``(B, M)``, between whose ends each member's
     ``joint_z`` interpolates, and the frequency by √(stiffness ratio / mass ratio), the mass
     ratio its ``mass`` where the cell documents the robot's masses, else 1; then the tool
-    modes) and their in-plane shapes ``(B, M + T, 2)``
-    in the cut frames ``(B, 3, 3)`` (columns feed, normal, axis)."""
+    modes) and their shapes ``(B, M + T, 3)`` in the cut frames ``(B, 3, 3)`` (columns feed,
+    normal, axis; the in-plane model takes the first two)."""
     idx = np.arange(members.n)[which if which is not None else slice(None)]
     s_nom = scalings["nominal"]
     B = s_nom.shape[0]
     E = idx.size
-    inplane = np.einsum("mi,bid->bmd", members.shapes, frames[:, :, :2])      # (B, M, 2)
-    tool_in = np.einsum("ti,bid->btd", members.tool_shapes, frames[:, :, :2])  # (B, T, 2)
-    shape = np.concatenate([inplane, tool_in], 1)
+    robot = np.einsum("mi,bid->bmd", members.shapes, frames)                  # (B, M, 3)
+    tool = np.einsum("ti,bid->btd", members.tool_shapes, frames)              # (B, T, 3)
+    shape = np.concatenate([robot, tool], 1)
     zj = members.joint_z[idx][:, None, None]                                   # (E, 1, 1)
     s_hi = scalings.get("high", s_nom)[None]
     s_lo = scalings.get("low", s_nom)[None]
@@ -227,6 +241,16 @@ def member_modes(members: Members, scalings: dict[str, np.ndarray], frames: np.n
     return fn, zz, kk, shape
 
 
+def member_cut(members: Members, e: int, *, flutes: int, entry_rad: float, exit_rad: float,
+               kt_N_mm2: float | None = None) -> CuttingModel:
+    """Member ``e``'s cutting model (its K_r and K_a; K_t its own, or ``kt_N_mm2``: the
+    depths scale as 1/K_t, :func:`member_depths_m`)."""
+    kt = float(members.kt_N_mm2[e] if kt_N_mm2 is None else kt_N_mm2)
+    ka = None if members.ka is None else float(members.ka[e])
+    return CuttingModel(int(flutes), kt * 1e6, float(members.kr[e]), float(entry_rad),
+                        float(exit_rad), ka)
+
+
 def member_depths_m(members: Members, scalings: dict[str, np.ndarray], frames: np.ndarray,
                     spindle_rpm: np.ndarray, *, flutes: int, entry_rad: float,
                     exit_rad: float, which: slice | None = None) -> np.ndarray:
@@ -234,22 +258,23 @@ def member_depths_m(members: Members, scalings: dict[str, np.ndarray], frames: n
     (robot-mode stiffness ratios ``scalings`` from :func:`robomill.plan.tooltip.mode_scalings`,
     keys ``nominal`` and optionally ``low``/``high``, ``(B, M)``), cut frames ``(B, 3, 3)``
     (columns feed, normal, axis) and speeds ``(S,)`` (zero-order lobes on the modes of
-    :func:`member_modes`; +inf where no lobe reaches a speed)."""
+    :func:`member_modes`, with the axial force where K_ac is identified; +inf where no lobe
+    reaches a speed)."""
     idx = np.arange(members.n)[which if which is not None else slice(None)]
     fn, zz, kk, shape = member_modes(members, scalings, frames, which)
     E, B = fn.shape[:2]
     f_grid = _frequency_grid(members)
     kt0 = float(members.kt_N_mm2[0])
-    W = np.stack([CuttingModel(int(flutes), kt0 * 1e6, float(members.kr[e]), float(entry_rad),
-                               float(exit_rad)).mean_matrix() for e in idx])     # (E, 2, 2)
-    cut = CuttingModel(int(flutes), kt0 * 1e6, float(members.kr[0]), float(entry_rad),
-                       float(exit_rad))
-    n_modes = fn.shape[-1]
+    cuts = [member_cut(members, e, flutes=flutes, entry_rad=entry_rad, exit_rad=exit_rad,
+                       kt_N_mm2=kt0) for e in idx]
+    W = np.stack([c.mean_matrix() for c in cuts])                              # (E, 2|3, 2)
+    n_modes, d = fn.shape[-1], W.shape[1]
     a = batch_zoa_lobes(fn.reshape(E * B, n_modes), zz.reshape(E * B, n_modes),
                         kk.reshape(E * B, n_modes),
-                        np.broadcast_to(shape[None], (E,) + shape.shape).reshape(E * B, n_modes,
-                                                                                 2),
-                        cut, np.atleast_1d(spindle_rpm), f_hz=f_grid,
+                        np.broadcast_to(shape[None, ..., :d],
+                                        (E,) + shape.shape[:-1] + (d,)).reshape(E * B,
+                                                                                n_modes, d),
+                        cuts[0], np.atleast_1d(spindle_rpm), f_hz=f_grid,
                         mean_matrix=np.repeat(W, B, axis=0))
     a = a.reshape(E, B, -1)
     # a branch grazing u = 0 gives astronomically deep limits: no chatter at any depth
@@ -345,16 +370,10 @@ def zoa_error(members: Members, scalings: dict, frame: np.ndarray, spindle_rpm, 
     rpm = np.atleast_1d(np.asarray(spindle_rpm, float))
     a_zoa = member_depths_m(members, scalings, frame[None], rpm, flutes=flutes,
                             entry_rad=entry_rad, exit_rad=exit_rad, which=slice(0, 1))[0, 0]
-    s = scalings["nominal"][0]
-    modes = [ModeXY(float(f * np.sqrt(sc)), float(z), float(k * sc),
-                    tuple(frame[:, :2].T @ sh))
-             for f, z, k, sc, sh in zip(members.f_hz[0], members.zeta[0], members.k_N_m[0], s,
-                                        members.shapes, strict=True)]
-    modes += [ModeXY(float(f), float(z), float(k), tuple(frame[:, :2].T @ sh))
-              for f, z, k, sh in zip(members.tool_f_hz[0], members.tool_zeta[0],
-                                     members.tool_k_N_m[0], members.tool_shapes, strict=True)]
-    cut = CuttingModel(int(flutes), float(members.kt_N_mm2[0]) * 1e6, float(members.kr[0]),
-                       float(entry_rad), float(exit_rad))
+    fn, zz, kk, shape = member_modes(members, scalings, frame[None], slice(0, 1))
+    cut = member_cut(members, 0, flutes=flutes, entry_rad=entry_rad, exit_rad=exit_rad)
+    modes = [ModeXY(float(f), float(z), float(k), tuple(float(v) for v in sh[:cut.n_rows]))
+             for f, z, k, sh in zip(fn[0, 0], zz[0, 0], kk[0, 0], shape[0], strict=True)]
     fin = a_zoa[np.isfinite(a_zoa)]
     depth_max = 3.0 * float(fin.max()) if fin.size else 0.1
     a_sdm = np.asarray(sdm_lobes(tool_from_modes(modes), cut, rpm, depth_max_m=depth_max)[0],
