@@ -34,9 +34,9 @@ def modes_in_slot_frame(modes: pd.DataFrame, feed_xy: tuple[float, float]) -> li
     whose unit feed direction in the base XY plane is ``feed_xy``
     (:attr:`robomill.study.StudyCut.feed_xy`); without a ``shape_z`` column, in-plane shapes.
     Modes with a non-positive modal stiffness (flagged non-physical by the modal analysis: a
-    negative modal constant) are left out: a negative spring makes no oscillator of the tool. A shape component the test
-    did not measure (NaN: e.g. responses along X only) counts as 0 (no measured flexibility
-    along it).
+    negative modal constant) are left out: a negative spring makes no oscillator of the tool. A
+    shape component the test did not measure (NaN: e.g. responses along X only) counts as 0 (no
+    measured flexibility along it).
 
     Raises
     ------
