@@ -6,7 +6,7 @@ The set: at each of three speeds (12 000, 20 000 and 28 000 rpm) and both feed d
 py), one probe (0.5 mm) gives the predicted critical depth a_crit, and two cuts are made at 0.5
 and 1.8 times it (one on each side of the predicted boundary), at 5 mm/s, laid out on the
 block's top face beside the request's placement box (its lowest corner, 25 mm apart along x, 30
-mm along y). The cuts are predicted (``robomill predict``, the plan's code) and cut by the
+mm along y); ``--feed-per-tooth-mm``: at that feed per tooth instead (the request's flutes). The cuts are predicted (``robomill predict``, the plan's code) and cut by the
 virtual cell with the study's own configuration (``--config``, the files the study was run with,
 in order) and the experiment of the plan's next run (``results/plan/next/config.yaml``, its cuts
 replaced), in their own folder, recorded by the instruments that recorded the study's own cuts
@@ -18,7 +18,8 @@ nominal prediction agrees, and ``unsafe`` (predicted stable, judged chatter); th
 gives the Brier score of ``p_stable`` over the set.
 
     .venv/bin/python benchmarks/predict_then_cut.py STUDY --config config.yaml --out DIR \
-        [--recordings] [--speeds-rpm 12000,20000,28000] [--factors 0.5,1.8]
+        [--recordings] [--speeds-rpm 12000,20000,28000] [--factors 0.5,1.8] \
+        [--feed-per-tooth-mm 0.025]
 
 (``--speeds-rpm`` and ``--factors``: another set of the same kind, at other speeds or at other
 multiples of each predicted limit.)
@@ -78,7 +79,7 @@ def layout_origin_mm(study: Path) -> tuple[np.ndarray, float]:
 
 
 def placed_cut(origin: tuple[np.ndarray, float], cid: str, rpm: float, depth_mm: float,
-               direction: str, i: int) -> dict:
+               direction: str, i: int, feed_mm_s: float = FEED_MM_S) -> dict:
     """Cut ``i`` of the set: its manifest keys, started beside the request's placement box
     (``origin``, :func:`layout_origin_mm`: its lowest corner less half the cut's length along
     x, 25 mm apart along x, 30 mm along y, six per row), ``depth_mm`` below the top face
@@ -89,7 +90,8 @@ def placed_cut(origin: tuple[np.ndarray, float], cid: str, rpm: float, depth_mm:
     start = [float(lo[0] - length_mm / 2 + 25.0 * (i % 6)), float(lo[1] + 30.0 * (i // 6)),
              float(lo[2] - depth)]
     return {"id": cid, "spindle_rpm": float(rpm), "depth_mm": float(round(depth, 3)),
-            "feed_mm_s": FEED_MM_S, "direction": direction, "start_mm": start}
+            "feed_mm_s": float(round(feed_mm_s, 4)), "direction": direction,
+            "start_mm": start}
 
 
 def predict_cuts(study: Path, cuts: list[dict], path: Path) -> pd.DataFrame:
@@ -103,14 +105,27 @@ def predict_cuts(study: Path, cuts: list[dict], path: Path) -> pd.DataFrame:
     return pd.read_csv(out)
 
 
+def feed_of(study: Path, feed_per_tooth_mm: float | None):
+    """The set's feed [mm/s] at a speed [rpm]: :data:`FEED_MM_S`, or ``feed_per_tooth_mm`` on
+    the request's tool (its flutes), f = f_z N n/60."""
+    if feed_per_tooth_mm is None:
+        return lambda rpm: FEED_MM_S
+    from robomill.plan.inputs import load_recorded
+
+    flutes = int(load_recorded(study).req.flutes)
+    return lambda rpm: float(feed_per_tooth_mm) * flutes * float(rpm) / 60.0
+
+
 def boundary_set(study: Path, work: Path, speeds=SPEEDS_RPM, directions=DIRECTIONS,
-                 factors=FACTORS) -> tuple[list[dict], pd.DataFrame]:
+                 factors=FACTORS, feed_per_tooth_mm: float | None = None
+                 ) -> tuple[list[dict], pd.DataFrame]:
     """The set (module docstring) and its predictions (indexed by cut); its cut lists and
     their predictions are written in ``work``."""
     work.mkdir(parents=True, exist_ok=True)
     origin = layout_origin_mm(study)
+    feed = feed_of(study, feed_per_tooth_mm)
     pairs = [(n, d) for n in speeds for d in directions]
-    probe = [placed_cut(origin, f"probe_{k}", n, PROBE_DEPTH_MM, d, k)
+    probe = [placed_cut(origin, f"probe_{k}", n, PROBE_DEPTH_MM, d, k, feed(n))
              for k, (n, d) in enumerate(pairs)]
     a = predict_cuts(study, probe, work / "probe.yaml")["a_crit_mm"].to_numpy(float)
     if not np.all(np.isfinite(a) & (a > 0)):
@@ -120,7 +135,7 @@ def boundary_set(study: Path, work: Path, speeds=SPEEDS_RPM, directions=DIRECTIO
     for (n, d), a_k in zip(pairs, a, strict=True):
         for side, f in factors:
             cuts.append(placed_cut(origin, f"oos_{int(n / 1000)}k_{d}_{side}", n, f * a_k, d,
-                                   len(cuts)))
+                                   len(cuts), feed(n)))
     return cuts, predict_cuts(study, cuts, work / "oos.yaml").set_index("cut")
 
 
@@ -202,6 +217,9 @@ def main(argv=None) -> int:
                     help="depths as multiples of each probe's predicted critical depth, "
                     "comma-separated (default 0.5,1.8: cuts named below/above; others are "
                     "named by their percentage, e.g. oos_12k_px_250pct)")
+    ap.add_argument("--feed-per-tooth-mm", type=positive_floats, default=None,
+                    help="the cuts' feed per tooth [mm] on the request's tool (default: "
+                    f"{FEED_MM_S:g} mm/s at every speed)")
     ap.add_argument("--recordings", action="store_true",
                     help="also record the cuts as the plan's next run does (accelerometer or "
                     "microphone with air passes) and judge those records too")
@@ -218,7 +236,9 @@ def main(argv=None) -> int:
     if len({name for name, _ in factors}) < len(factors):
         ap.error(f"--factors: two factors name the same cut at the percent: {args.factors}")
     try:
-        cuts, pred = boundary_set(study, work, speeds=args.speeds_rpm, factors=factors)
+        fz = None if args.feed_per_tooth_mm is None else args.feed_per_tooth_mm[0]
+        cuts, pred = boundary_set(study, work, speeds=args.speeds_rpm, factors=factors,
+                                  feed_per_tooth_mm=fz)
         t = agreement_table(pred, cut_on_cell(study, cuts, configs, work / "run",
                                               recordings=args.recordings))
     except SetError as exc:

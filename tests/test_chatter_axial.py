@@ -25,12 +25,12 @@ RPM = np.array([6000.0, 12000.0, 20000.0])
 def test_axial_row_averages_by_hand():
     """The slot's axial row: N K_t K_a/(2π) ∫₀^π (sin φ, cos φ) dφ = N K_t K_a/π (1, 0); a
     half-immersion up-milling cut: ∫₀^{π/2} = (1, 1); the planar rows unchanged."""
-    slot = CuttingModel(3, KT, KR, 0.0, np.pi, KA)
+    slot = CuttingModel(3, KT, KR, 0.0, np.pi, Ka=KA)
     np.testing.assert_allclose(slot.mean_matrix()[2], 3 * KT * KA / np.pi * np.array([1.0, 0.0]),
                                atol=1e-6 * KT)
     np.testing.assert_allclose(slot.mean_matrix()[:2], CuttingModel(3, KT, KR, 0.0, np.pi)
                                .mean_matrix(), rtol=0, atol=0)
-    half = CuttingModel.from_immersion(3, KT, KR, 0.5, "up", KA)
+    half = CuttingModel.from_immersion(3, KT, KR, 0.5, "up", Ka=KA)
     np.testing.assert_allclose(half.mean_matrix()[2], 3 * KT * KA / (2 * np.pi) * np.ones(2),
                                rtol=1e-12)
     # the per-interval averages and the instantaneous matrix average to the same row
@@ -42,7 +42,7 @@ def test_axial_row_averages_by_hand():
 
 
 def test_conform_rows_pads_and_drops_only_the_axial_row():
-    W3 = CuttingModel(2, KT, KR, 0.0, np.pi, KA).mean_matrix()
+    W3 = CuttingModel(2, KT, KR, 0.0, np.pi, Ka=KA).mean_matrix()
     assert conform_rows(W3, 2).shape == (2, 2) and conform_rows(W3, 3) is W3
     padded = conform_rows(W3[:2], 3)
     assert padded.shape == (3, 2) and not padded[2].any()
@@ -67,7 +67,7 @@ def test_solvers_agree_with_the_axial_row_and_it_matters():
     axial row moves the depth by far more than their differences."""
     tool = tool_from_modes(MODES3)
     assert tool.n_inputs == 3 and tool.frf(np.array([60.0])).shape == (2, 3, 1)
-    cut = CuttingModel(4, KT, KR, 0.0, np.pi, KA)
+    cut = CuttingModel(4, KT, KR, 0.0, np.pi, Ka=KA)
     a_z, _ = zoa_lobes(tool, cut, RPM)
     a_s = np.asarray(sdm_lobes(tool, cut, RPM, depth_max_m=0.05, rtol=1e-3)[0], float)
     a_e = sem_lobes(tool, cut, RPM, depth_max_m=0.05)["a_crit_m"]
@@ -82,7 +82,7 @@ def test_the_planar_model_is_kept_exactly_without_axial_shape_or_coefficient():
     """A 3-input tool under a cut without K_a, and an in-plane tool under a cut with it: the
     planar lobes to the last digit (the axial row meets no axial shape)."""
     planar = CuttingModel(4, KT, KR, 0.0, np.pi)
-    axial = CuttingModel(4, KT, KR, 0.0, np.pi, KA)
+    axial = CuttingModel(4, KT, KR, 0.0, np.pi, Ka=KA)
     ref = critical_depth(tool_from_modes(MODES2), planar, 12000.0, depth_max_m=0.05)[0]
     assert critical_depth(tool_from_modes(MODES2), axial, 12000.0, depth_max_m=0.05)[0] == ref
     assert critical_depth(tool_from_modes(MODES3), planar, 12000.0,
@@ -94,8 +94,8 @@ def test_the_planar_model_is_kept_exactly_without_axial_shape_or_coefficient():
 def test_the_delay_free_diagnostic_takes_the_axial_force_too():
     shapes3 = [[m.shape for m in MODES3]]
     args = ([[m.f_hz for m in MODES3]], [m.zeta for m in MODES3], [[m.k_N_m for m in MODES3]])
-    a3 = coupling_depth(*args, shapes3, CuttingModel(4, KT, KR, 0.0, np.pi, KA))
-    a0 = coupling_depth(*args, shapes3, CuttingModel(4, KT, KR, 0.0, np.pi, 0.0))
+    a3 = coupling_depth(*args, shapes3, CuttingModel(4, KT, KR, 0.0, np.pi, Ka=KA))
+    a0 = coupling_depth(*args, shapes3, CuttingModel(4, KT, KR, 0.0, np.pi, Ka=0.0))
     a2 = coupling_depth(*args, [[m.shape for m in MODES2]], CuttingModel(4, KT, KR, 0.0, np.pi))
     assert a0[0] == pytest.approx(a2[0], rel=1e-3)
     assert a3[0] != pytest.approx(a2[0], rel=1e-2)

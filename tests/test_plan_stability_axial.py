@@ -50,7 +50,7 @@ def test_nominal_depth_is_the_solvers_on_the_modes_by_hand():
     shape (x, y, z) reads (y, −x, z)."""
     rpm = np.array([9000.0, 20000.0])
     modes = [ModeXY(f, z, k, (sy, -sx, sz)) for f, z, k, sx, sy, sz in MODES.itertuples(False)]
-    cut = CuttingModel(4, 796e6, 168 / 796, 0.0, np.pi, 222 / 796)
+    cut = CuttingModel(4, 796e6, 168 / 796, 0.0, np.pi, Ka=222 / 796)
     ref, _ = zoa_lobes(tool_from_modes(modes), cut, rpm)
     np.testing.assert_allclose(depths(members(), rpm)[0, 0], ref, rtol=2e-3)
     planar = [ModeXY(m.f_hz, m.zeta, m.k_N_m, m.shape[:2]) for m in modes]

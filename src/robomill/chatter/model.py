@@ -22,7 +22,7 @@ of the package takes either form (:func:`conform_rows` matches W's rows to a too
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -171,14 +171,14 @@ class CuttingModel:
     Kr: float
     phi_st: float
     phi_ex: float
-    Ka: float | None = None
+    Ka: float | None = field(default=None, kw_only=True)
 
     @classmethod
     def from_immersion(cls, teeth: int, Kt_N_m2: float, Kr: float, radial_immersion: float,
                        milling: str, Ka: float | None = None) -> CuttingModel:
         return cls(int(teeth), float(Kt_N_m2), float(Kr),
                    *immersion_angles(radial_immersion, milling),
-                   None if Ka is None else float(Ka))
+                   Ka=None if Ka is None else float(Ka))
 
     @property
     def n_rows(self) -> int:

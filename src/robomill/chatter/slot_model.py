@@ -74,7 +74,7 @@ def cutting_from_coefficients(coeffs: pd.DataFrame, teeth: int) -> CuttingModel:
                          f"are not identified ({why}): the stability lobes need Ktc and Krc")
     kac = float(v.get("Kac", np.nan))
     return CuttingModel(int(teeth), v["Ktc"] * 1e6, v["Krc"] / v["Ktc"], 0.0, float(np.pi),
-                        kac / v["Ktc"] if np.isfinite(kac) else None)
+                        Ka=kac / v["Ktc"] if np.isfinite(kac) else None)
 
 
 def _max_real(tool: LinearTool, cut: CuttingModel, a: np.ndarray) -> tuple[np.ndarray, list]:

@@ -248,7 +248,7 @@ def member_cut(members: Members, e: int, *, flutes: int, entry_rad: float, exit_
     kt = float(members.kt_N_mm2[e] if kt_N_mm2 is None else kt_N_mm2)
     ka = None if members.ka is None else float(members.ka[e])
     return CuttingModel(int(flutes), kt * 1e6, float(members.kr[e]), float(entry_rad),
-                        float(exit_rad), ka)
+                        float(exit_rad), Ka=ka)
 
 
 def member_depths_m(members: Members, scalings: dict[str, np.ndarray], frames: np.ndarray,
