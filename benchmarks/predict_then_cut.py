@@ -6,10 +6,11 @@ The set: at each of three speeds (12 000, 20 000 and 28 000 rpm) and both feed d
 py), one probe (0.5 mm) gives the predicted critical depth a_crit, and two cuts are made at 0.5
 and 1.8 times it (one on each side of the predicted boundary), at 5 mm/s, laid out on the
 block's top face beside the request's placement box (its lowest corner, 25 mm apart along x, 30
-mm along y); ``--feed-per-tooth-mm``: at that feed per tooth instead (the request's flutes). The cuts are predicted (``robomill predict``, the plan's code) and cut by the
-virtual cell with the study's own configuration (``--config``, the files the study was run with,
-in order) and the experiment of the plan's next run (``results/plan/next/config.yaml``, its cuts
-replaced), in their own folder, recorded by the instruments that recorded the study's own cuts
+mm along y); ``--feed-per-tooth-mm``: at that feed per tooth instead (the request's flutes). The
+cuts are predicted (``robomill predict``, the plan's code) and cut by the virtual cell with the
+study's own configuration (``--config``, the files the study was run with, in order) and the
+experiment of the plan's next run (``results/plan/next/config.yaml``, its cuts replaced), in
+their own folder, recorded by the instruments that recorded the study's own cuts
 (``--recordings``: also by those the next run adds, an accelerometer or microphone with its air
 passes); the verdicts are read from that run's ``results/chatter/verdicts.csv`` (a cut is
 chatter when any of its records is). Printed and written (``<out>/predict_then_cut.csv``): per
@@ -60,6 +61,14 @@ def positive_floats(text: str) -> list[float]:
     return values
 
 
+def positive_float(text: str) -> float:
+    """An option's one positive number (``argparse`` type: one line on anything else)."""
+    values = positive_floats(text)
+    if len(values) != 1:
+        raise argparse.ArgumentTypeError(f"expected one positive number, got {text!r}")
+    return values[0]
+
+
 class SetError(Exception):
     """A study the set cannot be predicted or cut from (one line naming the file)."""
 
@@ -105,15 +114,13 @@ def predict_cuts(study: Path, cuts: list[dict], path: Path) -> pd.DataFrame:
     return pd.read_csv(out)
 
 
-def feed_of(study: Path, feed_per_tooth_mm: float | None):
+def feed_mm_s(rpm: float, feed_per_tooth_mm: float | None = None, flutes: int | None = None
+              ) -> float:
     """The set's feed [mm/s] at a speed [rpm]: :data:`FEED_MM_S`, or ``feed_per_tooth_mm`` on
-    the request's tool (its flutes), f = f_z N n/60."""
+    a tool of ``flutes``, f = f_z N n/60."""
     if feed_per_tooth_mm is None:
-        return lambda rpm: FEED_MM_S
-    from robomill.plan.inputs import load_recorded
-
-    flutes = int(load_recorded(study).req.flutes)
-    return lambda rpm: float(feed_per_tooth_mm) * flutes * float(rpm) / 60.0
+        return FEED_MM_S
+    return float(feed_per_tooth_mm) * int(flutes) * float(rpm) / 60.0
 
 
 def boundary_set(study: Path, work: Path, speeds=SPEEDS_RPM, directions=DIRECTIONS,
@@ -123,7 +130,14 @@ def boundary_set(study: Path, work: Path, speeds=SPEEDS_RPM, directions=DIRECTIO
     their predictions are written in ``work``."""
     work.mkdir(parents=True, exist_ok=True)
     origin = layout_origin_mm(study)
-    feed = feed_of(study, feed_per_tooth_mm)
+    flutes = None
+    if feed_per_tooth_mm is not None:
+        from robomill.plan.inputs import load_recorded
+
+        flutes = int(load_recorded(study).req.flutes)
+
+    def feed(rpm):
+        return feed_mm_s(rpm, feed_per_tooth_mm, flutes)
     pairs = [(n, d) for n in speeds for d in directions]
     probe = [placed_cut(origin, f"probe_{k}", n, PROBE_DEPTH_MM, d, k, feed(n))
              for k, (n, d) in enumerate(pairs)]
@@ -217,7 +231,7 @@ def main(argv=None) -> int:
                     help="depths as multiples of each probe's predicted critical depth, "
                     "comma-separated (default 0.5,1.8: cuts named below/above; others are "
                     "named by their percentage, e.g. oos_12k_px_250pct)")
-    ap.add_argument("--feed-per-tooth-mm", type=positive_floats, default=None,
+    ap.add_argument("--feed-per-tooth-mm", type=positive_float, default=None,
                     help="the cuts' feed per tooth [mm] on the request's tool (default: "
                     f"{FEED_MM_S:g} mm/s at every speed)")
     ap.add_argument("--recordings", action="store_true",
@@ -236,9 +250,8 @@ def main(argv=None) -> int:
     if len({name for name, _ in factors}) < len(factors):
         ap.error(f"--factors: two factors name the same cut at the percent: {args.factors}")
     try:
-        fz = None if args.feed_per_tooth_mm is None else args.feed_per_tooth_mm[0]
         cuts, pred = boundary_set(study, work, speeds=args.speeds_rpm, factors=factors,
-                                  feed_per_tooth_mm=fz)
+                                  feed_per_tooth_mm=args.feed_per_tooth_mm)
         t = agreement_table(pred, cut_on_cell(study, cuts, configs, work / "run",
                                               recordings=args.recordings))
     except SetError as exc:

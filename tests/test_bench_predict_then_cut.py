@@ -42,3 +42,24 @@ def test_a_set_option_that_is_no_list_of_positive_numbers_is_one_line():
     for bad in ("0.5,x", "-1", "0", "", "nan"):
         with pytest.raises(argparse.ArgumentTypeError, match="positive numbers"):
             positive_floats(bad)
+
+
+def test_a_feed_per_tooth_is_one_positive_number():
+    import argparse
+
+    from predict_then_cut import positive_float
+
+    assert positive_float("0.025") == 0.025
+    for bad in ("0.025,0.05", "0", "x"):
+        with pytest.raises(argparse.ArgumentTypeError, match="positive number"):
+            positive_float(bad)
+
+
+def test_the_production_set_feeds_the_chip_by_hand():
+    """f = f_z N n/60: 25 µm on 3 flutes at 12 000 rpm is 15 mm/s, at 28 000 rpm 35 mm/s;
+    without a feed per tooth, 5 mm/s at every speed."""
+    from predict_then_cut import FEED_MM_S, feed_mm_s
+
+    assert feed_mm_s(12000.0) == feed_mm_s(28000.0, None, 3) == FEED_MM_S == 5.0
+    assert feed_mm_s(12000.0, 0.025, 3) == pytest.approx(15.0, rel=1e-12)
+    assert feed_mm_s(28000.0, 0.025, 3) == pytest.approx(35.0, rel=1e-12)
