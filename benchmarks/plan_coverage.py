@@ -15,7 +15,10 @@ study never made, on both sides of the predicted boundary at three speeds and bo
 directions, predicted with ``robomill predict`` and cut by the virtual cell as their own study:
 ``predict_then_cut_<study>.csv`` (per judged cut) and ``predict_then_cut.csv`` (per study: the
 judged cuts, those the nominal prediction got right, those predicted stable that were judged
-chatter, and the Brier score of ``p_stable`` over them).
+chatter, and the Brier score of ``p_stable`` over them). The set is cut twice: at the check's
+5 mm/s (chips of 4–13 µm, near the study's own 1–11 µm) and at a production chip of
+:data:`PRODUCTION_FEED_PER_TOOTH_MM` on the request's tool
+(``predict_then_cut_<study>_production.csv``; column ``feed``).
 
     .venv/bin/python benchmarks/plan_coverage.py [--out DIR] [--work DIR] [--overlay FILE ...]
 
@@ -65,14 +68,25 @@ def run_study(name: str, root: Path, overlays: list[Path] = ()) -> pd.DataFrame:
     return check
 
 
-def predict_then_cut_row(name: str, root: Path, out: Path, overlays: list[Path] = ()) -> dict:
-    """Predict then cut on one study's plan (module docstring); its summary row."""
+PRODUCTION_FEED_PER_TOOTH_MM = 0.025
+"""The production set's chip [mm per tooth]: inside the 20–50 µm a production request offers
+(the study's own cuts: 1–11 µm)."""
+
+
+def predict_then_cut_row(name: str, root: Path, out: Path, overlays: list[Path] = (),
+                         feed_per_tooth_mm: float | None = None) -> dict:
+    """Predict then cut on one study's plan (module docstring), at the set's 5 mm/s or at
+    ``feed_per_tooth_mm``; its summary row."""
     study = root / name
-    cuts, pred = boundary_set(study, study / "predict_then_cut")
+    tag = "" if feed_per_tooth_mm is None else "_production"
+    work = study / f"predict_then_cut{tag}"
+    cuts, pred = boundary_set(study, work, feed_per_tooth_mm=feed_per_tooth_mm)
     t = agreement_table(pred, cut_on_cell(study, cuts, study_configs(name, list(overlays)),
-                                          study / "predict_then_cut/run"))
-    t.to_csv(out / f"predict_then_cut_{name}.csv")
-    return {"study": name, "n_cut": len(cuts), **set_summary(t)}
+                                          work / "run"))
+    t.to_csv(out / f"predict_then_cut_{name}{tag}.csv")
+    feed = ("5 mm/s" if feed_per_tooth_mm is None
+            else f"{1e3 * feed_per_tooth_mm:g} um per tooth")
+    return {"study": name, "feed": feed, "n_cut": len(cuts), **set_summary(t)}
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -103,8 +117,8 @@ def main(argv: list[str] | None = None) -> int:
     table.to_csv(out / "plan_coverage.csv", index=False)
     pd.concat(checks, ignore_index=True).to_csv(out / "plan_coverage_check.csv", index=False)
     print(table.to_string(index=False))
-    cut = pd.DataFrame([predict_then_cut_row(name, work, out, known.overlay)
-                        for name in STUDIES])
+    cut = pd.DataFrame([predict_then_cut_row(name, work, out, known.overlay, fz)
+                        for fz in (None, PRODUCTION_FEED_PER_TOOTH_MM) for name in STUDIES])
     cut.to_csv(out / "predict_then_cut.csv", index=False)
     print(cut.to_string(index=False))
     if remove:
