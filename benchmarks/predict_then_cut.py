@@ -22,7 +22,8 @@ gives the Brier score of ``p_stable`` over the set.
         [--recordings] [--speeds-rpm 12000,20000,28000] [--factors 0.5,1.8] \
         [--feed-per-tooth-mm 0.025]
 
-(``--speeds-rpm`` and ``--factors``: another set of the same kind, at other speeds or at other
+(``--cuts FILE``: any YAML list of cuts, predicted and cut the same way;
+``--speeds-rpm`` and ``--factors``: another set of the same kind, at other speeds or at other
 multiples of each predicted limit.)
 
 ``STUDY``: a study folder whose plan was made (``snakemake -j2 plan``).
@@ -234,6 +235,9 @@ def main(argv=None) -> int:
     ap.add_argument("--feed-per-tooth-mm", type=positive_float, default=None,
                     help="the cuts' feed per tooth [mm] on the request's tool (default: "
                     f"{FEED_MM_S:g} mm/s at every speed)")
+    ap.add_argument("--cuts", type=Path,
+                    help="a YAML cut list (the manifest's cut keys) to predict and cut instead "
+                    "of the set")
     ap.add_argument("--recordings", action="store_true",
                     help="also record the cuts as the plan's next run does (accelerometer or "
                     "microphone with air passes) and judge those records too")
@@ -249,9 +253,17 @@ def main(argv=None) -> int:
                [(f"{round(100 * f)}pct", f) for f in args.factors])
     if len({name for name, _ in factors}) < len(factors):
         ap.error(f"--factors: two factors name the same cut at the percent: {args.factors}")
+    if args.cuts is not None and not args.cuts.is_file():
+        ap.error(f"--cuts: no such file: {args.cuts}")
     try:
-        cuts, pred = boundary_set(study, work, speeds=args.speeds_rpm, factors=factors,
-                                  feed_per_tooth_mm=args.feed_per_tooth_mm)
+        if args.cuts is not None:
+            cuts = yaml.safe_load(args.cuts.read_text())
+            if not isinstance(cuts, list) or not all(isinstance(c, dict) for c in cuts):
+                raise SetError(f"{args.cuts}: expected a YAML list of cuts (manifest keys)")
+            pred = predict_cuts(study, cuts, work / "oos.yaml").set_index("cut")
+        else:
+            cuts, pred = boundary_set(study, work, speeds=args.speeds_rpm, factors=factors,
+                                      feed_per_tooth_mm=args.feed_per_tooth_mm)
         t = agreement_table(pred, cut_on_cell(study, cuts, configs, work / "run",
                                               recordings=args.recordings))
     except SetError as exc:
