@@ -231,6 +231,31 @@ def test_chapter_4_prose_follows_its_findings():
     assert "Reference" not in " ".join(load_templates("ch4"))  # no Shagniev 2019 template left
 
 
+def test_chapter_4_states_what_the_axial_force_does():
+    """With K_ac identified, each slot's zero-order depth with the axial force beside the
+    planar model's at the speed of most of its cuts (planted: px 3.5 against 7.0 mm, py 9 against
+    6 mm); without it, the chapter says the lobes are planar."""
+    cases, sim, lobes, rec = _chatter_inputs()
+    planar_text = " ".join(Prose(load_templates("ch4"), chatter_findings(
+        cases, sim, lobes, rec, safety_fraction=0.3))("axial").split())
+    assert "planar model" in planar_text and "not identified" in planar_text
+    a = np.ones((2, 2, 2))
+    a[0, 0, 1], a[1, 0, 1] = 3.5, 9.0                  # zoa at 28 000 rpm: px, py
+    axial = lobes.assign(a_crit_mm=(("direction", "solver", "spindle_rpm"), a),
+                         a_crit_planar_mm=(("direction", "spindle_rpm"), [[1.0, 7.0],
+                                                                          [1.0, 6.0]]),
+                         study_spindle_rpm=("direction", [28000.0, 28000.0]))
+    axial.attrs.update(Ka=0.25, Kt_N_m2=8.0e8)
+    v = chatter_findings(cases, sim, axial, rec, safety_fraction=0.3)
+    assert v.values()["robot_axial_force"] and v.values()["robot_Kac_N_mm2"] == 200.0
+    assert v.values()["robot_axial_over_planar"] == [0.5, 1.5]
+    say = Prose(load_templates("ch4"), v)
+    text = " ".join(say("axial", "axial_lines").split())
+    assert "K_ac = 200 N/mm²" in text
+    assert "px: 3.50 mm with the axial force, 7.00 mm without (-50 %) at 28000 rpm" in text
+    assert "py: 9.00 mm with the axial force, 6.00 mm without (+50 %)" in text
+
+
 def test_chapter_6_1_prose_follows_its_findings_without_the_studys_robot():
     """The reference study of chatter (chapter 6.1) renders from the configured cases and the
     Shagniev 2019 simulation alone: a study without impact or force data has no robot findings."""
