@@ -7,17 +7,17 @@
 # where the part sits, how the spindle turns about the tool axis, the feed direction, speed,
 # depth and feed — with its predicted critical depth and probability of a stable cut (the
 # regenerative lobes of every identified mode at the pose, the robot's low-frequency modes
-# scaled with the pose through the joint stiffness, and a stated prior of the spindle/tool
-# modes above the impact test's band, under the tangential, radial and axial cutting forces;
-# a bootstrap of members weighted by the study's own chatter verdicts,
-# `robomill.plan.stability`), static deflection (mean cutting force over the pose's
-# stiffness), waviness (the gear lines carried through the Jacobian to the new pose), force, feed marks and removal
-# rate, each with an interval from the identified quantities' uncertainty. The waviness has
-# two: the spread between the tracker runs that identified its gear lines (the wall's
-# waviness), and the interval the next tracker run's reading falls in, that spread combined
-# with the tracker's noise at the cut's record (`robomill.plan.noise`). The constraints are
-# checked on the pessimistic end of each interval (the waviness' identification interval).
-# Every number below comes from the plan's artefacts.
+# scaled with the pose through the joint stiffness, and a stated prior of the spindle/tool modes
+# above the impact test's band, under the tangential, radial and axial cutting forces; a
+# bootstrap of members weighted by the study's own chatter verdicts, `robomill.plan.stability`),
+# static deflection (mean cutting force over the pose's stiffness), waviness (the gear lines
+# carried through the Jacobian to the new pose), force, feed marks and removal rate, each with
+# an interval from the identified quantities' uncertainty. The waviness has two: the spread
+# between the tracker runs that identified its gear lines (the wall's waviness), and the
+# interval the next tracker run's reading falls in, that spread combined with the tracker's
+# noise at the cut's record (`robomill.plan.noise`). The constraints are checked on the
+# pessimistic end of each interval (the waviness' identification interval). Every number below
+# comes from the plan's artefacts.
 
 # %% tags=["parameters"]
 candidates: str = None  # results/plan/candidates.nc
