@@ -123,7 +123,7 @@ def _chatter_inputs():
                         "stability_margin": [0.1, -0.45, 0.25],
                         "stability_margin_min": [0.09, -0.46, 0.25],
                         "chatter_free": [True, False, True],
-                        "limited_by": ["mode_coupling"] * 3})
+                        "limited_by": ["regenerative"] * 3, "a_limit_mm": [1.0, 1.0, 1.1]})
     return {"insperger2004_down005": case}, sim, lobes, rec
 
 

@@ -64,4 +64,9 @@ def test_thesis_artefacts(tiny_run):
                                0.8 * (best["a_limit_mm"] - best["a_limit_error_mm"]), rtol=1e-5)
     sem = rec[rec.solver == "sem"]
     assert (sem["a_crit_error_mm"] > 0).all()
+    # the limit is the regenerative depth; the delay-free mode-coupling depth, far below it,
+    # is reported beside it and limits nothing
+    np.testing.assert_array_equal(rec["a_limit_mm"], rec["a_crit_mm"])
+    assert (rec["limited_by"] == "regenerative").all()
+    assert (rec["a_mode_coupling_mm"] < rec["a_crit_mm"]).all()
     assert (tiny_run / "results/chapters/ch4.html").exists()

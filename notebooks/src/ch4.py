@@ -6,7 +6,8 @@
 # lobes per slot direction from the modes (chapter 3.3) and cutting coefficients (chapter 3.1)
 # this pipeline identified, by the spectral-element method converged at every speed to
 # `chatter.accuracy` (the method and its checks on published cases: chapter 6.1), the
-# mode-coupling limit, and the stability margins of the study's cuts with chatter-free depths.
+# delay-free mode-coupling depth as a diagnostic, and the stability margins of the study's cuts
+# with chatter-free depths.
 
 # %% tags=["parameters"]
 lobes: str = None  # results/chatter/lobes.nc

@@ -254,7 +254,7 @@ def _robot(f: Findings, lobes: xr.Dataset, rec: pd.DataFrame, safety_fraction: f
     f.add("recommendations", [
         f"slot **{r.direction}**: at {r.spindle_rpm:.0f} rpm, a ≤ {r.axial_depth_mm:.2f} mm "
         f"(margin {100 * r.stability_margin:.0f} %, {100 * r.stability_margin_min:.0f} % at "
-        f"the pessimistic end of the error, limited by {r.limited_by})"
+        f"the pessimistic end of the error; {r.limited_by} limit {r.a_limit_mm:.2f} mm)"
         for r in best.itertuples()], artefact=RECS, what="kind == recommended, solver == sem")
 
 

@@ -107,11 +107,13 @@ def study_lobes(modes: pd.DataFrame, coeffs: pd.DataFrame, peaks: pd.DataFrame, 
     table, each cut's (speed, depth) a row of its own.
 
     The recommended depth applies the safety fraction on top of the error: a_rec =
-    (1 − safety_fraction)(a_limit − a_limit_error), with a_limit the smaller of the
-    regenerative and mode-coupling depths and a_limit_error the discretization error of the
-    regenerative depth (sem; none for zoa) or the bisection half-bracket of the mode-coupling
-    depth; ``stability_margin_min`` = (a_limit − a_limit_error)/a − 1 is the margin at the
-    pessimistic end of the error and decides ``chatter_free``. Every speed the study cut at
+    (1 − safety_fraction)(a_limit − a_limit_error), with a_limit the regenerative depth (the
+    model in which mode coupling arises with the delay) and a_limit_error its discretization
+    error (sem; none for zoa); ``stability_margin_min`` = (a_limit − a_limit_error)/a − 1 is
+    the margin at the pessimistic end of the error and decides ``chatter_free``. The
+    delay-free mode-coupling depth is reported beside it (``a_mode_coupling_mm``) as a
+    diagnostic, never as a limit: it drops the regenerative factor a slot's chip always
+    carries (:mod:`robomill.chatter.coupling`). Every speed the study cut at
     is added to the speed grid (``chatter.thesis.spindle_rpm``) where the grid misses it, so
     that each cut's rows are at the speed it was made at."""
     slots = study_slots(study)
@@ -231,22 +233,20 @@ def _add_frf(lobes: xr.Dataset, modes: pd.DataFrame, slots: list[Slot]) -> None:
 
 def _recommendations(rows: list[dict], mc: list[dict], fmed: list[float],
                      safety_fraction: float, slots: list[Slot]) -> pd.DataFrame:
-    """The recommendation rows with the mode-coupling cap, the limit and its error, the
+    """The recommendation rows with the mode-coupling diagnostic, the limit and its error, the
     recommended depth and its margins (the rule of :func:`study_lobes`)."""
     rec = pd.DataFrame(rows)
-    # mode coupling does not depend on speed: it caps the depth at every speed
+    # the delay-free depth does not depend on speed: reported per direction, never a limit
     names = [sl.name for sl in slots]
     amc = {d: x["a_mc_m"] * 1e3 for d, x in zip(names, mc, strict=True)}
     rec["a_mode_coupling_mm"] = rec["direction"].map(amc)
-    limit = np.fmin(rec["a_crit_mm"], rec["a_mode_coupling_mm"])
-    by_mc = rec["a_mode_coupling_mm"] < rec["a_crit_mm"]
-    limit_err = np.where(by_mc, 0.5 * MODE_COUPLING_RTOL * rec["a_mode_coupling_mm"],
-                         rec["a_crit_error_mm"].fillna(0.0))
+    limit = rec["a_crit_mm"]
+    limit_err = rec["a_crit_error_mm"].fillna(0.0).to_numpy()
     is_rec = rec["kind"] == "recommended"
     rec.loc[is_rec, "axial_depth_mm"] = ((1 - safety_fraction) * (limit - limit_err)[is_rec])
     rec["a_limit_mm"] = limit
     rec["a_limit_error_mm"] = limit_err
-    rec["limited_by"] = np.where(by_mc, "mode_coupling", "regenerative")
+    rec["limited_by"] = "regenerative"
     rec["stability_margin"] = rec["a_limit_mm"] / rec["axial_depth_mm"] - 1
     rec["stability_margin_min"] = ((rec["a_limit_mm"] - rec["a_limit_error_mm"])
                                    / rec["axial_depth_mm"] - 1)
