@@ -12,7 +12,9 @@ limit of both (semi-discretization [Insperger & Stépán 2004], 40 steps per too
 the planner's nominal cutting and edge coefficients, and a third set, ``Hm``: the planner's
 modes (stiffness, damping, shape) at the cell's frequencies (what a mass model would add),
 each with γ = 0 (no edge term) and γ = ½ (``benchmarks/edge_switching.py``'s
-:class:`EdgeSwitchingCut`). Agreement with the cuts' judged verdicts is printed per column.
+:class:`EdgeSwitchingCut`). All three are planar (the modes' in-plane shapes, no axial force):
+the planner's own limit, with the axial row, is the ``a_crit_mm`` of ``robomill predict``.
+Agreement with the cuts' judged verdicts is printed per column.
 
     .venv/bin/python benchmarks/modes_at_cuts.py STUDY --cuts CUTS \\
         --verdicts RUN/results/chatter/verdicts.csv --config CONFIG... [--hold-mass] [--out FILE]

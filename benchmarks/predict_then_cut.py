@@ -257,7 +257,10 @@ def main(argv=None) -> int:
         ap.error(f"--cuts: no such file: {args.cuts}")
     try:
         if args.cuts is not None:
-            cuts = yaml.safe_load(args.cuts.read_text())
+            try:
+                cuts = yaml.safe_load(args.cuts.read_text())
+            except yaml.YAMLError as exc:
+                raise SetError(f"{args.cuts}: not YAML ({str(exc).splitlines()[0]})") from exc
             if not isinstance(cuts, list) or not all(isinstance(c, dict) for c in cuts):
                 raise SetError(f"{args.cuts}: expected a YAML list of cuts (manifest keys)")
             pred = predict_cuts(study, cuts, work / "oos.yaml").set_index("cut")

@@ -63,9 +63,10 @@ def member_modal_cut(inputs, measured, cut, member: int = 0, *, hold_mass: bool 
     """Member ``member`` (0: the nominal) of the planner's model at ``cut``'s own pose as a
     :class:`~robomill.chatter.modal_timedomain.ModalCut` (cut frame: feed, normal): its modes
     at the pose (:func:`robomill.plan.stability.member_modes`, the modes the linear model
-    solves; ``hold_mass``: the robot modes' modal mass held at the impact test's, as the
-    planner did before it moved it), its K_t and K_r, the identified axial and edge
-    coefficients."""
+    solves, their in-plane part: the time-domain model has no axial force on the modes, the
+    linear one has since it took K_ac's row, so the two differ by that term; ``hold_mass``:
+    the robot modes' modal mass held at the impact test's, as the planner did before it moved
+    it), its K_t and K_r, the identified axial and edge coefficients."""
     from robomill.chatter.modal_timedomain import ModalCut
     from robomill.plan.candidate import study_candidate
     from robomill.plan.measured import coefficient_bounds

@@ -63,3 +63,18 @@ def test_the_production_set_feeds_the_chip_by_hand():
     assert feed_mm_s(12000.0) == feed_mm_s(28000.0, None, 3) == FEED_MM_S == 5.0
     assert feed_mm_s(12000.0, 0.025, 3) == pytest.approx(15.0, rel=1e-12)
     assert feed_mm_s(28000.0, 0.025, 3) == pytest.approx(35.0, rel=1e-12)
+
+
+@pytest.mark.parametrize("text, expected", [("a: [1, 2\n", "not YAML"),
+                                            ("a: 1\n", "expected a YAML list of cuts")])
+def test_a_cut_list_that_is_no_list_of_cuts_is_one_line(tmp_path, capsys, text, expected):
+    """``--cuts``: a file that is not YAML, or not a list of cuts, stops with one line naming
+    it, before any study is read."""
+    from predict_then_cut import main
+
+    bad = tmp_path / "cuts.yaml"
+    bad.write_text(text)
+    assert main([str(tmp_path), "--config", "config.yaml", "--cuts", str(bad),
+                 "--out", str(tmp_path / "out")]) == 1
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"predict_then_cut: {bad}: {expected}") and "\n" not in err
