@@ -74,7 +74,6 @@ from __future__ import annotations
 import argparse
 import copy
 import dataclasses
-from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -83,7 +82,7 @@ import yaml
 
 from robomill.chatter.lobes_sdm import classify_multiplier, critical_depth
 from robomill.chatter.lobes_zoa import zoa_lobes
-from robomill.chatter.model import CuttingModel, ModeXY, tool_from_modes
+from robomill.chatter.model import CuttingModel, EdgeSwitching, ModeXY, tool_from_modes
 from robomill.experiment import cut_process, feed_direction
 from robomill.forces.model import cut_frame, engagement_angles_rad
 from robomill.io.synthetic_layout import synthetic_cuts
@@ -96,41 +95,14 @@ SDM_STEPS = 40
 DEPTH_MAX_M = 0.03
 
 
-@dataclass(frozen=True)
-class EdgeSwitchingCut(CuttingModel):
+def edge_switching_cut(teeth: int, Kt_N_m2: float, Kr: float, phi_st: float, phi_ex: float,
+                       Kte_N_m: float, Kre_N_m: float, chip_m: float, gain: float, *,
+                       Ka: float | None = None, Kae_N_m: float = 0.0) -> CuttingModel:
     """The linear cutting model plus the linearised switching of the edge force where the chip
-    vanishes (module docstring): edge coefficients [N/m], feed per tooth [m], gain γ."""
-
-    Kte_N_m: float = 0.0
-    Kre_N_m: float = 0.0
-    chip_m: float = 1.0
-    gain: float = 0.5
-
-    def boundaries(self) -> list[tuple[float, int, np.ndarray]]:
-        """(φ_b, +1 entry / −1 exit, e gᵀ / (c |cos φ_b|)) of each engagement edge where the
-        chip c sin φ vanishes."""
-        out = []
-        for phi, side in ((self.phi_st, 1), (self.phi_ex, -1)):
-            if abs(np.sin(phi)) > 1e-9:
-                continue
-            s, c = np.sin(phi), np.cos(phi)
-            kt, kr = self.Kte_N_m, self.Kre_N_m
-            e = np.array([-kt * c - kr * s, kt * s - kr * c])
-            out.append((float(phi), side, np.outer(e, [s, c]) / (self.chip_m * abs(c))))
-        return out
-
-    def mean_matrix(self) -> np.ndarray:
-        extra = sum((E for _, _, E in self.boundaries()), np.zeros((2, 2)))
-        return super().mean_matrix() + self.gain * self.teeth / (2 * np.pi) * extra
-
-    def interval_means(self, m: int) -> np.ndarray:
-        out = super().interval_means(m).copy()
-        dphi = 2 * np.pi / self.teeth / m
-        for phi, side, E in self.boundaries():
-            u = np.mod(phi, 2 * np.pi / self.teeth) / dphi  # once per tooth period
-            i = int(np.floor(u + 1e-9)) if side > 0 else int(np.ceil(u - 1e-9)) - 1
-            out[i % m] += self.gain * E / dphi
-        return out
+    vanishes (module docstring; :class:`robomill.chatter.model.EdgeSwitching`); γ = 0: the
+    plain linear model."""
+    edge = (EdgeSwitching(Kte_N_m, Kre_N_m, chip_m, gain, Kae_N_m) if gain else None)
+    return CuttingModel(int(teeth), Kt_N_m2, Kr, phi_st, phi_ex, Ka=Ka, edge=edge)
 
 
 def merged_config(overlays: list[str], base: bool = True) -> dict:
@@ -181,10 +153,10 @@ def limits(cell, cut, gains) -> dict:
     rpm = float(proc["spindle_rpm"])
     row = {"fz_um": 1e3 * float(proc["feed_per_tooth_mm"])}
     for g in gains:
-        model = EdgeSwitchingCut(int(proc["flutes"]), k["Ktc_N_mm2"] * 1e6,
-                                 k["Krc_N_mm2"] / k["Ktc_N_mm2"], st, ex, k["Kte_N_mm"] * 1e3,
-                                 k["Kre_N_mm"] * 1e3, 1e-3 * float(proc["feed_per_tooth_mm"]),
-                                 float(g))
+        model = edge_switching_cut(int(proc["flutes"]), k["Ktc_N_mm2"] * 1e6,
+                                   k["Krc_N_mm2"] / k["Ktc_N_mm2"], st, ex, k["Kte_N_mm"] * 1e3,
+                                   k["Kre_N_mm"] * 1e3, 1e-3 * float(proc["feed_per_tooth_mm"]),
+                                   float(g))
         row[f"zoa_mm_g{g}"] = 1e3 * float(zoa_lobes(tool, model, [rpm])[0][0])
         a, mu = critical_depth(tool, model, rpm, depth_max_m=DEPTH_MAX_M, m=SDM_STEPS,
                                rtol=1e-3)
@@ -267,8 +239,8 @@ def one_mode(depths_mm: list[float]) -> pd.DataFrame:
     tool = tool_from_modes([ModeXY(800.0, 0.03, 2.0e7, tuple(normal))])
     sdm = {}
     for g in (0.0, 0.5, 1.0):
-        model = EdgeSwitchingCut(2, k["Ktc_N_mm2"] * 1e6, k["Krc_N_mm2"] / k["Ktc_N_mm2"], 0.0,
-                                 np.pi, k["Kte_N_mm"] * 1e3, k["Kre_N_mm"] * 1e3, chip, g)
+        model = edge_switching_cut(2, k["Ktc_N_mm2"] * 1e6, k["Krc_N_mm2"] / k["Ktc_N_mm2"], 0.0,
+                                   np.pi, k["Kte_N_mm"] * 1e3, k["Kre_N_mm"] * 1e3, chip, g)
         a, _ = critical_depth(tool, model, rpm, depth_max_m=DEPTH_MAX_M, m=2 * SDM_STEPS,
                               rtol=1e-3)
         sdm[g] = 1e3 * a

@@ -12,8 +12,13 @@ limit of both (semi-discretization [Insperger & Stépán 2004], 40 steps per too
 the planner's nominal cutting and edge coefficients, and a third set, ``Hm``: the planner's
 modes (stiffness, damping, shape) at the cell's frequencies (what a mass model would add),
 each with γ = 0 (no edge term) and γ = ½ (``benchmarks/edge_switching.py``'s
-:class:`EdgeSwitchingCut`). All three are planar (the modes' in-plane shapes, no axial force):
-the planner's own limit, with the axial row, is the ``a_crit_mm`` of ``robomill predict``.
+:func:`edge_switching_cut`). All three are planar (the modes' in-plane shapes, no axial force);
+``Pa``: the planner's modes with their axial components and the axial row K_ac (the form of
+``robomill predict``'s ``a_crit_mm``, here by semi-discretization), with the axial edge force
+switching too at γ = ½. ``*_two_regime_mm``: the larger of the limits without and with the
+term, the two-regime reading of the linearisation (a vibration the term alone destabilizes
+saturates at the chip's size, |gᵀΔ| ~ c, where the switch saturates; one the plain
+regenerative loop drives grows past it unless the term holds it at small amplitude).
 Agreement with the cuts' judged verdicts is printed per column.
 
     .venv/bin/python benchmarks/modes_at_cuts.py STUDY --cuts CUTS \\
@@ -113,6 +118,11 @@ def main(argv=None) -> int:
         for name, modes in (("Pm", planner), ("Hm", hybrid), ("Cm", own)):
             for g in (0.0, 0.5):
                 row[f"{name}_g{g:g}_mm"] = edge_term_limit_mm(mc, g, modes)
+        axial = member_modal_cut(inputs, measured, cut, hold_mass=args.hold_mass, axial=True)
+        for g in (0.0, 0.5):
+            row[f"Pa_g{g:g}_mm"] = edge_term_limit_mm(mc, g, planner, axial=axial)
+        row["Pa_two_regime_mm"] = max(row["Pa_g0_mm"], row["Pa_g0.5_mm"])
+        row["Pm_two_regime_mm"] = max(row["Pm_g0_mm"], row["Pm_g0.5_mm"])
         rows.append(row)
         print(pd.DataFrame([row]).round(3).to_string(index=False, header=len(rows) == 1),
               flush=True)

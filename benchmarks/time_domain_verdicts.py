@@ -59,14 +59,17 @@ DECIMATED_HZ = 10000.0
 (the judge's band lies far below the simulation's rate)."""
 
 
-def member_modal_cut(inputs, measured, cut, member: int = 0, *, hold_mass: bool = False):
+def member_modal_cut(inputs, measured, cut, member: int = 0, *, hold_mass: bool = False,
+                     axial: bool = False):
     """Member ``member`` (0: the nominal) of the planner's model at ``cut``'s own pose as a
     :class:`~robomill.chatter.modal_timedomain.ModalCut` (cut frame: feed, normal): its modes
     at the pose (:func:`robomill.plan.stability.member_modes`, the modes the linear model
     solves, their in-plane part: the time-domain model has no axial force on the modes, the
     linear one has since it took K_ac's row, so the two differ by that term; ``hold_mass``:
     the robot modes' modal mass held at the impact test's, as the planner did before it moved
-    it), its K_t and K_r, the identified axial and edge coefficients."""
+    it), its K_t and K_r, the identified axial and edge coefficients. ``axial``: instead, the
+    modes' components along the tool axis and the member's K_ac/K_tc (None: planar), what the
+    planner's linear model adds to them."""
     from robomill.chatter.modal_timedomain import ModalCut
     from robomill.plan.candidate import study_candidate
     from robomill.plan.measured import coefficient_bounds
@@ -86,6 +89,8 @@ def member_modal_cut(inputs, measured, cut, member: int = 0, *, hold_mass: bool 
     if hold_mass:
         sc.pop("mass", None)
     fn, z, k, shape = member_modes(mem, sc, frame, slice(e, e + 1))
+    if axial:
+        return shape[0, :, 2], (None if mem.ka is None else float(mem.ka[e]))
     cc = coefficient_bounds(measured.coefficients)["nominal"]
     rpm, teeth = float(one.spindle_rpm[0]), int(one.flutes)
     fz_m = float(one.feed_mm_s[0]) / (teeth * rpm / 60.0) * 1e-3
@@ -96,12 +101,14 @@ def member_modal_cut(inputs, measured, cut, member: int = 0, *, hold_mass: bool 
                     cc.Kac * 1e6, cc.Kte * 1e3, cc.Kre * 1e3, cc.Kae * 1e3)
 
 
-def edge_term_limit_mm(mc, gain: float = 0.5, modes=None) -> float:
+def edge_term_limit_mm(mc, gain: float = 0.5, modes=None, *, axial=None) -> float:
     """The linear critical depth [mm] of ``mc``'s modes (or ``modes``,
     ``[(f, ζ, k, (sx, sy))]`` in the cut frame) and coefficients with the edge force's
-    switching term (gain γ, ``benchmarks/edge_switching.py``'s :class:`EdgeSwitchingCut`; 0:
-    without it), solved by semi-discretization [Insperger & Stépán 2004]."""
-    from edge_switching import DEPTH_MAX_M, SDM_STEPS, EdgeSwitchingCut
+    switching term (gain γ, ``benchmarks/edge_switching.py``'s :func:`edge_switching_cut`; 0:
+    without it), solved by semi-discretization [Insperger & Stépán 2004]. ``axial``: the
+    modes' axial components and K_ac/K_tc (``member_modal_cut(..., axial=True)``): the
+    planner's axial row, and the axial edge force's switching with it."""
+    from edge_switching import DEPTH_MAX_M, SDM_STEPS, edge_switching_cut
 
     from robomill.chatter.lobes_sdm import critical_depth
     from robomill.chatter.model import ModeXY, tool_from_modes
@@ -110,10 +117,15 @@ def edge_term_limit_mm(mc, gain: float = 0.5, modes=None) -> float:
         modes = [(float(f), float(z), float(k), (float(sx), float(sy)))
                  for f, z, k, (sx, sy) in zip(mc.f_hz, mc.zeta, mc.k_N_m, mc.shape_xy,
                                               strict=True)]
+    ka = None
+    if axial is not None and axial[1] is not None:
+        modes = [(f, z, k, (*s, float(sz))) for (f, z, k, s), sz in zip(modes, axial[0],
+                                                                       strict=True)]
+        ka = axial[1]
     tool = tool_from_modes([ModeXY(*m) for m in modes])
-    model = EdgeSwitchingCut(int(mc.teeth), mc.Ktc_N_m2, mc.Krc_N_m2 / mc.Ktc_N_m2,
-                             mc.entry_rad, mc.exit_rad, mc.Kte_N_m, mc.Kre_N_m,
-                             mc.feed_per_tooth_m, float(gain))
+    model = edge_switching_cut(int(mc.teeth), mc.Ktc_N_m2, mc.Krc_N_m2 / mc.Ktc_N_m2,
+                               mc.entry_rad, mc.exit_rad, mc.Kte_N_m, mc.Kre_N_m,
+                               mc.feed_per_tooth_m, float(gain), Ka=ka, Kae_N_m=mc.Kae_N_m)
     a, _ = critical_depth(tool, model, mc.spindle_rpm, depth_max_m=DEPTH_MAX_M, m=SDM_STEPS,
                           rtol=1e-3)
     return 1e3 * float(a)

@@ -90,7 +90,13 @@ def cheb(p: int) -> tuple[np.ndarray, np.ndarray]:
 
 def segments(cut: CuttingModel, spindle_rpm: float) -> list[tuple[float, float, tuple[int, ...]]]:
     """One tooth period split at every tooth entry and exit: ``(t_start_s, t_end_s,
-    engaged_teeth)`` in time order (engaged_teeth empty: free flight)."""
+    engaged_teeth)`` in time order (engaged_teeth empty: free flight). The edge force's
+    switching (:class:`~robomill.chatter.model.EdgeSwitching`), an impulse at an engagement
+    edge, has no place in these segments: refused."""
+    if cut.edge is not None:
+        raise ValueError("the edge force's switching is an impulse, which the spectral "
+                         "elements cannot hold: use the zero-order lobes or the "
+                         "semi-discretization")
     omega = 2 * np.pi * float(spindle_rpm) / 60.0
     theta_p = 2 * np.pi / cut.teeth  # phase of tooth 0 over one tooth period
     cuts = [0.0, theta_p]

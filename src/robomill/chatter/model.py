@@ -17,6 +17,22 @@ components (feed, normal, axis) takes R = (F_x, F_y, F_z) through B (n × 3) whi
 still reads the in-plane d = C s. The in-plane response to the axial force, G_{xy,z}, closes
 the axial force's regenerative loop; the axial displacement changes no chip. Every solver
 of the package takes either form (:func:`conform_rows` matches W's rows to a tool's inputs).
+
+**The edge force's switching** (:class:`EdgeSwitching`, optional). The edge force acts only
+while a tooth cuts (Altintas 2012 eq. 2.25). Where the chip c sin φ vanishes at an edge φ_b of
+the engagement (sin φ_b = 0: a slot's entry and exit, up milling's entry, down milling's
+exit), Δ moves the zero of h by δφ = −gᵀ(φ_b)Δ/(c cos φ_b), so the edge force's impulse per
+tooth pass changes by a e(φ_b) gᵀ(φ_b) Δ/(c |cos φ_b| Ω) — a term of R proportional to Δ like
+the chip's, and of size K_e/c against K_c, so it matters most at thin chips. As a tooth-period
+mean it adds γ N/(2π) Σ_b e gᵀ/(c |cos φ_b|) to W̄ (slot: −γ N/(π c) ((0, K_te), (0, K_re))),
+and to the semi-discretization's interval means an impulse in the step holding φ_b. γ = ½:
+the tooth cannot cut outside its engagement window, so only the side whose contact shortens
+answers, the describing function of a half-wave switch (Gelb & Vander Velde 1968). The
+linearisation holds while |gᵀΔ| ≪ c; past that the switch saturates (a tooth whose chip
+offset exceeds c leaves the cut).
+
+Gelb & Vander Velde 1968: Gelb, A.; Vander Velde, W. E. *Multiple-Input Describing Functions
+and Nonlinear System Design*. McGraw-Hill, 1968.
 """
 
 from __future__ import annotations
@@ -161,10 +177,45 @@ def immersion_angles(radial_immersion: float, milling: str) -> tuple[float, floa
 
 
 @dataclass(frozen=True)
+class EdgeSwitching:
+    """The linearised switching of the edge force where the chip vanishes (module docstring):
+    edge coefficients per unit depth K_te, K_re, K_ae [N/m], the feed per tooth c [m] and the
+    gain γ (½: a half-wave switch)."""
+
+    Kte_N_m: float
+    Kre_N_m: float
+    chip_m: float
+    gain: float = 0.5
+    Kae_N_m: float = 0.0
+
+    def __post_init__(self):
+        if not (np.isfinite(self.chip_m) and self.chip_m > 0):
+            raise ValueError(f"the feed per tooth must be positive, got {self.chip_m} m")
+
+    def impulses(self, phi_st: float, phi_ex: float, n_rows: int
+                 ) -> list[tuple[float, int, np.ndarray]]:
+        """(φ_b, +1 at the entry / −1 at the exit, γ e gᵀ/(c |cos φ_b|) ``(n_rows, 2)``) of
+        each engagement edge where the chip c sin φ vanishes; ``n_rows`` 3: e with the axial
+        edge force K_ae, which switches with the same chip."""
+        out = []
+        for phi, side in ((phi_st, 1), (phi_ex, -1)):
+            s, c = np.sin(phi), np.cos(phi)
+            if abs(s) > 1e-9:
+                continue
+            kt, kr = self.Kte_N_m, self.Kre_N_m
+            e = [-kt * c - kr * s, kt * s - kr * c] + ([self.Kae_N_m] if n_rows == 3 else [])
+            out.append((float(phi), side,
+                        self.gain * np.outer(e, [s, c]) / (self.chip_m * abs(c))))
+        return out
+
+
+@dataclass(frozen=True)
 class CuttingModel:
     """Linear cutting-force model: N teeth, K_t [N/m²], K_r = K_rc/K_tc, engagement φ_st…φ_ex,
     and optionally K_a = K_ac/K_tc: then every directional matrix has the axial row (3 × 2;
-    module docstring), else it is the planar 2 × 2."""
+    module docstring), else it is the planar 2 × 2; and optionally the edge force's switching
+    (:class:`EdgeSwitching`), which the mean and interval-mean matrices then hold (the
+    zero-order lobes and the semi-discretization; the spectral elements take no impulse)."""
 
     teeth: int
     Kt_N_m2: float
@@ -172,6 +223,7 @@ class CuttingModel:
     phi_st: float
     phi_ex: float
     Ka: float | None = field(default=None, kw_only=True)
+    edge: EdgeSwitching | None = field(default=None, kw_only=True)
 
     @classmethod
     def from_immersion(cls, teeth: int, Kt_N_m2: float, Kr: float, radial_immersion: float,
@@ -222,8 +274,15 @@ class CuttingModel:
     def mean_matrix(self) -> np.ndarray:
         """Average over a tooth period of Σ_j g w(φ_j): W̄ = N/(2π) ∫_{φst}^{φex} w dφ
         (Altintas & Budak 1995 zero-order term; = N K_t α / (4π) in Altintas' notation)."""
-        return self.teeth / (2 * np.pi) * (self._antiderivative(np.array(self.phi_ex))
-                                           - self._antiderivative(np.array(self.phi_st)))
+        W = self.teeth / (2 * np.pi) * (self._antiderivative(np.array(self.phi_ex))
+                                        - self._antiderivative(np.array(self.phi_st)))
+        for _, _, E in self._impulses():
+            W = W + self.teeth / (2 * np.pi) * E
+        return W
+
+    def _impulses(self) -> list[tuple[float, int, np.ndarray]]:
+        return ([] if self.edge is None
+                else self.edge.impulses(self.phi_st, self.phi_ex, self.n_rows))
 
     def interval_means(self, m: int) -> np.ndarray:
         """Exact averages of W(t) = Σ_j g(φ_j) w(φ_j) over the m equal sub-intervals of one
@@ -235,11 +294,19 @@ class CuttingModel:
         for j in range(self.teeth):
             pa = np.mod(start + 2 * np.pi * j / self.teeth, 2 * np.pi)
             out += self._engaged_integral(pa, pa + dphi)
+        for phi, side, E in self._impulses():  # once per tooth period, on its cutting side
+            u = np.mod(phi, 2 * np.pi / self.teeth) / dphi
+            i = int(np.floor(u + 1e-9)) if side > 0 else int(np.ceil(u - 1e-9)) - 1
+            out[i % m] += E
         return out / dphi
 
     def instantaneous(self, phi0: np.ndarray) -> np.ndarray:
         """W at cutter angle φ₀ of tooth 0 (sum over teeth with engagement g),
-        ``(..., n_rows, 2)``."""
+        ``(..., n_rows, 2)``; not defined with the edge switching's impulses."""
+        if self.edge is not None:
+            raise ValueError("the edge force's switching is an impulse, which the "
+                             "instantaneous matrix (the spectral elements) cannot hold: "
+                             "use the zero-order lobes or the semi-discretization")
         phi0 = np.asarray(phi0, float)
         out = np.zeros(phi0.shape + (self.n_rows, 2))
         for j in range(self.teeth):
