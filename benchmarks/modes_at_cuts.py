@@ -73,6 +73,10 @@ def main(argv=None) -> int:
                     help="the planner's robot modes with their modal mass held at the impact "
                     "test's (f proportional to the square root of the stiffness), as before "
                     "the planner moved it")
+    ap.add_argument("--planner-only", action="store_true",
+                    help="only the planner's own model (the Pa columns: its axial form "
+                    "without and with the edge term, and the two-regime limit), not the "
+                    "planar comparisons with the cell's modes")
     ap.add_argument("--out", type=Path)
     args = ap.parse_args(argv)
     for name, path in (("--cuts", args.cuts), ("--verdicts", args.verdicts),
@@ -100,29 +104,35 @@ def main(argv=None) -> int:
         mc = member_modal_cut(inputs, measured, cut, hold_mass=args.hold_mass)
         planner = [(float(f), float(z), float(k), (float(s[0]), float(s[1])))
                    for f, z, k, s in zip(mc.f_hz, mc.zeta, mc.k_N_m, mc.shape_xy, strict=True)]
-        tc = truth_cuts[cut.id]
-        q = cell.joint_path_rad(tc, np.array([0.5 * float(cell.experiment["cut_length_mm"])]))[0]
-        frame = cut_frame(feed_direction(tc))
-        own = [(m.f_hz, m.zeta, m.k_N_m, tuple(float(v) for v in (np.array(m.shape) @ frame)[:2]))
-               for m in modes_at(cell, q)]
-        robot = [i for i, m in enumerate(planner) if m[0] < ROBOT_BAND_HZ]
-        if len(robot) != sum(m[0] < ROBOT_BAND_HZ for m in own):
-            print(f"modes_at_cuts: {cut.id}: {len(robot)} identified robot modes against the "
-                  f"cell's {sum(m[0] < ROBOT_BAND_HZ for m in own)}: left out", file=sys.stderr)
-            continue
-        hybrid = [(own[i][0], *m[1:]) if i in robot else m for i, m in enumerate(planner)]
-        row = {"cut": cut.id, "depth_mm": float(cut.depth_mm), "verdict": judged[cut.id],
-               "f1_planner_hz": planner[0][0], "f1_cell_hz": own[0][0],
-               "f_ratio_median": float(np.median([planner[i][0] / own[i][0] for i in robot])),
-               "k_ratio_median": float(np.median([planner[i][2] / own[i][2] for i in robot]))}
-        for name, modes in (("Pm", planner), ("Hm", hybrid), ("Cm", own)):
-            for g in (0.0, 0.5):
-                row[f"{name}_g{g:g}_mm"] = edge_term_limit_mm(mc, g, modes)
+        row = {"cut": cut.id, "depth_mm": float(cut.depth_mm), "verdict": judged[cut.id]}
+        if not args.planner_only:
+            tc = truth_cuts[cut.id]
+            q = cell.joint_path_rad(tc, np.array([0.5 * float(cell.experiment["cut_length_mm"])
+                                                  ]))[0]
+            frame = cut_frame(feed_direction(tc))
+            own = [(m.f_hz, m.zeta, m.k_N_m,
+                    tuple(float(v) for v in (np.array(m.shape) @ frame)[:2]))
+                   for m in modes_at(cell, q)]
+            robot = [i for i, m in enumerate(planner) if m[0] < ROBOT_BAND_HZ]
+            if len(robot) != sum(m[0] < ROBOT_BAND_HZ for m in own):
+                print(f"modes_at_cuts: {cut.id}: {len(robot)} identified robot modes against "
+                      f"the cell's {sum(m[0] < ROBOT_BAND_HZ for m in own)}: left out",
+                      file=sys.stderr)
+                continue
+            hybrid = [(own[i][0], *m[1:]) if i in robot else m for i, m in enumerate(planner)]
+            row.update({
+                "f1_planner_hz": planner[0][0], "f1_cell_hz": own[0][0],
+                "f_ratio_median": float(np.median([planner[i][0] / own[i][0] for i in robot])),
+                "k_ratio_median": float(np.median([planner[i][2] / own[i][2] for i in robot]))})
+        if not args.planner_only:
+            for name, modes in (("Pm", planner), ("Hm", hybrid), ("Cm", own)):
+                for g in (0.0, 0.5):
+                    row[f"{name}_g{g:g}_mm"] = edge_term_limit_mm(mc, g, modes)
+            row["Pm_two_regime_mm"] = two_regime_mm(row["Pm_g0_mm"], row["Pm_g0.5_mm"])
         axial = member_modal_cut(inputs, measured, cut, hold_mass=args.hold_mass, axial=True)
         for g in (0.0, 0.5):
             row[f"Pa_g{g:g}_mm"] = edge_term_limit_mm(mc, g, planner, axial=axial)
-        row["Pa_two_regime_mm"] = max(row["Pa_g0_mm"], row["Pa_g0.5_mm"])
-        row["Pm_two_regime_mm"] = max(row["Pm_g0_mm"], row["Pm_g0.5_mm"])
+        row["Pa_two_regime_mm"] = two_regime_mm(row["Pa_g0_mm"], row["Pa_g0.5_mm"])
         rows.append(row)
         print(pd.DataFrame([row]).round(3).to_string(index=False, header=len(rows) == 1),
               flush=True)
@@ -131,11 +141,24 @@ def main(argv=None) -> int:
         args.out.parent.mkdir(parents=True, exist_ok=True)
         t.to_csv(args.out, index=False)
     for col in [c for c in t.columns if c.endswith("_mm") and c != "depth_mm"]:
-        pred = np.where(t[col] > t["depth_mm"], "stable", "chatter")
-        unsafe = int(((pred == "stable") & (t["verdict"] == "chatter")).sum())
-        print(f"{col}: {int((pred == t['verdict']).sum())} of {len(t)} agree, {unsafe} "
-              "predicted stable judged chatter")
+        n_agree, n_unsafe = tally(t, col)
+        print(f"{col}: {n_agree} of {len(t)} agree, {n_unsafe} predicted stable judged chatter")
     return 0
+
+
+def two_regime_mm(plain_mm: float, edge_mm: float) -> float:
+    """The two-regime limit (module docstring): chatter needs both the small-amplitude loop
+    (with the edge term) and the large-amplitude one (without it, the switch saturated)
+    unstable, so the larger of the two critical depths."""
+    return max(plain_mm, edge_mm)
+
+
+def tally(t: pd.DataFrame, col: str) -> tuple[int, int]:
+    """(cuts whose verdict the limit ``col`` predicts, cuts it predicts stable that were judged
+    chatter) over ``t`` (columns ``depth_mm``, ``verdict`` stable/chatter and ``col``)."""
+    pred = np.where(t[col] > t["depth_mm"], "stable", "chatter")
+    return (int((pred == t["verdict"]).sum()),
+            int(((pred == "stable") & (t["verdict"] == "chatter")).sum()))
 
 
 if __name__ == "__main__":

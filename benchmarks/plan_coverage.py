@@ -15,7 +15,10 @@ study never made, on both sides of the predicted boundary at three speeds and bo
 directions, predicted with ``robomill predict`` and cut by the virtual cell as their own study:
 ``predict_then_cut_<study>.csv`` (per judged cut) and ``predict_then_cut.csv`` (per study: the
 judged cuts, those the nominal prediction got right, those predicted stable that were judged
-chatter, and the Brier score of ``p_stable`` over them). The set is cut twice: at the check's
+chatter, and the Brier score of ``p_stable`` over them; beside them the same tally of the
+candidate two-regime model with the edge force's switching, ``n_agree_two_regime`` and
+``n_unsafe_two_regime``, per cut in ``two_regime_<study>.csv``, which the planner does not use
+yet: ``benchmarks/modes_at_cuts.py``). The set is cut twice: at the check's
 5 mm/s (chips of 4–13 µm, near the study's own 1–11 µm) and at a production chip of
 :data:`PRODUCTION_FEED_PER_TOOTH_MM` on the request's tool
 (``predict_then_cut_<study>_production.csv``; column ``feed``).
@@ -81,12 +84,30 @@ def predict_then_cut_row(name: str, root: Path, out: Path, overlays: list[Path] 
     tag = "" if feed_per_tooth_mm is None else "_production"
     work = study / f"predict_then_cut{tag}"
     cuts, pred = boundary_set(study, work, feed_per_tooth_mm=feed_per_tooth_mm)
-    t = agreement_table(pred, cut_on_cell(study, cuts, study_configs(name, list(overlays)),
-                                          work / "run"))
+    configs = study_configs(name, list(overlays))
+    t = agreement_table(pred, cut_on_cell(study, cuts, configs, work / "run"))
     t.to_csv(out / f"predict_then_cut_{name}{tag}.csv")
     feed = ("5 mm/s" if feed_per_tooth_mm is None
             else f"{1e3 * feed_per_tooth_mm:g} um per tooth")
-    return {"study": name, "feed": feed, "n_cut": len(cuts), **set_summary(t)}
+    return {"study": name, "feed": feed, "n_cut": len(cuts), **set_summary(t),
+            **two_regime_row(study, work, configs, out / f"two_regime_{name}{tag}.csv")}
+
+
+def two_regime_row(study: Path, work: Path, configs: list[Path], out_csv: Path) -> dict:
+    """The same judged cuts predicted by the candidate model the planner does not use yet: its
+    nominal member's axial form with the edge force's switching, read in two regimes
+    (``benchmarks/modes_at_cuts.py --planner-only``, per cut in ``out_csv``): the cuts it
+    gets right and those it predicts stable that were judged chatter."""
+    from modes_at_cuts import main as modes_at_cuts
+    from modes_at_cuts import tally
+
+    rc = modes_at_cuts([str(study), "--cuts", str(work / "oos.yaml"), "--verdicts",
+                        str(work / "run/results/chatter/verdicts.csv"), "--config",
+                        *map(str, configs), "--planner-only", "--out", str(out_csv)])
+    if rc != 0 or not out_csv.is_file():
+        return {"n_agree_two_regime": None, "n_unsafe_two_regime": None}
+    n_agree, n_unsafe = tally(pd.read_csv(out_csv), "Pa_two_regime_mm")
+    return {"n_agree_two_regime": n_agree, "n_unsafe_two_regime": n_unsafe}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -78,3 +78,22 @@ def test_a_cut_list_that_is_no_list_of_cuts_is_one_line(tmp_path, capsys, text, 
                  "--out", str(tmp_path / "out")]) == 1
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"predict_then_cut: {bad}: {expected}") and "\n" not in err
+
+
+def test_the_two_regime_limit_and_its_tally_by_hand():
+    """The candidate two-regime model (``benchmarks/modes_at_cuts.py``): the larger of the
+    limits without and with the edge term, tallied against the verdicts as the nominal's."""
+    from modes_at_cuts import tally, two_regime_mm
+
+    t = pd.DataFrame({"depth_mm": [0.5, 2.0, 0.5, 2.0],
+                      "verdict": ["stable", "stable", "chatter", "chatter"],
+                      "plain_mm": [1.0, 1.0, 1.0, 1.0], "edge_mm": [0.3, 2.5, 0.2, 1.5]})
+    t["two_mm"] = [two_regime_mm(p, e) for p, e in zip(t["plain_mm"], t["edge_mm"],
+                                                       strict=True)]
+    assert t["two_mm"].tolist() == [1.0, 2.5, 1.0, 1.5]
+    # plain: a right, b a safe-side miss, c unsafe, d right
+    assert tally(t, "plain_mm") == (2, 1)
+    # two regimes: b now right (2.5 > 2.0); c still unsafe; d right (1.5 < 2.0)
+    assert tally(t, "two_mm") == (3, 1)
+    # the edge term alone: a wrong (0.3 < 0.5), b right, c right, d right
+    assert tally(t, "edge_mm") == (3, 0)
