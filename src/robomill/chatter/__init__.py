@@ -18,7 +18,8 @@ Conventions (used by every module of this package and by chapter 4)
 Modules
 -------
 :mod:`~robomill.chatter.model`      linear tool models (modes → state space), directional
-                                    matrix W(φ), immersion angles
+                                    matrix W(φ) with the optional axial row and edge force's
+                                    switching, immersion angles
 :mod:`~robomill.chatter.lobes_zoa`  zero-order analytical lobes (Altintas & Budak 1995), the
                                     one routine for one tool and for the planner's batches
 :mod:`~robomill.chatter.lobes_sdm`  first-order semi-discretization (Insperger & Stépán 2004;
