@@ -273,7 +273,8 @@ class CuttingModel:
 
     def mean_matrix(self) -> np.ndarray:
         """Average over a tooth period of Σ_j g w(φ_j): W̄ = N/(2π) ∫_{φst}^{φex} w dφ
-        (Altintas & Budak 1995 zero-order term; = N K_t α / (4π) in Altintas' notation)."""
+        (Altintas & Budak 1995 zero-order term; = N K_t α / (4π) in Altintas' notation), plus
+        γ N/(2π) Σ_b e gᵀ/(c |cos φ_b|) with the edge force's switching (module docstring)."""
         W = self.teeth / (2 * np.pi) * (self._antiderivative(np.array(self.phi_ex))
                                         - self._antiderivative(np.array(self.phi_st)))
         for _, _, E in self._impulses():
@@ -286,8 +287,10 @@ class CuttingModel:
 
     def interval_means(self, m: int) -> np.ndarray:
         """Exact averages of W(t) = Σ_j g(φ_j) w(φ_j) over the m equal sub-intervals of one
-        tooth period (φ_j = Ωt + 2πj/N), ``(m, 2, 2)``: the piecewise-constant coefficient of
-        the semi-discretization (Insperger & Stépán 2004 eq. 8)."""
+        tooth period (φ_j = Ωt + 2πj/N), ``(m, n_rows, 2)``: the piecewise-constant coefficient
+        of the semi-discretization (Insperger & Stépán 2004 eq. 8); with the edge force's
+        switching, its impulse γ e gᵀ/(c |cos φ_b|) in the step that holds φ_b on its cutting
+        side (so that the steps still average to :meth:`mean_matrix`)."""
         dphi = 2 * np.pi / self.teeth / m
         start = np.arange(m) * dphi
         out = np.zeros((m, self.n_rows, 2))
