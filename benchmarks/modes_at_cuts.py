@@ -53,7 +53,12 @@ identifies the planted modes in order of frequency at its pose)."""
 
 def main(argv=None) -> int:
     from edge_switching import merged_config
-    from time_domain_verdicts import edge_term_limit_mm, member_modal_cut, study_verdicts
+    from time_domain_verdicts import (
+        edge_term_limit_mm,
+        member_axial,
+        member_modal_cut,
+        study_verdicts,
+    )
 
     from robomill.errors import RawDataError
     from robomill.experiment import feed_direction
@@ -129,7 +134,7 @@ def main(argv=None) -> int:
                 for g in (0.0, 0.5):
                     row[f"{name}_g{g:g}_mm"] = edge_term_limit_mm(mc, g, modes)
             row["Pm_two_regime_mm"] = two_regime_mm(row["Pm_g0_mm"], row["Pm_g0.5_mm"])
-        axial = member_modal_cut(inputs, measured, cut, hold_mass=args.hold_mass, axial=True)
+        axial = member_axial(inputs, measured, cut, hold_mass=args.hold_mass)
         for g in (0.0, 0.5):
             row[f"Pa_g{g:g}_mm"] = edge_term_limit_mm(mc, g, planner, axial=axial)
         row["Pa_two_regime_mm"] = two_regime_mm(row["Pa_g0_mm"], row["Pa_g0.5_mm"])

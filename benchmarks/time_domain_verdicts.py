@@ -59,22 +59,14 @@ DECIMATED_HZ = 10000.0
 (the judge's band lies far below the simulation's rate)."""
 
 
-def member_modal_cut(inputs, measured, cut, member: int = 0, *, hold_mass: bool = False,
-                     axial: bool = False):
-    """Member ``member`` (0: the nominal) of the planner's model at ``cut``'s own pose as a
-    :class:`~robomill.chatter.modal_timedomain.ModalCut` (cut frame: feed, normal): its modes
-    at the pose (:func:`robomill.plan.stability.member_modes`, the modes the linear model
-    solves, their in-plane part: the time-domain model has no axial force on the modes, the
-    linear one has since it took K_ac's row, so the two differ by that term; ``hold_mass``:
-    the robot modes' modal mass held at the impact test's, as the planner did before it moved
-    it), its K_t and K_r, the identified axial and edge coefficients. ``axial``: instead, the
-    modes' components along the tool axis and the member's K_ac/K_tc (None: planar), what the
-    planner's linear model adds to them."""
-    from robomill.chatter.modal_timedomain import ModalCut
+def _member_at_cut(inputs, measured, cut, member: int, hold_mass: bool):
+    """Member ``member`` of the planner's model at ``cut``'s own pose: the one-cut candidate,
+    the members, and the member's modes there (:func:`robomill.plan.stability.member_modes`:
+    f, ζ, k ``(M,)`` and shapes ``(M, 3)`` in the cut frame; ``hold_mass``: the robot modes'
+    modal mass held at the impact test's, as the planner did before it moved it)."""
     from robomill.plan.candidate import study_candidate
-    from robomill.plan.measured import coefficient_bounds
     from robomill.plan.poses import cut_frames
-    from robomill.plan.predict import engagement, solve_request
+    from robomill.plan.predict import solve_request
     from robomill.plan.stability import draw_members, member_modes
     from robomill.plan.tooltip import mode_scalings
 
@@ -83,22 +75,44 @@ def member_modal_cut(inputs, measured, cut, member: int = 0, *, hold_mass: bool 
     q = poses.q_mid_rad.reshape(-1, poses.q_mid_rad.shape[-1])[:1]
     frame = cut_frames(np.asarray(one.direction_deg, float))[:1]
     mem = draw_members(measured, one.stability)
-    e = int(member)
     sc = mode_scalings(measured, inputs.cell, q, mem.f_hz[0] < one.robot_mode_max_hz,
                        mem.shapes)
     if hold_mass:
         sc.pop("mass", None)
-    fn, z, k, shape = member_modes(mem, sc, frame, slice(e, e + 1))
-    if axial:
-        return shape[0, :, 2], (None if mem.ka is None else float(mem.ka[e]))
+    fn, z, k, shape = member_modes(mem, sc, frame, slice(member, member + 1))
+    return one, mem, (fn[0, 0], z[0, 0], k[0, 0], shape[0])
+
+
+def member_modal_cut(inputs, measured, cut, member: int = 0, *, hold_mass: bool = False):
+    """Member ``member`` (0: the nominal) of the planner's model at ``cut``'s own pose as a
+    :class:`~robomill.chatter.modal_timedomain.ModalCut` (cut frame: feed, normal): its modes
+    at the pose (:func:`_member_at_cut`, the modes the linear model solves, their in-plane
+    part: the time-domain model has no axial force on the modes, the linear one has since it
+    took K_ac's row, so the two differ by that term, :func:`member_axial`), its K_t and K_r,
+    the identified axial and edge coefficients."""
+    from robomill.chatter.modal_timedomain import ModalCut
+    from robomill.plan.measured import coefficient_bounds
+    from robomill.plan.predict import engagement
+
+    e = int(member)
+    one, mem, (fn, z, k, shape) = _member_at_cut(inputs, measured, cut, e, hold_mass)
     cc = coefficient_bounds(measured.coefficients)["nominal"]
     rpm, teeth = float(one.spindle_rpm[0]), int(one.flutes)
     fz_m = float(one.feed_mm_s[0]) / (teeth * rpm / 60.0) * 1e-3
     ent, ext = engagement(one)
     kt = float(mem.kt_N_mm2[e])
-    return ModalCut(fn[0, 0], z[0, 0], k[0, 0], shape[0, :, :2], rpm, teeth, ent, ext, fz_m,
+    return ModalCut(fn, z, k, shape[:, :2], rpm, teeth, ent, ext, fz_m,
                     float(one.depth_mm[0]) * 1e-3, kt * 1e6, kt * float(mem.kr[e]) * 1e6,
                     cc.Kac * 1e6, cc.Kte * 1e3, cc.Kre * 1e3, cc.Kae * 1e3)
+
+
+def member_axial(inputs, measured, cut, member: int = 0, *, hold_mass: bool = False):
+    """What the planner's linear model adds to :func:`member_modal_cut`'s modes: their
+    components along the tool axis ``(M,)`` and the member's K_ac/K_tc (None: K_ac not
+    identified, the planar model)."""
+    e = int(member)
+    _, mem, (_, _, _, shape) = _member_at_cut(inputs, measured, cut, e, hold_mass)
+    return shape[:, 2], (None if mem.ka is None else float(mem.ka[e]))
 
 
 def edge_term_limit_mm(mc, gain: float = 0.5, modes=None, *, axial=None) -> float:
@@ -106,7 +120,7 @@ def edge_term_limit_mm(mc, gain: float = 0.5, modes=None, *, axial=None) -> floa
     ``[(f, ζ, k, (sx, sy))]`` in the cut frame) and coefficients with the edge force's
     switching term (gain γ, ``benchmarks/edge_switching.py``'s :func:`edge_switching_cut`; 0:
     without it), solved by semi-discretization [Insperger & Stépán 2004]. ``axial``: the
-    modes' axial components and K_ac/K_tc (``member_modal_cut(..., axial=True)``): the
+    modes' axial components and K_ac/K_tc (:func:`member_axial`): the
     planner's axial row, and the axial edge force's switching with it."""
     from edge_switching import DEPTH_MAX_M, SDM_STEPS, edge_switching_cut
 
