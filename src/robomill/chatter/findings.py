@@ -271,7 +271,9 @@ def _axial(f: Findings, lobes: xr.Dataset, thesis: pd.DataFrame) -> None:
     lines, ratios = [], []
     for d in lobes["direction"].values:
         rpm = float(lobes["study_spindle_rpm"].sel(direction=d))
-        at = lobes.sel(direction=d, spindle_rpm=rpm)
+        # the study's own speeds are on the grid (slot_lobes); nearest: a speed within the
+        # grid's 1e-9 tolerance of a grid point was not added again
+        at = lobes.sel(direction=d).sel(spindle_rpm=rpm, method="nearest")
         axial, planar = float(at["a_crit_mm"].sel(solver="zoa")), float(at["a_crit_planar_mm"])
         ratios.append(axial / planar)
         lines.append(f"{d}: {axial:.2f} mm with the axial force, {planar:.2f} mm without "
