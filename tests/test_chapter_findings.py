@@ -254,6 +254,10 @@ def test_chapter_4_states_what_the_axial_force_does():
     assert "K_ac = 200 N/mm²" in text
     assert "px: 3.50 mm with the axial force, 7.00 mm without (-50 %) at 28000 rpm" in text
     assert "py: 9.00 mm with the axial force, 6.00 mm without (+50 %)" in text
+    # a study speed within the grid's tolerance of a grid point (not added to the grid again)
+    near = axial.assign(study_spindle_rpm=("direction", [28000.0 * (1 + 1e-12)] * 2))
+    assert chatter_findings(cases, sim, near, rec, safety_fraction=0.3).values()[
+        "robot_axial_over_planar"] == [0.5, 1.5]
 
 
 def test_chapter_6_1_prose_follows_its_findings_without_the_studys_robot():
