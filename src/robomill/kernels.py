@@ -24,7 +24,7 @@ import time
 from pathlib import Path
 
 KERNEL_MODULES = ("robomill.synth.process", "robomill.chatter.modal_timedomain",
-                  "robomill.chatter.timedomain")
+                  "robomill.chatter.timedomain", "robomill.chatter.envelope_kernel")
 """The modules with numba kernels; each has ``warm_kernels()``."""
 CACHE_SUBDIR = "numba-cache"
 

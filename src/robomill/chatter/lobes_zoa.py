@@ -15,7 +15,8 @@ One routine computes the lobes, :func:`zoa_envelope`, for a stack of receptances
 tool model) on a chatter-frequency grid the caller chooses: the 2 × 2 eigenvalues are taken in
 closed form, each branch (lobe k, eigenvalue) is a curve (n(f), a(f)), and the lobe diagram is
 the lower envelope of every branch, found by scattering each branch segment onto the spindle
-speeds it spans (linear interpolation along the segment). :func:`zoa_lobes` is it for one
+speeds it spans (linear interpolation along the segment; compiled,
+:mod:`robomill.chatter.envelope_kernel`). :func:`zoa_lobes` is it for one
 :class:`~robomill.chatter.model.LinearTool` on :func:`default_frequency_grid`;
 :func:`robomill.plan.lobes.batch_zoa_lobes` for many modal tool models on the planner's grid.
 """
@@ -66,7 +67,7 @@ def _oriented(W: np.ndarray, G: np.ndarray) -> np.ndarray:
     W = conform_rows(W, G.shape[-1])
     if G.shape[-1] == 2:
         return _left_multiply(W, G)
-    return np.einsum("...ik,...kj->...ij", G, W)
+    return np.matmul(G, W.astype(G.dtype))  # stacked (BLAS): a third of einsum's time
 
 
 def oriented_eigenvalues(W: np.ndarray, G: np.ndarray) -> np.ndarray:
@@ -90,48 +91,6 @@ def _track(lam: np.ndarray) -> np.ndarray:
     flip = np.concatenate([np.zeros((lam.shape[0], 1), bool),
                            (np.cumsum(swap < keep, axis=1) % 2).astype(bool)], axis=1)
     return np.where(flip[..., None], lam[..., ::-1], lam)
-
-
-def _scatter_min(env: np.ndarray, rpm: np.ndarray, a: np.ndarray, n_t: np.ndarray,
-                 f_hz: np.ndarray, chatter_hz: np.ndarray | None) -> None:
-    """Lower the envelope ``env`` ``(b, ns)`` with every branch segment (consecutive
-    frequencies of ``rpm``, ``a`` ``(b, nf, e)``) at the sorted speeds ``n_t`` it spans, by
-    linear interpolation along the segment; where a segment lowers it, ``chatter_hz`` (when
-    given) gets the chatter frequency interpolated the same way."""
-    n0, n1 = rpm[:, :-1], rpm[:, 1:]
-    a0, a1 = a[:, :-1], a[:, 1:]
-    ok = np.isfinite(a0) & np.isfinite(a1) & np.isfinite(n0) & np.isfinite(n1)
-    lo, hi = np.minimum(n0, n1), np.maximum(n0, n1)
-    ok &= (hi >= n_t[0]) & (lo <= n_t[-1])
-    bi, fi, ei = np.nonzero(ok)
-    if bi.size == 0:
-        return
-    lo_s, hi_s = lo[bi, fi, ei], hi[bi, fi, ei]
-    i0 = np.searchsorted(n_t, lo_s, "left")
-    i1 = np.searchsorted(n_t, hi_s, "right")
-    cnt = i1 - i0
-    keep = cnt > 0
-    if not keep.any():
-        return
-    bi, fi, ei, i0, cnt = bi[keep], fi[keep], ei[keep], i0[keep], cnt[keep]
-    rep = np.repeat(np.arange(bi.size), cnt)
-    offs = np.arange(rep.size) - np.repeat(np.cumsum(cnt) - cnt, cnt)
-    ti = i0[rep] + offs
-    b, f_, e = bi[rep], fi[rep], ei[rep]
-    N0, N1 = n0[b, f_, e], n1[b, f_, e]
-    A0, A1 = a0[b, f_, e], a1[b, f_, e]
-    span = N1 - N0
-    w = np.where(span != 0, (n_t[ti] - N0) / np.where(span != 0, span, 1.0), 0.0)
-    values = A0 + w * (A1 - A0)
-    if chatter_hz is None:
-        np.minimum.at(env, (b, ti), values)
-        return
-    before = env[b, ti]
-    np.minimum.at(env, (b, ti), values)
-    lowered = (values < before) & (values == env[b, ti])
-    f0 = f_hz[f_[lowered]]
-    f1 = f_hz[f_[lowered] + 1]
-    chatter_hz[b[lowered], ti[lowered]] = f0 + w[lowered] * (f1 - f0)
 
 
 def zoa_envelope(G: np.ndarray, f_hz: np.ndarray, cut: CuttingModel,
@@ -166,10 +125,10 @@ def zoa_envelope(G: np.ndarray, f_hz: np.ndarray, cut: CuttingModel,
     eps = 2 * np.arctan2(u, v)
     env = np.full((lam.shape[0], n_t.size), np.inf)
     hz = np.full(env.shape, np.nan) if chatter_frequency else None
-    for k in range(n_lobes):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            rpm = 60.0 * 2 * np.pi * f[None, :, None] / (cut.teeth * (eps + 2 * np.pi * k))
-        _scatter_min(env, rpm, a, n_t, f, hz)
+    # imported here: numba's import is paid only by a process that computes lobes
+    from robomill.chatter.envelope_kernel import lower_envelope
+
+    lower_envelope(env, hz, a, eps, f, n_t, cut.teeth, n_lobes)
     depth = np.empty_like(env)
     depth[:, order] = env
     if hz is None:
