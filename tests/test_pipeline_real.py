@@ -13,7 +13,9 @@ Steps, as in docs/own-data.md "The four commands": ``robomill init``; ``robomill
 export (the console script, in a subprocess); ``robomill manifest``; the keys it lists as not
 inferred written as a user would (spindle speed, flutes, feed and depth of each cut) and the
 tracker frame registered in ``cell.yaml``; ``robomill check`` exits 0; then
-``snakemake -j2 all --config data=<folder>`` with the repository's ``config.yaml``.
+``snakemake -j2 all --config data=<folder>`` with the repository's ``config.yaml``: planned
+(``-n``) in full, and run for the study's chapters it plans (the reference studies' chapters
+read no raw file; the tiny run and ``make all`` build them).
 """
 
 from __future__ import annotations
@@ -27,6 +29,8 @@ import pandas as pd
 import pytest
 import yaml
 from conftest import NO_BOOK_PDF, REPO, run_snakemake
+
+from robomill.registry import chapters
 
 pytestmark = [pytest.mark.pipeline, pytest.mark.whole_study]
 
@@ -105,22 +109,34 @@ def real_study(tmp_path_factory):
     assert check.returncode == 0, check.stdout + check.stderr
     work = base / "work"
     work.mkdir()
-    proc = run_snakemake(work, "-j2", "all", "--config", f"data={raw}", NO_BOOK_PDF,
+    # what `all` builds from this folder (a dry run), then those of its chapters that read
+    # the folder: the reference studies' chapters (part "reference" of the registry) read no
+    # raw file and, at the default config's resolution, would be half of the run's work
+    # (the tiny run and `make all` build them)
+    dry = run_snakemake(work, "-n", "all", "--config", f"data={raw}", NO_BOOK_PDF,
+                        configfile=REPO / "config.yaml")
+    assert dry.returncode == 0, dry.stdout[-3000:] + dry.stderr[-8000:]
+    in_all = [c for c in chapters() if c.in_all and c.page in dry.stdout]
+    assert {c.part for c in in_all} == {"study", "reference"}, [c.id for c in in_all]
+    study = [c.id for c in in_all if c.part == "study"]
+    proc = run_snakemake(work, "-j2", *study, "--config", f"data={raw}",
                          configfile=REPO / "config.yaml")
     assert proc.returncode == 0, proc.stdout[-3000:] + proc.stderr[-8000:]
-    return work, proc
+    return work, dry, proc
 
 
 def test_real_exports_become_chapters_with_the_default_config(real_study):
-    work, proc = real_study
-    chapters = sorted(p.stem for p in (work / "results/chapters").glob("*.html"))
+    work, dry, _ = real_study
+    built = sorted(p.stem for p in (work / "results/chapters").glob("*.html"))
     for ch in ("ch0", "ch2", "ch3_forces", "ch3_straightness",
                "ch3_modal"):
-        assert ch in chapters
-    for line in ("chapter 1: no ctrack files in manifest.yaml",
-                 "chapter 5: no robot files and no stiffness files in manifest.yaml"):
-        assert proc.stderr.count(line) == 1, line  # partial study: one line each
-    assert "ch1" not in chapters and "ch5" not in chapters
+        assert ch in built
+    for ch, line in (("ch1", "chapter 1: no ctrack files in manifest.yaml"),
+                     ("ch5", "chapter 5: no robot files and no stiffness files in "
+                      "manifest.yaml")):
+        assert dry.stderr.count(line) == 1, line  # partial study: one line each
+        assert f"results/chapters/{ch}.html" not in dry.stdout  # and `all` leaves it out
+    assert "ch1" not in built and "ch5" not in built
 
 
 def test_real_uff_modes_and_band_from_the_data(real_study):
@@ -128,7 +144,7 @@ def test_real_uff_modes_and_band_from_the_data(real_study):
     from the data (no band set in config.yaml or in the manifest)."""
     import xarray as xr
 
-    work, _ = real_study
+    work, *_ = real_study
     modes = pd.read_csv(work / "results/modal/modes.csv")
     f = modes["f_n_hz"].to_numpy()
     for f_beam in (142.0, 279.0):
@@ -138,7 +154,7 @@ def test_real_uff_modes_and_band_from_the_data(real_study):
 
 
 def test_forces_rate_and_decimation_from_the_record(real_study):
-    work, _ = real_study
+    work, *_ = real_study
     log = (work / "results/logs/forces/cut_s1_g1_px.log").read_text()
     assert "2000 samples at 10000 Hz, decimation 10 (from the rate)" in log
     coef = pd.read_csv(work / "results/forces/cutting_coefficients.csv")
@@ -147,7 +163,7 @@ def test_forces_rate_and_decimation_from_the_record(real_study):
 
 def test_x3p_profile_keeps_its_sampling(real_study):
     """The Sensofar scan's 2.58 µm spacing survives import and the surface chapter's input."""
-    work, _ = real_study
+    work, *_ = real_study
     raw_profile = pd.read_csv(work.parent / "raw/profiles/s1_g1_px.csv")
     dx_um = np.diff(raw_profile["x_mm"].to_numpy()) * 1e3
     assert np.allclose(dx_um, 2.58, atol=0.01)
