@@ -22,6 +22,7 @@ Modules
                                     switching, immersion angles
 :mod:`~robomill.chatter.lobes_zoa`  zero-order analytical lobes (Altintas & Budak 1995), the
                                     one routine for one tool and for the planner's batches
+:mod:`~robomill.chatter.envelope_kernel` the lobes' lower envelope on a speed grid (numba)
 :mod:`~robomill.chatter.lobes_sdm`  first-order semi-discretization (Insperger & Stépán 2004;
                                     the Shagniev 2019 diagram and the benchmark's baseline)
 :mod:`~robomill.chatter.lobes_sem`  spectral element with exact free flight (Khasawneh & Mann
