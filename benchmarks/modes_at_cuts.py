@@ -129,7 +129,6 @@ def main(argv=None) -> int:
                 "f1_planner_hz": planner[0][0], "f1_cell_hz": own[0][0],
                 "f_ratio_median": float(np.median([planner[i][0] / own[i][0] for i in robot])),
                 "k_ratio_median": float(np.median([planner[i][2] / own[i][2] for i in robot]))})
-        if not args.planner_only:
             for name, modes in (("Pm", planner), ("Hm", hybrid), ("Cm", own)):
                 for g in (0.0, 0.5):
                     row[f"{name}_g{g:g}_mm"] = edge_term_limit_mm(mc, g, modes)

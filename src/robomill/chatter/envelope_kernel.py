@@ -4,11 +4,12 @@
 Each branch (tool model b, eigenvalue e, lobe k) is the curve n_k(f) = 60 f / (N (ε(f) +
 2πk)), a(f) over the chatter frequencies [Altintas & Budak 1995]; each of its segments
 (consecutive frequencies) lowers the envelope at the grid speeds it spans by linear
-interpolation along the segment. Written as one loop over segments it visits only the speeds a
-segment spans; the same arithmetic as array passes over every segment and lobe visited every
-segment once per lobe (the planner's grid: about 70 % of a plan's time). The envelope is a
-minimum, so the order of the visits cannot change it; where equal depths of two segments meet
-at a speed, the chatter frequency is the first one's.
+interpolation along the segment. The loop computes each segment's speeds and interpolated
+depths in place, where array passes built index and value arrays for every lobe; the
+arithmetic of each depth is the same (the planner's default plan: 87 s → 65 s with the stacked
+products of :mod:`robomill.chatter.coupling`). The envelope is a minimum, so the order of the
+visits cannot change it; where equal depths of two segments meet at a speed, the chatter
+frequency is the first one's.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ def _lower(env, hz, want_hz, a, eps, f_hz, n_t, teeth, n_lobes):
                 for e in range(ne):
                     a0 = a[b, f, e]
                     a1 = a[b, f + 1, e]
-                    # n = 60 · 2π f / (N (ε + 2πk)), the arithmetic of the array form
+                    # n = 60 · 2π f / (N (ε + 2πk)), evaluated left to right
                     n0 = 60.0 * 2 * np.pi * f_hz[f] / (teeth * (eps[b, f, e] + two_pi * k))
                     n1 = 60.0 * 2 * np.pi * f_hz[f + 1] / (teeth * (eps[b, f + 1, e]
                                                                     + two_pi * k))
